@@ -1,0 +1,106 @@
+"""Every dimension of the modelled parts, with its source or the word "assumed".
+
+SI units (m). Part frames: x along the part's long axis (longitudinal), y across it in
+the mechanism's plane (transverse), z normal to the plane (the bolts' axis).
+
+The size-25 profile rail: THK HSR25 and HIWIN HGR25 catalogues agree on the section
+(23 x 22 mm) and the mounting holes (60 mm pitch, 20 mm end distance, M6 counterbored
+7 x 11 x 9 mm); INA TKVD25 (seed 000) is of this size. Simplification: the section is
+modelled as a solid 23 x 22 mm rectangle; the four ball grooves are omitted (stiffer
+and heavier than the real profile: see :func:`rail_mass_per_metre`).
+
+PF_4b_006 and PF_4b_003_v2: seed 000 shows them only as pictures, so their dimensions
+here are assumptions, chosen to be plausible and, for PF_4b_006, to match the seed's
+plate mass (1.155 kg in steel).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, fields, replace
+
+STEEL_DENSITY = 7850.0  # kg/m^3
+
+
+@dataclass(frozen=True)
+class RailSpec:
+    """Size-25 rail (THK HSR25 / HIWIN HGR25 catalogue)."""
+
+    width: float = 23e-3            # catalogue
+    height: float = 22e-3           # catalogue
+    hole_pitch: float = 60e-3       # catalogue
+    end_distance: float = 20e-3     # catalogue (E = 20 mm)
+    hole_diameter: float = 7e-3     # catalogue, through hole for M6
+    counterbore_diameter: float = 11e-3   # catalogue
+    counterbore_depth: float = 9e-3       # catalogue
+
+    def hole_positions(self, length: float) -> list[float]:
+        """x of every mounting hole (m) along a rail of ``length`` m."""
+        n = int(math.floor((length - 2 * self.end_distance) / self.hole_pitch + 1e-9)) + 1
+        return [self.end_distance + k * self.hole_pitch for k in range(max(n, 0))]
+
+
+@dataclass(frozen=True)
+class JointPlateSpec:
+    """PF_4b_006 joint plate (assumed dimensions): a steel plate with the seat of a
+    6205 bearing (OD 52 mm, width 15 mm; catalogue) near one end and two M6 clearance
+    holes on the rail's 60 mm pitch. 160 x 75 x 15 mm gives the seed's 1.155 kg."""
+
+    length: float = 160e-3          # assumed
+    width: float = 75e-3            # assumed
+    thickness: float = 15e-3        # = 6205 bearing width (catalogue)
+    seat_diameter: float = 52e-3    # 6205 outer diameter (catalogue)
+    seat_x: float = 40e-3           # assumed: seat centre from the plate's end
+    bolt_diameter: float = 6.6e-3   # M6 medium clearance (ISO 273)
+    bolt_x: tuple[float, float] = (80e-3, 140e-3)   # assumed, 60 mm apart (rail pitch)
+
+
+@dataclass(frozen=True)
+class IProfileSpec:
+    """PF_4b_003_v2 I-profile (assumed dimensions): an I-section extruded along x,
+    flanges normal to z; four M6 clearance holes through the top flange on a 60 x 30 mm
+    pattern; the bottom flange's lower face is bolted to the ground rail (held)."""
+
+    length: float = 100e-3          # assumed
+    flange_width: float = 60e-3     # assumed (y)
+    depth: float = 60e-3            # assumed (z, overall height)
+    flange_thickness: float = 8e-3  # assumed
+    web_thickness: float = 6e-3     # assumed
+    bolt_diameter: float = 6.6e-3   # M6 medium clearance (ISO 273)
+    bolt_pitch_x: float = 60e-3     # assumed
+    bolt_pitch_y: float = 36e-3     # assumed
+
+
+RAIL = RailSpec()
+JOINT_PLATE = JointPlateSpec()
+I_PROFILE = IProfileSpec()
+
+#: scene [geometry] keys -> (spec name, field)
+OVERRIDABLE = {f"rail_{f.name}": ("rail", f.name) for f in fields(RailSpec)}
+OVERRIDABLE |= {f"plate_{f.name}": ("plate", f.name) for f in fields(JointPlateSpec) if f.name != "bolt_x"}
+OVERRIDABLE |= {f"iprofile_{f.name}": ("iprofile", f.name) for f in fields(IProfileSpec)}
+
+
+def with_overrides(overrides: dict[str, float]) -> tuple[RailSpec, JointPlateSpec, IProfileSpec]:
+    """The three specs with the scene's [geometry] overrides (SI) applied."""
+    specs = {"rail": RAIL, "plate": JOINT_PLATE, "iprofile": I_PROFILE}
+    for key, value in overrides.items():
+        which, name = OVERRIDABLE[key]
+        specs[which] = replace(specs[which], **{name: value})
+    return specs["rail"], specs["plate"], specs["iprofile"]
+
+
+def rail_mass_per_metre(spec: RailSpec = RAIL, density: float = STEEL_DENSITY) -> float:
+    """Mass per metre (kg/m) of the modelled section (solid rectangle), holes excluded."""
+    return spec.width * spec.height * density
+
+
+def rail_mass_per_metre_with_holes(spec: RailSpec = RAIL, density: float = STEEL_DENSITY) -> float:
+    """Mass per metre (kg/m) of the modelled rail with its counterbored holes removed."""
+    through = math.pi / 4 * spec.hole_diameter**2 * (spec.height - spec.counterbore_depth)
+    cbore = math.pi / 4 * spec.counterbore_diameter**2 * spec.counterbore_depth
+    return rail_mass_per_metre(spec, density) - (through + cbore) * density / spec.hole_pitch
+
+
+#: what the catalogues and the seed say the rail weighs (kg/m)
+CATALOGUE_RAIL_MASS = {"HIWIN HGR25 catalogue": 3.21, "seed 000 (Anexo I)": 2.7}

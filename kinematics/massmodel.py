@@ -1,0 +1,88 @@
+"""The rig's mass model (seed 000, Anexo I, final values) and rigid bodies built from it.
+
+SI units: kg, m, kg m^2. Body frames: each bar's local x axis runs from its first joint
+(O2 for the crank, A for the coupler, O4 for the rocker) along the bar, so a point at
+local coordinate ``s`` lies at ``first_joint + s * e_bar``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from .linkage import FourBar, SliderCrank
+
+
+@dataclass(frozen=True)
+class MassModel:
+    """Masses of the rig's parts (seed 000 Anexo I; every value overridable).
+
+    ``rail_mass_per_m`` is the seed's 2.7 kg/m (the TKDV25 catalogue figure it used);
+    a solid 23 x 22 mm steel section would weigh about 3.9 kg/m (see geometry.catalogue).
+    """
+
+    rail_mass_per_m: float = 2.7
+    crank_rail_length: float = 0.7
+    coupler_rail_length: float = 1.0
+    rocker_rail_length: float = 1.0
+    carriage: float = 0.68      # patin KWVE25
+    plate: float = 1.155        # disco, PF_4b_006
+    coupling: float = 0.577     # acop
+
+    @property
+    def plate_and_carriage(self) -> float:
+        return self.plate + self.carriage
+
+
+@dataclass(frozen=True)
+class RigidBar:
+    """A bar as one rigid body: total mass (kg), centre of mass at local coordinate
+    ``com`` (m from the first joint along the bar) and inertia ``inertia_com`` (kg m^2)
+    about the centre of mass."""
+
+    mass: float
+    com: float
+    inertia_com: float
+
+
+def bar_from_parts(rail_mass: float, rail_length: float,
+                   point_masses: list[tuple[float, float]]) -> RigidBar:
+    """Combine a uniform rail starting at local 0 with point masses [(mass kg, s m)]."""
+    parts = [(rail_mass, rail_length / 2.0, rail_mass * rail_length**2 / 12.0)]
+    parts += [(m, s, 0.0) for m, s in point_masses]
+    mass = sum(m for m, _, _ in parts)
+    com = sum(m * s for m, s, _ in parts) / mass
+    inertia = sum(i + m * (s - com) ** 2 for m, s, i in parts)
+    return RigidBar(mass=mass, com=com, inertia_com=inertia)
+
+
+def fourbar_bodies(linkage: FourBar, masses: MassModel) -> tuple[RigidBar, RigidBar, RigidBar]:
+    """Crank, coupler and rocker as rigid bodies (DESIGN.md section 2).
+
+    Crank: rail + plate and carriage at A. Coupler: rail from A + coupling at A + plate
+    and carriage at B. Rocker: rail from O4 + coupling at B.
+    """
+    mpc = masses.plate_and_carriage
+    crank = bar_from_parts(masses.rail_mass_per_m * masses.crank_rail_length,
+                           masses.crank_rail_length, [(mpc, linkage.crank)])
+    coupler = bar_from_parts(masses.rail_mass_per_m * masses.coupler_rail_length,
+                             masses.coupler_rail_length,
+                             [(masses.coupling, 0.0), (mpc, linkage.coupler)])
+    rocker = bar_from_parts(masses.rail_mass_per_m * masses.rocker_rail_length,
+                            masses.rocker_rail_length, [(masses.coupling, linkage.rocker)])
+    return crank, coupler, rocker
+
+
+def slidercrank_bodies(linkage: SliderCrank, masses: MassModel) -> tuple[RigidBar, RigidBar, RigidBar]:
+    """Crank, coupler and slider (assumed: the seed left the slider-crank undone).
+
+    Crank: as in the four-bar. Coupler: rail from A + coupling at A + coupling at B.
+    Slider: a carriage with its plate on the ground rail (a particle, no rotation).
+    """
+    mpc = masses.plate_and_carriage
+    crank = bar_from_parts(masses.rail_mass_per_m * masses.crank_rail_length,
+                           masses.crank_rail_length, [(mpc, linkage.crank)])
+    coupler = bar_from_parts(masses.rail_mass_per_m * masses.coupler_rail_length,
+                             masses.coupler_rail_length,
+                             [(masses.coupling, 0.0), (masses.coupling, linkage.coupler)])
+    slider = RigidBar(mass=mpc, com=0.0, inertia_com=0.0)
+    return crank, coupler, slider

@@ -1,0 +1,152 @@
+"""The ``railcheck`` command line.
+
+Exit statuses: 0 pass, 1 a check failed, 2 bad input or impossible mechanism (one line on
+stderr naming the field, no traceback), 3 numerical failure.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from .errors import EXIT_INPUT, EXIT_NUMERICAL, EXIT_PASS, InputError
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse that exits 2 with one line (its default already uses 2)."""
+
+    def error(self, message: str):  # noqa: D401
+        self.exit(EXIT_INPUT, f"railcheck: error: {message}\n")
+
+
+def _cmd_kinematics(args) -> int:
+    from .kinematics_stage import kinematics_summary, run_kinematics
+    from .report import kinematics_table, to_json
+    from .scene import load_scene
+
+    scene = load_scene(args.scene)
+    if scene.mechanism is None:
+        raise InputError("mechanism", "missing: `railcheck kinematics` needs a [mechanism] table")
+    result = run_kinematics(scene)
+    summary = kinematics_summary(scene, result)
+    if args.plots:
+        from .plots import write_kinematics_plots
+        out = _writable_dir(args.plots, "--plots")
+        paths = write_kinematics_plots(result, out)
+        summary["plots"] = [str(p) for p in paths]
+    if args.json:
+        print(to_json(summary))
+    else:
+        print(f"scene: {scene.source}")
+        print(kinematics_table(summary))
+        for p in summary.get("plots", []):
+            print(f"wrote {p}")
+    return EXIT_PASS
+
+
+def _writable_dir(path: str, option: str) -> Path:
+    p = Path(path)
+    if p.exists() and not p.is_dir():
+        raise InputError(option, f"{p} exists and is not a directory")
+    try:
+        p.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InputError(option, f"cannot create {p}: {exc.strerror}") from None
+    import os
+    if not os.access(p, os.W_OK):
+        raise InputError(option, f"{p} is not writable")
+    return p
+
+
+def _cmd_check(args) -> int:
+    from .check import run_check_command
+    return run_check_command(args)
+
+
+def _cmd_bench(args) -> int:
+    from .bench import run_bench_command
+    return run_bench_command(args)
+
+
+def _cmd_convergence(args) -> int:
+    from .convergence import run_convergence_command
+    return run_convergence_command(args)
+
+
+def _cmd_mechanism(args) -> int:
+    from .mechanism_cmd import run_mechanism_command
+    return run_mechanism_command(args)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = _Parser(prog="railcheck", description=__doc__.splitlines()[0])
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
+
+    p = sub.add_parser("kinematics", help="kinematics, joint reactions and motor torque over a crank revolution")
+    p.add_argument("scene", nargs="?", help="scene TOML file (default: the built-in seed final design)")
+    p.add_argument("--json", action="store_true", help="print one JSON object to stdout")
+    p.add_argument("--plots", metavar="DIR", help="write PNG plots of reactions, torque, angles into DIR")
+    p.set_defaults(func=_cmd_kinematics)
+
+    p = sub.add_parser("check", help="reactions -> bolt loads -> FE stress verdict for every part")
+    p.add_argument("scene", nargs="?", help="scene TOML file (default: the built-in seed final design)")
+    p.add_argument("--out", metavar="DIR", help="results directory (default: the scene's output.dir)")
+    p.add_argument("--json", action="store_true", help="print summary.json to stdout")
+    p.add_argument("--force", action="store_true", help="overwrite an existing results directory")
+    p.set_defaults(func=_cmd_check)
+
+    p = sub.add_parser("bench", help="FE benchmarks against analytic solutions")
+    bsub = p.add_subparsers(dest="bench", required=True, parser_class=_Parser)
+    c = bsub.add_parser("cantilever", help="steel cantilever 700 x 23 x 20 mm, 100 N tip load, vs Timoshenko")
+    c.add_argument("--order", type=int, choices=(1, 2), default=2)
+    c.add_argument("--size", type=float, default=4.0, metavar="MM", help="mesh size in mm (default 4)")
+    c.add_argument("--json", action="store_true")
+    c.add_argument("--solver", choices=("auto", "direct", "amg"), default="auto")
+    p.set_defaults(func=_cmd_bench)
+
+    p = sub.add_parser("convergence", help="accuracy against time: mesh and step convergence study")
+    p.add_argument("target", nargs="?", default="cantilever",
+                   help="cantilever, kinematics, or a part of the default scene")
+    p.add_argument("--orders", default="1,2", help="element orders, e.g. 1,2")
+    p.add_argument("--sizes", default=None, help="mesh sizes in mm, e.g. 8,6,4,3")
+    p.add_argument("--json", action="store_true")
+    p.add_argument("--plot", metavar="FILE", help="write a log-log plot of error against time")
+    p.set_defaults(func=_cmd_convergence)
+
+    p = sub.add_parser("mechanism", help="general planar mechanisms of the catalogue (seed 002)")
+    p.add_argument("name", help="catalogue name, e.g. a-z-1139")
+    p.add_argument("--steps", type=int, default=361)
+    p.add_argument("--csv", metavar="FILE")
+    p.add_argument("--html", metavar="FILE")
+    p.add_argument("--gif", metavar="FILE")
+    p.set_defaults(func=_cmd_mechanism)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    from kinematics.errors import MechanismError
+
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        return int(args.func(args))
+    except InputError as exc:
+        print(f"railcheck: error: {exc}", file=sys.stderr)
+        return EXIT_INPUT
+    except MechanismError as exc:
+        print(f"railcheck: error: {exc}", file=sys.stderr)
+        return EXIT_INPUT
+    except KeyboardInterrupt:
+        print("railcheck: interrupted", file=sys.stderr)
+        return 130
+    except Exception as exc:  # numerical failures from the FE stage
+        from fea.errors import NumericalError
+        if isinstance(exc, NumericalError):
+            print(f"railcheck: numerical failure: {exc}", file=sys.stderr)
+            return EXIT_NUMERICAL
+        raise
+
+
+if __name__ == "__main__":
+    sys.exit(main())

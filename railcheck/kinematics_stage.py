@@ -1,0 +1,95 @@
+"""The kinematics stage: a scene's mechanism -> motion, reactions, checks and peaks.
+
+Runs the closed-form kinematics and the requested inverse-dynamics formulation, with
+only the effects the scene calls for: inertia needs a non-zero speed (and "inertia" in
+check.effects when a [check] table exists); gravity only when listed.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from kinematics.checks import CheckResult, configuration_checks, transmission_extremes
+from kinematics.dynamics import STANDARD_GRAVITY, Dynamics, inverse_dynamics
+from kinematics.errors import MechanismError
+from kinematics.linkage import FourBar
+from kinematics.motion import Motion, solve_motion
+
+from .errors import InputError
+from .scene import Scene
+
+
+@dataclass(frozen=True)
+class KinematicsResult:
+    motion: Motion              # at the scene's speed (positions, velocities, accelerations)
+    dynamics: Dynamics          # reactions with the effects the scene asks for
+    checks: dict[str, CheckResult]
+    effects: tuple[str, ...]
+    transmission_deg: tuple[float, float]
+
+    @property
+    def joints(self) -> tuple[str, ...]:
+        return tuple(self.dynamics.reactions)
+
+
+def effects_for(scene: Scene) -> tuple[str, ...]:
+    """The effects simulated: "inertia" only with a non-zero speed, "gravity" only when
+    the scene lists it."""
+    requested = scene.check.effects if scene.check else ("inertia",)
+    out = []
+    if "inertia" in requested and scene.mechanism and scene.mechanism.speed > 0:
+        out.append("inertia")
+    if "gravity" in requested:
+        out.append("gravity")
+    return tuple(out)
+
+
+def run_kinematics(scene: Scene) -> KinematicsResult:
+    """Kinematics and inverse dynamics of the scene's mechanism (raises InputError for an
+    impossible mechanism, naming the field)."""
+    spec = scene.mechanism
+    if spec is None:
+        raise InputError("mechanism", "missing: this run needs the linkage")
+    effects = effects_for(scene)
+    try:
+        motion = solve_motion(spec.linkage, spec.speed, spec.steps)
+        dyn_motion = motion if "inertia" in effects else solve_motion(spec.linkage, 0.0, spec.steps)
+        gravity = STANDARD_GRAVITY if "gravity" in effects else 0.0
+        dynamics = inverse_dynamics(dyn_motion, scene.formulation, gravity=gravity)
+    except MechanismError as exc:
+        raise InputError(exc.field, exc.message) from None
+    mu_min, mu_max = transmission_extremes(spec.linkage)
+    return KinematicsResult(motion, dynamics, configuration_checks(spec.linkage), effects,
+                            (math.degrees(mu_min), math.degrees(mu_max)))
+
+
+def kinematics_summary(scene: Scene, result: KinematicsResult) -> dict:
+    """The JSON-ready summary of the kinematics stage (units in the key names)."""
+    lk = scene.mechanism.linkage
+    dyn = result.dynamics
+    peaks, angles = {}, {}
+    for joint in dyn.reactions:
+        value, k = dyn.peak(joint)
+        peaks[joint] = value
+        angles[joint] = math.degrees(result.motion.theta2[k])
+    torque, kt = dyn.peak_torque()
+    angles["torque"] = math.degrees(result.motion.theta2[kt])
+    mechanism = {"kind": lk.kind, "assembly": lk.assembly,
+                 **{f"{k}_mm": v * 1e3 for k, v in lk.lengths.items()},
+                 "speed_Hz": scene.mechanism.speed / (2 * math.pi), "steps": scene.mechanism.steps}
+    return {
+        "mechanism": mechanism,
+        "formulation": dyn.formulation,
+        "effects": list(result.effects),
+        "transmission_angle_deg": {"min": result.transmission_deg[0], "max": result.transmission_deg[1]},
+        "checks": {name: {"ok": bool(c.ok), "message": c.message} for name, c in result.checks.items()},
+        "peak_reactions_N": peaks,
+        "peak_torque_Nm": torque,
+        "peak_crank_angle_deg": angles,
+        "warnings": list(result.motion.warnings),
+    }
+
+
+def is_fourbar(scene: Scene) -> bool:
+    return scene.mechanism is not None and isinstance(scene.mechanism.linkage, FourBar)

@@ -1,0 +1,283 @@
+"""Scene files: one TOML file states the mechanism, its speed, the effects to simulate,
+the parts to check and the outputs wanted. Values with units are strings ("480 mm");
+everything is converted to SI here, once. Unknown keys, bare numbers for dimensional
+fields, missing fields and impossible values raise :class:`InputError` naming the field.
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from dataclasses import dataclass, field
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+from kinematics.errors import MechanismError
+from kinematics.linkage import FourBar, SliderCrank
+
+from .errors import InputError
+from .units import parse_quantity
+
+PARTS = ("crank-rail", "coupler-rail", "rocker-rail", "PF_4b_006", "PF_4b_003_v2")
+RAIL_PARTS = PARTS[:3]
+EFFECTS = ("inertia", "gravity")
+BOLT_POSITIONS = ("worst", "actual")
+FORMULATIONS = ("newton-euler", "seed-2013")
+DEFAULT_SCENE = "default.toml"
+
+
+@dataclass(frozen=True)
+class MechanismSpec:
+    linkage: FourBar | SliderCrank
+    speed: float           # rad/s
+    steps: int
+
+
+@dataclass(frozen=True)
+class ExplicitLoad:
+    """A force applied on every bolt hole of a part, in the part's frame (N):
+    ``longitudinal`` along the part's long axis, ``transverse`` across it in-plane."""
+
+    longitudinal: float
+    transverse: float
+
+
+@dataclass(frozen=True)
+class CheckSpec:
+    parts: tuple[str, ...]
+    factor: float = 1.4
+    bolt_position: str = "worst"
+    material: str = "steel"
+    limit: float | None = None                 # Pa; None = sigma_u / 2
+    effects: tuple[str, ...] = ("inertia",)
+    loads: dict[str, ExplicitLoad] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class MeshSpec:
+    order: int = 2
+    size: float = 3e-3                        # m
+    hole_size: float | None = None            # m; None = size / 3
+
+
+@dataclass(frozen=True)
+class OutputSpec:
+    dir: str = "results"
+    vtk: bool = True
+    png: bool = True
+    plots: bool = True
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A parsed scene, SI inside. ``raw`` is the TOML as read (for the summary)."""
+
+    mechanism: MechanismSpec | None
+    formulation: str
+    check: CheckSpec | None
+    mesh: MeshSpec
+    output: OutputSpec
+    geometry: dict[str, float]
+    raw: dict[str, Any]
+    source: str
+
+
+_ALLOWED = {
+    "mechanism": {"kind", "crank", "coupler", "rocker", "ground", "speed", "steps", "assembly"},
+    "dynamics": {"formulation"},
+    "check": {"parts", "factor", "bolt_position", "material", "limit", "effects"},
+    "mesh": {"order", "size", "hole_size"},
+    "output": {"dir", "vtk", "png", "plots"},
+    "loads": None,       # part names, checked below
+    "geometry": None,    # catalogue keys, checked below
+}
+
+
+def _unknown(table: dict, allowed: set[str], prefix: str) -> None:
+    for key in table:
+        if key not in allowed:
+            raise InputError(f"{prefix}{key}", f"unknown key (allowed: {', '.join(sorted(allowed))})")
+
+
+def _require(table: dict, key: str, prefix: str) -> Any:
+    if key not in table:
+        raise InputError(f"{prefix}{key}", "missing")
+    return table[key]
+
+
+def _bool(table: dict, key: str, prefix: str, default: bool) -> bool:
+    value = table.get(key, default)
+    if not isinstance(value, bool):
+        raise InputError(f"{prefix}{key}", f"must be true or false, got {value!r}")
+    return value
+
+
+def _string_choice(value: Any, choices: tuple[str, ...], name: str) -> str:
+    if not isinstance(value, str) or value not in choices:
+        raise InputError(name, f"must be one of {', '.join(choices)}, got {value!r}")
+    return value
+
+
+def _mechanism(table: dict) -> MechanismSpec:
+    p = "mechanism."
+    _unknown(table, _ALLOWED["mechanism"], p)
+    kind = _string_choice(_require(table, "kind", p), ("four-bar", "slider-crank"), p + "kind")
+    length = lambda key: parse_quantity(_require(table, key, p), "length", p + key,  # noqa: E731
+                                        positive=True, allow_zero=False)
+    speed = parse_quantity(table.get("speed", "1 Hz"), "angular_speed", p + "speed", positive=True)
+    steps = table.get("steps", 5000)
+    if isinstance(steps, bool) or not isinstance(steps, int) or steps < 3:
+        raise InputError(p + "steps", f"must be a whole number >= 3, got {steps!r}")
+    if steps > 10_000_000:
+        raise InputError(p + "steps", f"{steps} steps is more than this tool runs (10 000 000 at most)")
+    assembly = _string_choice(table.get("assembly", "open"), ("open", "crossed"), p + "assembly")
+    try:
+        if kind == "four-bar":
+            linkage = FourBar(length("crank"), length("coupler"), length("rocker"), length("ground"), assembly)
+        else:
+            if "rocker" in table:
+                raise InputError(p + "rocker", "a slider-crank has no rocker (remove the key)")
+            offset = parse_quantity(table.get("ground", "0 mm"), "length", p + "ground")
+            linkage = SliderCrank(length("crank"), length("coupler"), offset, assembly)
+    except MechanismError as exc:
+        raise InputError(exc.field, exc.message) from None
+    return MechanismSpec(linkage, speed, steps)
+
+
+def _check(table: dict, loads_table: dict) -> CheckSpec:
+    p = "check."
+    _unknown(table, _ALLOWED["check"], p)
+    parts = table.get("parts", list(PARTS))
+    if not isinstance(parts, list) or not parts or not all(isinstance(x, str) for x in parts):
+        raise InputError(p + "parts", f"must be a non-empty list of part names ({', '.join(PARTS)})")
+    for name in parts:
+        if name not in PARTS:
+            raise InputError(p + "parts", f"unknown part {name!r} (known: {', '.join(PARTS)})")
+    if len(set(parts)) != len(parts):
+        raise InputError(p + "parts", "lists a part twice")
+    factor = table.get("factor", 1.4)
+    if isinstance(factor, bool) or not isinstance(factor, (int, float)) or not math.isfinite(factor) or factor <= 0:
+        raise InputError(p + "factor", f"must be a positive number (a dimensionless load factor), got {factor!r}")
+    bolt = _string_choice(table.get("bolt_position", "worst"), BOLT_POSITIONS, p + "bolt_position")
+    material = table.get("material", "steel")
+    if not isinstance(material, str):
+        raise InputError(p + "material", f"must be a material name, got {material!r}")
+    from fea.materials import MATERIALS  # light module: no skfem import
+    if material not in MATERIALS:
+        raise InputError(p + "material", f"unknown material {material!r} (known: {', '.join(MATERIALS)})")
+    limit = None
+    if "limit" in table:
+        limit = parse_quantity(table["limit"], "stress", p + "limit", positive=True, allow_zero=False)
+    effects = table.get("effects", ["inertia"])
+    if not isinstance(effects, list) or not all(isinstance(x, str) for x in effects):
+        raise InputError(p + "effects", f"must be a list drawn from {', '.join(EFFECTS)}")
+    for e in effects:
+        if e not in EFFECTS:
+            raise InputError(p + "effects", f"unknown effect {e!r} (known: {', '.join(EFFECTS)}; nothing else is simulated)")
+    loads: dict[str, ExplicitLoad] = {}
+    for part, spec in loads_table.items():
+        lp = f"loads.{part}."
+        if part not in PARTS:
+            raise InputError(f"loads.{part}", f"unknown part (known: {', '.join(PARTS)})")
+        if part not in parts:
+            raise InputError(f"loads.{part}", "explicit loads for a part that check.parts does not list")
+        if not isinstance(spec, dict):
+            raise InputError(f"loads.{part}", "must be a table with longitudinal and transverse forces per hole")
+        _unknown(spec, {"longitudinal", "transverse"}, lp)
+        loads[part] = ExplicitLoad(
+            parse_quantity(spec.get("longitudinal", "0 N"), "force", lp + "longitudinal"),
+            parse_quantity(spec.get("transverse", "0 N"), "force", lp + "transverse"))
+    return CheckSpec(tuple(parts), float(factor), bolt, material, limit, tuple(effects), loads)
+
+
+def _mesh(table: dict) -> MeshSpec:
+    p = "mesh."
+    _unknown(table, _ALLOWED["mesh"], p)
+    order = table.get("order", 2)
+    if isinstance(order, bool) or order not in (1, 2):
+        raise InputError(p + "order", f"must be 1 or 2, got {order!r}")
+    size = parse_quantity(table.get("size", "3 mm"), "length", p + "size", positive=True, allow_zero=False)
+    hole = None
+    if "hole_size" in table:
+        hole = parse_quantity(table["hole_size"], "length", p + "hole_size", positive=True, allow_zero=False)
+    if size < 0.2e-3:
+        raise InputError(p + "size", f"{size*1e3:g} mm is below the 0.2 mm this tool meshes")
+    return MeshSpec(order, size, hole)
+
+
+def _output(table: dict) -> OutputSpec:
+    p = "output."
+    _unknown(table, _ALLOWED["output"], p)
+    d = table.get("dir", "results")
+    if not isinstance(d, str) or not d.strip():
+        raise InputError(p + "dir", f"must be a directory name, got {d!r}")
+    return OutputSpec(d, _bool(table, "vtk", p, True), _bool(table, "png", p, True), _bool(table, "plots", p, True))
+
+
+def _geometry(table: dict) -> dict[str, float]:
+    from geometry.catalogue import OVERRIDABLE  # light module: no gmsh import
+    out = {}
+    for key, value in table.items():
+        if key not in OVERRIDABLE:
+            raise InputError(f"geometry.{key}", f"unknown key (allowed: {', '.join(sorted(OVERRIDABLE))})")
+        out[key] = parse_quantity(value, "length", f"geometry.{key}", positive=True, allow_zero=False)
+    return out
+
+
+def parse_scene(data: dict[str, Any], source: str = "<scene>") -> Scene:
+    """Build a :class:`Scene` from a parsed TOML mapping."""
+    _unknown(data, set(_ALLOWED), "")
+    for key, value in data.items():
+        if not isinstance(value, dict):
+            raise InputError(key, "must be a table ([" + key + "])")
+    mechanism = _mechanism(data["mechanism"]) if "mechanism" in data else None
+    dyn = data.get("dynamics", {})
+    _unknown(dyn, _ALLOWED["dynamics"], "dynamics.")
+    formulation = _string_choice(dyn.get("formulation", "newton-euler"), FORMULATIONS, "dynamics.formulation")
+    check = None
+    if "check" in data:
+        check = _check(data["check"], data.get("loads", {}))
+    elif "loads" in data:
+        raise InputError("loads", "explicit loads need a [check] table that lists their parts")
+    if check is None and mechanism is None:
+        raise InputError("mechanism", "missing: a scene needs a [mechanism] table, a [check] table, or both")
+    if check is not None:
+        needs_linkage = [p for p in check.parts if p not in check.loads]
+        if needs_linkage and mechanism is None:
+            raise InputError("mechanism", f"missing: parts {', '.join(needs_linkage)} take their loads from the "
+                                          "linkage (or give them explicit [loads.PART])")
+        if "gravity" in check.effects and formulation == "seed-2013":
+            raise InputError("check.effects", "gravity cannot be combined with dynamics.formulation = "
+                                              "\"seed-2013\" (the seed's equations have no weight terms)")
+        if mechanism is not None and isinstance(mechanism.linkage, SliderCrank):
+            rails = [p for p in needs_linkage if p == "rocker-rail"]
+            if rails:
+                raise InputError("check.parts", "a slider-crank has no rocker rail")
+    mesh = _mesh(data.get("mesh", {}))
+    output = _output(data.get("output", {}))
+    geometry = _geometry(data.get("geometry", {}))
+    return Scene(mechanism, formulation, check, mesh, output, geometry, data, source)
+
+
+def load_scene(path: str | Path | None) -> Scene:
+    """Read a scene file; ``None`` reads the built-in default (the seed's final design)."""
+    if path is None:
+        text = resources.files("railcheck").joinpath("scenes", DEFAULT_SCENE).read_text(encoding="utf-8")
+        source = f"built-in {DEFAULT_SCENE}"
+    else:
+        p = Path(path)
+        if not p.exists():
+            raise InputError("scene", f"file not found: {p}")
+        if not p.is_file():
+            raise InputError("scene", f"not a file: {p}")
+        try:
+            text = p.read_text(encoding="utf-8")
+        except (OSError, UnicodeDecodeError) as exc:
+            raise InputError("scene", f"cannot read {p}: {exc}") from None
+        source = str(p)
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError("scene", f"malformed TOML in {source}: {exc}") from None
+    return parse_scene(data, source)

@@ -1,0 +1,81 @@
+"""Quantities with units at the edges: one parser, SI inside.
+
+A scene states every dimensional value as a string, "480 mm", "1 Hz", "375 MPa".
+:func:`parse_quantity` turns it into an SI float (m, kg, s, N, Pa, rad, rad/s) after
+checking that the unit belongs to the expected dimension. A bare number for a
+dimensional field is an error: the unit is part of the value.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+
+from .errors import InputError
+
+__all__ = ["parse_quantity", "UNITS", "format_quantity"]
+
+_TWO_PI = 2.0 * math.pi
+
+#: dimension -> {unit symbol: factor to SI}
+UNITS: dict[str, dict[str, float]] = {
+    "length": {"m": 1.0, "cm": 1e-2, "mm": 1e-3, "um": 1e-6, "µm": 1e-6, "in": 0.0254},
+    # a crank speed: SI is rad/s
+    "angular_speed": {"rad/s": 1.0, "Hz": _TWO_PI, "rpm": _TWO_PI / 60.0, "deg/s": math.pi / 180.0},
+    "stress": {"Pa": 1.0, "kPa": 1e3, "MPa": 1e6, "GPa": 1e9, "N/mm2": 1e6, "N/mm^2": 1e6},
+    "force": {"N": 1.0, "kN": 1e3},
+    "mass": {"kg": 1.0, "g": 1e-3},
+    "linear_density": {"kg/m": 1.0, "g/mm": 1.0},
+    "angle": {"rad": 1.0, "deg": math.pi / 180.0, "°": math.pi / 180.0},
+    "acceleration": {"m/s2": 1.0, "m/s^2": 1.0, "g": 9.80665},
+    "memory": {"B": 1.0, "kB": 1e3, "MB": 1e6, "GB": 1e9, "KiB": 1024.0, "MiB": 1024.0**2, "GiB": 1024.0**3},
+}
+
+#: the unit an error message suggests for a bare number
+PREFERRED = {"length": "mm", "angular_speed": "Hz", "stress": "MPa", "force": "N", "mass": "kg",
+             "linear_density": "kg/m", "angle": "deg", "acceleration": "m/s2", "memory": "GB"}
+
+_NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?|[-+]?(?:nan|inf|infinity)"
+_PATTERN = re.compile(rf"^\s*({_NUMBER})\s*([^\s\d].*?)?\s*$", re.IGNORECASE)
+
+
+def parse_quantity(value: object, dimension: str, field: str, *, positive: bool = False,
+                   allow_zero: bool = True) -> float:
+    """Parse ``value`` ("480 mm") as a ``dimension`` quantity; return its SI value.
+
+    Raises :class:`InputError` naming ``field`` for a bare number, an unknown or wrong
+    unit, NaN or infinity, and (with ``positive``) a negative value, or zero unless
+    ``allow_zero``.
+    """
+    units = UNITS[dimension]
+    if isinstance(value, bool) or isinstance(value, (int, float)):
+        raise InputError(field, f"needs a unit, e.g. \"{value} {PREFERRED[dimension]}\" "
+                                f"(got the bare number {value!r})")
+    if not isinstance(value, str):
+        raise InputError(field, f"must be a string with a unit, got {type(value).__name__}")
+    match = _PATTERN.match(value)
+    if not match:
+        raise InputError(field, f"cannot read {value!r} as a {dimension.replace('_', ' ')} "
+                                f"(expected a number and one of: {', '.join(units)})")
+    number, unit = match.group(1), (match.group(2) or "").strip()
+    if not unit:
+        raise InputError(field, f"needs a unit, e.g. \"{number} {PREFERRED[dimension]}\"")
+    if unit not in units:
+        wrong = [dim for dim, table in UNITS.items() if unit in table]
+        hint = f" ({unit!r} is a {wrong[0].replace('_', ' ')} unit)" if wrong else ""
+        raise InputError(field, f"unit {unit!r} is not a {dimension.replace('_', ' ')} unit{hint}; "
+                                f"use one of: {', '.join(units)}")
+    x = float(number)
+    if not math.isfinite(x):
+        raise InputError(field, f"must be finite, got {value!r}")
+    si = x * units[unit]
+    if positive and si < 0:
+        raise InputError(field, f"must be positive, got {value!r}")
+    if positive and not allow_zero and si == 0:
+        raise InputError(field, f"must be greater than zero, got {value!r}")
+    return si
+
+
+def format_quantity(si: float, unit: str, dimension: str, digits: int = 4) -> str:
+    """Format an SI value in ``unit`` with ``digits`` significant figures: '480 mm'."""
+    return f"{si / UNITS[dimension][unit]:.{digits}g} {unit}"

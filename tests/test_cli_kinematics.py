@@ -1,0 +1,117 @@
+"""`railcheck kinematics`: JSON contract, plots, and bad input -> exit 2 naming the field."""
+
+import json
+import subprocess
+import sys
+
+import pytest
+
+from railcheck.cli import main
+
+GOOD = """
+[mechanism]
+kind = "four-bar"
+crank = "480 mm"
+coupler = "840 mm"
+rocker = "780 mm"
+ground = "1020 mm"
+speed = "1 Hz"
+steps = 5000
+assembly = "open"
+[dynamics]
+formulation = "seed-2013"
+"""
+
+
+def run(argv, capsys):
+    code = main(argv)
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_json_contract(tmp_path, capsys, sig):
+    scene = tmp_path / "s.toml"
+    scene.write_text(GOOD)
+    code, out, err = run(["kinematics", str(scene), "--json"], capsys)
+    assert code == 0
+    data = json.loads(out)
+    assert data["formulation"] == "seed-2013"
+    assert set(data["peak_reactions_N"]) == {"O2", "A", "B", "O4"}
+    assert set(data["peak_crank_angle_deg"]) == {"O2", "A", "B", "O4", "torque"}
+    assert sig(data["peak_reactions_N"]["O2"], 450.1626)
+    assert sig(data["peak_torque_Nm"], 113.7598)
+    assert sig(data["transmission_angle_deg"]["min"], 38.7192)
+    assert all(set(c) == {"ok", "message"} for c in data["checks"].values())
+    assert {"assembly", "grashof", "transmission_angle", "crank_rail_collision", "hole_grid"} <= set(data["checks"])
+
+
+def test_default_scene_is_the_seed_final_design(capsys):
+    code, out, _ = run(["kinematics", "--json"], capsys)
+    data = json.loads(out)
+    assert code == 0
+    assert data["mechanism"]["crank_mm"] == 480 and data["mechanism"]["ground_mm"] == 1020
+    assert data["formulation"] == "newton-euler"
+
+
+def test_plots_written(tmp_path, capsys):
+    code, out, _ = run(["kinematics", "--plots", str(tmp_path / "p")], capsys)
+    assert code == 0
+    names = sorted(p.name for p in (tmp_path / "p").iterdir())
+    assert names == ["angles.png", "angular_accelerations.png", "angular_velocities.png",
+                     "reactions.png", "torque.png"]
+    assert all((tmp_path / "p" / n).read_bytes()[:4] == b"\x89PNG" for n in names)
+
+
+BAD = [
+    ('crank = "480 mm"', "crank = 480", "mechanism.crank"),                  # bare number
+    ('crank = "480 mm"', 'crank = "480 kg"', "mechanism.crank"),             # wrong unit
+    ('crank = "480 mm"', 'crank = "-480 mm"', "mechanism.crank"),            # negative
+    ('crank = "480 mm"', 'crank = "0 mm"', "mechanism.crank"),               # zero
+    ('crank = "480 mm"', 'crank = "nan mm"', "mechanism.crank"),             # NaN
+    ('crank = "480 mm"', "", "mechanism.crank"),                             # missing
+    ('speed = "1 Hz"', 'speed = "1 Hz"\ncolour = "red"', "mechanism.colour"),  # unknown key
+    ('speed = "1 Hz"', 'speed = "1 mm"', "mechanism.speed"),
+    ('steps = 5000', 'steps = 2.5', "mechanism.steps"),
+    ('assembly = "open"', 'assembly = "sideways"', "mechanism.assembly"),
+    ('formulation = "seed-2013"', 'formulation = "lagrange"', "dynamics.formulation"),
+    ('kind = "four-bar"', 'kind = "five-bar"', "mechanism.kind"),
+    ('ground = "1020 mm"', 'ground = "3000 mm"', "mechanism.ground"),        # cannot be assembled
+]
+
+
+@pytest.mark.parametrize("old,new,field", BAD)
+def test_bad_input_exits_2_naming_the_field(tmp_path, capsys, old, new, field):
+    scene = tmp_path / "bad.toml"
+    scene.write_text(GOOD.replace(old, new))
+    code, out, err = run(["kinematics", str(scene)], capsys)
+    assert code == 2
+    assert out == ""
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and field in lines[0], err
+
+
+def test_crank_that_cannot_revolve_is_refused(tmp_path, capsys):
+    scene = tmp_path / "bad.toml"
+    scene.write_text(GOOD.replace('rocker = "780 mm"', 'rocker = "300 mm"'))
+    code, _, err = run(["kinematics", str(scene)], capsys)
+    assert code == 2 and "cannot make a full revolution" in err
+
+
+def test_malformed_toml_and_missing_file(tmp_path, capsys):
+    scene = tmp_path / "bad.toml"
+    scene.write_text("[mechanism\nkind=")
+    code, _, err = run(["kinematics", str(scene)], capsys)
+    assert code == 2 and "malformed TOML" in err and len(err.strip().splitlines()) == 1
+    code, _, err = run(["kinematics", str(tmp_path / "nope.toml")], capsys)
+    assert code == 2 and "file not found" in err
+
+
+def test_no_traceback_in_a_real_process(tmp_path):
+    scene = tmp_path / "bad.toml"
+    scene.write_text(GOOD.replace('crank = "480 mm"', "crank = 480"))
+    proc = subprocess.run([sys.executable, "-m", "railcheck.cli", "kinematics", str(scene)],
+                          capture_output=True, text=True)
+    assert proc.returncode == 2
+    assert "Traceback" not in proc.stderr
+    assert proc.stderr.strip() == ('railcheck: error: mechanism.crank: needs a unit, e.g. "480 mm" '
+                                   "(got the bare number 480)")
