@@ -1,0 +1,30 @@
+"""VTK output: one .vtu per solved part, linear tetrahedra at the mesh's vertices with
+point data ``displacement`` (m, 3 components) and ``von_mises`` (Pa). Written to a
+temporary name and renamed."""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+
+def write_vtu(path: str | Path, points: np.ndarray, tets: np.ndarray, displacement: np.ndarray,
+              von_mises: np.ndarray) -> Path:
+    import meshio
+
+    path = Path(path)
+    mesh = meshio.Mesh(points, [("tetra", tets.astype(np.int64))],
+                       point_data={"displacement": np.asarray(displacement, float),
+                                   "von_mises": np.asarray(von_mises, float)})
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=".vtu", dir=path.parent)
+    os.close(fd)
+    try:
+        meshio.write(tmp, mesh, file_format="vtu")
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+    return path

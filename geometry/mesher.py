@@ -1,0 +1,279 @@
+"""gmsh meshing of the parts, returning plain numpy arrays, cached on disk.
+
+gmsh is imported inside :func:`build_mesh` only. The mesh is always first-order
+tetrahedra (straight-sided): second-order fields (P2) take their mid-edge nodes from the
+FE package, so the P1 and P2 solutions live on the same geometry. A size field refines
+the mesh at every hole (to ``hole_size``) and grows to ``size`` away from them.
+
+Meshes are cached in ``$RAILCHECK_CACHE`` (default ``~/.cache/railcheck``) keyed by a hash
+of the part's parameters, the mesh sizes and this module's version.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import os
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .models import PartGeometry
+
+MESHER_VERSION = 3
+SLIVER_SICN = 0.05   # elements whose signed inverse condition number is below this are slivers
+
+
+@dataclass(frozen=True)
+class MeshData:
+    """A tetrahedral mesh: ``points`` (n, 3) m, ``tets`` (m, 4) node indices, and named
+    boundary groups ``groups[name]`` = (k, 3) triangle node indices. ``min_quality`` is
+    gmsh's smallest minSICN over the elements, ``slivers`` how many fall below
+    :data:`SLIVER_SICN`; ``seconds`` the meshing time (0 when read from the cache)."""
+
+    points: np.ndarray
+    tets: np.ndarray
+    groups: dict[str, np.ndarray]
+    min_quality: float
+    slivers: int
+    seconds: float
+    cached: bool = False
+
+
+def default_cache_dir() -> Path:
+    return Path(os.environ.get("RAILCHECK_CACHE", Path.home() / ".cache" / "railcheck"))
+
+
+def _cache_key(part: PartGeometry, size: float, hole_size: float) -> str:
+    payload = json.dumps({"v": MESHER_VERSION, "kind": part.kind, "params": [list(p) for p in part.params],
+                          "size": size, "hole_size": hole_size}, sort_keys=True, default=list)
+    return hashlib.sha256(payload.encode()).hexdigest()[:24]
+
+
+def estimate_elements(part: PartGeometry, size: float, hole_size: float) -> int:
+    """A rough count of tetrahedra for the part at these sizes (for refusing huge runs
+    before meshing): about 6 V / h^3, plus the refined shells around the holes."""
+    n = 6.0 * part.volume / size**3
+    holes = sum(1 for g in part.groups if g.startswith("hole_") or g in ("bearing_seat",))
+    p = dict(part.params)
+    thickness = p.get("height", p.get("thickness", p.get("depth", size)))
+    shell = math.pi * (size**2) * thickness          # a shell about one size thick round each hole
+    n += holes * 6.0 * shell / hole_size**3
+    return int(n)
+
+
+def mesh_part(part: PartGeometry, size: float, hole_size: float | None = None,
+              cache: bool = True, cache_dir: Path | None = None, verbose: bool = False) -> MeshData:
+    """Mesh ``part`` with element size ``size`` (m), ``hole_size`` at the holes (default
+    size / 3); read from / write to the cache unless ``cache`` is False."""
+    hole_size = hole_size or size / 3.0
+    key = _cache_key(part, size, hole_size)
+    path = (cache_dir or default_cache_dir()) / f"{part.kind}-{key}.npz"
+    if cache and path.exists():
+        try:
+            with np.load(path) as z:
+                groups = {k[2:]: z[k] for k in z.files if k.startswith("g_")}
+                return MeshData(z["points"], z["tets"], groups, float(z["min_quality"]), int(z["slivers"]),
+                                0.0, cached=True)
+        except (OSError, ValueError, KeyError):
+            pass   # a damaged cache entry is rebuilt
+    data = build_mesh(part, size, hole_size, verbose=verbose)
+    if cache:
+        try:
+            path.parent.mkdir(parents=True, exist_ok=True)
+            tmp = path.with_name(f".{path.stem}.{os.getpid()}.tmp.npz")
+            np.savez(tmp, points=data.points, tets=data.tets, min_quality=data.min_quality,
+                     slivers=data.slivers, **{f"g_{k}": v for k, v in data.groups.items()})
+            os.replace(tmp, path)
+        except OSError:
+            pass   # an unwritable cache only costs time
+    return data
+
+
+def build_mesh(part: PartGeometry, size: float, hole_size: float, verbose: bool = False) -> MeshData:
+    """Build the gmsh model of ``part`` and mesh it (no cache)."""
+    import gmsh
+
+    t0 = time.perf_counter()
+    gmsh.initialize(interruptible=False)
+    try:
+        gmsh.option.setNumber("General.Terminal", 1 if verbose else 0)
+        gmsh.option.setNumber("General.Verbosity", 5 if verbose else 0)
+        gmsh.model.add(part.kind)
+        surfaces, refine = _BUILDERS[part.kind](gmsh, dict(part.params))
+        vols = gmsh.model.getEntities(3)
+        gmsh.model.addPhysicalGroup(3, [v[1] for v in vols], name="solid")
+        for name, tags in surfaces.items():
+            if not tags:
+                raise RuntimeError(f"geometry: group {name!r} found no surface")
+            gmsh.model.addPhysicalGroup(2, sorted(set(tags)), name=name)
+        # size field: hole_size on the refined surfaces, growing to size
+        gmsh.option.setNumber("Mesh.MeshSizeMax", size)
+        gmsh.option.setNumber("Mesh.MeshSizeMin", min(size, hole_size) * 0.5)
+        gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
+        gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
+        gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
+        gmsh.option.setNumber("Mesh.Algorithm3D", 1)       # Delaunay
+        gmsh.option.setNumber("Mesh.Optimize", 1)
+        gmsh.option.setNumber("General.NumThreads", 1)     # deterministic meshes
+        if refine and hole_size < size:
+            fd = gmsh.model.mesh.field.add("Distance")
+            gmsh.model.mesh.field.setNumbers(fd, "SurfacesList", sorted(set(refine)))
+            gmsh.model.mesh.field.setNumber(fd, "Sampling", 40)
+            ft = gmsh.model.mesh.field.add("Threshold")
+            gmsh.model.mesh.field.setNumber(ft, "InField", fd)
+            gmsh.model.mesh.field.setNumber(ft, "SizeMin", hole_size)
+            gmsh.model.mesh.field.setNumber(ft, "SizeMax", size)
+            gmsh.model.mesh.field.setNumber(ft, "DistMin", hole_size)
+            gmsh.model.mesh.field.setNumber(ft, "DistMax", hole_size + 2.0 * size)
+            gmsh.model.mesh.field.setAsBackgroundMesh(ft)
+        gmsh.model.mesh.generate(3)
+        return _extract(gmsh, surfaces, time.perf_counter() - t0)
+    finally:
+        gmsh.finalize()
+
+
+def _extract(gmsh, surfaces, seconds) -> MeshData:
+    tags, coords, _ = gmsh.model.mesh.getNodes()
+    order = np.argsort(tags)
+    tags = tags[order]
+    points = coords.reshape(-1, 3)[order]
+    index = np.full(int(tags.max()) + 1, -1, dtype=np.int64)
+    index[tags] = np.arange(tags.size)
+    etypes, etags, enodes = gmsh.model.mesh.getElements(3)
+    tets, tet_tags = [], []
+    for et, tt, nn in zip(etypes, etags, enodes):
+        if et != 4:
+            raise RuntimeError(f"unexpected 3D element type {et}")
+        tets.append(index[nn.astype(np.int64)].reshape(-1, 4))
+        tet_tags.append(tt)
+    tets = np.concatenate(tets)
+    qualities = gmsh.model.mesh.getElementQualities(np.concatenate(tet_tags), "minSICN")
+    groups = {}
+    for name, stags in surfaces.items():
+        tris = []
+        for s in sorted(set(stags)):
+            et, _, nn = gmsh.model.mesh.getElements(2, s)
+            for t, n in zip(et, nn):
+                tris.append(index[n.astype(np.int64)].reshape(-1, 3))
+        groups[name] = np.concatenate(tris)
+    used = np.unique(tets)
+    if used.size != points.shape[0]:       # drop nodes no tetrahedron uses (geometry points)
+        remap = np.full(points.shape[0], -1, dtype=np.int64)
+        remap[used] = np.arange(used.size)
+        points = points[used]
+        tets = remap[tets]
+        groups = {k: remap[v] for k, v in groups.items()}
+    return MeshData(points, tets.astype(np.int64), groups, float(qualities.min()),
+                    int(np.count_nonzero(qualities < SLIVER_SICN)), seconds)
+
+
+# --- builders: each returns ({group: [surface tags]}, [surface tags to refine at]) ---------
+
+def _classify_cylinders(gmsh, centres, radius, z_range, tol):
+    """Surface tags of cylindrical faces of the given ``radius`` around each (x, y) centre
+    whose z extent lies in ``z_range``; one list per centre."""
+    out = [[] for _ in centres]
+    for dim, tag in gmsh.model.getEntities(2):
+        if gmsh.model.getType(dim, tag) != "Cylinder":
+            continue
+        x0, y0, z0, x1, y1, z1 = gmsh.model.getBoundingBox(dim, tag)
+        if z0 < z_range[0] - tol or z1 > z_range[1] + tol:
+            continue
+        for k, (cx, cy) in enumerate(centres):
+            if (x0 >= cx - radius - tol and x1 <= cx + radius + tol and y0 >= cy - radius - tol
+                    and y1 <= cy + radius + tol and max(x1 - x0, y1 - y0) > radius):
+                out[k].append(tag)
+    return out
+
+
+def _planes_at(gmsh, axis, value, tol):
+    """Plane surface tags lying in the plane coordinate[axis] = value."""
+    tags = []
+    for dim, tag in gmsh.model.getEntities(2):
+        bb = gmsh.model.getBoundingBox(dim, tag)
+        if abs(bb[axis] - value) < tol and abs(bb[axis + 3] - value) < tol:
+            tags.append(tag)
+    return tags
+
+
+def _build_bar(gmsh, p):
+    L, w, h = p["length"], p["width"], p["height"]
+    gmsh.model.occ.addBox(0, -w / 2, -h / 2, L, w, h)
+    gmsh.model.occ.synchronize()
+    tol = 1e-6
+    return {"clamp": _planes_at(gmsh, 0, 0.0, 1e-6), "tip": _planes_at(gmsh, 0, L, 1e-6)}, []
+
+
+def _build_rail(gmsh, p):
+    L, w, h = p["length"], p["width"], p["height"]
+    xs = p["hole_x"]
+    r, rc, dc = p["hole_diameter"] / 2, p["counterbore_diameter"] / 2, p["counterbore_depth"]
+    occ = gmsh.model.occ
+    box = occ.addBox(0, -w / 2, 0, L, w, h)
+    tools = []
+    for x in xs:
+        tools.append((3, occ.addCylinder(x, 0, -h, 0, 0, 3 * h, r)))
+        tools.append((3, occ.addCylinder(x, 0, h - dc, 0, 0, 2 * dc, rc)))
+    if tools:
+        occ.cut([(3, box)], tools)
+    occ.synchronize()
+    tol = 1e-6
+    holes = _classify_cylinders(gmsh, [(x, 0.0) for x in xs], r, (0.0, h - dc), 1e-7)
+    cbores = _classify_cylinders(gmsh, [(x, 0.0) for x in xs], rc, (h - dc, h), 1e-7)
+    groups = {"end_pivot": _planes_at(gmsh, 0, 0.0, tol), "end_free": _planes_at(gmsh, 0, L, tol)}
+    for k, tags in enumerate(holes):
+        groups[f"hole_{k}"] = tags
+    if xs:
+        groups["shaft_hole"] = holes[0]
+    refine = [t for tags in holes + cbores for t in tags]
+    return groups, refine
+
+
+def _build_joint_plate(gmsh, p):
+    L, W, t = p["length"], p["width"], p["thickness"]
+    occ = gmsh.model.occ
+    box = occ.addBox(0, -W / 2, 0, L, W, t)
+    seat = occ.addCylinder(p["seat_x"], 0, -t, 0, 0, 3 * t, p["seat_diameter"] / 2)
+    bolts = [occ.addCylinder(x, 0, -t, 0, 0, 3 * t, p["bolt_diameter"] / 2) for x in p["bolt_x"]]
+    occ.cut([(3, box)], [(3, seat)] + [(3, b) for b in bolts])
+    occ.synchronize()
+    seat_tags = _classify_cylinders(gmsh, [(p["seat_x"], 0.0)], p["seat_diameter"] / 2, (0, t), 1e-7)[0]
+    holes = _classify_cylinders(gmsh, [(x, 0.0) for x in p["bolt_x"]], p["bolt_diameter"] / 2, (0, t), 1e-7)
+    groups = {"bearing_seat": seat_tags, "end_free": _planes_at(gmsh, 0, L, 1e-6)}
+    for k, tags in enumerate(holes):
+        groups[f"hole_{k}"] = tags
+    return groups, seat_tags + [t_ for tags in holes for t_ in tags]
+
+
+def i_profile_hole_centres(p) -> list[tuple[float, float]]:
+    """(x, y) of the four top-flange holes, in the order hole_0 .. hole_3."""
+    L, px, py = p["length"], p["bolt_pitch_x"], p["bolt_pitch_y"]
+    return [(L / 2 - px / 2, -py / 2), (L / 2 - px / 2, py / 2), (L / 2 + px / 2, -py / 2), (L / 2 + px / 2, py / 2)]
+
+
+def _build_i_profile(gmsh, p):
+    L, fw, D = p["length"], p["flange_width"], p["depth"]
+    tf, tw = p["flange_thickness"], p["web_thickness"]
+    occ = gmsh.model.occ
+    bottom = occ.addBox(0, -fw / 2, 0, L, fw, tf)
+    web = occ.addBox(0, -tw / 2, tf, L, tw, D - 2 * tf)
+    top = occ.addBox(0, -fw / 2, D - tf, L, fw, tf)
+    fused, _ = occ.fuse([(3, bottom)], [(3, web), (3, top)])
+    centres = i_profile_hole_centres(p)
+    r = p["bolt_diameter"] / 2
+    holes = [(3, occ.addCylinder(x, y, D - 2 * tf, 0, 0, 3 * tf, r)) for x, y in centres]
+    occ.cut(fused, holes)
+    occ.synchronize()
+    hole_tags = _classify_cylinders(gmsh, centres, r, (D - tf, D), 1e-7)
+    groups = {"base": _planes_at(gmsh, 2, 0.0, 1e-6), "end_free": _planes_at(gmsh, 2, D, 1e-6)}
+    for k, tags in enumerate(hole_tags):
+        groups[f"hole_{k}"] = tags
+    return groups, [t for tags in hole_tags for t in tags]
+
+
+_BUILDERS = {"bar": _build_bar, "rail": _build_rail, "joint_plate": _build_joint_plate,
+             "i_profile": _build_i_profile}

@@ -1,0 +1,167 @@
+"""`railcheck check`: the main job. Runs the pipeline, writes the results directory and
+prints a verdict table per part.
+
+The results are written into a staging directory beside the target and renamed into
+place at the end, so a failed run leaves no half-written results and never touches
+earlier ones. An existing results directory is never overwritten silently: a new run
+goes to ``DIR-2``, ``DIR-3``, ... unless ``--force``.
+
+``summary.json`` holds no timings, so the same scene gives a byte-identical summary;
+timings go to ``timings.json``.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import sys
+import tempfile
+from pathlib import Path
+
+from .atomic import atomic_write_text
+from .errors import EXIT_FAIL, EXIT_PASS, InputError
+from .pipeline import PipelineResult, Progress, run_pipeline
+from .report import kinematics_table, to_json
+from .scene import load_scene
+
+
+def choose_output_dir(requested: Path, force: bool) -> Path:
+    """The directory this run will produce: ``requested`` if free (or ``force``), else
+    the first free ``requested-N``."""
+    if requested.exists() and not requested.is_dir():
+        raise InputError("output.dir", f"{requested} exists and is not a directory")
+    if force or not requested.exists():
+        return requested
+    k = 2
+    while Path(f"{requested}-{k}").exists():
+        k += 1
+    return Path(f"{requested}-{k}")
+
+
+def _check_writable(parent: Path) -> None:
+    probe = parent
+    while not probe.exists():
+        probe = probe.parent
+    if not probe.is_dir():
+        raise InputError("output.dir", f"{probe} is not a directory")
+    if not os.access(probe, os.W_OK | os.X_OK):
+        raise InputError("output.dir", f"{probe} is not writable")
+
+
+def summary_of(result: PipelineResult) -> dict:
+    """The summary.json content (deterministic: no timings)."""
+    scene = result.scene
+    parts = {}
+    for name, p in result.parts.items():
+        s = p.solution
+        parts[name] = {
+            "max_von_mises_Pa": s.max_von_mises_away,
+            "max_von_mises_location_m": [float(x) for x in s.max_von_mises_away_location],
+            "support_peak_von_mises_Pa": s.max_von_mises,
+            "support_peak_location_m": [float(x) for x in s.max_von_mises_location],
+            "support_exclusion_m": s.exclude_distance,
+            "tip_deflection_m": s.tip_deflection,
+            "tip_displacement_m": [float(x) for x in s.tip_displacement],
+            "limit_Pa": p.limit,
+            "utilisation": p.verdict_stress / p.limit,
+            "pass": bool(p.passed),
+            "load_case": {"support": p.load_case.support, "tip": p.load_case.tip_group,
+                          "factor": p.load_case.factor,
+                          "bolts": {b.group: list(b.force) for b in p.load_case.bolts},
+                          **p.load_case.origin},
+            "mesh": {"order": s.order, "size_m": scene.mesh.size,
+                     "hole_size_m": scene.mesh.hole_size or scene.mesh.size / 3,
+                     "dofs": s.dofs, "elements": s.elements, "min_quality": p.mesh.min_quality,
+                     "slivers": p.mesh.slivers},
+        }
+    out = {
+        "verdict": ("PASS" if result.passed else "FAIL") if result.parts else "NO CHECK",
+        "parts": parts,
+        "stages_run": list(result.stages_run),
+        "warnings": list(result.warnings),
+    }
+    if scene.check is not None:
+        out["material"] = scene.check.material
+        out["effects"] = list(scene.check.effects)
+    if result.kinematics_summary is not None:
+        out["kinematics"] = result.kinematics_summary
+    out["scene"] = scene.raw
+    out["scene_source"] = scene.source
+    return out
+
+
+def parts_table(result: PipelineResult) -> str:
+    lines = [f"  {'part':<14}{'max von Mises':>15}{'tip defl.':>12}{'limit':>10}{'margin':>11}{'use':>7}  "
+             f"{'verdict':<9}{'peak at x, y, z (mm)':<26}{'at support*':>12}"]
+    for name, p in result.parts.items():
+        s = p.solution
+        loc = ", ".join(f"{x*1e3:.1f}" for x in s.max_von_mises_away_location)
+        lines.append(f"  {name:<14}{p.verdict_stress/1e6:>11.1f} MPa{s.tip_deflection*1e3:>9.3f} mm"
+                     f"{p.limit/1e6:>6.0f} MPa{(p.limit - p.verdict_stress)/1e6:>7.1f} MPa"
+                     f"{p.verdict_stress/p.limit*100:>6.0f}%  {'PASS' if p.passed else 'FAIL':<9}{loc:<26}"
+                     f"{s.max_von_mises/1e6:>8.1f} MPa")
+    lines.append("  * the peak at the idealised clamped support grows with mesh refinement (a singularity); the "
+                 "verdict uses the peak farther than one hole diameter from it")
+    return "\n".join(lines)
+
+
+def run_check_command(args) -> int:
+    scene = load_scene(args.scene)
+    requested = Path(args.out or scene.output.dir)
+    _check_writable(requested.parent if str(requested.parent) else Path("."))
+    target = choose_output_dir(requested, args.force)
+    progress = Progress(quiet=False)
+    result = run_pipeline(scene, progress)
+    summary = summary_of(result)
+
+    target.parent.mkdir(parents=True, exist_ok=True)
+    staging = Path(tempfile.mkdtemp(prefix=f".{target.name}.", dir=target.parent))
+    try:
+        atomic_write_text(staging / "summary.json", to_json(summary) + "\n")
+        atomic_write_text(staging / "timings.json", to_json(result.timings) + "\n")
+        if result.kinematics is not None and scene.output.plots:
+            from .plots import write_kinematics_plots
+            write_kinematics_plots(result.kinematics, staging)
+        if result.parts:
+            from fea.vtk import write_vtu
+            for name, p in result.parts.items():
+                if scene.output.vtk:
+                    write_vtu(staging / f"{name}.vtu", p.mesh.points, p.mesh.tets, p.solution.displacement,
+                              p.solution.von_mises)
+            if scene.output.png:
+                from .render import render_part
+                for name, p in result.parts.items():
+                    render_part(staging / f"{name}.png", name, p)
+            progress.say("report", f"wrote {len(result.parts)} parts")
+        if target.exists():          # --force: swap the old directory out only now
+            old = Path(tempfile.mkdtemp(prefix=f".{target.name}.old.", dir=target.parent))
+            os.replace(target, old / target.name)
+            os.replace(staging, target)
+            shutil.rmtree(old, ignore_errors=True)
+        else:
+            os.replace(staging, target)
+    except BaseException:
+        shutil.rmtree(staging, ignore_errors=True)
+        raise
+
+    if args.json:
+        print(to_json(summary))
+    else:
+        print(f"scene: {scene.source}")
+        if result.kinematics_summary is not None:
+            print(kinematics_table(result.kinematics_summary))
+            print()
+        if result.parts:
+            c = scene.check
+            print(f"FE check: material {c.material}, factor {c.factor:g}, bolts {c.bolt_position}, "
+                  f"P{scene.mesh.order} tetrahedra, size {scene.mesh.size*1e3:g} mm "
+                  f"(holes {(scene.mesh.hole_size or scene.mesh.size/3)*1e3:.3g} mm)")
+            print(parts_table(result))
+            for w in result.warnings:
+                if w not in (result.kinematics_summary or {}).get("warnings", []):
+                    print(f"warning: {w}")
+        print(f"stages run: {', '.join(result.stages_run)}")
+        print(f"verdict: {summary['verdict']}; results in {target}/")
+    if requested != target:
+        print(f"railcheck: {requested} exists; results written to {target} (use --force to replace)", file=sys.stderr)
+    return EXIT_PASS if result.passed else EXIT_FAIL

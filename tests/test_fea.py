@@ -1,0 +1,161 @@
+"""FE core: patch test, rigid modes, cantilever regressions, loads, solvers, VTK."""
+
+import numpy as np
+import pytest
+
+from fea.cantilever import run_cantilever, timoshenko_tip
+from fea.elasticity import (HoleLoad, Support, _components, _element, _skfem_mesh, check_rigid_modes,
+                            solve_elasticity, stiffness_matrix)
+from fea.errors import ModelError, NumericalError
+from fea.materials import MATERIALS
+from fea.solvers import rigid_body_modes
+from geometry.catalogue import RAIL
+from geometry.mesher import mesh_part
+from geometry.models import bar, rail
+
+STEEL = MATERIALS["steel"]
+
+
+@pytest.fixture(scope="module")
+def block():
+    return mesh_part(bar(0.06, 0.03, 0.02), 0.01, hole_size=0.01)
+
+
+@pytest.mark.parametrize("order", [1, 2])
+def test_patch_test_linear_field_is_exact(block, order):
+    from skfem import Basis, condense, solve
+    from skfem.element import ElementVector
+
+    mesh = _skfem_mesh(block.points, block.tets)
+    basis = Basis(mesh, ElementVector(_element(order)), intorder=2)
+    K = stiffness_matrix(basis, STEEL)
+    G = np.array([[1e-3, 2e-4, -3e-4], [5e-4, -1e-3, 1e-4], [-2e-4, 3e-4, 7e-4]])
+    c = np.array([1e-5, -2e-5, 3e-5])
+    comp = _components(basis)
+    exact = (G @ basis.doflocs)[comp, np.arange(basis.N)] + c[comp]
+    boundary = basis.get_dofs().all()
+    u = solve(*condense(K, np.zeros(basis.N), x=exact, D=boundary))
+    interior = np.setdiff1d(np.arange(basis.N), boundary)
+    assert interior.size > 0
+    assert np.max(np.abs(u - exact)) < 1e-10 * np.max(np.abs(exact))
+
+
+@pytest.mark.parametrize("order", [1, 2])
+def test_six_rigid_body_modes(block, order):
+    from skfem import Basis
+    from skfem.element import ElementVector
+
+    assert check_rigid_modes(block.points, block.tets, STEEL, order) < 1e-12
+    mesh = _skfem_mesh(block.points, block.tets)
+    basis = Basis(mesh, ElementVector(_element(order)), intorder=2)
+    K = stiffness_matrix(basis, STEEL).toarray()
+    ev = np.linalg.eigvalsh(K)
+    assert np.all(np.abs(ev[:6]) < 1e-9 * ev[-1])      # six zero-energy modes
+    assert ev[6] > 1e-6 * ev[-1]                        # and no seventh
+
+
+@pytest.mark.parametrize("axis", ["z", "y", "x"])
+def test_p2_cantilever_within_one_percent_of_timoshenko(axis):
+    r = run_cantilever(order=2, size=8e-3, axis=axis)
+    assert abs(r.relative_error) < 0.01, r.relative_error
+
+
+def test_p2_error_shrinks_under_refinement_and_p1_locking_is_measured():
+    errors = [abs(run_cantilever(order=2, size=s).relative_error) for s in (20e-3, 10e-3, 7e-3)]
+    assert errors[0] > errors[1] > errors[2]
+    p1 = run_cantilever(order=1, size=10e-3).relative_error
+    # P1 tetrahedra lock in bending: far stiffer than beam theory at this mesh
+    assert p1 < -0.2
+    assert abs(p1) > 20 * errors[1]
+
+
+def test_plain_rail_profile_matches_beam_theory_with_its_own_section():
+    L = 0.7
+    mesh = mesh_part(rail(L, holes=False), 8e-3, hole_size=8e-3)
+    P = 100.0
+    sol = solve_elasticity(mesh.points, mesh.tets, mesh.groups, STEEL, [Support("end_pivot")],
+                           [HoleLoad("end_free", (0.0, P, 0.0))], order=2, tip_group="end_free")
+    # transverse (in-plane) load bends about z: depth = rail width
+    analytic = timoshenko_tip(P, L, RAIL.height, RAIL.width, STEEL, "z")
+    assert sol.tip_displacement[1] == pytest.approx(analytic, rel=0.02)
+
+
+def test_holed_rail_is_more_flexible_and_the_difference_is_measured():
+    L, P = 0.7, 100.0
+    out = {}
+    for holes in (False, True):
+        mesh = mesh_part(rail(L, holes=holes), 8e-3, hole_size=3e-3)
+        sol = solve_elasticity(mesh.points, mesh.tets, mesh.groups, STEEL, [Support("end_pivot")],
+                               [HoleLoad("end_free", (0.0, 0.0, -P))], order=2, tip_group="end_free")
+        out[holes] = -sol.tip_displacement[2]
+    extra = out[True] / out[False] - 1.0
+    # counterbored holes every 60 mm soften vertical bending by a few percent, not more
+    assert 0.0 < extra < 0.25, extra
+
+
+@pytest.fixture(scope="module")
+def rail_mesh():
+    return mesh_part(rail(0.7), 10e-3, hole_size=4e-3)
+
+
+def test_tractions_sum_to_the_requested_force_and_linearity(rail_mesh):
+    F = (123.0, -45.6, 7.8)
+    args = (rail_mesh.points, rail_mesh.tets, rail_mesh.groups, STEEL, [Support("shaft_hole")])
+    s1 = solve_elasticity(*args, [HoleLoad("hole_11", F)], order=2, tip_group="end_free")
+    np.testing.assert_allclose(s1.applied_forces["hole_11"], F, rtol=1e-10, atol=1e-10 * np.linalg.norm(F))
+    s2 = solve_elasticity(*args, [HoleLoad("hole_11", tuple(2 * np.array(F)))], order=2, tip_group="end_free")
+    np.testing.assert_allclose(s2.displacement, 2 * s1.displacement, rtol=1e-7, atol=1e-7 * np.abs(s1.displacement).max())
+    assert s2.max_von_mises == pytest.approx(2 * s1.max_von_mises, rel=1e-7)
+
+
+def test_amg_and_direct_agree(rail_mesh):
+    args = (rail_mesh.points, rail_mesh.tets, rail_mesh.groups, STEEL, [Support("shaft_hole")],
+            [HoleLoad("hole_10", (200.0, 50.0, 0.0)), HoleLoad("hole_11", (200.0, 50.0, 0.0))])
+    d = solve_elasticity(*args, order=2, tip_group="end_free", solver="direct")
+    a = solve_elasticity(*args, order=2, tip_group="end_free", solver="amg")
+    assert a.solver["solver"] == "amg" and a.solver["iterations"] > 1
+    scale = np.abs(d.displacement).max()
+    assert np.abs(a.displacement - d.displacement).max() < 1e-6 * scale
+    assert a.max_von_mises == pytest.approx(d.max_von_mises, rel=1e-6)
+
+
+def test_unconverged_iterative_solve_raises(rail_mesh):
+    with pytest.raises(NumericalError, match="did not converge"):
+        solve_elasticity(rail_mesh.points, rail_mesh.tets, rail_mesh.groups, STEEL, [Support("shaft_hole")],
+                         [HoleLoad("hole_11", (100.0, 100.0, 0.0))], order=2, solver="amg", maxiter=3)
+
+
+def test_zero_load_is_exactly_zero(rail_mesh):
+    s = solve_elasticity(rail_mesh.points, rail_mesh.tets, rail_mesh.groups, STEEL, [Support("shaft_hole")],
+                         [HoleLoad("hole_11", (0.0, 0.0, 0.0))], order=2, tip_group="end_free")
+    assert np.all(s.displacement == 0.0) and s.max_von_mises == 0.0
+
+
+def test_missing_group_and_missing_support_are_errors(rail_mesh):
+    args = (rail_mesh.points, rail_mesh.tets, rail_mesh.groups, STEEL)
+    with pytest.raises(ModelError, match="hole_99"):
+        solve_elasticity(*args, [Support("shaft_hole")], [HoleLoad("hole_99", (1.0, 0, 0))])
+    with pytest.raises(ModelError, match="no support"):
+        solve_elasticity(*args, [], [HoleLoad("hole_11", (1.0, 0, 0))])
+
+
+def test_vtu_round_trip(tmp_path, rail_mesh):
+    import meshio
+    from fea.vtk import write_vtu
+
+    s = solve_elasticity(rail_mesh.points, rail_mesh.tets, rail_mesh.groups, STEEL, [Support("shaft_hole")],
+                         [HoleLoad("hole_11", (10.0, 20.0, 0.0))], order=2)
+    path = write_vtu(tmp_path / "rail.vtu", rail_mesh.points, rail_mesh.tets, s.displacement, s.von_mises)
+    m = meshio.read(path)
+    assert m.point_data["displacement"].shape == (rail_mesh.points.shape[0], 3)
+    np.testing.assert_allclose(m.point_data["von_mises"], s.von_mises)
+    assert [p.name for p in tmp_path.iterdir()] == ["rail.vtu"]     # no temporary left
+
+
+def test_rigid_body_modes_are_the_kernel_of_a_free_stiffness(block):
+    from skfem import Basis
+    from skfem.element import ElementVector
+
+    basis = Basis(_skfem_mesh(block.points, block.tets), ElementVector(_element(2)), intorder=2)
+    B = rigid_body_modes(basis.doflocs, _components(basis))
+    assert np.linalg.matrix_rank(B) == 6
