@@ -251,7 +251,7 @@ def mean_over_group(mesh, element, u: np.ndarray, facets: np.ndarray) -> np.ndar
     area = asm(Functional(lambda w: 1.0 + 0.0 * w.x[0]), fb)
     out = np.zeros(3)
     for c in range(3):
-        out[c] = asm(Functional(lambda w, c=c: w["uh"].value[c]), fb, uh=uh) / area
+        out[c] = asm(Functional(lambda w, c=c: w["uh"][c]), fb, uh=uh) / area
     return out
 
 

@@ -1,0 +1,171 @@
+"""`railcheck check`: load cases, staged pipeline, outputs, verdicts."""
+
+import json
+import math
+import subprocess
+import sys
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from loads.rotation import to_rail_axes
+from railcheck.pipeline import Progress, build_load_cases, part_geometries, run_pipeline
+from railcheck.kinematics_stage import run_kinematics
+from railcheck.scene import load_scene, parse_scene
+
+import tomllib
+
+KINEMATICS_ONLY = """
+[mechanism]
+kind = "four-bar"
+crank = "480 mm"
+coupler = "840 mm"
+rocker = "780 mm"
+ground = "1020 mm"
+speed = "1 Hz"
+"""
+
+PLATE_ONLY = """
+[check]
+parts = ["PF_4b_003_v2"]
+[loads.PF_4b_003_v2]
+longitudinal = "250 N"
+transverse = "250 N"
+[mesh]
+order = 2
+size = "8 mm"
+hole_size = "4 mm"
+"""
+
+COARSE_CRANK = KINEMATICS_ONLY + """
+[check]
+parts = ["crank-rail"]
+factor = FACTOR
+[mesh]
+order = 2
+size = "20 mm"
+hole_size = "6 mm"
+"""
+
+
+def test_rotation_unit_cases():
+    f = np.array([3.0, 4.0])
+    np.testing.assert_allclose(to_rail_axes(f, 0.0), [3.0, 4.0], atol=1e-15)
+    np.testing.assert_allclose(to_rail_axes(f, math.pi / 2), [4.0, -3.0], atol=1e-15)
+    np.testing.assert_allclose(to_rail_axes(f, math.pi), [-3.0, -4.0], atol=1e-15)
+
+
+@given(st.floats(-1e4, 1e4), st.floats(-1e4, 1e4), st.floats(-20.0, 20.0))
+@settings(max_examples=200, deadline=None)
+def test_rotation_preserves_magnitude(fx, fy, theta):
+    out = to_rail_axes(np.array([fx, fy]), theta)
+    assert math.hypot(*out) == pytest.approx(math.hypot(fx, fy), rel=1e-12, abs=1e-9)
+
+
+def test_load_cases_sum_to_factor_times_peak_reaction():
+    scene = load_scene(None)
+    kin = run_kinematics(scene)
+    cases = build_load_cases(scene, kin, part_geometries(scene))
+    dyn, th = kin.dynamics, kin.motion.theta
+    expected = {"crank-rail": (-dyn.reactions["A"], th[:, 0]), "coupler-rail": (-dyn.reactions["B"], th[:, 1]),
+                "rocker-rail": (dyn.reactions["B"], th[:, 2])}
+    for part, (force, angle) in expected.items():
+        k = int(np.argmax(np.hypot(force[:, 0], force[:, 1])))
+        want = 1.4 * to_rail_axes(force[k], angle[k])
+        got = cases[part].total_force[:2]
+        assert np.linalg.norm(got - want) <= 1e-10 * np.linalg.norm(want)
+        assert len(cases[part].bolts) == 2
+        # worst position: the last two holes of the rail
+        n = len(part_geometries(scene)[part].get("hole_x"))
+        assert [b.group for b in cases[part].bolts] == [f"hole_{n-2}", f"hole_{n-1}"]
+    plate = cases["PF_4b_003_v2"]
+    assert [b.force for b in plate.bolts] == [(250.0, 250.0, 0.0)] * 4
+
+
+def test_actual_bolt_position_is_at_the_bar_length():
+    scene = load_scene(None)
+    scene = replace(scene, check=replace(scene.check, bolt_position="actual"))
+    cases = build_load_cases(scene, run_kinematics(scene), part_geometries(scene))
+    # crank 480 mm from the shaft hole (x = 20 mm): the hole at x = 500 mm is hole 8
+    assert [b.group for b in cases["crank-rail"].bolts] == ["hole_8", "hole_9"]
+    assert [b.group for b in cases["coupler-rail"].bolts] == ["hole_14", "hole_15"]
+
+
+def test_stages_run_kinematics_only_and_plate_only():
+    r = run_pipeline(parse_scene(tomllib.loads(KINEMATICS_ONLY)))
+    assert r.stages_run == ["scene", "kinematics", "report"]
+    r = run_pipeline(parse_scene(tomllib.loads(PLATE_ONLY)))
+    assert r.stages_run == ["scene", "loads", "geometry", "mesh", "solve", "stress", "report"]
+    assert r.kinematics is None
+    sol = r.parts["PF_4b_003_v2"].solution
+    np.testing.assert_allclose(sum(sol.applied_forces.values()), [1000.0, 1000.0, 0.0], rtol=1e-10, atol=1e-8)
+
+
+def test_kinematics_only_run_imports_no_heavy_module(tmp_path):
+    scene = tmp_path / "k.toml"
+    scene.write_text(KINEMATICS_ONLY)
+    code = (f"import sys; from railcheck.cli import main; rc = main(['check', {str(scene)!r}, '--out', "
+            f"{str(tmp_path / 'out')!r}, '--json']); heavy = sorted(m for m in sys.modules if m.split('.')[0] "
+            "in ('gmsh', 'skfem', 'pyvista', 'vtk', 'meshio', 'pyamg')); print('HEAVY', heavy, rc, file=sys.stderr)")
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert "HEAVY [] 0" in proc.stderr, proc.stderr
+    summary = json.loads(proc.stdout)
+    assert summary["stages_run"] == ["scene", "kinematics", "report"]
+    assert summary["verdict"] == "NO CHECK"
+
+
+def test_factor_doubles_the_stress():
+    out = {}
+    for factor in (1.4, 2.8):
+        r = run_pipeline(parse_scene(tomllib.loads(COARSE_CRANK.replace("FACTOR", str(factor)))))
+        out[factor] = r.parts["crank-rail"].solution
+    assert out[2.8].max_von_mises == pytest.approx(2 * out[1.4].max_von_mises, rel=1e-9)
+    assert out[2.8].max_von_mises_away == pytest.approx(2 * out[1.4].max_von_mises_away, rel=1e-9)
+    assert out[2.8].tip_deflection == pytest.approx(2 * out[1.4].tip_deflection, rel=1e-9)
+
+
+def test_gravity_only_when_listed():
+    base = parse_scene(tomllib.loads(COARSE_CRANK.replace("FACTOR", "1.4")))
+    assert run_kinematics(base).effects == ("inertia",)
+    grav = replace(base, check=replace(base.check, effects=("inertia", "gravity")))
+    assert run_kinematics(grav).effects == ("inertia", "gravity")
+    still = replace(base, mechanism=replace(base.mechanism, speed=0.0))
+    r = run_kinematics(still)
+    assert r.effects == () and all(np.all(x == 0) for x in r.dynamics.reactions.values())
+
+
+@pytest.mark.slow
+def test_default_check_end_to_end(tmp_path):
+    import meshio
+
+    out = tmp_path / "results"
+    proc = subprocess.run([sys.executable, "-m", "railcheck.cli", "check", "--out", str(out)],
+                          capture_output=True, text=True, cwd=tmp_path)
+    assert proc.returncode in (0, 1), proc.stderr
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["stages_run"] == ["scene", "kinematics", "loads", "geometry", "mesh", "solve", "stress", "report"]
+    parts = ["crank-rail", "coupler-rail", "rocker-rail", "PF_4b_006", "PF_4b_003_v2"]
+    assert list(summary["parts"]) == parts
+    for name in parts:
+        m = meshio.read(out / f"{name}.vtu")
+        assert m.point_data["displacement"].shape[1] == 3 and "von_mises" in m.point_data
+        assert (out / f"{name}.png").read_bytes()[:4] == b"\x89PNG"
+        p = summary["parts"][name]
+        assert set(p) >= {"max_von_mises_Pa", "tip_deflection_m", "limit_Pa", "pass"}
+        # the console shows the same figures
+        line = next(l for l in proc.stdout.splitlines() if l.strip().startswith(name + " "))
+        assert f"{p['max_von_mises_Pa']/1e6:.1f} MPa" in line
+        assert f"{p['tip_deflection_m']*1e3:.3f} mm" in line
+        assert ("PASS" if p["pass"] else "FAIL") in line
+    assert proc.returncode == (0 if summary["verdict"] == "PASS" else 1)
+    # a second run never overwrites the first
+    again = subprocess.run([sys.executable, "-m", "railcheck.cli", "check", "--out", str(out), "--json"],
+                           capture_output=True, text=True, cwd=tmp_path)
+    assert (tmp_path / "results-2" / "summary.json").exists()
+    # determinism: the same scene gives a byte-identical summary
+    assert (tmp_path / "results-2" / "summary.json").read_bytes() == (out / "summary.json").read_bytes()
+    assert json.loads(again.stdout)["parts"] == summary["parts"]
