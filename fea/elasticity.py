@@ -281,8 +281,12 @@ def von_mises_nodal(basis, scalar_element, u: np.ndarray, material: Material):
     from skfem import Basis, BilinearForm, LinearForm, asm
     import scipy.sparse.linalg as spla
 
-    sigma = element_stress(basis, u, material)
-    sb = Basis(basis.mesh, scalar_element, quadrature=basis.quadrature)
+    # the mass matrix of order p needs a rule exact to order 2p: with the stiffness's rule
+    # (order 2(p-1)) a P2 mass matrix is rank-deficient element by element
+    order = 2 if scalar_element.maxdeg == 2 else 1
+    qbasis = Basis(basis.mesh, basis.elem, intorder=2 * order)
+    sigma = element_stress(qbasis, u, material)
+    sb = Basis(basis.mesh, scalar_element, quadrature=qbasis.quadrature)
 
     @BilinearForm
     def mass(a, v, w):
@@ -301,7 +305,7 @@ def von_mises_nodal(basis, scalar_element, u: np.ndarray, material: Material):
         if not np.any(b):
             comps.append(np.zeros_like(b))
             continue
-        x, status = spla.cg(M, b, rtol=1e-12, atol=0.0, maxiter=1000, M=pre)
+        x, status = spla.cg(M, b, rtol=1e-11, atol=0.0, maxiter=2000, M=pre)
         if status != 0:
             raise NumericalError("stress projection did not converge")
         comps.append(x)

@@ -47,9 +47,9 @@ def default_cache_dir() -> Path:
     return Path(os.environ.get("RAILCHECK_CACHE", Path.home() / ".cache" / "railcheck"))
 
 
-def _cache_key(part: PartGeometry, size: float, hole_size: float) -> str:
+def _cache_key(part: PartGeometry, size: float, hole_size: float, optimize: bool = True) -> str:
     payload = json.dumps({"v": MESHER_VERSION, "kind": part.kind, "params": [list(p) for p in part.params],
-                          "size": size, "hole_size": hole_size}, sort_keys=True, default=list)
+                          "size": size, "hole_size": hole_size, "optimize": optimize}, sort_keys=True, default=list)
     return hashlib.sha256(payload.encode()).hexdigest()[:24]
 
 
@@ -66,11 +66,13 @@ def estimate_elements(part: PartGeometry, size: float, hole_size: float) -> int:
 
 
 def mesh_part(part: PartGeometry, size: float, hole_size: float | None = None,
-              cache: bool = True, cache_dir: Path | None = None, verbose: bool = False) -> MeshData:
+              cache: bool = True, cache_dir: Path | None = None, verbose: bool = False,
+              optimize: bool = True) -> MeshData:
     """Mesh ``part`` with element size ``size`` (m), ``hole_size`` at the holes (default
-    size / 3); read from / write to the cache unless ``cache`` is False."""
+    size / 3); read from / write to the cache unless ``cache`` is False. ``optimize``
+    False skips gmsh's tetrahedron optimisation (slivers may remain; they are counted)."""
     hole_size = hole_size or size / 3.0
-    key = _cache_key(part, size, hole_size)
+    key = _cache_key(part, size, hole_size, optimize)
     path = (cache_dir or default_cache_dir()) / f"{part.kind}-{key}.npz"
     if cache and path.exists():
         try:
@@ -80,7 +82,7 @@ def mesh_part(part: PartGeometry, size: float, hole_size: float | None = None,
                                 0.0, cached=True)
         except (OSError, ValueError, KeyError):
             pass   # a damaged cache entry is rebuilt
-    data = build_mesh(part, size, hole_size, verbose=verbose)
+    data = build_mesh(part, size, hole_size, verbose=verbose, optimize=optimize)
     if cache:
         try:
             path.parent.mkdir(parents=True, exist_ok=True)
@@ -93,7 +95,8 @@ def mesh_part(part: PartGeometry, size: float, hole_size: float | None = None,
     return data
 
 
-def build_mesh(part: PartGeometry, size: float, hole_size: float, verbose: bool = False) -> MeshData:
+def build_mesh(part: PartGeometry, size: float, hole_size: float, verbose: bool = False,
+               optimize: bool = True) -> MeshData:
     """Build the gmsh model of ``part`` and mesh it (no cache)."""
     import gmsh
 
@@ -117,7 +120,7 @@ def build_mesh(part: PartGeometry, size: float, hole_size: float, verbose: bool 
         gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
         gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
         gmsh.option.setNumber("Mesh.Algorithm3D", 1)       # Delaunay
-        gmsh.option.setNumber("Mesh.Optimize", 1)
+        gmsh.option.setNumber("Mesh.Optimize", 1 if optimize else 0)
         gmsh.option.setNumber("General.NumThreads", 1)     # deterministic meshes
         if refine and hole_size < size:
             fd = gmsh.model.mesh.field.add("Distance")

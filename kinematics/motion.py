@@ -147,16 +147,20 @@ def _fourbar_revolvability(linkage: FourBar) -> None:
             f"the crank cannot make a full revolution: at crank angle 0 deg the distance A-O4 = "
             f"{r_min*1e3:.6g} mm is below |coupler - rocker| = {abs(b3 - b4)*1e3:.6g} mm")
     mu_min, mu_max = fourbar_toggle_margins(linkage)
+    ordered = sorted(lengths.values())
+    kind = ("Grashof change point (s + l = p + q): all four bars become collinear"
+            if abs(ordered[0] + ordered[3] - ordered[1] - ordered[2]) <= 1e-12 * ordered[3]
+            else "singular configuration (toggle)")
     if mu_min < SINGULAR_TOLERANCE_RAD:
         raise SingularConfigurationError(
             "mechanism",
-            "singular configuration (toggle/change point) at crank angle 0 deg: coupler and rocker "
+            f"{kind} at crank angle 0 deg: coupler and rocker "
             f"are aligned (transmission angle {math.degrees(mu_min):.3g} deg); velocities and reactions "
             "are undefined there", 0.0)
     if math.pi - mu_max < SINGULAR_TOLERANCE_RAD:
         raise SingularConfigurationError(
             "mechanism",
-            "singular configuration (toggle) at crank angle 180 deg: coupler and rocker are folded "
+            f"{kind} at crank angle 180 deg: coupler and rocker are folded "
             f"(transmission angle {math.degrees(mu_max):.6g} deg); velocities and reactions are "
             "undefined there", math.pi)
 

@@ -105,17 +105,29 @@ def parts_table(result: PipelineResult) -> str:
     return "\n".join(lines)
 
 
+def _make_staging(target: Path) -> Path:
+    """Create the staging directory beside ``target`` now, before any work, so that an
+    unusable output location fails at once (exit 2) and nothing is half-written."""
+    try:
+        target.parent.mkdir(parents=True, exist_ok=True)
+        return Path(tempfile.mkdtemp(prefix=f".{target.name}.", dir=target.parent))
+    except OSError as exc:
+        raise InputError("output.dir", f"cannot write results beside {target}: {exc.strerror or exc}") from None
+
+
 def run_check_command(args) -> int:
     scene = load_scene(args.scene)
     requested = Path(args.out or scene.output.dir)
     _check_writable(requested.parent if str(requested.parent) else Path("."))
     target = choose_output_dir(requested, args.force)
-    progress = Progress(quiet=False)
-    result = run_pipeline(scene, progress)
-    summary = summary_of(result)
-
-    target.parent.mkdir(parents=True, exist_ok=True)
-    staging = Path(tempfile.mkdtemp(prefix=f".{target.name}.", dir=target.parent))
+    staging = _make_staging(target)
+    try:
+        progress = Progress(quiet=False)
+        result = run_pipeline(scene, progress)
+        summary = summary_of(result)
+    except BaseException:
+        shutil.rmtree(staging, ignore_errors=True)
+        raise
     try:
         atomic_write_text(staging / "summary.json", to_json(summary) + "\n")
         atomic_write_text(staging / "timings.json", to_json(result.timings) + "\n")

@@ -140,8 +140,11 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("railcheck: interrupted", file=sys.stderr)
         return 130
-    except Exception as exc:  # numerical failures from the FE stage
-        from fea.errors import NumericalError
+    except Exception as exc:  # model and numerical failures from the FE stage
+        from fea.errors import ModelError, NumericalError
+        if isinstance(exc, ModelError):
+            print(f"railcheck: error: {exc}", file=sys.stderr)
+            return EXIT_INPUT
         if isinstance(exc, NumericalError):
             print(f"railcheck: numerical failure: {exc}", file=sys.stderr)
             return EXIT_NUMERICAL

@@ -206,7 +206,7 @@ def run_pipeline(scene: Scene, progress: Progress | None = None, solver: str = "
     for i, (name, case) in enumerate(cases.items(), 1):
         geo = geometries[name]
         t = time.perf_counter()
-        mesh = mesh_part(geo, scene.mesh.size, scene.mesh.hole_size)
+        mesh = mesh_part(geo, scene.mesh.size, scene.mesh.hole_size, optimize=scene.mesh.optimize)
         result.timings[f"mesh:{name}"] = time.perf_counter() - t
         _mark(result, "mesh")
         if mesh.slivers:
@@ -246,16 +246,18 @@ def _refuse_huge(scene: Scene, geometries: dict) -> None:
     for name, geo in geometries.items():
         tets = estimate_elements(geo, scene.mesh.size, hole)
         worst = max(worst, estimate_dofs(tets // 5, tets, scene.mesh.order))
-    need = worst * BYTES_PER_DOF
+    from fea.solvers import DIRECT_LIMIT
+    need = worst * (BYTES_PER_DOF_DIRECT if worst <= DIRECT_LIMIT else BYTES_PER_DOF_AMG)
     avail = available_memory()
     if need > 0.8 * avail:
         raise InputError("mesh.size", f"about {worst/1e6:.1f} M DOFs needing about {need/2**30:.1f} GiB, more than "
                                       f"this machine's {avail/2**30:.1f} GiB allow: use a larger mesh size")
 
 
-#: memory per DOF of a solve (assembly, AMG hierarchy or LU factors, projection), bytes;
-#: measured on P2 rails (see README, "what the tool refuses")
-BYTES_PER_DOF = 20_000
+#: peak memory per DOF of a P2 solve (assembly, LU factors or AMG hierarchy, stress
+#: projection), bytes; measured on a 1000 mm rail at 145k DOFs (README, "What railcheck refuses")
+BYTES_PER_DOF_DIRECT = 20_000
+BYTES_PER_DOF_AMG = 11_000
 
 
 def available_memory() -> float:

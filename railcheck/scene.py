@@ -59,6 +59,7 @@ class MeshSpec:
     order: int = 2
     size: float = 3e-3                        # m
     hole_size: float | None = None            # m; None = size / 3
+    optimize: bool = True                     # gmsh's tetrahedron optimisation
 
 
 @dataclass(frozen=True)
@@ -87,7 +88,7 @@ _ALLOWED = {
     "mechanism": {"kind", "crank", "coupler", "rocker", "ground", "speed", "steps", "assembly"},
     "dynamics": {"formulation"},
     "check": {"parts", "factor", "bolt_position", "material", "limit", "effects"},
-    "mesh": {"order", "size", "hole_size"},
+    "mesh": {"order", "size", "hole_size", "optimize"},
     "output": {"dir", "vtk", "png", "plots"},
     "loads": None,       # part names, checked below
     "geometry": None,    # catalogue keys, checked below
@@ -203,7 +204,9 @@ def _mesh(table: dict) -> MeshSpec:
         hole = parse_quantity(table["hole_size"], "length", p + "hole_size", positive=True, allow_zero=False)
     if size < 0.2e-3:
         raise InputError(p + "size", f"{size*1e3:g} mm is below the 0.2 mm this tool meshes")
-    return MeshSpec(order, size, hole)
+    if hole is not None and hole > size:
+        raise InputError(p + "hole_size", f"{hole*1e3:g} mm is larger than mesh.size {size*1e3:g} mm")
+    return MeshSpec(order, size, hole, _bool(table, "optimize", p, True))
 
 
 def _output(table: dict) -> OutputSpec:
