@@ -159,3 +159,15 @@ def test_rigid_body_modes_are_the_kernel_of_a_free_stiffness(block):
     basis = Basis(_skfem_mesh(block.points, block.tets), ElementVector(_element(2)), intorder=2)
     B = rigid_body_modes(basis.doflocs, _components(basis))
     assert np.linalg.matrix_rank(B) == 6
+
+
+@pytest.mark.parametrize("order", [1, 2])
+def test_fast_assembly_equals_scikit_fem(block, order):
+    from skfem import Basis, asm
+    from skfem.element import ElementVector
+    from skfem.models.elasticity import linear_elasticity
+
+    basis = Basis(_skfem_mesh(block.points, block.tets), ElementVector(_element(order)), intorder=2)
+    mine = stiffness_matrix(basis, STEEL)
+    ref = asm(linear_elasticity(*STEEL.lame), basis)
+    assert abs(mine - ref).max() <= 1e-12 * abs(ref).max()

@@ -1,0 +1,290 @@
+"""`railcheck convergence`: what accuracy costs in time.
+
+For each element order and mesh size: DOFs, elements, seconds per stage (mesh, assembly,
+solve, stress), peak memory, tip deflection, peak von Mises (away from the support) and
+their errors: against Timoshenko beam theory for the cantilever, against a Richardson
+extrapolation from the three finest meshes for a part. The peak at the clamped support is
+reported too, so its growth under refinement (a singularity) is shown, not hidden.
+
+Each row runs in its own process, so ``peak_memory_bytes`` is that solve's peak resident
+memory (the interpreter and libraries included, about 0.2 GB). ``kinematics`` as TARGET
+studies the number of crank steps instead.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+import time
+
+import numpy as np
+
+from .errors import EXIT_PASS, InputError
+from .report import to_json
+
+PART_TARGETS = ("crank-rail", "coupler-rail", "rocker-rail", "PF_4b_006", "PF_4b_003_v2")
+DEFAULT_SIZES_MM = {"cantilever": [20.0, 14.0, 10.0, 7.0, 5.0], "rail": [20.0, 14.0, 10.0, 7.0],
+                    "plate": [12.0, 8.5, 6.0, 4.2]}
+HOLE_RATIO = 0.3          # hole_size / size, as in the default scene (3 mm / 10 mm)
+
+
+# -- Richardson extrapolation ---------------------------------------------------------
+
+def richardson(h: list[float], f: list[float], max_iter: int = 100) -> tuple[float, float]:
+    """Extrapolate three solutions ``f`` at mesh sizes ``h`` (coarse to fine) to h -> 0.
+
+    Assumes f(h) = f0 + C h^p; solves for the observed order p by fixed-point iteration
+    (Celik et al. 2008, valid for a non-constant refinement ratio) and returns (f0, p).
+    Raises ValueError when the three values do not converge monotonically.
+    """
+    # Celik et al. number the grids from the finest: 1 fine, 2 medium, 3 coarse
+    (h3, h2, h1), (f3, f2, f1) = h[-3:], f[-3:]
+    r21, r32 = h2 / h1, h3 / h2
+    e21, e32 = f2 - f1, f3 - f2
+    if e21 == 0:
+        return f1, math.inf
+    ratio = e32 / e21
+    if ratio <= 0:
+        raise ValueError("oscillating convergence: no Richardson extrapolation")
+    s = 1.0
+    p = abs(math.log(ratio)) / math.log(r21)
+    for _ in range(max_iter):
+        q = math.log((r21**p - s) / (r32**p - s))
+        p_new = abs(math.log(ratio) + q) / math.log(r21)
+        if abs(p_new - p) < 1e-14 * max(1.0, p):
+            p = p_new
+            break
+        p = p_new
+    f0 = (r21**p * f1 - f2) / (r21**p - 1.0)
+    return f0, p
+
+
+# -- one row (run in a subprocess) ------------------------------------------------------
+
+def _solve_row(target: str, order: int, size: float) -> dict:
+    """Mesh and solve one configuration; returns the row (SI)."""
+    import resource
+
+    from fea.cantilever import HEIGHT, LENGTH, LOAD, WIDTH
+    from fea.elasticity import HoleLoad, Support, solve_elasticity
+    from fea.materials import MATERIALS
+    from geometry.mesher import mesh_part
+    from geometry.models import bar
+
+    steel = MATERIALS["steel"]
+    if target == "cantilever":
+        geo = bar(LENGTH, WIDTH, HEIGHT)
+        hole = size
+        supports, loads, tip, exclude = [Support("clamp")], [HoleLoad("tip", (0.0, 0.0, LOAD))], "tip", HEIGHT
+    else:
+        from .pipeline import build_load_cases, part_geometries, support_exclusion
+        from .kinematics_stage import run_kinematics
+        from .scene import load_scene
+        from dataclasses import replace
+
+        scene = load_scene(None)
+        scene = replace(scene, check=replace(scene.check, parts=(target,)))
+        geos = part_geometries(scene)
+        kin = run_kinematics(scene) if target not in scene.check.loads else None
+        case = build_load_cases(scene, kin, geos)[target]
+        geo = geos[target]
+        hole = size * HOLE_RATIO
+        supports, tip = [Support(case.support)], case.tip_group
+        loads = [HoleLoad(b.group, b.force) for b in case.bolts]
+        exclude = support_exclusion(geo)
+    t = time.perf_counter()
+    mesh = mesh_part(geo, size, hole, cache=False)
+    t_mesh = time.perf_counter() - t
+    sol = solve_elasticity(mesh.points, mesh.tets, mesh.groups, steel, supports, loads, order=order,
+                           tip_group=tip, exclude_distance=exclude)
+    row = {"target": target, "order": order, "size_m": size, "hole_size_m": hole, "dofs": sol.dofs,
+           "elements": sol.elements,
+           "seconds": {"mesh": t_mesh, **{k: sol.seconds[k] for k in ("assembly", "solve", "stress")}},
+           "peak_memory_bytes": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024,
+           "tip_deflection_m": sol.tip_deflection, "max_von_mises_Pa": sol.max_von_mises_away,
+           "max_von_mises_location_m": [float(x) for x in sol.max_von_mises_away_location],
+           "support_peak_von_mises_Pa": sol.max_von_mises, "solver": sol.solver.get("solver")}
+    return row
+
+
+def _row_in_subprocess(target: str, order: int, size: float) -> dict:
+    code = ("import json, sys; from railcheck.convergence import _solve_row; "
+            f"print('ROW' + json.dumps(_solve_row({target!r}, {order}, {size!r})))")
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    for line in proc.stdout.splitlines():
+        if line.startswith("ROW"):
+            return json.loads(line[3:])
+    raise RuntimeError(f"convergence row {target} P{order} {size*1e3:g} mm failed:\n{proc.stderr[-2000:]}")
+
+
+def beam_stress(x: float) -> float:
+    """Bending stress (Pa) of the benchmark cantilever at distance x (m) from the clamp."""
+    from fea.cantilever import HEIGHT, LENGTH, LOAD, WIDTH
+    inertia = WIDTH * HEIGHT**3 / 12
+    return LOAD * (LENGTH - x) * (HEIGHT / 2) / inertia
+
+
+def add_errors(rows: list[dict], target: str) -> dict:
+    """Fill ``error_deflection`` and ``error_von_mises`` (relative, signed) in place;
+    return the reference values used, per order."""
+    refs = {}
+    if target == "cantilever":
+        from fea.cantilever import HEIGHT, LENGTH, LOAD, WIDTH, timoshenko_tip
+        from fea.materials import MATERIALS
+        analytic = timoshenko_tip(LOAD, LENGTH, WIDTH, HEIGHT, MATERIALS["steel"], "z")
+        for r in rows:
+            r["error_deflection"] = (r["tip_deflection_m"] - analytic) / analytic
+            sb = beam_stress(r["max_von_mises_location_m"][0])
+            r["error_von_mises"] = (r["max_von_mises_Pa"] - sb) / sb
+        refs = {"tip_deflection_m": analytic, "von_mises": "beam theory at the peak's x"}
+        return refs
+    for order in sorted({r["order"] for r in rows}):
+        sub = sorted((r for r in rows if r["order"] == order), key=lambda r: -r["size_m"])
+        h = [r["size_m"] for r in sub]
+        ref = {}
+        for key, name in (("tip_deflection_m", "error_deflection"), ("max_von_mises_Pa", "error_von_mises")):
+            try:
+                f0, p = richardson(h, [r[key] for r in sub]) if len(sub) >= 3 else (sub[-1][key], float("nan"))
+            except ValueError:
+                f0, p = sub[-1][key], float("nan")
+            ref[key] = {"extrapolated": f0, "observed_order": p}
+            for r in sub:
+                r[name] = (r[key] - f0) / f0 if f0 else float("nan")
+        refs[f"P{order}"] = ref
+    return refs
+
+
+def run_study(target: str, orders: list[int], sizes: list[float], progress=print) -> tuple[list[dict], dict]:
+    rows = []
+    total = len(orders) * len(sizes)
+    for i, order in enumerate(orders):
+        for j, size in enumerate(sorted(sizes, reverse=True)):
+            t = time.perf_counter()
+            row = _row_in_subprocess(target, order, size)
+            rows.append(row)
+            progress(f"[{i*len(sizes)+j+1}/{total}] {target} P{order} {size*1e3:g} mm: {row['dofs']} DOFs, "
+                     f"{time.perf_counter() - t:.1f} s")
+    refs = add_errors(rows, target)
+    return rows, refs
+
+
+# -- kinematics: crank steps ------------------------------------------------------------
+
+def kinematics_study(steps_list: list[int], reference_steps: int = 200_000) -> tuple[list[dict], dict]:
+    """Error of each peak reaction and of the peak torque against ``reference_steps``,
+    and the median time of a full cycle, for the default scene."""
+    from kinematics.dynamics import inverse_dynamics
+    from kinematics.motion import solve_motion
+    from .scene import load_scene
+
+    scene = load_scene(None)
+    lk, speed = scene.mechanism.linkage, scene.mechanism.speed
+
+    def peaks(n):
+        dyn = inverse_dynamics(solve_motion(lk, speed, n), scene.formulation)
+        return {**{j: dyn.peak(j)[0] for j in dyn.reactions}, "torque": dyn.peak_torque()[0]}
+
+    ref = peaks(reference_steps)
+    rows = []
+    for n in steps_list:
+        times = []
+        for _ in range(5):
+            t = time.perf_counter()
+            p = peaks(n)
+            times.append(time.perf_counter() - t)
+        err = {k: (p[k] - ref[k]) / ref[k] for k in ref}
+        four = all(abs(p[k] - ref[k]) <= 0.5 * 10 ** (math.floor(math.log10(ref[k])) - 3) for k in ref)
+        rows.append({"steps": n, "seconds": float(np.median(times)), "errors": err,
+                     "max_abs_error": max(abs(e) for e in err.values()), "four_significant_figures": four})
+    return rows, ref
+
+
+# -- command ----------------------------------------------------------------------------
+
+def _parse_list(text: str, kind, name: str) -> list:
+    try:
+        values = [kind(x) for x in text.split(",") if x.strip()]
+    except ValueError:
+        raise InputError(name, f"must be a comma-separated list, got {text!r}") from None
+    if not values:
+        raise InputError(name, "is empty")
+    return values
+
+
+def plot_study(rows: list[dict], target: str, path: str) -> None:
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from .atomic import atomic_path
+
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.5))
+    for ax, key, title in ((axes[0], "error_deflection", "tip deflection"), (axes[1], "error_von_mises",
+                                                                             "peak von Mises (away from support)")):
+        for order in sorted({r["order"] for r in rows}):
+            sub = [r for r in rows if r["order"] == order and r.get(key) not in (None,) and r[key] == r[key]]
+            t = [sum(r["seconds"].values()) for r in sub]
+            e = [max(abs(r[key]), 1e-16) for r in sub]
+            ax.loglog(t, e, "o-", label=f"P{order}")
+            for r, ti, ei in zip(sub, t, e):
+                ax.annotate(f"{r['size_m']*1e3:g} mm", (ti, ei), fontsize=7, textcoords="offset points", xytext=(3, 3))
+        ax.set(xlabel="wall time per solve (s)", ylabel="relative error", title=f"{target}: {title}")
+        ax.grid(alpha=0.3, which="both")
+        ax.legend()
+    fig.tight_layout()
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=110, format="png")
+    plt.close(fig)
+
+
+def run_convergence_command(args) -> int:
+    target = args.target
+    if target == "kinematics":
+        steps = _parse_list(args.sizes, int, "--sizes") if args.sizes else [50, 100, 200, 500, 1000, 2000, 5000, 10000]
+        rows, ref = kinematics_study(steps)
+        if args.json:
+            print(to_json({"rows": rows, "reference": ref, "reference_steps": 200_000}))
+            return EXIT_PASS
+        print("default scene, newton-euler; reference: 200000 steps")
+        print(f"  {'steps':>7}{'seconds':>10}{'max |error|':>13}  4 sig. figures")
+        for r in rows:
+            print(f"  {r['steps']:>7}{r['seconds']:>10.4f}{r['max_abs_error']:>13.2e}  "
+                  f"{'yes' if r['four_significant_figures'] else 'no'}")
+        return EXIT_PASS
+    if target != "cantilever" and target not in PART_TARGETS:
+        raise InputError("TARGET", f"unknown target {target!r} (cantilever, kinematics, {', '.join(PART_TARGETS)})")
+    orders = _parse_list(args.orders, int, "--orders")
+    if any(o not in (1, 2) for o in orders):
+        raise InputError("--orders", f"orders are 1 or 2, got {args.orders!r}")
+    kind = "cantilever" if target == "cantilever" else ("rail" if target.endswith("rail") else "plate")
+    sizes_mm = _parse_list(args.sizes, float, "--sizes") if args.sizes else DEFAULT_SIZES_MM[kind]
+    if any(not (1.0 <= s <= 50.0) for s in sizes_mm):
+        raise InputError("--sizes", "mesh sizes must lie between 1 and 50 mm")
+    rows, refs = run_study(target, orders, [s * 1e-3 for s in sizes_mm],
+                           progress=lambda m: print(m, file=sys.stderr, flush=True))
+    if args.plot:
+        plot_study(rows, target, args.plot)
+    if args.json:
+        print(to_json({"target": target, "rows": rows, "references": refs}))
+        return EXIT_PASS
+    print(f"{target}: errors against " + ("Timoshenko beam theory" if target == "cantilever"
+                                          else "Richardson extrapolation of the three finest meshes"))
+    print(f"  {'P':>2}{'size mm':>8}{'DOFs':>9}{'elements':>9}{'mesh':>7}{'asm':>7}{'solve':>7}{'stress':>7}"
+          f"{'mem GB':>7}{'tip mm':>11}{'err':>10}{'vM MPa':>9}{'err':>10}{'support':>9}")
+    for r in rows:
+        s = r["seconds"]
+        print(f"  {r['order']:>2}{r['size_m']*1e3:>8.3g}{r['dofs']:>9}{r['elements']:>9}{s['mesh']:>7.2f}"
+              f"{s['assembly']:>7.2f}{s['solve']:>7.2f}{s['stress']:>7.2f}{r['peak_memory_bytes']/1e9:>7.2f}"
+              f"{r['tip_deflection_m']*1e3:>11.5f}{r['error_deflection']*100:>9.3f}%"
+              f"{r['max_von_mises_Pa']/1e6:>9.2f}{r['error_von_mises']*100:>9.3f}%"
+              f"{r['support_peak_von_mises_Pa']/1e6:>9.1f}")
+    if target != "cantilever":
+        for name, ref in refs.items():
+            d, v = ref["tip_deflection_m"], ref["max_von_mises_Pa"]
+            print(f"  {name} extrapolated: tip {d['extrapolated']*1e3:.5f} mm (observed order "
+                  f"{d['observed_order']:.2f}), von Mises {v['extrapolated']/1e6:.2f} MPa (order {v['observed_order']:.2f})")
+    if args.plot:
+        print(f"wrote {args.plot}")
+    return EXIT_PASS
