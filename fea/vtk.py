@@ -23,6 +23,9 @@ def write_vtu(path: str | Path, points: np.ndarray, tets: np.ndarray, displaceme
     os.close(fd)
     try:
         meshio.write(tmp, mesh, file_format="vtu")
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o666 & ~umask)
         os.replace(tmp, path)
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
