@@ -18,7 +18,7 @@ import scipy.sparse.linalg as spla
 
 from .errors import NumericalError
 
-DIRECT_LIMIT = 150_000
+DIRECT_LIMIT = 100_000   # above it AMG-CG: the study found LU slow on chunky parts (README)
 DIRECT_RTOL = 1e-6   # |b - K u| / |b|; LU backward error scales with |K||u| >> |b| here
 AMG_RTOL = 1e-12        # CG's recurrence residual target
 AMG_TRUE_RTOL = 1e-6    # the true residual |b - K u| / |b| must be below this (as direct)

@@ -66,6 +66,7 @@ class IProfileSpec:
     depth: float = 60e-3            # assumed (z, overall height)
     flange_thickness: float = 8e-3  # assumed
     web_thickness: float = 6e-3     # assumed
+    root_radius: float = 3e-3       # assumed: the web-flange fillet (a sharp corner is a stress singularity)
     bolt_diameter: float = 6.6e-3   # M6 medium clearance (ISO 273)
     bolt_pitch_x: float = 60e-3     # assumed
     bolt_pitch_y: float = 36e-3     # assumed

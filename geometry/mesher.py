@@ -23,7 +23,7 @@ import numpy as np
 
 from .models import PartGeometry
 
-MESHER_VERSION = 3
+MESHER_VERSION = 5
 SLIVER_SICN = 0.05   # elements whose signed inverse condition number is below this are slivers
 
 
@@ -266,6 +266,18 @@ def _build_i_profile(gmsh, p):
     web = occ.addBox(0, -tw / 2, tf, L, tw, D - 2 * tf)
     top = occ.addBox(0, -fw / 2, D - tf, L, fw, tf)
     fused, _ = occ.fuse([(3, bottom)], [(3, web), (3, top)])
+    r_root = p.get("root_radius", 0.0)
+    if r_root > 0:
+        # the four web-flange edges: lines along x at y = +-tw/2, z = tf or D - tf
+        edges = []
+        for _, tag in occ.getEntities(1):
+            x0, y0, z0, x1, y1, z1 = occ.getBoundingBox(1, tag)
+            if (x1 - x0 > 0.9 * L and abs(abs(y0) - tw / 2) < 1e-6 and abs(y1 - y0) < 1e-6
+                    and abs(z1 - z0) < 1e-6 and min(abs(z0 - tf), abs(z0 - (D - tf))) < 1e-6):
+                edges.append(tag)
+        if len(edges) != 4:
+            raise RuntimeError(f"geometry: found {len(edges)} web-flange edges, expected 4")
+        fused = occ.fillet([t for _, t in fused], edges, [r_root])
     centres = i_profile_hole_centres(p)
     r = p["bolt_diameter"] / 2
     holes = [(3, occ.addCylinder(x, y, D - 2 * tf, 0, 0, 3 * tf, r)) for x, y in centres]
@@ -275,7 +287,9 @@ def _build_i_profile(gmsh, p):
     groups = {"base": _planes_at(gmsh, 2, 0.0, 1e-6), "end_free": _planes_at(gmsh, 2, D, 1e-6)}
     for k, tags in enumerate(hole_tags):
         groups[f"hole_{k}"] = tags
-    return groups, [t for tags in hole_tags for t in tags]
+    fillets = [tag for dim, tag in gmsh.model.getEntities(2) if gmsh.model.getType(dim, tag) == "Cylinder"
+               and gmsh.model.getBoundingBox(dim, tag)[3] - gmsh.model.getBoundingBox(dim, tag)[0] > 0.9 * L]
+    return groups, [t for tags in hole_tags for t in tags] + fillets
 
 
 _BUILDERS = {"bar": _build_bar, "rail": _build_rail, "joint_plate": _build_joint_plate,

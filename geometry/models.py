@@ -80,6 +80,7 @@ def i_profile(spec: IProfileSpec = I_PROFILE) -> PartGeometry:
     """PF_4b_003_v2 (assumed dimensions, see the catalogue)."""
     return PartGeometry("i_profile", _params(length=spec.length, flange_width=spec.flange_width, depth=spec.depth,
                                              flange_thickness=spec.flange_thickness,
-                                             web_thickness=spec.web_thickness, bolt_diameter=spec.bolt_diameter,
+                                             web_thickness=spec.web_thickness, root_radius=spec.root_radius,
+                                             bolt_diameter=spec.bolt_diameter,
                                              bolt_pitch_x=spec.bolt_pitch_x, bolt_pitch_y=spec.bolt_pitch_y),
                         ("base", "hole_0", "hole_1", "hole_2", "hole_3", "end_free"))

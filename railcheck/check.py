@@ -20,7 +20,7 @@ from pathlib import Path
 
 from .atomic import atomic_write_text
 from .errors import EXIT_FAIL, EXIT_PASS, InputError
-from .pipeline import PipelineResult, Progress, run_pipeline
+from .pipeline import PipelineResult, Progress, mesh_sizes, run_pipeline
 from .report import kinematics_table, to_json
 from .scene import load_scene
 
@@ -69,8 +69,8 @@ def summary_of(result: PipelineResult) -> dict:
                           "factor": p.load_case.factor,
                           "bolts": {b.group: list(b.force) for b in p.load_case.bolts},
                           **p.load_case.origin},
-            "mesh": {"order": s.order, "size_m": scene.mesh.size,
-                     "hole_size_m": scene.mesh.hole_size or scene.mesh.size / 3,
+            "mesh": {"order": s.order, "size_m": mesh_sizes(scene, p.geometry.kind)[0],
+                     "hole_size_m": mesh_sizes(scene, p.geometry.kind)[1],
                      "dofs": s.dofs, "elements": s.elements, "min_quality": p.mesh.min_quality,
                      "slivers": p.mesh.slivers},
         }
@@ -165,9 +165,10 @@ def run_check_command(args) -> int:
             print()
         if result.parts:
             c = scene.check
+            sizes = sorted({mesh_sizes(scene, p.geometry.kind) for p in result.parts.values()}, reverse=True)
+            sizes = ", ".join(f"{a*1e3:g} mm (holes {b*1e3:.3g} mm)" for a, b in sizes)
             print(f"FE check: material {c.material}, factor {c.factor:g}, bolts {c.bolt_position}, "
-                  f"P{scene.mesh.order} tetrahedra, size {scene.mesh.size*1e3:g} mm "
-                  f"(holes {(scene.mesh.hole_size or scene.mesh.size/3)*1e3:.3g} mm)")
+                  f"P{scene.mesh.order} tetrahedra, size {sizes}")
             print(parts_table(result))
             for w in result.warnings:
                 if w not in (result.kinematics_summary or {}).get("warnings", []):

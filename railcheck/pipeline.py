@@ -22,6 +22,19 @@ from .errors import InputError
 from .kinematics_stage import KinematicsResult, kinematics_summary, run_kinematics
 from .scene import Scene
 
+#: default (size, hole size) in m per part kind, from the accuracy-versus-time study
+#: (README, "What accuracy costs"): the coarsest P2 mesh within 1% of the converged tip
+#: deflection and 5% of the converged peak von Mises away from the support
+DEFAULT_MESH = {"rail": (20e-3, 6e-3), "joint_plate": (6e-3, 1.8e-3), "i_profile": (4.2e-3, 1.26e-3)}
+
+
+def mesh_sizes(scene, kind: str) -> tuple[float, float]:
+    """(size, hole size) in m for a part kind: the scene's [mesh], else the default."""
+    if scene.mesh.size is None:
+        return DEFAULT_MESH[kind]
+    return scene.mesh.size, scene.mesh.hole_size or 0.3 * scene.mesh.size
+
+
 STAGES = ("scene", "kinematics", "loads", "geometry", "mesh", "solve", "stress", "report")
 
 SUPPORT = {"rail": "shaft_hole", "joint_plate": "bearing_seat", "i_profile": "base"}
@@ -206,7 +219,8 @@ def run_pipeline(scene: Scene, progress: Progress | None = None, solver: str = "
     for i, (name, case) in enumerate(cases.items(), 1):
         geo = geometries[name]
         t = time.perf_counter()
-        mesh = mesh_part(geo, scene.mesh.size, scene.mesh.hole_size, optimize=scene.mesh.optimize)
+        size, hole = mesh_sizes(scene, geo.kind)
+        mesh = mesh_part(geo, size, hole, optimize=scene.mesh.optimize)
         result.timings[f"mesh:{name}"] = time.perf_counter() - t
         _mark(result, "mesh")
         if mesh.slivers:
@@ -241,10 +255,10 @@ def _refuse_huge(scene: Scene, geometries: dict) -> None:
     from fea.elasticity import estimate_dofs
     from geometry.mesher import estimate_elements
 
-    hole = scene.mesh.hole_size or scene.mesh.size / 3
     worst = 0
     for name, geo in geometries.items():
-        tets = estimate_elements(geo, scene.mesh.size, hole)
+        size, hole = mesh_sizes(scene, geo.kind)
+        tets = estimate_elements(geo, size, hole)
         worst = max(worst, estimate_dofs(tets // 5, tets, scene.mesh.order))
     from fea.solvers import DIRECT_LIMIT
     need = worst * (BYTES_PER_DOF_DIRECT if worst <= DIRECT_LIMIT else BYTES_PER_DOF_AMG)

@@ -57,8 +57,8 @@ class CheckSpec:
 @dataclass(frozen=True)
 class MeshSpec:
     order: int = 2
-    size: float = 3e-3                        # m
-    hole_size: float | None = None            # m; None = size / 3
+    size: float | None = None                 # m; None = each part kind's default (pipeline.DEFAULT_MESH)
+    hole_size: float | None = None            # m; None = the kind's default, or 0.3 x size
     optimize: bool = True                     # gmsh's tetrahedron optimisation
 
 
@@ -198,13 +198,17 @@ def _mesh(table: dict) -> MeshSpec:
     order = table.get("order", 2)
     if isinstance(order, bool) or order not in (1, 2):
         raise InputError(p + "order", f"must be 1 or 2, got {order!r}")
-    size = parse_quantity(table.get("size", "3 mm"), "length", p + "size", positive=True, allow_zero=False)
+    size = None
+    if "size" in table:
+        size = parse_quantity(table["size"], "length", p + "size", positive=True, allow_zero=False)
+        if size < 0.2e-3:
+            raise InputError(p + "size", f"{size*1e3:g} mm is below the 0.2 mm this tool meshes")
     hole = None
     if "hole_size" in table:
         hole = parse_quantity(table["hole_size"], "length", p + "hole_size", positive=True, allow_zero=False)
-    if size < 0.2e-3:
-        raise InputError(p + "size", f"{size*1e3:g} mm is below the 0.2 mm this tool meshes")
-    if hole is not None and hole > size:
+        if size is None:
+            raise InputError(p + "hole_size", "needs mesh.size too (the defaults come in pairs per part kind)")
+    if hole is not None and size is not None and hole > size:
         raise InputError(p + "hole_size", f"{hole*1e3:g} mm is larger than mesh.size {size*1e3:g} mm")
     return MeshSpec(order, size, hole, _bool(table, "optimize", p, True))
 
