@@ -66,11 +66,14 @@ def estimate_elements(part: PartGeometry, size: float, hole_size: float) -> int:
 
 
 def mesh_part(part: PartGeometry, size: float, hole_size: float | None = None,
-              cache: bool = True, cache_dir: Path | None = None, verbose: bool = False,
+              cache: bool = True, cache_dir: Path | None = None, verbose: bool | None = None,
               optimize: bool = True) -> MeshData:
     """Mesh ``part`` with element size ``size`` (m), ``hole_size`` at the holes (default
     size / 3); read from / write to the cache unless ``cache`` is False. ``optimize``
-    False skips gmsh's tetrahedron optimisation (slivers may remain; they are counted)."""
+    False skips gmsh's tetrahedron optimisation (slivers may remain; they are counted).
+    gmsh prints nothing unless ``verbose`` or the environment's ``RAILCHECK_GMSH_VERBOSE=1``."""
+    if verbose is None:
+        verbose = os.environ.get("RAILCHECK_GMSH_VERBOSE", "") not in ("", "0")
     hole_size = hole_size or size / 3.0
     key = _cache_key(part, size, hole_size, optimize)
     path = (cache_dir or default_cache_dir()) / f"{part.kind}-{key}.npz"

@@ -83,11 +83,22 @@ def summary_of(result: PipelineResult) -> dict:
     if scene.check is not None:
         out["material"] = scene.check.material
         out["effects"] = list(scene.check.effects)
+    if any(p.geometry.kind == "rail" for p in result.parts.values()):
+        out["rail_mass_per_m_kg"] = rail_masses(scene)
     if result.kinematics_summary is not None:
         out["kinematics"] = result.kinematics_summary
     out["scene"] = scene.raw
     out["scene_source"] = scene.source
     return out
+
+
+def rail_masses(scene) -> dict:
+    """kg/m of the modelled rail section beside the seed's and the catalogue's figures."""
+    from geometry.catalogue import CATALOGUE_RAIL_MASS, rail_mass_per_metre, rail_mass_per_metre_with_holes, \
+        with_overrides
+    rail = with_overrides(scene.geometry)[0]
+    return {"model_section": rail_mass_per_metre(rail), "model_with_holes": rail_mass_per_metre_with_holes(rail),
+            **CATALOGUE_RAIL_MASS}
 
 
 def parts_table(result: PipelineResult) -> str:
@@ -170,6 +181,11 @@ def run_check_command(args) -> int:
             print(f"FE check: material {c.material}, factor {c.factor:g}, bolts {c.bolt_position}, "
                   f"P{scene.mesh.order} tetrahedra, size {sizes}")
             print(parts_table(result))
+            if "rail_mass_per_m_kg" in summary:
+                m = summary["rail_mass_per_m_kg"]
+                print(f"  rail mass: modelled section {m['model_section']:.2f} kg/m ({m['model_with_holes']:.2f} with "
+                      f"its holes; solid rectangle, grooves omitted), HIWIN HGR25 {m['HIWIN HGR25 catalogue']:.2f} "
+                      f"kg/m, seed {m['seed 000 (Anexo I)']:.2f} kg/m (used by the dynamics)")
             for w in result.warnings:
                 if w not in (result.kinematics_summary or {}).get("warnings", []):
                     print(f"warning: {w}")

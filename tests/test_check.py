@@ -169,3 +169,12 @@ def test_default_check_end_to_end(tmp_path):
     # determinism: the same scene gives a byte-identical summary
     assert (tmp_path / "results-2" / "summary.json").read_bytes() == (out / "summary.json").read_bytes()
     assert json.loads(again.stdout)["parts"] == summary["parts"]
+
+
+def test_rail_mass_is_reported_beside_the_seeds():
+    from railcheck.check import rail_masses
+
+    m = rail_masses(load_scene(None))
+    assert m["model_section"] == pytest.approx(0.023 * 0.022 * 7850)
+    assert m["model_with_holes"] < m["model_section"]
+    assert m["seed 000 (Anexo I)"] == 2.7 and m["HIWIN HGR25 catalogue"] == 3.21
