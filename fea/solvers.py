@@ -75,7 +75,15 @@ def solve_amg(K: sp.spmatrix, b: np.ndarray, B: np.ndarray, rtol: float = AMG_RT
         return np.zeros_like(b), {"solver": "amg", "iterations": 0, "residual": 0.0}
     K = sp.csr_matrix(K)
     A = sp.bsr_matrix(K, blocksize=(3, 3)) if K.shape[0] % 3 == 0 else K
-    ml = pyamg.smoothed_aggregation_solver(A, B=B, symmetry="hermitian", max_coarse=500)
+    # pyamg estimates spectral radii from np.random start vectors: seed them (and restore the
+    # caller's random state) so that the same problem gives bit-identical results
+    state = np.random.get_state()
+    np.random.seed(20131)
+    try:
+        ml = pyamg.smoothed_aggregation_solver(A, B=B, symmetry="hermitian", strength="symmetric",
+                                               max_coarse=500)
+    finally:
+        np.random.set_state(state)
     count = [0]
 
     def tick(_):

@@ -171,3 +171,11 @@ def test_fast_assembly_equals_scikit_fem(block, order):
     mine = stiffness_matrix(basis, STEEL)
     ref = asm(linear_elasticity(*STEEL.lame), basis)
     assert abs(mine - ref).max() <= 1e-12 * abs(ref).max()
+
+
+def test_amg_is_deterministic(rail_mesh):
+    args = (rail_mesh.points, rail_mesh.tets, rail_mesh.groups, STEEL, [Support("shaft_hole")],
+            [HoleLoad("hole_11", (150.0, 80.0, 0.0))])
+    a = solve_elasticity(*args, order=2, solver="amg")
+    b = solve_elasticity(*args, order=2, solver="amg")
+    assert np.array_equal(a.displacement, b.displacement) and a.max_von_mises == b.max_von_mises
