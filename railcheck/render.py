@@ -29,11 +29,16 @@ def render_part(path: str | Path, name: str, part) -> Path:
     grid.points = pts + scale * sol.displacement
     grid.point_data["von Mises (MPa)"] = sol.von_mises / 1e6
     plotter = pv.Plotter(off_screen=True, window_size=(1200, 700))
-    plotter.add_mesh(grid.extract_surface(), scalars="von Mises (MPa)", cmap="jet", show_edges=False,
+    # the colour scale ends at the verdict peak: the clamped support's singular values above
+    # it would otherwise turn the whole part blue; they show in magenta
+    top = max(part.verdict_stress / 1e6, 1e-9)
+    plotter.add_mesh(grid.extract_surface(algorithm="dataset_surface"), scalars="von Mises (MPa)", cmap="jet",
+                     clim=[0.0, top], above_color="magenta", show_edges=False,
                      scalar_bar_args={"title": "von Mises (MPa)", "vertical": True})
     plotter.add_text(f"{name}: max von Mises {part.verdict_stress/1e6:.1f} MPa away from the support "
                      f"({sol.max_von_mises/1e6:.1f} MPa at it), limit {part.limit/1e6:.0f} MPa, "
-                     f"tip {sol.tip_deflection*1e3:.3f} mm\ndeformation x {scale:.3g}", font_size=10)
+                     f"tip {sol.tip_deflection*1e3:.3f} mm\ndeformation x {scale:.3g}; magenta: above the verdict peak "
+                     f"(the support's singular zone)", font_size=10)
     plotter.view_isometric()
     plotter.camera.zoom(1.2 if extent < 0.3 else 1.0)
     path = Path(path)
