@@ -19,7 +19,6 @@ and its location are reported. Deflection: the mean displacement over a named gr
 from __future__ import annotations
 
 import time
-import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -188,7 +187,6 @@ def solve_elasticity(points: np.ndarray, tets: np.ndarray, groups: dict[str, np.
     """
     from skfem import Basis, FacetBasis, Functional, LinearForm, asm, condense
     from skfem.element import ElementVector
-    from skfem.helpers import dot
 
     seconds: dict[str, float] = {}
     messages: list[str] = []
@@ -294,9 +292,8 @@ def _components(basis) -> np.ndarray:
         dofs = getattr(basis, name, None)
         if dofs is None or dofs.size == 0:
             continue
-        per = dofs.shape[0] // 3
-        for c in range(3):
-            comp[dofs[c::3].ravel()] = c if per >= 1 else c
+        for c in range(3):          # rows c, c+3, ... are direction c
+            comp[dofs[c::3].ravel()] = c
     return comp
 
 
@@ -388,6 +385,3 @@ def check_rigid_modes(points: np.ndarray, tets: np.ndarray, material: Material, 
     B = rigid_body_modes(basis.doflocs, _components(basis))
     return float(np.abs(K @ B).max() / np.abs(K).max())
 
-
-def warn_once(message: str) -> None:
-    warnings.warn(message, stacklevel=2)

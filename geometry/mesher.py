@@ -163,7 +163,7 @@ def _extract(gmsh, surfaces, seconds) -> MeshData:
         tris = []
         for s in sorted(set(stags)):
             et, _, nn = gmsh.model.mesh.getElements(2, s)
-            for t, n in zip(et, nn):
+            for _etype, n in zip(et, nn):
                 tris.append(index[n.astype(np.int64)].reshape(-1, 3))
         groups[name] = np.concatenate(tris)
     used = np.unique(tets)
@@ -210,7 +210,6 @@ def _build_bar(gmsh, p):
     L, w, h = p["length"], p["width"], p["height"]
     gmsh.model.occ.addBox(0, -w / 2, -h / 2, L, w, h)
     gmsh.model.occ.synchronize()
-    tol = 1e-6
     return {"clamp": _planes_at(gmsh, 0, 0.0, 1e-6), "tip": _planes_at(gmsh, 0, L, 1e-6)}, []
 
 
@@ -227,10 +226,9 @@ def _build_rail(gmsh, p):
     if tools:
         occ.cut([(3, box)], tools)
     occ.synchronize()
-    tol = 1e-6
     holes = _classify_cylinders(gmsh, [(x, 0.0) for x in xs], r, (0.0, h - dc), 1e-7)
     cbores = _classify_cylinders(gmsh, [(x, 0.0) for x in xs], rc, (h - dc, h), 1e-7)
-    groups = {"end_pivot": _planes_at(gmsh, 0, 0.0, tol), "end_free": _planes_at(gmsh, 0, L, tol)}
+    groups = {"end_pivot": _planes_at(gmsh, 0, 0.0, 1e-6), "end_free": _planes_at(gmsh, 0, L, 1e-6)}
     for k, tags in enumerate(holes):
         groups[f"hole_{k}"] = tags
     if xs:

@@ -28,7 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .errors import MechanismError
-from .linkage import FourBar, SliderCrank
+from .linkage import FourBar
 from .massmodel import MassModel, RigidBar, fourbar_bodies, slidercrank_bodies
 from .motion import Motion
 
@@ -119,7 +119,7 @@ def _newton_euler_solve(bodies, joints, driver_body: int, gravity: float):
     M = np.zeros((n, len(rows), ncols))
     rhs = np.zeros((n, len(rows)))
     col = 0
-    for name, point, plus, minus, direction in joints:
+    for _name, point, plus, minus, direction in joints:
         ncomp = 2 if direction is None else 1
         for sign, b in ((1.0, plus), (-1.0, minus)):
             if b is None:
@@ -147,7 +147,7 @@ def _newton_euler_solve(bodies, joints, driver_body: int, gravity: float):
     x = np.linalg.solve(M, rhs[..., None])[..., 0]
     forces = {}
     col = 0
-    for name, _, _, _, direction in joints:
+    for name, _point, _plus, _minus, direction in joints:
         if direction is None:
             forces[name] = x[:, col:col + 2].copy()
             col += 2

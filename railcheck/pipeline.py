@@ -256,7 +256,7 @@ def _refuse_huge(scene: Scene, geometries: dict) -> None:
     from geometry.mesher import estimate_elements
 
     worst = 0
-    for name, geo in geometries.items():
+    for geo in geometries.values():
         size, hole = mesh_sizes(scene, geo.kind)
         tets = estimate_elements(geo, size, hole)
         worst = max(worst, estimate_dofs(tets // 5, tets, scene.mesh.order))

@@ -5,7 +5,6 @@ import math
 import subprocess
 import sys
 from dataclasses import replace
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -13,29 +12,16 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from loads.rotation import to_rail_axes
-from railcheck.pipeline import Progress, build_load_cases, part_geometries, run_pipeline
+from railcheck.pipeline import build_load_cases, part_geometries, run_pipeline
 from railcheck.kinematics_stage import run_kinematics
 from railcheck.scene import load_scene, parse_scene
 
 import tomllib
+from scene_texts import FINAL_DESIGN, PLATE_LOADS
 
-KINEMATICS_ONLY = """
-[mechanism]
-kind = "four-bar"
-crank = "480 mm"
-coupler = "840 mm"
-rocker = "780 mm"
-ground = "1020 mm"
-speed = "1 Hz"
-"""
+KINEMATICS_ONLY = FINAL_DESIGN + 'speed = "1 Hz"\n'
 
-PLATE_ONLY = """
-[check]
-parts = ["PF_4b_003_v2"]
-[loads.PF_4b_003_v2]
-longitudinal = "250 N"
-transverse = "250 N"
-[mesh]
+PLATE_ONLY = PLATE_LOADS + """[mesh]
 order = 2
 size = "8 mm"
 hole_size = "4 mm"

@@ -7,15 +7,9 @@ import sys
 import pytest
 
 from railcheck.cli import main
+from scene_texts import FINAL_DESIGN
 
-GOOD = """
-[mechanism]
-kind = "four-bar"
-crank = "480 mm"
-coupler = "840 mm"
-rocker = "780 mm"
-ground = "1020 mm"
-speed = "1 Hz"
+GOOD = FINAL_DESIGN + """speed = "1 Hz"
 steps = 5000
 assembly = "open"
 [dynamics]

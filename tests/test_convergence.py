@@ -1,7 +1,6 @@
 """The accuracy-versus-time study: cantilever table, Richardson extrapolation, steps."""
 
 import json
-import math
 
 import pytest
 

@@ -171,7 +171,8 @@ def inverse_dynamics(motion: PlanarMotion, rate: float, gravity: float = 0.0) ->
     forces = {j.name: np.zeros((motion.s.size, 2)) for j in mech.joints}
     effort = np.zeros(motion.s.size)
     for k in range(motion.s.size):
-        q, qd, qdd = motion.q[k], motion.qd[k] * rate, motion.qdd[k] * rate**2
+        # body origins are centres of mass: M qddot has no velocity terms in the plane
+        q, qdd = motion.q[k], motion.qdd[k] * rate**2
         _, J, _, _ = evaluate(mech, q, s=motion.s[k])
         lam = np.linalg.lstsq(J.T, Qg - mass * qdd, rcond=None)[0]
         row = 0

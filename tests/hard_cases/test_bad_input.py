@@ -3,29 +3,16 @@
 import json
 import subprocess
 import sys
-from pathlib import Path
 
 import pytest
+from scene_texts import FINAL_DESIGN, PLATE_LOADS
 
-PLATE = """
-[check]
-parts = ["PF_4b_003_v2"]
-[loads.PF_4b_003_v2]
-longitudinal = "250 N"
-transverse = "250 N"
-[mesh]
+PLATE = PLATE_LOADS + """[mesh]
 size = "12 mm"
 hole_size = "4 mm"
 """
 
-FOURBAR = """
-[mechanism]
-kind = "four-bar"
-crank = "480 mm"
-coupler = "840 mm"
-rocker = "780 mm"
-ground = "1020 mm"
-"""
+FOURBAR = FINAL_DESIGN
 
 
 def check(tmp_path, scene_text, *extra, out="results"):
