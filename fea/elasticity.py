@@ -1,7 +1,16 @@
-"""Linear elasticity on a tetrahedral mesh with scikit-fem (vector P1 or P2).
+"""Linear elasticity on a tetrahedral mesh with scikit-fem (vector P1 or P2): a small API
+of plain functions with one job each, composed by :func:`solve_elasticity`.
 
 Units SI: m, N, Pa. Supports and loads are addressed by the names of the mesh's boundary
-groups (:class:`geometry.mesher.MeshData`):
+groups (:class:`geometry.mesher.MeshData`)::
+
+    K, basis = assemble(points, tets, material, order)
+    F = load_vector(basis, groups, [HoleLoad("hole_3", (100, 0, 0))])    # (N,) or stack columns
+    fixed = supports(basis, groups, ["shaft_hole"])
+    U, info = solve(K, F, fixed)                  # one factorisation for every column of F
+    S = recover_stress(basis, U, material)        # (6, nodes[, k]) Pa at the stress nodes
+    value, where, i = peak(von_mises(S), stress_nodes(basis), exclude=(support_points, 5e-3))
+    tip = mean_over(basis, groups, "end_free") @ U   # (3[, k]) m
 
 * :class:`Support`: every displacement component fixed on the group's surface;
 * :class:`HoleLoad`: a total force vector (N) on a group, applied as the uniform traction
@@ -11,9 +20,10 @@ P2 elements take their mid-edge nodes from the straight-sided P1 mesh (curved ho
 surfaces are faceted at the mesh size for both orders).
 
 Stress: the element stress is projected (L2) onto the continuous scalar space of the same
-order and von Mises is evaluated from the projected components at the nodes; the peak
-and its location are reported. Deflection: the mean displacement over a named group
-(the loaded free end, "tip") and its magnitude.
+order (one factorised mass matrix for all six components and every load case); the
+"stress nodes" are that space's nodes (P2: vertices and mid-edge nodes). Every step is
+linear in the load, so the stress of a combination of loads is the same combination of
+their stresses (the cycle envelope relies on it).
 """
 
 from __future__ import annotations
@@ -25,9 +35,10 @@ import numpy as np
 
 from .errors import ModelError, NumericalError
 from .materials import Material
-from .solvers import rigid_body_modes, solve
+from .solvers import rigid_body_modes, solve_reduced
 
 LOCKING_NU = 0.45
+VOIGT = ((0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (0, 2))   # xx, yy, zz, xy, yz, xz
 
 
 @dataclass(frozen=True)
@@ -43,32 +54,26 @@ class HoleLoad:
 
 @dataclass
 class Solution:
-    """Result of one solve. Nodal arrays are at the mesh's vertices (for VTK)."""
+    """Result of one solve. ``displacement``/``von_mises`` at the mesh's vertices (for
+    VTK); ``stress`` (6, nodes) and ``nodes`` (nodes, 3) at every stress node."""
 
     order: int
     dofs: int
     elements: int
     displacement: np.ndarray           # (n_vertices, 3) m
     von_mises: np.ndarray              # (n_vertices,) Pa
-    max_von_mises: float               # Pa, over all nodes of the order's space
+    max_von_mises: float               # Pa, over all stress nodes
     max_von_mises_location: np.ndarray  # (3,) m
     tip_displacement: np.ndarray       # (3,) m, mean over the tip group
     applied_forces: dict[str, np.ndarray]  # group -> integral of the applied traction (N)
-    seconds: dict[str, float] = field(default_factory=dict)
-    solver: dict = field(default_factory=dict)
-    warnings: list[str] = field(default_factory=list)
-    strain_energy: float = 0.0         # J
     max_von_mises_away: float = 0.0    # Pa, farther than exclude_distance from the support
     max_von_mises_away_location: np.ndarray | None = None
     exclude_distance: float = 0.0      # m
-    # on every node of the order's space (P2: vertices and mid-edge nodes), for comparison
-    # with other solvers: locations (n, 3) m, displacement (n, 3) m, von Mises (n,) Pa,
-    # consistent nodal forces (n, 3) N, and the fixed nodes' indices
-    node_locations: np.ndarray | None = None
-    node_displacement: np.ndarray | None = None
-    node_von_mises: np.ndarray | None = None
-    node_forces: np.ndarray | None = None
-    fixed_nodes: np.ndarray | None = None
+    stress: np.ndarray | None = None   # (6, nodes) Pa: xx, yy, zz, xy, yz, xz
+    nodes: np.ndarray | None = None    # (nodes, 3) m
+    seconds: dict[str, float] = field(default_factory=dict)
+    solver: dict = field(default_factory=dict)
+    warnings: list[str] = field(default_factory=list)
 
     @property
     def tip_deflection(self) -> float:
@@ -89,8 +94,7 @@ def facets_of(mesh, triangles: np.ndarray, name: str) -> np.ndarray:
     order = np.argsort(keys)
     t = np.sort(triangles, axis=1).astype(np.int64).T
     want = (t[0] * n + t[1]) * n + t[2]
-    pos = np.searchsorted(keys[order], want)
-    pos = np.clip(pos, 0, keys.size - 1)
+    pos = np.clip(np.searchsorted(keys[order], want), 0, keys.size - 1)
     found = keys[order][pos] == want
     if not np.all(found):
         raise ModelError(name, f"{np.count_nonzero(~found)} of its triangles are not faces of the mesh")
@@ -112,6 +116,17 @@ def estimate_dofs(n_vertices: int, n_tets: int, order: int) -> int:
     return 3 * n_vertices if order == 1 else 3 * (n_vertices + int(1.25 * n_tets) + n_vertices)
 
 
+def assemble(points: np.ndarray, tets: np.ndarray, material: Material, order: int = 2):
+    """(K, basis): the stiffness matrix (CSR, N/m) and scikit-fem's vector basis of
+    ``order`` on the mesh (``points`` (n, 3) m, ``tets`` (m, 4))."""
+    from skfem import Basis
+    from skfem.element import ElementVector
+
+    mesh = _skfem_mesh(points, tets)
+    basis = Basis(mesh, ElementVector(_element(order)), intorder=max(2 * (order - 1), 1))
+    return stiffness_matrix(basis, material), basis
+
+
 def stiffness_matrix(basis, material: Material):
     """The elasticity stiffness matrix (sparse CSR, N/m) of a vector basis.
 
@@ -125,33 +140,28 @@ def stiffness_matrix(basis, material: Material):
     from skfem import Basis
 
     lam, mu = material.lame
-    scalar = basis.elem.elem
-    sb = Basis(basis.mesh, scalar, quadrature=basis.quadrature)
+    sb = Basis(basis.mesh, basis.elem.elem, quadrature=basis.quadrature)
     vector_of = _vector_dof_map(basis, sb)               # (scalar dofs, 3)
     sdofs = sb.element_dofs                              # (nb, nel)
     nb, nel = sdofs.shape
     G = np.stack([sb.basis[a][0].grad for a in range(nb)])   # (nb, 3, nel, nq)
-    dx = sb.dx                                           # (nel, nq)
     n = 3 * nb
-    rows, cols, vals = [], [], []
+    gd_all = vector_of[sdofs].transpose(1, 0, 2).reshape(nel, n)    # (e, (a,i))
+    vals = np.empty((nel, n, n))
     chunk = max(1, 4_000_000 // (n * n))
     eye = np.eye(3)
     for start in range(0, nel, chunk):
         sl = slice(start, min(start + chunk, nel))
         g = G[:, :, sl, :]
-        P = np.einsum("aieq,bjeq,eq->eabij", g, g, dx[sl], optimize=True)   # (e, a, b, i, j)
+        P = np.einsum("aieq,bjeq,eq->eabij", g, g, sb.dx[sl], optimize=True)   # (e, a, b, i, j)
         trace = np.einsum("eabkk->eab", P)
-        Ke = (lam * P + mu * np.swapaxes(P, 3, 4)
-              + mu * trace[:, :, :, None, None] * eye)                  # (e, a, b, i, j)
-        Ke = Ke.transpose(0, 1, 3, 2, 4).reshape(-1, n, n)              # (e, (a,i), (b,j))
-        gd = vector_of[sdofs[:, sl]]                                     # (nb, e, 3)
-        gd = gd.transpose(1, 0, 2).reshape(-1, n)                        # (e, (a,i))
-        rows.append(np.repeat(gd, n, axis=1).ravel())
-        cols.append(np.tile(gd, (1, n)).ravel())
-        vals.append(Ke.ravel())
-    N = basis.N
-    K = sp.coo_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(N, N))
-    return K.tocsr()
+        Ke = lam * P + mu * np.swapaxes(P, 3, 4) + mu * trace[:, :, :, None, None] * eye
+        vals[sl] = Ke.transpose(0, 1, 3, 2, 4).reshape(-1, n, n)
+    rows = np.broadcast_to(gd_all[:, :, None], (nel, n, n)).ravel()
+    cols = np.broadcast_to(gd_all[:, None, :], (nel, n, n)).ravel()
+    K = sp.csr_matrix((vals.ravel(), (rows, cols)), shape=(basis.N, basis.N))
+    K.sum_duplicates()
+    return K
 
 
 def _vector_dof_map(basis, sbasis) -> np.ndarray:
@@ -162,127 +172,12 @@ def _vector_dof_map(basis, sbasis) -> np.ndarray:
         vd = getattr(basis, name, None)
         if sd is None or sd.size == 0:
             continue
-        per = sd.shape[0]
-        for k in range(per):
+        for k in range(sd.shape[0]):
             for c in range(3):
                 out[sd[k], c] = vd[3 * k + c]
     if np.any(out < 0):
         raise RuntimeError("could not map the vector DOFs to the scalar ones")
     return out
-
-
-def solve_elasticity(points: np.ndarray, tets: np.ndarray, groups: dict[str, np.ndarray],
-                     material: Material, supports: list[Support], loads: list[HoleLoad],
-                     order: int = 2, tip_group: str | None = None, solver: str = "auto",
-                     maxiter: int = 2000, body_force: np.ndarray | None = None,
-                     exclude_distance: float = 0.0) -> Solution:
-    """Solve one static linear-elastic problem; see the module doc.
-
-    ``body_force`` (3,) N/m^3, e.g. density x gravity, is applied when given.
-    ``exclude_distance`` (m): the peak von Mises is also reported over the nodes farther
-    than this from the supports' surfaces (``max_von_mises_away``), away from the stress
-    singularity that an idealised clamped surface creates at its edges.
-    Raises :class:`ModelError` for a load or support on a group the mesh lacks, or no
-    support at all (before any solve), :class:`NumericalError` when the solve fails.
-    """
-    from skfem import Basis, FacetBasis, Functional, LinearForm, asm, condense
-    from skfem.element import ElementVector
-
-    seconds: dict[str, float] = {}
-    messages: list[str] = []
-    if not supports:
-        raise ModelError("supports", "the part has no support: its rigid-body motion is undetermined "
-                                     "(the stiffness matrix is singular)")
-    for item in list(supports) + list(loads):
-        if item.group not in groups:
-            raise ModelError(item.group, f"no such group in the mesh (groups: {', '.join(sorted(groups))})")
-    if tip_group is not None and tip_group not in groups:
-        raise ModelError(tip_group, "no such group in the mesh for the tip deflection")
-    if order == 1 and material.poisson_ratio > LOCKING_NU:
-        messages.append(f"P1 tetrahedra lock for nearly incompressible material (nu = {material.poisson_ratio}): "
-                        "displacements and stresses are underestimated; use mesh.order = 2")
-
-    t = time.perf_counter()
-    mesh = _skfem_mesh(points, tets)
-    scalar = _element(order)
-    element = ElementVector(scalar)
-    intorder = 2 * (order - 1) if order > 1 else 1
-    basis = Basis(mesh, element, intorder=max(intorder, 1))
-    K = stiffness_matrix(basis, material)
-    f = np.zeros(basis.N)
-    applied: dict[str, np.ndarray] = {}
-    for load in loads:
-        fb = FacetBasis(mesh, element, facets=facets_of(mesh, groups[load.group], load.group),
-                        intorder=max(2 * order, 2))
-        area = asm(Functional(lambda w: 1.0 + 0.0 * w.x[0]), fb)
-        if area <= 0:
-            raise ModelError(load.group, "has zero area")
-        traction = np.asarray(load.force, float) / area
-
-        @LinearForm
-        def surface_load(v, w, tr=traction):
-            return tr[0] * v[0] + tr[1] * v[1] + tr[2] * v[2]
-
-        contribution = asm(surface_load, fb)
-        f += contribution
-        applied[load.group] = _resultant(basis, contribution)
-    if body_force is not None and np.any(body_force):
-        bf = np.asarray(body_force, float)
-
-        @LinearForm
-        def volume_load(v, w):
-            return bf[0] * v[0] + bf[1] * v[1] + bf[2] * v[2]
-
-        f += asm(volume_load, basis)
-    fixed = np.unique(np.concatenate([
-        basis.get_dofs(facets=facets_of(mesh, groups[s.group], s.group)).all() for s in supports]))
-    seconds["assembly"] = time.perf_counter() - t
-
-    t = time.perf_counter()
-    free = np.setdiff1d(np.arange(basis.N), fixed)
-    u = np.zeros(basis.N)
-    if np.any(f[free]):
-        Kc, fc, _, I = condense(K, f, D=fixed)
-        components = _components(basis)
-        B = rigid_body_modes(basis.doflocs[:, I], components[I]) if Kc.shape[0] > 0 else None
-        u[I], info = solve(Kc, fc, B, method=solver, maxiter=maxiter)
-    else:
-        info = {"solver": "none (zero load)", "iterations": 0, "residual": 0.0}
-    if not np.all(np.isfinite(u)):
-        raise NumericalError("the displacement is not finite")
-    seconds["solve"] = time.perf_counter() - t
-
-    t = time.perf_counter()
-    vm_all, locs = von_mises_nodal(basis, scalar, u, material)
-    k = int(np.argmax(vm_all))
-    away, away_loc = float(vm_all[k]), locs[:, k].copy()
-    if exclude_distance > 0:
-        from scipy.spatial import cKDTree
-        support_nodes = np.unique(np.concatenate([groups[s.group].ravel() for s in supports]))
-        dist, _ = cKDTree(points[support_nodes]).query(locs.T)
-        mask = dist > exclude_distance
-        if np.any(mask):
-            ka = int(np.argmax(np.where(mask, vm_all, -np.inf)))
-            away, away_loc = float(vm_all[ka]), locs[:, ka].copy()
-    nv = mesh.p.shape[1]
-    disp = u[basis.nodal_dofs].T.copy()
-    sbasis = Basis(mesh, scalar, intorder=1)
-    vmap = _vector_dof_map(basis, sbasis)
-    fixed_nodes = np.unique(np.concatenate([
-        sbasis.get_dofs(facets=facets_of(mesh, groups[s.group], s.group)).all() for s in supports]))
-    tip = np.zeros(3)
-    if tip_group is not None:
-        tip = mean_over_group(mesh, element, u, facets_of(mesh, groups[tip_group], tip_group))
-    seconds["stress"] = time.perf_counter() - t
-    energy = 0.5 * float(u @ (K @ u))
-    return Solution(order=order, dofs=int(basis.N), elements=int(tets.shape[0]), displacement=disp,
-                    von_mises=vm_all[:nv].copy(), max_von_mises=float(vm_all[k]),
-                    max_von_mises_location=locs[:, k].copy(), tip_displacement=tip, applied_forces=applied,
-                    seconds=seconds, solver=info, warnings=messages, strain_energy=energy,
-                    max_von_mises_away=away, max_von_mises_away_location=away_loc,
-                    exclude_distance=float(exclude_distance), node_locations=sbasis.doflocs.T.copy(),
-                    node_displacement=u[vmap], node_von_mises=vm_all, node_forces=f[vmap],
-                    fixed_nodes=fixed_nodes)
 
 
 def _components(basis) -> np.ndarray:
@@ -297,91 +192,226 @@ def _components(basis) -> np.ndarray:
     return comp
 
 
-def _resultant(basis, load_vector: np.ndarray) -> np.ndarray:
-    """The total force (N) of an assembled load vector: the sum of its entries per
-    direction (the shape functions sum to one)."""
+def _group_facets(basis, groups: dict, name: str) -> np.ndarray:
+    if name not in groups:
+        raise ModelError(name, f"no such group in the mesh (groups: {', '.join(sorted(groups))})")
+    return facets_of(basis.mesh, groups[name], name)
+
+
+def _facet_basis(basis, groups: dict, name: str):
+    from skfem import FacetBasis
+    return FacetBasis(basis.mesh, basis.elem, facets=_group_facets(basis, groups, name),
+                      intorder=max(2 * basis.elem.elem.maxdeg, 2))
+
+
+def _group_area(fb) -> float:
+    from skfem import Functional, asm
+    return float(asm(Functional(lambda w: 1.0 + 0.0 * w.x[0]), fb))
+
+
+def unit_traction_vectors(basis, groups: dict, group: str) -> np.ndarray:
+    """(N, 3): the load vectors of a unit total force (1 N) along x, y and z spread as a
+    uniform traction over ``group``'s surface. Any force F on the group is ``T @ F``."""
+    from skfem import LinearForm, asm
+
+    fb = _facet_basis(basis, groups, group)
+    area = _group_area(fb)
+    if area <= 0:
+        raise ModelError(group, "has zero area")
+    return np.stack([asm(LinearForm(lambda v, w, c=c: v[c] / area), fb) for c in range(3)], axis=1)
+
+
+def body_force_vectors(basis) -> np.ndarray:
+    """(N, 3): the load vectors of a unit body force (1 N/m^3) along x, y and z."""
+    from skfem import LinearForm, asm
+    return np.stack([asm(LinearForm(lambda v, w, c=c: v[c] + 0.0 * w.x[0]), basis) for c in range(3)], axis=1)
+
+
+def load_vector(basis, groups: dict, loads: list[HoleLoad], body_force=None) -> np.ndarray:
+    """(N,) the consistent load vector of the hole loads (N) plus an optional uniform
+    body force (3,) N/m^3."""
+    f = np.zeros(basis.N)
+    for load in loads:
+        f += unit_traction_vectors(basis, groups, load.group) @ np.asarray(load.force, float)
+    if body_force is not None and np.any(body_force):
+        f += body_force_vectors(basis) @ np.asarray(body_force, float)
+    return f
+
+
+def resultant(basis, F: np.ndarray) -> np.ndarray:
+    """The total force (3[, k]) N of assembled load vectors (the shape functions sum to one)."""
     comp = _components(basis)
-    return np.array([load_vector[comp == c].sum() for c in range(3)])
+    F2 = F.reshape(F.shape[0], -1)
+    out = np.stack([F2[comp == c].sum(axis=0) for c in range(3)])
+    return out.reshape((3,) + F.shape[1:])
 
 
-def mean_over_group(mesh, element, u: np.ndarray, facets: np.ndarray) -> np.ndarray:
-    """Area-weighted mean of the displacement over the given facets (m)."""
-    from skfem import FacetBasis, Functional, asm
-
-    fb = FacetBasis(mesh, element, facets=facets, intorder=4)
-    uh = fb.interpolate(u)
-    area = asm(Functional(lambda w: 1.0 + 0.0 * w.x[0]), fb)
-    out = np.zeros(3)
-    for c in range(3):
-        out[c] = asm(Functional(lambda w, c=c: w["uh"][c]), fb, uh=uh) / area
-    return out
+def supports(basis, groups: dict, names: list[str]) -> np.ndarray:
+    """The fixed DOFs: every component on the named groups' surfaces. Raises
+    :class:`ModelError` when no support is named (the system would be singular)."""
+    if not names:
+        raise ModelError("supports", "the part has no support: its rigid-body motion is undetermined "
+                                     "(the stiffness matrix is singular)")
+    return np.unique(np.concatenate([basis.get_dofs(facets=_group_facets(basis, groups, g)).all() for g in names]))
 
 
-def element_stress(basis, u: np.ndarray, material: Material):
-    """Stress tensor at the quadrature points, shape (3, 3, elements, points), Pa."""
+def solve(K, F: np.ndarray, fixed: np.ndarray, method: str = "auto", basis=None, maxiter: int = 2000,
+          memory_limit: float | None = None, report=None) -> tuple[np.ndarray, dict]:
+    """(U, info): displacements (N[, k]) m for loads F (N[, k]) with the ``fixed`` DOFs
+    held at zero; one factorisation serves every column. ``basis`` gives the rigid-body
+    modes the ``amg`` path needs; see :mod:`fea.solvers` for ``method``."""
+    N = K.shape[0]
+    free = np.setdiff1d(np.arange(N), fixed)
+    U = np.zeros(F.shape)
+    if not np.any(F[free]):
+        return U, {"solver": "none (zero load)", "iterations": 0, "residual": 0.0}
+    Kc = K[free][:, free]
+    B = rigid_body_modes(basis.doflocs[:, free], _components(basis)[free]) if basis is not None else None
+    U[free], info = solve_reduced(Kc, F[free], B, method=method, maxiter=maxiter, memory_limit=memory_limit,
+                                  report=report)
+    if not np.all(np.isfinite(U)):
+        raise NumericalError("the displacement is not finite")
+    return U, info
+
+
+def stress_nodes(basis) -> np.ndarray:
+    """(nodes, 3) m: where :func:`recover_stress` gives the stress (the scalar space's nodes)."""
+    from skfem import Basis
+    return Basis(basis.mesh, basis.elem.elem, intorder=1).doflocs.T.copy()
+
+
+def recover_stress(basis, U: np.ndarray, material: Material, report=None) -> np.ndarray:
+    """(6, nodes[, k]) Pa: the L2 projection of the element stress of each displacement
+    column onto the continuous scalar space of the basis's order (xx, yy, zz, xy, yz, xz).
+    The mass matrix needs a rule exact to order 2p (with the stiffness's rule a P2 mass
+    matrix is rank-deficient element by element); it is factorised once for all columns."""
+    from skfem import Basis, BilinearForm, asm
+
+    from .solvers import factorise
+
+    scalar = basis.elem.elem
+    p = scalar.maxdeg
+    sb = Basis(basis.mesh, scalar, intorder=2 * p)
+    U2 = U.reshape(U.shape[0], -1)
+    k = U2.shape[1]
+    rhs = _stress_moments(basis, sb, U2, material)                  # (scalar N, 6 k)
+    M = asm(BilinearForm(lambda a, v, w: a * v), sb)
+    S = factorise(M, "direct", report=report).solve(rhs, rtol=1e-9)
+    return S.reshape(sb.N, 6, k).transpose(1, 0, 2).reshape((6, sb.N) + U.shape[1:])
+
+
+def _stress_moments(basis, sb, U2: np.ndarray, material: Material) -> np.ndarray:
+    """(scalar N, 6 k): integral of each stress component of each column times each
+    scalar shape function, vectorised over elements (in chunks) and columns."""
+    import scipy.sparse as sp
+
     lam, mu = material.lame
-    grad = basis.interpolate(u).grad
-    eps = 0.5 * (grad + np.swapaxes(grad, 0, 1))
-    tr = eps[0, 0] + eps[1, 1] + eps[2, 2]
-    sigma = 2 * mu * eps
-    for i in range(3):
-        sigma[i, i] += lam * tr
-    return sigma
+    vector_of = _vector_dof_map(basis, sb)
+    sdofs = sb.element_dofs                                        # (nb, nel)
+    nb, nel = sdofs.shape
+    k = U2.shape[1]
+    phi = np.stack([sb.basis[a][0].value for a in range(nb)])      # (nb, nel, nq)
+    G = np.stack([sb.basis[a][0].grad for a in range(nb)])         # (nb, 3, nel, nq)
+    out = np.empty((nel, nb, 6, k))
+    chunk = max(1, 2_000_000 // (nb * phi.shape[2] * k * 9))
+    ii = np.array([i for i, _ in VOIGT])
+    jj = np.array([j for _, j in VOIGT])
+    for start in range(0, nel, chunk):
+        sl = slice(start, min(start + chunk, nel))
+        ue = U2[vector_of[sdofs[:, sl]]]                          # (nb, e, 3, k)
+        grad = np.einsum("aeik,ajeq->eqijk", ue, G[:, :, sl, :], optimize=True)   # du_i/dx_j
+        eps = 0.5 * (grad + np.swapaxes(grad, 2, 3))
+        tr = np.einsum("eqiik->eqk", eps)
+        sig = 2 * mu * eps[:, :, ii, jj, :] + lam * tr[:, :, None, :] * (ii == jj)[None, None, :, None]
+        out[sl] = np.einsum("aeq,eq,eqck->eack", phi[:, sl, :], sb.dx[sl], sig, optimize=True)
+    scatter = sp.csr_matrix((np.ones(nel * nb), (sdofs.T.ravel(), np.arange(nel * nb))), shape=(sb.N, nel * nb))
+    return np.asarray(scatter @ out.reshape(nel * nb, 6 * k))
 
 
-def von_mises(s):
-    """Von Mises stress of a stress tensor given by its components (Pa)."""
+def von_mises(s: np.ndarray) -> np.ndarray:
+    """Von Mises stress (Pa) of stress components (6, ...) Pa (xx, yy, zz, xy, yz, xz)."""
     sxx, syy, szz, sxy, syz, sxz = s
     return np.sqrt(0.5 * ((sxx - syy) ** 2 + (syy - szz) ** 2 + (szz - sxx) ** 2)
                    + 3.0 * (sxy**2 + syz**2 + sxz**2))
 
 
-def von_mises_nodal(basis, scalar_element, u: np.ndarray, material: Material):
-    """L2 projection of the six stress components onto the continuous scalar space of
-    the element's order; von Mises at its nodes. Returns (values (ndofs,), locations
-    (3, ndofs))."""
-    from skfem import Basis, BilinearForm, LinearForm, asm
-    import scipy.sparse.linalg as spla
+def away_from(locations: np.ndarray, support_points: np.ndarray, distance: float) -> np.ndarray:
+    """(nodes,) bool: the ``locations`` (nodes, 3) farther than ``distance`` (m) from
+    every ``support_points`` (k, 3); all True when ``distance`` is 0."""
+    if distance <= 0:
+        return np.ones(locations.shape[0], dtype=bool)
+    from scipy.spatial import cKDTree
+    dist, _ = cKDTree(support_points).query(locations)
+    return dist > distance
 
-    # the mass matrix of order p needs a rule exact to order 2p: with the stiffness's rule
-    # (order 2(p-1)) a P2 mass matrix is rank-deficient element by element
-    order = 2 if scalar_element.maxdeg == 2 else 1
-    qbasis = Basis(basis.mesh, basis.elem, intorder=2 * order)
-    sigma = element_stress(qbasis, u, material)
-    sb = Basis(basis.mesh, scalar_element, quadrature=qbasis.quadrature)
 
-    @BilinearForm
-    def mass(a, v, w):
-        return a * v
+def peak(values: np.ndarray, locations: np.ndarray, mask: np.ndarray | None = None) -> tuple[float, np.ndarray, int]:
+    """(value, location (3,), index) of the largest ``values`` (nodes,) among the nodes
+    where ``mask`` holds (all when None, or when the mask selects nothing)."""
+    if mask is not None and np.any(mask):
+        i = int(np.argmax(np.where(mask, values, -np.inf)))
+    else:
+        i = int(np.argmax(values))
+    return float(values[i]), locations[i].copy(), i
 
-    M = asm(mass, sb)
-    diag = M.diagonal()
-    pre = spla.LinearOperator(M.shape, matvec=lambda x: x / diag)
-    comps = []
-    for i, j in ((0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (0, 2)):
-        @LinearForm
-        def rhs(v, w, s=sigma[i, j]):
-            return s * v
 
-        b = asm(rhs, sb)
-        if not np.any(b):
-            comps.append(np.zeros_like(b))
-            continue
-        x, status = spla.cg(M, b, rtol=1e-11, atol=0.0, maxiter=2000, M=pre)
-        if status != 0:
-            raise NumericalError("stress projection did not converge")
-        comps.append(x)
-    return von_mises(comps), sb.doflocs
+def mean_over(basis, groups: dict, group: str) -> np.ndarray:
+    """(3, N): the area-weighted mean displacement over ``group`` is ``W @ U`` (m)."""
+    from skfem import LinearForm, asm
+
+    fb = _facet_basis(basis, groups, group)
+    area = _group_area(fb)
+    return np.stack([asm(LinearForm(lambda v, w, c=c: v[c] / area), fb) for c in range(3)])
+
+
+def solve_elasticity(points: np.ndarray, tets: np.ndarray, groups: dict[str, np.ndarray],
+                     material: Material, supports_: list[Support], loads: list[HoleLoad],
+                     order: int = 2, tip_group: str | None = None, solver: str = "auto",
+                     maxiter: int = 2000, body_force: np.ndarray | None = None,
+                     exclude_distance: float = 0.0, report=None) -> Solution:
+    """Solve one static problem (see the module doc). ``body_force`` (3,) N/m^3;
+    ``exclude_distance`` (m): the peak von Mises is also reported over the stress nodes
+    farther than this from the supports (``max_von_mises_away``), away from the
+    singularity an idealised clamped surface creates at its edges."""
+    warnings = _model_warnings(groups, supports_, loads, tip_group, material, order)
+    t = [time.perf_counter()]
+    K, basis = assemble(points, tets, material, order)
+    fixed = supports(basis, groups, [s.group for s in supports_])
+    per_load = {ld.group: unit_traction_vectors(basis, groups, ld.group) @ np.asarray(ld.force, float) for ld in loads}
+    f = sum(per_load.values(), load_vector(basis, groups, [], body_force))
+    t.append(time.perf_counter())
+    u, info = solve(K, f, fixed, solver, basis, maxiter, report=report)
+    t.append(time.perf_counter())
+    S = recover_stress(basis, u, material)
+    nodes, vm = stress_nodes(basis), von_mises(S)
+    support_pts = points[np.unique(np.concatenate([groups[s.group].ravel() for s in supports_]))]
+    top = peak(vm, nodes)
+    away = peak(vm, nodes, away_from(nodes, support_pts, exclude_distance))
+    tip = mean_over(basis, groups, tip_group) @ u if tip_group else np.zeros(3)
+    t.append(time.perf_counter())
+    nv = points.shape[0]
+    applied = {g: resultant(basis, v) for g, v in per_load.items()}
+    return Solution(order, int(basis.N), int(tets.shape[0]), u[basis.nodal_dofs].T.copy(), vm[:nv].copy(),
+                    top[0], top[1], tip, applied, away[0], away[1], float(exclude_distance), S, nodes,
+                    dict(zip(("assembly", "solve", "stress"), np.diff(t))), info, warnings)
+
+
+def _model_warnings(groups, supports_, loads, tip_group, material, order) -> list[str]:
+    """Refuse what cannot be solved before any work (:class:`ModelError`); return warnings."""
+    if not supports_:
+        raise ModelError("supports", "the part has no support: its rigid-body motion is undetermined "
+                                     "(the stiffness matrix is singular)")
+    for name in [s.group for s in supports_] + [ld.group for ld in loads] + ([tip_group] if tip_group else []):
+        if name not in groups:
+            raise ModelError(name, f"no such group in the mesh (groups: {', '.join(sorted(groups))})")
+    if order == 1 and material.poisson_ratio > LOCKING_NU:
+        return [f"P1 tetrahedra lock for nearly incompressible material (nu = {material.poisson_ratio}): "
+                "displacements and stresses are underestimated; use mesh.order = 2"]
+    return []
 
 
 def check_rigid_modes(points: np.ndarray, tets: np.ndarray, material: Material, order: int = 1) -> float:
     """max |K r| / max |K| over the six rigid-body modes r of an unsupported part: ~0."""
-    from skfem import Basis
-    from skfem.element import ElementVector
-
-    mesh = _skfem_mesh(points, tets)
-    basis = Basis(mesh, ElementVector(_element(order)), intorder=max(2 * (order - 1), 1))
-    K = stiffness_matrix(basis, material)
+    K, basis = assemble(points, tets, material, order)
     B = rigid_body_modes(basis.doflocs, _components(basis))
     return float(np.abs(K @ B).max() / np.abs(K).max())
-

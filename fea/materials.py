@@ -17,6 +17,7 @@ class Material:
     ultimate_strength: float    # Pa
     density: float              # kg/m^3
     source: str
+    yield_strength: float = 0.0  # Pa (for the ASME-elliptic fatigue criterion)
 
     @property
     def fatigue_limit(self) -> float:
@@ -32,10 +33,11 @@ class Material:
 
 MATERIALS: dict[str, Material] = {
     "steel": Material("steel", 210e9, 0.30, 750e6, 7850.0,
-                      "quenched and tempered C45/C50 class; seed 000: sigma_u/2 = 375 MPa"),
-    "S235": Material("S235", 210e9, 0.30, 360e6, 7850.0, "EN 10025-2, fu = 360 MPa (t < 100 mm)"),
-    "S355": Material("S355", 210e9, 0.30, 470e6, 7850.0, "EN 10025-2, fu = 470 MPa (t < 100 mm)"),
-    "ABS": Material("ABS", 2.3e9, 0.37, 40e6, 1050.0, "typical moulded ABS"),
+                      "quenched and tempered C45/C50 class; seed 000: sigma_u/2 = 375 MPa; "
+                      "yield 490 MPa (EN 10083-2 C45+QT, d <= 16 mm)", 490e6),
+    "S235": Material("S235", 210e9, 0.30, 360e6, 7850.0, "EN 10025-2, fu = 360 MPa (t < 100 mm)", 235e6),
+    "S355": Material("S355", 210e9, 0.30, 470e6, 7850.0, "EN 10025-2, fu = 470 MPa (t < 100 mm)", 355e6),
+    "ABS": Material("ABS", 2.3e9, 0.37, 40e6, 1050.0, "typical moulded ABS", 40e6),
 }
 
 #: the seed's fatigue limit; a steel whose sigma_u/2 is below it earns a warning

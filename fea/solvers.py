@@ -1,27 +1,45 @@
-"""Linear solvers for the stiffness system, each checking its own residual.
+"""Linear solvers for the (reduced, symmetric positive definite) stiffness system.
 
-* ``direct``: sparse LU (SuperLU through scipy) for small systems;
-* ``amg``: conjugate gradients preconditioned by pyamg smoothed aggregation, given the
-  six rigid-body modes as near-null-space candidates, for large ones;
-* ``auto``: direct below :data:`DIRECT_LIMIT` unknowns, amg above.
+One factorisation serves every right-hand side: :func:`factorise` returns a
+:class:`Factor` whose ``solve`` takes a vector or a matrix of loads (one column per
+load case). Backends:
 
-Every solve computes ``|b - K u| / |b|`` and raises :class:`NumericalError` when it is
-above the tolerance; an iterative solve that stops at its iteration cap never returns
-a displacement.
+* ``pardiso``: Intel MKL PARDISO in SPD mode (LL^T of the upper triangle) with METIS
+  nested dissection, through ``pypardiso`` (pip wheels ``pypardiso`` + ``mkl``, x86-64).
+  Its symbolic phase reports the factor's memory before the numeric factorisation, so
+  the ``auto`` choice can fall back to the iterative path for what would not fit.
+* ``scipy``: SuperLU with the symmetric minimum-degree ordering, where MKL is missing
+  (other platforms); slower on large 3D systems, the same answer.
+* ``amg``: conjugate gradients preconditioned by pyamg smoothed aggregation given the
+  six rigid-body modes; memory linear in the size, for systems whose factor does not fit.
+
+``method="direct"`` is the best factorising backend installed; ``"auto"`` is direct
+unless the factor's estimate exceeds :data:`FACTOR_MEMORY_FRACTION` of the machine's
+memory (or the caller's ``memory_limit``), then ``amg``.
+
+Every solve performs one step of iterative refinement (direct) and checks the true
+relative residual ``|b - K u| / |b|`` of each column; above the tolerance, or a
+non-finite result, raises :class:`NumericalError`. An iterative solve that stops at its
+iteration cap never returns a displacement.
 """
 
 from __future__ import annotations
+
+import os
+from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from .errors import NumericalError
+from .progress import heartbeat
 
-DIRECT_LIMIT = 100_000   # above it AMG-CG: the study found LU slow on chunky parts (README)
-DIRECT_RTOL = 1e-6   # |b - K u| / |b|; LU backward error scales with |K||u| >> |b| here
-AMG_RTOL = 1e-12        # CG's recurrence residual target
-AMG_TRUE_RTOL = 1e-6    # the true residual |b - K u| / |b| must be below this (as direct)
+DIRECT_RTOL = 1e-6   # |f - K u| / |f| after one refinement step; rounding alone gives ~eps |K||u| / |f|
+AMG_RTOL = 1e-12          # CG's recurrence residual target
+AMG_TRUE_RTOL = 1e-6      # the iterative path's true residual must be below this
+FACTOR_MEMORY_FRACTION = 0.6   # of the machine's memory, for the auto choice
+SCIPY_BYTES_PER_DOF = 20_000   # SuperLU's measured peak per DOF on P2 parts (README)
 
 
 def rigid_body_modes(locations: np.ndarray, components: np.ndarray) -> np.ndarray:
@@ -31,48 +49,172 @@ def rigid_body_modes(locations: np.ndarray, components: np.ndarray) -> np.ndarra
     x = locations - locations.mean(axis=1, keepdims=True)
     n = locations.shape[1]
     B = np.zeros((n, 6))
-    for c in range(3):
-        B[components == c, c] = 1.0
-    X, Y, Z = x
-    # rotation about x: (0, -z, y); about y: (z, 0, -x); about z: (-y, x, 0)
-    rot = {3: ((1, -Z), (2, Y)), 4: ((0, Z), (2, -X)), 5: ((0, -Y), (1, X))}
-    for col, pairs in rot.items():
-        for comp, values in pairs:
-            mask = components == comp
-            B[mask, col] = values[mask]
+    B[np.arange(n), components] = 1.0
+    # rotation about axis a moves direction c by +-x_d: (a, c, d, sign)
+    for col, c, d, sign in ((3, 1, 2, -1), (3, 2, 1, 1), (4, 0, 2, 1), (4, 2, 0, -1), (5, 0, 1, -1), (5, 1, 0, 1)):
+        mask = components == c
+        B[mask, col] = sign * x[d, mask]
     return B
 
 
-def relative_residual(K: sp.spmatrix, u: np.ndarray, b: np.ndarray) -> float:
-    nb = np.linalg.norm(b)
-    if nb == 0.0:
-        return float(np.linalg.norm(K @ u))
-    return float(np.linalg.norm(b - K @ u) / nb)
+def relative_residuals(K: sp.spmatrix, U: np.ndarray, F: np.ndarray) -> np.ndarray:
+    """|f - K u| / |f| per column (|K u| where f = 0)."""
+    U2, F2 = U.reshape(U.shape[0], -1), F.reshape(F.shape[0], -1)
+    r = np.linalg.norm(F2 - K @ U2, axis=0)
+    nf = np.linalg.norm(F2, axis=0)
+    return np.where(nf > 0, r / np.where(nf > 0, nf, 1.0), r)
 
 
-def solve_direct(K: sp.spmatrix, b: np.ndarray, rtol: float = DIRECT_RTOL) -> tuple[np.ndarray, dict]:
+def available_memory() -> float:
+    """Bytes of physical memory on this machine (8 GiB when it cannot be read)."""
     try:
-        Kc = sp.csc_matrix(K)
-        lu = spla.splu(Kc, permc_spec="COLAMD")
-        u = lu.solve(b)
-        u += lu.solve(b - Kc @ u)      # one step of iterative refinement
+        return float(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES"))
+    except (ValueError, OSError, AttributeError):
+        return 8.0 * 2**30
+
+
+def pardiso_available() -> bool:
+    try:
+        from pypardiso.pardiso_wrapper import PyPardisoSolver
+        PyPardisoSolver()
+        return True
+    except (ImportError, OSError):
+        return False
+
+
+@dataclass
+class Factor:
+    """A factorised SPD matrix ``K`` (n x n). ``solve(F)`` for (n,) or (n, k) loads.
+    ``info``: backend, factor memory (bytes, where known), seconds per phase."""
+
+    K: sp.csr_matrix
+    backend: str
+    _solve: object
+    _free: object = None
+    info: dict = field(default_factory=dict)
+
+    @property
+    def n(self) -> int:
+        return self.K.shape[0]
+
+    def solve(self, F: np.ndarray, rtol: float = DIRECT_RTOL) -> np.ndarray:
+        """``K^-1 F`` with one refinement step; checks each column's true residual."""
+        F = np.asarray(F, float)
+        if F.shape[0] != self.n:
+            raise ValueError(f"load has {F.shape[0]} rows for a {self.n}-row system")
+        if not np.all(np.isfinite(F)):
+            raise NumericalError("the load vector is not finite")
+        U = self._solve(F)
+        U = U + self._solve(F - (self.K @ U.reshape(self.n, -1)).reshape(F.shape))
+        res = relative_residuals(self.K, U, F)
+        if not np.all(np.isfinite(U)) or np.any(res > rtol):
+            raise NumericalError(f"{self.backend} solve residual {np.max(res):.2e} above {rtol:.0e} "
+                                 "(singular or ill-conditioned system: is the part held against every rigid motion?)")
+        self.info["residual"] = float(np.max(res, initial=0.0))
+        return U
+
+    def free(self) -> None:
+        """Release the factor's memory (the pardiso backend holds it outside Python)."""
+        if self._free is not None:
+            self._free()
+            self._free = None
+
+    def __del__(self):
+        try:
+            self.free()
+        except Exception:   # noqa: BLE001 - interpreter shutdown
+            pass
+
+
+def _pardiso_factor(K: sp.csr_matrix, memory_limit: float | None, report) -> Factor:
+    import time
+
+    from pypardiso.pardiso_wrapper import PyPardisoError, PyPardisoSolver
+
+    upper = sp.triu(K, format="csr")
+    upper.sort_indices()
+    solver = PyPardisoSolver(mtype=2)          # real symmetric positive definite
+    solver.set_iparm(1, 1)                     # use the iparm values given here
+    solver.set_iparm(2, 2)                     # METIS nested dissection
+    solver.set_iparm(8, 0)                     # refinement is done by Factor.solve
+    solver.set_iparm(10, 8)                    # pivot perturbation 1e-8
+    solver.set_iparm(35, 0)                    # one-based indices (pypardiso adds 1)
+    empty = np.zeros((K.shape[0], 1), order="F")
+    info: dict = {}
+
+    def call(phase: int, b: np.ndarray) -> np.ndarray:
+        solver.set_phase(phase)
+        try:
+            return solver._call_pardiso(upper, b)
+        except PyPardisoError as exc:
+            raise NumericalError(f"PARDISO failed in phase {phase}: {exc} (a zero pivot means the stiffness is "
+                                 "singular: is the part held against every rigid motion?)") from None
+
+    t = time.perf_counter()
+    call(11, empty)                            # symbolic: ordering and the factor's size
+    info["analysis_s"] = time.perf_counter() - t
+    # iparm(15..17): peak memory (KB) of the analysis, permanent memory, numeric phase
+    need = 1024.0 * max(solver.get_iparm(15), solver.get_iparm(16) + solver.get_iparm(17))
+    info["factor_bytes"] = need
+    info["factor_nnz"] = int(solver.get_iparm(18))
+    if memory_limit is not None and need > memory_limit:
+        solver.free_memory(everything=True)
+        raise MemoryError(need)
+    t = time.perf_counter()
+    with heartbeat(f"factorising {K.shape[0]} DOFs (PARDISO, {need / 2**30:.1f} GiB)", report):
+        call(22, empty)
+    info["factorise_s"] = time.perf_counter() - t
+
+    def solve(F: np.ndarray) -> np.ndarray:
+        b = np.asfortranarray(F.reshape(F.shape[0], -1))
+        return call(33, b).reshape(F.shape)
+
+    return Factor(K, "pardiso", solve, lambda: solver.free_memory(everything=True), info)
+
+
+def _scipy_factor(K: sp.csr_matrix, memory_limit: float | None, report) -> Factor:
+    import time
+
+    need = SCIPY_BYTES_PER_DOF * K.shape[0]
+    if memory_limit is not None and need > memory_limit:
+        raise MemoryError(need)
+    t = time.perf_counter()
+    try:
+        with heartbeat(f"factorising {K.shape[0]} DOFs (SuperLU)", report):
+            lu = spla.splu(sp.csc_matrix(K), permc_spec="MMD_AT_PLUS_A",
+                           options={"SymmetricMode": True, "DiagPivotThresh": 0.0})
     except RuntimeError as exc:   # exactly singular
         raise NumericalError(f"direct solve failed: {exc} (is the part held against every rigid motion?)") from None
-    res = relative_residual(K, u, b)
-    if not np.all(np.isfinite(u)) or res > rtol:
-        raise NumericalError(f"direct solve residual {res:.2e} above {rtol:.0e} (singular or ill-conditioned system)")
-    return u, {"solver": "direct", "iterations": 1, "residual": res}
+    info = {"factor_bytes": float(need), "factorise_s": time.perf_counter() - t}
+    return Factor(K, "scipy", lambda F: lu.solve(F), None, info)
 
 
-def solve_amg(K: sp.spmatrix, b: np.ndarray, B: np.ndarray, rtol: float = AMG_RTOL,
-              maxiter: int = 2000) -> tuple[np.ndarray, dict]:
+def factorise(K: sp.spmatrix, backend: str = "direct", memory_limit: float | None = None,
+              report=None) -> Factor:
+    """Factorise the SPD matrix ``K`` once. ``backend``: ``direct`` (pardiso when
+    installed, else scipy), ``pardiso`` or ``scipy``. Raises MemoryError(bytes needed)
+    when the factor's estimate exceeds ``memory_limit`` (bytes)."""
+    K = sp.csr_matrix(K, dtype=float)
+    if K.shape[0] == 0:
+        return Factor(K, "empty", lambda F: np.zeros_like(F))
+    if backend == "direct":
+        backend = "pardiso" if pardiso_available() else "scipy"
+    if backend == "pardiso":
+        return _pardiso_factor(K, memory_limit, report)
+    if backend == "scipy":
+        return _scipy_factor(K, memory_limit, report)
+    raise ValueError(f"unknown direct backend {backend!r}")
+
+
+def solve_amg(K: sp.spmatrix, F: np.ndarray, B: np.ndarray, rtol: float = AMG_RTOL,
+              maxiter: int = 2000, report=None) -> tuple[np.ndarray, dict]:
     """CG (scipy) preconditioned by one V-cycle of pyamg smoothed aggregation built on
-    3 x 3 node blocks with the rigid-body modes ``B``. (pyamg's own ``solve(accel="cg")``
-    stalled on these P2 systems; scipy's CG with the same hierarchy converges.)"""
+    3 x 3 node blocks with the rigid-body modes ``B``, column by column of ``F``.
+    (pyamg's own ``solve(accel="cg")`` stalled on these P2 systems; scipy's CG with the
+    same hierarchy converges.)"""
     import pyamg
 
-    if np.linalg.norm(b) == 0.0:
-        return np.zeros_like(b), {"solver": "amg", "iterations": 0, "residual": 0.0}
+    F = np.asarray(F, float)
     K = sp.csr_matrix(K)
     A = sp.bsr_matrix(K, blocksize=(3, 3)) if K.shape[0] % 3 == 0 else K
     # pyamg estimates spectral radii from np.random start vectors: seed them (and restore the
@@ -84,45 +226,74 @@ def solve_amg(K: sp.spmatrix, b: np.ndarray, B: np.ndarray, rtol: float = AMG_RT
                                                max_coarse=500)
     finally:
         np.random.set_state(state)
+    precond = ml.aspreconditioner(cycle="V")
+    columns = F.reshape(F.shape[0], -1)
+    U = np.zeros_like(columns)
+    iterations = 0
+    for j in range(columns.shape[1]):
+        with heartbeat(f"AMG-CG on {K.shape[0]} DOFs, load {j + 1} of {columns.shape[1]}", report):
+            U[:, j], its = _cg_true_residual(K, columns[:, j], precond, rtol, maxiter)
+        iterations += its
+    res = relative_residuals(K, U, columns)
+    return U.reshape(F.shape), {"solver": "amg", "iterations": iterations, "residual": float(res.max(initial=0.0)),
+                                "levels": len(ml.levels)}
+
+
+def _cg_true_residual(K, b: np.ndarray, precond, rtol: float, maxiter: int) -> tuple[np.ndarray, int]:
+    """CG from zero, restarted on the true residual (its recurrence drifts on slender,
+    coarse systems) up to three times; raises when the true residual is not met."""
+    if np.linalg.norm(b) == 0.0:
+        return np.zeros_like(b), 0
     count = [0]
 
     def tick(_):
         count[0] += 1
 
-    precond = ml.aspreconditioner(cycle="V")
     u = np.zeros_like(b)
-    status, res = 0, 1.0
-    # CG's recurrence residual drifts from the true one on ill-conditioned (slender,
-    # coarse) systems: restart on the true residual, up to three times
-    previous = np.inf
+    status, previous = 0, np.inf
     for _ in range(4):
-        r = b - K @ u
-        res = float(np.linalg.norm(r) / np.linalg.norm(b))
+        res = float(np.linalg.norm(b - K @ u) / np.linalg.norm(b))
         # stop at the target, at the cap, or at the rounding floor (no halving per pass)
         if res <= AMG_TRUE_RTOL * 1e-2 or count[0] >= maxiter or res > 0.5 * previous:
             break
         previous = res
-        du, status = spla.cg(K, r, rtol=max(rtol, AMG_TRUE_RTOL * 1e-3 / res), atol=0.0,
+        du, status = spla.cg(K, b - K @ u, rtol=max(rtol, AMG_TRUE_RTOL * 1e-3 / res), atol=0.0,
                              maxiter=maxiter - count[0], M=precond, callback=tick)
         u = u + du
         if status != 0:
             break
-    res = relative_residual(K, u, b)
+    res = float(np.linalg.norm(b - K @ u) / np.linalg.norm(b))
     if status != 0 or not np.all(np.isfinite(u)) or res > AMG_TRUE_RTOL:
         raise NumericalError(f"AMG-CG did not converge: relative residual {res:.2e} after {count[0]} "
                              f"iterations (tolerance {AMG_TRUE_RTOL:.0e}, cap {maxiter})")
-    return u, {"solver": "amg", "iterations": count[0], "residual": res, "levels": len(ml.levels)}
+    return u, count[0]
 
 
-def solve(K: sp.spmatrix, b: np.ndarray, B: np.ndarray | None = None, method: str = "auto",
-          rtol: float | None = None, maxiter: int = 2000) -> tuple[np.ndarray, dict]:
-    """Solve ``K u = b``; ``B`` the rigid-body modes of the free DOFs (needed by amg)."""
-    if method == "auto":
-        method = "direct" if K.shape[0] <= DIRECT_LIMIT else "amg"
-    if method == "direct":
-        return solve_direct(K, b, rtol or DIRECT_RTOL)
+def solve_reduced(K: sp.spmatrix, F: np.ndarray, B: np.ndarray | None = None, method: str = "auto",
+                  maxiter: int = 2000, memory_limit: float | None = None,
+                  report=None) -> tuple[np.ndarray, dict]:
+    """Solve ``K U = F`` for an SPD ``K`` and one or several load columns.
+
+    ``method``: ``auto`` (direct unless its factor would not fit, then amg), ``direct``,
+    ``pardiso``, ``scipy`` or ``amg``; ``B`` the rigid-body modes (needed by amg).
+    ``memory_limit`` bytes for the factor (default: a fraction of this machine's memory).
+    Returns (U, info)."""
+    if method in ("auto", "direct", "pardiso", "scipy"):
+        limit = memory_limit if memory_limit is not None else FACTOR_MEMORY_FRACTION * available_memory()
+        try:
+            factor = factorise(K, "direct" if method == "auto" else method,
+                               limit if method == "auto" else None, report)
+        except MemoryError as exc:
+            if report:
+                report(f"the factor would need {exc.args[0] / 2**30:.1f} GiB: iterative AMG-CG instead")
+            method = "amg"
+        else:
+            U = factor.solve(F)
+            info = {"solver": factor.backend, "iterations": 1, **factor.info}
+            factor.free()
+            return U, info
     if method == "amg":
         if B is None:
             raise ValueError("the amg solver needs the rigid-body modes")
-        return solve_amg(K, b, B, rtol or AMG_RTOL, maxiter)
+        return solve_amg(K, F, B, AMG_RTOL, maxiter, report)
     raise ValueError(f"unknown solver {method!r}")

@@ -64,7 +64,7 @@ def reaction_load_case(part: str, joint: str, force_xy: np.ndarray, bar_angle: n
               "bar_angle_deg": float(np.degrees(bar_angle[k]) % 360.0),
               "longitudinal_N": float(local[0]), "transverse_N": float(local[1]),
               "factored_longitudinal_N": float(factored[0]), "factored_transverse_N": float(factored[1]),
-              "bolts": len(holes)}
+              "bolt_count": len(holes)}
     return LoadCase(part, support, bolts, tip_group, factor, origin)
 
 
@@ -75,7 +75,7 @@ def explicit_load_case(part: str, longitudinal: float, transverse: float, holes:
     bolts = tuple(BoltForce(h, (float(longitudinal), float(transverse), 0.0)) for h in holes)
     return LoadCase(part, support, bolts, tip_group, 1.0,
                     {"joint": "explicit", "per_hole_longitudinal_N": float(longitudinal),
-                     "per_hole_transverse_N": float(transverse), "bolts": len(holes)})
+                     "per_hole_transverse_N": float(transverse), "bolt_count": len(holes)})
 
 
 def rail_bolt_holes(hole_x: list[float], shaft_x: float, bar_length: float, position: str) -> list[int]:

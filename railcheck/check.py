@@ -12,6 +12,7 @@ timings go to ``timings.json``.
 
 from __future__ import annotations
 
+import math
 import os
 import shutil
 import sys
@@ -53,29 +54,10 @@ def summary_of(result: PipelineResult) -> dict:
     scene = result.scene
     parts = {}
     for name, p in result.parts.items():
-        s = p.solution
-        parts[name] = {
-            "max_von_mises_Pa": s.max_von_mises_away,
-            "max_von_mises_location_m": [float(x) for x in s.max_von_mises_away_location],
-            "support_peak_von_mises_Pa": s.max_von_mises,
-            "support_peak_location_m": [float(x) for x in s.max_von_mises_location],
-            "support_exclusion_m": s.exclude_distance,
-            "tip_deflection_m": s.tip_deflection,
-            "tip_displacement_m": [float(x) for x in s.tip_displacement],
-            "limit_Pa": p.limit,
-            "utilisation": p.verdict_stress / p.limit,
-            "pass": bool(p.passed),
-            "load_case": {"support": p.load_case.support, "tip": p.load_case.tip_group,
-                          "factor": p.load_case.factor,
-                          "bolts": {b.group: list(b.force) for b in p.load_case.bolts},
-                          **p.load_case.origin},
-            "mesh": {"order": s.order, "size_m": mesh_sizes(scene, p.geometry.kind)[0],
-                     "hole_size_m": mesh_sizes(scene, p.geometry.kind)[1],
-                     "dofs": s.dofs, "elements": s.elements, "min_quality": p.mesh.min_quality,
-                     "slivers": p.mesh.slivers},
-        }
+        parts[name] = part_summary(scene, p)
     out = {
-        "verdict": ("PASS" if result.passed else "FAIL") if result.parts else "NO CHECK",
+        "verdict": "FAIL" if result.failures else ("PASS" if result.parts else "NO CHECK"),
+        "failures": result.failures,
         "parts": parts,
         "stages_run": list(result.stages_run),
         "warnings": list(result.warnings),
@@ -92,6 +74,40 @@ def summary_of(result: PipelineResult) -> dict:
     return out
 
 
+def part_summary(scene, p) -> dict:
+    """One part's entry of summary.json (SI; the envelope governs ``max_von_mises_Pa``)."""
+    s, cyc = p.solution, p.cycle
+    env = cyc.envelope
+    fatigue = {k: v for k, v in cyc.fatigue.items() if k != "node_factor"}
+    return {
+        "max_von_mises_Pa": env.max_von_mises,
+        "max_von_mises_location_m": [float(x) for x in env.location],
+        "crank_angle_deg": cyc.history["crank_angle_deg"],
+        "support_peak_von_mises_Pa": env.support_peak,
+        "support_exclusion_m": s.exclude_distance,
+        "tip_deflection_m": env.max_tip,
+        "limit_Pa": p.limit,
+        "utilisation": p.verdict_stress / p.limit,
+        "factor_of_safety": p.limit / p.verdict_stress if p.verdict_stress > 0 else None,
+        "pass": bool(p.passed),
+        "envelope": {"max_von_mises_Pa": env.max_von_mises, "crank_angle_deg": cyc.history["crank_angle_deg"],
+                     "location_m": [float(x) for x in env.location], "max_tip_deflection_m": env.max_tip,
+                     "joint": cyc.source},
+        "seed_method": {**cyc.seed_method,
+                        "ratio_envelope_to_seed": (env.max_von_mises / cyc.seed_method["max_von_mises_Pa"]
+                                                   if cyc.seed_method["max_von_mises_Pa"] > 0 else None)},
+        "fatigue": fatigue,
+        "load_case": {"support": p.load_case.support, "tip": p.load_case.tip_group,
+                      "factor": p.load_case.factor, **p.load_case.origin,
+                      "bolts": {b.group: list(b.force) for b in p.load_case.bolts}},
+        "unit_cases": list(cyc.fields.names),
+        "mesh": {"order": s.order, "size_m": mesh_sizes(scene, p.geometry.kind)[0],
+                 "hole_size_m": mesh_sizes(scene, p.geometry.kind)[1],
+                 "dofs": s.dofs, "elements": s.elements, "min_quality": p.mesh.min_quality,
+                 "slivers": p.mesh.slivers, "solver": cyc.meta["solver"].get("solver")},
+    }
+
+
 def rail_masses(scene) -> dict:
     """kg/m of the modelled rail section beside the seed's and the catalogue's figures."""
     from geometry.catalogue import CATALOGUE_RAIL_MASS, rail_mass_per_metre, rail_mass_per_metre_with_holes, \
@@ -102,18 +118,31 @@ def rail_masses(scene) -> dict:
 
 
 def parts_table(result: PipelineResult) -> str:
-    lines = [f"  {'part':<14}{'max von Mises':>15}{'tip defl.':>12}{'limit':>10}{'margin':>11}{'use':>7}  "
-             f"{'verdict':<9}{'peak at x, y, z (mm)':<26}{'at support*':>12}"]
+    """The console table: the cycle envelope's peak and where in the cycle, the seed
+    method's single instant beside it, the fatigue factor, and each verdict."""
+    lines = [f"  {'part':<14}{'cycle max vM':>14}{'at crank':>10}{'seed inst.':>12}{'tip defl.':>11}{'limit':>9}"
+             f"{'FoS':>8}{'fatigue n':>11}  {'verdict':<8}{'peak at x, y, z (mm)':<24}{'at support*':>12}"]
     for name, p in result.parts.items():
-        s = p.solution
-        loc = ", ".join(f"{x*1e3:.1f}" for x in s.max_von_mises_away_location)
-        lines.append(f"  {name:<14}{p.verdict_stress/1e6:>11.1f} MPa{s.tip_deflection*1e3:>9.3f} mm"
-                     f"{p.limit/1e6:>6.0f} MPa{(p.limit - p.verdict_stress)/1e6:>7.1f} MPa"
-                     f"{p.verdict_stress/p.limit*100:>6.0f}%  {'PASS' if p.passed else 'FAIL':<9}{loc:<26}"
-                     f"{s.max_von_mises/1e6:>8.1f} MPa")
+        c = p.cycle
+        loc = ", ".join(f"{x*1e3:.1f}" for x in c.envelope.location)
+        fos = p.limit / p.verdict_stress if p.verdict_stress > 0 else math.inf
+        why = [] if p.stress_passed else ["stress"]
+        why += [] if p.fatigue_passed else ["fatigue"]
+        lines.append(f"  {name:<14}{p.verdict_stress/1e6:>10.1f} MPa{c.history['crank_angle_deg']:>7.1f} deg"
+                     f"{c.seed_method['max_von_mises_Pa']/1e6:>8.1f} MPa{c.envelope.max_tip*1e3:>8.2f} mm"
+                     f"{p.limit/1e6:>5.0f} MPa{_fmt(fos):>8}{_fmt(c.fatigue['min_safety_factor']):>11}  "
+                     f"{'PASS' if p.passed else 'FAIL ' + '+'.join(why):<8}{loc:<24}"
+                     f"{c.envelope.support_peak/1e6:>8.1f} MPa")
+    lines.append("  cycle max vM: the largest von Mises over the whole crank cycle (superposed unit cases); seed inst.: "
+                 "at the instant of the peak |reaction| (seed 000's method); FoS = limit / cycle max; fatigue n: "
+                 "minimum fatigue safety factor (Shigley 6-14 with the [fatigue] criterion)")
     lines.append("  * the peak at the idealised clamped support grows with mesh refinement (a singularity); the "
                  "verdict uses the peak farther than one hole diameter from it")
     return "\n".join(lines)
+
+
+def _fmt(x: float) -> str:
+    return "inf" if not math.isfinite(x) else f"{x:.2f}"
 
 
 def _make_staging(target: Path) -> Path:
@@ -148,9 +177,15 @@ def run_check_command(args) -> int:
         if result.parts:
             from fea.vtk import write_vtu
             for name, p in result.parts.items():
+                nv = p.mesh.points.shape[0]
                 if scene.output.vtk:
                     write_vtu(staging / f"{name}.vtu", p.mesh.points, p.mesh.tets, p.solution.displacement,
-                              p.solution.von_mises)
+                              p.solution.von_mises,
+                              {"von_mises_envelope": p.cycle.envelope.node_envelope[:nv],
+                               "fatigue_safety_factor": p.cycle.fatigue["node_factor"][:nv]})
+                if scene.output.plots and p.cycle.C.shape[0] > 1:
+                    from .plots import write_cycle_plot
+                    write_cycle_plot(name, p, staging / f"{name}-cycle.png")
             if scene.output.png:
                 from .render import render_part
                 for name, p in result.parts.items():
@@ -190,7 +225,8 @@ def run_check_command(args) -> int:
                 if w not in (result.kinematics_summary or {}).get("warnings", []):
                     print(f"warning: {w}")
         print(f"stages run: {', '.join(result.stages_run)}")
-        print(f"verdict: {summary['verdict']}; results in {target}/")
+        reasons = f" ({'; '.join(result.failures)})" if result.failures else ""
+        print(f"verdict: {summary['verdict']}{reasons}; results in {target}/")
     if requested != target:
         print(f"railcheck: {requested} exists; results written to {target} (use --force to replace)", file=sys.stderr)
-    return EXIT_PASS if result.passed else EXIT_FAIL
+    return EXIT_FAIL if result.failures else EXIT_PASS

@@ -10,7 +10,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from .errors import EXIT_INPUT, EXIT_NUMERICAL, EXIT_PASS, InputError
+from .errors import EXIT_FAIL, EXIT_INPUT, EXIT_NUMERICAL, EXIT_PASS, InputError
 
 
 class _Parser(argparse.ArgumentParser):
@@ -42,7 +42,10 @@ def _cmd_kinematics(args) -> int:
         print(kinematics_table(summary))
         for p in summary.get("plots", []):
             print(f"wrote {p}")
-    return EXIT_PASS
+    failed = [name for name, c in summary["checks"].items() if not c["ok"]]
+    if failed and not args.json:
+        print(f"verdict: FAIL (check {', check '.join(failed)})")
+    return EXIT_FAIL if failed else EXIT_PASS
 
 
 def _writable_dir(path: str, option: str) -> Path:

@@ -71,3 +71,27 @@ def write_kinematics_plots(result: KinematicsResult, directory: str | Path) -> l
         save(fig, fname)
     return written
 
+
+
+def write_cycle_plot(name: str, part, path: str | Path) -> Path:
+    """The governing node's von Mises over the crank angle, the seed method's instant and
+    the limit marked (Pa -> MPa on the axis)."""
+    plt = _figure()
+    h, limit = part.cycle.history, part.limit
+    fig, ax = plt.subplots(figsize=(8, 4.5))
+    ax.plot(h["angles_deg"], h["von_mises_Pa"] / 1e6, color="C0",
+            label=f"governing node, peak {part.verdict_stress / 1e6:.1f} MPa at {h['crank_angle_deg']:.1f}°")
+    seed = part.cycle.seed_method
+    ax.axvline(h["seed_angle_deg"], color="C3", ls="--",
+               label=f"seed method instant {seed['crank_angle_deg']:.1f}° (peak |R_{h['joint']}|): "
+                     f"{seed['max_von_mises_Pa'] / 1e6:.1f} MPa at its own peak node")
+    ax.axhline(limit / 1e6, color="k", lw=0.8, ls=":", label=f"limit {limit / 1e6:.0f} MPa")
+    ax.set(xlabel="crank angle θ2 (deg)", ylabel="von Mises (MPa)", xlim=(0, 360), ylim=(0, None),
+           title=f"{name}: von Mises over one crank revolution (joint {h['joint']})")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    path = Path(path)
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=110, format="png")
+    plt.close(fig)
+    return path

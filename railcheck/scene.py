@@ -19,9 +19,10 @@ from kinematics.linkage import FourBar, SliderCrank
 from .errors import InputError
 from .units import parse_quantity
 
-PARTS = ("crank-rail", "coupler-rail", "rocker-rail", "PF_4b_006", "PF_4b_003_v2")
-RAIL_PARTS = PARTS[:3]
-EFFECTS = ("inertia", "gravity")
+from .parts import PARTS as _REGISTRY
+
+PARTS = tuple(_REGISTRY)
+EFFECTS = ("inertia", "gravity", "rail-inertia")
 BOLT_POSITIONS = ("worst", "actual")
 FORMULATIONS = ("newton-euler", "seed-2013")
 DEFAULT_SCENE = "default.toml"
@@ -55,6 +56,17 @@ class CheckSpec:
 
 
 @dataclass(frozen=True)
+class FatigueSpec:
+    """High-cycle fatigue settings (fea.fatigue): each default from Shigley, chapter 6."""
+
+    surface: str = "machined"        # table 6-2; precision rails are ground, plates machined
+    reliability: float = 0.5         # table 6-5: 0.5 (ke = 1) matches the mean endurance limit
+    load: str = "bending"            # kc: the parts bend under the transverse bolt loads
+    criterion: str = "goodman"       # modified Goodman (eq. 6-41); gerber, asme-elliptic
+    min_safety: float = 1.0          # a part fails below it
+
+
+@dataclass(frozen=True)
 class MeshSpec:
     order: int = 2
     size: float | None = None                 # m; None = each part kind's default (pipeline.DEFAULT_MESH)
@@ -82,6 +94,7 @@ class Scene:
     geometry: dict[str, float]
     raw: dict[str, Any]
     source: str
+    fatigue: FatigueSpec = FatigueSpec()
 
 
 _ALLOWED = {
@@ -92,6 +105,7 @@ _ALLOWED = {
     "output": {"dir", "vtk", "png", "plots"},
     "loads": None,       # part names, checked below
     "geometry": None,    # catalogue keys, checked below
+    "fatigue": {"surface", "reliability", "load", "criterion", "min_safety"},
 }
 
 
@@ -232,6 +246,23 @@ def _geometry(table: dict) -> dict[str, float]:
     return out
 
 
+def _fatigue(table: dict) -> FatigueSpec:
+    from fea.fatigue import CRITERIA, LOAD, RELIABILITY, SURFACE  # light module: numpy only
+
+    p = "fatigue."
+    _unknown(table, _ALLOWED["fatigue"], p)
+    surface = _string_choice(table.get("surface", "machined"), tuple(SURFACE), p + "surface")
+    load = _string_choice(table.get("load", "bending"), tuple(LOAD), p + "load")
+    criterion = _string_choice(table.get("criterion", "goodman"), CRITERIA, p + "criterion")
+    reliability = table.get("reliability", 0.5)
+    if isinstance(reliability, bool) or reliability not in RELIABILITY:
+        raise InputError(p + "reliability", f"must be one of {', '.join(map(str, RELIABILITY))}, got {reliability!r}")
+    n = table.get("min_safety", 1.0)
+    if isinstance(n, bool) or not isinstance(n, (int, float)) or not math.isfinite(n) or not 0.5 <= n <= 100:
+        raise InputError(p + "min_safety", f"must be a number from 0.5 to 100, got {n!r}")
+    return FatigueSpec(surface, float(reliability), load, criterion, float(n))
+
+
 def parse_scene(data: dict[str, Any], source: str = "<scene>") -> Scene:
     """Build a :class:`Scene` from a parsed TOML mapping."""
     _unknown(data, set(_ALLOWED), "")
@@ -264,7 +295,8 @@ def parse_scene(data: dict[str, Any], source: str = "<scene>") -> Scene:
     mesh = _mesh(data.get("mesh", {}))
     output = _output(data.get("output", {}))
     geometry = _geometry(data.get("geometry", {}))
-    return Scene(mechanism, formulation, check, mesh, output, geometry, data, source)
+    fatigue = _fatigue(data.get("fatigue", {}))
+    return Scene(mechanism, formulation, check, mesh, output, geometry, data, source, fatigue)
 
 
 def load_scene(path: str | Path | None) -> Scene:

@@ -1,0 +1,127 @@
+"""Superposition of unit load cases: the stress at every node and step of a load history
+without a solve per step.
+
+A linear part's stress is ``sigma(node, t) = sum_k c_k(t) S_k(node)``: ``S`` (6, nodes, k)
+the recovered stress of unit case k (Pa per unit coefficient), ``C`` (steps, k) the
+coefficient history. Von Mises is a convex function of ``c`` and every stress component
+a linear one, so their maxima (and the components' minima) over the cycle are reached at
+the vertices of the convex hull of the points ``c(t)``: :func:`candidate_steps` finds
+them (qhull), and everything else is evaluated on those steps only, exactly. All of it is
+vectorised over nodes and steps, in memory-bounded chunks of nodes.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .elasticity import von_mises
+
+CHUNK_VALUES = 20_000_000     # floats per chunk of (6, nodes, steps)
+HULL_MAX_DIM = 6              # above it, every step is evaluated (qhull grows fast with dimension)
+
+
+@dataclass(frozen=True)
+class UnitFields:
+    """Unit-case results of one part. ``stress`` (6, nodes, k) Pa, ``tip`` (3, k) m,
+    ``vertex_displacement`` (vertices, 3, k) m, ``nodes`` (nodes, 3) m, ``verdict_mask``
+    (nodes,) True away from the support's singular zone."""
+
+    stress: np.ndarray
+    tip: np.ndarray
+    vertex_displacement: np.ndarray
+    nodes: np.ndarray
+    verdict_mask: np.ndarray
+    names: tuple[str, ...]
+
+
+@dataclass(frozen=True)
+class Envelope:
+    """The cycle's worst: ``max_von_mises`` (Pa) over the verdict nodes and steps, at
+    ``step`` and node ``node`` (``location`` m); ``node_envelope`` (nodes,) each node's
+    maximum over the cycle (Pa); ``max_tip`` (m) and its step; ``support_peak`` (Pa), the
+    maximum at any node including the support's singular zone."""
+
+    max_von_mises: float
+    step: int
+    node: int
+    location: np.ndarray
+    node_envelope: np.ndarray
+    max_tip: float
+    tip_step: int
+    support_peak: float
+
+
+def candidate_steps(C: np.ndarray) -> np.ndarray:
+    """Indices of the steps that can hold the maximum of any convex function of the
+    coefficients (the convex hull's vertices), or every step where qhull cannot help
+    (few steps, degenerate or high-dimensional point sets)."""
+    steps, k = C.shape
+    everything = np.arange(steps)
+    if steps <= 8 * (k + 1) or k < 2 or k > HULL_MAX_DIM:
+        return everything
+    from scipy.spatial import ConvexHull, QhullError
+
+    scale = np.abs(C).max(axis=0)
+    live = scale > 0
+    X = C[:, live] / scale[live]
+    if X.shape[1] < 2:
+        return np.unique(np.r_[np.argmax(X[:, 0]) if X.size else 0, np.argmin(X[:, 0]) if X.size else 0])
+    rank = np.linalg.matrix_rank(X - X.mean(axis=0), tol=1e-9 * np.sqrt(steps))
+    if rank < X.shape[1]:
+        return everything
+    try:
+        return np.unique(ConvexHull(X).vertices)
+    except (QhullError, ValueError):
+        return everything
+
+
+def stress_at(S: np.ndarray, c: np.ndarray) -> np.ndarray:
+    """(6, nodes[, steps]) Pa for coefficients ``c`` (k,) or (steps, k)."""
+    return np.tensordot(S, np.asarray(c, float).T, axes=([2], [0]))
+
+
+def _node_chunks(nodes: int, steps: int):
+    size = max(1, CHUNK_VALUES // (6 * max(steps, 1)))
+    for start in range(0, nodes, size):
+        yield slice(start, min(start + size, nodes))
+
+
+def von_mises_max(S: np.ndarray, C: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(max over steps (nodes,) Pa, the step of it (nodes,)) for every node."""
+    nodes = S.shape[1]
+    best = np.empty(nodes)
+    where = np.empty(nodes, dtype=np.int64)
+    for sl in _node_chunks(nodes, C.shape[0]):
+        vm = von_mises(stress_at(S[:, sl], C))             # (chunk, steps)
+        where[sl] = np.argmax(vm, axis=1)
+        best[sl] = np.take_along_axis(vm, where[sl, None], axis=1)[:, 0]
+    return best, where
+
+
+def component_range(S: np.ndarray, C: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(max, min) over steps of each stress component: two (6, nodes) arrays, Pa."""
+    nodes = S.shape[1]
+    hi, lo = np.empty((6, nodes)), np.empty((6, nodes))
+    for sl in _node_chunks(nodes, C.shape[0]):
+        s = stress_at(S[:, sl], C)                         # (6, chunk, steps)
+        hi[:, sl], lo[:, sl] = s.max(axis=2), s.min(axis=2)
+    return hi, lo
+
+
+def envelope(fields: UnitFields, C: np.ndarray) -> Envelope:
+    """The von Mises and tip-deflection envelope of the history ``C`` (steps, k)."""
+    steps = candidate_steps(C)
+    best, where = von_mises_max(fields.stress, C[steps])
+    mask = fields.verdict_mask if np.any(fields.verdict_mask) else np.ones_like(fields.verdict_mask)
+    node = int(np.argmax(np.where(mask, best, -np.inf)))
+    tip = np.linalg.norm(C @ fields.tip.T, axis=1)          # every step: (steps,)
+    t = int(np.argmax(tip))
+    return Envelope(float(best[node]), int(steps[where[node]]), node, fields.nodes[node].copy(), best,
+                    float(tip[t]), t, float(best.max()))
+
+
+def history_at_node(fields: UnitFields, C: np.ndarray, node: int) -> np.ndarray:
+    """(steps,) Pa: one node's von Mises over the whole history."""
+    return von_mises(stress_at(fields.stress[:, node:node + 1], C))[0]

@@ -1,0 +1,83 @@
+"""Unit load cases of one part: assemble and factorise once, solve every unit load, keep
+what superposition needs (:class:`fea.superpose.UnitFields`).
+
+A case is either a :class:`TractionCase` (a total force of 1 N along one axis, shared
+equally by the named groups as uniform tractions) or a :class:`BodyCase` (a body force
+field per unit coefficient: ``uniform`` 1 N/m^3 along one axis; ``rotational``
+(-(y - y0), x - x0, 0) and ``radial`` (x - x0, y - y0, 0) in N/m^3 per m about the pivot
+(x0, y0), the shapes of a rigid rotation's tangential and centripetal accelerations).
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from .elasticity import (assemble, away_from, body_force_vectors, mean_over, recover_stress, solve,
+                         stress_nodes, supports, unit_traction_vectors)
+from .materials import Material
+from .superpose import UnitFields
+
+
+@dataclass(frozen=True)
+class TractionCase:
+    groups: tuple[str, ...]
+    direction: int          # 0 x, 1 y, 2 z (part frame)
+
+
+@dataclass(frozen=True)
+class BodyCase:
+    field: str              # "uniform", "rotational" or "radial"
+    direction: int = 0      # for "uniform"
+    pivot: tuple[float, float] = (0.0, 0.0)   # m, part frame
+
+
+def case_vector(basis, groups: dict, case) -> np.ndarray:
+    """(N,) the load vector of one unit case."""
+    from skfem import LinearForm, asm
+
+    if isinstance(case, TractionCase):
+        share = sum(unit_traction_vectors(basis, groups, g)[:, case.direction] for g in case.groups)
+        return share / len(case.groups)
+    if case.field == "uniform":
+        return body_force_vectors(basis)[:, case.direction]
+    x0, y0 = case.pivot
+    if case.field == "rotational":
+        form = LinearForm(lambda v, w: -(w.x[1] - y0) * v[0] + (w.x[0] - x0) * v[1])
+    elif case.field == "radial":
+        form = LinearForm(lambda v, w: (w.x[0] - x0) * v[0] + (w.x[1] - y0) * v[1])
+    else:
+        raise ValueError(f"unknown body force field {case.field!r}")
+    return asm(form, basis)
+
+
+def solve_unit_cases(points: np.ndarray, tets: np.ndarray, groups: dict, material: Material,
+                     support_groups: list[str], cases: dict[str, object], order: int = 2,
+                     tip_group: str | None = None, exclude_distance: float = 0.0, solver: str = "auto",
+                     report=None) -> tuple[UnitFields, dict]:
+    """Unit fields of every case (one factorisation) and a dict of timings and solver info."""
+    t = [time.perf_counter()]
+    K, basis = assemble(points, tets, material, order)
+    fixed = supports(basis, groups, support_groups)
+    F = np.column_stack([case_vector(basis, groups, c) for c in cases.values()])
+    t.append(time.perf_counter())
+    U, info = solve(K, F, fixed, solver, basis, report=report)
+    t.append(time.perf_counter())
+    S = recover_stress(basis, U, material)
+    nodes = stress_nodes(basis)
+    support_pts = points[np.unique(np.concatenate([groups[g].ravel() for g in support_groups]))]
+    mask = away_from(nodes, support_pts, exclude_distance)
+    tip = mean_over(basis, groups, tip_group) @ U if tip_group else np.zeros((3, F.shape[1]))
+    vertex = U[basis.nodal_dofs].transpose(1, 0, 2)            # (vertices, 3, k)
+    t.append(time.perf_counter())
+    meta = {"dofs": int(basis.N), "elements": int(tets.shape[0]), "solver": info,
+            "seconds": dict(zip(("assembly", "solve", "stress"), np.diff(t))),
+            "resultants": _resultants(basis, F)}
+    return UnitFields(S, tip, vertex, nodes, mask, tuple(cases)), meta
+
+
+def _resultants(basis, F: np.ndarray) -> np.ndarray:
+    from .elasticity import resultant
+    return resultant(basis, F)

@@ -1,0 +1,110 @@
+"""The part registry: the one place that knows the parts railcheck checks.
+
+A :class:`PartKind` says how to build, hold, mesh and measure a kind of part; a
+:class:`Part` names one checked part, its kind, and where its loads come from
+(:class:`LoadSource`: which joint's reaction, with which sign, in which bar's axes).
+Every stage reads this module: the scene (part names), the loads (sources), geometry and
+mesh (builder, default sizes), the FE (support, tip, support exclusion) and the report.
+Adding a part is one :class:`Part` entry (plus a gmsh builder for a new kind).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable
+
+
+@dataclass(frozen=True)
+class LoadSource:
+    """The force on the part at ``joint`` is ``sign`` x the solver's reaction there
+    (ground frame, N), taken into the axes of ``axes_bar`` (``crank``, ``coupler``,
+    ``rocker``; None: the ground frame)."""
+
+    joint: str
+    sign: float
+    axes_bar: str | None
+
+
+@dataclass(frozen=True)
+class PartKind:
+    """``build(overrides, bar_length_m)`` -> geometry.models.PartGeometry; ``support`` and
+    ``tip`` are mesh groups; ``exclusion(geometry)`` the distance (m) from the support
+    inside which the idealised clamp's singular stress is reported apart from the verdict;
+    ``mesh`` the default (size, hole size) in m from the accuracy-versus-time study;
+    ``section(geometry)`` the (width, height) in m of the loaded section, for the
+    fatigue size factor."""
+
+    name: str
+    build: Callable
+    support: str
+    tip: str
+    exclusion: Callable
+    mesh: tuple[float, float]
+    section: Callable
+    bolts_on_rail: bool = False      # bolt holes chosen along a rail by the bar length
+
+
+@dataclass(frozen=True)
+class Part:
+    """One checked part. ``bar``: the bar whose length sets the rail length and the bolt
+    position (rails); ``sources``: every joint the part can sit at (a plate used at two
+    joints is checked for both; the worse governs)."""
+
+    name: str
+    kind: str
+    sources: tuple[LoadSource, ...]
+    bar: str | None = None
+
+
+def _rail(overrides: dict, length: float):
+    from geometry.catalogue import with_overrides
+    from geometry.models import rail
+    return rail(length, with_overrides(overrides)[0])
+
+
+def _joint_plate(overrides: dict, length: float | None = None):
+    from geometry.catalogue import with_overrides
+    from geometry.models import joint_plate
+    return joint_plate(with_overrides(overrides)[1])
+
+
+def _i_profile(overrides: dict, length: float | None = None):
+    from geometry.catalogue import with_overrides
+    from geometry.models import i_profile
+    return i_profile(with_overrides(overrides)[2])
+
+
+KINDS: dict[str, PartKind] = {k.name: k for k in (
+    PartKind("rail", _rail, "shaft_hole", "end_free", lambda g: g.get("hole_diameter"), (20e-3, 6e-3),
+             lambda g: (g.get("width"), g.get("height")), bolts_on_rail=True),
+    PartKind("joint_plate", _joint_plate, "bearing_seat", "end_free", lambda g: g.get("bolt_diameter"),
+             (6e-3, 1.8e-3), lambda g: (g.get("width"), g.get("thickness"))),
+    PartKind("i_profile", _i_profile, "base", "end_free", lambda g: g.get("flange_thickness"), (4.2e-3, 1.26e-3),
+             lambda g: (g.get("flange_width"), g.get("depth"))),
+)}
+
+PARTS: dict[str, Part] = {p.name: p for p in (
+    Part("crank-rail", "rail", (LoadSource("A", -1.0, "crank"),), "crank"),
+    Part("coupler-rail", "rail", (LoadSource("B", -1.0, "coupler"),), "coupler"),
+    Part("rocker-rail", "rail", (LoadSource("B", +1.0, "rocker"),), "rocker"),
+    Part("PF_4b_006", "joint_plate", (LoadSource("A", -1.0, "crank"), LoadSource("B", -1.0, "coupler"))),
+    Part("PF_4b_003_v2", "i_profile", (LoadSource("O4", +1.0, None),)),
+)}
+
+BAR_INDEX = {"crank": 0, "coupler": 1, "rocker": 2}
+
+
+def kind_of(name: str) -> PartKind:
+    return KINDS[PARTS[name].kind]
+
+
+def geometry_of(name: str, overrides: dict):
+    """The part's geometry (light: no gmsh import), with the scene's catalogue overrides."""
+    part = PARTS[name]
+    return KINDS[part.kind].build(overrides, rail_length(part.bar) if part.bar else None)
+
+
+def rail_length(bar: str) -> float:
+    """m: the physical rail of a bar (seed 000, Anexo I; the mass model's lengths)."""
+    from kinematics.massmodel import MassModel
+    return getattr(MassModel(), f"{bar}_rail_length")
