@@ -88,16 +88,26 @@ def _node_chunks(nodes: int, steps: int):
         yield slice(start, min(start + size, nodes))
 
 
+#: von Mises squared is s^T P s for Voigt components s = (xx, yy, zz, xy, yz, xz)
+VM_QUADRATIC = np.array([[1.0, -0.5, -0.5, 0, 0, 0], [-0.5, 1.0, -0.5, 0, 0, 0], [-0.5, -0.5, 1.0, 0, 0, 0],
+                         [0, 0, 0, 3.0, 0, 0], [0, 0, 0, 0, 3.0, 0], [0, 0, 0, 0, 0, 3.0]])
+
+
 def von_mises_max(S: np.ndarray, C: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(max over steps (nodes,) Pa, the step of it (nodes,)) for every node."""
-    nodes = S.shape[1]
+    """(max over steps (nodes,) Pa, the step of it (nodes,)) for every node.
+
+    Von Mises squared is a quadratic form in the coefficients, ``c^T Q_n c`` with
+    ``Q_n = S_n^T P S_n`` (k x k per node): one matrix product (nodes x k^2) @ (k^2 x steps)."""
+    nodes, k = S.shape[1], S.shape[2]
+    Q = np.einsum("cnk,cd,dnl->nkl", S, VM_QUADRATIC, S, optimize=True).reshape(nodes, k * k)
+    CC = np.einsum("tk,tl->klt", C, C).reshape(k * k, -1)
     best = np.empty(nodes)
     where = np.empty(nodes, dtype=np.int64)
     for sl in _node_chunks(nodes, C.shape[0]):
-        vm = von_mises(stress_at(S[:, sl], C))             # (chunk, steps)
-        where[sl] = np.argmax(vm, axis=1)
-        best[sl] = np.take_along_axis(vm, where[sl, None], axis=1)[:, 0]
-    return best, where
+        vm2 = Q[sl] @ CC                                    # (chunk, steps)
+        where[sl] = np.argmax(vm2, axis=1)
+        best[sl] = np.take_along_axis(vm2, where[sl, None], axis=1)[:, 0]
+    return np.sqrt(np.maximum(best, 0.0)), where
 
 
 def component_range(S: np.ndarray, C: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -1,0 +1,72 @@
+"""What the whole crank cycle costs: unit-case solves against one single-load solve, and
+the evaluation of one configuration's full cycle (envelope, seed method, fatigue) for
+all five parts of the default scene at its default meshes, after the unit solves.
+
+    python benchmarks/cycle.py [--repeat 5]
+
+Prints medians over the repeats (seconds) and the ratios the README quotes.
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import sys
+import time
+from pathlib import Path
+
+# benchmarks/kinematics.py would shadow the kinematics package: import from the project root
+sys.path[:] = [p for p in sys.path if Path(p or ".").resolve() != Path(__file__).resolve().parent]
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--repeat", type=int, default=5)
+    args = parser.parse_args()
+
+    from fea.elasticity import HoleLoad, Support, solve_elasticity
+    from fea.materials import MATERIALS
+    from fea.unitcases import solve_unit_cases
+    from geometry.mesher import mesh_part
+    from railcheck.cycle import evaluate_cycle, source_histories, unit_cases
+    from railcheck.kinematics_stage import run_kinematics
+    from railcheck.parts import kind_of
+    from railcheck.pipeline import bolt_holes, mesh_sizes, part_geometries
+    from railcheck.scene import load_scene
+
+    scene = load_scene(None)
+    steel = MATERIALS["steel"]
+    kin = run_kinematics(scene)
+    geos = part_geometries(scene)
+    prepared, unit_s, single_s = {}, {}, {}
+    for name, geo in geos.items():
+        kind = kind_of(name)
+        mesh = mesh_part(geo, *mesh_sizes(scene, geo.kind))
+        holes = bolt_holes(scene, name, geo)
+        cases = unit_cases(scene, name, geo, holes)
+        t = time.perf_counter()
+        fields, meta = solve_unit_cases(mesh.points, mesh.tets, mesh.groups, steel, [kind.support], cases, 2,
+                                        kind.tip, kind.exclusion(geo))
+        unit_s[name] = time.perf_counter() - t
+        t = time.perf_counter()
+        solve_elasticity(mesh.points, mesh.tets, mesh.groups, steel, [Support(kind.support)],
+                         [HoleLoad(h, (100.0, 100.0, 0.0)) for h in holes], order=2, tip_group=kind.tip,
+                         exclude_distance=kind.exclusion(geo))
+        single_s[name] = time.perf_counter() - t
+        prepared[name] = (geo, fields, source_histories(scene, kin, name, holes, steel.density), meta)
+        print(f"{name:<14} {meta['dofs']:>7} DOFs  unit cases {unit_s[name]:6.2f} s  one load {single_s[name]:6.2f} s  "
+              f"ratio {unit_s[name] / single_s[name]:.2f}")
+    runs = []
+    for _ in range(args.repeat):
+        t = time.perf_counter()
+        for name, (geo, fields, hist, meta) in prepared.items():
+            evaluate_cycle(scene, name, geo, fields, hist, steel, meta)
+        runs.append(time.perf_counter() - t)
+    print(f"unit cases, all parts: {sum(unit_s.values()):.2f} s; one load each: {sum(single_s.values()):.2f} s; "
+          f"ratio {sum(unit_s.values()) / sum(single_s.values()):.2f}")
+    print(f"full cycle ({scene.mechanism.steps} steps), all five parts, after the unit solves: median "
+          f"{statistics.median(runs):.3f} s over {args.repeat} runs")
+
+
+if __name__ == "__main__":
+    main()
