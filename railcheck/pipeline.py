@@ -86,14 +86,13 @@ class PipelineResult:
     parts: dict[str, PartResult] = field(default_factory=dict)
     warnings: list[str] = field(default_factory=list)
     timings: dict[str, float] = field(default_factory=dict)
+    checks: dict = field(default_factory=dict)      # configuration checks of the scene's linkage
 
     @property
     def failures(self) -> list[str]:
         """Every reason the run fails: a configuration check or a part's stress or
         fatigue verdict (empty: pass)."""
-        out = []
-        if self.kinematics is not None:
-            out += [f"check {name}" for name, c in self.kinematics.checks.items() if not c.ok]
+        out = [f"check {name}" for name, c in self.checks.items() if not c.ok]
         for name, p in self.parts.items():
             out += [f"{name} stress"] if not p.stress_passed else []
             out += [f"{name} fatigue"] if not p.fatigue_passed else []
@@ -181,6 +180,11 @@ def run_pipeline(scene: Scene, progress: Progress | None = None, solver: str = "
         _mark(result, "kinematics")
         progress.say("kinematics", f"{scene.mechanism.steps} steps, {result.kinematics.dynamics.formulation}, "
                                    f"effects: {', '.join(result.kinematics.effects) or 'none'}")
+    if result.kinematics is not None:
+        result.checks = dict(result.kinematics.checks)
+    elif scene.mechanism is not None:        # closed-form geometry only: the linkage is not run
+        from kinematics.checks import configuration_checks
+        result.checks = configuration_checks(scene.mechanism.linkage)
     if scene.check is None:
         _mark(result, "report")
         return result

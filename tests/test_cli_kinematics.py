@@ -109,3 +109,25 @@ def test_no_traceback_in_a_real_process(tmp_path):
     assert "Traceback" not in proc.stderr
     assert proc.stderr.strip() == ('railcheck: error: mechanism.crank: needs a unit, e.g. "480 mm" '
                                    "(got the bare number 480)")
+
+
+REJECTED = GOOD.replace('crank = "480 mm"', 'crank = "540 mm"')   # seed 3.3.6 "NO CUMPLE": mu min 34.2 deg
+
+
+def test_seeds_rejected_design_fails_naming_the_transmission_angle(tmp_path, capsys):
+    scene = tmp_path / "rejected.toml"
+    scene.write_text(REJECTED)
+    code, out, err = run(["kinematics", str(scene)], capsys)
+    assert code == 1
+    assert "verdict: FAIL (check transmission_angle)" in out.splitlines()[-1]
+
+
+def test_failed_configuration_check_fails_the_check_run(tmp_path, capsys):
+    scene = tmp_path / "rejected.toml"
+    scene.write_text(REJECTED + '[check]\nparts = ["PF_4b_003_v2"]\n[loads.PF_4b_003_v2]\nlongitudinal = "10 N"\n'
+                                '[mesh]\nsize = "12 mm"\n[output]\nvtk = false\npng = false\nplots = false\n')
+    code, out, err = run(["check", str(scene), "--out", str(tmp_path / "r"), "--json"], capsys)
+    summary = json.loads(out)
+    assert code == 1
+    assert summary["verdict"] == "FAIL" and summary["failures"] == ["check transmission_angle"]
+    assert summary["parts"]["PF_4b_003_v2"]["pass"] is True       # the part itself passes
