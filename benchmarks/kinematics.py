@@ -52,7 +52,7 @@ def per_step_loop():
     peak = 0.0
     for k in range(STEPS):
         t2 = th2[k]
-        f = lambda x: [L2 * math.cos(t2) + L3 * math.cos(x[0]) + L4 * math.cos(x[1]) - D,  # noqa: E731
+        f = lambda x, t2=t2: [L2 * math.cos(t2) + L3 * math.cos(x[0]) + L4 * math.cos(x[1]) - D,  # noqa: E731
                        L2 * math.sin(t2) + L3 * math.sin(x[0]) + L4 * math.sin(x[1])]
         x0 = fsolve(f, x0, xtol=1e-12)
         t3, t4 = x0
@@ -94,9 +94,13 @@ def main():
     args = parser.parse_args()
     fast, slow = [], []
     for _ in range(args.repeat):
-        t = time.perf_counter(); pv = vectorised(); fast.append(time.perf_counter() - t)
+        t = time.perf_counter()
+        pv = vectorised()
+        fast.append(time.perf_counter() - t)
     for _ in range(max(3, args.repeat // 2)):
-        t = time.perf_counter(); pl = per_step_loop(); slow.append(time.perf_counter() - t)
+        t = time.perf_counter()
+        pl = per_step_loop()
+        slow.append(time.perf_counter() - t)
     mf, ms = statistics.median(fast), statistics.median(slow)
     print(f"configuration 480/840/780/1020 mm, 1 Hz, {STEPS} steps, seed-2013 reactions")
     print(f"vectorised closed form : median {mf*1e3:9.2f} ms over {len(fast)} runs  (peak R_O2 {pv:.4f} N)")

@@ -73,7 +73,13 @@ def available_memory() -> float:
         return 8.0 * 2**30
 
 
+#: MKL's conditional numerical reproducibility: without it a threaded PARDISO factor of a
+#: large system differs run to run in the last digits (summary.json must be repeatable)
+MKL_REPRODUCIBLE = "AUTO,STRICT"
+
+
 def pardiso_available() -> bool:
+    os.environ.setdefault("MKL_CBWR", MKL_REPRODUCIBLE)     # read once, when MKL loads
     try:
         from pypardiso.pardiso_wrapper import PyPardisoSolver
         PyPardisoSolver()
@@ -139,6 +145,7 @@ class Factor:
 def _pardiso_factor(K: sp.csr_matrix, memory_limit: float | None, report) -> Factor:
     import time
 
+    os.environ.setdefault("MKL_CBWR", MKL_REPRODUCIBLE)
     from pypardiso.pardiso_wrapper import PyPardisoError, PyPardisoSolver
 
     upper = sp.triu(K, format="csr")

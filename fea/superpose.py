@@ -111,13 +111,58 @@ def von_mises_max(S: np.ndarray, C: np.ndarray) -> tuple[np.ndarray, np.ndarray]
 
 
 def component_range(S: np.ndarray, C: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(max, min) over steps of each stress component: two (6, nodes) arrays, Pa."""
+    """(max, min) over steps of each stress component: two (6, nodes) arrays, Pa.
+
+    With two coefficients the maximum of a linear function over the cycle is the convex
+    polygon's support function, found per direction by a binary search on the polygon's
+    edge normals (O(nodes log vertices)); otherwise every step is evaluated in chunks."""
+    if C.shape[1] == 2:
+        polygon = _hull_polygon(C)
+        if polygon is not None:
+            D = S.reshape(-1, 2)
+            hi = _support(D, polygon)
+            lo = -_support(-D, polygon)
+            return hi.reshape(S.shape[:2]), lo.reshape(S.shape[:2])
     nodes = S.shape[1]
     hi, lo = np.empty((6, nodes)), np.empty((6, nodes))
     for sl in _node_chunks(nodes, C.shape[0]):
         s = stress_at(S[:, sl], C)                         # (6, chunk, steps)
         hi[:, sl], lo[:, sl] = s.max(axis=2), s.min(axis=2)
     return hi, lo
+
+
+def _hull_polygon(C: np.ndarray) -> np.ndarray | None:
+    """The 2D points' convex hull vertices in counter-clockwise order, or None when
+    they do not span a polygon."""
+    from scipy.spatial import ConvexHull, QhullError
+
+    scale = np.abs(C).max(axis=0)
+    if C.shape[0] < 4 or np.any(scale == 0):
+        return None
+    try:
+        hull = ConvexHull(C / scale)
+    except (QhullError, ValueError):
+        return None
+    return C[hull.vertices]                                # qhull orders 2D vertices counter-clockwise
+
+
+def _support(D: np.ndarray, V: np.ndarray) -> np.ndarray:
+    """max over the polygon's vertices V (h, 2, counter-clockwise) of d . v for every row
+    d of D (m, 2): the vertex after the edge whose outward normal angle precedes d's."""
+    edges = np.roll(V, -1, axis=0) - V
+    normal_angle = np.arctan2(-edges[:, 0], edges[:, 1])   # outward normal (e_y, -e_x)
+    start = normal_angle[0]
+    rel = np.mod(normal_angle - start, 2 * np.pi)
+    rel[0] = 0.0
+    theta = np.mod(np.arctan2(D[:, 1], D[:, 0]) - start, 2 * np.pi)
+    edge = np.searchsorted(rel, theta, side="right") - 1
+    h = V.shape[0]
+    # the candidate and its neighbours, to absorb rounding at the bracket's ends
+    best = np.full(D.shape[0], -np.inf)
+    for shift in (0, 1, 2):
+        v = V[(edge + shift) % h]
+        best = np.maximum(best, np.einsum("ij,ij->i", D, v))
+    return best
 
 
 def envelope(fields: UnitFields, C: np.ndarray) -> Envelope:

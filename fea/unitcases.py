@@ -15,8 +15,17 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .elasticity import (assemble, away_from, body_force_vectors, mean_over, recover_stress, solve,
-                         stress_nodes, supports, unit_traction_vectors)
+from .elasticity import (
+    assemble,
+    away_from,
+    body_force_vectors,
+    mean_over,
+    recover_stress,
+    solve,
+    stress_nodes,
+    supports,
+    unit_traction_vectors,
+)
 from .materials import Material
 from .superpose import UnitFields
 

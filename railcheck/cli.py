@@ -63,8 +63,17 @@ def _writable_dir(path: str, option: str) -> Path:
 
 
 def _cmd_check(args) -> int:
-    from .check import run_check_command
-    return run_check_command(args)
+    from .check import run_check
+    from .pipeline import Progress
+    from .report import check_report, to_json
+    from .scene import load_scene
+
+    run = run_check(load_scene(args.scene), args.out, args.force, Progress(quiet=False))
+    print(to_json(run.summary) if args.json else check_report(run))
+    if run.requested != run.target:
+        print(f"railcheck: {run.requested} exists; results written to {run.target} (use --force to replace)",
+              file=sys.stderr)
+    return run.exit_status
 
 
 def _cmd_bench(args) -> int:

@@ -79,10 +79,11 @@ def _solve_row(target: str, order: int, size: float) -> dict:
         hole = size
         supports, loads, tip, exclude = [Support("clamp")], [HoleLoad("tip", (0.0, 0.0, LOAD))], "tip", HEIGHT
     else:
-        from .pipeline import build_load_cases, part_geometries, support_exclusion
-        from .kinematics_stage import run_kinematics
-        from .scene import load_scene
         from dataclasses import replace
+
+        from .kinematics_stage import run_kinematics
+        from .pipeline import build_load_cases, part_geometries, support_exclusion
+        from .scene import load_scene
 
         scene = load_scene(None)
         scene = replace(scene, check=replace(scene.check, parts=(target,)))
@@ -177,6 +178,7 @@ def kinematics_study(steps_list: list[int], reference_steps: int = 200_000) -> t
     and the median time of a full cycle, for the default scene."""
     from kinematics.dynamics import inverse_dynamics
     from kinematics.motion import solve_motion
+
     from .scene import load_scene
 
     scene = load_scene(None)
@@ -219,7 +221,7 @@ def plot_study(rows: list[dict], target: str, path: str) -> None:
     import matplotlib.pyplot as plt
     import matplotlib.ticker
 
-    from .atomic import atomic_path
+    from .files import atomic_path
 
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.5))
     for ax, key, title in ((axes[0], "error_deflection", "tip deflection"), (axes[1], "error_von_mises",

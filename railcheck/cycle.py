@@ -148,8 +148,8 @@ def check_part(scene, kin, name: str, geo, case, material, limit: float, solver:
 def evaluate_cycle(scene, name: str, geo, fields, histories: list[SourceHistory], material, meta) -> CycleResult:
     """Envelope, seed method and fatigue over every source; the worse source governs the
     stress verdict, the lower fatigue factor the fatigue verdict."""
-    from fea.superpose import envelope, history_at_node, stress_at
     from fea.elasticity import von_mises
+    from fea.superpose import envelope, history_at_node, stress_at
 
     results = []
     for h in histories:

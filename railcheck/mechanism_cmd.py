@@ -15,8 +15,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .atomic import atomic_path, atomic_write_text
 from .errors import EXIT_PASS, InputError
+from .files import atomic_path, atomic_write_text
 
 
 def _solve(name: str, steps: int):

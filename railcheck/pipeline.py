@@ -11,7 +11,6 @@
 
 from __future__ import annotations
 
-import math
 import sys
 import time
 from dataclasses import dataclass, field
@@ -21,6 +20,7 @@ import numpy as np
 from .errors import InputError
 from .kinematics_stage import KinematicsResult, kinematics_summary, run_kinematics
 from .scene import Scene
+
 
 def mesh_sizes(scene, kind: str) -> tuple[float, float]:
     """(size, hole size) in m for a part kind: the scene's [mesh], else the registry's default."""

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .atomic import atomic_path
+from .files import atomic_path
 from .kinematics_stage import KinematicsResult
 
 

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .atomic import atomic_path
+from .files import atomic_path
 
 
 def render_part(path: str | Path, name: str, part) -> Path:

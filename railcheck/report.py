@@ -50,3 +50,61 @@ def _clean(x: Any) -> Any:
     if isinstance(x, float) and not math.isfinite(x):
         return None
     return x
+
+
+def parts_table(result) -> str:
+    """The console table: the cycle envelope's peak and where in the cycle, the seed
+    method's single instant beside it, the fatigue factor, and each verdict."""
+    lines = [f"  {'part':<14}{'cycle max vM':>14}{'at crank':>10}{'seed inst.':>12}{'tip defl.':>11}{'limit':>9}"
+             f"{'FoS':>8}{'fatigue n':>11}  {'verdict':<8}{'peak at x, y, z (mm)':<24}{'at support*':>12}"]
+    for name, p in result.parts.items():
+        c = p.cycle
+        loc = ", ".join(f"{x*1e3:.1f}" for x in c.envelope.location)
+        fos = p.limit / p.verdict_stress if p.verdict_stress > 0 else math.inf
+        why = [] if p.stress_passed else ["stress"]
+        why += [] if p.fatigue_passed else ["fatigue"]
+        lines.append(f"  {name:<14}{p.verdict_stress/1e6:>10.1f} MPa{c.history['crank_angle_deg']:>7.1f} deg"
+                     f"{c.seed_method['max_von_mises_Pa']/1e6:>8.1f} MPa{c.envelope.max_tip*1e3:>8.2f} mm"
+                     f"{p.limit/1e6:>5.0f} MPa{_factor(fos):>8}{_factor(c.fatigue['min_safety_factor']):>11}  "
+                     f"{'PASS' if p.passed else 'FAIL ' + '+'.join(why):<8}{loc:<24}"
+                     f"{c.envelope.support_peak/1e6:>8.1f} MPa")
+    lines.append("  cycle max vM: the largest von Mises over the whole crank cycle (superposed unit cases); seed inst.: "
+                 "at the instant of the peak |reaction| (seed 000's method); FoS = limit / cycle max; fatigue n: "
+                 "minimum fatigue safety factor (Shigley 6-14 with the [fatigue] criterion)")
+    lines.append("  * the peak at the idealised clamped support grows with mesh refinement (a singularity); the "
+                 "verdict uses the peak farther than one hole diameter from it")
+    return "\n".join(lines)
+
+
+def _factor(x: float) -> str:
+    return "inf" if not math.isfinite(x) else f"{x:.2f}"
+
+
+def check_report(run) -> str:
+    """The console report of a finished check: kinematics, the FE table, warnings, the
+    stages run and one verdict line naming every reason for a FAIL."""
+    from .pipeline import mesh_sizes
+
+    result, summary, scene = run.result, run.summary, run.result.scene
+    lines = [f"scene: {scene.source}"]
+    if result.kinematics_summary is not None:
+        lines += [kinematics_table(result.kinematics_summary), ""]
+    if result.parts:
+        c = scene.check
+        sizes = sorted({mesh_sizes(scene, p.geometry.kind) for p in result.parts.values()}, reverse=True)
+        sizes = ", ".join(f"{a*1e3:g} mm (holes {b*1e3:.3g} mm)" for a, b in sizes)
+        lines.append(f"FE check: material {c.material}, factor {c.factor:g}, bolts {c.bolt_position}, "
+                     f"P{scene.mesh.order} tetrahedra, size {sizes}")
+        lines.append(parts_table(result))
+        if "rail_mass_per_m_kg" in summary:
+            m = summary["rail_mass_per_m_kg"]
+            lines.append(f"  rail mass: modelled section {m['model_section']:.2f} kg/m ({m['model_with_holes']:.2f} "
+                         f"with its holes; solid rectangle, grooves omitted), HIWIN HGR25 "
+                         f"{m['HIWIN HGR25 catalogue']:.2f} kg/m, seed {m['seed 000 (Anexo I)']:.2f} kg/m (used by the "
+                         "dynamics)")
+        known = (result.kinematics_summary or {}).get("warnings", [])
+        lines += [f"warning: {w}" for w in result.warnings if w not in known]
+    lines.append(f"stages run: {', '.join(result.stages_run)}")
+    reasons = f" ({'; '.join(result.failures)})" if result.failures else ""
+    lines.append(f"verdict: {summary['verdict']}{reasons}; results in {run.target}/")
+    return "\n".join(lines)

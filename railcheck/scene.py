@@ -17,9 +17,8 @@ from kinematics.errors import MechanismError
 from kinematics.linkage import FourBar, SliderCrank
 
 from .errors import InputError
-from .units import parse_quantity
-
 from .parts import PARTS as _REGISTRY
+from .units import parse_quantity
 
 PARTS = tuple(_REGISTRY)
 EFFECTS = ("inertia", "gravity", "rail-inertia")

@@ -4,20 +4,19 @@ import json
 import math
 import subprocess
 import sys
+import tomllib
 from dataclasses import replace
 
 import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from scene_texts import FINAL_DESIGN, PLATE_LOADS
 
 from loads.rotation import to_rail_axes
-from railcheck.pipeline import build_load_cases, part_geometries, run_pipeline
 from railcheck.kinematics_stage import run_kinematics
+from railcheck.pipeline import build_load_cases, part_geometries, run_pipeline
 from railcheck.scene import load_scene, parse_scene
-
-import tomllib
-from scene_texts import FINAL_DESIGN, PLATE_LOADS
 
 KINEMATICS_ONLY = FINAL_DESIGN + 'speed = "1 Hz"\n'
 
@@ -104,6 +103,7 @@ def test_kinematics_only_run_imports_no_heavy_module(tmp_path):
     assert summary["verdict"] == "NO CHECK"
 
 
+@pytest.mark.slow
 def test_factor_doubles_the_stress():
     out = {}
     for factor in (1.4, 2.8):

@@ -22,6 +22,7 @@ def test_richardson_refuses_oscillation():
         richardson([0.4, 0.2, 0.1], [1.0, 1.2, 1.1])
 
 
+@pytest.mark.slow
 def test_cantilever_table_is_monotone_for_p2_and_finest_below_half_percent(capsys):
     assert main(["convergence", "cantilever", "--orders", "1,2", "--sizes", "20,14,10,7", "--json"]) == 0
     rows = json.loads(capsys.readouterr().out)["rows"]

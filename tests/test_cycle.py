@@ -8,12 +8,13 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from scene_texts import FINAL_DESIGN
 
 from fea.elasticity import HoleLoad, Support, solve_elasticity, von_mises
 from fea.fatigue import endurance_limit, safety_factor
 from fea.materials import MATERIALS
 from fea.superpose import candidate_steps, envelope, stress_at, von_mises_max
-from fea.unitcases import BodyCase, TractionCase, solve_unit_cases
+from fea.unitcases import TractionCase, solve_unit_cases
 from geometry.mesher import mesh_part
 from geometry.models import bar
 from railcheck.cycle import source_histories, unit_cases
@@ -21,7 +22,6 @@ from railcheck.kinematics_stage import run_kinematics
 from railcheck.parts import geometry_of, kind_of
 from railcheck.pipeline import bolt_holes
 from railcheck.scene import parse_scene
-from scene_texts import FINAL_DESIGN
 
 STEEL = MATERIALS["steel"]
 
@@ -210,3 +210,16 @@ def test_marin_factors_match_shigley():
     good = safety_factor(sa, sm, 250e6, 750e6, "goodman")
     assert safety_factor(sa, sm, 250e6, 750e6, "gerber") > good
     assert safety_factor(sa, sm, 250e6, 750e6, "asme-elliptic", 490e6) > good
+
+
+def test_polygon_support_function_equals_every_step():
+    from fea.superpose import component_range
+
+    rng = np.random.default_rng(3)
+    t = np.linspace(0, 2 * np.pi, 2000)
+    C = np.column_stack([300 * np.cos(t) + 80 * np.cos(3 * t), 250 * np.sin(t + 0.4) - 60 * np.sin(2 * t)])
+    S = rng.normal(size=(6, 5000, 2))
+    hi, lo = component_range(S, C)
+    s = np.einsum("cnk,tk->cnt", S, C)
+    np.testing.assert_allclose(hi, s.max(axis=2), rtol=1e-12)
+    np.testing.assert_allclose(lo, s.min(axis=2), rtol=1e-12)

@@ -4,8 +4,16 @@ import numpy as np
 import pytest
 
 from fea.cantilever import run_cantilever, timoshenko_tip
-from fea.elasticity import (HoleLoad, Support, _components, _element, _skfem_mesh, check_rigid_modes,
-                            solve_elasticity, stiffness_matrix)
+from fea.elasticity import (
+    HoleLoad,
+    Support,
+    _components,
+    _element,
+    _skfem_mesh,
+    check_rigid_modes,
+    solve_elasticity,
+    stiffness_matrix,
+)
 from fea.errors import ModelError, NumericalError
 from fea.materials import MATERIALS
 from fea.solvers import rigid_body_modes
@@ -80,6 +88,7 @@ def test_plain_rail_profile_matches_beam_theory_with_its_own_section():
     assert sol.tip_displacement[1] == pytest.approx(analytic, rel=0.02)
 
 
+@pytest.mark.slow
 def test_holed_rail_is_more_flexible_and_the_difference_is_measured():
     L, P = 0.7, 100.0
     out = {}
@@ -98,6 +107,7 @@ def rail_mesh():
     return mesh_part(rail(0.7), 10e-3, hole_size=4e-3)
 
 
+@pytest.mark.slow
 def test_tractions_sum_to_the_requested_force_and_linearity(rail_mesh):
     F = (123.0, -45.6, 7.8)
     args = (rail_mesh.points, rail_mesh.tets, rail_mesh.groups, STEEL, [Support("shaft_hole")])
@@ -108,6 +118,7 @@ def test_tractions_sum_to_the_requested_force_and_linearity(rail_mesh):
     assert s2.max_von_mises == pytest.approx(2 * s1.max_von_mises, rel=1e-7)
 
 
+@pytest.mark.slow
 def test_amg_and_direct_agree(rail_mesh):
     args = (rail_mesh.points, rail_mesh.tets, rail_mesh.groups, STEEL, [Support("shaft_hole")],
             [HoleLoad("hole_10", (200.0, 50.0, 0.0)), HoleLoad("hole_11", (200.0, 50.0, 0.0))])
@@ -119,6 +130,7 @@ def test_amg_and_direct_agree(rail_mesh):
     assert a.max_von_mises == pytest.approx(d.max_von_mises, rel=1e-6)
 
 
+@pytest.mark.slow
 def test_unconverged_iterative_solve_raises(rail_mesh):
     with pytest.raises(NumericalError, match="did not converge"):
         solve_elasticity(rail_mesh.points, rail_mesh.tets, rail_mesh.groups, STEEL, [Support("shaft_hole")],
@@ -141,6 +153,7 @@ def test_missing_group_and_missing_support_are_errors(rail_mesh):
 
 def test_vtu_round_trip(tmp_path, rail_mesh):
     import meshio
+
     from fea.vtk import write_vtu
 
     s = solve_elasticity(rail_mesh.points, rail_mesh.tets, rail_mesh.groups, STEEL, [Support("shaft_hole")],
@@ -173,6 +186,7 @@ def test_fast_assembly_equals_scikit_fem(block, order):
     assert abs(mine - ref).max() <= 1e-12 * abs(ref).max()
 
 
+@pytest.mark.slow
 def test_amg_is_deterministic(rail_mesh):
     args = (rail_mesh.points, rail_mesh.tets, rail_mesh.groups, STEEL, [Support("shaft_hole")],
             [HoleLoad("hole_11", (150.0, 80.0, 0.0))])

@@ -47,8 +47,8 @@ def test_fourbar_velocities_and_accelerations_match_finite_differences(lengths):
     assert _fd_check(m, unwrap, lambda mm: mm.omega, h) < 1e-6
     assert _fd_check(m, lambda mm: mm.omega, lambda mm: mm.alpha, h) < 1e-6
     for p in ("A", "B"):
-        assert _fd_check(m, lambda mm: mm.points[p], lambda mm: mm.velocities[p], h) < 1e-6
-        assert _fd_check(m, lambda mm: mm.velocities[p], lambda mm: mm.accelerations[p], h) < 1e-6
+        assert _fd_check(m, lambda mm, p=p: mm.points[p], lambda mm, p=p: mm.velocities[p], h) < 1e-6
+        assert _fd_check(m, lambda mm, p=p: mm.velocities[p], lambda mm, p=p: mm.accelerations[p], h) < 1e-6
 
 
 def test_crossed_is_the_mirror_of_open():

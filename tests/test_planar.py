@@ -80,6 +80,7 @@ def test_general_slidercrank_matches_newton_euler():
         assert np.abs(reactions.forces[joint] - ref).max() <= 1e-8 * np.abs(ref).max(), joint
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", list(CATALOGUE))
 def test_velocities_and_accelerations_match_finite_differences(name):
     """Central differences of positions (velocities) and of velocities (accelerations)
@@ -179,6 +180,7 @@ def test_html_slider_moves_the_drawing(tmp_path):
     assert before["bodies"] != after["bodies"]
 
 
+@pytest.mark.slow
 def test_csv_and_gif(tmp_path):
     from railcheck.cli import main
 

@@ -227,11 +227,11 @@ def evaluate(mech: Mechanism, q: np.ndarray, qd: np.ndarray | None = None, s: fl
             di = fr.direction(c.i, c.pi, c.qi)
             dj = fr.direction(c.j, c.pj, c.qj)
             v, r, g = _cross_terms(di, dj)
-            phi.append(v); rows.append(r); nu.append(0.0); gamma.append(g)
+            _add((phi, rows, nu, gamma), v, r, 0.0, g)
             Pi, Pj = fr.point(c.i, c.pi), fr.point(c.j, c.pj)
             h = (Pj[0] - Pi[0], Pj[1] - Pi[1], Pj[2] - Pi[2], Pj[3] - Pi[3])
             v, r, g = _cross_terms(di, h)
-            phi.append(v); rows.append(r); nu.append(0.0); gamma.append(g)
+            _add((phi, rows, nu, gamma), v, r, 0.0, g)
         elif isinstance(c, Fixed):
             bi, bj = mech.body(c.i), mech.body(c.j)
             xi = np.array(bi.initial) if c.i else np.zeros(3)
@@ -258,7 +258,7 @@ def evaluate(mech: Mechanism, q: np.ndarray, qd: np.ndarray | None = None, s: fl
             th = q[3 * c.body - 1]
             row = np.zeros(mech.n)
             row[3 * c.body - 1] = 1.0
-            phi.append(th - f); rows.append(row); nu.append(f1); gamma.append(f2)
+            _add((phi, rows, nu, gamma), th - f, row, f1, f2)
         elif isinstance(c, TranslationDriver):
             f, f1, f2 = c.f(s)
             di = fr.direction(c.i, c.pi, c.qi)
@@ -271,7 +271,13 @@ def evaluate(mech: Mechanism, q: np.ndarray, qd: np.ndarray | None = None, s: fl
             value = float(va @ vb) / length
             row = (va @ Jb + vb @ Ja) / length
             g = -(float(aa @ vb) + 2 * float(da @ db) + float(va @ ab)) / length
-            phi.append(value - f); rows.append(row); nu.append(f1); gamma.append(g + f2)
+            _add((phi, rows, nu, gamma), value - f, row, f1, g + f2)
         else:
             raise TypeError(f"unknown constraint {c!r}")
     return np.array(phi), np.array(rows).reshape(len(phi), mech.n), np.array(nu), np.array(gamma)
+
+
+def _add(lists, *values) -> None:
+    """Append one constraint's (phi, Jacobian row, nu, gamma) to the four lists."""
+    for target, value in zip(lists, values, strict=True):
+        target.append(value)

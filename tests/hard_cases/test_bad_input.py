@@ -67,6 +67,7 @@ def test_output_dir_not_writable(tmp_path):
     one_line_exit_2(proc, "output.dir")
 
 
+@pytest.mark.slow
 def test_failed_run_leaves_earlier_results_untouched(tmp_path):
     good = check(tmp_path, PLATE)
     assert good.returncode == 0, good.stderr
@@ -78,6 +79,7 @@ def test_failed_run_leaves_earlier_results_untouched(tmp_path):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["results", "scene.toml"]
 
 
+@pytest.mark.slow
 def test_same_scene_twice_gives_byte_identical_summary(tmp_path):
     a = check(tmp_path, PLATE, out="a")
     b = check(tmp_path, PLATE, out="b")

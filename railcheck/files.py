@@ -1,0 +1,129 @@
+"""Everything railcheck writes goes through here: atomic files, results directories, staging.
+
+* :func:`atomic_path` / :func:`atomic_write_text`: a file is written under a temporary
+  name beside its target and renamed into place, so a reader never sees half a file; the
+  file gets the user's umask (not mkstemp's 0600).
+* :func:`reserve_results_dir`: a run claims its results directory atomically (``mkdir``
+  succeeds for one process only), so two runs never share one: the second gets ``DIR-2``.
+  ``force`` replaces an existing directory, but only when the run has succeeded.
+* :class:`Staging`: the run writes into a hidden staging directory beside the target,
+  named with its process id; :meth:`Staging.commit` renames it onto the reserved target,
+  :meth:`Staging.abandon` removes it. A later run removes staging directories whose
+  process is gone (a killed run leaves nothing behind for long).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import shutil
+import tempfile
+from pathlib import Path
+from typing import Iterator
+
+STAGING_MARK = ".staging."
+
+
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
+@contextlib.contextmanager
+def atomic_path(target: str | Path) -> Iterator[Path]:
+    """Yield a temporary path in the target's directory; rename it onto ``target`` when
+    the block succeeds, remove it when it fails. The suffix is kept (writers that choose
+    a format by extension still work)."""
+    target = Path(target)
+    fd, tmp = tempfile.mkstemp(prefix=f".{target.stem}.", suffix=target.suffix, dir=target.parent)
+    os.close(fd)
+    tmp_path = Path(tmp)
+    try:
+        yield tmp_path
+        os.chmod(tmp_path, 0o666 & ~_umask())
+        os.replace(tmp_path, target)
+    except BaseException:
+        with contextlib.suppress(FileNotFoundError):
+            tmp_path.unlink()
+        raise
+
+
+def atomic_write_text(target: str | Path, text: str) -> None:
+    with atomic_path(target) as tmp:
+        tmp.write_text(text, encoding="utf-8")
+
+
+def reserve_results_dir(requested: Path, force: bool = False) -> tuple[Path, bool]:
+    """(target, replaces): claim ``requested`` or the first free ``requested-N`` by
+    creating it empty; with ``force`` an existing ``requested`` is kept until the run
+    commits (``replaces`` True). Raises OSError when the location cannot be written."""
+    requested = Path(requested)
+    if requested.exists() and not requested.is_dir():
+        raise NotADirectoryError(20, f"{requested} exists and is not a directory")
+    requested.parent.mkdir(parents=True, exist_ok=True)
+    if force and requested.is_dir():
+        return requested, True
+    k = 1
+    while True:
+        candidate = requested if k == 1 else Path(f"{requested}-{k}")
+        try:
+            candidate.mkdir()
+            os.chmod(candidate, 0o777 & ~_umask())
+            return candidate, False
+        except FileExistsError:
+            k += 1
+
+
+class Staging:
+    """A hidden directory beside ``target`` that a run writes into; see the module doc."""
+
+    def __init__(self, target: Path, replaces: bool = False):
+        self.target = Path(target)
+        self.replaces = replaces
+        remove_dead_staging(self.target.parent)
+        self.path = Path(tempfile.mkdtemp(prefix=f".{self.target.name}{STAGING_MARK}{os.getpid()}.",
+                                          dir=self.target.parent))
+        os.chmod(self.path, 0o777 & ~_umask())
+
+    def commit(self) -> Path:
+        """Rename the staging directory onto the target (replacing it with ``force``)."""
+        if self.replaces and self.target.exists():
+            old = Path(tempfile.mkdtemp(prefix=f".{self.target.name}.old.", dir=self.target.parent))
+            os.replace(self.target, old / self.target.name)
+            os.replace(self.path, self.target)
+            shutil.rmtree(old, ignore_errors=True)
+        else:
+            os.replace(self.path, self.target)      # onto the empty reserved directory
+        return self.target
+
+    def abandon(self) -> None:
+        """Remove the staging directory and give up the reservation."""
+        shutil.rmtree(self.path, ignore_errors=True)
+        if not self.replaces:
+            with contextlib.suppress(OSError):
+                self.target.rmdir()                 # only if still empty
+
+
+def remove_dead_staging(directory: Path) -> list[Path]:
+    """Remove staging directories in ``directory`` whose process no longer runs."""
+    removed = []
+    for p in Path(directory).glob(f".*{STAGING_MARK}*"):
+        try:
+            pid = int(p.name.split(STAGING_MARK, 1)[1].split(".", 1)[0])
+        except (IndexError, ValueError):
+            continue
+        if pid != os.getpid() and not _alive(pid):
+            shutil.rmtree(p, ignore_errors=True)
+            removed.append(p)
+    return removed
+
+
+def _alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True
