@@ -13,18 +13,16 @@ studies the number of crank steps instead.
 
 from __future__ import annotations
 
-import json
 import math
-import subprocess
 import sys
 import time
 
 import numpy as np
 
 from .errors import EXIT_PASS, InputError
+from .parts import PARTS, kind_of
 from .report import to_json
 
-PART_TARGETS = ("crank-rail", "coupler-rail", "rocker-rail", "PF_4b_006", "PF_4b_003_v2")
 DEFAULT_SIZES_MM = {"cantilever": [20.0, 14.0, 10.0, 7.0, 5.0], "rail": [20.0, 14.0, 10.0, 7.0],
                     "plate": [12.0, 8.5, 6.0, 4.2]}
 HOLE_RATIO = 0.3          # hole_size / size, as in the default scene (3 mm / 10 mm)
@@ -82,7 +80,7 @@ def _solve_row(target: str, order: int, size: float) -> dict:
         from dataclasses import replace
 
         from .kinematics_stage import run_kinematics
-        from .pipeline import build_load_cases, part_geometries, support_exclusion
+        from .pipeline import build_load_cases, part_geometries
         from .scene import load_scene
 
         scene = load_scene(None)
@@ -94,7 +92,7 @@ def _solve_row(target: str, order: int, size: float) -> dict:
         hole = size * HOLE_RATIO
         supports, tip = [Support(case.support)], case.tip_group
         loads = [HoleLoad(b.group, b.force) for b in case.bolts]
-        exclude = support_exclusion(geo)
+        exclude = kind_of(target).exclusion(geo)
     t = time.perf_counter()
     mesh = mesh_part(geo, size, hole, cache=False)
     t_mesh = time.perf_counter() - t
@@ -108,16 +106,6 @@ def _solve_row(target: str, order: int, size: float) -> dict:
            "max_von_mises_location_m": [float(x) for x in sol.max_von_mises_away_location],
            "support_peak_von_mises_Pa": sol.max_von_mises, "solver": sol.solver.get("solver")}
     return row
-
-
-def _row_in_subprocess(target: str, order: int, size: float) -> dict:
-    code = ("import json, sys; from railcheck.convergence import _solve_row; "
-            f"print('ROW' + json.dumps(_solve_row({target!r}, {order}, {size!r})))")
-    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
-    for line in proc.stdout.splitlines():
-        if line.startswith("ROW"):
-            return json.loads(line[3:])
-    raise RuntimeError(f"convergence row {target} P{order} {size*1e3:g} mm failed:\n{proc.stderr[-2000:]}")
 
 
 def beam_stress(x: float) -> float:
@@ -158,15 +146,20 @@ def add_errors(rows: list[dict], target: str) -> dict:
 
 
 def run_study(target: str, orders: list[int], sizes: list[float], progress=print) -> tuple[list[dict], dict]:
+    """One row per (order, size), each solved in a fresh worker process so that its peak
+    memory is its own (``max_tasks_per_child=1``)."""
+    from concurrent.futures import ProcessPoolExecutor
+
     rows = []
     total = len(orders) * len(sizes)
-    for i, order in enumerate(orders):
-        for j, size in enumerate(sorted(sizes, reverse=True)):
-            t = time.perf_counter()
-            row = _row_in_subprocess(target, order, size)
-            rows.append(row)
-            progress(f"[{i*len(sizes)+j+1}/{total}] {target} P{order} {size*1e3:g} mm: {row['dofs']} DOFs, "
-                     f"{time.perf_counter() - t:.1f} s")
+    with ProcessPoolExecutor(max_workers=1, max_tasks_per_child=1) as pool:
+        for i, order in enumerate(orders):
+            for j, size in enumerate(sorted(sizes, reverse=True)):
+                t = time.perf_counter()
+                row = pool.submit(_solve_row, target, order, size).result()
+                rows.append(row)
+                progress(f"[{i*len(sizes)+j+1}/{total}] {target} P{order} {size*1e3:g} mm: {row['dofs']} DOFs, "
+                         f"{time.perf_counter() - t:.1f} s")
     refs = add_errors(rows, target)
     return rows, refs
 
@@ -259,12 +252,12 @@ def run_convergence_command(args) -> int:
             print(f"  {r['steps']:>7}{r['seconds']:>10.4f}{r['max_abs_error']:>13.2e}  "
                   f"{'yes' if r['four_significant_figures'] else 'no'}")
         return EXIT_PASS
-    if target != "cantilever" and target not in PART_TARGETS:
-        raise InputError("TARGET", f"unknown target {target!r} (cantilever, kinematics, {', '.join(PART_TARGETS)})")
+    if target != "cantilever" and target not in PARTS:
+        raise InputError("TARGET", f"unknown target {target!r} (cantilever, kinematics, {', '.join(PARTS)})")
     orders = _parse_list(args.orders, int, "--orders")
     if any(o not in (1, 2) for o in orders):
         raise InputError("--orders", f"orders are 1 or 2, got {args.orders!r}")
-    kind = "cantilever" if target == "cantilever" else ("rail" if target.endswith("rail") else "plate")
+    kind = "cantilever" if target == "cantilever" else ("rail" if kind_of(target).bolts_on_rail else "plate")
     sizes_mm = _parse_list(args.sizes, float, "--sizes") if args.sizes else DEFAULT_SIZES_MM[kind]
     if any(not (1.0 <= s <= 50.0) for s in sizes_mm):
         raise InputError("--sizes", "mesh sizes must lie between 1 and 50 mm")

@@ -27,7 +27,7 @@ class LoadSource:
 
 @dataclass(frozen=True)
 class PartKind:
-    """``build(overrides, bar_length_m)`` -> geometry.models.PartGeometry; ``support`` and
+    """``build(overrides, rail_length_m or None)`` -> geometry.models.PartGeometry; ``support`` and
     ``tip`` are mesh groups; ``exclusion(geometry)`` the distance (m) from the support
     inside which the idealised clamp's singular stress is reported apart from the verdict;
     ``mesh`` the default (size, hole size) in m from the accuracy-versus-time study;
@@ -42,6 +42,13 @@ class PartKind:
     mesh: tuple[float, float]
     section: Callable
     bolts_on_rail: bool = False      # bolt holes chosen along a rail by the bar length
+    bolt_groups: Callable = None     # geometry -> the bolt-hole groups (default: every "hole_K")
+
+    def bolts(self, geometry) -> list[str]:
+        """The groups a plate's joint loads (rails choose theirs by the bar length)."""
+        if self.bolt_groups is not None:
+            return list(self.bolt_groups(geometry))
+        return [g for g in geometry.groups if g.startswith("hole_")]
 
 
 @dataclass(frozen=True)

@@ -128,7 +128,7 @@ def bolt_holes(scene: Scene, name: str, geo) -> list[str]:
 
     from .parts import PARTS, kind_of
     if not kind_of(name).bolts_on_rail:
-        return [g for g in geo.groups if g.startswith("hole_")]
+        return kind_of(name).bolts(geo)
     xs = list(geo.get("hole_x"))
     explicit = name in scene.check.loads
     bar = PARTS[name].bar

@@ -16,11 +16,10 @@ from typing import Any
 from kinematics.errors import MechanismError
 from kinematics.linkage import FourBar, SliderCrank
 
+from . import parts as registry
 from .errors import InputError
-from .parts import PARTS as _REGISTRY
 from .units import parse_quantity
 
-PARTS = tuple(_REGISTRY)
 EFFECTS = ("inertia", "gravity", "rail-inertia")
 BOLT_POSITIONS = ("worst", "actual")
 FORMULATIONS = ("newton-euler", "seed-2013")
@@ -68,7 +67,7 @@ class FatigueSpec:
 @dataclass(frozen=True)
 class MeshSpec:
     order: int = 2
-    size: float | None = None                 # m; None = each part kind's default (pipeline.DEFAULT_MESH)
+    size: float | None = None                 # m; None = each part kind's default (parts.KINDS)
     hole_size: float | None = None            # m; None = the kind's default, or 0.3 x size
     optimize: bool = True                     # gmsh's tetrahedron optimisation
 
@@ -162,12 +161,13 @@ def _mechanism(table: dict) -> MechanismSpec:
 def _check(table: dict, loads_table: dict) -> CheckSpec:
     p = "check."
     _unknown(table, _ALLOWED["check"], p)
-    parts = table.get("parts", list(PARTS))
+    known = tuple(registry.PARTS)
+    parts = table.get("parts", list(known))
     if not isinstance(parts, list) or not parts or not all(isinstance(x, str) for x in parts):
-        raise InputError(p + "parts", f"must be a non-empty list of part names ({', '.join(PARTS)})")
+        raise InputError(p + "parts", f"must be a non-empty list of part names ({', '.join(known)})")
     for name in parts:
-        if name not in PARTS:
-            raise InputError(p + "parts", f"unknown part {name!r} (known: {', '.join(PARTS)})")
+        if name not in known:
+            raise InputError(p + "parts", f"unknown part {name!r} (known: {', '.join(known)})")
     if len(set(parts)) != len(parts):
         raise InputError(p + "parts", "lists a part twice")
     factor = table.get("factor", 1.4)
@@ -192,8 +192,8 @@ def _check(table: dict, loads_table: dict) -> CheckSpec:
     loads: dict[str, ExplicitLoad] = {}
     for part, spec in loads_table.items():
         lp = f"loads.{part}."
-        if part not in PARTS:
-            raise InputError(f"loads.{part}", f"unknown part (known: {', '.join(PARTS)})")
+        if part not in known:
+            raise InputError(f"loads.{part}", f"unknown part (known: {', '.join(known)})")
         if part not in parts:
             raise InputError(f"loads.{part}", "explicit loads for a part that check.parts does not list")
         if not isinstance(spec, dict):

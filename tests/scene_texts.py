@@ -18,3 +18,19 @@ parts = ["PF_4b_003_v2"]
 longitudinal = "250 N"
 transverse = "250 N"
 """
+
+
+def assert_picture(path, min_size=(400, 300), min_colours=20):
+    """The image at ``path`` decodes, is at least ``min_size`` (width, height) pixels and
+    is not blank: many distinct colours and a spread of intensities."""
+    import numpy as np
+    from PIL import Image
+
+    with Image.open(path) as im:
+        im.load()
+        width, height = im.size
+        frame = np.asarray(im.convert("RGB"), dtype=float)
+    assert width >= min_size[0] and height >= min_size[1], (path, im.size)
+    colours = np.unique(frame.reshape(-1, 3)[::7], axis=0).shape[0]
+    assert colours >= min_colours, (path, colours)
+    assert frame.std() > 5.0, path

@@ -5,7 +5,7 @@ import subprocess
 import sys
 
 import pytest
-from scene_texts import FINAL_DESIGN
+from scene_texts import FINAL_DESIGN, assert_picture
 
 from railcheck.cli import main
 
@@ -53,7 +53,8 @@ def test_plots_written(tmp_path, capsys):
     names = sorted(p.name for p in (tmp_path / "p").iterdir())
     assert names == ["angles.png", "angular_accelerations.png", "angular_velocities.png",
                      "reactions.png", "torque.png"]
-    assert all((tmp_path / "p" / n).read_bytes()[:4] == b"\x89PNG" for n in names)
+    for n in names:
+        assert_picture(tmp_path / "p" / n)
 
 
 BAD = [
