@@ -105,3 +105,36 @@ def rail_mass_per_metre_with_holes(spec: RailSpec = RAIL, density: float = STEEL
 
 #: what the catalogues and the seed say the rail weighs (kg/m)
 CATALOGUE_RAIL_MASS = {"HIWIN HGR25 catalogue": 3.21, "seed 000 (Anexo I)": 2.7}
+
+
+def validate(overrides: dict[str, float]) -> tuple[str, str] | None:
+    """(field, message) for overrides that cannot make a valid part, else None: holes
+    wider than the section, counterbores not around their hole or deeper than the rail,
+    holes that overlap or leave the plate, a web or fillet that does not fit."""
+    rail, plate, ipr = with_overrides(overrides)
+    checks = [
+        ("rail_hole_diameter", rail.hole_diameter < 0.8 * rail.width, "the through hole must be narrower than "
+                                                                       "0.8 x the rail width"),
+        ("rail_counterbore_diameter", rail.hole_diameter < rail.counterbore_diameter < 0.9 * rail.width,
+         "the counterbore must be wider than the hole and narrower than 0.9 x the rail width"),
+        ("rail_counterbore_depth", rail.counterbore_depth < 0.9 * rail.height, "the counterbore must be shallower "
+                                                                               "than 0.9 x the rail height"),
+        ("rail_end_distance", rail.hole_diameter / 2 < rail.end_distance < rail.hole_pitch,
+         "the first hole must lie on the rail, within one pitch of its end"),
+        ("rail_hole_pitch", rail.hole_pitch > 1.2 * rail.counterbore_diameter, "neighbouring counterbores overlap"),
+        ("plate_seat_diameter", plate.seat_diameter < 0.9 * plate.width and
+         plate.seat_diameter / 2 < plate.seat_x < min(plate.bolt_x) - plate.bolt_diameter / 2 - plate.seat_diameter / 2,
+         "the bearing seat must lie inside the plate, clear of the bolt holes"),
+        ("plate_bolt_diameter", plate.bolt_diameter < 0.8 * (plate.bolt_x[1] - plate.bolt_x[0])
+         and max(plate.bolt_x) + plate.bolt_diameter / 2 < plate.length, "the bolt holes must fit on the plate"),
+        ("iprofile_web_thickness", ipr.web_thickness + 2 * ipr.root_radius < ipr.flange_width,
+         "web and fillets must be narrower than the flange"),
+        ("iprofile_flange_thickness", 2 * ipr.flange_thickness + 2 * ipr.root_radius < ipr.depth,
+         "two flanges and the fillets must fit in the depth"),
+        ("iprofile_bolt_diameter", ipr.bolt_diameter < min(ipr.bolt_pitch_y, ipr.flange_width - ipr.bolt_pitch_y)
+         and ipr.bolt_pitch_x + ipr.bolt_diameter < ipr.length, "the bolt holes must fit on the top flange"),
+    ]
+    for name, ok, message in checks:
+        if not ok:
+            return f"geometry.{name}", message
+    return None

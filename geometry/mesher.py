@@ -23,7 +23,7 @@ import numpy as np
 
 from .models import PartGeometry
 
-MESHER_VERSION = 5
+MESHER_VERSION = 6
 SLIVER_SICN = 0.05   # elements whose signed inverse condition number is below this are slivers
 
 
@@ -41,16 +41,41 @@ class MeshData:
     slivers: int
     seconds: float
     cached: bool = False
+    warning: str | None = None
 
 
 def default_cache_dir() -> Path:
     return Path(os.environ.get("RAILCHECK_CACHE", Path.home() / ".cache" / "railcheck"))
 
 
+def _gmsh_version() -> str:
+    from importlib.metadata import PackageNotFoundError, version
+    try:
+        return version("gmsh")
+    except PackageNotFoundError:
+        return "unknown"
+
+
+def _cache_payload(part: PartGeometry, size: float, hole_size: float, optimize: bool = True) -> str:
+    """Everything a cached mesh depends on, as canonical JSON (stored beside the arrays)."""
+    return json.dumps({"v": MESHER_VERSION, "gmsh": _gmsh_version(), "kind": part.kind,
+                       "params": [list(p) for p in part.params], "size": size, "hole_size": hole_size,
+                       "optimize": optimize}, sort_keys=True, default=list)
+
+
 def _cache_key(part: PartGeometry, size: float, hole_size: float, optimize: bool = True) -> str:
-    payload = json.dumps({"v": MESHER_VERSION, "kind": part.kind, "params": [list(p) for p in part.params],
-                          "size": size, "hole_size": hole_size, "optimize": optimize}, sort_keys=True, default=list)
-    return hashlib.sha256(payload.encode()).hexdigest()[:24]
+    return hashlib.sha256(_cache_payload(part, size, hole_size, optimize).encode()).hexdigest()[:24]
+
+
+def _digest(points: np.ndarray, tets: np.ndarray, groups: dict[str, np.ndarray]) -> str:
+    """SHA-256 of the mesh arrays' bytes (with the group names): the cache entry's content hash."""
+    h = hashlib.sha256()
+    for a in (points, tets):
+        h.update(np.ascontiguousarray(a).tobytes())
+    for name in sorted(groups):
+        h.update(name.encode())
+        h.update(np.ascontiguousarray(groups[name]).tobytes())
+    return h.hexdigest()
 
 
 def estimate_elements(part: PartGeometry, size: float, hole_size: float) -> int:
@@ -65,36 +90,65 @@ def estimate_elements(part: PartGeometry, size: float, hole_size: float) -> int:
     return int(n)
 
 
+def read_cached(path: Path, payload: str) -> tuple[MeshData | None, str | None]:
+    """(mesh, None) for a sound cache entry of these parameters; (None, why) for a missing,
+    damaged, swapped or stale one."""
+    if not path.exists():
+        return None, None
+    try:
+        with np.load(path, allow_pickle=False) as z:
+            stored_payload, stored_digest = str(z["payload"]), str(z["digest"])
+            points, tets = z["points"], z["tets"]
+            groups = {k[2:]: z[k] for k in z.files if k.startswith("g_")}
+            quality, slivers = float(z["min_quality"]), int(z["slivers"])
+    except Exception as exc:   # noqa: BLE001 - any unreadable file is a damaged entry
+        return None, f"unreadable ({type(exc).__name__})"
+    if stored_payload != payload:
+        return None, "made for other parameters"
+    if stored_digest != _digest(points, tets, groups):
+        return None, "content does not match its hash"
+    return MeshData(points, tets, groups, quality, slivers, 0.0, cached=True), None
+
+
+def write_cached(path: Path, data: MeshData, payload: str) -> None:
+    """Write a cache entry atomically (a per-process temporary name, then a rename), so
+    concurrent runs never read half a file; an unwritable cache only costs time."""
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = path.with_name(f".{path.stem}.{os.getpid()}.tmp.npz")
+        np.savez(tmp, points=data.points, tets=data.tets, min_quality=data.min_quality, slivers=data.slivers,
+                 payload=np.array(payload), digest=np.array(_digest(data.points, data.tets, data.groups)),
+                 **{f"g_{k}": v for k, v in data.groups.items()})
+        os.replace(tmp, path)
+    except OSError:
+        pass
+
+
 def mesh_part(part: PartGeometry, size: float, hole_size: float | None = None,
               cache: bool = True, cache_dir: Path | None = None, verbose: bool | None = None,
               optimize: bool = True) -> MeshData:
     """Mesh ``part`` with element size ``size`` (m), ``hole_size`` at the holes (default
-    size / 3); read from / write to the cache unless ``cache`` is False. ``optimize``
-    False skips gmsh's tetrahedron optimisation (slivers may remain; they are counted).
-    gmsh prints nothing unless ``verbose`` or the environment's ``RAILCHECK_GMSH_VERBOSE=1``."""
+    size / 3); read from / write to the cache unless ``cache`` is False. A cache entry
+    stores its parameters (gmsh version included) and a content hash, both verified on
+    load: a damaged or mismatched entry is rebuilt and ``MeshData.warning`` says why.
+    ``optimize`` False skips gmsh's tetrahedron optimisation (slivers may remain; they are
+    counted). gmsh prints nothing unless ``verbose`` or ``RAILCHECK_GMSH_VERBOSE=1``."""
     if verbose is None:
         verbose = os.environ.get("RAILCHECK_GMSH_VERBOSE", "") not in ("", "0")
     hole_size = hole_size or size / 3.0
-    key = _cache_key(part, size, hole_size, optimize)
-    path = (cache_dir or default_cache_dir()) / f"{part.kind}-{key}.npz"
-    if cache and path.exists():
-        try:
-            with np.load(path) as z:
-                groups = {k[2:]: z[k] for k in z.files if k.startswith("g_")}
-                return MeshData(z["points"], z["tets"], groups, float(z["min_quality"]), int(z["slivers"]),
-                                0.0, cached=True)
-        except (OSError, ValueError, KeyError):
-            pass   # a damaged cache entry is rebuilt
+    payload = _cache_payload(part, size, hole_size, optimize)
+    path = (cache_dir or default_cache_dir()) / f"{part.kind}-{_cache_key(part, size, hole_size, optimize)}.npz"
+    why = None
+    if cache:
+        data, why = read_cached(path, payload)
+        if data is not None:
+            return data
     data = build_mesh(part, size, hole_size, verbose=verbose, optimize=optimize)
     if cache:
-        try:
-            path.parent.mkdir(parents=True, exist_ok=True)
-            tmp = path.with_name(f".{path.stem}.{os.getpid()}.tmp.npz")
-            np.savez(tmp, points=data.points, tets=data.tets, min_quality=data.min_quality,
-                     slivers=data.slivers, **{f"g_{k}": v for k, v in data.groups.items()})
-            os.replace(tmp, path)
-        except OSError:
-            pass   # an unwritable cache only costs time
+        write_cached(path, data, payload)
+    if why:
+        from dataclasses import replace
+        data = replace(data, warning=f"cached mesh {path.name} {why}: rebuilt")
     return data
 
 

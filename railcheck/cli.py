@@ -91,8 +91,17 @@ def _cmd_mechanism(args) -> int:
     return run_mechanism_command(args)
 
 
+def _version() -> str:
+    from importlib.metadata import PackageNotFoundError, version
+    try:
+        return version("railcheck")
+    except PackageNotFoundError:
+        return "unknown"
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="railcheck", description=__doc__.splitlines()[0])
+    parser.add_argument("--version", action="version", version=f"railcheck {_version()}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
 
     p = sub.add_parser("kinematics", help="kinematics, joint reactions and motor torque over a crank revolution")
@@ -136,13 +145,35 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _terminate(signum, frame):
+    """SIGTERM unwinds like Ctrl-C, so staging directories are removed on the way out."""
+    raise _Terminated()
+
+
+class _Terminated(KeyboardInterrupt):
+    pass
+
+
 def main(argv: list[str] | None = None) -> int:
+    import signal
+
     from kinematics.errors import MechanismError
 
     parser = build_parser()
+    if not (sys.argv[1:] if argv is None else argv):
+        parser.print_help()
+        return EXIT_INPUT
     args = parser.parse_args(argv)
+    previous = signal.signal(signal.SIGTERM, _terminate)
     try:
         return int(args.func(args))
+    except BrokenPipeError:                  # `railcheck ... | head`: end quietly
+        import os
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return EXIT_PASS
+    except _Terminated:
+        print("railcheck: terminated", file=sys.stderr)
+        return 143
     except InputError as exc:
         print(f"railcheck: error: {exc}", file=sys.stderr)
         return EXIT_INPUT
@@ -161,6 +192,8 @@ def main(argv: list[str] | None = None) -> int:
             print(f"railcheck: numerical failure: {exc}", file=sys.stderr)
             return EXIT_NUMERICAL
         raise
+    finally:
+        signal.signal(signal.SIGTERM, previous)
 
 
 if __name__ == "__main__":

@@ -119,6 +119,8 @@ def check_part(scene, kin, name: str, geo, case, material, limit: float, solver:
     size, hole = mesh_sizes(scene, geo.kind)
     mesh = mesh_part(geo, size, hole, optimize=scene.mesh.optimize)
     seconds["mesh"] = time.perf_counter() - t
+    if mesh.warning:
+        warnings.append(mesh.warning)
     if mesh.slivers:
         warnings.append(f"{mesh.slivers} sliver elements (gmsh minSICN < 0.05, worst {mesh.min_quality:.3f}); "
                         "stresses near them are unreliable")
@@ -134,6 +136,7 @@ def check_part(scene, kin, name: str, geo, case, material, limit: float, solver:
     cycle = evaluate_cycle(scene, name, geo, fields, histories, material, meta)
     seconds["cycle"] = time.perf_counter() - t
     cycle.seconds, cycle.warnings = seconds, warnings
+    _refuse_non_finite(name, cycle)
     if not np.any(cycle.C):
         warnings.append("carries no load: its verdict is vacuous")
     report(f"{meta['dofs']} DOFs, {meta['solver'].get('solver')}, {len(cases)} unit cases; cycle peak "
@@ -143,6 +146,17 @@ def check_part(scene, kin, name: str, geo, case, material, limit: float, solver:
     solution = solution_at(fields, cycle.C[cycle.envelope.step], meta, scene.mesh.order, kind.exclusion(geo),
                            cycle.envelope)
     return PartResult(name, case, mesh, solution, limit, geo, cycle)
+
+
+def _refuse_non_finite(name: str, cycle) -> None:
+    """A NaN or an infinity in the results is a numerical failure, never a number."""
+    from fea.errors import NumericalError
+
+    env = cycle.envelope
+    values = [env.max_von_mises, env.max_tip, env.support_peak, cycle.seed_method["max_von_mises_Pa"],
+              cycle.fatigue["sigma_a_Pa"], cycle.fatigue["sigma_m_Pa"]]
+    if not (np.all(np.isfinite(values)) and np.all(np.isfinite(cycle.C))):
+        raise NumericalError(f"{name}: the stress or deflection over the cycle is not finite")
 
 
 def evaluate_cycle(scene, name: str, geo, fields, histories: list[SourceHistory], material, meta) -> CycleResult:

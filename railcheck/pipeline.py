@@ -219,10 +219,20 @@ def run_pipeline(scene: Scene, progress: Progress | None = None, solver: str = "
 
 
 def _refuse_huge(scene: Scene, geometries: dict) -> None:
-    """Estimate DOFs and memory before meshing; refuse what this machine cannot hold."""
+    """Refuse, before meshing, a mesh size too coarse for a part (more than twice its
+    section's smaller side: the stress would be meaningless) and a mesh this machine's
+    memory cannot hold (DOFs estimated from the volume and the size field)."""
     from fea.elasticity import estimate_dofs
     from geometry.mesher import estimate_elements
 
+    from .parts import kind_of
+
+    if scene.mesh.size is not None:
+        for name, geo in geometries.items():
+            side = min(kind_of(name).section(geo))
+            if scene.mesh.size > 2 * side:
+                raise InputError("mesh.size", f"{scene.mesh.size*1e3:g} mm is more than twice {name}'s "
+                                              f"{side*1e3:g} mm section: too coarse to resolve its stress")
     worst = 0
     for geo in geometries.values():
         size, hole = mesh_sizes(scene, geo.kind)

@@ -21,6 +21,28 @@ from .errors import InputError
 from .units import parse_quantity
 
 EFFECTS = ("inertia", "gravity", "rail-inertia")
+
+#: physical ranges checked when the scene is read (SI): a value outside is refused, naming
+#: the field. A teaching rig's bars are centimetres to metres; its crank turns at most a
+#: few revolutions per second (inertia loads grow with the square); limits are stresses
+#: of real materials; forces are what bolts and plates of this size could carry.
+RANGES = {
+    "length": (1e-3, 10.0, "1 mm", "10 m"),
+    "speed": (0.0, 2 * math.pi * 50.0, "0 Hz", "50 Hz"),
+    "limit": (1e6, 5e9, "1 MPa", "5 GPa"),
+    "force": (0.0, 1e6, "0 N", "1 MN"),
+    "factor": (0.1, 100.0, "0.1", "100"),
+    "geometry": (0.1e-3, 2.0, "0.1 mm", "2 m"),
+}
+
+
+def _in_range(value: float, kind: str, name: str, magnitude: bool = False) -> float:
+    lo, hi, lo_text, hi_text = RANGES[kind]
+    v = abs(value) if magnitude else value
+    if not lo <= v <= hi:
+        raise InputError(name, f"{'|value|' if magnitude else 'value'} outside the physical range {lo_text} to "
+                               f"{hi_text} this tool accepts")
+    return value
 BOLT_POSITIONS = ("worst", "actual")
 FORMULATIONS = ("newton-euler", "seed-2013")
 DEFAULT_SCENE = "default.toml"
@@ -136,9 +158,10 @@ def _mechanism(table: dict) -> MechanismSpec:
     p = "mechanism."
     _unknown(table, _ALLOWED["mechanism"], p)
     kind = _string_choice(_require(table, "kind", p), ("four-bar", "slider-crank"), p + "kind")
-    length = lambda key: parse_quantity(_require(table, key, p), "length", p + key,  # noqa: E731
-                                        positive=True, allow_zero=False)
-    speed = parse_quantity(table.get("speed", "1 Hz"), "angular_speed", p + "speed", positive=True)
+    length = lambda key: _in_range(parse_quantity(_require(table, key, p), "length", p + key,  # noqa: E731
+                                                  positive=True, allow_zero=False), "length", p + key)
+    speed = _in_range(parse_quantity(table.get("speed", "1 Hz"), "angular_speed", p + "speed", positive=True),
+                      "speed", p + "speed")
     steps = table.get("steps", 5000)
     if isinstance(steps, bool) or not isinstance(steps, int) or steps < 3:
         raise InputError(p + "steps", f"must be a whole number >= 3, got {steps!r}")
@@ -152,6 +175,8 @@ def _mechanism(table: dict) -> MechanismSpec:
             if "rocker" in table:
                 raise InputError(p + "rocker", "a slider-crank has no rocker (remove the key)")
             offset = parse_quantity(table.get("ground", "0 mm"), "length", p + "ground")
+            if offset != 0:
+                _in_range(offset, "length", p + "ground", magnitude=True)
             linkage = SliderCrank(length("crank"), length("coupler"), offset, assembly)
     except MechanismError as exc:
         raise InputError(exc.field, exc.message) from None
@@ -173,6 +198,7 @@ def _check(table: dict, loads_table: dict) -> CheckSpec:
     factor = table.get("factor", 1.4)
     if isinstance(factor, bool) or not isinstance(factor, (int, float)) or not math.isfinite(factor) or factor <= 0:
         raise InputError(p + "factor", f"must be a positive number (a dimensionless load factor), got {factor!r}")
+    _in_range(float(factor), "factor", p + "factor")
     bolt = _string_choice(table.get("bolt_position", "worst"), BOLT_POSITIONS, p + "bolt_position")
     material = table.get("material", "steel")
     if not isinstance(material, str):
@@ -182,7 +208,8 @@ def _check(table: dict, loads_table: dict) -> CheckSpec:
         raise InputError(p + "material", f"unknown material {material!r} (known: {', '.join(MATERIALS)})")
     limit = None
     if "limit" in table:
-        limit = parse_quantity(table["limit"], "stress", p + "limit", positive=True, allow_zero=False)
+        limit = _in_range(parse_quantity(table["limit"], "stress", p + "limit", positive=True, allow_zero=False),
+                          "limit", p + "limit")
     effects = table.get("effects", ["inertia"])
     if not isinstance(effects, list) or not all(isinstance(x, str) for x in effects):
         raise InputError(p + "effects", f"must be a list drawn from {', '.join(EFFECTS)}")
@@ -199,9 +226,9 @@ def _check(table: dict, loads_table: dict) -> CheckSpec:
         if not isinstance(spec, dict):
             raise InputError(f"loads.{part}", "must be a table with longitudinal and transverse forces per hole")
         _unknown(spec, {"longitudinal", "transverse"}, lp)
-        loads[part] = ExplicitLoad(
-            parse_quantity(spec.get("longitudinal", "0 N"), "force", lp + "longitudinal"),
-            parse_quantity(spec.get("transverse", "0 N"), "force", lp + "transverse"))
+        loads[part] = ExplicitLoad(*(
+            _in_range(parse_quantity(spec.get(key, "0 N"), "force", lp + key), "force", lp + key, magnitude=True)
+            for key in ("longitudinal", "transverse")))
     return CheckSpec(tuple(parts), float(factor), bolt, material, limit, tuple(effects), loads)
 
 
@@ -241,7 +268,12 @@ def _geometry(table: dict) -> dict[str, float]:
     for key, value in table.items():
         if key not in OVERRIDABLE:
             raise InputError(f"geometry.{key}", f"unknown key (allowed: {', '.join(sorted(OVERRIDABLE))})")
-        out[key] = parse_quantity(value, "length", f"geometry.{key}", positive=True, allow_zero=False)
+        out[key] = _in_range(parse_quantity(value, "length", f"geometry.{key}", positive=True, allow_zero=False),
+                             "geometry", f"geometry.{key}")
+    from geometry.catalogue import validate  # light module
+    problem = validate(out)
+    if problem:
+        raise InputError(*problem)
     return out
 
 

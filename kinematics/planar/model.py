@@ -25,7 +25,7 @@ right-hand side of the acceleration equations (gamma) is exact, not differenced.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Callable
+from typing import Callable, ClassVar
 
 import numpy as np
 
@@ -53,9 +53,7 @@ class Revolute:
     j: int
     pj: str
 
-    @property
-    def equations(self) -> int:
-        return 2
+    equations: ClassVar[int] = 2   # constraint equations
 
 
 @dataclass(frozen=True)
@@ -68,9 +66,7 @@ class Prismatic:
     pj: str
     qj: str
 
-    @property
-    def equations(self) -> int:
-        return 2
+    equations: ClassVar[int] = 2   # constraint equations
 
 
 @dataclass(frozen=True)
@@ -79,9 +75,7 @@ class Fixed:
     i: int
     j: int
 
-    @property
-    def equations(self) -> int:
-        return 3
+    equations: ClassVar[int] = 3   # constraint equations
 
 
 @dataclass(frozen=True)
@@ -92,9 +86,7 @@ class RotationDriver:
     body: int
     f: Callable[[float], tuple[float, float, float]]
 
-    @property
-    def equations(self) -> int:
-        return 1
+    equations: ClassVar[int] = 1   # constraint equations
 
 
 @dataclass(frozen=True)
@@ -110,9 +102,7 @@ class TranslationDriver:
     pj: str
     f: Callable[[float], tuple[float, float, float]]
 
-    @property
-    def equations(self) -> int:
-        return 1
+    equations: ClassVar[int] = 1   # constraint equations
 
 
 @dataclass

@@ -43,6 +43,19 @@ CASES = [
     ("hole size above size", PLATE.replace('hole_size = "4 mm"', 'hole_size = "40 mm"'), ("mesh.hole_size",)),
     ("mesh beyond memory", PLATE.replace('size = "12 mm"', 'size = "0.3 mm"').replace('hole_size = "4 mm"', ''),
      ("mesh.size", "GiB")),
+    ("absurd speed", FOURBAR + 'speed = "1e308 Hz"\n', ("mechanism.speed", "50 Hz")),
+    ("absurd limit", PLATE.replace('parts = ["PF_4b_003_v2"]', 'parts = ["PF_4b_003_v2"]\nlimit = "1e308 GPa"'),
+     ("check.limit", "5 GPa")),
+    ("absurd factor", PLATE.replace('parts = ["PF_4b_003_v2"]', 'parts = ["PF_4b_003_v2"]\nfactor = 1e9'),
+     ("check.factor",)),
+    ("absurd load", PLATE.replace('"250 N"', '"1e12 N"'), ("loads.PF_4b_003_v2.longitudinal", "1 MN")),
+    ("absurd length", FOURBAR.replace('"1020 mm"', '"1e6 m"'), ("mechanism.ground", "10 m")),
+    ("mesh coarser than the part", PLATE.replace('size = "12 mm"', 'size = "1000 m"').replace('hole_size = "4 mm"', ''),
+     ("mesh.size", "too coarse")),
+    ("rail hole wider than the rail", PLATE + '[geometry]\nrail_hole_diameter = "30 mm"\n',
+     ("geometry.rail_hole_diameter",)),
+    ("bearing seat off the plate", PLATE + '[geometry]\nplate_seat_diameter = "200 mm"\n',
+     ("geometry.plate_seat_diameter",)),
     ("rocker rail of a slider-crank", '[mechanism]\nkind = "slider-crank"\ncrank = "300 mm"\ncoupler = "800 mm"\n'
      '[check]\nparts = ["rocker-rail"]\n', ("check.parts", "rocker")),
 ]
@@ -96,3 +109,41 @@ def test_toggle_scene_exits_2_naming_the_crank_angle(tmp_path):
     proc = subprocess.run([sys.executable, "-m", "railcheck.cli", "kinematics", str(scene)], capture_output=True,
                           text=True)
     one_line_exit_2(proc, "crank angle 0 deg")
+
+
+def test_two_runs_into_one_out_both_survive(tmp_path):
+    scene = tmp_path / "scene.toml"
+    scene.write_text(PLATE + "[output]\nvtk = false\npng = false\n")
+    cmd = [sys.executable, "-m", "railcheck.cli", "check", str(scene), "--out", str(tmp_path / "r")]
+    procs = [subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, cwd=tmp_path)
+             for _ in range(2)]
+    for p in procs:
+        assert p.wait(timeout=300) == 0, p.stderr.read()
+    dirs = sorted(p.name for p in tmp_path.iterdir() if p.is_dir())
+    assert dirs == ["r", "r-2"]
+    for d in dirs:
+        assert json.loads((tmp_path / d / "summary.json").read_text())["verdict"] == "PASS"
+
+
+def test_sigterm_cleans_up_and_the_next_run_removes_dead_staging(tmp_path):
+    import os
+    import signal
+    import time
+
+    scene = tmp_path / "scene.toml"
+    scene.write_text(FOURBAR + 'steps = 200\n[check]\nparts = ["crank-rail"]\n[mesh]\nsize = "8 mm"\n')
+    proc = subprocess.Popen([sys.executable, "-m", "railcheck.cli", "check", str(scene), "--out",
+                             str(tmp_path / "r")], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+                            cwd=tmp_path)
+    deadline = time.time() + 60
+    while not list(tmp_path.glob(".r.staging.*")) and time.time() < deadline:
+        time.sleep(0.05)
+    proc.send_signal(signal.SIGTERM)
+    assert proc.wait(timeout=60) == 143
+    assert not list(tmp_path.glob(".r.staging.*")) and not (tmp_path / "r").exists()
+    # a run killed outright (SIGKILL) leaves its staging directory: the next run removes it
+    dead = tmp_path / f".r.staging.{2**22 + 12345}.abc"
+    dead.mkdir()
+    os.utime(dead)
+    check(tmp_path, PLATE + "[output]\nvtk = false\npng = false\n", out="r")
+    assert not dead.exists()

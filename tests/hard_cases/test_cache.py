@@ -1,0 +1,61 @@
+"""A damaged, swapped or stale mesh cache entry is never trusted: it is rebuilt, the
+result is the right mesh, and a warning says why."""
+
+import os
+import shutil
+
+import numpy as np
+import pytest
+
+from geometry.mesher import mesh_part
+from geometry.models import bar
+
+
+@pytest.fixture
+def cache(tmp_path):
+    return tmp_path / "cache"
+
+
+def entries(cache):
+    return sorted(p for p in cache.glob("*.npz") if not p.name.startswith("."))
+
+
+def fresh(size):
+    return mesh_part(bar(0.1, 0.02, 0.02), size, size, cache=False)
+
+
+def test_sound_entry_is_read_back(cache):
+    first = mesh_part(bar(0.1, 0.02, 0.02), 8e-3, 8e-3, cache_dir=cache)
+    second = mesh_part(bar(0.1, 0.02, 0.02), 8e-3, 8e-3, cache_dir=cache)
+    assert not first.cached and second.cached and second.warning is None
+    assert np.array_equal(first.points, second.points)
+
+
+@pytest.mark.parametrize("damage", ["swapped", "truncated", "bit-flipped"])
+def test_damaged_entry_is_rebuilt_with_a_warning(cache, damage):
+    mesh_part(bar(0.1, 0.02, 0.02), 8e-3, 8e-3, cache_dir=cache)
+    (entry,) = entries(cache)
+    if damage == "swapped":                     # another mesh's sound entry under this name
+        other = mesh_part(bar(0.1, 0.02, 0.02), 12e-3, 12e-3, cache_dir=cache)
+        assert other.cached is False
+        (other_entry,) = [p for p in entries(cache) if p != entry]
+        shutil.copy(other_entry, entry)
+    elif damage == "truncated":
+        entry.write_bytes(entry.read_bytes()[: entry.stat().st_size // 2])
+    else:                                       # one bit of the stored coordinates flipped
+        import zipfile
+        with zipfile.ZipFile(entry) as z:
+            members = {n: z.read(n) for n in z.namelist()}
+        raw = bytearray(members["points.npy"])
+        raw[-5] ^= 0x01
+        members["points.npy"] = bytes(raw)
+        os.remove(entry)
+        with zipfile.ZipFile(entry, "w") as z:
+            for n, data in members.items():
+                z.writestr(n, data)
+    got = mesh_part(bar(0.1, 0.02, 0.02), 8e-3, 8e-3, cache_dir=cache)
+    want = fresh(8e-3)
+    assert np.array_equal(got.points, want.points) and np.array_equal(got.tets, want.tets)
+    assert not got.cached and got.warning and "rebuilt" in got.warning
+    again = mesh_part(bar(0.1, 0.02, 0.02), 8e-3, 8e-3, cache_dir=cache)
+    assert again.cached and again.warning is None                   # the rebuilt entry is sound
