@@ -39,13 +39,13 @@ def railcheck_solve(problem: str, size: float) -> dict:
     """Solve with railcheck (run in a child process); return arrays as lists."""
     import resource
 
-    from fea.elasticity import HoleLoad, Support, solve_elasticity
-    from fea.materials import MATERIALS
-    from geometry.mesher import mesh_part
+    from railcheck.fea.elasticity import HoleLoad, Support, solve_elasticity
+    from railcheck.fea.materials import MATERIALS
+    from railcheck.geometry.mesher import mesh_part
 
     if problem == "cantilever":
-        from fea.cantilever import HEIGHT, LENGTH, LOAD, WIDTH
-        from geometry.models import bar
+        from railcheck.fea.cantilever import HEIGHT, LENGTH, LOAD, WIDTH
+        from railcheck.geometry.models import bar
         mesh = mesh_part(bar(LENGTH, WIDTH, HEIGHT), size, hole_size=size)
         supports, loads, tip = [Support("clamp")], [HoleLoad("tip", (0.0, 0.0, LOAD))], "tip"
         probe = np.array([LENGTH / 4, 0.0, HEIGHT / 2])

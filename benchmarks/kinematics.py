@@ -21,9 +21,9 @@ sys.path[:] = [p for p in sys.path if Path(p or ".").resolve() != Path(__file__)
 import numpy as np
 from scipy.optimize import fsolve
 
-from kinematics.dynamics import inverse_dynamics
-from kinematics.linkage import FourBar
-from kinematics.motion import solve_motion
+from railcheck.kinematics.dynamics import inverse_dynamics
+from railcheck.kinematics.linkage import FourBar
+from railcheck.kinematics.motion import solve_motion
 
 L2, L3, L4, D = 0.48, 0.84, 0.78, 1.02
 STEPS = 5000

@@ -155,10 +155,16 @@ def mesh_part(part: PartGeometry, size: float, hole_size: float | None = None,
 def build_mesh(part: PartGeometry, size: float, hole_size: float, verbose: bool = False,
                optimize: bool = True) -> MeshData:
     """Build the gmsh model of ``part`` and mesh it (no cache)."""
+    import signal
+
     import gmsh
 
     t0 = time.perf_counter()
+    # gmsh installs its own signal handlers: keep the caller's (SIGTERM cleans up a run)
+    handlers = {sig: signal.getsignal(sig) for sig in (signal.SIGINT, signal.SIGTERM)}
     gmsh.initialize(interruptible=False)
+    for sig, handler in handlers.items():
+        signal.signal(sig, handler)
     try:
         gmsh.option.setNumber("General.Terminal", 1 if verbose else 0)
         gmsh.option.setNumber("General.Verbosity", 5 if verbose else 0)
@@ -194,6 +200,8 @@ def build_mesh(part: PartGeometry, size: float, hole_size: float, verbose: bool 
         return _extract(gmsh, surfaces, time.perf_counter() - t0)
     finally:
         gmsh.finalize()
+        for sig, handler in handlers.items():
+            signal.signal(sig, handler)
 
 
 def _extract(gmsh, surfaces, seconds) -> MeshData:

@@ -7,7 +7,7 @@ from .report import to_json
 
 
 def run_bench_command(args) -> int:
-    from fea.cantilever import HEIGHT, LENGTH, LOAD, WIDTH, run_cantilever
+    from railcheck.fea.cantilever import HEIGHT, LENGTH, LOAD, WIDTH, run_cantilever
 
     if not (0.5 <= args.size <= 50):
         raise InputError("--size", f"must be between 0.5 and 50 mm, got {args.size:g}")

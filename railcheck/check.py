@@ -82,7 +82,7 @@ def part_summary(scene, p) -> dict:
 
 def rail_masses(scene) -> dict:
     """kg/m of the modelled rail section beside the seed's and the catalogue's figures."""
-    from geometry.catalogue import (
+    from railcheck.geometry.catalogue import (
         CATALOGUE_RAIL_MASS,
         rail_mass_per_metre,
         rail_mass_per_metre_with_holes,
@@ -150,7 +150,7 @@ def write_outputs(scene, result: PipelineResult, summary: dict, directory: Path)
 
 def write_part_vtu(path: Path, p) -> None:
     """The part's VTU: the governing instant's fields, the cycle envelope, the fatigue factor."""
-    from fea.vtk import write_vtu
+    from railcheck.fea.vtk import write_vtu
 
     nv = p.mesh.points.shape[0]
     with atomic_path(path) as tmp:

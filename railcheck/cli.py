@@ -157,7 +157,7 @@ class _Terminated(KeyboardInterrupt):
 def main(argv: list[str] | None = None) -> int:
     import signal
 
-    from kinematics.errors import MechanismError
+    from railcheck.kinematics.errors import MechanismError
 
     parser = build_parser()
     if not (sys.argv[1:] if argv is None else argv):
@@ -184,7 +184,7 @@ def main(argv: list[str] | None = None) -> int:
         print("railcheck: interrupted", file=sys.stderr)
         return 130
     except Exception as exc:  # model and numerical failures from the FE stage
-        from fea.errors import ModelError, NumericalError
+        from railcheck.fea.errors import ModelError, NumericalError
         if isinstance(exc, ModelError):
             print(f"railcheck: error: {exc}", file=sys.stderr)
             return EXIT_INPUT

@@ -65,11 +65,11 @@ def _solve_row(target: str, order: int, size: float) -> dict:
     """Mesh and solve one configuration; returns the row (SI)."""
     import resource
 
-    from fea.cantilever import HEIGHT, LENGTH, LOAD, WIDTH
-    from fea.elasticity import HoleLoad, Support, solve_elasticity
-    from fea.materials import MATERIALS
-    from geometry.mesher import mesh_part
-    from geometry.models import bar
+    from railcheck.fea.cantilever import HEIGHT, LENGTH, LOAD, WIDTH
+    from railcheck.fea.elasticity import HoleLoad, Support, solve_elasticity
+    from railcheck.fea.materials import MATERIALS
+    from railcheck.geometry.mesher import mesh_part
+    from railcheck.geometry.models import bar
 
     steel = MATERIALS["steel"]
     if target == "cantilever":
@@ -110,7 +110,7 @@ def _solve_row(target: str, order: int, size: float) -> dict:
 
 def beam_stress(x: float) -> float:
     """Bending stress (Pa) of the benchmark cantilever at distance x (m) from the clamp."""
-    from fea.cantilever import HEIGHT, LENGTH, LOAD, WIDTH
+    from railcheck.fea.cantilever import HEIGHT, LENGTH, LOAD, WIDTH
     inertia = WIDTH * HEIGHT**3 / 12
     return LOAD * (LENGTH - x) * (HEIGHT / 2) / inertia
 
@@ -120,8 +120,8 @@ def add_errors(rows: list[dict], target: str) -> dict:
     return the reference values used, per order."""
     refs = {}
     if target == "cantilever":
-        from fea.cantilever import HEIGHT, LENGTH, LOAD, WIDTH, timoshenko_tip
-        from fea.materials import MATERIALS
+        from railcheck.fea.cantilever import HEIGHT, LENGTH, LOAD, WIDTH, timoshenko_tip
+        from railcheck.fea.materials import MATERIALS
         analytic = timoshenko_tip(LOAD, LENGTH, WIDTH, HEIGHT, MATERIALS["steel"], "z")
         for r in rows:
             r["error_deflection"] = (r["tip_deflection_m"] - analytic) / analytic
@@ -169,8 +169,8 @@ def run_study(target: str, orders: list[int], sizes: list[float], progress=print
 def kinematics_study(steps_list: list[int], reference_steps: int = 200_000) -> tuple[list[dict], dict]:
     """Error of each peak reaction and of the peak torque against ``reference_steps``,
     and the median time of a full cycle, for the default scene."""
-    from kinematics.dynamics import inverse_dynamics
-    from kinematics.motion import solve_motion
+    from railcheck.kinematics.dynamics import inverse_dynamics
+    from railcheck.kinematics.motion import solve_motion
 
     from .scene import load_scene
 

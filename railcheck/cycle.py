@@ -54,7 +54,7 @@ class CycleResult:
 
 def unit_cases(scene, name: str, geo, holes: list[str]) -> dict:
     """The part's unit load cases, named (see the module doc)."""
-    from fea.unitcases import BodyCase, TractionCase
+    from railcheck.fea.unitcases import BodyCase, TractionCase
 
     cases = {"bolt_x": TractionCase(tuple(holes), 0), "bolt_y": TractionCase(tuple(holes), 1)}
     effects = scene.check.effects
@@ -75,7 +75,7 @@ def _rail_inertia_applies(scene, name: str) -> bool:
 def source_histories(scene, kin, name: str, holes: list[str], density: float) -> list[SourceHistory]:
     """The coefficient history of every load source of the part, columns in the order
     of :func:`unit_cases`."""
-    from loads.histories import bolt_history, gravity_history, rail_inertia_history
+    from railcheck.loads.histories import bolt_history, gravity_history, rail_inertia_history
 
     gravity = "gravity" in scene.check.effects
     if name in scene.check.loads:
@@ -108,8 +108,8 @@ def source_histories(scene, kin, name: str, holes: list[str], density: float) ->
 
 def check_part(scene, kin, name: str, geo, case, material, limit: float, solver: str, report):
     """Mesh, unit cases, envelope, seed method and fatigue of one part -> PartResult."""
-    from fea.unitcases import solve_unit_cases
-    from geometry.mesher import mesh_part
+    from railcheck.fea.unitcases import solve_unit_cases
+    from railcheck.geometry.mesher import mesh_part
 
     from .pipeline import PartResult, bolt_holes, mesh_sizes
 
@@ -150,7 +150,7 @@ def check_part(scene, kin, name: str, geo, case, material, limit: float, solver:
 
 def _refuse_non_finite(name: str, cycle) -> None:
     """A NaN or an infinity in the results is a numerical failure, never a number."""
-    from fea.errors import NumericalError
+    from railcheck.fea.errors import NumericalError
 
     env = cycle.envelope
     values = [env.max_von_mises, env.max_tip, env.support_peak, cycle.seed_method["max_von_mises_Pa"],
@@ -162,8 +162,8 @@ def _refuse_non_finite(name: str, cycle) -> None:
 def evaluate_cycle(scene, name: str, geo, fields, histories: list[SourceHistory], material, meta) -> CycleResult:
     """Envelope, seed method and fatigue over every source; the worse source governs the
     stress verdict, the lower fatigue factor the fatigue verdict."""
-    from fea.elasticity import von_mises
-    from fea.superpose import envelope, history_at_node, stress_at
+    from railcheck.fea.elasticity import von_mises
+    from railcheck.fea.superpose import envelope, history_at_node, stress_at
 
     results = []
     for h in histories:
@@ -191,8 +191,8 @@ def fatigue_of(scene, name: str, geo, fields, C: np.ndarray, material) -> dict:
     """The minimum fatigue safety factor over the verdict nodes of one history, where,
     its sigma_a / sigma_m (Pa), the endurance limit and Marin factors; ``node_factor``
     (nodes,) for the VTU."""
-    from fea.fatigue import alternating_and_mean, endurance_limit, safety_factor
-    from fea.superpose import candidate_steps, component_range
+    from railcheck.fea.fatigue import alternating_and_mean, endurance_limit, safety_factor
+    from railcheck.fea.superpose import candidate_steps, component_range
 
     spec = scene.fatigue
     marin = endurance_limit(material.ultimate_strength, spec.surface, kind_of(name).section(geo), spec.load,
@@ -214,8 +214,8 @@ def fatigue_of(scene, name: str, geo, fields, C: np.ndarray, material) -> dict:
 def solution_at(fields, c: np.ndarray, meta: dict, order: int, exclude: float, env):
     """A :class:`fea.elasticity.Solution` of the instant with coefficients ``c`` (for the
     VTU and the picture), built by superposition."""
-    from fea.elasticity import Solution, peak, von_mises
-    from fea.superpose import stress_at
+    from railcheck.fea.elasticity import Solution, peak, von_mises
+    from railcheck.fea.superpose import stress_at
 
     S = stress_at(fields.stress, c)
     vm = von_mises(S)

@@ -10,11 +10,11 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from kinematics.checks import CheckResult, configuration_checks, transmission_extremes
-from kinematics.dynamics import STANDARD_GRAVITY, Dynamics, inverse_dynamics
-from kinematics.errors import MechanismError
-from kinematics.linkage import FourBar
-from kinematics.motion import Motion, solve_motion
+from railcheck.kinematics.checks import CheckResult, configuration_checks, transmission_extremes
+from railcheck.kinematics.dynamics import STANDARD_GRAVITY, Dynamics, inverse_dynamics
+from railcheck.kinematics.errors import MechanismError
+from railcheck.kinematics.linkage import FourBar
+from railcheck.kinematics.motion import Motion, solve_motion
 
 from .errors import InputError
 from .scene import Scene

@@ -20,8 +20,8 @@ from .files import atomic_path, atomic_write_text
 
 
 def _solve(name: str, steps: int):
-    from kinematics.planar.catalogue import CATALOGUE, SWEEPS, driver_values
-    from kinematics.planar.solver import mobility, solve
+    from railcheck.kinematics.planar.catalogue import CATALOGUE, SWEEPS, driver_values
+    from railcheck.kinematics.planar.solver import mobility, solve
 
     if name not in CATALOGUE:
         raise InputError("NAME", f"unknown mechanism {name!r} (catalogue: {', '.join(CATALOGUE)})")

@@ -64,20 +64,20 @@ class Part:
 
 
 def _rail(overrides: dict, length: float):
-    from geometry.catalogue import with_overrides
-    from geometry.models import rail
+    from railcheck.geometry.catalogue import with_overrides
+    from railcheck.geometry.models import rail
     return rail(length, with_overrides(overrides)[0])
 
 
 def _joint_plate(overrides: dict, length: float | None = None):
-    from geometry.catalogue import with_overrides
-    from geometry.models import joint_plate
+    from railcheck.geometry.catalogue import with_overrides
+    from railcheck.geometry.models import joint_plate
     return joint_plate(with_overrides(overrides)[1])
 
 
 def _i_profile(overrides: dict, length: float | None = None):
-    from geometry.catalogue import with_overrides
-    from geometry.models import i_profile
+    from railcheck.geometry.catalogue import with_overrides
+    from railcheck.geometry.models import i_profile
     return i_profile(with_overrides(overrides)[2])
 
 
@@ -113,5 +113,5 @@ def geometry_of(name: str, overrides: dict):
 
 def rail_length(bar: str) -> float:
     """m: the physical rail of a bar (seed 000, Anexo I; the mass model's lengths)."""
-    from kinematics.massmodel import MassModel
+    from railcheck.kinematics.massmodel import MassModel
     return getattr(MassModel(), f"{bar}_rail_length")

@@ -124,7 +124,7 @@ def part_geometries(scene: Scene) -> dict:
 def bolt_holes(scene: Scene, name: str, geo) -> list[str]:
     """The bolt-hole groups a part's joint uses: on a rail the pair chosen by the bar
     length and ``check.bolt_position``; on a plate every hole."""
-    from loads.cases import rail_bolt_holes
+    from railcheck.loads.cases import rail_bolt_holes
 
     from .parts import PARTS, kind_of
     if not kind_of(name).bolts_on_rail:
@@ -143,7 +143,7 @@ def bolt_holes(scene: Scene, name: str, geo) -> list[str]:
 def build_load_cases(scene: Scene, kin: KinematicsResult | None, geometries: dict) -> dict:
     """The seed method's load case of every checked part: the factored reaction at the
     instant its magnitude peaks, over the joint with the largest peak (loads stage)."""
-    from loads.cases import explicit_load_case, reaction_load_case
+    from railcheck.loads.cases import explicit_load_case, reaction_load_case
 
     from .parts import BAR_INDEX, PARTS, kind_of
     cases = {}
@@ -183,13 +183,13 @@ def run_pipeline(scene: Scene, progress: Progress | None = None, solver: str = "
     if result.kinematics is not None:
         result.checks = dict(result.kinematics.checks)
     elif scene.mechanism is not None:        # closed-form geometry only: the linkage is not run
-        from kinematics.checks import configuration_checks
+        from railcheck.kinematics.checks import configuration_checks
         result.checks = configuration_checks(scene.mechanism.linkage)
     if scene.check is None:
         _mark(result, "report")
         return result
 
-    from fea.materials import MATERIALS, limit_warning
+    from railcheck.fea.materials import MATERIALS, limit_warning
 
     material = MATERIALS[scene.check.material]
     limit = scene.check.limit or material.fatigue_limit
@@ -222,8 +222,8 @@ def _refuse_huge(scene: Scene, geometries: dict) -> None:
     """Refuse, before meshing, a mesh size too coarse for a part (more than twice its
     section's smaller side: the stress would be meaningless) and a mesh this machine's
     memory cannot hold (DOFs estimated from the volume and the size field)."""
-    from fea.elasticity import estimate_dofs
-    from geometry.mesher import estimate_elements
+    from railcheck.fea.elasticity import estimate_dofs
+    from railcheck.geometry.mesher import estimate_elements
 
     from .parts import kind_of
 
@@ -238,7 +238,7 @@ def _refuse_huge(scene: Scene, geometries: dict) -> None:
         size, hole = mesh_sizes(scene, geo.kind)
         tets = estimate_elements(geo, size, hole)
         worst = max(worst, estimate_dofs(tets // 5, tets, scene.mesh.order))
-    from fea.solvers import available_memory
+    from railcheck.fea.solvers import available_memory
     need = worst * BYTES_PER_DOF_AMG
     avail = available_memory()
     if need > 0.8 * avail:

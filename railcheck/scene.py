@@ -13,8 +13,8 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
-from kinematics.errors import MechanismError
-from kinematics.linkage import FourBar, SliderCrank
+from railcheck.kinematics.errors import MechanismError
+from railcheck.kinematics.linkage import FourBar, SliderCrank
 
 from . import parts as registry
 from .errors import InputError
@@ -203,7 +203,7 @@ def _check(table: dict, loads_table: dict) -> CheckSpec:
     material = table.get("material", "steel")
     if not isinstance(material, str):
         raise InputError(p + "material", f"must be a material name, got {material!r}")
-    from fea.materials import MATERIALS  # light module: no skfem import
+    from railcheck.fea.materials import MATERIALS  # light module: no skfem import
     if material not in MATERIALS:
         raise InputError(p + "material", f"unknown material {material!r} (known: {', '.join(MATERIALS)})")
     limit = None
@@ -263,14 +263,14 @@ def _output(table: dict) -> OutputSpec:
 
 
 def _geometry(table: dict) -> dict[str, float]:
-    from geometry.catalogue import OVERRIDABLE  # light module: no gmsh import
+    from railcheck.geometry.catalogue import OVERRIDABLE  # light module: no gmsh import
     out = {}
     for key, value in table.items():
         if key not in OVERRIDABLE:
             raise InputError(f"geometry.{key}", f"unknown key (allowed: {', '.join(sorted(OVERRIDABLE))})")
         out[key] = _in_range(parse_quantity(value, "length", f"geometry.{key}", positive=True, allow_zero=False),
                              "geometry", f"geometry.{key}")
-    from geometry.catalogue import validate  # light module
+    from railcheck.geometry.catalogue import validate  # light module
     problem = validate(out)
     if problem:
         raise InputError(*problem)
@@ -278,7 +278,7 @@ def _geometry(table: dict) -> dict[str, float]:
 
 
 def _fatigue(table: dict) -> FatigueSpec:
-    from fea.fatigue import CRITERIA, LOAD, RELIABILITY, SURFACE  # light module: numpy only
+    from railcheck.fea.fatigue import CRITERIA, LOAD, RELIABILITY, SURFACE  # light module: numpy only
 
     p = "fatigue."
     _unknown(table, _ALLOWED["fatigue"], p)

@@ -11,12 +11,12 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from scene_texts import FINAL_DESIGN, PLATE_LOADS, assert_picture
 
-from loads.rotation import to_rail_axes
 from railcheck.kinematics_stage import run_kinematics
+from railcheck.loads.rotation import to_rail_axes
 from railcheck.pipeline import build_load_cases, part_geometries, run_pipeline
 from railcheck.scene import load_scene, parse_scene
+from scene_texts import FINAL_DESIGN, PLATE_LOADS, assert_picture
 
 KINEMATICS_ONLY = FINAL_DESIGN + 'speed = "1 Hz"\n'
 

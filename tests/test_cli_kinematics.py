@@ -5,9 +5,9 @@ import subprocess
 import sys
 
 import pytest
-from scene_texts import FINAL_DESIGN, assert_picture
 
 from railcheck.cli import main
+from scene_texts import FINAL_DESIGN, assert_picture
 
 GOOD = FINAL_DESIGN + """speed = "1 Hz"
 steps = 5000

@@ -8,20 +8,20 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from scene_texts import FINAL_DESIGN
 
-from fea.elasticity import HoleLoad, Support, solve_elasticity, von_mises
-from fea.fatigue import endurance_limit, safety_factor
-from fea.materials import MATERIALS
-from fea.superpose import candidate_steps, envelope, stress_at, von_mises_max
-from fea.unitcases import TractionCase, solve_unit_cases
-from geometry.mesher import mesh_part
-from geometry.models import bar
 from railcheck.cycle import source_histories, unit_cases
+from railcheck.fea.elasticity import HoleLoad, Support, solve_elasticity, von_mises
+from railcheck.fea.fatigue import endurance_limit, safety_factor
+from railcheck.fea.materials import MATERIALS
+from railcheck.fea.superpose import candidate_steps, envelope, stress_at, von_mises_max
+from railcheck.fea.unitcases import TractionCase, solve_unit_cases
+from railcheck.geometry.mesher import mesh_part
+from railcheck.geometry.models import bar
 from railcheck.kinematics_stage import run_kinematics
 from railcheck.parts import geometry_of, kind_of
 from railcheck.pipeline import bolt_holes
 from railcheck.scene import parse_scene
+from scene_texts import FINAL_DESIGN
 
 STEEL = MATERIALS["steel"]
 
@@ -176,8 +176,8 @@ def cantilever():
 
 @pytest.mark.parametrize("cycle", ["fully reversed", "zero to max"])
 def test_fatigue_of_a_cantilever_matches_goodman_by_hand(cantilever, cycle):
-    from fea.fatigue import alternating_and_mean
-    from fea.superpose import component_range
+    from railcheck.fea.fatigue import alternating_and_mean
+    from railcheck.fea.superpose import component_range
 
     (L, w, hgt), fields = cantilever
     F = 150.0
@@ -213,7 +213,7 @@ def test_marin_factors_match_shigley():
 
 
 def test_polygon_support_function_equals_every_step():
-    from fea.superpose import component_range
+    from railcheck.fea.superpose import component_range
 
     rng = np.random.default_rng(3)
     t = np.linspace(0, 2 * np.pi, 2000)

@@ -5,10 +5,10 @@ import math
 import numpy as np
 import pytest
 
-from kinematics.dynamics import inverse_dynamics, kinetic_energy, power_residual
-from kinematics.linkage import FourBar, SliderCrank
-from kinematics.massmodel import MassModel, bar_from_parts
-from kinematics.motion import solve_motion
+from railcheck.kinematics.dynamics import inverse_dynamics, kinetic_energy, power_residual
+from railcheck.kinematics.linkage import FourBar, SliderCrank
+from railcheck.kinematics.massmodel import MassModel, bar_from_parts
+from railcheck.kinematics.motion import solve_motion
 
 DEFAULT = FourBar(0.48, 0.84, 0.78, 1.02)
 

@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from fea.cantilever import run_cantilever, timoshenko_tip
-from fea.elasticity import (
+from railcheck.fea.cantilever import run_cantilever, timoshenko_tip
+from railcheck.fea.elasticity import (
     HoleLoad,
     Support,
     _components,
@@ -14,12 +14,12 @@ from fea.elasticity import (
     solve_elasticity,
     stiffness_matrix,
 )
-from fea.errors import ModelError, NumericalError
-from fea.materials import MATERIALS
-from fea.solvers import rigid_body_modes
-from geometry.catalogue import RAIL
-from geometry.mesher import mesh_part
-from geometry.models import bar, rail
+from railcheck.fea.errors import ModelError, NumericalError
+from railcheck.fea.materials import MATERIALS
+from railcheck.fea.solvers import rigid_body_modes
+from railcheck.geometry.catalogue import RAIL
+from railcheck.geometry.mesher import mesh_part
+from railcheck.geometry.models import bar, rail
 
 STEEL = MATERIALS["steel"]
 
@@ -154,7 +154,7 @@ def test_missing_group_and_missing_support_are_errors(rail_mesh):
 def test_vtu_round_trip(tmp_path, rail_mesh):
     import meshio
 
-    from fea.vtk import write_vtu
+    from railcheck.fea.vtk import write_vtu
 
     s = solve_elasticity(rail_mesh.points, rail_mesh.tets, rail_mesh.groups, STEEL, [Support("shaft_hole")],
                          [HoleLoad("hole_11", (10.0, 20.0, 0.0))], order=2)

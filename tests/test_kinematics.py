@@ -5,8 +5,8 @@ import math
 import numpy as np
 import pytest
 
-from kinematics.linkage import FourBar, SliderCrank
-from kinematics.motion import solve_motion, triangle_angle
+from railcheck.kinematics.linkage import FourBar, SliderCrank
+from railcheck.kinematics.motion import solve_motion, triangle_angle
 
 CONFIGS = [(0.48, 0.84, 0.78, 1.02), (0.54, 0.9, 0.78, 1.058), (0.18, 0.24, 0.72, 0.72), (0.3, 0.9, 0.5, 0.8)]
 

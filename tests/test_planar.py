@@ -9,16 +9,16 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
-from scene_texts import assert_picture
 
-from kinematics.dynamics import inverse_dynamics
-from kinematics.errors import MechanismError, SingularConfigurationError
-from kinematics.linkage import FourBar, SliderCrank
-from kinematics.motion import solve_motion
-from kinematics.planar.catalogue import CATALOGUE, a_z_1066, a_z_1139, driver_values, rig_fourbar, rig_slidercrank
-from kinematics.planar.model import Body, Mechanism, Revolute, RotationDriver
-from kinematics.planar.solver import inverse_dynamics as lagrange
-from kinematics.planar.solver import mobility, solve
+from railcheck.kinematics.dynamics import inverse_dynamics
+from railcheck.kinematics.errors import MechanismError, SingularConfigurationError
+from railcheck.kinematics.linkage import FourBar, SliderCrank
+from railcheck.kinematics.motion import solve_motion
+from railcheck.kinematics.planar.catalogue import CATALOGUE, a_z_1066, a_z_1139, driver_values, rig_fourbar, rig_slidercrank
+from railcheck.kinematics.planar.model import Body, Mechanism, Revolute, RotationDriver
+from railcheck.kinematics.planar.solver import inverse_dynamics as lagrange
+from railcheck.kinematics.planar.solver import mobility, solve
+from scene_texts import assert_picture
 
 
 def tracer_polar(mech, steps=721):

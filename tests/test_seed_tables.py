@@ -5,10 +5,10 @@ import math
 import numpy as np
 import pytest
 
-from kinematics.checks import configuration_checks, transmission_extremes
-from kinematics.dynamics import inverse_dynamics
-from kinematics.linkage import FourBar
-from kinematics.motion import solve_motion
+from railcheck.kinematics.checks import configuration_checks, transmission_extremes
+from railcheck.kinematics.dynamics import inverse_dynamics
+from railcheck.kinematics.linkage import FourBar
+from railcheck.kinematics.motion import solve_motion
 
 # seed 000, 3.3.6: (b2, b3, b4, d) mm -> mu_max, mu_min (deg), R_O2, R_A, R_B, R_O4 (N), M2 (N m)
 TABLE_336 = {

@@ -5,6 +5,7 @@ import subprocess
 import sys
 
 import pytest
+
 from scene_texts import FINAL_DESIGN, PLATE_LOADS
 
 PLATE = PLATE_LOADS + """[mesh]

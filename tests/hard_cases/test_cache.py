@@ -7,8 +7,8 @@ import shutil
 import numpy as np
 import pytest
 
-from geometry.mesher import mesh_part
-from geometry.models import bar
+from railcheck.geometry.mesher import mesh_part
+from railcheck.geometry.models import bar
 
 
 @pytest.fixture

@@ -5,11 +5,11 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from fea.elasticity import HoleLoad, Support, solve_elasticity
-from fea.errors import ModelError
-from fea.materials import MATERIALS, Material
-from geometry.mesher import mesh_part
-from geometry.models import bar, joint_plate, rail
+from railcheck.fea.elasticity import HoleLoad, Support, solve_elasticity
+from railcheck.fea.errors import ModelError
+from railcheck.fea.materials import MATERIALS, Material
+from railcheck.geometry.mesher import mesh_part
+from railcheck.geometry.models import bar, joint_plate, rail
 
 STEEL = MATERIALS["steel"]
 

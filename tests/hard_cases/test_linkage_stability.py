@@ -7,10 +7,10 @@ import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
-from kinematics.dynamics import inverse_dynamics, power_residual
-from kinematics.errors import MechanismError, SingularConfigurationError
-from kinematics.linkage import FourBar, SliderCrank
-from kinematics.motion import solve_motion
+from railcheck.kinematics.dynamics import inverse_dynamics, power_residual
+from railcheck.kinematics.errors import MechanismError, SingularConfigurationError
+from railcheck.kinematics.linkage import FourBar, SliderCrank
+from railcheck.kinematics.motion import solve_motion
 
 B2, B3, B4 = 0.3, 0.8, 0.7
 
