@@ -32,8 +32,7 @@ def _cmd_kinematics(args) -> int:
     summary = kinematics_summary(scene, result)
     if args.plots:
         from .plots import write_kinematics_plots
-        out = _writable_dir(args.plots, "--plots")
-        paths = write_kinematics_plots(result, out)
+        paths = write_kinematics_plots(result, Path(args.plots))
         summary["plots"] = [str(p) for p in paths]
     if args.json:
         print(to_json(summary))
@@ -48,18 +47,36 @@ def _cmd_kinematics(args) -> int:
     return EXIT_FAIL if failed else EXIT_PASS
 
 
-def _writable_dir(path: str, option: str) -> Path:
-    p = Path(path)
-    if p.exists() and not p.is_dir():
-        raise InputError(option, f"{p} exists and is not a directory")
-    try:
-        p.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise InputError(option, f"cannot create {p}: {exc.strerror}") from None
-    import os
-    if not os.access(p, os.W_OK):
-        raise InputError(option, f"{p} is not writable")
-    return p
+#: output options: attribute -> (option, directory?)
+OUTPUT_OPTIONS = {"plots": ("--plots", True), "csv": ("--csv", False), "html": ("--html", False),
+                  "gif": ("--gif", False), "plot": ("--plot", False)}
+
+
+def _check_output_options(args) -> None:
+    """Every output path the command line names is checked before any work starts."""
+    from .files import writable_dir, writable_file
+
+    for attr, (option, is_dir) in OUTPUT_OPTIONS.items():
+        value = getattr(args, attr, None)
+        if value:
+            (writable_dir if is_dir else writable_file)(value, option)
+
+
+def _cmd_init(args) -> int:
+    from importlib import resources
+
+    from .files import atomic_write_text, writable_file
+    from .scene import parse_scene
+
+    path = writable_file(args.file, "FILE")
+    if path.exists() and not args.force:
+        raise InputError("FILE", f"{path} exists (use --force to replace it)")
+    text = resources.files("railcheck").joinpath("scenes", "starter.toml").read_text(encoding="utf-8")
+    import tomllib
+    parse_scene(tomllib.loads(text), "starter.toml")          # the starter is always a valid scene
+    atomic_write_text(path, text)
+    print(f"wrote {path}: edit it, then run `railcheck check {path}`")
+    return EXIT_PASS
 
 
 def _cmd_check(args) -> int:
@@ -99,10 +116,31 @@ def _version() -> str:
         return "unknown"
 
 
+def _catalogue_epilog() -> str:
+    from railcheck.fea.fatigue import CRITERIA, SURFACE
+    from railcheck.fea.materials import MATERIALS
+
+    from .parts import PARTS
+    from .scene import EFFECTS
+    return (f"parts: {', '.join(PARTS)}\nmaterials: {', '.join(MATERIALS)}\neffects: {', '.join(EFFECTS)}\n"
+            f"fatigue criteria: {', '.join(CRITERIA)}; surfaces: {', '.join(SURFACE)}\n"
+            "`railcheck init` writes a commented starter scene.")
+
+
+def _mechanism_names() -> list[str]:
+    from railcheck.kinematics.planar.catalogue import CATALOGUE
+    return list(CATALOGUE)
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="railcheck", description=__doc__.splitlines()[0])
     parser.add_argument("--version", action="version", version=f"railcheck {_version()}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
+
+    p = sub.add_parser("init", help="write a commented starter scene")
+    p.add_argument("file", nargs="?", default="scene.toml", help="where to write it (default scene.toml)")
+    p.add_argument("--force", action="store_true", help="replace an existing file")
+    p.set_defaults(func=_cmd_init)
 
     p = sub.add_parser("kinematics", help="kinematics, joint reactions and motor torque over a crank revolution")
     p.add_argument("scene", nargs="?", help="scene TOML file (default: the built-in seed final design)")
@@ -110,7 +148,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--plots", metavar="DIR", help="write PNG plots of reactions, torque, angles into DIR")
     p.set_defaults(func=_cmd_kinematics)
 
-    p = sub.add_parser("check", help="reactions -> bolt loads -> FE stress verdict for every part")
+    p = sub.add_parser("check", help="reactions -> bolt loads -> FE stress verdict for every part",
+                       description="Reactions over the whole crank cycle -> bolt loads -> FE stress envelope, "
+                                   "deflection and fatigue per part.", epilog=_catalogue_epilog(),
+                       formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("scene", nargs="?", help="scene TOML file (default: the built-in seed final design)")
     p.add_argument("--out", metavar="DIR", help="results directory (default: the scene's output.dir)")
     p.add_argument("--json", action="store_true", help="print summary.json to stdout")
@@ -136,11 +177,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=_cmd_convergence)
 
     p = sub.add_parser("mechanism", help="general planar mechanisms of the catalogue (seed 002)")
-    p.add_argument("name", help="catalogue name, e.g. a-z-1139")
-    p.add_argument("--steps", type=int, default=361)
-    p.add_argument("--csv", metavar="FILE")
-    p.add_argument("--html", metavar="FILE")
-    p.add_argument("--gif", metavar="FILE")
+    p.add_argument("name", help=f"catalogue name: {', '.join(_mechanism_names())}")
+    p.add_argument("--steps", type=int, default=361, help="driver steps over the sweep (default 361)")
+    p.add_argument("--csv", metavar="FILE", help="tracer path, velocity and acceleration (SI) as CSV")
+    p.add_argument("--html", metavar="FILE", help="a self-contained interactive page with a slider")
+    p.add_argument("--gif", metavar="FILE", help="an animation of the mechanism")
     p.set_defaults(func=_cmd_mechanism)
     return parser
 
@@ -166,6 +207,7 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     previous = signal.signal(signal.SIGTERM, _terminate)
     try:
+        _check_output_options(args)
         return int(args.func(args))
     except BrokenPipeError:                  # `railcheck ... | head`: end quietly
         import os

@@ -127,3 +127,34 @@ def _alive(pid: int) -> bool:
     except PermissionError:
         return True
     return True
+
+
+def writable_dir(path: str | Path, option: str) -> Path:
+    """Create (if needed) and return a directory the run may write into, or raise
+    InputError naming ``option``; called before any work starts."""
+    from .errors import InputError
+
+    p = Path(path)
+    if p.exists() and not p.is_dir():
+        raise InputError(option, f"{p} exists and is not a directory")
+    try:
+        p.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InputError(option, f"cannot create {p}: {exc.strerror or exc}") from None
+    if not os.access(p, os.W_OK | os.X_OK):
+        raise InputError(option, f"{p} is not writable")
+    return p
+
+
+def writable_file(path: str | Path, option: str) -> Path:
+    """Check that ``path`` can be written as a file (its directory is created), or raise
+    InputError naming ``option``; called before any work starts."""
+    from .errors import InputError
+
+    p = Path(path)
+    if p.is_dir():
+        raise InputError(option, f"{p} is a directory, not a file name")
+    writable_dir(p.parent if str(p.parent) else Path("."), option)
+    if p.exists() and not os.access(p, os.W_OK):
+        raise InputError(option, f"{p} is not writable")
+    return p

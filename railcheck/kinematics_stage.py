@@ -60,8 +60,40 @@ def run_kinematics(scene: Scene) -> KinematicsResult:
     except MechanismError as exc:
         raise InputError(exc.field, exc.message) from None
     mu_min, mu_max = transmission_extremes(spec.linkage)
-    return KinematicsResult(motion, dynamics, configuration_checks(spec.linkage), effects,
+    return KinematicsResult(motion, dynamics, all_checks(scene), effects,
                             (math.degrees(mu_min), math.degrees(mu_max)))
+
+
+def all_checks(scene: Scene) -> dict[str, CheckResult]:
+    """The linkage's configuration checks plus :func:`joints_on_rails`."""
+    return {**configuration_checks(scene.mechanism.linkage), **joints_on_rails(scene)}
+
+
+def joints_on_rails(scene: Scene) -> dict[str, CheckResult]:
+    """``joints_on_rails``: every bar's far joint must sit on a mounting hole of its rail
+    (the rail starts at the bar's pivot hole, hole 0): not beyond the last hole, and at
+    least one hole pitch from the pivot. Independent of check.bolt_position."""
+    from railcheck.geometry.catalogue import with_overrides
+
+    from .parts import rail_length
+
+    rail = with_overrides(scene.geometry)[0]
+    lengths = scene.mechanism.linkage.lengths
+    problems, notes = [], []
+    for bar in ("crank", "coupler", "rocker"):
+        if bar not in lengths:
+            continue
+        holes = rail.hole_positions(rail_length(bar))
+        reach = holes[-1] - holes[0] if len(holes) > 1 else 0.0
+        length = lengths[bar]
+        notes.append(f"{bar} {length*1e3:.6g} mm on a {rail_length(bar)*1e3:.6g} mm rail (reach "
+                     f"{rail.hole_pitch*1e3:.6g} to {reach*1e3:.6g} mm)")
+        if length > reach + 1e-9:
+            problems.append(f"{bar} joint {length*1e3:.6g} mm from its pivot is beyond the rail's last hole "
+                            f"({reach*1e3:.6g} mm)")
+        elif length < rail.hole_pitch - 1e-9:
+            problems.append(f"{bar} {length*1e3:.6g} mm is shorter than one hole pitch ({rail.hole_pitch*1e3:.6g} mm)")
+    return {"joints_on_rails": CheckResult(not problems, "; ".join(problems) if problems else "; ".join(notes))}
 
 
 def kinematics_summary(scene: Scene, result: KinematicsResult) -> dict:

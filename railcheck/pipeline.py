@@ -183,8 +183,8 @@ def run_pipeline(scene: Scene, progress: Progress | None = None, solver: str = "
     if result.kinematics is not None:
         result.checks = dict(result.kinematics.checks)
     elif scene.mechanism is not None:        # closed-form geometry only: the linkage is not run
-        from railcheck.kinematics.checks import configuration_checks
-        result.checks = configuration_checks(scene.mechanism.linkage)
+        from .kinematics_stage import all_checks
+        result.checks = all_checks(scene)
     if scene.check is None:
         _mark(result, "report")
         return result

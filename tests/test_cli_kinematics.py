@@ -132,3 +132,39 @@ def test_failed_configuration_check_fails_the_check_run(tmp_path, capsys):
     assert code == 1
     assert summary["verdict"] == "FAIL" and summary["failures"] == ["check transmission_angle"]
     assert summary["parts"]["PF_4b_003_v2"]["pass"] is True       # the part itself passes
+
+
+def test_a_joint_beyond_its_rail_fails(tmp_path, capsys):
+    scene = tmp_path / "long.toml"
+    scene.write_text(GOOD.replace('coupler = "840 mm"', 'coupler = "1200 mm"').replace('"1020 mm"', '"1320 mm"'))
+    code, out, err = run(["kinematics", str(scene), "--json"], capsys)
+    check = json.loads(out)["checks"]["joints_on_rails"]
+    assert code == 1 and not check["ok"] and "beyond the rail's last hole" in check["message"]
+
+
+def test_init_writes_a_commented_scene_that_runs(tmp_path, capsys):
+    path = tmp_path / "mine.toml"
+    assert run(["init", str(path)], capsys)[0] == 0
+    text = path.read_text()
+    assert text.count("#") > 20 and "[fatigue]" in text
+    code, out, err = run(["kinematics", str(path), "--json"], capsys)
+    assert code == 0 and json.loads(out)["mechanism"]["crank_mm"] == 480
+    code, out, err = run(["init", str(path)], capsys)
+    assert code == 2 and "exists" in err
+
+
+def test_bare_command_prints_usage_and_version(capsys):
+    assert main([]) == 2
+    assert "usage: railcheck" in capsys.readouterr().out
+    with pytest.raises(SystemExit) as exc:
+        main(["--version"])
+    assert exc.value.code == 0 and capsys.readouterr().out.startswith("railcheck ")
+
+
+def test_output_paths_are_checked_before_any_work(tmp_path, capsys):
+    blocker = tmp_path / "file"
+    blocker.write_text("x")
+    code, out, err = run(["kinematics", "--plots", str(blocker)], capsys)
+    assert code == 2 and "--plots" in err and out == ""            # nothing computed, nothing printed
+    code, out, err = run(["mechanism", "a-z-1139", "--gif", str(blocker / "x.gif")], capsys)
+    assert code == 2 and "--gif" in err and out == ""
