@@ -74,6 +74,7 @@ class Solution:
     seconds: dict[str, float] = field(default_factory=dict)
     solver: dict = field(default_factory=dict)
     warnings: list[str] = field(default_factory=list)
+    node_displacement: np.ndarray | None = None   # (nodes, 3) m at every stress node
 
     @property
     def tip_deflection(self) -> float:
@@ -274,10 +275,33 @@ def solve(K, F: np.ndarray, fixed: np.ndarray, method: str = "auto", basis=None,
     return U, info
 
 
-def stress_nodes(basis) -> np.ndarray:
-    """(nodes, 3) m: where :func:`recover_stress` gives the stress (the scalar space's nodes)."""
+def scalar_basis(basis):
+    """The scalar basis of the vector basis's order: its nodes are the stress nodes."""
     from skfem import Basis
-    return Basis(basis.mesh, basis.elem.elem, intorder=1).doflocs.T.copy()
+    return Basis(basis.mesh, basis.elem.elem, intorder=1)
+
+
+def stress_nodes(basis) -> np.ndarray:
+    """(nodes, 3) m: where :func:`recover_stress` gives the stress (the scalar space's
+    nodes: the vertices first, then (P2) the mid-edge nodes)."""
+    return scalar_basis(basis).doflocs.T.copy()
+
+
+def node_cells(basis) -> np.ndarray:
+    """(elements, 4 or 10) node indices per element in VTK's order (tetra / tetra10:
+    vertices, then edges 01, 12, 20, 03, 13, 23, which is scikit-fem's order)."""
+    return scalar_basis(basis).element_dofs.T.copy()
+
+
+def node_displacement(basis, U: np.ndarray) -> np.ndarray:
+    """(nodes, 3[, k]) m: the displacement at every stress node."""
+    return U[_vector_dof_map(basis, scalar_basis(basis))]
+
+
+def group_nodes(basis, groups: dict, names: list[str]) -> np.ndarray:
+    """Indices of the stress nodes on the named groups' surfaces (mid-edge nodes included)."""
+    sb = scalar_basis(basis)
+    return np.unique(np.concatenate([sb.get_dofs(facets=_group_facets(basis, groups, g)).all() for g in names]))
 
 
 def recover_stress(basis, U: np.ndarray, material: Material, report=None) -> np.ndarray:
@@ -393,7 +417,8 @@ def solve_elasticity(points: np.ndarray, tets: np.ndarray, groups: dict[str, np.
     applied = {g: resultant(basis, v) for g, v in per_load.items()}
     return Solution(order, int(basis.N), int(tets.shape[0]), u[basis.nodal_dofs].T.copy(), vm[:nv].copy(),
                     top[0], top[1], tip, applied, away[0], away[1], float(exclude_distance), S, nodes,
-                    dict(zip(("assembly", "solve", "stress"), np.diff(t))), info, warnings)
+                    dict(zip(("assembly", "solve", "stress"), np.diff(t))), info, warnings,
+                    node_displacement(basis, u))
 
 
 def _model_warnings(groups, supports_, loads, tip_group, material, order) -> list[str]:

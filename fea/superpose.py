@@ -24,16 +24,21 @@ HULL_MAX_DIM = 6              # above it, every step is evaluated (qhull grows f
 
 @dataclass(frozen=True)
 class UnitFields:
-    """Unit-case results of one part. ``stress`` (6, nodes, k) Pa, ``tip`` (3, k) m,
-    ``vertex_displacement`` (vertices, 3, k) m, ``nodes`` (nodes, 3) m, ``verdict_mask``
-    (nodes,) True away from the support's singular zone."""
+    """Unit-case results of one part at its stress nodes (vertices first, then P2's
+    mid-edge nodes): ``stress`` (6, nodes, k) Pa, ``displacement`` (nodes, 3, k) m,
+    ``tip`` (3, k) m, ``nodes`` (nodes, 3) m, ``cells`` (elements, 4 or 10) in VTK order,
+    ``verdict_mask`` (nodes,) True away from the support's singular zone, ``support`` and
+    ``loaded`` the indices of the nodes on the support and on the loaded groups."""
 
     stress: np.ndarray
     tip: np.ndarray
-    vertex_displacement: np.ndarray
+    displacement: np.ndarray
     nodes: np.ndarray
     verdict_mask: np.ndarray
     names: tuple[str, ...]
+    cells: np.ndarray | None = None
+    support: np.ndarray | None = None
+    loaded: np.ndarray | None = None
 
 
 @dataclass(frozen=True)

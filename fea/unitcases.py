@@ -19,7 +19,10 @@ from .elasticity import (
     assemble,
     away_from,
     body_force_vectors,
+    group_nodes,
     mean_over,
+    node_cells,
+    node_displacement,
     recover_stress,
     solve,
     stress_nodes,
@@ -79,12 +82,14 @@ def solve_unit_cases(points: np.ndarray, tets: np.ndarray, groups: dict, materia
     support_pts = points[np.unique(np.concatenate([groups[g].ravel() for g in support_groups]))]
     mask = away_from(nodes, support_pts, exclude_distance)
     tip = mean_over(basis, groups, tip_group) @ U if tip_group else np.zeros((3, F.shape[1]))
-    vertex = U[basis.nodal_dofs].transpose(1, 0, 2)            # (vertices, 3, k)
+    loaded = sorted({g for c in cases.values() if isinstance(c, TractionCase) for g in c.groups})
+    extras = {"cells": node_cells(basis), "support": group_nodes(basis, groups, support_groups),
+              "loaded": group_nodes(basis, groups, loaded) if loaded else np.zeros(0, dtype=np.int64)}
     t.append(time.perf_counter())
-    meta = {"dofs": int(basis.N), "elements": int(tets.shape[0]), "solver": info,
+    meta = {"dofs": int(basis.N), "elements": int(tets.shape[0]), "vertices": int(points.shape[0]), "solver": info,
             "seconds": dict(zip(("assembly", "solve", "stress"), np.diff(t))),
             "resultants": _resultants(basis, F)}
-    return UnitFields(S, tip, vertex, nodes, mask, tuple(cases)), meta
+    return UnitFields(S, tip, node_displacement(basis, U), nodes, mask, tuple(cases), **extras), meta
 
 
 def _resultants(basis, F: np.ndarray) -> np.ndarray:

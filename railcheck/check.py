@@ -15,6 +15,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
+
+from railcheck.fea.elasticity import von_mises
+
 from .errors import EXIT_FAIL, EXIT_PASS, InputError
 from .files import Staging, atomic_path, atomic_write_text, reserve_results_dir
 from .pipeline import PipelineResult, Progress, mesh_sizes, run_pipeline
@@ -137,6 +141,9 @@ def write_outputs(scene, result: PipelineResult, summary: dict, directory: Path)
     if result.kinematics is not None and scene.output.plots:
         from .plots import write_kinematics_plots
         write_kinematics_plots(result.kinematics, directory)
+    if scene.output.vtk and result.parts:
+        from railcheck.fea.vtk import pvd_text
+        atomic_write_text(directory / "parts.pvd", pvd_text({n: f"{n}.vtu" for n in result.parts}))
     for name, p in result.parts.items():
         if scene.output.vtk:
             write_part_vtu(directory / f"{name}.vtu", p)
@@ -149,11 +156,17 @@ def write_outputs(scene, result: PipelineResult, summary: dict, directory: Path)
 
 
 def write_part_vtu(path: Path, p) -> None:
-    """The part's VTU: the governing instant's fields, the cycle envelope, the fatigue factor."""
+    """The part's VTU on every node of its order: the governing instant's displacement,
+    stress and von Mises, the cycle envelope, the fatigue factor, and 0/1 masks of the
+    support, the loaded holes and the verdict zone (away from the support)."""
     from railcheck.fea.vtk import write_vtu
 
-    nv = p.mesh.points.shape[0]
+    f, s = p.cycle.fields, p.solution
+    n = f.nodes.shape[0]
+    masks = {name: np.isin(np.arange(n), idx).astype(float)
+             for name, idx in (("support_surface", f.support), ("loaded_holes", f.loaded))}
     with atomic_path(path) as tmp:
-        write_vtu(tmp, p.mesh.points, p.mesh.tets, p.solution.displacement, p.solution.von_mises,
-                  {"von_mises_envelope": p.cycle.envelope.node_envelope[:nv],
-                   "fatigue_safety_factor": p.cycle.fatigue["node_factor"][:nv]})
+        write_vtu(tmp, f.nodes, f.cells, s.node_displacement, von_mises(s.stress),
+                  {"stress": s.stress.T, "von_mises_envelope": p.cycle.envelope.node_envelope,
+                   "fatigue_safety_factor": p.cycle.fatigue["node_factor"],
+                   "verdict_zone": f.verdict_mask.astype(float), **masks})

@@ -219,10 +219,10 @@ def solution_at(fields, c: np.ndarray, meta: dict, order: int, exclude: float, e
 
     S = stress_at(fields.stress, c)
     vm = von_mises(S)
-    nv = fields.vertex_displacement.shape[0]
+    nv = meta["vertices"]
     top = peak(vm, fields.nodes)
     away = peak(vm, fields.nodes, fields.verdict_mask)
-    return Solution(order, meta["dofs"], meta["elements"], fields.vertex_displacement @ c, vm[:nv].copy(),
+    u = fields.displacement @ c
+    return Solution(order, meta["dofs"], meta["elements"], u[:nv], vm[:nv].copy(),
                     top[0], top[1], fields.tip @ c, {"total": meta["resultants"] @ c}, away[0], away[1], exclude, S,
-                    fields.nodes,
-                    meta["seconds"], meta["solver"], [])
+                    fields.nodes, meta["seconds"], meta["solver"], [], u)

@@ -43,6 +43,7 @@ class PartKind:
     section: Callable
     bolts_on_rail: bool = False      # bolt holes chosen along a rail by the bar length
     bolt_groups: Callable = None     # geometry -> the bolt-hole groups (default: every "hole_K")
+    view: str = "xy"                 # the picture's view axis pair (pyvista camera.tight): "xy" from above
 
     def bolts(self, geometry) -> list[str]:
         """The groups a plate's joint loads (rails choose theirs by the bar length)."""
@@ -87,7 +88,7 @@ KINDS: dict[str, PartKind] = {k.name: k for k in (
     PartKind("joint_plate", _joint_plate, "bearing_seat", "end_free", lambda g: g.get("bolt_diameter"),
              (6e-3, 1.8e-3), lambda g: (g.get("width"), g.get("thickness"))),
     PartKind("i_profile", _i_profile, "base", "end_free", lambda g: g.get("flange_thickness"), (4.2e-3, 1.26e-3),
-             lambda g: (g.get("flange_width"), g.get("depth"))),
+             lambda g: (g.get("flange_width"), g.get("depth")), view="yz"),
 )}
 
 PARTS: dict[str, Part] = {p.name: p for p in (

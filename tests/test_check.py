@@ -142,6 +142,10 @@ def test_default_check_end_to_end(tmp_path):
         assert_picture(out / f"{name}.png", min_size=(1000, 600))
         if name != "PF_4b_003_v2":                   # constant explicit loads: no cycle to plot
             assert_picture(out / f"{name}-cycle.png")
+        assert m.cells[0].type == "tetra10"                                  # every P2 node
+        env, zone = m.point_data["von_mises_envelope"], m.point_data["verdict_zone"] > 0
+        assert env.max() == summary["parts"][name]["support_peak_von_mises_Pa"]
+        assert env[zone].max() == summary["parts"][name]["max_von_mises_Pa"]   # what ParaView shows = the report
         vm = m.point_data["von_mises"]
         assert np.isfinite(vm).all() and vm.max() > 0
         assert m.point_data["von_mises_envelope"].max() >= vm.max() * (1 - 1e-12)

@@ -35,7 +35,7 @@ def first_cases(fields, k):
     """The unit fields of the first ``k`` cases only."""
     from dataclasses import replace
     return replace(fields, stress=fields.stress[:, :, :k], tip=fields.tip[:, :k],
-                   vertex_displacement=fields.vertex_displacement[:, :, :k], names=fields.names[:k])
+                   displacement=fields.displacement[:, :, :k], names=fields.names[:k])
 
 
 @pytest.fixture(scope="module")
