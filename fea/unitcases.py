@@ -88,10 +88,20 @@ def solve_unit_cases(points: np.ndarray, tets: np.ndarray, groups: dict, materia
     t.append(time.perf_counter())
     meta = {"dofs": int(basis.N), "elements": int(tets.shape[0]), "vertices": int(points.shape[0]), "solver": info,
             "seconds": dict(zip(("assembly", "solve", "stress"), np.diff(t))),
-            "resultants": _resultants(basis, F)}
+            "resultants": _resultants(basis, F), "support_reactions": _support_reactions(basis, K, U, F, fixed)}
     return UnitFields(S, tip, node_displacement(basis, U), nodes, mask, tuple(cases), **extras), meta
 
 
 def _resultants(basis, F: np.ndarray) -> np.ndarray:
     from .elasticity import resultant
     return resultant(basis, F)
+
+
+def _support_reactions(basis, K, U: np.ndarray, F: np.ndarray, fixed: np.ndarray) -> np.ndarray:
+    """(3, k) N: the total force the support exerts on the part in each unit case, the
+    resultant of K U - F over the fixed DOFs (it balances the applied loads)."""
+    from .elasticity import resultant
+
+    R = np.zeros_like(F)
+    R[fixed] = (K @ U - F)[fixed]
+    return resultant(basis, R)

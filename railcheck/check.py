@@ -62,6 +62,8 @@ def part_summary(scene, p) -> dict:
         "support_peak_von_mises_Pa": env.support_peak,
         "support_exclusion_m": s.exclude_distance,
         "tip_deflection_m": env.max_tip,
+        "max_deflection_m": p.deflection_limit,
+        "deflection_pass": bool(p.deflection_passed),
         "limit_Pa": p.limit,
         "utilisation": p.verdict_stress / p.limit,
         "factor_of_safety": p.limit / p.verdict_stress if p.verdict_stress > 0 else None,
@@ -134,8 +136,8 @@ def run_check(scene, out: str | None = None, force: bool = False, progress: Prog
 
 
 def write_outputs(scene, result: PipelineResult, summary: dict, directory: Path) -> None:
-    """summary.json, timings.json, the kinematics plots, and per part its VTU, its
-    picture and its cycle plot, as the scene's [output] asks."""
+    """summary.json, timings.json, the kinematics plots, per part its VTU, its picture
+    and its cycle plot, as the scene's [output] asks, and report.html with all of them."""
     atomic_write_text(directory / "summary.json", to_json(summary) + "\n")
     atomic_write_text(directory / "timings.json", to_json(result.timings) + "\n")
     if result.kinematics is not None and scene.output.plots:
@@ -153,6 +155,9 @@ def write_outputs(scene, result: PipelineResult, summary: dict, directory: Path)
         if scene.output.png:
             from .render import render_part
             render_part(directory / f"{name}.png", name, p)
+    from .html_report import write_report
+    with atomic_path(directory / "report.html") as tmp:
+        write_report(tmp, scene, result, summary, directory)
 
 
 def write_part_vtu(path: Path, p) -> None:

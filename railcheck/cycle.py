@@ -50,6 +50,7 @@ class CycleResult:
     meta: dict
     seconds: dict = field(default_factory=dict)
     warnings: list = field(default_factory=list)
+    deflection_limit: float | None = None      # m
 
 
 def unit_cases(scene, name: str, geo, holes: list[str]) -> dict:
@@ -136,6 +137,7 @@ def check_part(scene, kin, name: str, geo, case, material, limit: float, solver:
     cycle = evaluate_cycle(scene, name, geo, fields, histories, material, meta)
     seconds["cycle"] = time.perf_counter() - t
     cycle.seconds, cycle.warnings = seconds, warnings
+    cycle.deflection_limit = scene.check.max_deflection
     _refuse_non_finite(name, cycle)
     if not np.any(cycle.C):
         warnings.append("carries no load: its verdict is vacuous")

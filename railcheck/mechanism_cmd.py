@@ -139,7 +139,7 @@ body{font-family:sans-serif;margin:1em;color:#222} canvas{border:1px solid #ccc;
 <div id="controls"><label>driver <input id="slider" type="range" min="0" value="0" step="1"></label>
 <span id="angle"></span></div>
 <canvas id="view" width="800" height="600"></canvas>
-<pre id="state"></pre><pre id="autotest"></pre>
+<pre id="state"></pre>
 <script>
 const D = __DATA__;
 const canvas = document.getElementById('view'), ctx = canvas.getContext('2d');
@@ -176,11 +176,5 @@ function draw(k) {
 }
 slider.addEventListener('input', () => draw(parseInt(slider.value)));
 draw(0);
-if (location.hash === '#autotest') {
-  const before = drawn;
-  slider.value = String(Math.floor(D.driver_deg.length / 2));
-  slider.dispatchEvent(new Event('input'));
-  document.getElementById('autotest').textContent = 'AUTOTEST' + JSON.stringify({before: before, after: drawn});
-}
 </script></body></html>
 """

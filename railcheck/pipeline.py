@@ -73,8 +73,17 @@ class PartResult:
         return self.cycle.fatigue["min_safety_factor"] >= self.cycle.fatigue["required"]
 
     @property
+    def deflection_limit(self) -> float | None:
+        """m, from ``[check] max_deflection`` (None: no limit)."""
+        return self.cycle.deflection_limit
+
+    @property
+    def deflection_passed(self) -> bool:
+        return self.deflection_limit is None or self.cycle.envelope.max_tip <= self.deflection_limit
+
+    @property
     def passed(self) -> bool:
-        return self.stress_passed and self.fatigue_passed
+        return self.stress_passed and self.fatigue_passed and self.deflection_passed
 
 
 @dataclass
@@ -96,6 +105,7 @@ class PipelineResult:
         for name, p in self.parts.items():
             out += [f"{name} stress"] if not p.stress_passed else []
             out += [f"{name} fatigue"] if not p.fatigue_passed else []
+            out += [f"{name} deflection"] if not p.deflection_passed else []
         return out
 
     @property

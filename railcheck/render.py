@@ -50,11 +50,13 @@ def render_part(path: str | Path, name: str, part) -> Path:
                                pts + scale * sol.displacement)
     grid.point_data["von Mises (MPa)"] = sol.von_mises / 1e6
     slender = extent.max() > 6 * np.sort(extent)[1]
-    plotter = pv.Plotter(off_screen=True, window_size=(1600, 700) if slender else (1200, 900))
+    plotter = pv.Plotter(off_screen=True, window_size=(1600, 560) if slender else (1200, 900))
     top = max(part.verdict_stress / 1e6, 1e-9)
     plotter.add_mesh(grid.extract_surface(algorithm="dataset_surface"), scalars="von Mises (MPa)", cmap=COLOUR_MAP,
                      clim=[0.0, top], above_color="magenta", show_edges=False,
-                     scalar_bar_args={"title": "von Mises (MPa)", "vertical": True, "fmt": "%.0f"})
+                     scalar_bar_args={"title": "von Mises (MPa)", "vertical": not slender, "fmt": "%.0f",
+                                      **({"position_x": 0.3, "position_y": 0.04, "width": 0.4, "height": 0.08}
+                                         if slender else {})})
     _support(pv, plotter, mesh, sol, scale, part)
     _bolt_arrows(pv, plotter, mesh, sol, scale, part, cycle, min(extent.max(), 8 * np.sort(extent)[1]))
     _peak_marker(pv, plotter, cycle, sol, scale, extent.max(), part)
@@ -69,7 +71,9 @@ def render_part(path: str | Path, name: str, part) -> Path:
     from .parts import kind_of
 
     plotter.enable_parallel_projection()     # "xy": from above, the plane the mechanism moves in
-    plotter.camera.tight(padding=0.08 if slender else 0.12, view=kind_of(name).view)
+    plotter.camera.tight(padding=0.05 if slender else 0.12, view=kind_of(name).view, adjust_render_window=False)
+    if slender:
+        plotter.camera.zoom(0.9)                # room for the title above and the colour bar below
     path = Path(path)
     with atomic_path(path) as tmp:
         plotter.screenshot(str(tmp))

@@ -63,6 +63,7 @@ def parts_table(result) -> str:
         fos = p.limit / p.verdict_stress if p.verdict_stress > 0 else math.inf
         why = [] if p.stress_passed else ["stress"]
         why += [] if p.fatigue_passed else ["fatigue"]
+        why += [] if p.deflection_passed else ["defl"]
         angle = f"{c.history['crank_angle_deg']:>7.1f} deg" if c.C.shape[0] > 1 else f"{'constant':>11}"
         lines.append(f"  {name:<14}{p.verdict_stress/1e6:>10.1f} MPa{angle}"
                      f"{c.seed_method['max_von_mises_Pa']/1e6:>8.1f} MPa{c.envelope.max_tip*1e3:>8.2f} mm"

@@ -73,6 +73,7 @@ class CheckSpec:
     limit: float | None = None                 # Pa; None = sigma_u / 2
     effects: tuple[str, ...] = ("inertia",)
     loads: dict[str, ExplicitLoad] = field(default_factory=dict)
+    max_deflection: float | None = None        # m; a part whose tip deflects more fails
 
 
 @dataclass(frozen=True)
@@ -120,7 +121,7 @@ class Scene:
 _ALLOWED = {
     "mechanism": {"kind", "crank", "coupler", "rocker", "ground", "speed", "steps", "assembly"},
     "dynamics": {"formulation"},
-    "check": {"parts", "factor", "bolt_position", "material", "limit", "effects"},
+    "check": {"parts", "factor", "bolt_position", "material", "limit", "effects", "max_deflection"},
     "mesh": {"order", "size", "hole_size", "optimize"},
     "output": {"dir", "vtk", "png", "plots"},
     "loads": None,       # part names, checked below
@@ -229,7 +230,11 @@ def _check(table: dict, loads_table: dict) -> CheckSpec:
         loads[part] = ExplicitLoad(*(
             _in_range(parse_quantity(spec.get(key, "0 N"), "force", lp + key), "force", lp + key, magnitude=True)
             for key in ("longitudinal", "transverse")))
-    return CheckSpec(tuple(parts), float(factor), bolt, material, limit, tuple(effects), loads)
+    max_deflection = None
+    if "max_deflection" in table:
+        max_deflection = _in_range(parse_quantity(table["max_deflection"], "length", p + "max_deflection",
+                                                  positive=True, allow_zero=False), "length", p + "max_deflection")
+    return CheckSpec(tuple(parts), float(factor), bolt, material, limit, tuple(effects), loads, max_deflection)
 
 
 def _mesh(table: dict) -> MeshSpec:

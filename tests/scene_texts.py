@@ -34,3 +34,29 @@ def assert_picture(path, min_size=(400, 300), min_colours=20):
     colours = np.unique(frame.reshape(-1, 3)[::7], axis=0).shape[0]
     assert colours >= min_colours, (path, colours)
     assert frame.std() > 5.0, path
+
+
+def chromium():
+    """Path of a headless Chromium, or None (CI must have one: .ci/run installs it)."""
+    import os
+    import shutil
+
+    import pytest
+
+    for name in ("chromium", "chromium-browser", "google-chrome"):
+        path = shutil.which(name)
+        if path:
+            return path
+    if os.environ.get("CI"):
+        pytest.fail("headless Chromium is needed in CI (.ci/run installs it)")
+    pytest.skip("no Chromium on this machine")
+
+
+def browse(page, tmp_path, *args):
+    """Run headless Chromium on a local page with the given output flags; returns the process."""
+    import subprocess
+
+    return subprocess.run([chromium(), "--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
+                           "--disable-component-update", "--disable-sync", "--no-first-run",
+                           f"--user-data-dir={tmp_path / 'profile'}", *args, f"file://{page}"],
+                          capture_output=True, text=True, timeout=120)

@@ -16,7 +16,7 @@ from railcheck.kinematics_stage import run_kinematics
 from railcheck.loads.rotation import to_rail_axes
 from railcheck.pipeline import build_load_cases, part_geometries, run_pipeline
 from railcheck.scene import load_scene, parse_scene
-from scene_texts import FINAL_DESIGN, PLATE_LOADS, assert_picture
+from scene_texts import FINAL_DESIGN, PLATE_LOADS, assert_picture, browse
 
 KINEMATICS_ONLY = FINAL_DESIGN + 'speed = "1 Hz"\n'
 
@@ -139,7 +139,7 @@ def test_default_check_end_to_end(tmp_path):
     for name in parts:
         m = meshio.read(out / f"{name}.vtu")
         assert m.point_data["displacement"].shape[1] == 3 and "von_mises" in m.point_data
-        assert_picture(out / f"{name}.png", min_size=(1000, 600))
+        assert_picture(out / f"{name}.png", min_size=(1000, 500))
         if name != "PF_4b_003_v2":                   # constant explicit loads: no cycle to plot
             assert_picture(out / f"{name}-cycle.png")
         assert m.cells[0].type == "tetra10"                                  # every P2 node
@@ -157,6 +157,17 @@ def test_default_check_end_to_end(tmp_path):
         assert f"{p['tip_deflection_m']*1e3:.2f} mm" in line
         assert ("PASS" if p["pass"] else "FAIL") in line
     assert proc.returncode == (0 if summary["verdict"] == "PASS" else 1)
+    # one self-contained report: tables and every picture inline, as a browser shows it
+    page = (out / "report.html").read_text()
+    assert "http://" not in page and "https://" not in page and "<script" not in page
+    dom = browse(out / "report.html", tmp_path, "--dump-dom").stdout
+    # a picture per part, a cycle plot per part but the constant-load PF_4b_003_v2, two kinematics plots
+    assert dom.count("<table") >= 5 and dom.count("data:image/png;base64,") == len(parts) + (len(parts) - 1) + 2
+    assert all(name in dom for name in parts) and ("PASS" in dom or "FAIL" in dom)
+    shot = tmp_path / "report.png"
+    browse(out / "report.html", tmp_path, "--window-size=1400,1600", f"--screenshot={shot}")
+    assert_picture(shot, min_size=(1400, 1600), min_colours=200)
+    assert (out / "parts.pvd").read_text().count("<DataSet") == len(parts)
     # a second run never overwrites the first
     again = subprocess.run([sys.executable, "-m", "railcheck.cli", "check", "--out", str(out), "--json"],
                            capture_output=True, text=True, cwd=tmp_path)

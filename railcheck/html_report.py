@@ -1,0 +1,159 @@
+"""``report.html``: one self-contained file (pictures inline, no script, no network) an
+engineer can hand on: the verdict and its reasons, the scene, the configuration checks,
+the kinematics, the table per part (cycle peak, seed method, factor of safety,
+utilisation, deflection against its limit, fatigue), the pictures, mesh statistics, the
+equilibrium check (applied loads against the support's reaction), timings and software
+versions. Units at this edge: mm, MPa, N, deg.
+"""
+
+from __future__ import annotations
+
+import base64
+import html
+import json
+import platform
+from pathlib import Path
+
+import numpy as np
+
+CSS = """
+body{font-family:system-ui,sans-serif;margin:2em;color:#222;max-width:1400px}
+h1{font-size:1.6em} h2{border-bottom:1px solid #ccc;padding-bottom:.2em;margin-top:1.6em}
+table{border-collapse:collapse;margin:.5em 0} td,th{border:1px solid #ccc;padding:.25em .6em;text-align:right}
+th{background:#f3f3f3} td.l,th.l{text-align:left} .pass{color:#17772b;font-weight:bold}
+.fail{color:#b00020;font-weight:bold} img{max-width:100%;border:1px solid #ddd;margin:.3em 0}
+pre{background:#f7f7f7;padding:.6em;overflow:auto;font-size:12px} .note{color:#555;font-size:.9em}
+"""
+
+
+def _e(x) -> str:
+    return html.escape(str(x))
+
+
+def _img(path: Path, alt: str) -> str:
+    if not path.exists():
+        return ""
+    data = base64.b64encode(path.read_bytes()).decode()
+    return f'<img alt="{_e(alt)}" src="data:image/png;base64,{data}">'
+
+
+def _verdict(ok: bool) -> str:
+    return '<span class="pass">PASS</span>' if ok else '<span class="fail">FAIL</span>'
+
+
+def _table(head: list[str], rows: list[list], left: int = 1) -> str:
+    th = "".join(f'<th class="{"l" if i < left else ""}">{_e(h)}</th>' for i, h in enumerate(head))
+    body = "".join("<tr>" + "".join(f'<td class="{"l" if i < left else ""}">{c}</td>' for i, c in enumerate(r))
+                   + "</tr>" for r in rows)
+    return f"<table><tr>{th}</tr>{body}</table>"
+
+
+def write_report(path: Path, scene, result, summary: dict, directory: Path) -> None:
+    """Write report.html into ``path`` (pictures read from ``directory``)."""
+    sections = [_header(result, summary), _parts(result), _checks(result), _pictures(result, directory),
+                _kinematics(result, directory), _mesh_and_equilibrium(result), _scene(scene), _timings(result),
+                _versions()]
+    page = (f'<!DOCTYPE html><html lang="en"><head><meta charset="utf-8"><title>railcheck report</title>'
+            f"<style>{CSS}</style></head><body>{''.join(sections)}</body></html>\n")
+    path.write_text(page, encoding="utf-8")
+
+
+def _header(result, summary) -> str:
+    reasons = "; ".join(result.failures)
+    return (f"<h1>railcheck report: {_verdict(not result.failures)}</h1>"
+            + (f'<p class="fail">fails: {_e(reasons)}</p>' if reasons else "<p>every check and part passes</p>")
+            + f'<p class="note">scene: {_e(result.scene.source)}; stages run: {_e(", ".join(result.stages_run))}</p>'
+            + "".join(f'<p class="note">warning: {_e(w)}</p>' for w in summary.get("warnings", [])))
+
+
+def _scene(scene) -> str:
+    return f"<h2>Scene</h2><pre>{_e(json.dumps(scene.raw, indent=2, ensure_ascii=False))}</pre>"
+
+
+def _checks(result) -> str:
+    if not result.checks:
+        return ""
+    rows = [[_e(n), _verdict(c.ok), f'<span class="l">{_e(c.message)}</span>'] for n, c in result.checks.items()]
+    return "<h2>Configuration checks</h2>" + _table(["check", "result", "detail"], rows, left=3)
+
+
+def _kinematics(result, directory: Path) -> str:
+    k = result.kinematics_summary
+    if k is None:
+        return ""
+    rows = [[_e(j), f"{v:.1f}", f"{k['peak_crank_angle_deg'][j]:.1f}"] for j, v in k["peak_reactions_N"].items()]
+    rows.append(["motor torque (N·m)", f"{k['peak_torque_Nm']:.1f}", f"{k['peak_crank_angle_deg']['torque']:.1f}"])
+    return ("<h2>Kinematics and joint reactions</h2>"
+            f"<p>{_e(k['formulation'])}, effects: {_e(', '.join(k['effects']) or 'none')}; transmission angle "
+            f"{k['transmission_angle_deg']['min']:.2f} to {k['transmission_angle_deg']['max']:.2f} deg</p>"
+            + _table(["joint", "peak (N)", "at crank angle (deg)"], rows)
+            + _img(directory / "reactions.png", "joint reactions") + _img(directory / "torque.png", "motor torque"))
+
+
+def _parts(result) -> str:
+    if not result.parts:
+        return ""
+    rows = []
+    for name, p in result.parts.items():
+        c = p.cycle
+        angle = f"{c.history['crank_angle_deg']:.1f}" if c.C.shape[0] > 1 else "constant"
+        fos = p.limit / p.verdict_stress if p.verdict_stress > 0 else np.inf
+        dlim = f"{p.deflection_limit*1e3:.3g}" if p.deflection_limit else "none"
+        rows.append([_e(name), f"{p.verdict_stress/1e6:.1f}", angle, f"{c.seed_method['max_von_mises_Pa']/1e6:.1f}",
+                     f"{p.limit/1e6:.0f}", f"{fos:.2f}", f"{p.verdict_stress/p.limit:.0%}",
+                     f"{c.envelope.max_tip*1e3:.3g}", dlim, f"{c.fatigue['min_safety_factor']:.2f}",
+                     f"{c.fatigue['sigma_a_Pa']/1e6:.1f} / {c.fatigue['sigma_m_Pa']/1e6:.1f}", _verdict(p.passed)])
+    head = ["part", "cycle max von Mises (MPa)", "at crank (deg)", "seed method (MPa)", "limit (MPa)",
+            "factor of safety", "utilisation", "max tip deflection (mm)", "deflection limit (mm)",
+            "fatigue factor", "σa / σm (MPa)", "verdict"]
+    crit = next(iter(result.parts.values())).cycle.fatigue
+    return ("<h2>Parts</h2>" + _table(head, rows)
+            + f'<p class="note">cycle max: the largest von Mises over the whole crank cycle, away from the '
+              f"idealised support's singular edge; seed method: at the instant of the peak reaction magnitude; "
+              f"factor of safety = limit / cycle max; fatigue: {_e(crit['criterion'])}, endurance limit "
+              f"{crit['endurance_limit_Pa']/1e6:.0f} MPa (Shigley ch. 6, Marin factors in summary.json).</p>")
+
+
+def _pictures(result, directory: Path) -> str:
+    out = []
+    for name in result.parts:
+        out.append(f"<h3>{_e(name)}</h3>" + _img(directory / f"{name}.png", f"{name} von Mises")
+                   + _img(directory / f"{name}-cycle.png", f"{name} over the cycle"))
+    return "<h2>Pictures</h2>" + "".join(out) if out else ""
+
+
+def _mesh_and_equilibrium(result) -> str:
+    if not result.parts:
+        return ""
+    rows = []
+    for name, p in result.parts.items():
+        meta, c = p.cycle.meta, p.cycle.C[p.cycle.envelope.step]
+        applied, reaction = meta["resultants"] @ c, meta["support_reactions"] @ c
+        scale = max(np.linalg.norm(applied), 1e-300)
+        rows.append([_e(name), f"{meta['dofs']}", f"{meta['elements']}", f"{p.mesh.min_quality:.2f}",
+                     f"{p.mesh.slivers}", _e(meta["solver"].get("solver")),
+                     ", ".join(f"{v:.2f}" for v in applied), ", ".join(f"{v:.2f}" for v in reaction),
+                     f"{np.linalg.norm(applied + reaction) / scale:.1e}"])
+    head = ["part", "DOFs", "elements", "min quality", "slivers", "solver", "applied load (N, x y z)",
+            "support reaction (N)", "imbalance"]
+    return ("<h2>Mesh and equilibrium</h2>" + _table(head, rows)
+            + '<p class="note">at each part\'s governing instant; the support reaction is the resultant of '
+              "K u - f over the fixed nodes, and balances the applied bolt and body forces.</p>")
+
+
+def _timings(result) -> str:
+    rows = [[_e(k), f"{v:.2f}"] for k, v in result.timings.items()]
+    return "<h2>Timings</h2>" + _table(["stage", "seconds"], rows) if rows else ""
+
+
+def _versions() -> str:
+    from importlib.metadata import PackageNotFoundError, version
+
+    rows = [["python", _e(platform.python_version())]]
+    for pkg in ("railcheck", "numpy", "scipy", "scikit-fem", "gmsh", "meshio", "pyvista", "pyamg", "pypardiso",
+                "mkl"):
+        try:
+            rows.append([pkg, _e(version(pkg))])
+        except PackageNotFoundError:
+            rows.append([pkg, "not installed"])
+    return "<h2>Software</h2>" + _table(["package", "version"], rows, left=2)
