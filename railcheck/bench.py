@@ -11,6 +11,10 @@ def run_bench_command(args) -> int:
 
     if not (0.5 <= args.size <= 50):
         raise InputError("--size", f"must be between 0.5 and 50 mm, got {args.size:g}")
+    from railcheck.geometry.models import bar
+
+    from .pipeline import refuse_beyond_memory
+    refuse_beyond_memory(bar(LENGTH, WIDTH, HEIGHT), args.size * 1e-3, args.size * 1e-3, args.order, "--size")
     r = run_cantilever(order=args.order, size=args.size * 1e-3, solver=args.solver)
     out = {"tip_deflection_m": r.computed, "analytic_m": r.analytic, "relative_error": r.relative_error,
            "dofs": r.solution.dofs, "elements": r.solution.elements,

@@ -145,6 +145,21 @@ def add_errors(rows: list[dict], target: str) -> dict:
     return refs
 
 
+def _refuse_beyond_memory(target: str, orders: list[int], sizes_mm: list[float]) -> None:
+    """Every row's mesh is estimated before any is built (as `railcheck check` does)."""
+    from railcheck.fea.cantilever import HEIGHT, LENGTH, WIDTH
+    from railcheck.geometry.models import bar
+
+    from .parts import geometry_of
+    from .pipeline import refuse_beyond_memory
+
+    geo = bar(LENGTH, WIDTH, HEIGHT) if target == "cantilever" else geometry_of(target, {})
+    hole = 1.0 if target == "cantilever" else HOLE_RATIO
+    for size in sizes_mm:
+        for order in orders:
+            refuse_beyond_memory(geo, size * 1e-3, size * 1e-3 * hole, order, "--sizes")
+
+
 def run_study(target: str, orders: list[int], sizes: list[float], progress=print) -> tuple[list[dict], dict]:
     """One row per (order, size), each solved in a fresh worker process so that its peak
     memory is its own (``max_tasks_per_child=1``)."""
@@ -261,6 +276,7 @@ def run_convergence_command(args) -> int:
     sizes_mm = _parse_list(args.sizes, float, "--sizes") if args.sizes else DEFAULT_SIZES_MM[kind]
     if any(not (1.0 <= s <= 50.0) for s in sizes_mm):
         raise InputError("--sizes", "mesh sizes must lie between 1 and 50 mm")
+    _refuse_beyond_memory(target, orders, sizes_mm)
     rows, refs = run_study(target, orders, [s * 1e-3 for s in sizes_mm],
                            progress=lambda m: print(m, file=sys.stderr, flush=True))
     if args.plot:

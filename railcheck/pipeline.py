@@ -232,9 +232,6 @@ def _refuse_huge(scene: Scene, geometries: dict) -> None:
     """Refuse, before meshing, a mesh size too coarse for a part (more than twice its
     section's smaller side: the stress would be meaningless) and a mesh this machine's
     memory cannot hold (DOFs estimated from the volume and the size field)."""
-    from railcheck.fea.elasticity import estimate_dofs
-    from railcheck.geometry.mesher import estimate_elements
-
     from .parts import kind_of
 
     if scene.mesh.size is not None:
@@ -243,17 +240,23 @@ def _refuse_huge(scene: Scene, geometries: dict) -> None:
             if scene.mesh.size > 2 * side:
                 raise InputError("mesh.size", f"{scene.mesh.size*1e3:g} mm is more than twice {name}'s "
                                               f"{side*1e3:g} mm section: too coarse to resolve its stress")
-    worst = 0
     for geo in geometries.values():
-        size, hole = mesh_sizes(scene, geo.kind)
-        tets = estimate_elements(geo, size, hole)
-        worst = max(worst, estimate_dofs(tets // 5, tets, scene.mesh.order))
+        refuse_beyond_memory(geo, *mesh_sizes(scene, geo.kind), scene.mesh.order, "mesh.size")
+
+
+def refuse_beyond_memory(geo, size: float, hole_size: float, order: int, field: str) -> None:
+    """Raise InputError naming ``field`` when meshing ``geo`` at these sizes (m) would
+    need more memory than this machine has (estimated before meshing)."""
+    from railcheck.fea.elasticity import estimate_dofs
     from railcheck.fea.solvers import available_memory
-    need = worst * BYTES_PER_DOF_AMG
-    avail = available_memory()
+    from railcheck.geometry.mesher import estimate_elements
+
+    tets = estimate_elements(geo, size, hole_size)
+    dofs = estimate_dofs(tets // 5, tets, order)
+    need, avail = dofs * BYTES_PER_DOF_AMG, available_memory()
     if need > 0.8 * avail:
-        raise InputError("mesh.size", f"about {worst/1e6:.1f} M DOFs needing about {need/2**30:.1f} GiB, more than "
-                                      f"this machine's {avail/2**30:.1f} GiB allow: use a larger mesh size")
+        raise InputError(field, f"about {dofs/1e6:.1f} M DOFs needing about {need/2**30:.1f} GiB, more than "
+                                f"this machine's {avail/2**30:.1f} GiB allow: use a larger mesh size")
 
 
 #: peak memory per DOF of a P2 solve on the iterative path (assembly, AMG hierarchy, stress

@@ -6,6 +6,8 @@ import json
 import math
 from typing import Any
 
+import numpy as np
+
 
 def _fmt(x: float, digits: int = 6) -> str:
     return f"{x:.{digits}g}"
@@ -64,11 +66,12 @@ def parts_table(result) -> str:
         why = [] if p.stress_passed else ["stress"]
         why += [] if p.fatigue_passed else ["fatigue"]
         why += [] if p.deflection_passed else ["defl"]
+        verdict = ("PASS" if p.passed else "FAIL " + "+".join(why)) if np.any(c.C) else "NO LOAD"
         angle = f"{c.history['crank_angle_deg']:>7.1f} deg" if c.C.shape[0] > 1 else f"{'constant':>11}"
         lines.append(f"  {name:<14}{p.verdict_stress/1e6:>10.1f} MPa{angle}"
                      f"{c.seed_method['max_von_mises_Pa']/1e6:>8.1f} MPa{c.envelope.max_tip*1e3:>8.2f} mm"
                      f"{p.limit/1e6:>5.0f} MPa{_factor(fos):>8}{_factor(c.fatigue['min_safety_factor']):>11}  "
-                     f"{'PASS' if p.passed else 'FAIL ' + '+'.join(why):<8}{loc:<24}"
+                     f"{verdict:<8}{loc:<24}"
                      f"{c.envelope.support_peak/1e6:>8.1f} MPa")
     lines.append("  cycle max vM: the largest von Mises over the whole crank cycle (superposed unit cases); seed inst.: "
                  "at the instant of the peak |reaction| (seed 000's method); FoS = limit / cycle max; fatigue n: "
