@@ -39,7 +39,17 @@ def railcheck_solve(problem: str, size: float) -> dict:
     """Solve with railcheck (run in a child process); return arrays as lists."""
     import resource
 
-    from railcheck.fea.elasticity import HoleLoad, Support, solve_elasticity
+    from railcheck.fea.elasticity import (
+        HoleLoad,
+        Support,
+        _vector_dof_map,
+        assemble,
+        group_nodes,
+        load_vector,
+        scalar_basis,
+        solve_elasticity,
+        von_mises,
+    )
     from railcheck.fea.materials import MATERIALS
     from railcheck.geometry.mesher import mesh_part
 
@@ -67,11 +77,16 @@ def railcheck_solve(problem: str, size: float) -> dict:
     sol = solve_elasticity(mesh.points, mesh.tets, mesh.groups, MATERIALS["steel"], supports, loads, order=2,
                            tip_group=tip, solver="direct")
     seconds = time.perf_counter() - t
+    # what only this comparison needs, from the FE API: consistent nodal forces and the fixed nodes
+    K, basis = assemble(mesh.points, mesh.tets, MATERIALS["steel"], 2)
+    f = load_vector(basis, mesh.groups, loads)
+    nodal_forces = f[_vector_dof_map(basis, scalar_basis(basis))]
+    fixed = group_nodes(basis, mesh.groups, [s.group for s in supports])
     tip_tris = mesh.groups[tip]
     return {"seconds": seconds, "peak_memory": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024,
-            "points": mesh.points.tolist(), "tets": mesh.tets.tolist(), "nodes": sol.node_locations.tolist(),
-            "u": sol.node_displacement.tolist(), "vm": sol.node_von_mises.tolist(),
-            "forces": sol.node_forces.tolist(), "fixed": sol.fixed_nodes.tolist(),
+            "points": mesh.points.tolist(), "tets": mesh.tets.tolist(), "nodes": sol.nodes.tolist(),
+            "u": sol.node_displacement.tolist(), "vm": von_mises(sol.stress).tolist(),
+            "forces": nodal_forces.tolist(), "fixed": fixed.tolist(),
             "tip_vertices": np.unique(tip_tris).tolist(), "probe": probe.tolist(), "dofs": sol.dofs}
 
 

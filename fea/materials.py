@@ -1,4 +1,4 @@
-"""A small material library (DESIGN.md section 4). SI: Pa, kg/m^3.
+"""A small material library. SI: Pa, kg/m^3.
 
 The fatigue limit defaults to sigma_u / 2 (seed 000, 3.3.1: "resistente a fatiga si las
 tensiones son menores que la mitad de su tensión de rotura").

@@ -1,6 +1,6 @@
 """Inverse dynamics: joint reactions and motor torque at every crank step.
 
-Two formulations (DESIGN.md section 2):
+Two formulations (seed 000, Anexo I; README "Kinematics and inverse dynamics"):
 
 * ``newton-euler`` (default): each bar is one rigid body (its rail plus the point masses
   it carries, :mod:`kinematics.massmodel`); Newton-Euler equations about each body's

@@ -56,7 +56,7 @@ def bar_from_parts(rail_mass: float, rail_length: float,
 
 
 def fourbar_bodies(linkage: FourBar, masses: MassModel) -> tuple[RigidBar, RigidBar, RigidBar]:
-    """Crank, coupler and rocker as rigid bodies (DESIGN.md section 2).
+    """Crank, coupler and rocker as rigid bodies (seed 000, Anexo I mass model).
 
     Crank: rail + plate and carriage at A. Coupler: rail from A + coupling at A + plate
     and carriage at B. Rocker: rail from O4 + coupling at B.

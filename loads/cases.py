@@ -1,4 +1,4 @@
-"""Load cases per part (seed 000, chapter 4; DESIGN.md section 3).
+"""Load cases per part (seed 000, chapter 4).
 
 For each rail: the peak magnitude of the joint reaction it carries, with the bar angle at
 that same instant, projected on the rail's longitudinal and transverse axes; times the

@@ -94,18 +94,37 @@ def _cmd_check(args) -> int:
 
 
 def _cmd_bench(args) -> int:
-    from .bench import run_bench_command
-    return run_bench_command(args)
+    from .bench import run_bench
+    from .report import bench_report, to_json
+
+    out = run_bench(args.order, args.size, args.solver)
+    print(to_json(out) if args.json else bench_report(out))
+    return EXIT_PASS
 
 
 def _cmd_convergence(args) -> int:
-    from .convergence import run_convergence_command
-    return run_convergence_command(args)
+    from .convergence import plot_study, run_convergence
+    from .report import convergence_report, to_json
+
+    result = run_convergence(args.target, args.orders, args.sizes,
+                             progress=lambda m: print(m, file=sys.stderr, flush=True))
+    if args.plot and args.target != "kinematics":
+        plot_study(result["rows"], args.target, args.plot)
+    print(to_json(result) if args.json else convergence_report(result))
+    if args.plot and not args.json and args.target != "kinematics":
+        print(f"wrote {args.plot}")
+    return EXIT_PASS
 
 
 def _cmd_mechanism(args) -> int:
-    from .mechanism_cmd import run_mechanism_command
-    return run_mechanism_command(args)
+    from .mechanism_cmd import run_mechanism, write_mechanism_outputs
+    from .report import mechanism_report
+
+    run = run_mechanism(args.name, args.steps)
+    print(mechanism_report(run))
+    for path in write_mechanism_outputs(run, args.csv, args.html, args.gif):
+        print(f"wrote {path}")
+    return EXIT_PASS
 
 
 def _version() -> str:

@@ -14,14 +14,12 @@ studies the number of crank steps instead.
 from __future__ import annotations
 
 import math
-import sys
 import time
 
 import numpy as np
 
-from .errors import EXIT_PASS, InputError
+from .errors import InputError
 from .parts import PARTS, kind_of
-from .report import to_json
 
 DEFAULT_SIZES_MM = {"cantilever": [20.0, 14.0, 10.0, 7.0, 5.0], "rail": [20.0, 14.0, 10.0, 7.0],
                     "plate": [12.0, 8.5, 6.0, 4.2]}
@@ -253,53 +251,22 @@ def plot_study(rows: list[dict], target: str, path: str) -> None:
     plt.close(fig)
 
 
-def run_convergence_command(args) -> int:
-    target = args.target
+def run_convergence(target: str, orders: str = "1,2", sizes: str | None = None, progress=None) -> dict:
+    """The study of ``target`` (cantilever, kinematics or a part): validates the lists
+    (mm for meshes, step counts for kinematics) and returns {"target", "rows", ...}."""
     if target == "kinematics":
-        steps = _parse_list(args.sizes, int, "--sizes") if args.sizes else [50, 100, 200, 500, 1000, 2000, 5000, 10000]
+        steps = _parse_list(sizes, int, "--sizes") if sizes else [50, 100, 200, 500, 1000, 2000, 5000, 10000]
         rows, ref = kinematics_study(steps)
-        if args.json:
-            print(to_json({"rows": rows, "reference": ref, "reference_steps": 200_000}))
-            return EXIT_PASS
-        print("default scene, newton-euler; reference: 200000 steps")
-        print(f"  {'steps':>7}{'seconds':>10}{'max |error|':>13}  4 sig. figures")
-        for r in rows:
-            print(f"  {r['steps']:>7}{r['seconds']:>10.4f}{r['max_abs_error']:>13.2e}  "
-                  f"{'yes' if r['four_significant_figures'] else 'no'}")
-        return EXIT_PASS
+        return {"target": target, "rows": rows, "reference": ref, "reference_steps": 200_000}
     if target != "cantilever" and target not in PARTS:
         raise InputError("TARGET", f"unknown target {target!r} (cantilever, kinematics, {', '.join(PARTS)})")
-    orders = _parse_list(args.orders, int, "--orders")
-    if any(o not in (1, 2) for o in orders):
-        raise InputError("--orders", f"orders are 1 or 2, got {args.orders!r}")
+    order_list = _parse_list(orders, int, "--orders")
+    if any(o not in (1, 2) for o in order_list):
+        raise InputError("--orders", f"orders are 1 or 2, got {orders!r}")
     kind = "cantilever" if target == "cantilever" else ("rail" if kind_of(target).bolts_on_rail else "plate")
-    sizes_mm = _parse_list(args.sizes, float, "--sizes") if args.sizes else DEFAULT_SIZES_MM[kind]
+    sizes_mm = _parse_list(sizes, float, "--sizes") if sizes else DEFAULT_SIZES_MM[kind]
     if any(not (1.0 <= s <= 50.0) for s in sizes_mm):
         raise InputError("--sizes", "mesh sizes must lie between 1 and 50 mm")
-    _refuse_beyond_memory(target, orders, sizes_mm)
-    rows, refs = run_study(target, orders, [s * 1e-3 for s in sizes_mm],
-                           progress=lambda m: print(m, file=sys.stderr, flush=True))
-    if args.plot:
-        plot_study(rows, target, args.plot)
-    if args.json:
-        print(to_json({"target": target, "rows": rows, "references": refs}))
-        return EXIT_PASS
-    print(f"{target}: errors against " + ("Timoshenko beam theory" if target == "cantilever"
-                                          else "Richardson extrapolation of the three finest meshes"))
-    print(f"  {'P':>2}{'size mm':>8}{'DOFs':>9}{'elements':>9}{'mesh':>7}{'asm':>7}{'solve':>7}{'stress':>7}"
-          f"{'mem GB':>7}{'tip mm':>11}{'err':>10}{'vM MPa':>9}{'err':>10}{'support':>9}")
-    for r in rows:
-        s = r["seconds"]
-        print(f"  {r['order']:>2}{r['size_m']*1e3:>8.3g}{r['dofs']:>9}{r['elements']:>9}{s['mesh']:>7.2f}"
-              f"{s['assembly']:>7.2f}{s['solve']:>7.2f}{s['stress']:>7.2f}{r['peak_memory_bytes']/1e9:>7.2f}"
-              f"{r['tip_deflection_m']*1e3:>11.5f}{r['error_deflection']*100:>9.3f}%"
-              f"{r['max_von_mises_Pa']/1e6:>9.2f}{r['error_von_mises']*100:>9.3f}%"
-              f"{r['support_peak_von_mises_Pa']/1e6:>9.1f}")
-    if target != "cantilever":
-        for name, ref in refs.items():
-            d, v = ref["tip_deflection_m"], ref["max_von_mises_Pa"]
-            print(f"  {name} extrapolated: tip {d['extrapolated']*1e3:.5f} mm (observed order "
-                  f"{d['observed_order']:.2f}), von Mises {v['extrapolated']/1e6:.2f} MPa (order {v['observed_order']:.2f})")
-    if args.plot:
-        print(f"wrote {args.plot}")
-    return EXIT_PASS
+    _refuse_beyond_memory(target, order_list, sizes_mm)
+    rows, refs = run_study(target, order_list, [s * 1e-3 for s in sizes_mm], progress=progress or (lambda m: None))
+    return {"target": target, "rows": rows, "references": refs}

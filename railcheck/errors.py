@@ -1,6 +1,6 @@
 """Errors of the application layer and the exit status each one maps to.
 
-Exit statuses (DESIGN.md section 7): 0 pass, 1 check failed, 2 bad input or impossible
+Exit statuses: 0 pass, 1 check failed, 2 bad input or impossible
 mechanism, 3 numerical failure.
 """
 

@@ -11,11 +11,12 @@ from __future__ import annotations
 
 import json
 import math
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from .errors import EXIT_PASS, InputError
+from .errors import InputError
 from .files import atomic_path, atomic_write_text
 
 
@@ -104,29 +105,40 @@ def write_gif(path: Path, mech, motion, table: np.ndarray, frames: int = 60) -> 
     plt.close(fig)
 
 
-def run_mechanism_command(args) -> int:
-    mech, motion, mob, sweep = _solve(args.name, args.steps)
-    rate = abs(sweep)        # the seed's driver covers its sweep in 1 s
-    rate = math.copysign(rate, sweep)
-    table = tracer_table(mech, motion, rate)
-    print(f"{mech.name}: {mech.description}")
-    print(f"mobility: {mob.report()}")
-    print(f"driver: {math.degrees(table[0, 0]):.2f} to {math.degrees(table[-1, 0]):.2f} deg in {args.steps} steps "
-          f"({math.degrees(rate):.0f} deg/s)")
-    x, y = table[:, 1] * 1e3, table[:, 2] * 1e3
-    print(f"tracer ({mech.bodies[mech.tracer[0] - 1].name}.{mech.tracer[1]}): x {x.min():.4f} to {x.max():.4f} mm, "
-          f"y {y.min():.4f} to {y.max():.4f} mm")
-    if args.csv:
-        lines = ["driver,x,y,vx,vy,ax,ay"] + [",".join(f"{v:.12g}" for v in row) for row in table]
-        atomic_write_text(args.csv, "\n".join(lines) + "\n")
-        print(f"wrote {args.csv}")
-    if args.html:
-        write_html(Path(args.html), mech, motion, table)
-        print(f"wrote {args.html}")
-    if args.gif:
-        write_gif(Path(args.gif), mech, motion, table)
-        print(f"wrote {args.gif}")
-    return EXIT_PASS
+@dataclass(frozen=True)
+class MechanismRun:
+    """A catalogue mechanism over its driver sweep: ``table`` (steps, 7) holds the
+    driver value and the tracer's position, velocity, acceleration (SI); ``rate`` the
+    driver's speed (rad/s: the seed's driver covers its sweep in 1 s)."""
+
+    mech: object
+    motion: object
+    mobility: object
+    table: np.ndarray
+    rate: float
+    steps: int
+
+
+def run_mechanism(name: str, steps: int) -> MechanismRun:
+    mech, motion, mob, sweep = _solve(name, steps)
+    rate = math.copysign(abs(sweep), sweep)
+    return MechanismRun(mech, motion, mob, tracer_table(mech, motion, rate), rate, steps)
+
+
+def write_mechanism_outputs(run: MechanismRun, csv: str | None, html: str | None, gif: str | None) -> list[str]:
+    """The CSV, HTML page and GIF asked for; returns the paths written."""
+    written = []
+    if csv:
+        lines = ["driver,x,y,vx,vy,ax,ay"] + [",".join(f"{v:.12g}" for v in row) for row in run.table]
+        atomic_write_text(csv, "\n".join(lines) + "\n")
+        written.append(csv)
+    if html:
+        write_html(Path(html), run.mech, run.motion, run.table)
+        written.append(html)
+    if gif:
+        write_gif(Path(gif), run.mech, run.motion, run.table)
+        written.append(gif)
+    return written
 
 
 _HTML = r"""<!DOCTYPE html>

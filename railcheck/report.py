@@ -113,3 +113,58 @@ def check_report(run) -> str:
     reasons = f" ({'; '.join(result.failures)})" if result.failures else ""
     lines.append(f"verdict: {summary['verdict']}{reasons}; results in {run.target}/")
     return "\n".join(lines)
+
+
+def bench_report(out: dict) -> str:
+    """`railcheck bench cantilever` on the console."""
+    from railcheck.fea.cantilever import HEIGHT, LENGTH, LOAD, WIDTH
+
+    return "\n".join([
+        f"cantilever {LENGTH*1e3:g} x {WIDTH*1e3:g} x {HEIGHT*1e3:g} mm steel, clamped at x = 0, "
+        f"{LOAD:g} N transverse tip load; P{out['order']} tetrahedra, size {out['size_mm']:g} mm",
+        f"  tip deflection (FE)         {out['tip_deflection_m']*1e3:12.6f} mm",
+        f"  Timoshenko PL^3/3EI+PL/kGA  {out['analytic_m']*1e3:12.6f} mm",
+        f"  relative error              {out['relative_error']*100:+12.4f} %",
+        f"  DOFs {out['dofs']}, elements {out['elements']}, solver {out['solver']}",
+        "  seconds: " + ", ".join(f"{k} {v:.2f}" for k, v in out["seconds"].items())])
+
+
+def convergence_report(result: dict) -> str:
+    """`railcheck convergence` on the console."""
+    rows, target = result["rows"], result["target"]
+    if target == "kinematics":
+        lines = [f"default scene, newton-euler; reference: {result['reference_steps']} steps",
+                 f"  {'steps':>7}{'seconds':>10}{'max |error|':>13}  4 sig. figures"]
+        lines += [f"  {r['steps']:>7}{r['seconds']:>10.4f}{r['max_abs_error']:>13.2e}  "
+                  f"{'yes' if r['four_significant_figures'] else 'no'}" for r in rows]
+        return "\n".join(lines)
+    lines = [f"{target}: errors against " + ("Timoshenko beam theory" if target == "cantilever"
+                                             else "Richardson extrapolation of the three finest meshes"),
+             f"  {'P':>2}{'size mm':>8}{'DOFs':>9}{'elements':>9}{'mesh':>7}{'asm':>7}{'solve':>7}{'stress':>7}"
+             f"{'mem GB':>7}{'tip mm':>11}{'err':>10}{'vM MPa':>9}{'err':>10}{'support':>9}"]
+    for r in rows:
+        s = r["seconds"]
+        lines.append(f"  {r['order']:>2}{r['size_m']*1e3:>8.3g}{r['dofs']:>9}{r['elements']:>9}{s['mesh']:>7.2f}"
+                     f"{s['assembly']:>7.2f}{s['solve']:>7.2f}{s['stress']:>7.2f}{r['peak_memory_bytes']/1e9:>7.2f}"
+                     f"{r['tip_deflection_m']*1e3:>11.5f}{r['error_deflection']*100:>9.3f}%"
+                     f"{r['max_von_mises_Pa']/1e6:>9.2f}{r['error_von_mises']*100:>9.3f}%"
+                     f"{r['support_peak_von_mises_Pa']/1e6:>9.1f}")
+    if target != "cantilever":
+        for name, ref in result["references"].items():
+            d, v = ref["tip_deflection_m"], ref["max_von_mises_Pa"]
+            lines.append(f"  {name} extrapolated: tip {d['extrapolated']*1e3:.5f} mm (observed order "
+                         f"{d['observed_order']:.2f}), von Mises {v['extrapolated']/1e6:.2f} MPa "
+                         f"(order {v['observed_order']:.2f})")
+    return "\n".join(lines)
+
+
+def mechanism_report(run) -> str:
+    """`railcheck mechanism` on the console."""
+    mech, table = run.mech, run.table
+    x, y = table[:, 1] * 1e3, table[:, 2] * 1e3
+    return "\n".join([
+        f"{mech.name}: {mech.description}", f"mobility: {run.mobility.report()}",
+        f"driver: {math.degrees(table[0, 0]):.2f} to {math.degrees(table[-1, 0]):.2f} deg in {run.steps} steps "
+        f"({math.degrees(run.rate):.0f} deg/s)",
+        f"tracer ({mech.bodies[mech.tracer[0] - 1].name}.{mech.tracer[1]}): x {x.min():.4f} to {x.max():.4f} mm, "
+        f"y {y.min():.4f} to {y.max():.4f} mm"])

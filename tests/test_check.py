@@ -150,7 +150,10 @@ def test_default_check_end_to_end(tmp_path):
         assert np.isfinite(vm).all() and vm.max() > 0
         assert m.point_data["von_mises_envelope"].max() >= vm.max() * (1 - 1e-12)
         p = summary["parts"][name]
-        assert set(p) >= {"max_von_mises_Pa", "tip_deflection_m", "limit_Pa", "pass"}
+        assert set(p) >= {"max_von_mises_Pa", "tip_deflection_m", "limit_Pa", "pass", "factor_of_safety"}
+        bolts = p["load_case"]["bolts"]                     # every bolt's force, not a count
+        assert isinstance(bolts, dict) and all(len(f) == 3 for f in bolts.values())
+        assert p["factor_of_safety"] == pytest.approx(p["limit_Pa"] / p["max_von_mises_Pa"], rel=1e-12)
         # the console shows the same figures
         line = next(l for l in proc.stdout.splitlines() if l.strip().startswith(name + " "))
         assert f"{p['max_von_mises_Pa']/1e6:.1f} MPa" in line

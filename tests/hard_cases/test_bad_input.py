@@ -148,3 +148,17 @@ def test_sigterm_cleans_up_and_the_next_run_removes_dead_staging(tmp_path):
     os.utime(dead)
     check(tmp_path, PLATE + "[output]\nvtk = false\npng = false\n", out="r")
     assert not dead.exists()
+
+
+def test_bad_output_path_fails_before_any_meshing(tmp_path):
+    import os
+
+    cache = tmp_path / "cache"
+    scene = tmp_path / "scene.toml"
+    scene.write_text(PLATE)
+    (tmp_path / "taken").write_text("a file where the results should go")
+    proc = subprocess.run([sys.executable, "-m", "railcheck.cli", "check", str(scene), "--out",
+                           str(tmp_path / "taken" / "results")], capture_output=True, text=True, cwd=tmp_path,
+                          env={**os.environ, "RAILCHECK_CACHE": str(cache)})
+    one_line_exit_2(proc, "output.dir")
+    assert not cache.exists() or not any(cache.iterdir())           # no mesh was built
