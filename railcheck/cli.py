@@ -235,6 +235,10 @@ def main(argv: list[str] | None = None) -> int:
     except _Terminated:
         print("railcheck: terminated", file=sys.stderr)
         return 143
+    except OSError as exc:                   # a full disk, a vanished directory: nothing half-written
+        print(f"railcheck: error: cannot write {exc.filename or 'the results'}: {exc.strerror or exc}",
+              file=sys.stderr)
+        return EXIT_INPUT
     except InputError as exc:
         print(f"railcheck: error: {exc}", file=sys.stderr)
         return EXIT_INPUT

@@ -162,3 +162,18 @@ def test_bad_output_path_fails_before_any_meshing(tmp_path):
                           env={**os.environ, "RAILCHECK_CACHE": str(cache)})
     one_line_exit_2(proc, "output.dir")
     assert not cache.exists() or not any(cache.iterdir())           # no mesh was built
+
+
+def test_full_disk_gives_one_line_and_leaves_nothing(tmp_path):
+    disk = tmp_path / "small"
+    disk.mkdir()
+    mounted = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=64k", "tmpfs", str(disk)], capture_output=True)
+    if mounted.returncode != 0:
+        pytest.skip("cannot mount a small tmpfs here (needs root)")
+    try:
+        proc = check(tmp_path, PLATE, out=str(disk / "results"))
+        assert proc.returncode == 2 and "Traceback" not in proc.stderr, proc.stderr
+        assert "No space left" in proc.stderr
+        assert list(disk.iterdir()) == []                          # no staging, no half results
+    finally:
+        subprocess.run(["umount", str(disk)], capture_output=True)
