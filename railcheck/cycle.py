@@ -141,8 +141,9 @@ def check_part(scene, kin, name: str, geo, case, material, limit: float, solver:
     _refuse_non_finite(name, cycle)
     if not np.any(cycle.C):
         warnings.append("carries no load: its verdict is vacuous")
+    when = f"at {cycle.history['crank_angle_deg']:.1f} deg" if cycle.C.shape[0] > 1 else "(constant loads)"
     report(f"{meta['dofs']} DOFs, {meta['solver'].get('solver')}, {len(cases)} unit cases; cycle peak "
-           f"{cycle.envelope.max_von_mises / 1e6:.1f} MPa at {cycle.history['crank_angle_deg']:.1f} deg "
+           f"{cycle.envelope.max_von_mises / 1e6:.1f} MPa {when} "
            f"(seed method {cycle.seed_method['max_von_mises_Pa'] / 1e6:.1f} MPa), fatigue factor "
            f"{cycle.fatigue['min_safety_factor']:.2f}")
     solution = solution_at(fields, cycle.C[cycle.envelope.step], meta, scene.mesh.order, kind.exclusion(geo),
