@@ -11,12 +11,7 @@ from __future__ import annotations
 import argparse
 import math
 import statistics
-import sys
 import time
-from pathlib import Path
-
-# this file's name shadows the kinematics package when run as a script: drop its folder
-sys.path[:] = [p for p in sys.path if Path(p or ".").resolve() != Path(__file__).resolve().parent]
 
 import numpy as np
 from scipy.optimize import fsolve

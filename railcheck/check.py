@@ -123,11 +123,12 @@ def run_check(scene, out: str | None = None, force: bool = False, progress: Prog
         staging = Staging(target, replaces)
     except OSError as exc:
         raise InputError("output.dir", f"cannot write results at {requested}: {exc.strerror or exc}") from None
+    progress = progress or Progress(quiet=True)
     try:
-        result = run_pipeline(scene, progress or Progress(quiet=True))
+        result = run_pipeline(scene, progress)
         summary = summary_of(result)
         write_outputs(scene, result, summary, staging.path)
-        (progress or Progress(quiet=True)).say("report", f"wrote {len(result.parts)} parts")
+        progress.say("report", f"wrote {len(result.parts)} parts")
         staging.commit()
     except BaseException:
         staging.abandon()
