@@ -22,6 +22,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .batch import BatchMotion, fourbar_motion, slidercrank_motion, triangle_angle
 from .errors import MechanismError, SingularConfigurationError
 from .linkage import FourBar, SliderCrank
 
@@ -29,28 +30,6 @@ from .linkage import FourBar, SliderCrank
 SINGULAR_TOLERANCE_RAD = 1e-7
 #: a transmission angle closer than this to 0 or pi (rad) earns a warning.
 NEAR_TOGGLE_WARNING_RAD = math.radians(5.0)
-
-
-def triangle_angle(a, b, c):
-    """Angle (rad) opposite side ``c`` in the triangle with sides ``a, b, c``.
-
-    Kahan's formula ("Miscalculating area and angles of a needle-like triangle"),
-    accurate for needle-like triangles where ``acos`` of the law of cosines loses half
-    the digits. Returns NaN where the sides do not close a triangle.
-    """
-    a, b, c = np.broadcast_arrays(np.asarray(a, float), np.asarray(b, float), np.asarray(c, float))
-    big = np.maximum(a, b)
-    small = np.minimum(a, b)
-    mu = np.where(small >= c, c - (big - small), small - (big - c))
-    num = ((big - small) + c) * mu
-    den = (big + (small + c)) * ((big - c) + small)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        ratio = num / den
-        out = 2.0 * np.arctan(np.sqrt(ratio))
-    # exact degenerate cases: num == 0 -> angle 0; den == 0 -> angle pi
-    out = np.where((den == 0) & (num >= 0), math.pi, out)
-    out = np.where(ratio < 0, np.nan, out)
-    return out
 
 
 @dataclass(frozen=True)
@@ -92,25 +71,6 @@ def crank_angles(steps: int) -> np.ndarray:
     if int(steps) != steps or steps < 3:
         raise MechanismError("mechanism.steps", f"must be a whole number >= 3, got {steps!r}")
     return np.linspace(0.0, 2.0 * math.pi, int(steps))
-
-
-def _unit(angle):
-    return np.stack([np.cos(angle), np.sin(angle)], axis=-1)
-
-
-def _normal(angle):
-    return np.stack([-np.sin(angle), np.cos(angle)], axis=-1)
-
-
-def _rigid_velocity(v_ref, r, omega):
-    """Velocity of a point at offset ``r`` (n,2) on a body turning at ``omega`` (n,)."""
-    return v_ref + omega[:, None] * np.stack([-r[:, 1], r[:, 0]], axis=-1)
-
-
-def _rigid_acceleration(a_ref, r, omega, alpha):
-    """Acceleration of a point at offset ``r`` (n,2): a_ref + alpha k x r - omega^2 r."""
-    return (a_ref + alpha[:, None] * np.stack([-r[:, 1], r[:, 0]], axis=-1)
-            - (omega**2)[:, None] * r)
 
 
 def fourbar_toggle_margins(linkage: FourBar) -> tuple[float, float]:
@@ -177,56 +137,19 @@ def _toggle_warnings(mu: np.ndarray, theta2: np.ndarray) -> tuple[str, ...]:
 def solve_fourbar(linkage: FourBar, speed: float, steps: int = 5000) -> Motion:
     """Four-bar motion over one crank revolution at ``speed`` rad/s (constant)."""
     _fourbar_revolvability(linkage)
-    b2, b3, b4, d = linkage.crank, linkage.coupler, linkage.rocker, linkage.ground
-    th2 = crank_angles(steps)
-    n = th2.size
-    w2 = np.full(n, float(speed))
-    a2 = np.zeros(n)
-    e2 = _unit(th2)
-    A = b2 * e2
-    diag = np.array([d, 0.0]) - A                       # A -> O4
-    r = np.hypot(diag[:, 0], diag[:, 1])
-    psi = np.arctan2(diag[:, 1], diag[:, 0])
-    phi_a = triangle_angle(b3, r, b4)                    # angle at A, opposite the rocker
-    th3 = psi + linkage.sign * phi_a
-    B = A + b3 * _unit(th3)
-    O4 = np.array([d, 0.0])
-    th4 = np.arctan2(B[:, 1] - O4[1], B[:, 0] - O4[0])
-    mu = triangle_angle(b3, b4, r)                       # angle at B, opposite A-O4
+    b = fourbar_motion(linkage.crank, linkage.coupler, linkage.rocker, linkage.ground, linkage.sign,
+                       float(speed), crank_angles(steps))
+    return _single(linkage, speed, b)
 
-    # velocities: b3 w3 n3 - b4 w4 n4 = -b2 w2 n2  (2x2, Cramer, det = b3 b4 sin(th3 - th4))
-    s3, c3, s4, c4 = np.sin(th3), np.cos(th3), np.sin(th4), np.cos(th4)
-    det = b3 * b4 * (s3 * c4 - c3 * s4)
 
-    def solve(r1, r2):
-        x3 = (-b4 * c4 * r1 - b4 * s4 * r2) / det
-        x4 = (-b3 * c3 * r1 - b3 * s3 * r2) / det
-        return x3, x4
-
-    rhs = -b2 * w2[:, None] * _normal(th2)
-    w3, w4 = solve(rhs[:, 0], rhs[:, 1])
-    # accelerations: b3 a3 n3 - b4 a4 n4 = -b2 a2 n2 + b2 w2^2 e2 + b3 w3^2 e3 - b4 w4^2 e4
-    rhs = (-b2 * a2[:, None] * _normal(th2) + b2 * (w2**2)[:, None] * e2
-           + b3 * (w3**2)[:, None] * _unit(th3) - b4 * (w4**2)[:, None] * _unit(th4))
-    al3, al4 = solve(rhs[:, 0], rhs[:, 1])
-
-    zeros2 = np.zeros((n, 2))
-    vA = _rigid_velocity(zeros2, A, w2)
-    aA = _rigid_acceleration(zeros2, A, w2, a2)
-    rB = B - O4
-    vB = _rigid_velocity(zeros2, rB, w4)
-    aB = _rigid_acceleration(zeros2, rB, w4, al4)
-    return Motion(
-        linkage=linkage, speed=float(speed), theta2=th2,
-        theta=np.stack([th2, th3, th4], axis=1),
-        omega=np.stack([w2, w3, w4], axis=1),
-        alpha=np.stack([a2, al3, al4], axis=1),
-        points={"O2": np.zeros((n, 2)), "A": A, "B": B, "O4": np.broadcast_to(O4, (n, 2)).copy()},
-        velocities={"O2": zeros2, "A": vA, "B": vB, "O4": zeros2},
-        accelerations={"O2": zeros2, "A": aA, "B": aB, "O4": zeros2},
-        transmission_angle=mu,
-        warnings=_toggle_warnings(mu, th2),
-    )
+def _single(linkage, speed: float, b: BatchMotion) -> Motion:
+    """The :class:`Motion` of the batch's only setting."""
+    mu = b.transmission_angle[0]
+    return Motion(linkage=linkage, speed=float(speed), theta2=b.theta2, theta=b.theta[:, 0].T.copy(),
+                  omega=b.omega[:, 0].T.copy(), alpha=b.alpha[:, 0].T.copy(),
+                  points={k: v[0] for k, v in b.points.items()}, velocities={k: v[0] for k, v in b.velocities.items()},
+                  accelerations={k: v[0] for k, v in b.accelerations.items()}, transmission_angle=mu,
+                  warnings=_toggle_warnings(mu, b.theta2))
 
 
 def _slidercrank_revolvability(linkage: SliderCrank) -> None:
@@ -249,41 +172,9 @@ def _slidercrank_revolvability(linkage: SliderCrank) -> None:
 def solve_slidercrank(linkage: SliderCrank, speed: float, steps: int = 5000) -> Motion:
     """Slider-crank motion over one crank revolution at ``speed`` rad/s (constant)."""
     _slidercrank_revolvability(linkage)
-    b2, b3, e = linkage.crank, linkage.coupler, linkage.offset
-    th2 = crank_angles(steps)
-    n = th2.size
-    w2 = np.full(n, float(speed))
-    a2 = np.zeros(n)
-    s2, c2 = np.sin(th2), np.cos(th2)
-    A = b2 * _unit(th2)
-    sin3 = (e - b2 * s2) / b3
-    cos3 = linkage.sign * np.sqrt((1.0 - sin3) * (1.0 + sin3))
-    th3 = np.arctan2(sin3, cos3)
-    B = np.stack([A[:, 0] + b3 * cos3, np.full(n, e)], axis=1)
-    # y_B constant: b2 w2 c2 + b3 w3 c3 = 0
-    w3 = -b2 * w2 * c2 / (b3 * cos3)
-    al3 = (-b2 * (a2 * c2 - w2**2 * s2) + b3 * w3**2 * sin3) / (b3 * cos3)
-    vA = _rigid_velocity(np.zeros((n, 2)), A, w2)
-    aA = _rigid_acceleration(np.zeros((n, 2)), A, w2, a2)
-    rAB = B - A
-    vB = _rigid_velocity(vA, rAB, w3)
-    aB = _rigid_acceleration(aA, rAB, w3, al3)
-    vB[:, 1] = 0.0
-    aB[:, 1] = 0.0
-    # transmission angle: between the coupler and the normal to the slider's line
-    mu = math.pi / 2 - np.abs(np.arcsin(np.clip(sin3, -1.0, 1.0)))
-    zeros = np.zeros(n)
-    return Motion(
-        linkage=linkage, speed=float(speed), theta2=th2,
-        theta=np.stack([th2, th3, zeros], axis=1),
-        omega=np.stack([w2, w3, zeros], axis=1),
-        alpha=np.stack([a2, al3, zeros], axis=1),
-        points={"O2": np.zeros((n, 2)), "A": A, "B": B},
-        velocities={"O2": np.zeros((n, 2)), "A": vA, "B": vB},
-        accelerations={"O2": np.zeros((n, 2)), "A": aA, "B": aB},
-        transmission_angle=mu,
-        warnings=_toggle_warnings(mu, th2),
-    )
+    b = slidercrank_motion(linkage.crank, linkage.coupler, linkage.offset, linkage.sign, float(speed),
+                           crank_angles(steps))
+    return _single(linkage, speed, b)
 
 
 def solve_motion(linkage: FourBar | SliderCrank, speed: float, steps: int = 5000) -> Motion:
