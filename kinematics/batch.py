@@ -17,7 +17,6 @@ O4 and O2 in turn, and the crank's moment gives the motor torque.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from types import SimpleNamespace
 
@@ -26,26 +25,28 @@ import numpy as np
 from .massmodel import MassModel, fourbar_bodies, slidercrank_bodies
 
 
-def triangle_angle(a, b, c):
-    """Angle (rad) opposite side ``c`` in the triangle with sides ``a, b, c``.
-
-    Kahan's formula ("Miscalculating area and angles of a needle-like triangle"),
-    accurate for needle-like triangles where ``acos`` of the law of cosines loses half
-    the digits. Returns NaN where the sides do not close a triangle.
-    """
-    a, b, c = np.broadcast_arrays(np.asarray(a, float), np.asarray(b, float), np.asarray(c, float))
-    big = np.maximum(a, b)
-    small = np.minimum(a, b)
+def half_angle_tangent(a, b, c):
+    """tan(gamma / 2) of the angle gamma opposite side ``c`` in the triangle with sides
+    ``a, b, c``, by Kahan's formula ("Miscalculating area and angles of a needle-like
+    triangle"): accurate for needle-like triangles, where ``acos`` of the law of cosines
+    loses half the digits. NaN where the sides do not close a triangle; inf at gamma = pi."""
+    a, b, c = np.asarray(a, float), np.asarray(b, float), np.asarray(c, float)
+    big, small = np.maximum(a, b), np.minimum(a, b)          # the bars: small arrays, not broadcast
     mu = np.where(small >= c, c - (big - small), small - (big - c))
     num = ((big - small) + c) * mu
     den = (big + (small + c)) * ((big - c) + small)
     with np.errstate(invalid="ignore", divide="ignore"):
-        ratio = num / den
-        out = 2.0 * np.arctan(np.sqrt(ratio))
-    # exact degenerate cases: num == 0 -> angle 0; den == 0 -> angle pi
-    out = np.where((den == 0) & (num >= 0), math.pi, out)
-    out = np.where(ratio < 0, np.nan, out)
+        out = np.sqrt(num / den)                             # NaN where num / den < 0 (no triangle)
+    degenerate = den == 0                                    # den == 0 -> angle pi (0/0 included)
+    if np.any(degenerate):
+        out = np.where(degenerate & (num >= 0), np.inf, out)
     return out
+
+
+def triangle_angle(a, b, c):
+    """Angle (rad) opposite side ``c`` in the triangle with sides ``a, b, c``; see
+    :func:`half_angle_tangent` (NaN where the sides do not close a triangle)."""
+    return 2.0 * np.arctan(half_angle_tangent(a, b, c))
 
 
 @dataclass(frozen=True)
@@ -109,6 +110,12 @@ def _cross(r: np.ndarray, f: np.ndarray) -> np.ndarray:
     return r[..., 0] * f[..., 1] - r[..., 1] * f[..., 0]
 
 
+def _angle_between(u: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """(rad, in [0, pi]) the angle between vectors ``u`` and ``v`` ``(..., 2)``: atan2 of
+    |cross| and dot, accurate at every angle (no acos)."""
+    return np.arctan2(np.abs(_cross(u, v)), u[..., 0] * v[..., 0] + u[..., 1] * v[..., 1])
+
+
 def _crank(b2, w2, th2):
     """Crank pin A: position, velocity, acceleration (constant speed)."""
     A = _vec(b2 * np.cos(th2), b2 * np.sin(th2))
@@ -116,45 +123,43 @@ def _crank(b2, w2, th2):
     return A, w * _perp(A), -(w**2) * A
 
 
-def fourbar_motion(crank, coupler, rocker, ground, sign, speed, theta2) -> BatchMotion:
-    """Four-bar kinematics for settings ``(S,)`` (lengths m, ``sign`` +1 open / -1
-    crossed, ``speed`` rad/s) at the crank angles ``theta2`` ``(T,)``. The settings must
-    revolve (see :func:`kinematics.motion.fourbar_toggle_margins`); elsewhere the results
-    are NaN."""
+def _fourbar_block(crank, coupler, rocker, ground, sign, speed, theta2) -> BatchMotion:
     b2, b3, b4, d, sign, w2 = (_column(x) for x in (crank, coupler, rocker, ground, sign, speed))
     th2 = np.asarray(theta2, float)[None, :]
-    A, vA, aA = _crank(b2, np.broadcast_to(w2, np.broadcast_shapes(w2.shape, th2.shape)), th2)
-    dx, dy = d - A[..., 0], -A[..., 1]
+    c2, s2 = np.cos(th2), np.sin(th2)
+    Ax, Ay = b2 * c2, b2 * s2
+    dx, dy = d - Ax, -Ay                                     # A -> O4
     r = np.hypot(dx, dy)
-    th3 = np.arctan2(dy, dx) + sign * triangle_angle(b3, r, b4)
-    c3, s3 = np.cos(th3), np.sin(th3)
-    B = _vec(A[..., 0] + b3 * c3, A[..., 1] + b3 * s3)
-    rB = B - _vec(d, np.zeros_like(d))
-    th4 = np.arctan2(rB[..., 1], rB[..., 0])
-    c4, s4 = np.cos(th4), np.sin(th4)
+    t = half_angle_tangent(b3, r, b4)                        # tan(phi / 2), phi the angle at A
+    cphi, sphi = (1.0 - t * t) / (1.0 + t * t), sign * 2.0 * t / (1.0 + t * t)
+    ex, ey = dx / r, dy / r
+    c3, s3 = ex * cphi - ey * sphi, ey * cphi + ex * sphi     # coupler direction: A->O4 turned by phi
+    Bx, By = Ax + b3 * c3, Ay + b3 * s3
+    rBx, rBy = Bx - d, By                                    # O4 -> B
+    c4, s4 = rBx / b4, rBy / b4
     det = b3 * b4 * (s3 * c4 - c3 * s4)
-    w2 = np.broadcast_to(w2, th3.shape)
 
     def cramer(r1, r2):          # b3 x3 n3 - b4 x4 n4 = (r1, r2)
         return (-b4 * c4 * r1 - b4 * s4 * r2) / det, (-b3 * c3 * r1 - b3 * s3 * r2) / det
 
-    w3, w4 = cramer(b2 * w2 * np.sin(th2), -b2 * w2 * np.cos(th2))
-    al3, al4 = cramer(-aA[..., 0] + b3 * w3**2 * c3 - b4 * w4**2 * c4,
-                      -aA[..., 1] + b3 * w3**2 * s3 - b4 * w4**2 * s4)
-    vB = w4[..., None] * _perp(rB)
-    aB = al4[..., None] * _perp(rB) - (w4**2)[..., None] * rB
+    w3, w4 = cramer(b2 * w2 * s2, -b2 * w2 * c2)
+    w22 = w2 * w2
+    al3, al4 = cramer(w22 * Ax + b3 * w3**2 * c3 - b4 * w4**2 * c4, w22 * Ay + b3 * w3**2 * s3 - b4 * w4**2 * s4)
+    A, rB = _vec(Ax, Ay), _vec(rBx, rBy)
     zero = np.zeros_like(A)
-    O4 = zero + _vec(d, np.zeros_like(d))
-    th2b = np.broadcast_to(th2, th3.shape)
+    shape = Ax.shape
     return BatchMotion(
         "four-bar", {"crank": b2, "coupler": b3, "rocker": b4, "ground": d}, np.asarray(theta2, float),
-        np.stack([th2b, th3, th4]), np.stack([w2, w3, w4]), np.stack([np.zeros_like(w2), al3, al4]),
-        {"O2": zero, "A": A, "B": B, "O4": O4}, {"O2": zero, "A": vA, "B": vB, "O4": zero},
-        {"O2": zero, "A": aA, "B": aB, "O4": zero}, triangle_angle(b3, b4, r))
+        np.stack([np.broadcast_to(th2, shape), np.arctan2(s3, c3), np.arctan2(rBy, rBx)]),
+        np.stack(np.broadcast_arrays(w2, w3, w4)), np.stack([np.zeros(shape), al3, al4]),
+        {"O2": zero, "A": A, "B": _vec(Bx, By), "O4": zero + _vec(d, np.zeros_like(d))},
+        {"O2": zero, "A": w2[..., None] * _perp(A), "B": w4[..., None] * _perp(rB), "O4": zero},
+        {"O2": zero, "A": -w22[..., None] * A, "B": al4[..., None] * _perp(rB) - (w4**2)[..., None] * rB,
+         "O4": zero},
+        _angle_between(_vec(Ax - Bx, Ay - By), -rB))
 
 
-def slidercrank_motion(crank, coupler, offset, sign, speed, theta2) -> BatchMotion:
-    """Slider-crank kinematics for settings ``(S,)``; B slides on y = ``offset`` (m)."""
+def _slidercrank_block(crank, coupler, offset, sign, speed, theta2) -> BatchMotion:
     b2, b3, e, sign, w2 = (_column(x) for x in (crank, coupler, offset, sign, speed))
     th2 = np.asarray(theta2, float)[None, :]
     w2 = np.broadcast_to(w2, np.broadcast_shapes(w2.shape, th2.shape))
@@ -208,9 +213,7 @@ def _body(motion: BatchMotion, index: int, bar, origin: str) -> BatchBody:
                      motion.accelerations[origin] + al[..., None] * pr - (w**2)[..., None] * r, w, al)
 
 
-def newton_euler(motion: BatchMotion, masses: MassModel = MassModel(), gravity: float = 0.0) -> BatchDynamics:
-    """Rigid-body Newton-Euler reactions and motor torque in closed form (module doc);
-    ``gravity`` (m/s^2) acts along -y when non-zero."""
+def _newton_euler_block(motion: BatchMotion, masses: MassModel, gravity: float) -> BatchDynamics:
     crank, coupler, out = bodies(motion, masses)
     g = np.array([0.0, -gravity])
     P = motion.points
@@ -240,10 +243,7 @@ def newton_euler(motion: BatchMotion, masses: MassModel = MassModel(), gravity: 
     return BatchDynamics(reactions, torque, (crank, coupler, out))
 
 
-def seed_2013(motion: BatchMotion, masses: MassModel = MassModel()) -> BatchDynamics:
-    """Seed 000 Anexo I, equations as written (four-bar only, no gravity), solved in
-    closed form: its 9 x 9 system per step reduces to a 2 x 2 one in R34 (rows 5 and 8),
-    then back-substitution. Its unknowns map as O2 = R12, A = -R23, B = -R34, O4 = R41."""
+def _seed_2013_block(motion: BatchMotion, masses: MassModel) -> BatchDynamics:
     L = motion.lengths
     b2, b3, b4 = L["crank"], L["coupler"], L["rocker"]
     l2, l3, l4 = masses.crank_rail_length, masses.coupler_rail_length, masses.rocker_rail_length
@@ -280,3 +280,76 @@ def seed_2013(motion: BatchMotion, masses: MassModel = MassModel()) -> BatchDyna
     torque = b2 * s2 * x2 - b2 * c2 * x3
     reactions = {"O2": R12, "A": -_vec(x2, x3), "B": -_vec(x4, x5), "O4": _vec(BB6 + x4, BB7 + x5)}
     return BatchDynamics(reactions, torque, ())
+
+
+#: elements (settings x steps) evaluated at once: temporaries stay in cache and are reused
+#: instead of being mapped, faulted in and zeroed afresh for every operation
+BLOCK_ELEMENTS = 1 << 17
+
+
+def _step_blocks(settings: int, steps: int) -> list[slice]:
+    size = max(1, BLOCK_ELEMENTS // max(settings, 1))
+    return [slice(i, min(i + size, steps)) for i in range(0, steps, size)]
+
+
+def _join(parts: list, axis: int) -> np.ndarray:
+    return parts[0] if len(parts) == 1 else np.concatenate(parts, axis=axis)
+
+
+def _join_dict(parts: list[dict]) -> dict:
+    return {k: _join([p[k] for p in parts], 1) for k in parts[0]}
+
+
+def _join_motion(parts: list[BatchMotion], theta2: np.ndarray) -> BatchMotion:
+    p0 = parts[0]
+    return BatchMotion(p0.kind, p0.lengths, theta2, *(_join([getattr(p, f) for p in parts], 2)
+                                                      for f in ("theta", "omega", "alpha")),
+                       _join_dict([p.points for p in parts]), _join_dict([p.velocities for p in parts]),
+                       _join_dict([p.accelerations for p in parts]),
+                       _join([p.transmission_angle for p in parts], 1))
+
+
+def _slice_motion(m: BatchMotion, sl: slice) -> BatchMotion:
+    return BatchMotion(m.kind, m.lengths, m.theta2[sl], m.theta[:, :, sl], m.omega[:, :, sl], m.alpha[:, :, sl],
+                       {k: v[:, sl] for k, v in m.points.items()}, {k: v[:, sl] for k, v in m.velocities.items()},
+                       {k: v[:, sl] for k, v in m.accelerations.items()}, m.transmission_angle[:, sl])
+
+
+def _join_dynamics(parts: list[BatchDynamics]) -> BatchDynamics:
+    bodies = tuple(BatchBody(b[0].mass, b[0].com, b[0].inertia_com,
+                             *(_join([getattr(x, f) for x in b], 1)
+                               for f in ("position", "velocity", "acceleration", "omega", "alpha")))
+                   for b in zip(*(p.bodies for p in parts))) if parts[0].bodies else ()
+    return BatchDynamics(_join_dict([p.reactions for p in parts]), _join([p.torque for p in parts], 1), bodies)
+
+
+def fourbar_motion(crank, coupler, rocker, ground, sign, speed, theta2) -> BatchMotion:
+    """Four-bar kinematics for settings ``(S,)`` (lengths m, ``sign`` +1 open / -1
+    crossed, ``speed`` rad/s) at the crank angles ``theta2`` ``(T,)``. The settings must
+    revolve (see :func:`kinematics.motion.fourbar_toggle_margins`); elsewhere the results
+    are NaN. Evaluated in blocks of steps (:data:`BLOCK_ELEMENTS`)."""
+    theta2 = np.asarray(theta2, float)
+    return _join_motion([_fourbar_block(crank, coupler, rocker, ground, sign, speed, theta2[sl])
+                         for sl in _step_blocks(np.size(crank), theta2.size)], theta2)
+
+
+def slidercrank_motion(crank, coupler, offset, sign, speed, theta2) -> BatchMotion:
+    """Slider-crank kinematics for settings ``(S,)``; B slides on y = ``offset`` (m)."""
+    theta2 = np.asarray(theta2, float)
+    return _join_motion([_slidercrank_block(crank, coupler, offset, sign, speed, theta2[sl])
+                         for sl in _step_blocks(np.size(crank), theta2.size)], theta2)
+
+
+def newton_euler(motion: BatchMotion, masses: MassModel = MassModel(), gravity: float = 0.0) -> BatchDynamics:
+    """Rigid-body Newton-Euler reactions and motor torque in closed form (module doc);
+    ``gravity`` (m/s^2) acts along -y when non-zero."""
+    return _join_dynamics([_newton_euler_block(_slice_motion(motion, sl), masses, gravity)
+                           for sl in _step_blocks(motion.theta.shape[1], motion.theta2.size)])
+
+
+def seed_2013(motion: BatchMotion, masses: MassModel = MassModel()) -> BatchDynamics:
+    """Seed 000 Anexo I, equations as written (four-bar only, no gravity), solved in
+    closed form: its 9 x 9 system per step reduces to a 2 x 2 one in R34 (rows 5 and 8),
+    then back-substitution. Its unknowns map as O2 = R12, A = -R23, B = -R34, O4 = R41."""
+    return _join_dynamics([_seed_2013_block(_slice_motion(motion, sl), masses)
+                           for sl in _step_blocks(motion.theta.shape[1], motion.theta2.size)])

@@ -129,7 +129,7 @@ def _toggle_warnings(mu: np.ndarray, theta2: np.ndarray) -> tuple[str, ...]:
     distance = np.minimum(mu, math.pi - mu)
     k = int(np.argmin(distance))
     if distance[k] < NEAR_TOGGLE_WARNING_RAD:
-        return (f"near a toggle at crank angle {math.degrees(theta2[k]):.4g} deg: transmission angle "
+        return (f"near a toggle at crank angle {math.degrees(theta2[k]) % 360.0:.4g} deg: transmission angle "
                 f"{math.degrees(mu[k]):.6g} deg; reactions grow like 1/sin(mu) there",)
     return ()
 
@@ -145,8 +145,8 @@ def solve_fourbar(linkage: FourBar, speed: float, steps: int = 5000) -> Motion:
 def _single(linkage, speed: float, b: BatchMotion) -> Motion:
     """The :class:`Motion` of the batch's only setting."""
     mu = b.transmission_angle[0]
-    return Motion(linkage=linkage, speed=float(speed), theta2=b.theta2, theta=b.theta[:, 0].T.copy(),
-                  omega=b.omega[:, 0].T.copy(), alpha=b.alpha[:, 0].T.copy(),
+    return Motion(linkage=linkage, speed=float(speed), theta2=b.theta2, theta=b.theta[:, 0].T,
+                  omega=b.omega[:, 0].T, alpha=b.alpha[:, 0].T,
                   points={k: v[0] for k, v in b.points.items()}, velocities={k: v[0] for k, v in b.velocities.items()},
                   accelerations={k: v[0] for k, v in b.accelerations.items()}, transmission_angle=mu,
                   warnings=_toggle_warnings(mu, b.theta2))
