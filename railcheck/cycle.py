@@ -69,40 +69,51 @@ def unit_cases(scene, name: str, geo, holes: list[str]) -> dict:
 
 
 def _rail_inertia_applies(scene, name: str) -> bool:
-    return ("rail-inertia" in scene.check.effects and PARTS[name].bar is not None
-            and name not in scene.check.loads and scene.mechanism is not None)
+    return "rail-inertia" in scene.check.effects and PARTS[name].bar is not None and name not in scene.check.loads
+
+
+def source_coefficients(scene, name: str, src, reactions: dict, angles: dict, accelerations: dict, omega: dict,
+                        alpha: dict, density: float) -> np.ndarray:
+    """(..., k): one load source's coefficients in the order of :func:`unit_cases`, for
+    arrays with any leading dimensions (one setting's steps, or settings x steps):
+    ``reactions`` and ``accelerations`` joint -> (..., 2) ground frame (N, m/s^2);
+    ``angles``, ``omega``, ``alpha`` bar -> (...) (rad, rad/s, rad/s^2)."""
+    from railcheck.loads.histories import bolt_history, gravity_history, rail_inertia_history
+
+    force = src.sign * reactions[src.joint]
+    angle = angles[src.axes_bar] if src.axes_bar else np.zeros(force.shape[:-1])
+    cols = [bolt_history(force, angle, scene.check.factor)]
+    gravity, inertia = "gravity" in scene.check.effects, _rail_inertia_applies(scene, name)
+    if gravity or inertia:
+        cols.append(gravity_history(angle, density, GRAVITY) if gravity else np.zeros(force.shape))
+    if inertia:
+        bar = PARTS[name].bar
+        rigid = rail_inertia_history(accelerations[PIVOT_JOINT[bar]], angle, omega[bar], alpha[bar], density)
+        cols[-1] = cols[-1] + rigid[..., :2]
+        cols.append(rigid[..., 2:])
+    return np.concatenate(cols, axis=-1)
 
 
 def source_histories(scene, kin, name: str, holes: list[str], density: float) -> list[SourceHistory]:
     """The coefficient history of every load source of the part, columns in the order
     of :func:`unit_cases`."""
-    from railcheck.loads.histories import bolt_history, gravity_history, rail_inertia_history
+    from railcheck.loads.histories import gravity_history
 
-    gravity = "gravity" in scene.check.effects
     if name in scene.check.loads:
         load = scene.check.loads[name]
         c = [len(holes) * load.longitudinal, len(holes) * load.transverse]
-        if gravity or _rail_inertia_applies(scene, name):
-            c += list(gravity_history(np.zeros(1), density, GRAVITY)[0]) if gravity else [0.0, 0.0]
+        if "gravity" in scene.check.effects:
+            c += list(gravity_history(np.zeros(1), density, GRAVITY)[0])
         return [SourceHistory("explicit", np.array([c]), np.zeros(1), 0)]
     dyn, motion = kin.dynamics, kin.motion
+    by_bar = lambda a: {bar: a[:, i] for bar, i in BAR_INDEX.items()}  # noqa: E731
     out = []
     for src in PARTS[name].sources:
         if src.joint not in dyn.reactions:
             continue
-        angle = motion.theta[:, BAR_INDEX[src.axes_bar]] if src.axes_bar else np.zeros(motion.steps)
-        force = src.sign * dyn.reactions[src.joint]
-        cols = [bolt_history(force, angle, scene.check.factor)]
-        inertia = _rail_inertia_applies(scene, name)
-        if gravity or inertia:
-            cols.append(gravity_history(angle, density, GRAVITY) if gravity else np.zeros((motion.steps, 2)))
-        if inertia:
-            bar = BAR_INDEX[PARTS[name].bar]
-            rigid = rail_inertia_history(motion.accelerations[PIVOT_JOINT[PARTS[name].bar]], angle,
-                                         motion.omega[:, bar], motion.alpha[:, bar], density)
-            cols[-1] = cols[-1] + rigid[:, :2]
-            cols.append(rigid[:, 2:])
-        C = np.column_stack(cols)
+        C = source_coefficients(scene, name, src, dyn.reactions, by_bar(motion.theta), motion.accelerations,
+                                by_bar(motion.omega), by_bar(motion.alpha), density)
+        force = dyn.reactions[src.joint]
         out.append(SourceHistory(src.joint, C, motion.theta2, int(np.argmax(np.hypot(force[:, 0], force[:, 1])))))
     return out
 

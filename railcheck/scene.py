@@ -44,6 +44,9 @@ def _in_range(value: float, kind: str, name: str, magnitude: bool = False) -> fl
                                f"{hi_text} this tool accepts")
     return value
 BOLT_POSITIONS = ("worst", "actual")
+SWEEP_KINDS = ("four-bar", "slider-crank")
+SWEEP_BARS = {"four-bar": ("crank", "coupler", "rocker", "ground"), "slider-crank": ("crank", "coupler", "offset")}
+SWEEP_FORMATS = ("parquet", "csv")
 FORMULATIONS = ("newton-euler", "seed-2013")
 DEFAULT_SCENE = "default.toml"
 
@@ -104,6 +107,23 @@ class OutputSpec:
 
 
 @dataclass(frozen=True)
+class SweepSpec:
+    """``railcheck sweep`` settings (SI): the kinds swept, each bar's [min, max] range (m)
+    narrowing the rig's grid, the crank speeds (rad/s), steps per revolution, the
+    assembly, ``settings`` extra settings per kind (dicts of bar -> m, on the grid or not),
+    the working-memory budget (bytes) and the table format."""
+
+    kinds: tuple[str, ...] = SWEEP_KINDS
+    ranges: dict = field(default_factory=dict)
+    speeds: tuple[float, ...] = (2 * math.pi,)
+    steps: int = 720
+    assembly: str = "open"
+    settings: dict = field(default_factory=dict)
+    memory: float = 512e6
+    format: str = "parquet"
+
+
+@dataclass(frozen=True)
 class Scene:
     """A parsed scene, SI inside. ``raw`` is the TOML as read (for the summary)."""
 
@@ -116,6 +136,7 @@ class Scene:
     raw: dict[str, Any]
     source: str
     fatigue: FatigueSpec = FatigueSpec()
+    sweep: SweepSpec = SweepSpec()
 
 
 _ALLOWED = {
@@ -127,6 +148,8 @@ _ALLOWED = {
     "loads": None,       # part names, checked below
     "geometry": None,    # catalogue keys, checked below
     "fatigue": {"surface", "reliability", "load", "criterion", "min_safety"},
+    "sweep": {"kind", "crank", "coupler", "rocker", "ground", "offset", "speeds", "steps", "assembly", "settings",
+              "memory", "format"},
 }
 
 
@@ -299,6 +322,58 @@ def _fatigue(table: dict) -> FatigueSpec:
     return FatigueSpec(surface, float(reliability), load, criterion, float(n))
 
 
+def _sweep(table: dict) -> SweepSpec:
+    p = "sweep."
+    _unknown(table, _ALLOWED["sweep"], p)
+    kind = table.get("kind", "both")
+    kinds = SWEEP_KINDS if kind == "both" else (_string_choice(kind, SWEEP_KINDS + ("both",), p + "kind"),)
+    ranges = {}
+    for bar in ("crank", "coupler", "rocker", "ground", "offset"):
+        if bar not in table:
+            continue
+        value = table[bar]
+        if not isinstance(value, list) or len(value) != 2:
+            raise InputError(p + bar, f"must be a [min, max] pair of lengths, e.g. [\"180 mm\", \"660 mm\"], got {value!r}")
+        lo, hi = (parse_quantity(v, "length", p + bar) for v in value)
+        if lo > hi:
+            raise InputError(p + bar, f"min {lo*1e3:g} mm is above max {hi*1e3:g} mm")
+        ranges[bar] = (lo, hi)
+    speeds = table.get("speeds", ["1 Hz"])
+    if not isinstance(speeds, list) or not speeds:
+        raise InputError(p + "speeds", f"must be a non-empty list of speeds, e.g. [\"0.5 Hz\", \"1 Hz\"], got {speeds!r}")
+    speeds = tuple(_in_range(parse_quantity(v, "angular_speed", p + "speeds", positive=True, allow_zero=False),
+                             "speed", p + "speeds") for v in speeds)
+    steps = table.get("steps", 720)
+    if isinstance(steps, bool) or not isinstance(steps, int) or not 8 <= steps <= 100_000:
+        raise InputError(p + "steps", f"must be a whole number from 8 to 100000, got {steps!r}")
+    assembly = _string_choice(table.get("assembly", "open"), ("open", "crossed"), p + "assembly")
+    memory = parse_quantity(table.get("memory", "512 MB"), "memory", p + "memory", positive=True, allow_zero=False)
+    if not 1e5 <= memory <= 1e12:
+        raise InputError(p + "memory", "must be from 100 kB to 1000 GB")
+    fmt = _string_choice(table.get("format", "parquet"), SWEEP_FORMATS, p + "format")
+    return SweepSpec(kinds, ranges, speeds, steps, assembly, _sweep_settings(table.get("settings", []), kinds),
+                     float(memory), fmt)
+
+
+def _sweep_settings(items: Any, kinds: tuple[str, ...]) -> dict:
+    """``[[sweep.settings]]`` entries: tables with every bar of one kind (lengths)."""
+    p = "sweep.settings"
+    if not isinstance(items, list) or not all(isinstance(x, dict) for x in items):
+        raise InputError(p, "must be a list of tables, each with the bar lengths of one setting")
+    out: dict[str, list] = {}
+    for i, item in enumerate(items):
+        kind = next((k for k in kinds if set(item) == set(SWEEP_BARS[k])), None)
+        if kind is None:
+            wanted = " or ".join("{" + ", ".join(SWEEP_BARS[k]) + "}" for k in kinds)
+            raise InputError(f"{p}[{i}]", f"must give exactly the bars {wanted}, got {sorted(item)}")
+        setting = {}
+        for bar, value in item.items():
+            v = parse_quantity(value, "length", f"{p}[{i}].{bar}")
+            setting[bar] = v if bar == "offset" else _in_range(v, "length", f"{p}[{i}].{bar}")
+        out.setdefault(kind, []).append(setting)
+    return out
+
+
 def parse_scene(data: dict[str, Any], source: str = "<scene>") -> Scene:
     """Build a :class:`Scene` from a parsed TOML mapping."""
     _unknown(data, set(_ALLOWED), "")
@@ -314,11 +389,11 @@ def parse_scene(data: dict[str, Any], source: str = "<scene>") -> Scene:
         check = _check(data["check"], data.get("loads", {}))
     elif "loads" in data:
         raise InputError("loads", "explicit loads need a [check] table that lists their parts")
-    if check is None and mechanism is None:
+    if check is None and mechanism is None and "sweep" not in data:
         raise InputError("mechanism", "missing: a scene needs a [mechanism] table, a [check] table, or both")
     if check is not None:
         needs_linkage = [p for p in check.parts if p not in check.loads]
-        if needs_linkage and mechanism is None:
+        if needs_linkage and mechanism is None and "sweep" not in data:
             raise InputError("mechanism", f"missing: parts {', '.join(needs_linkage)} take their loads from the "
                                           "linkage (or give them explicit [loads.PART])")
         if "gravity" in check.effects and formulation == "seed-2013":
@@ -332,7 +407,8 @@ def parse_scene(data: dict[str, Any], source: str = "<scene>") -> Scene:
     output = _output(data.get("output", {}))
     geometry = _geometry(data.get("geometry", {}))
     fatigue = _fatigue(data.get("fatigue", {}))
-    return Scene(mechanism, formulation, check, mesh, output, geometry, data, source, fatigue)
+    sweep = _sweep(data.get("sweep", {}))
+    return Scene(mechanism, formulation, check, mesh, output, geometry, data, source, fatigue, sweep)
 
 
 def load_scene(path: str | Path | None) -> Scene:

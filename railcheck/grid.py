@@ -1,0 +1,71 @@
+"""The rig's settings: every bar length the rails' mounting holes allow (seed 000).
+
+Each bar's pivot shaft passes through the first mounting hole of its rail, and its far
+joint's plate is bolted at another hole, so a bar's settable lengths are the distances
+from the first hole to every other one: ``k x pitch`` for ``k = 1 .. holes - 1``. The
+holes follow the size-25 rail catalogue (:class:`geometry.catalogue.RailSpec`: 60 mm
+pitch, 20 mm end distance). The rails:
+
+* crank 700 mm, coupler 1000 mm, rocker 1000 mm (seed 000, Anexo I; the mass model);
+* ground 2500 mm (seed 000, 3.2.1 "L_d = 2500 mm", kept in Anexo I as the limit of d):
+  both pivots O2 and O4 sit on its holes, so d is a multiple of the pitch too;
+* slider-crank: the crank and coupler on their rails; the slider's carriage runs on the
+  ground rail through the crank's pivot, so the offset is 0 (assumed: the seed left the
+  slider-crank undone). Extra settings (any offset, or off the grid) come from
+  ``[[sweep.settings]]``.
+
+All lengths in m.
+"""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+
+GROUND_RAIL_LENGTH = 2.5      # m, seed 000 3.2.1 and Anexo I
+BARS = {"four-bar": ("crank", "coupler", "rocker", "ground"), "slider-crank": ("crank", "coupler", "offset")}
+
+
+def rail_lengths() -> dict[str, float]:
+    """m: the rail each bar's length is set on."""
+    from railcheck.kinematics.massmodel import MassModel
+
+    m = MassModel()
+    return {"crank": m.crank_rail_length, "coupler": m.coupler_rail_length, "rocker": m.rocker_rail_length,
+            "ground": GROUND_RAIL_LENGTH}
+
+
+def settable_lengths(rail_length: float, rail) -> np.ndarray:
+    """m: every distance from a rail's first mounting hole to another of its holes."""
+    holes = np.asarray(rail.hole_positions(rail_length))
+    return np.round(np.round((holes[1:] - holes[0]) / rail.hole_pitch) * rail.hole_pitch, 12)
+
+
+def rig_grid(overrides: dict | None = None) -> dict[str, dict[str, np.ndarray]]:
+    """kind -> bar -> the settable lengths (m), sorted."""
+    from railcheck.geometry.catalogue import with_overrides
+
+    rail = with_overrides(overrides or {})[0]
+    lengths = {bar: settable_lengths(L, rail) for bar, L in rail_lengths().items()}
+    return {"four-bar": {bar: lengths[bar] for bar in BARS["four-bar"]},
+            "slider-crank": {"crank": lengths["crank"], "coupler": lengths["coupler"], "offset": np.zeros(1)}}
+
+
+def narrowed(grid: dict[str, np.ndarray], ranges: dict) -> dict[str, np.ndarray]:
+    """The grid with each bar limited to its [min, max] range (m, inclusive to 1 um)."""
+    out = {}
+    for bar, values in grid.items():
+        lo, hi = ranges.get(bar, (-np.inf, np.inf))
+        out[bar] = values[(values >= lo - 1e-6) & (values <= hi + 1e-6)]
+    return out
+
+
+def settings(kind: str, grid: dict[str, np.ndarray], extra: list[dict] | None = None) -> dict[str, np.ndarray]:
+    """bar -> (N,) lengths (m) of every setting: the grid's Cartesian product (the first
+    bar varies slowest), then the ``extra`` settings."""
+    bars = BARS[kind]
+    combos = list(itertools.product(*(grid[b] for b in bars)))
+    combos += [tuple(e[b] for b in bars) for e in (extra or [])]
+    table = np.array(combos, dtype=float).reshape(-1, len(bars))
+    return {bar: table[:, i].copy() for i, bar in enumerate(bars)}
