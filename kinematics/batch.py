@@ -181,7 +181,8 @@ def _slidercrank_block(crank, coupler, offset, sign, speed, theta2) -> BatchMoti
     mu = np.pi / 2 - np.abs(np.arcsin(np.clip(sin3, -1.0, 1.0)))
     return BatchMotion(
         "slider-crank", {"crank": b2, "coupler": b3, "offset": e}, np.asarray(theta2, float),
-        np.stack([np.broadcast_to(th2, th3.shape), th3, zs]), np.stack([w2, w3, zs]), np.stack([zs, al3, zs]),
+        np.stack([np.broadcast_to(th2, th3.shape), th3, zs]), np.stack(np.broadcast_arrays(w2, w3, zs)),
+        np.stack([zs, al3, zs]),
         {"O2": zero, "A": A, "B": B}, {"O2": zero, "A": vA, "B": vB}, {"O2": zero, "A": aA, "B": aB}, mu)
 
 

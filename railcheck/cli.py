@@ -93,6 +93,23 @@ def _cmd_check(args) -> int:
     return run.exit_status
 
 
+def _cmd_sweep(args) -> int:
+    from .pipeline import Progress
+    from .report import sweep_report, to_json
+    from .scene import load_scene
+    from .sweep import run_sweep
+
+    if args.workers is not None and args.workers < 1:
+        raise InputError("--workers", f"must be at least 1, got {args.workers}")
+    run = run_sweep(load_scene(args.scene), args.out, args.force, args.scheduler, args.workers, args.serial,
+                    Progress(quiet=False))
+    print(to_json(run.summary) if args.json else sweep_report(run))
+    if run.requested != run.target:
+        print(f"railcheck: {run.requested} exists; results written to {run.target} (use --force to replace)",
+              file=sys.stderr)
+    return run.exit_status
+
+
 def _cmd_bench(args) -> int:
     from .bench import run_bench
     from .report import bench_report, to_json
@@ -176,6 +193,21 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true", help="print summary.json to stdout")
     p.add_argument("--force", action="store_true", help="overwrite an existing results directory")
     p.set_defaults(func=_cmd_check)
+
+    p = sub.add_parser("sweep", help="every setting of the rig: checks, verdict, safe speed, motor, bearings",
+                       description="Every bar length the rails' holes allow (narrowed by the scene's [sweep]): "
+                                   "configuration checks, reactions, motor torque, bearing life and, by "
+                                   "superposition of unit loads, each part's stress and fatigue verdict and the "
+                                   "safe crank speed. Writes a table per linkage kind, maps and summary.json.")
+    p.add_argument("scene", nargs="?", help="scene TOML file (default: the built-in scene, the whole rig at 1 Hz)")
+    p.add_argument("--out", metavar="DIR", help="results directory (default: sweep)")
+    p.add_argument("--json", action="store_true", help="print summary.json to stdout")
+    p.add_argument("--force", action="store_true", help="overwrite an existing results directory")
+    p.add_argument("--scheduler", metavar="ADDR", help="a running Dask scheduler, e.g. tcp://host:8786 "
+                                                     "(default: a local cluster for large sweeps)")
+    p.add_argument("--workers", type=int, metavar="N", help="local Dask workers (default: one per core)")
+    p.add_argument("--serial", action="store_true", help="run in this process, without Dask")
+    p.set_defaults(func=_cmd_sweep)
 
     p = sub.add_parser("bench", help="FE benchmarks against analytic solutions")
     bsub = p.add_subparsers(dest="bench", required=True, parser_class=_Parser)

@@ -10,6 +10,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numpy as np
+
 from railcheck.kinematics.checks import CheckResult, configuration_checks, transmission_extremes
 from railcheck.kinematics.dynamics import STANDARD_GRAVITY, Dynamics, inverse_dynamics
 from railcheck.kinematics.errors import MechanismError
@@ -69,6 +71,25 @@ def all_checks(scene: Scene) -> dict[str, CheckResult]:
     return {**configuration_checks(scene.mechanism.linkage), **joints_on_rails(scene)}
 
 
+def joint_reach(rail, bar: str) -> tuple[float, float]:
+    """(shortest, longest) length in m a bar can be set to on its rail: one hole pitch,
+    and the distance from the pivot's hole (hole 0) to the last hole."""
+    from .parts import rail_length
+
+    holes = rail.hole_positions(rail_length(bar))
+    return rail.hole_pitch, (holes[-1] - holes[0] if len(holes) > 1 else 0.0)
+
+
+def joints_on_rails_flags(lengths: dict, rail) -> np.ndarray:
+    """Pass flags of :func:`joints_on_rails` for arrays of settings (bar -> lengths m)."""
+    ok = np.ones(np.shape(next(iter(lengths.values()))), dtype=bool)
+    for bar in ("crank", "coupler", "rocker"):
+        if bar in lengths:
+            lo, hi = joint_reach(rail, bar)
+            ok &= (lengths[bar] <= hi + 1e-9) & (lengths[bar] >= lo - 1e-9)
+    return ok
+
+
 def joints_on_rails(scene: Scene) -> dict[str, CheckResult]:
     """``joints_on_rails``: every bar's far joint must sit on a mounting hole of its rail
     (the rail starts at the bar's pivot hole, hole 0): not beyond the last hole, and at
@@ -83,17 +104,17 @@ def joints_on_rails(scene: Scene) -> dict[str, CheckResult]:
     for bar in ("crank", "coupler", "rocker"):
         if bar not in lengths:
             continue
-        holes = rail.hole_positions(rail_length(bar))
-        reach = holes[-1] - holes[0] if len(holes) > 1 else 0.0
+        lo, reach = joint_reach(rail, bar)
         length = lengths[bar]
         notes.append(f"{bar} {length*1e3:.6g} mm on a {rail_length(bar)*1e3:.6g} mm rail (reach "
-                     f"{rail.hole_pitch*1e3:.6g} to {reach*1e3:.6g} mm)")
+                     f"{lo*1e3:.6g} to {reach*1e3:.6g} mm)")
         if length > reach + 1e-9:
             problems.append(f"{bar} joint {length*1e3:.6g} mm from its pivot is beyond the rail's last hole "
                             f"({reach*1e3:.6g} mm)")
-        elif length < rail.hole_pitch - 1e-9:
-            problems.append(f"{bar} {length*1e3:.6g} mm is shorter than one hole pitch ({rail.hole_pitch*1e3:.6g} mm)")
-    return {"joints_on_rails": CheckResult(not problems, "; ".join(problems) if problems else "; ".join(notes))}
+        elif length < lo - 1e-9:
+            problems.append(f"{bar} {length*1e3:.6g} mm is shorter than one hole pitch ({lo*1e3:.6g} mm)")
+    ok = bool(joints_on_rails_flags({k: np.asarray(v) for k, v in lengths.items()}, rail))
+    return {"joints_on_rails": CheckResult(ok, "; ".join(problems) if problems else "; ".join(notes))}
 
 
 def kinematics_summary(scene: Scene, result: KinematicsResult) -> dict:

@@ -168,3 +168,37 @@ def mechanism_report(run) -> str:
         f"({math.degrees(run.rate):.0f} deg/s)",
         f"tracer ({mech.bodies[mech.tracer[0] - 1].name}.{mech.tracer[1]}): x {x.min():.4f} to {x.max():.4f} mm, "
         f"y {y.min():.4f} to {y.max():.4f} mm"])
+
+
+def sweep_report(run) -> str:
+    """The console report of a finished sweep: per kind the counts, the worst setting,
+    the motor and bearing envelope, then seed 000's hypotheses and where the results are."""
+    s = run.summary
+    lines = [f"sweep: {', '.join(f'{v:g}' for v in s['speeds_Hz'])} Hz, {s['steps']} steps per revolution, "
+             f"{s['assembly']} assembly, effects: {', '.join(s['effects'])}"]
+    mm = lambda d: "/".join(f"{v*1e3:.0f}" for v in d.values()) + " mm"  # noqa: E731
+    for kind, k in s["by_kind"].items():
+        lines.append(f"{kind}: {k['settings_total']} settings, {k['settings_assemblable']} assemble, "
+                     f"{k['settings_revolving']} revolve, {k['settings_passing_checks']} pass the configuration "
+                     f"checks, {k['settings_passing']} pass every check at {s['speeds_Hz'][0]:g} Hz")
+        if k["worst"]:
+            w = k["worst"]
+            lines.append(f"  worst passing-checks setting {mm(w['lengths_m'])}: {w['part']} utilisation "
+                         f"{w['utilisation']:.3f}")
+        if k["lowest_safe_speed"]:
+            m = k["lowest_safe_speed"]
+            lines.append(f"  lowest safe speed {m['safe_speed_Hz']:.3g} Hz at {mm(m['lengths_m'])} ({m['part']})")
+        if k["motor"]:
+            m = k["motor"]
+            lines.append(f"  motor: peak torque {m['torque_peak_Nm']:.1f} N m (RMS {m['torque_rms_Nm']:.1f} N m, "
+                         f"peak power {m['power_peak_W']:.0f} W) at {mm(m['lengths_m'])}")
+        if k["shortest_bearing_life"]:
+            b = k["shortest_bearing_life"]
+            lines.append(f"  6205 bearings: shortest L10 {b['hours']:.3g} h at {mm(b['lengths_m'])}, static "
+                         f"safety {b['static_safety']:.3g}")
+    for h in s.get("seed_hypotheses", []):
+        mark = {True: "true ", False: "FALSE", None: "n/a  "}[h["holds"]]
+        lines.append(f"  seed {h['id']:<10} {mark} {h['statement']} ({h['evidence']})")
+    lines.append(f"results in {run.target}/ ({', '.join(s['tables'].values())}, maps, summary.json), "
+                 f"{run.seconds:.1f} s")
+    return "\n".join(lines)

@@ -1,0 +1,305 @@
+"""`railcheck sweep`: every setting of the reconfigurable rig, its checks, verdict, safe
+speed, motor and bearings (:mod:`railcheck.sweep_chunk` computes a chunk of settings).
+
+The settings are chunked so that a chunk's working arrays fit ``[sweep] memory``; the
+chunks run serially or on Dask (a local cluster, or ``--scheduler`` an existing one), and
+their rows are written in order as they arrive (Parquet row groups or CSV), so a sweep
+whose table is larger than memory completes. Per kind the run writes
+``sweep-KIND.parquet`` (or ``.csv``), the maps, ``motor.png`` and ``summary.json``, all
+into a staging directory that is renamed into place at the end (nothing half-written).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from .errors import EXIT_FAIL, EXIT_PASS, InputError
+from .files import Staging, reserve_results_dir
+
+#: bytes of working memory per setting and crank step of a chunk (kinematics, reactions
+#: at two speeds, FE coefficient histories; measured with tracemalloc, rounded up)
+BYTES_PER_SETTING_STEP = 3_000
+
+
+@dataclass
+class SweepRun:
+    """A finished sweep: its summary, where it went, and the directory asked for."""
+
+    summary: dict
+    target: Path
+    requested: Path
+    seconds: float = 0.0
+    tables: dict = field(default_factory=dict)
+
+    @property
+    def exit_status(self) -> int:
+        """0 when at least one setting of every kind passes, 1 otherwise."""
+        kinds = self.summary["by_kind"].values()
+        return EXIT_PASS if kinds and all(k["settings_passing"] > 0 for k in kinds) else EXIT_FAIL
+
+
+def sweep_settings(scene) -> dict[str, dict[str, np.ndarray]]:
+    """kind -> bar -> (N,) lengths (m): the rig's grid narrowed by [sweep], then its extra
+    settings."""
+    from .grid import narrowed, rig_grid, settings
+
+    grid = rig_grid(scene.geometry)
+    return {kind: settings(kind, narrowed(grid[kind], scene.sweep.ranges), scene.sweep.settings.get(kind))
+            for kind in scene.sweep.kinds}
+
+
+def chunk_size(scene) -> int:
+    """Settings per chunk, from the working-memory budget."""
+    return int(max(1, min(4096, scene.sweep.memory // (BYTES_PER_SETTING_STEP * scene.sweep.steps))))
+
+
+def validate(scene) -> None:
+    if scene.formulation == "seed-2013" and "slider-crank" in scene.sweep.kinds:
+        raise InputError("sweep.kind", "dynamics.formulation = \"seed-2013\" exists only for the four-bar: "
+                                       "sweep kind = \"four-bar\", or use newton-euler")
+
+
+def prepare_models(scene, by_kind: dict, progress) -> dict[str, dict]:
+    """kind -> part -> PartModel: each checked part meshed, factorised and solved once."""
+    if scene.check is None:
+        return {kind: {} for kind in by_kind}
+    from railcheck.fea.materials import MATERIALS
+
+    from .pipeline import _refuse_huge, part_geometries
+    from .sweep_parts import applicable, build_part_model
+
+    material = MATERIALS[scene.check.material]
+    limit = scene.check.limit or material.fatigue_limit
+    _refuse_huge(scene, part_geometries(scene))
+    models = {}
+    names = [n for n in scene.check.parts if any(applicable(scene, n, k) for k in by_kind)]
+    for i, name in enumerate(names, 1):
+        from .parts import PARTS
+        bar = PARTS[name].bar
+        lengths = np.concatenate([s[bar] for s in by_kind.values() if bar in s]) if bar else np.zeros(0)
+        t = time.perf_counter()
+        say = lambda msg, i=i, name=name: progress.say("solve", f"({i}/{len(names)}) {name}: {msg}")  # noqa: E731
+        models[name] = build_part_model(scene, name, lengths, material, limit, say)
+        progress.say("solve", f"({i}/{len(names)}) {name}: {models[name].dofs} DOFs, "
+                              f"{sum(s.stress.shape[2] for s in models[name].screens.values())} unit columns "
+                              f"({time.perf_counter() - t:.1f} s)")
+    return {kind: {n: m for n, m in models.items() if applicable(scene, n, kind)} for kind in by_kind}
+
+
+def run_sweep(scene, out: str | None = None, force: bool = False, scheduler: str | None = None,
+              workers: int | None = None, serial: bool = False, progress=None) -> SweepRun:
+    """Run the sweep the scene asks for and write its results directory."""
+    from .pipeline import Progress
+
+    validate(scene)
+    progress = progress or Progress(quiet=True)
+    t0 = time.perf_counter()
+    requested = Path(out or _default_dir(scene))
+    try:
+        target, replaces = reserve_results_dir(requested, force)
+        staging = Staging(target, replaces)
+    except OSError as exc:
+        raise InputError("output.dir", f"cannot write results at {requested}: {exc.strerror or exc}") from None
+    try:
+        summary, tables = _run_into(scene, staging.path, scheduler, workers, serial, progress)
+        staging.commit()
+    except BaseException:
+        staging.abandon()
+        raise
+    return SweepRun(summary, target, requested, time.perf_counter() - t0, tables)
+
+
+def _default_dir(scene) -> str:
+    return "sweep" if scene.output.dir == "results" else f"{scene.output.dir}-sweep"
+
+
+def _run_into(scene, directory: Path, scheduler, workers, serial, progress) -> tuple[dict, dict]:
+    from .sweep_report import Aggregate, summary_of, write_maps
+
+    by_kind = sweep_settings(scene)
+    progress.say("sweep", ", ".join(f"{k}: {v['crank'].size} settings" for k, v in by_kind.items())
+                 + f" x {len(scene.sweep.speeds)} speed(s), {scene.sweep.steps} steps")
+    models = prepare_models(scene, by_kind, progress)
+    aggregates, tables = {}, {}
+    with _Executor(scheduler, workers, serial, sum(v["crank"].size for v in by_kind.values()) > 4 * chunk_size(scene),
+                   progress) as executor:
+        for kind, lengths in by_kind.items():
+            ctx = _context(scene, kind, models[kind])
+            path = directory / f"sweep-{kind}.{scene.sweep.format}"
+            aggregates[kind] = Aggregate(scene, kind, lengths)
+            with TableWriter(path, scene.sweep.format) as writer:
+                for columns in executor.map_chunks(ctx, lengths, chunk_size(scene)):
+                    writer.write(columns)
+                    aggregates[kind].add(columns)
+            tables[kind] = path
+    summary = summary_of(scene, aggregates, tables, models)
+    from .files import atomic_write_text
+    from .report import to_json
+
+    atomic_write_text(directory / "summary.json", to_json(summary) + "\n")
+    write_maps(aggregates, directory)
+    return summary, tables
+
+
+def _context(scene, kind: str, models: dict):
+    from railcheck.fea.materials import MATERIALS
+    from railcheck.geometry.catalogue import with_overrides
+
+    from .sweep_chunk import SweepContext
+
+    density = MATERIALS[scene.check.material].density if scene.check else 0.0
+    return SweepContext(scene, kind, tuple(scene.sweep.speeds), scene.sweep.steps, models, density,
+                        with_overrides(scene.geometry)[0])
+
+
+class _Executor:
+    """Chunks of settings -> their columns, in order: serially, or on Dask (a local
+    cluster unless ``scheduler`` names one) with at most two chunks per worker in flight."""
+
+    def __init__(self, scheduler, workers, serial: bool, large: bool, progress):
+        self.progress = progress
+        self.use_dask = not serial and (scheduler is not None or large)
+        self.scheduler, self.workers = scheduler, workers
+        self.client = self.cluster = None
+
+    def __enter__(self):
+        if self.use_dask:
+            self._start()
+        return self
+
+    def _start(self):
+        import logging
+        import os
+
+        from dask.distributed import Client, LocalCluster
+
+        if self.scheduler:
+            try:
+                self.client = Client(self.scheduler, timeout="10s")
+            except (OSError, TimeoutError) as exc:
+                raise InputError("--scheduler", f"cannot reach {self.scheduler}: {exc}") from None
+        else:
+            n = self.workers or os.cpu_count() or 1
+            self.cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
+                                        silence_logs=logging.ERROR)
+            self.client = Client(self.cluster)
+        self.progress.say("sweep", f"Dask: {len(self.client.scheduler_info()['workers'])} workers "
+                                   f"({self.scheduler or 'local cluster'})")
+
+    def __exit__(self, *exc):
+        if self.client is not None:
+            self.client.close()
+        if self.cluster is not None:
+            self.cluster.close()
+        return False
+
+    def map_chunks(self, ctx, lengths: dict, size: int):
+        """Yield each chunk's columns in order, with a progress line every few seconds."""
+        from .sweep_chunk import evaluate_chunk
+
+        total = lengths["crank"].size
+        starts = list(range(0, total, size))
+        chunk = lambda a: ({b: v[a:a + size] for b, v in lengths.items()}, np.arange(a, min(a + size, total)))  # noqa: E731
+        meter = _Meter(self.progress, ctx.kind, total)
+        if not self.use_dask:
+            for a in starts:
+                cols = evaluate_chunk(ctx, *chunk(a))
+                meter.done(min(size, total - a))
+                yield cols
+            return
+        yield from self._dask_chunks(ctx, starts, chunk, size, total, meter)
+
+    def _dask_chunks(self, ctx, starts, chunk, size, total, meter):
+        from .sweep_chunk import evaluate_chunk
+
+        remote_ctx = self.client.scatter(ctx, broadcast=True)
+        window = 2 * max(1, len(self.client.scheduler_info()["workers"]))
+        pending = {}
+        for i, a in enumerate(starts):
+            pending[i] = self.client.submit(evaluate_chunk, remote_ctx, *chunk(a), pure=False)
+            while len(pending) >= window or (i == len(starts) - 1 and pending):
+                k = min(pending)
+                cols = pending.pop(k).result()
+                meter.done(min(size, total - starts[k]))
+                yield cols
+
+
+class _Meter:
+    """Progress of one kind: settings done, rate and elapsed time, every 5 s at most."""
+
+    def __init__(self, progress, kind: str, total: int):
+        self.progress, self.kind, self.total = progress, kind, total
+        self.count, self.t0, self.last = 0, time.perf_counter(), -math.inf
+
+    def done(self, n: int) -> None:
+        self.count += n
+        now = time.perf_counter()
+        if now - self.last >= 5.0 or self.count == self.total:
+            self.last = now
+            rate = self.count / max(now - self.t0, 1e-9)
+            bar = "#" * int(30 * self.count / max(self.total, 1))
+            self.progress.say("sweep", f"{self.kind:<12} [{bar:<30}] {self.count}/{self.total} settings, "
+                                       f"{rate:,.0f} settings/s")
+
+
+class TableWriter:
+    """Rows streamed to a Parquet file (one row group per chunk) or a CSV file, written
+    under a temporary name and renamed at the end. NaN (not applicable) becomes null."""
+
+    def __init__(self, path: Path, fmt: str):
+        self.path, self.fmt = Path(path), fmt
+        self.tmp = self.path.with_name(f".{self.path.name}.part")
+        self.writer = None
+        self.rows = 0
+
+    def __enter__(self):
+        return self
+
+    def write(self, columns: dict) -> None:
+        import pyarrow as pa
+
+        table = pa.table({k: _arrow(v) for k, v in columns.items()})
+        if self.writer is None:
+            if self.fmt == "parquet":
+                import pyarrow.parquet as pq
+                self.writer = pq.ParquetWriter(self.tmp, table.schema, compression="zstd")
+            else:
+                import pyarrow.csv as pcsv
+                self.writer = pcsv.CSVWriter(self.tmp, table.schema)
+        self.writer.write_table(table)
+        self.rows += table.num_rows
+
+    def __exit__(self, exc_type, exc, tb):
+        if self.writer is not None:
+            self.writer.close()
+        if exc_type is None and self.writer is not None:
+            self.tmp.replace(self.path)
+        else:
+            self.tmp.unlink(missing_ok=True)
+        return False
+
+
+def _arrow(values: np.ndarray):
+    import pyarrow as pa
+
+    if values.dtype == object:
+        return pa.array(values.tolist(), type=pa.string())
+    if values.dtype.kind == "f":
+        return pa.array(values, mask=~np.isfinite(values) & ~np.isinf(values))
+    return pa.array(values)
+
+
+def read_table(path: Path, columns: list[str] | None = None):
+    """The sweep table (pyarrow.Table) of a Parquet or CSV file."""
+    path = Path(path)
+    if path.suffix == ".parquet":
+        import pyarrow.parquet as pq
+        return pq.read_table(path, columns=columns)
+    import pyarrow.csv as pcsv
+    convert = pcsv.ConvertOptions(include_columns=columns) if columns else None
+    return pcsv.read_csv(path, convert_options=convert)

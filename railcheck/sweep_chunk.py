@@ -1,0 +1,358 @@
+"""One chunk of a sweep: settings (bar lengths) -> table rows, one per setting and speed.
+
+For the whole chunk at once (arrays settings x steps): the configuration checks, the
+kinematics and inverse dynamics in closed form at the sweep's first speed, the peak
+reactions, motor torque and power and the joints' bearing lives at every speed, and,
+for the settings that pass the checks, each part's cycle peak, fatigue factor and tip
+deflection by superposition, its utilisation, and the setting's safe speed.
+
+Speed scaling. At constant crank speed every acceleration scales with omega^2, so the
+loads are ``C(s) = C_g + s C_i`` with ``s = (omega / omega_0)^2``: ``C_g`` the constant
+part (gravity, explicit loads), ``C_i`` the inertial part at the first speed. Without
+gravity every stress and deflection scales with ``s`` and every fatigue factor with
+``1 / s``, so each speed's results and the safe speed (the ``s`` at which the largest
+utilisation reaches 1) follow in closed form; with gravity each speed is evaluated and
+the safe speed is found by bisection on ``s``.
+
+Units: SI inside; the table's column names carry their units (mm, Hz, N, N m, W, MPa, h).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .parts import BAR_INDEX, PARTS
+
+REVOLVE_MARGIN = 1e-7          # rad: closer to a toggle is singular (kinematics.motion)
+
+
+@dataclass(frozen=True)
+class SweepContext:
+    """What every chunk of one kind needs (picklable: sent to Dask workers once)."""
+
+    scene: object
+    kind: str
+    speeds: tuple                  # rad/s
+    steps: int
+    models: dict                   # part name -> sweep_parts.PartModel
+    density: float
+    rail: object                   # geometry.catalogue.RailSpec
+
+    @property
+    def effects(self) -> tuple[str, ...]:
+        return self.scene.check.effects if self.scene.check else ("inertia",)
+
+
+def configuration_flags(ctx: SweepContext, lengths: dict) -> dict:
+    """check name -> (S,) pass flags, plus ``mu_min``/``mu_max`` (rad)."""
+    from railcheck.kinematics.checks import fourbar_checks_batch, slidercrank_checks_batch
+
+    from .kinematics_stage import joints_on_rails_flags
+
+    if ctx.kind == "four-bar":
+        flags = fourbar_checks_batch(lengths["crank"], lengths["coupler"], lengths["rocker"], lengths["ground"])
+    else:
+        flags = slidercrank_checks_batch(lengths["crank"], lengths["coupler"], lengths["offset"])
+    flags["joints_on_rails"] = joints_on_rails_flags(lengths, ctx.rail)
+    return flags
+
+
+def revolvable(ctx: SweepContext, lengths: dict, flags: dict) -> np.ndarray:
+    """(S,) True where the crank makes a full revolution away from a toggle."""
+    if ctx.kind == "four-bar":
+        with np.errstate(invalid="ignore"):
+            return ((flags["mu_min"] > REVOLVE_MARGIN) & (math.pi - flags["mu_max"] > REVOLVE_MARGIN)
+                    & np.isfinite(flags["mu_min"]) & np.isfinite(flags["mu_max"]))
+    reach = lengths["crank"] + np.abs(lengths["offset"])
+    return lengths["coupler"] - reach >= REVOLVE_MARGIN * lengths["coupler"]
+
+
+def motion_of(ctx: SweepContext, lengths: dict, speed: float):
+    from railcheck.kinematics import batch
+    from railcheck.kinematics.motion import crank_angles
+
+    sign = 1.0 if ctx.scene.sweep.assembly == "open" else -1.0
+    th = crank_angles(ctx.steps)
+    if ctx.kind == "four-bar":
+        return batch.fourbar_motion(lengths["crank"], lengths["coupler"], lengths["rocker"], lengths["ground"],
+                                    sign, speed, th)
+    return batch.slidercrank_motion(lengths["crank"], lengths["coupler"], lengths["offset"], sign, speed, th)
+
+
+def dynamics_of(ctx: SweepContext, motion, gravity: float):
+    from railcheck.kinematics import batch
+
+    if ctx.scene.formulation == "seed-2013":
+        return batch.seed_2013(motion)
+    return batch.newton_euler(motion, gravity=gravity)
+
+
+@dataclass(frozen=True)
+class Loads:
+    """The revolving settings' loads at the first speed: ``inertial`` and ``constant``
+    (gravity) parts of the reactions and torque, and the two motions they come from."""
+
+    motion: object              # at the first speed
+    static: object | None       # at rest (gravity), or None
+    inertial: object | None     # BatchDynamics of the inertia at the first speed (no gravity)
+    constant: object | None     # BatchDynamics of gravity at rest
+
+
+def loads_of(ctx: SweepContext, lengths: dict) -> Loads:
+    from railcheck.kinematics.dynamics import STANDARD_GRAVITY
+
+    motion = motion_of(ctx, lengths, ctx.speeds[0])
+    inertial = dynamics_of(ctx, motion, 0.0) if "inertia" in ctx.effects else None
+    static = constant = None
+    if "gravity" in ctx.effects:
+        static = motion_of(ctx, lengths, 0.0)
+        constant = dynamics_of(ctx, static, STANDARD_GRAVITY)
+    return Loads(motion, static, inertial, constant)
+
+
+def reactions_at(loads: Loads, s: float) -> tuple[dict, np.ndarray]:
+    """(joint -> (S, T, 2) N, torque (S, T) N m) at speed ratio squared ``s``."""
+    parts = [(d, w) for d, w in ((loads.constant, 1.0), (loads.inertial, s)) if d is not None]
+    ref = (loads.inertial or loads.constant)
+    if not parts:
+        raise ValueError("no effect to simulate")
+    R = {j: sum(w * d.reactions[j] for d, w in parts) for j in ref.reactions}
+    return R, sum(w * d.torque for d, w in parts)
+
+
+def motor_and_bearings(ctx: SweepContext, loads: Loads, speed: float) -> dict:
+    """Peak reactions, motor torque (peak, RMS), peak power and the joints' bearing
+    equivalent loads and L10 lives at ``speed`` rad/s: columns (S,)."""
+    from railcheck.loads.bearings import bearing_life
+
+    s = (speed / ctx.speeds[0]) ** 2
+    R, torque = reactions_at(loads, s)
+    ratio = speed / ctx.speeds[0]
+    w = loads.motion.omega * ratio                                       # (3, S, T) rad/s
+    out = {f"peak_{j}_N": np.hypot(r[..., 0], r[..., 1]).max(axis=1) for j, r in R.items()}
+    out["torque_peak_Nm"] = np.abs(torque).max(axis=1)
+    out["torque_rms_Nm"] = np.sqrt(np.mean(torque**2, axis=1))
+    out["power_peak_W"] = np.abs(torque * speed).max(axis=1)
+    relative = {"O2": w[0], "A": w[1] - w[0], "B": w[2] - w[1] if ctx.kind == "four-bar" else w[1], "O4": w[2]}
+    lives, statics = [], []
+    for joint in ("O2", "A", "B", "O4"):
+        if joint not in R:
+            continue
+        life = bearing_life(R[joint], relative[joint])
+        out[f"bearing_{joint}_load_N"] = life.equivalent_load
+        out[f"bearing_{joint}_peak_N"] = life.peak_load
+        lives.append(life.l10_hours)
+        statics.append(life.static_safety)
+    out["bearing_life_h"] = np.min(lives, axis=0)
+    out["bearing_static_safety"] = np.min(statics, axis=0)
+    return out
+
+
+def kinematic_columns(ctx: SweepContext) -> list[str]:
+    """The columns :func:`motor_and_bearings` gives, in order (NaN where a setting does not revolve)."""
+    joints = ("O2", "A", "B", "O4") if ctx.kind == "four-bar" else ("O2", "A", "B", "slider")
+    bearings = ("O2", "A", "B", "O4") if ctx.kind == "four-bar" else ("O2", "A", "B")
+    return ([f"peak_{j}_N" for j in joints] + ["torque_peak_Nm", "torque_rms_Nm", "power_peak_W"]
+            + [f"bearing_{j}_{q}_N" for j in bearings for q in ("load", "peak")]
+            + ["bearing_life_h", "bearing_static_safety"])
+
+
+def coefficients(ctx: SweepContext, name: str, loads: Loads, sel: np.ndarray) -> list[tuple]:
+    """Per load source of part ``name``: (C_g or None, C_i) (S_sel, T, k) for the settings
+    ``sel``: the constant part (gravity at rest) and the inertial part at the first speed
+    (the total there minus the constant part)."""
+    from .cycle import source_coefficients
+
+    def coeffs(src, reactions: dict, motion):
+        by_bar = lambda a: {bar: a[i][sel] for bar, i in BAR_INDEX.items()}  # noqa: E731
+        return source_coefficients(ctx.scene, name, src, {j: r[sel] for j, r in reactions.items()},
+                                   by_bar(motion.theta), {j: a[sel] for j, a in motion.accelerations.items()},
+                                   by_bar(motion.omega), by_bar(motion.alpha), ctx.density)
+
+    total, _ = reactions_at(loads, 1.0)
+    out = []
+    for src in PARTS[name].sources:
+        if src.joint not in total:
+            continue
+        Ct = coeffs(src, total, loads.motion)
+        Cg = coeffs(src, loads.constant.reactions, loads.static) if loads.constant is not None else None
+        out.append((Cg, Ct if Cg is None else Ct - Cg))
+    return out
+
+
+def evaluate_part(model, history: list[tuple], bar_lengths: np.ndarray | None, s) -> tuple[np.ndarray, ...]:
+    """(von Mises peak Pa, fatigue factor, tip m) of one part for every setting of the
+    history at speed ratio squared ``s`` (scalar or (S,)), each (S,)."""
+    from .sweep_fe import fatigue_min, hull_steps, tip_peak, von_mises_peak
+
+    n_set = history[0][1].shape[0]
+    s = np.broadcast_to(np.asarray(s, float), (n_set,))
+    vm, fat, tip = np.zeros(n_set), np.full(n_set, np.inf), np.zeros(n_set)
+    if model.bar is None:
+        groups = [(np.arange(n_set), model.screens[None])]
+    else:
+        keys, inverse = np.unique(np.round(bar_lengths * 1e6).astype(np.int64), return_inverse=True)
+        groups = [(np.flatnonzero(inverse == i), model.screen_for(key / 1e6)) for i, key in enumerate(keys)]
+    for idx, screen in groups:
+        for Cg, Ci in history:
+            C = hull_steps(s[idx, None, None] * Ci[idx] + (Cg[idx] if Cg is not None else 0.0))
+            vm[idx] = np.maximum(vm[idx], von_mises_peak(screen, C))
+            fat[idx] = np.minimum(fat[idx], fatigue_min(screen, C, model.endurance, model.ultimate, model.criterion,
+                                                        model.yield_strength))
+            tip[idx] = np.maximum(tip[idx], tip_peak(screen, C))
+    return vm, fat, tip
+
+
+def utilisation(model, vm, fat, tip) -> np.ndarray:
+    """The largest of stress / limit, required / fatigue factor and tip / deflection limit."""
+    with np.errstate(divide="ignore"):
+        u = np.maximum(vm / model.limit, model.required / fat)
+    return np.maximum(u, tip / model.deflection_limit) if model.deflection_limit else u
+
+
+def fe_results(ctx: SweepContext, loads: Loads, sel: np.ndarray, lengths: dict, speeds_s: list) -> dict:
+    """part -> list over speeds of (vm, fatigue, tip, utilisation) (S_sel,) arrays, and
+    ``safe_s``: the speed ratio squared at which the largest utilisation reaches 1."""
+    histories = {name: coefficients(ctx, name, loads, sel) for name, m in ctx.models.items() if m.constant is None}
+    bar_len = lambda m: lengths[m.bar][sel] if m.bar else None  # noqa: E731
+    n_sel = sel.size
+
+    def at(s) -> dict:
+        out = {}
+        for name, m in ctx.models.items():
+            if m.constant is not None:
+                vm, fat, tip = (np.full(n_sel, v) for v in m.constant)
+            else:
+                vm, fat, tip = evaluate_part(m, histories[name], bar_len(m), s)
+            out[name] = (vm, fat, tip, utilisation(m, vm, fat, tip))
+        return out
+
+    gravity = "gravity" in ctx.effects
+    base = at(1.0)
+    per_speed = [base if s == 1.0 else (at(s) if gravity else _scaled(ctx, base, s)) for s in speeds_s]
+    safe = _safe_s_bisect(ctx, at, n_sel) if gravity else _safe_s_closed(ctx, base, n_sel)
+    return {"per_speed": per_speed, "safe_s": safe}
+
+
+def _scaled(ctx: SweepContext, base: dict, s: float) -> dict:
+    """Results at speed ratio squared ``s`` from those at 1, without gravity (module doc)."""
+    out = {}
+    for name, (vm, fat, tip, _) in base.items():
+        m = ctx.models[name]
+        if m.constant is None:
+            vm, fat, tip = s * vm, fat / s, s * tip
+        out[name] = (vm, fat, tip, utilisation(m, vm, fat, tip))
+    return out
+
+
+def _safe_s_closed(ctx: SweepContext, base: dict, n: int) -> np.ndarray:
+    """Without gravity: every speed-dependent utilisation is ``s u(1)``; constant parts
+    (explicit loads) do not change. 0 where a constant part already fails; inf where no
+    part depends on speed."""
+    u_var = np.zeros(n)
+    u_const = np.zeros(n)
+    for name, (*_, u) in base.items():
+        if ctx.models[name].constant is None:
+            u_var = np.maximum(u_var, u)
+        else:
+            u_const = np.maximum(u_const, u)
+    with np.errstate(divide="ignore"):
+        safe = np.where(u_var > 0, 1.0 / u_var, np.inf)
+    return np.where(u_const > 1.0, 0.0, safe)
+
+
+def _safe_s_bisect(ctx: SweepContext, at, n: int, iterations: int = 60) -> np.ndarray:
+    """With gravity: the smallest ``s`` where the largest utilisation reaches 1, by
+    bracketing (doubling) and bisection, vectorised over the settings."""
+    def worst(s):
+        return np.max([u for *_, u in at(s).values()], axis=0)
+
+    if worst(np.zeros(n)).max(initial=0) > 1.0:
+        fails_at_rest = worst(np.zeros(n)) > 1.0
+    else:
+        fails_at_rest = np.zeros(n, bool)
+    lo, hi = np.zeros(n), np.ones(n)
+    for _ in range(60):
+        over = worst(hi) > 1.0
+        if over.all():
+            break
+        lo = np.where(over, lo, hi)
+        hi = np.where(over, hi, 2.0 * hi)
+    unbounded = worst(hi) <= 1.0
+    for _ in range(iterations):
+        mid = 0.5 * (lo + hi)
+        over = worst(mid) > 1.0
+        hi, lo = np.where(over, mid, hi), np.where(over, lo, mid)
+    return np.where(fails_at_rest, 0.0, np.where(unbounded, np.inf, lo))
+
+
+def evaluate_chunk(ctx: SweepContext, lengths: dict, ids: np.ndarray) -> dict:
+    """The table rows of the settings ``lengths`` (bar -> (S,) m), one per setting and
+    speed (setting-major): column name -> array."""
+    n = ids.size
+    flags = configuration_flags(ctx, lengths)
+    checks = {k: v for k, v in flags.items() if k not in ("mu_min", "mu_max")}
+    passed = np.logical_and.reduce(list(checks.values()))
+    turns = revolvable(ctx, lengths, flags)
+    idx = np.flatnonzero(turns)
+    s_list = [(w / ctx.speeds[0]) ** 2 for w in ctx.speeds]
+    kin = [{name: np.zeros(0) for name in kinematic_columns(ctx)} for _ in ctx.speeds]
+    fe = None
+    if idx.size:
+        sub = {b: v[idx] for b, v in lengths.items()}
+        loads = loads_of(ctx, sub)
+        kin = [motor_and_bearings(ctx, loads, w) for w in ctx.speeds]
+        fe_sel = np.flatnonzero(passed[idx])
+        if ctx.models and fe_sel.size:
+            fe = (idx[fe_sel], fe_results(ctx, loads, fe_sel, sub, s_list))
+    rows = []
+    for j, w in enumerate(ctx.speeds):
+        col = {"setting": ids, "kind": np.full(n, ctx.kind, dtype=object)}
+        col |= {f"{b}_mm": v * 1e3 for b, v in lengths.items()}
+        col["speed_Hz"] = np.full(n, w / (2 * math.pi))
+        col |= {f"check_{k}": v.astype(bool) for k, v in checks.items()}
+        col["checks_passed"] = passed
+        col["mu_min_deg"], col["mu_max_deg"] = np.degrees(flags["mu_min"]), np.degrees(flags["mu_max"])
+        for key, values in kin[j].items():
+            col[key] = _scatter(n, idx, values)
+        col |= _fe_columns(ctx, n, fe, j, w, passed, checks)
+        rows.append(col)
+    return {k: np.stack([r[k] for r in rows], axis=1).reshape(-1) for k in rows[0]}
+
+
+def _scatter(n: int, idx: np.ndarray, values: np.ndarray, fill=np.nan) -> np.ndarray:
+    out = np.full(n, fill, dtype=float)
+    out[idx] = values
+    return out
+
+
+def _fe_columns(ctx: SweepContext, n: int, fe, j: int, speed: float, passed: np.ndarray, checks: dict) -> dict:
+    """Per-part columns, the utilisation, governing part, safe speed, verdict and reason."""
+    col, worst, governing = {}, np.full(n, np.nan), np.full(n, "", dtype=object)
+    failing = [[] for _ in range(n)]
+    for name, m in ctx.models.items():
+        vm, fat, tip, u = (np.full(n, np.nan) for _ in range(4))
+        if fe is not None:
+            at, res = fe
+            vm[at], fat[at], tip[at], u[at] = res["per_speed"][j][name]
+            for i in at[(vm[at] > m.limit) | (fat[at] < m.required)
+                        | ((tip[at] > m.deflection_limit) if m.deflection_limit else False)]:
+                failing[i].append(name)
+        col[f"{name}_stress_MPa"], col[f"{name}_fatigue"] = vm / 1e6, fat
+        col[f"{name}_tip_mm"], col[f"{name}_utilisation"] = tip * 1e3, u
+        better = np.isfinite(u) & ~(u <= worst)
+        worst, governing = np.where(better, u, worst), np.where(better, name, governing)
+    safe = np.full(n, np.nan)
+    if fe is not None:
+        safe[fe[0]] = ctx.speeds[0] * np.sqrt(fe[1]["safe_s"]) / (2 * math.pi)
+    col["utilisation"], col["governing_part"], col["safe_speed_Hz"] = worst, governing, safe
+    names = list(checks)
+    reason = np.array([", ".join(names[k] for k in range(len(names)) if not checks[names[k]][i]) if not passed[i]
+                       else ", ".join(failing[i]) for i in range(n)], dtype=object)
+    verdict = np.where(~passed, "refused", np.where(np.array([bool(f) for f in failing]), "fail", "pass"))
+    col["verdict"], col["reason"] = verdict.astype(object), reason
+    return col
+

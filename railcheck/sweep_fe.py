@@ -1,0 +1,166 @@
+"""The FE side of the rig sweep: each part's unit fields for every bolt-hole pair its
+joint can use (one mesh, one factorisation, one multi-column solve), and the cycle's
+von Mises peak, fatigue factor and tip deflection of many settings at once.
+
+Exact screening. For a setting with coefficient history ``c(t)`` (steps, k):
+
+* von Mises at node n is ``sqrt(c^T Q_n c) <= sqrt(lam_n) |c|`` (``lam_n`` the largest
+  eigenvalue of ``Q_n``). The exact maximum over a few nodes of largest ``lam_n`` gives a
+  lower bound ``L`` of the peak; only nodes with ``sqrt(lam_n) max|c| >= L`` can hold it,
+  and the peak is evaluated exactly on them.
+* fatigue: an ellipse ``(c - c0)^T E^-1 (c - c0) <= 1`` holds the whole history, so
+  each stress component ``s_j . c`` (``s_j`` its k coefficients at the node) has a
+  half-range of at most ``h_j = sqrt(s_j^T E s_j)`` and a midrange within
+  ``s_j . c0 +- h_j``; from these, upper bounds of the node's alternating and midrange
+  von Mises. A fatigue factor falls with both, so the bounds' factor is a lower bound
+  of the node's, and only nodes whose bound is below the best exact factor so far (a
+  few nodes of largest stress first) are evaluated exactly.
+
+The results equal evaluating every verdict node (:func:`railcheck.cycle.evaluate_cycle`)
+to rounding. All arrays SI (Pa, m); vectorised over settings, steps and nodes, in chunks
+bounded by :data:`CHUNK_VALUES`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+CHUNK_VALUES = 8_000_000     # floats per temporary (nodes x settings x steps)
+TOP_NODES = 64               # nodes evaluated first for the lower bound
+SLACK = 1e-9                 # relative margin on the bounds (rounding)
+
+
+@dataclass(frozen=True)
+class Screen:
+    """One column set of a part's unit fields, at its verdict nodes: ``stress`` (6, n, k)
+    Pa per unit coefficient; ``Q`` (n, k*k) the von Mises quadratic forms; ``lam`` (n,)
+    their largest eigenvalues; ``G`` and ``Ga`` (n,) the midrange and alternating bound
+    factors of the fatigue screen; ``tip`` (3, k) m."""
+
+    stress: np.ndarray
+    Q: np.ndarray
+    lam: np.ndarray
+    G: np.ndarray
+    Ga: np.ndarray
+    tip: np.ndarray
+    by_lam: np.ndarray = field(repr=False, default=None)
+    by_G: np.ndarray = field(repr=False, default=None)
+
+
+def make_screen(stress: np.ndarray, verdict_mask: np.ndarray, tip: np.ndarray, cols: list[int]) -> Screen:
+    """Screen of the unit-case columns ``cols`` of ``stress`` (6, nodes, cases)."""
+    from railcheck.fea.superpose import VM_QUADRATIC
+
+    mask = verdict_mask if np.any(verdict_mask) else np.ones_like(verdict_mask)
+    S = np.ascontiguousarray(stress[:, mask][:, :, cols])
+    k = S.shape[2]
+    Q = np.einsum("cnk,cd,dnl->nkl", S, VM_QUADRATIC, S, optimize=True)
+    lam = np.linalg.eigvalsh(Q)[:, -1]
+    norms = np.linalg.norm(S, axis=2)                                   # (6, n)
+    shear = 3.0 * (norms[3] ** 2 + norms[4] ** 2 + norms[5] ** 2)
+    G = np.sqrt(0.5 * ((norms[0] + norms[1]) ** 2 + (norms[1] + norms[2]) ** 2 + (norms[2] + norms[0]) ** 2) + shear)
+    Ga = np.sqrt(norms[0] ** 2 + norms[1] ** 2 + norms[2] ** 2 + shear)
+    return Screen(S, Q.reshape(-1, k * k), lam, G, Ga, tip[:, cols], np.argsort(-lam), np.argsort(-Ga))
+
+
+def hull_steps(C: np.ndarray) -> np.ndarray:
+    """(S, H, k): each history ``C`` (S, T, k) reduced to the vertices of its convex hull
+    (padded by repeating a vertex). Every quantity evaluated here is the maximum (or
+    minimum) over the cycle of a convex (or linear) function of the coefficients, reached
+    at a vertex (:func:`fea.superpose.candidate_steps`), so the results are unchanged."""
+    from railcheck.fea.superpose import candidate_steps
+
+    steps = [candidate_steps(c) for c in C]
+    H = max(s.size for s in steps)
+    index = np.stack([np.pad(s, (0, H - s.size), mode="edge") for s in steps])
+    return np.take_along_axis(C, index[:, :, None], axis=1)
+
+
+def _groups(settings: int, per_setting: int) -> list[slice]:
+    size = max(1, CHUNK_VALUES // max(per_setting, 1))
+    return [slice(i, min(i + size, settings)) for i in range(0, settings, size)]
+
+
+def von_mises_peak(screen: Screen, C: np.ndarray) -> np.ndarray:
+    """(S,) Pa: the largest von Mises over the verdict nodes and steps of each setting's
+    history ``C`` (S, T, k)."""
+    S_, T, k = C.shape
+    CC = (C[..., :, None] * C[..., None, :]).reshape(S_, T, k * k)
+    R2 = np.einsum("stk,stk->st", C, C).max(axis=1)
+    top = screen.by_lam[:TOP_NODES]
+    L2 = np.zeros(S_)
+    for g in _groups(S_, top.size * T):
+        vm2 = screen.Q[top] @ CC[g].reshape(-1, k * k).T
+        L2[g] = vm2.reshape(top.size, -1, T).max(axis=(0, 2))
+    best = L2.copy()
+    can = screen.lam[:, None] * R2[None, :] * (1.0 + SLACK) >= L2[None, :]        # (n, S)
+    for g in _groups(S_, max(1, int(can.sum(axis=0).max())) * T):
+        nodes = np.flatnonzero(can[:, g].any(axis=1))
+        if nodes.size:
+            vm2 = screen.Q[nodes] @ CC[g].reshape(-1, k * k).T
+            best[g] = np.maximum(best[g], vm2.reshape(nodes.size, -1, T).max(axis=(0, 2)))
+    return np.sqrt(np.maximum(best, 0.0))
+
+
+def fatigue_min(screen: Screen, C: np.ndarray, endurance: float, ultimate: float, criterion: str,
+                yield_strength: float | None) -> np.ndarray:
+    """(S,) the smallest fatigue safety factor over the verdict nodes of each history
+    ``C`` (S, T, k) (component ranges over all steps; :mod:`fea.fatigue`)."""
+    from railcheck.fea.fatigue import safety_factor
+
+    factor = lambda sa, sm: safety_factor(sa, sm, endurance, ultimate, criterion, yield_strength)  # noqa: E731
+    best = _fatigue_exact(screen, screen.by_G[:TOP_NODES], C, factor)
+    c0, E = _enclosing_ellipse(C)
+    n = screen.stress.shape[1]
+    for g in _groups(C.shape[0], 12 * n):
+        bound = factor(*_fatigue_bounds(screen.stress, c0[g], E[g]))                     # (n, s)
+        can = bound <= best[g][None, :] * (1.0 + SLACK)
+        for h in _groups(can.shape[1], 6 * max(1, int(can.sum(axis=0).max())) * C.shape[1]):
+            nodes = np.flatnonzero(can[:, h].any(axis=1))
+            if nodes.size:
+                sub = np.arange(C.shape[0])[g][h]
+                best[sub] = np.minimum(best[sub], _fatigue_exact(screen, nodes, C[sub], factor))
+    return best
+
+
+def _enclosing_ellipse(C: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(c0 (S, k), E (S, k, k)): an ellipse ``{c: (c - c0)^T E^-1 (c - c0) <= 1}`` holding
+    every point of each history: the points' covariance, scaled to reach the farthest."""
+    c0 = C.mean(axis=1)
+    D = C - c0[:, None, :]
+    k = C.shape[2]
+    cov = np.einsum("shk,shl->skl", D, D) / C.shape[1]
+    scale = np.trace(cov, axis1=1, axis2=2)[:, None, None]
+    cov = cov + (1e-12 * scale + 1e-300) * np.eye(k)
+    reach = np.einsum("shk,skl,shl->sh", D, np.linalg.inv(cov), D).max(axis=1)
+    return c0, cov * (reach * (1.0 + 1e-9) + 1e-300)[:, None, None]
+
+
+def _fatigue_bounds(stress: np.ndarray, c0: np.ndarray, E: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Upper bounds (n, S) of the alternating and midrange von Mises at every node: each
+    component's half-range is at most ``h = sqrt(s^T E s)`` and its midrange lies within
+    ``s . c0 +- h``; the alternating components are non-negative (no cross terms)."""
+    h = np.sqrt(np.maximum(np.einsum("jnk,skl,jnl->jns", stress, E, stress, optimize=True), 0.0))
+    B = np.abs(np.einsum("jnk,sk->jns", stress, c0)) + h
+    sa = np.sqrt(h[0] ** 2 + h[1] ** 2 + h[2] ** 2 + 3.0 * (h[3] ** 2 + h[4] ** 2 + h[5] ** 2))
+    sm = np.sqrt(0.5 * ((B[0] + B[1]) ** 2 + (B[1] + B[2]) ** 2 + (B[2] + B[0]) ** 2)
+                 + 3.0 * (B[3] ** 2 + B[4] ** 2 + B[5] ** 2))
+    return sa, sm
+
+
+def _fatigue_exact(screen: Screen, nodes: np.ndarray, C: np.ndarray, factor) -> np.ndarray:
+    from railcheck.fea.fatigue import alternating_and_mean
+
+    out = np.full(C.shape[0], np.inf)
+    for g in _groups(C.shape[0], 6 * nodes.size * C.shape[1]):
+        X = np.tensordot(screen.stress[:, nodes, :], C[g], axes=([2], [2]))              # (6, u, s, T)
+        sa, sm = alternating_and_mean(X.max(axis=3), X.min(axis=3))
+        out[g] = factor(sa, sm).min(axis=0)
+    return out
+
+
+def tip_peak(screen: Screen, C: np.ndarray) -> np.ndarray:
+    """(S,) m: the largest tip displacement magnitude over each history."""
+    return np.linalg.norm(C @ screen.tip.T, axis=2).max(axis=1)

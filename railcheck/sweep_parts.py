@@ -1,0 +1,128 @@
+"""Each checked part of a sweep, prepared once: its mesh, one factorisation, the unit
+cases of every bolt-hole pair its joint can use, and the screens
+(:mod:`railcheck.sweep_fe`) that give any setting's cycle peak, fatigue factor and tip
+deflection by superposition.
+
+The unit cases and their column order are those of ``railcheck check``
+(:func:`railcheck.cycle.unit_cases`), so a setting's result equals a check of that setting
+with ``bolt_position = "actual"`` and the same mesh.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .parts import PARTS, kind_of
+
+
+@dataclass(frozen=True)
+class PartModel:
+    """A part ready for superposition. ``screens``: hole-pair key -> Screen (rails: the
+    pair ``(i, j)`` of hole indices; other parts: None). ``pair_of``: bar length in um ->
+    pair key (rails). ``constant``: for a part with explicit [loads], its (stress Pa,
+    fatigue factor, tip m), the same for every setting. Limits SI; ``required`` the
+    fatigue factor a part needs; ``deflection_limit`` m or None."""
+
+    name: str
+    bar: str | None
+    screens: dict
+    pair_of: dict
+    limit: float
+    endurance: float
+    ultimate: float
+    criterion: str
+    yield_strength: float
+    required: float
+    deflection_limit: float | None
+    dofs: int
+    constant: tuple | None = None
+
+    def screen_for(self, length: float):
+        """The screen of the hole pair a bar of ``length`` m uses (rails), else the only one."""
+        if self.bar is None:
+            return self.screens[None]
+        return self.screens[self.pair_of[_um(length)]]
+
+
+def _um(length: float) -> int:
+    return int(round(length * 1e6))
+
+
+def applicable(scene, name: str, kind: str) -> bool:
+    """Whether a part is checked in a linkage kind: explicit loads always; otherwise its
+    joint and its bar must exist there (a slider-crank has no rocker and no O4)."""
+    if name in scene.check.loads:
+        return True
+    joints = {"four-bar": {"O2", "A", "B", "O4"}, "slider-crank": {"O2", "A", "B", "slider"}}[kind]
+    bars = {"four-bar": {"crank", "coupler", "rocker"}, "slider-crank": {"crank", "coupler"}}[kind]
+    srcs = [s for s in PARTS[name].sources if s.joint in joints and (s.axes_bar is None or s.axes_bar in bars)]
+    return bool(srcs) and (PARTS[name].bar is None or PARTS[name].bar in bars)
+
+
+def hole_groups(scene, name: str, geo, lengths: np.ndarray) -> tuple[dict, dict]:
+    """(key -> bolt-hole groups, length um -> key): a rail's pair for every bar length in
+    ``lengths`` (m; lengths off the rail are left out: their settings fail
+    ``joints_on_rails``); one key None with every hole for other parts."""
+    from railcheck.loads.cases import rail_bolt_holes
+
+    kind = kind_of(name)
+    if name in scene.check.loads:
+        holes = kind.bolts(geo) if not kind.bolts_on_rail else [f"hole_{k}" for k in
+                                                                  rail_bolt_holes(list(geo.get("hole_x")), 0, 0, "worst")]
+        return {None: holes}, {}
+    if not kind.bolts_on_rail:
+        return {None: kind.bolts(geo)}, {}
+    xs = list(geo.get("hole_x"))
+    groups, pair_of = {}, {}
+    for length in np.unique(lengths):
+        try:
+            pair = tuple(rail_bolt_holes(xs, xs[0], float(length), "actual"))
+        except ValueError:
+            continue
+        groups[pair] = [f"hole_{k}" for k in pair]
+        pair_of[_um(length)] = pair
+    return groups, pair_of
+
+
+def build_part_model(scene, name: str, lengths: np.ndarray, material, limit: float, report) -> PartModel:
+    """Mesh, factorise and solve the unit cases of every hole pair of one part; screen
+    them (``lengths``: the bar lengths, m, the sweep's settings give this part's bar)."""
+    from railcheck.fea.fatigue import endurance_limit
+    from railcheck.fea.unitcases import solve_unit_cases
+    from railcheck.geometry.mesher import mesh_part
+
+    from .cycle import source_histories, unit_cases
+    from .parts import geometry_of
+    from .pipeline import mesh_sizes
+    from .sweep_fe import fatigue_min, make_screen, tip_peak, von_mises_peak
+
+    kind = kind_of(name)
+    geo = geometry_of(name, scene.geometry)
+    mesh = mesh_part(geo, *mesh_sizes(scene, geo.kind), optimize=scene.mesh.optimize)
+    groups, pair_of = hole_groups(scene, name, geo, lengths)
+    cases, columns = {}, {}
+    for key, holes in groups.items():
+        names = []
+        for case_name, case in unit_cases(scene, name, geo, holes).items():
+            full = f"{case_name}@{key[0]}-{key[1]}" if key is not None and case_name.startswith("bolt") else case_name
+            cases.setdefault(full, case)
+            names.append(full)
+        columns[key] = [list(cases).index(n) for n in names]
+    fields, meta = solve_unit_cases(mesh.points, mesh.tets, mesh.groups, material, [kind.support], cases,
+                                    scene.mesh.order, kind.tip, kind.exclusion(geo), "auto", report)
+    screens = {key: make_screen(fields.stress, fields.verdict_mask, fields.tip, cols) for key, cols in columns.items()}
+    spec = scene.fatigue
+    marin = endurance_limit(material.ultimate_strength, spec.surface, kind.section(geo), spec.load, spec.reliability)
+    model = PartModel(name, PARTS[name].bar if name not in scene.check.loads else None, screens, pair_of, limit,
+                      marin.endurance_limit, material.ultimate_strength, spec.criterion, material.yield_strength,
+                      spec.min_safety, scene.check.max_deflection, meta["dofs"])
+    if name not in scene.check.loads:
+        return model
+    C = source_histories(scene, None, name, groups[None], material.density)[0].C[None]
+    scr = screens[None]
+    constant = (float(von_mises_peak(scr, C)[0]),
+                float(fatigue_min(scr, C, model.endurance, model.ultimate, model.criterion, model.yield_strength)[0]),
+                float(tip_peak(scr, C)[0]))
+    return PartModel(**{**model.__dict__, "constant": constant})

@@ -1,0 +1,283 @@
+"""What a sweep reports: per kind the counts, the worst setting, the motor envelope and
+the maps (:class:`Aggregate`, built chunk by chunk while the rows stream to disk), and
+seed 000's hypotheses of chapter 3.3 stated true or false from the table.
+
+Everything at the sweep's first speed unless stated; lengths in m in the summary.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from pathlib import Path
+
+import numpy as np
+
+REASON_ORDER = ("assembly", "grashof", "crank_shorter_than_coupler", "transmission_angle", "crank_rail_collision",
+                "joints_on_rails", "hole_grid")
+
+
+class Aggregate:
+    """Streaming statistics of one kind's rows at the first speed."""
+
+    def __init__(self, scene, kind: str, lengths: dict):
+        from .grid import BARS, narrowed, rig_grid
+
+        self.scene, self.kind, self.bars = scene, kind, BARS[kind]
+        self.first_speed = scene.sweep.speeds[0] / (2 * math.pi)
+        self.grid = narrowed(rig_grid(scene.geometry)[kind], scene.sweep.ranges)
+        self.counts = {"settings_total": int(lengths["crank"].size), "settings_assemblable": 0,
+                       "settings_revolving": 0, "settings_passing_checks": 0, "settings_passing": 0}
+        self.passing_by_speed = {}
+        self.worst = None
+        self.motor = None
+        self.min_safe = None
+        self.min_life = None
+        shape = tuple(v.size for v in self.grid.values())
+        self.util = np.full(shape, np.nan)          # per grid setting: utilisation at the first speed
+        self.safe = np.full(shape, np.nan)          # Hz
+        self.reason = np.full(shape, -1, dtype=np.int8)
+
+    def add(self, col: dict) -> None:
+        for speed in np.unique(col["speed_Hz"]):
+            sel = col["speed_Hz"] == speed
+            key = f"{speed:.6g}"
+            self.passing_by_speed[key] = self.passing_by_speed.get(key, 0) + int(np.sum(col["verdict"][sel] == "pass"))
+        first = np.isclose(col["speed_Hz"], self.first_speed, rtol=1e-12)
+        c = {k: v[first] for k, v in col.items()}
+        ok = c["checks_passed"]
+        self.counts["settings_assemblable"] += int(np.sum(c["check_assembly"]))
+        self.counts["settings_revolving"] += int(np.sum(np.isfinite(c["torque_peak_Nm"])))
+        self.counts["settings_passing_checks"] += int(np.sum(ok))
+        self.counts["settings_passing"] += int(np.sum(c["verdict"] == "pass"))
+        self._extremes(c, ok)
+        self._maps(c)
+
+    def _lengths(self, c: dict, i: int) -> dict:
+        return {b: float(c[f"{b}_mm"][i]) / 1e3 for b in self.bars}
+
+    def _extremes(self, c: dict, ok: np.ndarray) -> None:
+        u = np.where(ok & np.isfinite(c["utilisation"]), c["utilisation"], -np.inf)
+        if u.size and np.isfinite(u.max()) and (self.worst is None or u.max() > self.worst["utilisation"]):
+            i = int(np.argmax(u))
+            self.worst = {"lengths_m": self._lengths(c, i), "part": str(c["governing_part"][i]),
+                          "utilisation": float(u[i])}
+        t = np.where(ok & np.isfinite(c["torque_peak_Nm"]), c["torque_peak_Nm"], -np.inf)
+        if t.size and np.isfinite(t.max()) and (self.motor is None or t.max() > self.motor["torque_peak_Nm"]):
+            i = int(np.argmax(t))
+            self.motor = {"lengths_m": self._lengths(c, i), "torque_peak_Nm": float(t[i]),
+                          "torque_rms_Nm": float(c["torque_rms_Nm"][i]), "power_peak_W": float(c["power_peak_W"][i])}
+        s = np.where(ok & ~np.isnan(c["safe_speed_Hz"]), c["safe_speed_Hz"], np.inf)
+        if s.size and np.isfinite(s.min()) and (self.min_safe is None or s.min() < self.min_safe["safe_speed_Hz"]):
+            i = int(np.argmin(s))
+            self.min_safe = {"lengths_m": self._lengths(c, i), "safe_speed_Hz": float(s[i]),
+                             "part": str(c["governing_part"][i])}
+        life = np.where(ok & ~np.isnan(c["bearing_life_h"]), c["bearing_life_h"], np.inf)
+        if life.size and np.isfinite(life.min()) and (self.min_life is None or life.min() < self.min_life["hours"]):
+            i = int(np.argmin(life))
+            self.min_life = {"lengths_m": self._lengths(c, i), "hours": float(life[i]),
+                             "static_safety": float(c["bearing_static_safety"][i])}
+
+    def _maps(self, c: dict) -> None:
+        index = []
+        on_grid = np.ones(c["setting"].size, dtype=bool)
+        for b in self.bars:
+            values = self.grid[b]
+            x = c[f"{b}_mm"] / 1e3
+            k = np.clip(np.searchsorted(values, x - 1e-9), 0, max(values.size - 1, 0))
+            on_grid &= (np.abs(values[k] - x) < 1e-9) if values.size else False
+            index.append(k)
+        idx = tuple(k[on_grid] for k in index)
+        self.util[idx] = np.where(c["checks_passed"][on_grid], c["utilisation"][on_grid], np.nan)
+        self.safe[idx] = np.where(c["checks_passed"][on_grid], c["safe_speed_Hz"][on_grid], np.nan)
+        reasons = np.full(on_grid.sum(), -1, dtype=np.int8)
+        for r, name in reversed(list(enumerate(REASON_ORDER))):
+            key = f"check_{name}"
+            if key in c:
+                reasons = np.where(~c[key][on_grid], r, reasons)
+        self.reason[idx] = reasons
+
+    def summary(self) -> dict:
+        return {**self.counts, "settings_passing_by_speed_Hz": self.passing_by_speed, "worst": self.worst,
+                "max_motor_torque_Nm": self.motor["torque_peak_Nm"] if self.motor else None,
+                "motor": self.motor, "lowest_safe_speed": self.min_safe, "shortest_bearing_life": self.min_life}
+
+
+def summary_of(scene, aggregates: dict, tables: dict, models: dict) -> dict:
+    """summary.json (deterministic: no timings)."""
+    from .grid import rig_grid
+
+    grid = rig_grid(scene.geometry)
+    out = {
+        "grid": {kind: {f"{b}_m": [float(x) for x in v] for b, v in grid[kind].items()} for kind in grid},
+        "ranges_m": {b: list(r) for b, r in scene.sweep.ranges.items()},
+        "speeds_Hz": [w / (2 * math.pi) for w in scene.sweep.speeds],
+        "steps": scene.sweep.steps,
+        "assembly": scene.sweep.assembly,
+        "effects": list(scene.check.effects) if scene.check else ["inertia"],
+        "parts": {kind: list(m) for kind, m in models.items()},
+        "by_kind": {kind: a.summary() for kind, a in aggregates.items()},
+        "tables": {kind: Path(p).name for kind, p in tables.items()},
+    }
+    if "four-bar" in tables:
+        out["seed_hypotheses"] = hypotheses(tables["four-bar"], scene.sweep.speeds[0] / (2 * math.pi))
+    out["scene_source"] = scene.source
+    return out
+
+
+def _family(t: dict, **fixed) -> np.ndarray:
+    sel = np.isfinite(t["reaction"])
+    for bar, mm in fixed.items():
+        sel &= np.isclose(t[f"{bar}_mm"], mm)
+    return sel
+
+
+def hypotheses(path: Path, speed_hz: float) -> list[dict]:
+    """Seed 000 chapter 3.3's hypotheses, each true or false on this table's four-bar
+    rows at ``speed_hz`` ("reaction": the largest peak joint reaction of a setting)."""
+    from .sweep import read_table
+
+    cols = ["crank_mm", "coupler_mm", "rocker_mm", "ground_mm", "speed_Hz", "checks_passed", "peak_O2_N",
+            "peak_A_N", "peak_B_N", "peak_O4_N", "torque_peak_Nm"]
+    t = {k: v.to_numpy(zero_copy_only=False) for k, v in zip(cols, read_table(path, cols).columns)}
+    first = np.isclose(t["speed_Hz"], speed_hz)
+    t = {k: np.asarray(v[first], dtype=float if k != "checks_passed" else bool) for k, v in t.items()}
+    t["reaction"] = functools.reduce(np.fmax, [t[f"peak_{j}_N"] for j in ("O2", "A", "B", "O4")])
+    return [_h1(t), _h2(t), _h32(t), _smallest(t), _final(t)]
+
+
+def _verdict(hid: str, statement: str, holds, evidence: str) -> dict:
+    return {"id": hid, "statement": statement, "holds": None if holds is None else bool(holds), "evidence": evidence}
+
+
+def _h1(t: dict) -> dict:
+    sel = _family(t, crank=180, coupler=240) & np.isclose(t["rocker_mm"], t["ground_mm"])
+    x, r = t["rocker_mm"][sel], t["reaction"][sel]
+    order = np.argsort(x)
+    holds = bool(np.all(np.diff(r[order]) < 0)) if x.size > 1 else None
+    return _verdict("3.3.2 H1", "crank 180 mm, coupler 240 mm, rocker = ground: the longer rocker and ground, the "
+                                "smaller the reactions", holds,
+                    f"{x.size} revolving settings, rocker = ground {_span(x)} mm; reaction {_trend(x, r)}")
+
+
+def _h2(t: dict) -> dict:
+    sel = _family(t, crank=180, rocker=720, ground=720)
+    x, r = t["coupler_mm"][sel], t["reaction"][sel]
+    base = r[np.isclose(x, 240)]
+    holds = bool(np.all(r[x > 240] < base[0])) if base.size and np.any(x > 240) else None
+    return _verdict("3.3.2 H2", "crank 180 mm, rocker = ground = 720 mm: every coupler longer than 240 mm gives "
+                                "smaller reactions than 240 mm", holds,
+                    f"{x.size} revolving settings, coupler {_span(x)} mm; reaction at 240 mm "
+                    f"{base[0] if base.size else float('nan'):.1f} N, largest beyond {np.max(r[x > 240], initial=0):.1f} N")
+
+
+def _h32(t: dict) -> dict:
+    ok = t["checks_passed"]
+    cranks = np.unique(t["crank_mm"][ok])
+    worst = np.array([t["reaction"][ok & np.isclose(t["crank_mm"], c)].max() for c in cranks])
+    holds = bool(np.all(np.diff(worst) > 0)) if cranks.size > 1 else None
+    return _verdict("3.3.5 H3.2", "among settings that pass every check, the longer the crank, the larger the "
+                                  "largest reaction", holds,
+                    "largest reaction per crank: " + ", ".join(f"{c:.0f} mm {w:.0f} N" for c, w in zip(cranks, worst)))
+
+
+def _smallest(t: dict) -> dict:
+    ok = t["checks_passed"]
+    if not np.any(ok):
+        return _verdict("3.3.3", "the smallest mechanism has the largest reactions", None, "no setting passes")
+    size = (t["crank_mm"] + t["coupler_mm"] + t["rocker_mm"] + t["ground_mm"])[ok]
+    r = t["reaction"][ok]
+    i = int(np.argmax(r))
+    return _verdict("3.3.3", "among settings that pass every check, the smallest mechanism (least total bar length) "
+                             "has the largest reactions", bool(np.isclose(size[i], size.min())),
+                    f"largest reaction {r[i]:.1f} N at total length {size[i]:.0f} mm; smallest total {size.min():.0f} mm")
+
+
+def _final(t: dict) -> dict:
+    ok = t["checks_passed"]
+    if not np.any(ok):
+        return _verdict("3.3.6", "480/840/780/1020 mm has the largest reactions of the settings that pass", None,
+                        "no setting passes")
+    i = int(np.argmax(np.where(ok, t["reaction"], -np.inf)))
+    name = "/".join(f"{t[f'{b}_mm'][i]:.0f}" for b in ("crank", "coupler", "rocker", "ground"))
+    torque = np.nanmax(np.where(ok, t["torque_peak_Nm"], np.nan))
+    return _verdict("3.3.6", "480/840/780/1020 mm has the largest reactions of the settings that pass every check",
+                    name == "480/840/780/1020",
+                    f"largest: {name} mm with {t['reaction'][i]:.1f} N; largest peak motor torque of the settings "
+                    f"that pass {torque:.1f} N m (the seed asks for a motor of at least 200 N m)")
+
+
+def _span(x: np.ndarray) -> str:
+    return f"{x.min():.0f}-{x.max():.0f}" if x.size else "none"
+
+
+def _trend(x: np.ndarray, r: np.ndarray) -> str:
+    if x.size < 2:
+        return "not enough settings"
+    order = np.argsort(x)
+    return f"{r[order][0]:.1f} N -> {r[order][-1]:.1f} N"
+
+
+def write_maps(aggregates: dict, directory: Path) -> None:
+    """``map-KIND.png``: utilisation and safe speed over pairs of bars (the worst over the
+    other bars), refused cells coloured by the first failing check."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    for kind, agg in aggregates.items():
+        if agg.util.size:
+            _map_figure(agg, directory / f"map-{kind}.png")
+
+
+def _map_figure(agg: Aggregate, path: Path) -> None:
+    import matplotlib.pyplot as plt
+    from matplotlib.colors import ListedColormap
+    from matplotlib.patches import Patch
+
+    from .files import atomic_path
+
+    pairs = [(0, 1), (2, 3)] if len(agg.bars) == 4 else [(0, 1)]
+    fig, axes = plt.subplots(2, len(pairs), figsize=(6.5 * len(pairs), 9.5), squeeze=False)
+    reason_colors = ListedColormap(["#d9d9d9", "#fdd0a2", "#c6dbef", "#fcbba1", "#dadaeb", "#c7e9c0", "#f0f0f0"])
+    for col, (a, b) in enumerate(pairs):
+        others = tuple(i for i in range(len(agg.bars)) if i not in (a, b))
+        for row, (data, reduce, label, cmap) in enumerate((
+                (agg.util, np.nanmax, "worst utilisation (1 = limit)", "viridis"),
+                (agg.safe, np.nanmin, "lowest safe crank speed (Hz)", "viridis_r"))):
+            ax = axes[row, col]
+            with np.errstate(all="ignore"):
+                import warnings
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore", RuntimeWarning)
+                    grid = reduce(data, axis=others) if others else data
+            reasons = np.max(agg.reason, axis=others) if others else agg.reason
+            xs, ys = agg.grid[agg.bars[a]] * 1e3, agg.grid[agg.bars[b]] * 1e3
+            extent = _extent(xs, ys)
+            refused = np.ma.masked_where(~np.isnan(grid) | (reasons < 0), reasons)
+            ax.imshow(refused.T, origin="lower", extent=extent, aspect="auto", cmap=reason_colors, vmin=0,
+                      vmax=len(REASON_ORDER) - 1, interpolation="nearest")
+            finite = grid[np.isfinite(grid)]
+            im = ax.imshow(np.ma.masked_invalid(grid).T, origin="lower", extent=extent, aspect="auto", cmap=cmap,
+                           interpolation="nearest", vmin=finite.min() if finite.size else 0,
+                           vmax=finite.max() if finite.size else 1)
+            fig.colorbar(im, ax=ax, label=label)
+            if row == 0 and finite.size and finite.min() < 1 < finite.max():
+                ax.contour(xs, ys, grid.T, levels=[1.0], colors="red", linewidths=1.5)
+            ax.set_xlabel(f"{agg.bars[a]} (mm)")
+            ax.set_ylabel(f"{agg.bars[b]} (mm)")
+            over = f", worst over {' and '.join(agg.bars[i] for i in others)}" if others else ""
+            ax.set_title(f"{agg.kind}: {label.split(' (')[0]}{over}", fontsize=9)
+    handles = [Patch(color=reason_colors(i), label=f"refused: {n.replace('_', ' ')}") for i, n in enumerate(REASON_ORDER)]
+    fig.legend(handles=handles, loc="lower center", ncol=4, fontsize=8)
+    fig.suptitle(f"railcheck sweep, {agg.kind} at {agg.first_speed:g} Hz: settings that pass every configuration "
+                 "check in colour (red line: utilisation 1)", fontsize=10)
+    fig.tight_layout(rect=(0, 0.06, 1, 0.97))
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=110)
+    plt.close(fig)
+
+
+def _extent(xs: np.ndarray, ys: np.ndarray) -> tuple:
+    dx = (xs[1] - xs[0]) if xs.size > 1 else 60.0
+    dy = (ys[1] - ys[0]) if ys.size > 1 else 60.0
+    return (xs.min() - dx / 2, xs.max() + dx / 2, ys.min() - dy / 2, ys.max() + dy / 2)

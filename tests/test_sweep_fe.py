@@ -1,0 +1,64 @@
+"""The sweep's screened FE evaluation equals evaluating every node and step."""
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from railcheck.fea.elasticity import von_mises
+from railcheck.fea.fatigue import alternating_and_mean, safety_factor
+from railcheck.sweep_fe import fatigue_min, make_screen, tip_peak, von_mises_peak
+
+
+def _brute(stress, mask, C, se=200e6, sut=750e6, criterion="goodman"):
+    S = stress[:, mask]
+    X = np.tensordot(S, C, axes=([2], [2]))                    # (6, n, s, T)
+    vm = von_mises(X).max(axis=(0, 2))
+    sa, sm = alternating_and_mean(X.max(axis=3), X.min(axis=3))
+    return vm, safety_factor(sa, sm, se, sut, criterion, 400e6).min(axis=0)
+
+
+@settings(max_examples=40, deadline=None)
+@given(seed=st.integers(0, 2**31 - 1), k=st.sampled_from([2, 3, 4]), criterion=st.sampled_from(
+    ["goodman", "gerber", "asme-elliptic"]), spread=st.floats(0.0, 3.0))
+def test_screened_peaks_equal_brute_force(seed, k, criterion, spread):
+    """Random stress fields with a few hot nodes (as near a hole) and random histories,
+    some offset from zero (a mean stress): the screened peak and fatigue factor equal
+    every node x every step."""
+    rng = np.random.default_rng(seed)
+    n = 3000
+    stress = rng.normal(size=(6, n, k)) * np.exp(spread * rng.normal(size=(1, n, 1)))
+    mask = rng.random(n) > 0.1
+    tip = rng.normal(size=(3, k))
+    t = np.linspace(0, 2 * np.pi, 97)
+    C = (rng.normal(size=(7, 1, k)) + rng.normal(size=(7, 1, k)) * np.cos(t)[None, :, None]
+         + rng.normal(size=(7, 1, k)) * np.sin(2 * t)[None, :, None])
+    screen = make_screen(stress, mask, tip, list(range(k)))
+    vm, n_min = _brute(stress, mask, C, criterion=criterion)
+    np.testing.assert_allclose(von_mises_peak(screen, C), vm, rtol=1e-12)
+    np.testing.assert_allclose(fatigue_min(screen, C, 200e6, 750e6, criterion, 400e6), n_min, rtol=1e-12)
+    np.testing.assert_allclose(tip_peak(screen, C), np.linalg.norm(C @ tip.T, axis=2).max(axis=1), rtol=1e-14)
+
+
+def test_unloaded_setting_has_zero_stress_and_infinite_fatigue_factor():
+    rng = np.random.default_rng(1)
+    stress = rng.normal(size=(6, 500, 2))
+    screen = make_screen(stress, np.ones(500, bool), rng.normal(size=(3, 2)), [0, 1])
+    C = np.zeros((2, 50, 2))
+    C[1] = rng.normal(size=(50, 2))
+    vm = von_mises_peak(screen, C)
+    assert vm[0] == 0.0 and vm[1] > 0
+    n = fatigue_min(screen, C, 200e6, 750e6, "goodman", None)
+    assert np.isinf(n[0]) and np.isfinite(n[1])
+
+
+@pytest.mark.parametrize("columns", [[0, 1], [2, 3]])
+def test_screen_selects_columns(columns):
+    rng = np.random.default_rng(2)
+    stress = rng.normal(size=(6, 400, 4))
+    C = rng.normal(size=(3, 40, 2))
+    screen = make_screen(stress, np.ones(400, bool), np.zeros((3, 4)), columns)
+    full = np.zeros((3, 40, 4))
+    full[..., columns] = C
+    vm, _ = _brute(stress, np.ones(400, bool), full)
+    np.testing.assert_allclose(von_mises_peak(screen, C), vm, rtol=1e-12)
