@@ -92,8 +92,10 @@ def prepare_models(scene, by_kind: dict, progress) -> dict[str, dict]:
 
 
 def run_sweep(scene, out: str | None = None, force: bool = False, scheduler: str | None = None,
-              workers: int | None = None, serial: bool = False, progress=None) -> SweepRun:
-    """Run the sweep the scene asks for and write its results directory."""
+              workers: int | None = None, serial: bool = False, progress=None, dask: bool | None = None) -> SweepRun:
+    """Run the sweep the scene asks for and write its results directory. Dask runs the
+    chunks when ``scheduler`` is given or the sweep is large (``dask`` True/False forces
+    it either way; ``serial`` is ``dask=False``)."""
     from .pipeline import Progress
 
     validate(scene)
@@ -106,11 +108,12 @@ def run_sweep(scene, out: str | None = None, force: bool = False, scheduler: str
     except OSError as exc:
         raise InputError("output.dir", f"cannot write results at {requested}: {exc.strerror or exc}") from None
     try:
-        summary, tables = _run_into(scene, staging.path, scheduler, workers, serial, progress)
+        summary, tables = _run_into(scene, staging.path, scheduler, workers, serial, progress, dask)
         staging.commit()
     except BaseException:
         staging.abandon()
         raise
+    tables = {kind: target / Path(p).name for kind, p in tables.items()}
     return SweepRun(summary, target, requested, time.perf_counter() - t0, tables)
 
 
@@ -118,7 +121,7 @@ def _default_dir(scene) -> str:
     return "sweep" if scene.output.dir == "results" else f"{scene.output.dir}-sweep"
 
 
-def _run_into(scene, directory: Path, scheduler, workers, serial, progress) -> tuple[dict, dict]:
+def _run_into(scene, directory: Path, scheduler, workers, serial, progress, dask) -> tuple[dict, dict]:
     from .sweep_report import Aggregate, summary_of, write_maps
 
     by_kind = sweep_settings(scene)
@@ -126,8 +129,9 @@ def _run_into(scene, directory: Path, scheduler, workers, serial, progress) -> t
                  + f" x {len(scene.sweep.speeds)} speed(s), {scene.sweep.steps} steps")
     models = prepare_models(scene, by_kind, progress)
     aggregates, tables = {}, {}
-    with _Executor(scheduler, workers, serial, sum(v["crank"].size for v in by_kind.values()) > 4 * chunk_size(scene),
-                   progress) as executor:
+    large = sum(v["crank"].size for v in by_kind.values()) > 4 * chunk_size(scene)
+    use_dask = (scheduler is not None or large) if dask is None else dask
+    with _Executor(scheduler, workers, use_dask and not serial, progress) as executor:
         for kind, lengths in by_kind.items():
             ctx = _context(scene, kind, models[kind])
             path = directory / f"sweep-{kind}.{scene.sweep.format}"
@@ -161,9 +165,9 @@ class _Executor:
     """Chunks of settings -> their columns, in order: serially, or on Dask (a local
     cluster unless ``scheduler`` names one) with at most two chunks per worker in flight."""
 
-    def __init__(self, scheduler, workers, serial: bool, large: bool, progress):
+    def __init__(self, scheduler, workers, use_dask: bool, progress):
         self.progress = progress
-        self.use_dask = not serial and (scheduler is not None or large)
+        self.use_dask = use_dask
         self.scheduler, self.workers = scheduler, workers
         self.client = self.cluster = None
 
@@ -294,12 +298,13 @@ def _arrow(values: np.ndarray):
     return pa.array(values)
 
 
-def read_table(path: Path, columns: list[str] | None = None):
-    """The sweep table (pyarrow.Table) of a Parquet or CSV file."""
+def read_table(path: Path, columns: list[str] | None = None, speed_hz: float | None = None):
+    """The sweep table (pyarrow.Table) of a Parquet or CSV file: ``columns`` only, and
+    only the rows at ``speed_hz`` when given (scanned in batches: the whole table is
+    never in memory)."""
+    import pyarrow.dataset as ds
+
     path = Path(path)
-    if path.suffix == ".parquet":
-        import pyarrow.parquet as pq
-        return pq.read_table(path, columns=columns)
-    import pyarrow.csv as pcsv
-    convert = pcsv.ConvertOptions(include_columns=columns) if columns else None
-    return pcsv.read_csv(path, convert_options=convert)
+    data = ds.dataset(path, format="parquet" if path.suffix == ".parquet" else "csv")
+    where = None if speed_hz is None else (ds.field("speed_Hz") == speed_hz)
+    return data.to_table(columns=columns, filter=where)

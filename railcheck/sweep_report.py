@@ -139,9 +139,9 @@ def hypotheses(path: Path, speed_hz: float) -> list[dict]:
 
     cols = ["crank_mm", "coupler_mm", "rocker_mm", "ground_mm", "speed_Hz", "checks_passed", "peak_O2_N",
             "peak_A_N", "peak_B_N", "peak_O4_N", "torque_peak_Nm"]
-    t = {k: v.to_numpy(zero_copy_only=False) for k, v in zip(cols, read_table(path, cols).columns)}
-    first = np.isclose(t["speed_Hz"], speed_hz)
-    t = {k: np.asarray(v[first], dtype=float if k != "checks_passed" else bool) for k, v in t.items()}
+    table = read_table(path, cols, speed_hz)
+    t = {k: np.asarray(v.to_numpy(zero_copy_only=False), dtype=float if k != "checks_passed" else bool)
+         for k, v in zip(cols, table.columns)}
     t["reaction"] = functools.reduce(np.fmax, [t[f"peak_{j}_N"] for j in ("O2", "A", "B", "O4")])
     return [_h1(t), _h2(t), _h32(t), _smallest(t), _final(t)]
 

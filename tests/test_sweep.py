@@ -1,0 +1,243 @@
+"""`railcheck sweep`: the grid, the seed's cases, the kinematics and checks of every
+setting against independent calculations, Dask against serial, streaming, bearings."""
+
+import math
+import tracemalloc
+
+import numpy as np
+import pytest
+
+from railcheck.kinematics import batch
+from railcheck.kinematics.massmodel import MassModel, fourbar_bodies
+from railcheck.loads.bearings import BEARING_6205, bearing_life
+from railcheck.scene import parse_scene
+from railcheck.sweep import read_table, run_sweep
+
+# seed 000, 3.3.6: (b2, b3, b4, d) mm -> mu_max, mu_min (deg) and the seed's label
+SEED_336 = [((540, 900, 780, 1058), 143.9544, 35.0009, "cannot be mounted"),
+            ((540, 840, 780, 1020), 148.6930, 34.2160, "fails the transmission angle"),
+            ((480, 840, 780, 1020), 135.5846, 38.7192, "passes")]
+
+
+def _sweep(tmp_path, text: str, name: str = "out", **kw):
+    scene = parse_scene(__import__("tomllib").loads(text), "test")
+    return run_sweep(scene, str(tmp_path / name), **kw)
+
+
+def _rows(run, kind="four-bar"):
+    table = read_table(run.tables[kind])
+    return {k: np.asarray(v.to_numpy(zero_copy_only=False)) for k, v in zip(table.column_names, table.columns)}
+
+
+def _independent_lengths(rail_mm: float) -> list[float]:
+    """Written apart from railcheck.grid: holes at 20 mm, then every 60 mm, the last at
+    least 20 mm from the end; a bar runs from the first hole to another."""
+    holes, x = [], 20.0
+    while x <= rail_mm - 20.0 + 1e-9:
+        holes.append(x)
+        x += 60.0
+    return [h - holes[0] for h in holes[1:]]
+
+
+def _independent_checks(b2, b3, b4, d) -> bool:
+    """Seed 000's final limits by hand: Grashof crank-rocker, 35 < mu < 145 deg, d > 660
+    mm, every joint on its rail's holes."""
+    s, *_, l = sorted((b2, b3, b4, d))
+    p, q = sorted((b2, b3, b4, d))[1:3]
+    if not (l < b2 + b3 + b4 + d - l and s + l < p + q and b2 == s):
+        return False
+    cos_min = (b3**2 + b4**2 - (d - b2) ** 2) / (2 * b3 * b4)
+    cos_max = (b3**2 + b4**2 - (d + b2) ** 2) / (2 * b3 * b4)
+    if not (-1 <= cos_min <= 1 and -1 <= cos_max <= 1):
+        return False
+    mu_min, mu_max = math.degrees(math.acos(cos_min)), math.degrees(math.acos(cos_max))
+    return 35 < mu_min and mu_max < 145 and d > 660 and b2 <= 660 and b3 <= 960 and b4 <= 960
+
+
+KINEMATICS_ONLY = """
+[sweep]
+speeds = ["1 Hz"]
+steps = 90
+"""
+
+
+@pytest.fixture(scope="module")
+def kinematic_sweep(tmp_path_factory):
+    return _sweep(tmp_path_factory.mktemp("sweep"), KINEMATICS_ONLY, serial=True)
+
+
+def test_grid_counts_equal_an_independent_enumeration(kinematic_sweep):
+    crank, coupler, rocker, ground = (_independent_lengths(L) for L in (700, 1000, 1000, 2500))
+    s = kinematic_sweep.summary
+    assert s["grid"]["four-bar"]["crank_m"] == pytest.approx([x / 1e3 for x in crank], abs=1e-12)
+    assert s["grid"]["four-bar"]["ground_m"] == pytest.approx([x / 1e3 for x in ground], abs=1e-12)
+    total = len(crank) * len(coupler) * len(rocker) * len(ground)
+    assert s["by_kind"]["four-bar"]["settings_total"] == total == 115456
+    assert s["by_kind"]["slider-crank"]["settings_total"] == len(crank) * len(coupler)
+    passing = sum(_independent_checks(a, b, c, d) for a in crank for b in coupler for c in rocker for d in ground)
+    assert s["by_kind"]["four-bar"]["settings_passing_checks"] == passing
+    rows = _rows(kinematic_sweep)
+    assert rows["setting"].size == total and np.array_equal(np.sort(rows["setting"]), np.arange(total))
+
+
+def test_seed_336_cases_are_found_with_the_seeds_check_results(tmp_path):
+    """540/900/780/1058 (off the hole grid: given as an extra setting) cannot be mounted;
+    540/840/780/1020 fails the transmission angle; 480/840/780/1020 passes; the
+    transmission angles are the seed's to its 4 decimals."""
+    run = _sweep(tmp_path, KINEMATICS_ONLY + """
+kind = "four-bar"
+crank = ["480 mm", "540 mm"]
+coupler = ["840 mm", "900 mm"]
+rocker = ["780 mm", "780 mm"]
+ground = ["1020 mm", "1020 mm"]
+[[sweep.settings]]
+crank = "540 mm"
+coupler = "900 mm"
+rocker = "780 mm"
+ground = "1058 mm"
+""", serial=True)
+    rows = _rows(run)
+    for (b2, b3, b4, d), mu_max, mu_min, label in SEED_336:
+        i = np.flatnonzero((rows["crank_mm"] == b2) & (rows["coupler_mm"] == b3) & (rows["rocker_mm"] == b4)
+                           & np.isclose(rows["ground_mm"], d))
+        assert i.size == 1, (b2, b3, b4, d)
+        i = i[0]
+        assert rows["mu_max_deg"][i] == pytest.approx(mu_max, abs=1e-4)
+        assert rows["mu_min_deg"][i] == pytest.approx(mu_min, abs=1e-4)
+        if label == "cannot be mounted":
+            assert not rows["check_hole_grid"][i] and rows["check_transmission_angle"][i]
+            assert rows["verdict"][i] == "refused" and rows["reason"][i] == "hole_grid"
+        elif label == "fails the transmission angle":
+            assert rows["check_hole_grid"][i] and not rows["check_transmission_angle"][i]
+            assert rows["reason"][i] == "transmission_angle"
+        else:
+            assert rows["checks_passed"][i] and rows["verdict"][i] == "pass"
+
+
+def _newton_euler_9x9(b2, b3, b4, d, theta2, speed):
+    """Reference: the three bars' Newton-Euler equations (forces, and moments about each
+    centre of mass) assembled as one 9 x 9 linear system per step and solved by numpy.
+    Unknowns: O2 on the crank (0, 1); A on the coupler, minus on the crank (2, 3); B on
+    the rocker, minus on the coupler (4, 5); O4 on the rocker (6, 7); the torque (8)."""
+    from types import SimpleNamespace
+
+    m = batch.fourbar_motion(b2, b3, b4, d, 1.0, speed, theta2)
+    bodies = fourbar_bodies(SimpleNamespace(crank=b2, coupler=b3, rocker=b4), MassModel())
+    origins = ("O2", "A", "O4")
+    acting = {0: [(0, "O2", 1.0), (2, "A", -1.0)], 1: [(2, "A", 1.0), (4, "B", -1.0)],
+              2: [(4, "B", 1.0), (6, "O4", 1.0)]}
+    out = []
+    for t in range(theta2.size):
+        M, rhs = np.zeros((9, 9)), np.zeros(9)
+        for b, bar in enumerate(bodies):
+            th, w, al = m.theta[b, 0, t], m.omega[b, 0, t], m.alpha[b, 0, t]
+            e = np.array([math.cos(th), math.sin(th)])
+            n = np.array([-e[1], e[0]])
+            G = m.points[origins[b]][0, t] + bar.com * e
+            aG = m.accelerations[origins[b]][0, t] + al * bar.com * n - w**2 * bar.com * e
+            rhs[3 * b:3 * b + 3] = [bar.mass * aG[0], bar.mass * aG[1], bar.inertia_com * al]
+            for col, joint, sgn in acting[b]:
+                r = m.points[joint][0, t] - G
+                M[3 * b, col] += sgn
+                M[3 * b + 1, col + 1] += sgn
+                M[3 * b + 2, col] -= sgn * r[1]
+                M[3 * b + 2, col + 1] += sgn * r[0]
+        M[2, 8] = 1.0
+        out.append(np.linalg.solve(M, rhs))
+    return np.array(out)
+
+
+@pytest.mark.parametrize("lengths", [(0.48, 0.84, 0.78, 1.02), (0.06, 0.3, 0.42, 0.36), (0.6, 0.96, 0.96, 1.2)])
+def test_closed_form_inverse_dynamics_equals_the_9x9_system(lengths):
+    theta2 = np.linspace(0, 2 * np.pi, 37)
+    ref = _newton_euler_9x9(*lengths, theta2, 2 * np.pi)
+    dyn = batch.newton_euler(batch.fourbar_motion(*lengths, 1.0, 2 * np.pi, theta2))
+    got = np.column_stack([dyn.reactions["O2"][0], dyn.reactions["A"][0], dyn.reactions["B"][0],
+                           dyn.reactions["O4"][0], dyn.torque[0]])
+    np.testing.assert_allclose(got, ref, rtol=1e-10, atol=1e-9 * np.abs(ref).max())
+
+
+def test_batch_of_settings_equals_each_setting_alone():
+    rng = np.random.default_rng(3)
+    b2 = rng.uniform(0.05, 0.2, 20)
+    b3, b4, d = b2 + rng.uniform(0.4, 0.6, 20), b2 + rng.uniform(0.4, 0.6, 20), b2 + rng.uniform(0.4, 0.6, 20)
+    speed = rng.uniform(1, 20, 20)
+    th = np.linspace(0, 2 * np.pi, 50)
+    together = batch.newton_euler(batch.fourbar_motion(b2, b3, b4, d, 1.0, speed, th), gravity=9.81)
+    for i in (0, 7, 19):
+        alone = batch.newton_euler(batch.fourbar_motion(b2[i], b3[i], b4[i], d[i], 1.0, speed[i], th), gravity=9.81)
+        for j in together.reactions:
+            np.testing.assert_allclose(together.reactions[j][i], alone.reactions[j][0], rtol=1e-13, atol=1e-9)
+
+
+def test_bearing_life_matches_the_rating_formula():
+    """Constant load and speed: L10 = (C/P)^3 10^6 / (3600 n); a load on half the turn
+    gives the cubic mean; the two bearings of a joint share it."""
+    T = 1000
+    speed = 2 * np.pi * np.ones((1, T))            # 1 rev/s
+    load = np.zeros((1, T, 2))
+    load[..., 0] = 2000.0                          # N on the joint, 1000 N per bearing
+    life = bearing_life(load, speed)
+    expected = (BEARING_6205.dynamic_capacity / 1000.0) ** 3 * 1e6 / 3600.0
+    assert life.l10_hours[0] == pytest.approx(expected, rel=1e-12)
+    assert life.static_safety[0] == pytest.approx(7800.0 / 1000.0)
+    load[0, T // 2:, 0] = 0.0
+    half = bearing_life(load, speed)
+    assert half.equivalent_load[0] == pytest.approx(1000.0 * 0.5 ** (1 / 3), rel=1e-12)
+
+
+@pytest.mark.slow
+def test_dask_and_serial_give_identical_tables(tmp_path):
+    text = KINEMATICS_ONLY + 'crank = ["420 mm", "540 mm"]\ncoupler = ["780 mm", "900 mm"]\nspeeds = ["1 Hz", "1.5 Hz"]\n'
+    text = text.replace('speeds = ["1 Hz"]\n', "")
+    serial = _rows(_sweep(tmp_path, text, "serial", serial=True))
+    parallel = _rows(_sweep(tmp_path, text.replace("[sweep]", "[sweep]\nmemory = \"2 MB\""), "dask", workers=2,
+                            serial=False, dask=True))
+    assert serial.keys() == parallel.keys()
+    for k in serial:
+        assert np.array_equal(serial[k], parallel[k]) or np.allclose(serial[k], parallel[k], rtol=0, atol=0,
+                                                                    equal_nan=True), k
+
+
+@pytest.mark.slow
+def test_sweep_larger_than_its_memory_budget_streams_to_disk(tmp_path):
+    """A 2 MB working-memory budget and a table more than ten times larger: the rows are
+    written chunk by chunk and the traced peak (numpy and Python allocations, imports
+    done beforehand; the maps' matplotlib figure is about 13 MB of it) stays far below
+    the table's size."""
+    text = """
+[sweep]
+kind = "four-bar"
+steps = 16
+memory = "2 MB"
+crank = ["60 mm", "660 mm"]
+coupler = ["600 mm", "960 mm"]
+rocker = ["600 mm", "960 mm"]
+ground = ["660 mm", "2460 mm"]
+speeds = ["0.25 Hz", "0.5 Hz", "0.75 Hz", "1 Hz", "1.25 Hz", "1.5 Hz", "1.75 Hz", "2 Hz", "2.25 Hz", "2.5 Hz",
+          "2.75 Hz", "3 Hz", "3.25 Hz", "3.5 Hz", "3.75 Hz", "4 Hz"]
+"""
+    _sweep(tmp_path, text.replace('"2460 mm"', '"720 mm"'), "warm", serial=True)   # imports, not measured
+    tracemalloc.start()
+    try:
+        run = _sweep(tmp_path, text, serial=True)
+        _, peak = tracemalloc.get_traced_memory()
+    finally:
+        tracemalloc.stop()
+    table = read_table(run.tables["four-bar"])
+    settings = run.summary["by_kind"]["four-bar"]["settings_total"]
+    assert table.num_rows == settings * 16
+    assert table.nbytes > 10 * 2e6
+    assert peak < table.nbytes / 3, (peak, table.nbytes)
+
+
+def test_csv_table_equals_parquet(tmp_path):
+    text = KINEMATICS_ONLY + 'kind = "slider-crank"\n'
+    a = _rows(_sweep(tmp_path, text, "pq", serial=True), "slider-crank")
+    b = _rows(_sweep(tmp_path, text.replace("[sweep]", '[sweep]\nformat = "csv"'), "csv", serial=True),
+              "slider-crank")
+    for k in a:
+        if a[k].dtype.kind == "f":
+            np.testing.assert_allclose(b[k].astype(float), a[k], rtol=1e-15, equal_nan=True)
+        else:
+            assert [str(x) for x in a[k]] == [str(x) for x in b[k]], k
