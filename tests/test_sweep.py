@@ -241,3 +241,81 @@ def test_csv_table_equals_parquet(tmp_path):
             np.testing.assert_allclose(b[k].astype(float), a[k], rtol=1e-15, equal_nan=True)
         else:
             assert [str(x) for x in a[k]] == [str(x) for x in b[k]], k
+
+
+FE_SWEEP = """
+[sweep]
+kind = "four-bar"
+speeds = ["1 Hz"]
+steps = 360
+crank = ["480 mm", "540 mm"]
+coupler = ["840 mm", "840 mm"]
+rocker = ["780 mm", "840 mm"]
+ground = ["1020 mm", "1080 mm"]
+
+[check]
+parts = ["crank-rail", "coupler-rail", "rocker-rail", "PF_4b_006", "PF_4b_003_v2"]
+
+[loads.PF_4b_003_v2]
+longitudinal = "250 N"
+transverse = "250 N"
+
+[mesh]
+size = "12 mm"
+"""
+
+
+def _check_scene(row: dict, speed_hz: float):
+    text = f"""
+[mechanism]
+kind = "four-bar"
+crank = "{row['crank_mm']:.6f} mm"
+coupler = "{row['coupler_mm']:.6f} mm"
+rocker = "{row['rocker_mm']:.6f} mm"
+ground = "{row['ground_mm']:.6f} mm"
+speed = "{speed_hz:.17g} Hz"
+steps = 360
+
+[check]""" + FE_SWEEP.split("[check]")[1].replace('parts = [', 'bolt_position = "actual"\nparts = [')
+    return parse_scene(__import__("tomllib").loads(text), "check")
+
+
+@pytest.fixture(scope="module")
+def fe_sweep(tmp_path_factory):
+    return _rows(_sweep(tmp_path_factory.mktemp("fe"), FE_SWEEP, serial=True))
+
+
+@pytest.mark.slow
+def test_a_sweep_row_equals_railcheck_check_of_that_setting(fe_sweep):
+    """Stress, fatigue factor and tip deflection of every part: the sweep's superposition
+    over all hole pairs equals `railcheck check` of the same setting (bolts at the
+    setting's holes, same mesh) to 1e-9."""
+    from railcheck.pipeline import run_pipeline
+
+    rows = fe_sweep
+    passing = np.flatnonzero(rows["checks_passed"])
+    assert passing.size >= 2
+    for i in passing[[0, -1]]:
+        row = {k: v[i] for k, v in rows.items()}
+        result = run_pipeline(_check_scene(row, 1.0))
+        for name, part in result.parts.items():
+            env, fat = part.cycle.envelope, part.cycle.fatigue
+            assert row[f"{name}_stress_MPa"] * 1e6 == pytest.approx(env.max_von_mises, rel=1e-9), name
+            assert row[f"{name}_fatigue"] == pytest.approx(fat["min_safety_factor"], rel=1e-9), name
+            if part.geometry.kind == "rail":
+                assert row[f"{name}_tip_mm"] / 1e3 == pytest.approx(env.max_tip, rel=1e-9), name
+
+
+@pytest.mark.slow
+def test_checking_at_the_safe_speed_gives_utilisation_one(fe_sweep):
+    """The safe speed is closed-form (inertia ~ omega^2): a check at that speed puts the
+    governing part exactly at its limit."""
+    from railcheck.pipeline import run_pipeline
+
+    rows = fe_sweep
+    i = np.flatnonzero(rows["checks_passed"])[0]
+    row = {k: v[i] for k, v in rows.items()}
+    result = run_pipeline(_check_scene(row, row["safe_speed_Hz"]))
+    u = max(max(p.verdict_stress / p.limit, p.cycle.fatigue["required"] / p.cycle.fatigue["min_safety_factor"])
+            for p in result.parts.values())
+    assert u == pytest.approx(1.0, abs=1e-6)
