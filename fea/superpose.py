@@ -122,11 +122,11 @@ def component_range(S: np.ndarray, C: np.ndarray) -> tuple[np.ndarray, np.ndarra
     polygon's support function, found per direction by a binary search on the polygon's
     edge normals (O(nodes log vertices)); otherwise every step is evaluated in chunks."""
     if C.shape[1] == 2:
-        polygon = _hull_polygon(C)
+        polygon = hull_polygon(C)
         if polygon is not None:
             D = S.reshape(-1, 2)
-            hi = _support(D, polygon)
-            lo = -_support(-D, polygon)
+            hi = support(D, polygon)
+            lo = -support(-D, polygon)
             return hi.reshape(S.shape[:2]), lo.reshape(S.shape[:2])
     nodes = S.shape[1]
     hi, lo = np.empty((6, nodes)), np.empty((6, nodes))
@@ -136,7 +136,7 @@ def component_range(S: np.ndarray, C: np.ndarray) -> tuple[np.ndarray, np.ndarra
     return hi, lo
 
 
-def _hull_polygon(C: np.ndarray) -> np.ndarray | None:
+def hull_polygon(C: np.ndarray) -> np.ndarray | None:
     """The 2D points' convex hull vertices in counter-clockwise order, or None when
     they do not span a polygon."""
     from scipy.spatial import ConvexHull, QhullError
@@ -151,15 +151,16 @@ def _hull_polygon(C: np.ndarray) -> np.ndarray | None:
     return C[hull.vertices]                                # qhull orders 2D vertices counter-clockwise
 
 
-def _support(D: np.ndarray, V: np.ndarray) -> np.ndarray:
+def support(D: np.ndarray, V: np.ndarray, angle: np.ndarray | None = None) -> np.ndarray:
     """max over the polygon's vertices V (h, 2, counter-clockwise) of d . v for every row
-    d of D (m, 2): the vertex after the edge whose outward normal angle precedes d's."""
+    d of D (m, 2): the vertex after the edge whose outward normal angle precedes d's
+    (``angle``: the rows' arctan2, when already known)."""
     edges = np.roll(V, -1, axis=0) - V
     normal_angle = np.arctan2(-edges[:, 0], edges[:, 1])   # outward normal (e_y, -e_x)
     start = normal_angle[0]
     rel = np.mod(normal_angle - start, 2 * np.pi)
     rel[0] = 0.0
-    theta = np.mod(np.arctan2(D[:, 1], D[:, 0]) - start, 2 * np.pi)
+    theta = np.mod((np.arctan2(D[:, 1], D[:, 0]) if angle is None else angle) - start, 2 * np.pi)
     edge = np.searchsorted(rel, theta, side="right") - 1
     h = V.shape[0]
     # the candidate and its neighbours, to absorb rounding at the bracket's ends

@@ -35,6 +35,7 @@ class SweepRun:
     requested: Path
     seconds: float = 0.0
     tables: dict = field(default_factory=dict)
+    timings: dict = field(default_factory=dict)     # s per stage: prepare (FE unit cases), chunks, report
 
     @property
     def exit_status(self) -> int:
@@ -108,26 +109,28 @@ def run_sweep(scene, out: str | None = None, force: bool = False, scheduler: str
     except OSError as exc:
         raise InputError("output.dir", f"cannot write results at {requested}: {exc.strerror or exc}") from None
     try:
-        summary, tables = _run_into(scene, staging.path, scheduler, workers, serial, progress, dask)
+        summary, tables, timings = _run_into(scene, staging.path, scheduler, workers, serial, progress, dask)
         staging.commit()
     except BaseException:
         staging.abandon()
         raise
     tables = {kind: target / Path(p).name for kind, p in tables.items()}
-    return SweepRun(summary, target, requested, time.perf_counter() - t0, tables)
+    return SweepRun(summary, target, requested, time.perf_counter() - t0, tables, timings)
 
 
 def _default_dir(scene) -> str:
     return "sweep" if scene.output.dir == "results" else f"{scene.output.dir}-sweep"
 
 
-def _run_into(scene, directory: Path, scheduler, workers, serial, progress, dask) -> tuple[dict, dict]:
+def _run_into(scene, directory: Path, scheduler, workers, serial, progress, dask) -> tuple[dict, dict, dict]:
     from .sweep_report import Aggregate, summary_of, write_maps
 
+    clock = [time.perf_counter()]
     by_kind = sweep_settings(scene)
     progress.say("sweep", ", ".join(f"{k}: {v['crank'].size} settings" for k, v in by_kind.items())
                  + f" x {len(scene.sweep.speeds)} speed(s), {scene.sweep.steps} steps")
     models = prepare_models(scene, by_kind, progress)
+    clock.append(time.perf_counter())
     aggregates, tables = {}, {}
     large = sum(v["crank"].size for v in by_kind.values()) > 4 * chunk_size(scene)
     use_dask = (scheduler is not None or large) if dask is None else dask
@@ -141,13 +144,17 @@ def _run_into(scene, directory: Path, scheduler, workers, serial, progress, dask
                     writer.write(columns)
                     aggregates[kind].add(columns)
             tables[kind] = path
+    clock.append(time.perf_counter())
     summary = summary_of(scene, aggregates, tables, models)
     from .files import atomic_write_text
     from .report import to_json
 
     atomic_write_text(directory / "summary.json", to_json(summary) + "\n")
     write_maps(aggregates, directory)
-    return summary, tables
+    clock.append(time.perf_counter())
+    timings = dict(zip(("prepare", "chunks", "report"), np.diff(clock)))
+    atomic_write_text(directory / "timings.json", to_json(timings) + "\n")
+    return summary, tables, timings
 
 
 def _context(scene, kind: str, models: dict):

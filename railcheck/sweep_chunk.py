@@ -265,28 +265,26 @@ def _safe_s_closed(ctx: SweepContext, base: dict, n: int) -> np.ndarray:
 
 
 def _safe_s_bisect(ctx: SweepContext, at, n: int, iterations: int = 60) -> np.ndarray:
-    """With gravity: the smallest ``s`` where the largest utilisation reaches 1, by
-    bracketing (doubling) and bisection, vectorised over the settings."""
+    """With gravity: the ``s`` where the largest utilisation first reaches 1, by doubling
+    from 1 until it is exceeded, then bisection (vectorised over the settings); 0 where the
+    rig fails at rest, inf where no ``s`` up to 2^60 reaches 1. Assumes the utilisation
+    grows with ``s`` once inertia dominates (it is convex in the loads)."""
     def worst(s):
         return np.max([u for *_, u in at(s).values()], axis=0)
 
-    if worst(np.zeros(n)).max(initial=0) > 1.0:
-        fails_at_rest = worst(np.zeros(n)) > 1.0
-    else:
-        fails_at_rest = np.zeros(n, bool)
+    fails_at_rest = worst(np.zeros(n)) > 1.0
     lo, hi = np.zeros(n), np.ones(n)
     for _ in range(60):
         over = worst(hi) > 1.0
-        if over.all():
+        if np.all(over | fails_at_rest):
             break
-        lo = np.where(over, lo, hi)
-        hi = np.where(over, hi, 2.0 * hi)
-    unbounded = worst(hi) <= 1.0
+        lo, hi = np.where(over, lo, hi), np.where(over, hi, 2.0 * hi)
+    unbounded = ~(worst(hi) > 1.0)
     for _ in range(iterations):
         mid = 0.5 * (lo + hi)
         over = worst(mid) > 1.0
-        hi, lo = np.where(over, mid, hi), np.where(over, lo, mid)
-    return np.where(fails_at_rest, 0.0, np.where(unbounded, np.inf, lo))
+        lo, hi = np.where(over, lo, mid), np.where(over, mid, hi)
+    return np.where(fails_at_rest, 0.0, np.where(unbounded, np.inf, 0.5 * (lo + hi)))
 
 
 def evaluate_chunk(ctx: SweepContext, lengths: dict, ids: np.ndarray) -> dict:

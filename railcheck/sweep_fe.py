@@ -47,6 +47,7 @@ class Screen:
     tip: np.ndarray
     by_lam: np.ndarray = field(repr=False, default=None)
     by_G: np.ndarray = field(repr=False, default=None)
+    angle: np.ndarray | None = field(repr=False, default=None)     # (6, n) arctan2 of each component (k = 2)
 
 
 def make_screen(stress: np.ndarray, verdict_mask: np.ndarray, tip: np.ndarray, cols: list[int]) -> Screen:
@@ -62,7 +63,8 @@ def make_screen(stress: np.ndarray, verdict_mask: np.ndarray, tip: np.ndarray, c
     shear = 3.0 * (norms[3] ** 2 + norms[4] ** 2 + norms[5] ** 2)
     G = np.sqrt(0.5 * ((norms[0] + norms[1]) ** 2 + (norms[1] + norms[2]) ** 2 + (norms[2] + norms[0]) ** 2) + shear)
     Ga = np.sqrt(norms[0] ** 2 + norms[1] ** 2 + norms[2] ** 2 + shear)
-    return Screen(S, Q.reshape(-1, k * k), lam, G, Ga, tip[:, cols], np.argsort(-lam), np.argsort(-Ga))
+    angle = np.arctan2(S[..., 1], S[..., 0]) if k == 2 else None
+    return Screen(S, Q.reshape(-1, k * k), lam, G, Ga, tip[:, cols], np.argsort(-lam), np.argsort(-Ga), angle)
 
 
 def hull_steps(C: np.ndarray) -> np.ndarray:
@@ -151,13 +153,37 @@ def _fatigue_bounds(stress: np.ndarray, c0: np.ndarray, E: np.ndarray) -> tuple[
 
 
 def _fatigue_exact(screen: Screen, nodes: np.ndarray, C: np.ndarray, factor) -> np.ndarray:
+    """(S,) the smallest fatigue factor over ``nodes``: each component's maximum and
+    minimum over the cycle from every step (tensordot), or, with two coefficients, from the
+    cycle's convex polygon's support function (no step loop; :func:`fea.superpose.support`)."""
     from railcheck.fea.fatigue import alternating_and_mean
 
+    if screen.angle is not None:
+        return _fatigue_exact_planar(screen, nodes, C, factor)
     out = np.full(C.shape[0], np.inf)
     for g in _groups(C.shape[0], 6 * nodes.size * C.shape[1]):
         X = np.tensordot(screen.stress[:, nodes, :], C[g], axes=([2], [2]))              # (6, u, s, T)
         sa, sm = alternating_and_mean(X.max(axis=3), X.min(axis=3))
         out[g] = factor(sa, sm).min(axis=0)
+    return out
+
+
+def _fatigue_exact_planar(screen: Screen, nodes: np.ndarray, C: np.ndarray, factor) -> np.ndarray:
+    from railcheck.fea.fatigue import alternating_and_mean
+    from railcheck.fea.superpose import hull_polygon, support
+
+    D = screen.stress[:, nodes, :].reshape(-1, 2)
+    angle = screen.angle[:, nodes].reshape(-1)
+    out = np.empty(C.shape[0])
+    for s, c in enumerate(C):
+        V = hull_polygon(c)
+        if V is None:                                   # a segment or a point: every step, exactly
+            X = D @ c.T
+            hi, lo = X.max(axis=1), X.min(axis=1)
+        else:
+            hi, lo = support(D, V, angle), -support(-D, V, angle + np.pi)
+        sa, sm = alternating_and_mean(hi.reshape(6, -1), lo.reshape(6, -1))
+        out[s] = factor(sa, sm).min()
     return out
 
 
