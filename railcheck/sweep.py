@@ -298,8 +298,8 @@ class TableWriter:
 def _arrow(values: np.ndarray):
     import pyarrow as pa
 
-    if values.dtype == object:
-        return pa.array(values.tolist(), type=pa.string())
+    if values.dtype == object:                       # text; empty (nothing to name) is null
+        return pa.array([v or None for v in values.tolist()], type=pa.string())
     if values.dtype.kind == "f":
         return pa.array(values, mask=~np.isfinite(values) & ~np.isinf(values))
     return pa.array(values)
@@ -309,9 +309,12 @@ def read_table(path: Path, columns: list[str] | None = None, speed_hz: float | N
     """The sweep table (pyarrow.Table) of a Parquet or CSV file: ``columns`` only, and
     only the rows at ``speed_hz`` when given (scanned in batches: the whole table is
     never in memory)."""
+    import pyarrow.csv as pcsv
     import pyarrow.dataset as ds
 
     path = Path(path)
-    data = ds.dataset(path, format="parquet" if path.suffix == ".parquet" else "csv")
+    fmt = "parquet" if path.suffix == ".parquet" else ds.CsvFileFormat(
+        convert_options=pcsv.ConvertOptions(strings_can_be_null=True))
+    data = ds.dataset(path, format=fmt)
     where = None if speed_hz is None else (ds.field("speed_Hz") == speed_hz)
     return data.to_table(columns=columns, filter=where)
