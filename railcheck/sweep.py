@@ -191,7 +191,7 @@ class _Executor:
 
         if self.scheduler:
             try:
-                self.client = Client(self.scheduler, timeout="10s")
+                self.client = Client(self.scheduler, timeout="5s")
             except (OSError, TimeoutError) as exc:
                 raise InputError("--scheduler", f"cannot reach {self.scheduler}: {exc}") from None
         else:

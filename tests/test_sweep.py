@@ -319,3 +319,22 @@ def test_checking_at_the_safe_speed_gives_utilisation_one(fe_sweep):
     u = max(max(p.verdict_stress / p.limit, p.cycle.fatigue["required"] / p.cycle.fatigue["min_safety_factor"])
             for p in result.parts.values())
     assert u == pytest.approx(1.0, abs=1e-6)
+
+
+@pytest.mark.slow
+def test_safe_speed_with_gravity_by_bisection(tmp_path):
+    """With gravity the loads are C_g + s C_i and the safe speed comes from bisection:
+    sweeping the same setting at that speed gives utilisation 1 (to the bisection's
+    tolerance), and the rows at other speeds stay consistent (above: over 1, below: under)."""
+    text = FE_SWEEP.replace('crank = ["480 mm", "540 mm"]', 'crank = ["480 mm", "480 mm"]').replace(
+        'rocker = ["780 mm", "840 mm"]', 'rocker = ["780 mm", "780 mm"]').replace(
+        'ground = ["1020 mm", "1080 mm"]', 'ground = ["1020 mm", "1020 mm"]').replace(
+        'parts = [', 'effects = ["inertia", "gravity"]\nparts = [')
+    first = _rows(_sweep(tmp_path, text, "g1", serial=True))
+    safe = float(first["safe_speed_Hz"][0])
+    assert 0.5 < safe < 10
+    again = _rows(_sweep(tmp_path, text.replace('speeds = ["1 Hz"]', f'speeds = ["{safe:.17g} Hz", '
+                                                f'"{0.9 * safe:.17g} Hz", "{1.1 * safe:.17g} Hz"]'), "g2", serial=True))
+    assert again["utilisation"][0] == pytest.approx(1.0, abs=1e-9)
+    assert again["utilisation"][1] < 1.0 < again["utilisation"][2]
+    assert list(again["verdict"][1:]) == ["pass", "fail"]      # at the safe speed itself: 1 to rounding

@@ -1,0 +1,59 @@
+"""`railcheck sweep` with bad input: exit 2 and one line naming the field, nothing written."""
+
+import subprocess
+import sys
+
+import pytest
+
+
+def one_line_exit_2(proc, *needles):
+    assert proc.returncode == 2, (proc.returncode, proc.stderr)
+    errors = [l for l in proc.stderr.splitlines() if l.startswith("railcheck:")]
+    assert len(errors) == 1 and "Traceback" not in proc.stderr, proc.stderr
+    for n in needles:
+        assert n in errors[0], errors[0]
+
+BASE = '[sweep]\nsteps = 16\nkind = "slider-crank"\n'
+
+
+def sweep(tmp_path, text, *extra):
+    scene = tmp_path / "scene.toml"
+    scene.write_text(text)
+    return subprocess.run([sys.executable, "-m", "railcheck.cli", "sweep", str(scene), "--out", str(tmp_path / "out"),
+                           *extra], capture_output=True, text=True, cwd=tmp_path, timeout=120)
+
+
+@pytest.mark.parametrize("text, needles", [
+    (BASE + 'crank = "60 mm"\n', ("sweep.crank", "[min, max]")),
+    (BASE + 'crank = ["660 mm", "60 mm"]\n', ("sweep.crank", "above max")),
+    (BASE + 'crank = ["60 kg", "660 mm"]\n', ("sweep.crank", "kg")),
+    (BASE + 'speeds = []\n', ("sweep.speeds",)),
+    (BASE + 'speeds = ["1e9 Hz"]\n', ("sweep.speeds", "physical range")),
+    (BASE.replace("steps = 16", "steps = 3"), ("sweep.steps",)),
+    (BASE + 'memory = "1 kB"\n', ("sweep.memory",)),
+    (BASE + 'format = "xlsx"\n', ("sweep.format",)),
+    (BASE.replace('"slider-crank"', '"crane"'), ("sweep.kind",)),
+    (BASE + '[[sweep.settings]]\ncrank = "60 mm"\n', ("sweep.settings[0]", "bars")),
+    (BASE + 'colour = "red"\n', ("sweep.colour", "unknown key")),
+    ('[dynamics]\nformulation = "seed-2013"\n' + BASE, ("sweep.kind", "seed-2013")),
+    ('[dynamics]\nformulation = "seed-2013"\n[sweep]\nsteps = 16\nkind = "four-bar"\n[check]\nparts = ["crank-rail"]\n'
+     'effects = ["inertia", "gravity"]\n', ("check.effects", "seed-2013")),
+])
+def test_bad_sweep_input_is_one_line_naming_the_field(tmp_path, text, needles):
+    proc = sweep(tmp_path, text)
+    one_line_exit_2(proc, *needles)
+    assert not (tmp_path / "out").exists()
+
+
+def test_bad_worker_count_and_unreachable_scheduler(tmp_path):
+    one_line_exit_2(sweep(tmp_path, BASE, "--workers", "0"), "--workers")
+    proc = sweep(tmp_path, BASE, "--scheduler", "tcp://127.0.0.1:9")
+    one_line_exit_2(proc, "--scheduler", "cannot reach")
+    assert not (tmp_path / "out").exists()
+
+
+def test_empty_range_gives_an_empty_but_valid_sweep(tmp_path):
+    """A range that holds no settable length: zero settings, a clear summary, exit 1."""
+    proc = sweep(tmp_path, BASE + 'crank = ["61 mm", "62 mm"]\n', "--serial")
+    assert proc.returncode == 1, proc.stderr
+    assert "0 settings" in proc.stdout and "Traceback" not in proc.stderr
