@@ -39,14 +39,28 @@ def sweep(tmp_path, text, *extra):
     ('[dynamics]\nformulation = "seed-2013"\n[sweep]\nsteps = 16\nkind = "four-bar"\n[check]\nparts = ["crank-rail"]\n'
      'effects = ["inertia", "gravity"]\n', ("check.effects", "seed-2013")),
 ])
-def test_bad_sweep_input_is_one_line_naming_the_field(tmp_path, text, needles):
-    proc = sweep(tmp_path, text)
-    one_line_exit_2(proc, *needles)
+def test_bad_sweep_input_names_the_field(text, needles):
+    """Refused when the scene is read, before any work (validate: what the sweep itself checks)."""
+    import tomllib
+
+    from railcheck.errors import InputError
+    from railcheck.scene import parse_scene
+    from railcheck.sweep import validate
+
+    with pytest.raises(InputError) as err:
+        validate(parse_scene(tomllib.loads(text), "test"))
+    for n in needles:
+        assert n in str(err.value), str(err.value)
+
+
+def test_bad_sweep_input_on_the_command_line_is_one_line_and_writes_nothing(tmp_path):
+    one_line_exit_2(sweep(tmp_path, BASE + 'crank = ["660 mm", "60 mm"]\n'), "sweep.crank", "above max")
+    one_line_exit_2(sweep(tmp_path, BASE, "--workers", "0"), "--workers")
     assert not (tmp_path / "out").exists()
 
 
-def test_bad_worker_count_and_unreachable_scheduler(tmp_path):
-    one_line_exit_2(sweep(tmp_path, BASE, "--workers", "0"), "--workers")
+@pytest.mark.slow
+def test_unreachable_scheduler(tmp_path):
     proc = sweep(tmp_path, BASE, "--scheduler", "tcp://127.0.0.1:9")
     one_line_exit_2(proc, "--scheduler", "cannot reach")
     assert not (tmp_path / "out").exists()
