@@ -284,11 +284,39 @@ def solve(K, F: np.ndarray, fixed: np.ndarray, method: str = "auto", basis=None,
         return U, {"solver": "none (zero load)", "iterations": 0, "residual": 0.0}
     Kc = K[free][:, free]
     B = rigid_body_modes(basis.doflocs[:, free], _components(basis)[free]) if basis is not None else None
+    prolong = (lambda: p1_prolongation(basis)[free][:, _coarse_free(basis, free)]) \
+        if basis is not None and basis.elem.elem.maxdeg == 2 else None
     U[free], info = solve_reduced(Kc, F[free], B, method=method, maxiter=maxiter, memory_limit=memory_limit,
-                                  report=report)
+                                  report=report, prolongation=prolong)
     if not np.all(np.isfinite(U)):
         raise NumericalError("the displacement is not finite")
     return U, info
+
+
+def p1_prolongation(basis):
+    """(P2 vector DOFs, 3 x vertices): linear interpolation from the same mesh's P1 space:
+    a vertex DOF copies its vertex, a mid-edge DOF averages its edge's two vertices
+    (straight edges; scikit-fem's P2 numbers vertices first, then edges)."""
+    import scipy.sparse as sp
+
+    sb = scalar_basis(basis)
+    mesh = basis.mesh
+    nv, ne = mesh.p.shape[1], mesh.edges.shape[1]
+    if sb.N != nv + ne:
+        raise RuntimeError("p-multigrid needs a P2 basis with vertex and edge DOFs only")
+    edge_dof = sb.edge_dofs[0]
+    rows = np.concatenate([sb.nodal_dofs[0], edge_dof, edge_dof])
+    cols = np.concatenate([np.arange(nv), mesh.edges[0], mesh.edges[1]])
+    vals = np.concatenate([np.ones(nv), np.full(ne, 0.5), np.full(ne, 0.5)])
+    scalar = sp.csr_matrix((vals, (rows, cols)), shape=(sb.N, nv))
+    return sp.kron(scalar, sp.identity(3), format="csr")     # vector DOFs interleave as 3 s + c
+
+
+def _coarse_free(basis, free: np.ndarray) -> np.ndarray:
+    """The P1 DOFs (3 v + c) whose vertex DOF is free in the P2 system."""
+    sb = scalar_basis(basis)
+    vertex_vector = (3 * sb.nodal_dofs[0][:, None] + np.arange(3)).ravel()    # P2 DOF of each P1 DOF
+    return np.flatnonzero(np.isin(vertex_vector, free))
 
 
 def scalar_basis(basis):

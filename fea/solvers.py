@@ -10,12 +10,18 @@ load case). Backends:
   the ``auto`` choice can fall back to the iterative path for what would not fit.
 * ``scipy``: SuperLU with the symmetric minimum-degree ordering, where MKL is missing
   (other platforms); slower on large 3D systems, the same answer.
+* ``pmg``: conjugate gradients preconditioned by a two-level p-multigrid for P2
+  elasticity: Chebyshev smoothing on P2, and on the same mesh's P1 level (the Galerkin
+  product P^T K P with P the P1 -> P2 interpolation) an exact solve by the factorising
+  backend (or AMG when even that factor would not fit). The iterative path for P2 systems
+  whose factor does not fit.
 * ``amg``: conjugate gradients preconditioned by pyamg smoothed aggregation given the
-  six rigid-body modes; memory linear in the size, for systems whose factor does not fit.
+  six rigid-body modes; memory linear in the size (P1, or when no P1 level is given).
 
 ``method="direct"`` is the best factorising backend installed; ``"auto"`` is direct
 unless the factor's estimate exceeds :data:`FACTOR_MEMORY_FRACTION` of the machine's
-memory (or the caller's ``memory_limit``), then ``amg``.
+memory (or the caller's ``memory_limit``), then ``pmg`` (P2, a prolongation given) or
+``amg``.
 
 Every solve performs one step of iterative refinement (direct) and checks the true
 relative residual ``|b - K u| / |b|`` of each column; above the tolerance, or a
@@ -119,6 +125,11 @@ class Factor:
                                  "(singular or ill-conditioned system: is the part held against every rigid motion?)")
         self.info["residual"] = float(np.max(res, initial=0.0))
         return U
+
+    def solve_once(self, F: np.ndarray) -> np.ndarray:
+        """``K^-1 F`` by the factor alone (no refinement, no check): a fixed linear map, as
+        a preconditioner needs."""
+        return self._solve(np.asarray(F, float))
 
     def _residual(self, F: np.ndarray, U: np.ndarray) -> np.ndarray:
         """F - K U accumulated in extended precision (long double), so that the refinement
@@ -288,29 +299,105 @@ def _cg_true_residual(K, b: np.ndarray, precond, rtol: float, maxiter: int) -> t
 
 def solve_reduced(K: sp.spmatrix, F: np.ndarray, B: np.ndarray | None = None, method: str = "auto",
                   maxiter: int = 2000, memory_limit: float | None = None,
-                  report=None) -> tuple[np.ndarray, dict]:
+                  report=None, prolongation=None) -> tuple[np.ndarray, dict]:
     """Solve ``K U = F`` for an SPD ``K`` and one or several load columns.
 
-    ``method``: ``auto`` (direct unless its factor would not fit, then amg), ``direct``,
-    ``pardiso``, ``scipy`` or ``amg``; ``B`` the rigid-body modes (needed by amg).
-    ``memory_limit`` bytes for the factor (default: a fraction of this machine's memory).
-    Returns (U, info)."""
+    ``method``: ``auto`` (direct unless its factor would not fit, then pmg or amg),
+    ``direct``, ``pardiso``, ``scipy``, ``pmg`` or ``amg``; ``B`` the rigid-body modes
+    (needed by amg); ``prolongation`` a callable giving the P1 -> P2 interpolation of the
+    free DOFs (needed by pmg). ``memory_limit`` bytes for the factor (default: a fraction
+    of this machine's memory). Returns (U, info)."""
     if method in ("auto", "direct", "pardiso", "scipy"):
         limit = memory_limit if memory_limit is not None else FACTOR_MEMORY_FRACTION * available_memory()
         try:
             factor = factorise(K, "direct" if method == "auto" else method,
                                limit if method == "auto" else None, report)
         except MemoryError as exc:
+            method = "pmg" if prolongation is not None else "amg"
             if report:
-                report(f"the factor would need {exc.args[0] / 2**30:.1f} GiB: iterative AMG-CG instead")
-            method = "amg"
+                report(f"the factor would need {exc.args[0] / 2**30:.1f} GiB: iterative {method.upper()}-CG instead")
         else:
             U = factor.solve(F)
             info = {"solver": factor.backend, "iterations": 1, **factor.info}
             factor.free()
             return U, info
+    if method == "pmg":
+        if prolongation is None:
+            raise ValueError("the pmg solver needs the P1 -> P2 prolongation (a P2 basis)")
+        return solve_pmg(K, F, prolongation(), B, maxiter, memory_limit, report)
     if method == "amg":
         if B is None:
             raise ValueError("the amg solver needs the rigid-body modes")
         return solve_amg(K, F, B, AMG_RTOL, maxiter, report)
     raise ValueError(f"unknown solver {method!r}")
+
+
+def solve_pmg(K: sp.spmatrix, F: np.ndarray, P: sp.spmatrix, B: np.ndarray | None = None, maxiter: int = 2000,
+              memory_limit: float | None = None, report=None) -> tuple[np.ndarray, dict]:
+    """CG preconditioned by the two-level p-multigrid V-cycle (module doc), column by
+    column of ``F``; ``P`` (n, n1) the P1 -> P2 interpolation of the free DOFs."""
+    K = sp.csr_matrix(K)
+    P = sp.csr_matrix(P)
+    coarse = (P.T @ K @ P).tocsr()
+    with heartbeat(f"p-multigrid: P1 level of {coarse.shape[0]} DOFs", report):
+        try:
+            limit = memory_limit if memory_limit is not None else FACTOR_MEMORY_FRACTION * available_memory()
+            factor = factorise(coarse, "direct", limit, report)
+            coarse_solve, coarse_name = (lambda r: factor.solve_once(r)), factor.backend
+        except MemoryError:
+            if B is None:
+                raise ValueError("the P1 level needs AMG, which needs the rigid-body modes") from None
+            import pyamg
+            ml = pyamg.smoothed_aggregation_solver(sp.bsr_matrix(coarse, blocksize=(3, 3)), B=P.T @ B,
+                                                   symmetry="hermitian", max_coarse=500)
+            coarse_solve, coarse_name = ml.aspreconditioner(cycle="V").matvec, "amg"   # a fixed linear map
+    precond = _two_level(K, P, coarse_solve)
+    columns = np.asarray(F, float).reshape(F.shape[0], -1)
+    U = np.zeros_like(columns)
+    iterations = 0
+    for j in range(columns.shape[1]):
+        with heartbeat(f"PMG-CG on {K.shape[0]} DOFs, load {j + 1} of {columns.shape[1]}", report):
+            U[:, j], its = _cg_true_residual(K, columns[:, j], precond, AMG_RTOL, maxiter)
+        iterations += its
+    res = relative_residuals(K, U, columns)
+    return U.reshape(F.shape), {"solver": "pmg", "iterations": iterations, "residual": float(res.max(initial=0.0)),
+                                "coarse": coarse_name, "coarse_dofs": int(coarse.shape[0])}
+
+
+CHEBYSHEV_DEGREE = 3     # smoothing steps before and after the P1 correction
+
+
+def _two_level(K: sp.csr_matrix, P: sp.csr_matrix, coarse_solve) -> spla.LinearOperator:
+    """The symmetric two-level V-cycle as a preconditioner: Chebyshev smoothing (Jacobi-
+    scaled, on the upper part [lmax / 30, 1.1 lmax] of the spectrum), the P1 correction,
+    the same smoothing again."""
+    d_inv = 1.0 / K.diagonal()
+    rng = np.random.default_rng(20131)
+    x = rng.standard_normal(K.shape[0])
+    for _ in range(15):                               # power iteration for lmax(D^-1 K)
+        x = d_inv * (K @ x)
+        x /= np.linalg.norm(x)
+    lmax = 1.1 * float(x @ (d_inv * (K @ x)))
+    lo, hi = lmax / 30.0, lmax
+    theta, delta = 0.5 * (hi + lo), 0.5 * (hi - lo)
+
+    def smooth(x, r):
+        """CHEBYSHEV_DEGREE steps of Chebyshev iteration on K x = r from x."""
+        res = r - K @ x
+        sigma = theta / delta
+        rho = 1.0 / sigma
+        dx = d_inv * res / theta
+        for _ in range(CHEBYSHEV_DEGREE):
+            x = x + dx
+            res = r - K @ x
+            rho_new = 1.0 / (2.0 * sigma - rho)
+            dx = rho_new * rho * dx + 2.0 * rho_new / delta * (d_inv * res)
+            rho = rho_new
+        return x
+
+    def apply(r):
+        x = smooth(np.zeros_like(r), r)
+        x = x + P @ coarse_solve(P.T @ (r - K @ x))
+        return smooth(x, r)
+
+    return spla.LinearOperator(K.shape, matvec=apply, dtype=float)

@@ -193,3 +193,40 @@ def test_amg_is_deterministic(rail_mesh):
     a = solve_elasticity(*args, order=2, solver="amg")
     b = solve_elasticity(*args, order=2, solver="amg")
     assert np.array_equal(a.displacement, b.displacement) and a.max_von_mises == b.max_von_mises
+
+
+def _rail_system(rail_mesh):
+    from railcheck.fea.elasticity import assemble, supports, unit_traction_vectors
+
+    K, basis = assemble(rail_mesh.points, rail_mesh.tets, STEEL, 2)
+    fixed = supports(basis, rail_mesh.groups, ["shaft_hole"])
+    F = unit_traction_vectors(basis, rail_mesh.groups, "hole_11")[:, :2] * 300.0
+    return K, basis, fixed, F
+
+
+@pytest.mark.slow
+def test_every_solver_path_agrees(rail_mesh):
+    """PARDISO, SuperLU, p-multigrid CG and AMG-CG on the same P2 rail, two load columns:
+    the same displacements to 1e-8 of the largest."""
+    from railcheck.fea.elasticity import solve
+
+    K, basis, fixed, F = _rail_system(rail_mesh)
+    ref, info = solve(K, F, fixed, "pardiso", basis)
+    assert info["solver"] == "pardiso"
+    scale = np.abs(ref).max()
+    for method in ("scipy", "pmg", "amg"):
+        U, info = solve(K, F, fixed, method, basis)
+        assert info["solver"] == method
+        assert np.abs(U - ref).max() < 1e-8 * scale, (method, np.abs(U - ref).max() / scale)
+
+
+def test_a_memory_cap_sends_p2_to_p_multigrid(rail_mesh):
+    """The factor's estimate exceeds a 1 MB cap: the auto choice solves iteratively with the
+    P2 -> P1 p-multigrid (its P1 level, over the cap too, by AMG), to the direct answer."""
+    from railcheck.fea.elasticity import solve
+
+    K, basis, fixed, F = _rail_system(rail_mesh)
+    U, info = solve(K, F[:, 0], fixed, "auto", basis, memory_limit=1e6)
+    assert info["solver"] == "pmg" and info["coarse"] == "amg"
+    ref, _ = solve(K, F[:, 0], fixed, "direct", basis)
+    assert np.abs(U - ref).max() < 1e-8 * np.abs(ref).max()
