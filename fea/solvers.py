@@ -18,10 +18,11 @@ load case). Backends:
 * ``amg``: conjugate gradients preconditioned by pyamg smoothed aggregation given the
   six rigid-body modes; memory linear in the size (P1, or when no P1 level is given).
 
-``method="direct"`` is the best factorising backend installed; ``"auto"`` is direct
-unless the factor's estimate exceeds :data:`FACTOR_MEMORY_FRACTION` of the machine's
-memory (or the caller's ``memory_limit``), then ``pmg`` (P2, a prolongation given) or
-``amg``.
+``method="direct"`` is the best factorising backend installed; ``"auto"`` is ``pmg`` for
+a P2 system of at least :data:`PMG_MIN_DOFS` DOFs with one or two load columns (faster
+there), otherwise direct unless the factor's estimate exceeds
+:data:`FACTOR_MEMORY_FRACTION` of the machine's memory (or the caller's ``memory_limit``),
+then ``pmg`` (P2, a prolongation given) or ``amg``.
 
 Every solve performs one step of iterative refinement (direct) and checks the true
 relative residual ``|b - K u| / |b|`` of each column; above the tolerance, or a
@@ -45,6 +46,11 @@ DIRECT_RTOL = 1e-6   # |f - K u| / |f| after one refinement step; rounding alone
 AMG_RTOL = 1e-12          # CG's recurrence residual target
 AMG_TRUE_RTOL = 1e-6      # the iterative path's true residual must be below this
 FACTOR_MEMORY_FRACTION = 0.6   # of the machine's memory, for the auto choice
+#: from this many DOFs, one or two load columns of a P2 system: p-multigrid CG is faster
+#: than a factorisation (README, "What dominates a solve": at 993k DOFs 32 s and 4.6 GB
+#: against PARDISO's 117 s and 14 GB; at 175k they are even)
+PMG_MIN_DOFS = 300_000
+PMG_MAX_COLUMNS = 2
 SCIPY_BYTES_PER_DOF = 20_000   # SuperLU's measured peak per DOF on P2 parts (README)
 
 
@@ -254,17 +260,22 @@ def solve_amg(K: sp.spmatrix, F: np.ndarray, B: np.ndarray, rtol: float = AMG_RT
                                                max_coarse=500)
     finally:
         np.random.set_state(state)
-    precond = ml.aspreconditioner(cycle="V")
-    columns = F.reshape(F.shape[0], -1)
+    U, info = _cg_columns(K, F, ml.aspreconditioner(cycle="V"), "AMG", rtol, maxiter, report)
+    return U, {"solver": "amg", **info, "levels": len(ml.levels)}
+
+
+def _cg_columns(K, F: np.ndarray, precond, label: str, rtol: float, maxiter: int, report) -> tuple[np.ndarray, dict]:
+    """Preconditioned CG (:func:`_cg_true_residual`) for each column of ``F``, with the
+    elapsed-time heartbeat; (U, {iterations, residual})."""
+    columns = np.asarray(F, float).reshape(F.shape[0], -1)
     U = np.zeros_like(columns)
     iterations = 0
     for j in range(columns.shape[1]):
-        with heartbeat(f"AMG-CG on {K.shape[0]} DOFs, load {j + 1} of {columns.shape[1]}", report):
+        with heartbeat(f"{label}-CG on {K.shape[0]} DOFs, load {j + 1} of {columns.shape[1]}", report):
             U[:, j], its = _cg_true_residual(K, columns[:, j], precond, rtol, maxiter)
         iterations += its
     res = relative_residuals(K, U, columns)
-    return U.reshape(F.shape), {"solver": "amg", "iterations": iterations, "residual": float(res.max(initial=0.0)),
-                                "levels": len(ml.levels)}
+    return U.reshape(F.shape), {"iterations": iterations, "residual": float(res.max(initial=0.0))}
 
 
 def _cg_true_residual(K, b: np.ndarray, precond, rtol: float, maxiter: int) -> tuple[np.ndarray, int]:
@@ -307,6 +318,10 @@ def solve_reduced(K: sp.spmatrix, F: np.ndarray, B: np.ndarray | None = None, me
     (needed by amg); ``prolongation`` a callable giving the P1 -> P2 interpolation of the
     free DOFs (needed by pmg). ``memory_limit`` bytes for the factor (default: a fraction
     of this machine's memory). Returns (U, info)."""
+    columns = 1 if np.ndim(F) == 1 else np.shape(F)[1]
+    if (method == "auto" and prolongation is not None and K.shape[0] >= PMG_MIN_DOFS
+            and columns <= PMG_MAX_COLUMNS):
+        method = "pmg"
     if method in ("auto", "direct", "pardiso", "scipy"):
         limit = memory_limit if memory_limit is not None else FACTOR_MEMORY_FRACTION * available_memory()
         try:
@@ -351,17 +366,8 @@ def solve_pmg(K: sp.spmatrix, F: np.ndarray, P: sp.spmatrix, B: np.ndarray | Non
             ml = pyamg.smoothed_aggregation_solver(sp.bsr_matrix(coarse, blocksize=(3, 3)), B=P.T @ B,
                                                    symmetry="hermitian", max_coarse=500)
             coarse_solve, coarse_name = ml.aspreconditioner(cycle="V").matvec, "amg"   # a fixed linear map
-    precond = _two_level(K, P, coarse_solve)
-    columns = np.asarray(F, float).reshape(F.shape[0], -1)
-    U = np.zeros_like(columns)
-    iterations = 0
-    for j in range(columns.shape[1]):
-        with heartbeat(f"PMG-CG on {K.shape[0]} DOFs, load {j + 1} of {columns.shape[1]}", report):
-            U[:, j], its = _cg_true_residual(K, columns[:, j], precond, AMG_RTOL, maxiter)
-        iterations += its
-    res = relative_residuals(K, U, columns)
-    return U.reshape(F.shape), {"solver": "pmg", "iterations": iterations, "residual": float(res.max(initial=0.0)),
-                                "coarse": coarse_name, "coarse_dofs": int(coarse.shape[0])}
+    U, info = _cg_columns(K, F, _two_level(K, P, coarse_solve), "PMG", AMG_RTOL, maxiter, report)
+    return U, {"solver": "pmg", **info, "coarse": coarse_name, "coarse_dofs": int(coarse.shape[0])}
 
 
 CHEBYSHEV_DEGREE = 3     # smoothing steps before and after the P1 correction

@@ -60,3 +60,13 @@ def browse(page, tmp_path, *args):
                            "--disable-component-update", "--disable-sync", "--no-first-run",
                            f"--user-data-dir={tmp_path / 'profile'}", *args, f"file://{page}"],
                           capture_output=True, text=True, timeout=120)
+
+
+def one_line_exit_2(proc, *needles):
+    """A CLI run refused its input: exit 2, one ``railcheck:`` line holding every needle,
+    no traceback."""
+    assert proc.returncode == 2, (proc.returncode, proc.stderr)
+    errors = [l for l in proc.stderr.splitlines() if l.startswith("railcheck:")]
+    assert len(errors) == 1 and "Traceback" not in proc.stderr, proc.stderr
+    for n in needles:
+        assert n in errors[0], errors[0]

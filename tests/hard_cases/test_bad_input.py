@@ -6,7 +6,7 @@ import sys
 
 import pytest
 
-from scene_texts import FINAL_DESIGN, PLATE_LOADS
+from scene_texts import FINAL_DESIGN, PLATE_LOADS, one_line_exit_2
 
 PLATE = PLATE_LOADS + """[mesh]
 size = "12 mm"
@@ -21,14 +21,6 @@ def check(tmp_path, scene_text, *extra, out="results"):
     scene.write_text(scene_text)
     return subprocess.run([sys.executable, "-m", "railcheck.cli", "check", str(scene), "--out",
                            str(tmp_path / out), *extra], capture_output=True, text=True, cwd=tmp_path)
-
-
-def one_line_exit_2(proc, *needles):
-    assert proc.returncode == 2, (proc.returncode, proc.stderr)
-    errors = [l for l in proc.stderr.splitlines() if l.startswith("railcheck:")]
-    assert len(errors) == 1 and "Traceback" not in proc.stderr, proc.stderr
-    for n in needles:
-        assert n in errors[0], errors[0]
 
 
 CASES = [

@@ -5,13 +5,7 @@ import sys
 
 import pytest
 
-
-def one_line_exit_2(proc, *needles):
-    assert proc.returncode == 2, (proc.returncode, proc.stderr)
-    errors = [l for l in proc.stderr.splitlines() if l.startswith("railcheck:")]
-    assert len(errors) == 1 and "Traceback" not in proc.stderr, proc.stderr
-    for n in needles:
-        assert n in errors[0], errors[0]
+from scene_texts import one_line_exit_2
 
 BASE = '[sweep]\nsteps = 16\nkind = "slider-crank"\n'
 
