@@ -36,6 +36,8 @@ class Aggregate:
         shape = tuple(v.size for v in self.grid.values())
         self.util = np.full(shape, np.nan)          # per grid setting: utilisation at the first speed
         self.safe = np.full(shape, np.nan)          # Hz
+        self.torque = np.full(shape, np.nan)        # N m, peak motor torque
+        self.reaction = np.full(shape, np.nan)      # N, the largest peak joint reaction
         self.reason = np.full(shape, -1, dtype=np.int8)
 
     def add(self, col: dict) -> None:
@@ -90,6 +92,10 @@ class Aggregate:
         idx = tuple(k[on_grid] for k in index)
         self.util[idx] = np.where(c["checks_passed"][on_grid], c["utilisation"][on_grid], np.nan)
         self.safe[idx] = np.where(c["checks_passed"][on_grid], c["safe_speed_Hz"][on_grid], np.nan)
+        ok = c["checks_passed"][on_grid]
+        self.torque[idx] = np.where(ok, c["torque_peak_Nm"][on_grid], np.nan)
+        peaks = [c[k][on_grid] for k in c if k.startswith("peak_") and k.endswith("_N")]
+        self.reaction[idx] = np.where(ok, functools.reduce(np.fmax, peaks), np.nan)
         reasons = np.full(on_grid.sum(), -1, dtype=np.int8)
         for r, name in reversed(list(enumerate(REASON_ORDER))):
             key = f"check_{name}"
@@ -220,7 +226,8 @@ def _trend(x: np.ndarray, r: np.ndarray) -> str:
 
 def write_maps(aggregates: dict, directory: Path) -> None:
     """``map-KIND.png``: utilisation and safe speed over pairs of bars (the worst over the
-    other bars), refused cells coloured by the first failing check."""
+    other bars; without FE parts the largest reaction and motor torque), refused cells
+    coloured by a failing check."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -237,13 +244,16 @@ def _map_figure(agg: Aggregate, path: Path) -> None:
     from .files import atomic_path
 
     pairs = [(0, 1), (2, 3)] if len(agg.bars) == 4 else [(0, 1)]
-    fig, axes = plt.subplots(2, len(pairs), figsize=(6.5 * len(pairs), 9.5), squeeze=False)
+    fig, axes = plt.subplots(2, len(pairs), figsize=(max(9.0, 6.5 * len(pairs)), 9.5), squeeze=False)
     reason_colors = ListedColormap(["#d9d9d9", "#fdd0a2", "#c6dbef", "#fcbba1", "#dadaeb", "#c7e9c0", "#f0f0f0"])
     for col, (a, b) in enumerate(pairs):
         others = tuple(i for i in range(len(agg.bars)) if i not in (a, b))
-        for row, (data, reduce, label, cmap) in enumerate((
-                (agg.util, np.nanmax, "worst utilisation (1 = limit)", "viridis"),
-                (agg.safe, np.nanmin, "lowest safe crank speed (Hz)", "viridis_r"))):
+        panels = ((agg.util, np.nanmax, "worst utilisation (1 = limit)", "viridis"),
+                  (agg.safe, np.nanmin, "lowest safe crank speed (Hz)", "viridis_r"))
+        if np.all(np.isnan(agg.util)):          # no FE parts: the loads instead
+            panels = ((agg.reaction, np.nanmax, "largest peak joint reaction (N)", "viridis"),
+                      (agg.torque, np.nanmax, "largest peak motor torque (N m)", "viridis"))
+        for row, (data, reduce, label, cmap) in enumerate(panels):
             ax = axes[row, col]
             with np.errstate(all="ignore"):
                 import warnings
@@ -261,16 +271,17 @@ def _map_figure(agg: Aggregate, path: Path) -> None:
                            interpolation="nearest", vmin=finite.min() if finite.size else 0,
                            vmax=finite.max() if finite.size else 1)
             fig.colorbar(im, ax=ax, label=label)
-            if row == 0 and finite.size and finite.min() < 1 < finite.max():
+            if data is agg.util and finite.size and finite.min() < 1 < finite.max():
                 ax.contour(xs, ys, grid.T, levels=[1.0], colors="red", linewidths=1.5)
             ax.set_xlabel(f"{agg.bars[a]} (mm)")
             ax.set_ylabel(f"{agg.bars[b]} (mm)")
             over = f", worst over {' and '.join(agg.bars[i] for i in others)}" if others else ""
             ax.set_title(f"{agg.kind}: {label.split(' (')[0]}{over}", fontsize=9)
     handles = [Patch(color=reason_colors(i), label=f"refused: {n.replace('_', ' ')}") for i, n in enumerate(REASON_ORDER)]
-    fig.legend(handles=handles, loc="lower center", ncol=4, fontsize=8)
-    fig.suptitle(f"railcheck sweep, {agg.kind} at {agg.first_speed:g} Hz: settings that pass every configuration "
-                 "check in colour (red line: utilisation 1)", fontsize=10)
+    fig.legend(handles=handles, loc="lower center", ncol=4 if len(pairs) > 1 else 3, fontsize=8)
+    note = " (red line: utilisation 1)" if not np.all(np.isnan(agg.util)) else ""
+    fig.suptitle(f"railcheck sweep, {agg.kind} at {agg.first_speed:g} Hz\nsettings that pass every configuration "
+                 f"check in colour{note}", fontsize=10)
     fig.tight_layout(rect=(0, 0.06, 1, 0.97))
     with atomic_path(path) as tmp:
         fig.savefig(tmp, dpi=110)
