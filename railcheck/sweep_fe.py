@@ -111,9 +111,11 @@ def fatigue_min(screen: Screen, C: np.ndarray, endurance: float, ultimate: float
     """(S,) the smallest fatigue safety factor over the verdict nodes of each history
     ``C`` (S, T, k) (component ranges over all steps; :mod:`fea.fatigue`)."""
     from railcheck.fea.fatigue import safety_factor
+    from railcheck.fea.superpose import hull_polygon
 
     factor = lambda sa, sm: safety_factor(sa, sm, endurance, ultimate, criterion, yield_strength)  # noqa: E731
-    best = _fatigue_exact(screen, screen.by_G[:TOP_NODES], C, factor)
+    polygons = [hull_polygon(c) for c in C] if screen.angle is not None else None    # once per history
+    best = _fatigue_exact(screen, screen.by_G[:TOP_NODES], C, factor, polygons)
     c0, E = _enclosing_ellipse(C)
     n = screen.stress.shape[1]
     for g in _groups(C.shape[0], 12 * n):
@@ -123,7 +125,8 @@ def fatigue_min(screen: Screen, C: np.ndarray, endurance: float, ultimate: float
             nodes = np.flatnonzero(can[:, h].any(axis=1))
             if nodes.size:
                 sub = np.arange(C.shape[0])[g][h]
-                best[sub] = np.minimum(best[sub], _fatigue_exact(screen, nodes, C[sub], factor))
+                some = [polygons[i] for i in sub] if polygons is not None else None
+                best[sub] = np.minimum(best[sub], _fatigue_exact(screen, nodes, C[sub], factor, some))
     return best
 
 
@@ -152,14 +155,15 @@ def _fatigue_bounds(stress: np.ndarray, c0: np.ndarray, E: np.ndarray) -> tuple[
     return sa, sm
 
 
-def _fatigue_exact(screen: Screen, nodes: np.ndarray, C: np.ndarray, factor) -> np.ndarray:
+def _fatigue_exact(screen: Screen, nodes: np.ndarray, C: np.ndarray, factor, polygons=None) -> np.ndarray:
     """(S,) the smallest fatigue factor over ``nodes``: each component's maximum and
     minimum over the cycle from every step (tensordot), or, with two coefficients, from the
-    cycle's convex polygon's support function (no step loop; :func:`fea.superpose.support`)."""
+    cycle's convex polygon's support function (no step loop; :func:`fea.superpose.support`;
+    ``polygons`` the histories' hulls when already known)."""
     from railcheck.fea.fatigue import alternating_and_mean
 
     if screen.angle is not None:
-        return _fatigue_exact_planar(screen, nodes, C, factor)
+        return _fatigue_exact_planar(screen, nodes, C, factor, polygons)
     out = np.full(C.shape[0], np.inf)
     for g in _groups(C.shape[0], 6 * nodes.size * C.shape[1]):
         X = np.tensordot(screen.stress[:, nodes, :], C[g], axes=([2], [2]))              # (6, u, s, T)
@@ -168,7 +172,7 @@ def _fatigue_exact(screen: Screen, nodes: np.ndarray, C: np.ndarray, factor) -> 
     return out
 
 
-def _fatigue_exact_planar(screen: Screen, nodes: np.ndarray, C: np.ndarray, factor) -> np.ndarray:
+def _fatigue_exact_planar(screen: Screen, nodes: np.ndarray, C: np.ndarray, factor, polygons=None) -> np.ndarray:
     from railcheck.fea.fatigue import alternating_and_mean
     from railcheck.fea.superpose import hull_polygon, support
 
@@ -176,7 +180,7 @@ def _fatigue_exact_planar(screen: Screen, nodes: np.ndarray, C: np.ndarray, fact
     angle = screen.angle[:, nodes].reshape(-1)
     out = np.empty(C.shape[0])
     for s, c in enumerate(C):
-        V = hull_polygon(c)
+        V = hull_polygon(c) if polygons is None else polygons[s]
         if V is None:                                   # a segment or a point: every step, exactly
             X = D @ c.T
             hi, lo = X.max(axis=1), X.min(axis=1)
