@@ -16,8 +16,12 @@ groups (:class:`geometry.mesher.MeshData`)::
 * :class:`HoleLoad`: a total force vector (N) on a group, applied as the uniform traction
   ``F / area`` so that its integral over the (discrete) surface equals ``F`` exactly.
 
-P2 elements take their mid-edge nodes from the straight-sided P1 mesh (curved hole
-surfaces are faceted at the mesh size for both orders).
+P2 elements are isoparametric: given the mesh's curved edges (``curved`` = (edges (k, 2),
+mid-edge points (k, 3)), the mid nodes gmsh placed on the true surfaces), the element map
+is quadratic (scikit-fem ``MeshTet2``) and holes, seats and fillets are no longer faceted;
+every other edge stays straight. P1 elements (and P2 without ``curved``) are straight.
+Curved elements take a degree-3 quadrature rule in the stiffness (straight ones keep the
+4-point rule, as C3D10), so the patch test stays exact on curved meshes.
 
 Stress: the element stress is projected (L2) onto the continuous scalar space of the same
 order (one factorised mass matrix for all six components and every load case); the
@@ -81,9 +85,41 @@ class Solution:
         return float(np.linalg.norm(self.tip_displacement))
 
 
-def _skfem_mesh(points: np.ndarray, tets: np.ndarray):
+def _skfem_mesh(points: np.ndarray, tets: np.ndarray, curved=None):
+    """scikit-fem's mesh: straight ``MeshTet``, or ``MeshTet2`` with the ``curved`` edges'
+    mid nodes moved onto the true surfaces (see the module doc)."""
     from skfem import MeshTet
-    return MeshTet(np.ascontiguousarray(points.T), np.ascontiguousarray(tets.T))
+    mesh = MeshTet(np.ascontiguousarray(points.T), np.ascontiguousarray(tets.T))
+    if curved is None or len(curved[0]) == 0:
+        return mesh
+    from dataclasses import replace
+
+    from skfem import MeshTet2
+
+    edges, where = curved
+    quadratic = MeshTet2.from_mesh(mesh)
+    n = np.int64(points.shape[0])
+    keys = np.minimum(quadratic.edges[0], quadratic.edges[1]).astype(np.int64) * n \
+        + np.maximum(quadratic.edges[0], quadratic.edges[1])
+    order = np.argsort(keys)
+    want = np.minimum(edges[:, 0], edges[:, 1]).astype(np.int64) * n + np.maximum(edges[:, 0], edges[:, 1])
+    pos = np.clip(np.searchsorted(keys[order], want), 0, keys.size - 1)
+    if not np.all(keys[order][pos] == want):
+        raise ModelError("mesh.curved", "a curved edge is not an edge of the mesh")
+    doflocs = quadratic.doflocs.copy()
+    doflocs[:, quadratic.dofs.edge_dofs[0, order[pos]]] = np.asarray(where, float).T
+    return replace(quadratic, doflocs=doflocs)
+
+
+def curved_elements(mesh) -> np.ndarray:
+    """Indices of the elements with a curved edge (none on a straight mesh)."""
+    if mesh.doflocs.shape[1] == mesh.nvertices:
+        return np.zeros(0, dtype=np.int64)
+    p = mesh.doflocs
+    a, b = p[:, mesh.edges[0]], p[:, mesh.edges[1]]
+    off = np.linalg.norm(p[:, mesh.dofs.edge_dofs[0]] - 0.5 * (a + b), axis=0)
+    moved = off > 1e-9 * np.linalg.norm(b - a, axis=0)
+    return np.flatnonzero(np.any(moved[mesh.t2e], axis=0))
 
 
 def facets_of(mesh, triangles: np.ndarray, name: str) -> np.ndarray:
@@ -117,13 +153,14 @@ def estimate_dofs(n_vertices: int, n_tets: int, order: int) -> int:
     return 3 * n_vertices if order == 1 else 3 * (n_vertices + int(1.25 * n_tets) + n_vertices)
 
 
-def assemble(points: np.ndarray, tets: np.ndarray, material: Material, order: int = 2):
+def assemble(points: np.ndarray, tets: np.ndarray, material: Material, order: int = 2, curved=None):
     """(K, basis): the stiffness matrix (CSR, N/m) and scikit-fem's vector basis of
-    ``order`` on the mesh (``points`` (n, 3) m, ``tets`` (m, 4))."""
+    ``order`` on the mesh (``points`` (n, 3) m, ``tets`` (m, 4); ``curved`` edges for P2,
+    see the module doc)."""
     from skfem import Basis
     from skfem.element import ElementVector
 
-    mesh = _skfem_mesh(points, tets)
+    mesh = _skfem_mesh(points, tets, curved if order == 2 else None)
     basis = Basis(mesh, ElementVector(_element(order)), intorder=max(2 * (order - 1), 1))
     return stiffness_matrix(basis, material), basis
 
@@ -136,12 +173,19 @@ def stiffness_matrix(basis, material: Material):
     (lambda G_ai G_bj + mu (delta_ij G_a.G_b + G_aj G_bi)). The blocks are summed on the
     scalar DOF pairs (a tenth of the entries of a per-DOF COO sum) into a 3 x 3 block
     sparse matrix, then converted to CSR. Equal to scikit-fem's
-    ``asm(linear_elasticity(lambda, mu), basis)`` (tests/test_fea.py).
+    ``asm(linear_elasticity(lambda, mu), basis)`` (tests/test_fea.py). Curved elements
+    are integrated with a degree-3 rule (:func:`curved_elements`).
     """
     import scipy.sparse as sp
     from skfem import Basis
 
     sb = Basis(basis.mesh, basis.elem.elem, quadrature=basis.quadrature)
+    curved = curved_elements(basis.mesh)
+    parts = [sb]
+    if curved.size:
+        straight = np.setdiff1d(np.arange(basis.mesh.nelements), curved)
+        parts = [Basis(basis.mesh, basis.elem.elem, quadrature=basis.quadrature, elements=straight),
+                 Basis(basis.mesh, basis.elem.elem, intorder=3, elements=curved)]
     vector_of = _vector_dof_map(basis, sb)               # (scalar dofs, 3)
     if not np.array_equal(vector_of, 3 * np.arange(sb.N)[:, None] + np.arange(3)[None, :]):
         raise RuntimeError("the vector basis does not interleave its components (3 s + c)")
@@ -150,11 +194,13 @@ def stiffness_matrix(basis, material: Material):
     Ns = sb.N
     key = (sdofs[:, :, None].astype(np.int64) * Ns + sdofs[:, None, :]).ravel()       # (e, a, b)
     pairs, inverse = np.unique(key, return_inverse=True)
+    inverse = inverse.reshape(nel, nb * nb)
     blocks = np.zeros((9, pairs.size))
-    for sl, Kb in _element_blocks(sb, material):
-        per = inverse[sl.start * nb * nb:sl.stop * nb * nb]
-        for c in range(9):
-            blocks[c] += np.bincount(per, weights=Kb[c], minlength=pairs.size)
+    for part in parts:
+        for elements, Kb in _element_blocks(part, material):
+            per = inverse[elements].ravel()
+            for c in range(9):
+                blocks[c] += np.bincount(per, weights=Kb[c], minlength=pairs.size)
     rows = pairs // Ns
     indptr = np.concatenate([[0], np.cumsum(np.bincount(rows, minlength=Ns))])
     K = sp.bsr_matrix((blocks.T.reshape(-1, 3, 3), (pairs % Ns).astype(np.int32), indptr.astype(np.int32)),
@@ -164,8 +210,9 @@ def stiffness_matrix(basis, material: Material):
 
 
 def _element_blocks(sb, material: Material, values: int = 6_000_000):
-    """Yield (element slice, blocks (9, e * a * b)): the element stiffness matrices'
-    3 x 3 blocks, component (i, j) -> row 3 i + j, in (element, a, b) order."""
+    """Yield (element indices, blocks (9, e * a * b)): the element stiffness matrices'
+    3 x 3 blocks of the basis's elements, component (i, j) -> row 3 i + j, in (element, a,
+    b) order."""
     lam, mu = material.lame
     nb = len(sb.basis)
     G = np.stack([sb.basis[a][0].grad for a in range(nb)])   # (nb, 3, nel, nq)
@@ -178,7 +225,7 @@ def _element_blocks(sb, material: Material, values: int = 6_000_000):
         P = np.einsum("aieq,bjeq,eq->ijeab", g, g, sb.dx[sl], optimize=True)   # (i, j, e, a, b)
         trace = P[0, 0] + P[1, 1] + P[2, 2]
         Kb = lam * P + mu * np.swapaxes(P, 0, 1) + mu * eye[:, :, None, None, None] * trace
-        yield sl, Kb.reshape(9, -1)
+        yield (np.arange(sl.start, sl.stop) if sb.tind is None else sb.tind[sl]), Kb.reshape(9, -1)
 
 
 def _vector_dof_map(basis, sbasis) -> np.ndarray:
@@ -215,27 +262,101 @@ def _group_facets(basis, groups: dict, name: str) -> np.ndarray:
     return facets_of(basis.mesh, groups[name], name)
 
 
-def _facet_basis(basis, groups: dict, name: str):
-    from skfem import FacetBasis
-    return FacetBasis(basis.mesh, basis.elem, facets=_group_facets(basis, groups, name),
-                      intorder=max(2 * basis.elem.elem.maxdeg, 2))
+def surface_node_weights(basis, groups: dict, name: str) -> tuple[np.ndarray, np.ndarray]:
+    """(nodes, weights m^2): the integral of each scalar shape function over ``name``'s
+    surface, on the element's own (straight or curved) faces; the weights sum to the
+    surface's area. A face's trace of the tetrahedral basis is the triangle's: 3 nodes (P1),
+    or 6 (P2: vertices, then the mid nodes of edges 01, 12, 02), and a curved face's area
+    element comes from its quadratic map, integrated by a degree-6 triangle rule."""
+    _group_facets(basis, groups, name)                     # refuses unknown groups / foreign faces
+    sb = scalar_basis(basis)
+    mesh = basis.mesh
+    tri = np.asarray(groups[name], dtype=np.int64)
+    vertex_dof = sb.nodal_dofs[0][tri]                     # (f, 3)
+    if sb.N == mesh.nvertices:                             # P1: linear faces
+        nodes, lam_shape = vertex_dof, _tri_p1
+        x = mesh.doflocs.T[tri]
+    else:
+        pairs = tri[:, [[0, 1], [1, 2], [0, 2]]]           # (f, 3, 2)
+        edge = _edge_index(mesh, pairs.reshape(-1, 2)).reshape(-1, 3)
+        nodes = np.concatenate([vertex_dof, sb.edge_dofs[0][edge]], axis=1)       # (f, 6)
+        lam_shape = _tri_p2
+        x = sb.doflocs.T[nodes]                            # (f, 6, 3): the face's own nodes
+    w = _face_integrals(x, lam_shape)                      # (f, nodes per face)
+    weights = np.bincount(nodes.ravel(), weights=w.ravel(), minlength=sb.N)
+    used = np.flatnonzero(np.bincount(nodes.ravel(), minlength=sb.N))
+    return used, weights[used]
 
 
-def _group_area(fb) -> float:
-    from skfem import Functional, asm
-    return float(asm(Functional(lambda w: 1.0 + 0.0 * w.x[0]), fb))
+def _tri_p1(lam: np.ndarray):
+    """Linear triangle: shape values (q, 3) and barycentric derivatives (q, 3, 3)."""
+    return lam, np.broadcast_to(np.eye(3), (lam.shape[0], 3, 3))
+
+
+def _tri_p2(lam: np.ndarray):
+    """Quadratic triangle (vertices, then edges 01, 12, 02): values (q, 6) and the
+    derivatives with respect to each barycentric coordinate (q, 6, 3)."""
+    L0, L1, L2 = lam.T
+    N = np.stack([L0 * (2 * L0 - 1), L1 * (2 * L1 - 1), L2 * (2 * L2 - 1), 4 * L0 * L1, 4 * L1 * L2, 4 * L0 * L2], 1)
+    z = np.zeros_like(L0)
+    dN = np.stack([np.stack([4 * L0 - 1, z, z], 1), np.stack([z, 4 * L1 - 1, z], 1), np.stack([z, z, 4 * L2 - 1], 1),
+                   np.stack([4 * L1, 4 * L0, z], 1), np.stack([z, 4 * L2, 4 * L1], 1), np.stack([4 * L2, z, 4 * L0], 1)], 1)
+    return N, dN
+
+
+def _face_integrals(x: np.ndarray, shape) -> np.ndarray:
+    """(f, n): integral of each face shape function over faces with nodes ``x`` (f, n, 3)."""
+    from skfem.quadrature import get_quadrature
+    from skfem.refdom import RefTri
+
+    X, W = get_quadrature(RefTri, 6)                       # reference triangle (0,0), (1,0), (0,1)
+    lam = np.column_stack([1 - X[0] - X[1], X[0], X[1]])
+    N, dN = shape(lam)                                     # (q, n), (q, n, 3)
+    ds = dN[:, :, 1] - dN[:, :, 0]                         # d/ds with L1 = s, L2 = t
+    dt = dN[:, :, 2] - dN[:, :, 0]
+    a = np.einsum("qn,fnk->fqk", ds, x)
+    b = np.einsum("qn,fnk->fqk", dt, x)
+    jac = np.linalg.norm(np.cross(a, b), axis=-1)          # (f, q) area element
+    return np.einsum("qn,fq,q->fn", N, jac, W)
+
+
+def _edge_index(mesh, pairs: np.ndarray) -> np.ndarray:
+    """Index into ``mesh.edges`` of each vertex pair (k, 2)."""
+    n = np.int64(mesh.nvertices)
+    e = np.sort(mesh.edges, axis=0).astype(np.int64)
+    keys = e[0] * n + e[1]
+    order = np.argsort(keys)
+    p = np.sort(pairs, axis=1).astype(np.int64)
+    want = p[:, 0] * n + p[:, 1]
+    pos = np.clip(np.searchsorted(keys[order], want), 0, keys.size - 1)
+    if not np.all(keys[order][pos] == want):
+        raise RuntimeError("a face edge is not an edge of the mesh")
+    return order[pos]
+
+
+def _surface_vectors(basis, groups: dict, group: str) -> np.ndarray:
+    """(3, N): row c holds the surface weights of group's nodes on their c DOFs, divided by
+    the area (a unit total force along c as a uniform traction; also the mean over it)."""
+    nodes, w = surface_node_weights(basis, groups, group)
+    area = w.sum()
+    if not area > 0:
+        raise ModelError(group, "has zero area")
+    out = np.zeros((3, basis.N))
+    vector_of = _vector_dof_map(basis, scalar_basis(basis))
+    for c in range(3):
+        out[c, vector_of[nodes, c]] = w / area
+    return out
+
+
+def group_area(basis, groups: dict, group: str) -> float:
+    """The area (m^2) of a group's surface on the element geometry (curved when P2 is)."""
+    return float(surface_node_weights(basis, groups, group)[1].sum())
 
 
 def unit_traction_vectors(basis, groups: dict, group: str) -> np.ndarray:
     """(N, 3): the load vectors of a unit total force (1 N) along x, y and z spread as a
     uniform traction over ``group``'s surface. Any force F on the group is ``T @ F``."""
-    from skfem import LinearForm, asm
-
-    fb = _facet_basis(basis, groups, group)
-    area = _group_area(fb)
-    if area <= 0:
-        raise ModelError(group, "has zero area")
-    return np.stack([asm(LinearForm(lambda v, w, c=c: v[c] / area), fb) for c in range(3)], axis=1)
+    return _surface_vectors(basis, groups, group).T.copy()
 
 
 def body_force_vectors(basis) -> np.ndarray:
@@ -296,12 +417,13 @@ def solve(K, F: np.ndarray, fixed: np.ndarray, method: str = "auto", basis=None,
 def p1_prolongation(basis):
     """(P2 vector DOFs, 3 x vertices): linear interpolation from the same mesh's P1 space:
     a vertex DOF copies its vertex, a mid-edge DOF averages its edge's two vertices
-    (straight edges; scikit-fem's P2 numbers vertices first, then edges)."""
+    (scikit-fem's P2 numbers vertices first, then edges). On a curved mesh this is the
+    linear interpolation in reference coordinates, the P1 space of the same element map."""
     import scipy.sparse as sp
 
     sb = scalar_basis(basis)
     mesh = basis.mesh
-    nv, ne = mesh.p.shape[1], mesh.edges.shape[1]
+    nv, ne = mesh.nvertices, mesh.edges.shape[1]
     if sb.N != nv + ne:
         raise RuntimeError("p-multigrid needs a P2 basis with vertex and edge DOFs only")
     edge_dof = sb.edge_dofs[0]
@@ -425,25 +547,21 @@ def peak(values: np.ndarray, locations: np.ndarray, mask: np.ndarray | None = No
 
 def mean_over(basis, groups: dict, group: str) -> np.ndarray:
     """(3, N): the area-weighted mean displacement over ``group`` is ``W @ U`` (m)."""
-    from skfem import LinearForm, asm
-
-    fb = _facet_basis(basis, groups, group)
-    area = _group_area(fb)
-    return np.stack([asm(LinearForm(lambda v, w, c=c: v[c] / area), fb) for c in range(3)])
+    return _surface_vectors(basis, groups, group)
 
 
 def solve_elasticity(points: np.ndarray, tets: np.ndarray, groups: dict[str, np.ndarray],
                      material: Material, supports_: list[Support], loads: list[HoleLoad],
                      order: int = 2, tip_group: str | None = None, solver: str = "auto",
                      maxiter: int = 2000, body_force: np.ndarray | None = None,
-                     exclude_distance: float = 0.0, report=None) -> Solution:
+                     exclude_distance: float = 0.0, report=None, curved=None) -> Solution:
     """Solve one static problem (see the module doc). ``body_force`` (3,) N/m^3;
     ``exclude_distance`` (m): the peak von Mises is also reported over the stress nodes
     farther than this from the supports (``max_von_mises_away``), away from the
     singularity an idealised clamped surface creates at its edges."""
     warnings = _model_warnings(groups, supports_, loads, tip_group, material, order)
     t = [time.perf_counter()]
-    K, basis = assemble(points, tets, material, order)
+    K, basis = assemble(points, tets, material, order, curved)
     fixed = supports(basis, groups, [s.group for s in supports_])
     per_load = {ld.group: unit_traction_vectors(basis, groups, ld.group) @ np.asarray(ld.force, float) for ld in loads}
     f = sum(per_load.values(), load_vector(basis, groups, [], body_force))
@@ -479,8 +597,9 @@ def _model_warnings(groups, supports_, loads, tip_group, material, order) -> lis
     return []
 
 
-def check_rigid_modes(points: np.ndarray, tets: np.ndarray, material: Material, order: int = 1) -> float:
+def check_rigid_modes(points: np.ndarray, tets: np.ndarray, material: Material, order: int = 1,
+                      curved=None) -> float:
     """max |K r| / max |K| over the six rigid-body modes r of an unsupported part: ~0."""
-    K, basis = assemble(points, tets, material, order)
+    K, basis = assemble(points, tets, material, order, curved)
     B = rigid_body_modes(basis.doflocs, _components(basis))
     return float(np.abs(K @ B).max() / np.abs(K).max())

@@ -68,10 +68,11 @@ def case_vector(basis, groups: dict, case) -> np.ndarray:
 def solve_unit_cases(points: np.ndarray, tets: np.ndarray, groups: dict, material: Material,
                      support_groups: list[str], cases: dict[str, object], order: int = 2,
                      tip_group: str | None = None, exclude_distance: float = 0.0, solver: str = "auto",
-                     report=None) -> tuple[UnitFields, dict]:
-    """Unit fields of every case (one factorisation) and a dict of timings and solver info."""
+                     report=None, curved=None) -> tuple[UnitFields, dict]:
+    """Unit fields of every case (one factorisation) and a dict of timings and solver info
+    (``curved``: the mesh's curved edges for isoparametric P2, :func:`fea.elasticity.assemble`)."""
     t = [time.perf_counter()]
-    K, basis = assemble(points, tets, material, order)
+    K, basis = assemble(points, tets, material, order, curved)
     fixed = supports(basis, groups, support_groups)
     F = np.column_stack([case_vector(basis, groups, c) for c in cases.values()])
     t.append(time.perf_counter())

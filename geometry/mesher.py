@@ -1,9 +1,12 @@
 """gmsh meshing of the parts, returning plain numpy arrays, cached on disk.
 
-gmsh is imported inside :func:`build_mesh` only. The mesh is always first-order
-tetrahedra (straight-sided): second-order fields (P2) take their mid-edge nodes from the
-FE package, so the P1 and P2 solutions live on the same geometry. A size field refines
+gmsh is imported inside :func:`build_mesh` only. The mesh's vertices and
+tetrahedra are the same for P1 and P2. A size field refines
 the mesh at every hole (to ``hole_size``) and grows to ``size`` away from them.
+
+For quadratic (P2) elements gmsh also places the mid-edge nodes on the true CAD surfaces
+(``setOrder(2)``); the mesh keeps only the edges that came out curved
+(:attr:`MeshData.curved`), checked for folded elements (:mod:`geometry.curving`).
 
 Meshes are cached in ``$RAILCHECK_CACHE`` (default ``~/.cache/railcheck``) keyed by a hash
 of the part's parameters, the mesh sizes and this module's version.
@@ -16,14 +19,14 @@ import json
 import math
 import os
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 from .models import PartGeometry
 
-MESHER_VERSION = 6
+MESHER_VERSION = 7
 SLIVER_SICN = 0.05   # elements whose signed inverse condition number is below this are slivers
 
 
@@ -42,6 +45,14 @@ class MeshData:
     seconds: float
     cached: bool = False
     warning: str | None = None
+    curved_edges: np.ndarray = field(default_factory=lambda: np.zeros((0, 2), dtype=np.int64))
+    curved_points: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+
+    @property
+    def curved(self) -> tuple[np.ndarray, np.ndarray]:
+        """(edges (k, 2), mid-edge points (k, 3) m): the quadratic mesh's curved edges
+        (mid nodes on the true surfaces); every other edge of a P2 mesh is straight."""
+        return self.curved_edges, self.curved_points
 
 
 def default_cache_dir() -> Path:
@@ -67,10 +78,11 @@ def _cache_key(part: PartGeometry, size: float, hole_size: float, optimize: bool
     return hashlib.sha256(_cache_payload(part, size, hole_size, optimize).encode()).hexdigest()[:24]
 
 
-def _digest(points: np.ndarray, tets: np.ndarray, groups: dict[str, np.ndarray]) -> str:
+def _digest(points: np.ndarray, tets: np.ndarray, groups: dict[str, np.ndarray],
+            curved: tuple[np.ndarray, np.ndarray]) -> str:
     """SHA-256 of the mesh arrays' bytes (with the group names): the cache entry's content hash."""
     h = hashlib.sha256()
-    for a in (points, tets):
+    for a in (points, tets, *curved):
         h.update(np.ascontiguousarray(a).tobytes())
     for name in sorted(groups):
         h.update(name.encode())
@@ -101,13 +113,15 @@ def read_cached(path: Path, payload: str) -> tuple[MeshData | None, str | None]:
             points, tets = z["points"], z["tets"]
             groups = {k[2:]: z[k] for k in z.files if k.startswith("g_")}
             quality, slivers = float(z["min_quality"]), int(z["slivers"])
+            curved = (z["curved_edges"], z["curved_points"])
     except Exception as exc:   # noqa: BLE001 - any unreadable file is a damaged entry
         return None, f"unreadable ({type(exc).__name__})"
     if stored_payload != payload:
         return None, "made for other parameters"
-    if stored_digest != _digest(points, tets, groups):
+    if stored_digest != _digest(points, tets, groups, curved):
         return None, "content does not match its hash"
-    return MeshData(points, tets, groups, quality, slivers, 0.0, cached=True), None
+    return MeshData(points, tets, groups, quality, slivers, 0.0, cached=True, curved_edges=curved[0],
+                    curved_points=curved[1]), None
 
 
 def write_cached(path: Path, data: MeshData, payload: str) -> None:
@@ -117,7 +131,8 @@ def write_cached(path: Path, data: MeshData, payload: str) -> None:
         path.parent.mkdir(parents=True, exist_ok=True)
         tmp = path.with_name(f".{path.stem}.{os.getpid()}.tmp.npz")
         np.savez(tmp, points=data.points, tets=data.tets, min_quality=data.min_quality, slivers=data.slivers,
-                 payload=np.array(payload), digest=np.array(_digest(data.points, data.tets, data.groups)),
+                 curved_edges=data.curved_edges, curved_points=data.curved_points, payload=np.array(payload),
+                 digest=np.array(_digest(data.points, data.tets, data.groups, data.curved)),
                  **{f"g_{k}": v for k, v in data.groups.items()})
         os.replace(tmp, path)
     except OSError:
@@ -197,14 +212,59 @@ def build_mesh(part: PartGeometry, size: float, hole_size: float, verbose: bool 
             gmsh.model.mesh.field.setNumber(ft, "DistMax", hole_size + 2.0 * size)
             gmsh.model.mesh.field.setAsBackgroundMesh(ft)
         gmsh.model.mesh.generate(3)
-        return _extract(gmsh, surfaces, time.perf_counter() - t0)
+        qualities = _qualities(gmsh)
+        curved = _has_curved_surfaces(gmsh)
+        if curved:
+            gmsh.model.mesh.setOrder(2)     # mid-edge nodes on the CAD surfaces
+        data, index = _extract(gmsh, surfaces, qualities)
+        if curved:
+            data = _with_curved_edges(gmsh, data, index)
+        from dataclasses import replace
+        return replace(data, seconds=time.perf_counter() - t0)
     finally:
         gmsh.finalize()
         for sig, handler in handlers.items():
             signal.signal(sig, handler)
 
 
-def _extract(gmsh, surfaces, seconds) -> MeshData:
+def _has_curved_surfaces(gmsh) -> bool:
+    return any(gmsh.model.getType(dim, tag) != "Plane" for dim, tag in gmsh.model.getEntities(2))
+
+
+GMSH_TET10_EDGE_COLUMNS = [4, 5, 6, 7, 9, 8]
+TET_NODES = {4: 4, 11: 10}     # gmsh element type -> nodes (linear, quadratic tetrahedron)
+TRI_NODES = {2: 3, 9: 6}   # gmsh's mid nodes in curving.LOCAL_EDGES order
+
+
+def _qualities(gmsh) -> np.ndarray:
+    """gmsh's minSICN of every (linear) tetrahedron."""
+    _, etags, _ = gmsh.model.mesh.getElements(3)
+    return gmsh.model.mesh.getElementQualities(np.concatenate(etags), "minSICN")
+
+
+def _with_curved_edges(gmsh, data: MeshData, index: np.ndarray) -> MeshData:
+    """From gmsh's second-order mesh: keep the edges that came out curved, and
+    straighten any element that would fold."""
+    from dataclasses import replace
+
+    from .curving import curved_from_tet10, straighten_folded
+
+    tags, coords, _ = gmsh.model.mesh.getNodes()
+    xyz = np.zeros((int(tags.max()) + 1, 3))
+    xyz[tags] = coords.reshape(-1, 3)
+    etypes, _, enodes = gmsh.model.mesh.getElements(3)
+    t10 = np.concatenate([n.astype(np.int64).reshape(-1, 10) for et, n in zip(etypes, enodes) if et == 11])
+    tets = index[t10[:, :4]]
+    mids = xyz[t10[:, GMSH_TET10_EDGE_COLUMNS]]
+    edges, points = curved_from_tet10(data.points, tets, mids)
+    edges, points, dropped = straighten_folded(data.points, tets, edges, points)
+    warning = f"{dropped} curved edges straightened to keep elements from folding" if dropped else None
+    return replace(data, curved_edges=edges, curved_points=points, warning=warning)
+
+
+def _extract(gmsh, surfaces, qualities: np.ndarray) -> tuple[MeshData, np.ndarray]:
+    """(mesh, index): the linear mesh (the vertices of first- or second-order elements),
+    and the map from gmsh node tag to point index."""
     tags, coords, _ = gmsh.model.mesh.getNodes()
     order = np.argsort(tags)
     tags = tags[order]
@@ -212,21 +272,19 @@ def _extract(gmsh, surfaces, seconds) -> MeshData:
     index = np.full(int(tags.max()) + 1, -1, dtype=np.int64)
     index[tags] = np.arange(tags.size)
     etypes, etags, enodes = gmsh.model.mesh.getElements(3)
-    tets, tet_tags = [], []
-    for et, tt, nn in zip(etypes, etags, enodes):
-        if et != 4:
+    tets = []
+    for et, nn in zip(etypes, enodes):
+        if et not in TET_NODES:
             raise RuntimeError(f"unexpected 3D element type {et}")
-        tets.append(index[nn.astype(np.int64)].reshape(-1, 4))
-        tet_tags.append(tt)
+        tets.append(index[nn.astype(np.int64)].reshape(-1, TET_NODES[et])[:, :4])
     tets = np.concatenate(tets)
-    qualities = gmsh.model.mesh.getElementQualities(np.concatenate(tet_tags), "minSICN")
     groups = {}
     for name, stags in surfaces.items():
         tris = []
         for s in sorted(set(stags)):
             et, _, nn = gmsh.model.mesh.getElements(2, s)
-            for _etype, n in zip(et, nn):
-                tris.append(index[n.astype(np.int64)].reshape(-1, 3))
+            for etype, n in zip(et, nn):
+                tris.append(index[n.astype(np.int64)].reshape(-1, TRI_NODES[etype])[:, :3])
         groups[name] = np.concatenate(tris)
     used = np.unique(tets)
     if used.size != points.shape[0]:       # drop nodes no tetrahedron uses (geometry points)
@@ -235,8 +293,9 @@ def _extract(gmsh, surfaces, seconds) -> MeshData:
         points = points[used]
         tets = remap[tets]
         groups = {k: remap[v] for k, v in groups.items()}
+        index = np.where(index >= 0, remap[np.maximum(index, 0)], -1)
     return MeshData(points, tets.astype(np.int64), groups, float(qualities.min()),
-                    int(np.count_nonzero(qualities < SLIVER_SICN)), seconds)
+                    int(np.count_nonzero(qualities < SLIVER_SICN)), 0.0), index
 
 
 # --- builders: each returns ({group: [surface tags]}, [surface tags to refine at]) ---------

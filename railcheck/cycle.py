@@ -141,7 +141,8 @@ def check_part(scene, kin, name: str, geo, case, material, limit: float, solver:
     holes = bolt_holes(scene, name, geo)
     cases = unit_cases(scene, name, geo, holes)
     fields, meta = solve_unit_cases(mesh.points, mesh.tets, mesh.groups, material, [kind.support], cases,
-                                    scene.mesh.order, kind.tip, kind.exclusion(geo), solver, report)
+                                    scene.mesh.order, kind.tip, kind.exclusion(geo), solver, report,
+                                    curved=mesh.curved if scene.mesh.curved else None)
     seconds.update(meta["seconds"])
     t = time.perf_counter()
     histories = source_histories(scene, kin, name, holes, material.density)

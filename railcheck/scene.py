@@ -96,6 +96,7 @@ class MeshSpec:
     size: float | None = None                 # m; None = each part kind's default (parts.KINDS)
     hole_size: float | None = None            # m; None = the kind's default, or 0.3 x size
     optimize: bool = True                     # gmsh's tetrahedron optimisation
+    curved: bool = True                       # P2: mid-edge nodes on the true surfaces (isoparametric)
 
 
 @dataclass(frozen=True)
@@ -143,7 +144,7 @@ _ALLOWED = {
     "mechanism": {"kind", "crank", "coupler", "rocker", "ground", "speed", "steps", "assembly"},
     "dynamics": {"formulation"},
     "check": {"parts", "factor", "bolt_position", "material", "limit", "effects", "max_deflection"},
-    "mesh": {"order", "size", "hole_size", "optimize"},
+    "mesh": {"order", "size", "hole_size", "optimize", "curved"},
     "output": {"dir", "vtk", "png", "plots"},
     "loads": None,       # part names, checked below
     "geometry": None,    # catalogue keys, checked below
@@ -278,7 +279,7 @@ def _mesh(table: dict) -> MeshSpec:
             raise InputError(p + "hole_size", "needs mesh.size too (the defaults come in pairs per part kind)")
     if hole is not None and size is not None and hole > size:
         raise InputError(p + "hole_size", f"{hole*1e3:g} mm is larger than mesh.size {size*1e3:g} mm")
-    return MeshSpec(order, size, hole, _bool(table, "optimize", p, True))
+    return MeshSpec(order, size, hole, _bool(table, "optimize", p, True), _bool(table, "curved", p, True))
 
 
 def _output(table: dict) -> OutputSpec:

@@ -111,7 +111,8 @@ def build_part_model(scene, name: str, lengths: np.ndarray, material, limit: flo
             names.append(full)
         columns[key] = [list(cases).index(n) for n in names]
     fields, meta = solve_unit_cases(mesh.points, mesh.tets, mesh.groups, material, [kind.support], cases,
-                                    scene.mesh.order, kind.tip, kind.exclusion(geo), "auto", report)
+                                    scene.mesh.order, kind.tip, kind.exclusion(geo), "auto", report,
+                                    curved=mesh.curved if scene.mesh.curved else None)
     screens = {key: make_screen(fields.stress, fields.verdict_mask, fields.tip, cols) for key, cols in columns.items()}
     spec = scene.fatigue
     marin = endurance_limit(material.ultimate_strength, spec.surface, kind.section(geo), spec.load, spec.reliability)

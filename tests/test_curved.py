@@ -1,0 +1,178 @@
+"""Curved (isoparametric) P2: the mid-edge nodes gmsh places on the true surfaces.
+
+Truths: a hole's exact circumference; a linear displacement field (patch test) and the
+six rigid-body motions, which the isoparametric P2 space holds exactly on any element map;
+the resultant of a traction; Jacobians computed here by finite differences of the map."""
+
+import numpy as np
+import pytest
+
+from railcheck.fea.elasticity import (
+    _components,
+    _skfem_mesh,
+    assemble,
+    check_rigid_modes,
+    curved_elements,
+    group_area,
+    resultant,
+    unit_traction_vectors,
+)
+from railcheck.fea.materials import MATERIALS
+from railcheck.geometry import curving
+from railcheck.geometry.mesher import mesh_part
+from railcheck.geometry.models import rail
+
+STEEL = MATERIALS["steel"]
+
+
+@pytest.fixture(scope="module")
+def short_rail():
+    """A 120 mm rail with two holes, 2 mm elements at the holes (11 per circumference)."""
+    geo = rail(0.12)
+    return geo, mesh_part(geo, 0.006, 0.002, cache=False)
+
+
+@pytest.fixture(scope="module")
+def tiny_rail():
+    """A 60 mm rail with one hole, coarse enough for an eigenvalue count."""
+    return mesh_part(rail(0.06), 0.01, 0.004, cache=False)
+
+
+def _vector_basis(mesh, curved, intorder=2):
+    from skfem import Basis, ElementTetP2
+    from skfem.element import ElementVector
+    return Basis(_skfem_mesh(mesh.points, mesh.tets, curved), ElementVector(ElementTetP2()), intorder=intorder)
+
+
+def test_curved_p2_gives_a_hole_circumference_to_1e4_where_straight_p2_does_not(short_rail):
+    geo, mesh = short_rail
+    p = dict(geo.params)
+    height = p["height"] - p["counterbore_depth"]            # the through-hole below the counterbore
+    exact = np.pi * p["hole_diameter"]
+    for k in range(2):
+        curved = group_area(_vector_basis(mesh, mesh.curved), mesh.groups, f"hole_{k}") / height
+        straight = group_area(_vector_basis(mesh, None), mesh.groups, f"hole_{k}") / height
+        assert abs(curved / exact - 1) < 1e-4, curved / exact - 1
+        assert abs(straight / exact - 1) > 3e-3, straight / exact - 1     # faceted: ~1e-2 short
+
+
+def test_only_edges_on_curved_surfaces_are_curved_and_they_lie_on_the_cylinders(short_rail):
+    geo, mesh = short_rail
+    p = dict(geo.params)
+    edges, mids = mesh.curved
+    assert edges.shape[0] > 100
+    radius = np.hypot(mids[:, 0][:, None] - np.array(p["hole_x"])[None, :], mids[:, 1][:, None]).min(axis=1)
+    on_hole = np.abs(radius - p["hole_diameter"] / 2) < 1e-9
+    on_counterbore = np.abs(radius - p["counterbore_diameter"] / 2) < 1e-9
+    assert np.all(on_hole | on_counterbore)
+    straight_mid = 0.5 * (mesh.points[edges[:, 0]] + mesh.points[edges[:, 1]])
+    assert np.all(np.linalg.norm(mids - straight_mid, axis=1) > 0)
+
+
+def test_patch_test_is_exact_on_the_curved_mesh(short_rail):
+    from skfem import condense, solve
+
+    _, mesh = short_rail
+    K, basis = assemble(mesh.points, mesh.tets, STEEL, 2, mesh.curved)
+    assert curved_elements(basis.mesh).size > 100
+    G = np.array([[1e-3, 2e-4, -3e-4], [5e-4, -1e-3, 1e-4], [-2e-4, 3e-4, 7e-4]])
+    c = np.array([1e-5, -2e-5, 3e-5])
+    comp = _components(basis)
+    exact = (G @ basis.doflocs)[comp, np.arange(basis.N)] + c[comp]
+    boundary = basis.get_dofs().all()
+    u = solve(*condense(K, np.zeros(basis.N), x=exact, D=boundary))
+    assert np.max(np.abs(u - exact)) < 1e-10 * np.max(np.abs(exact))
+    # the degree-3 rule on curved elements is what makes it exact: the 4-point rule is not
+    K4 = _four_point_stiffness(mesh)
+    u4 = solve(*condense(K4, np.zeros(basis.N), x=exact, D=boundary))
+    assert np.max(np.abs(u4 - exact)) > 1e-8 * np.max(np.abs(exact))
+
+
+def _four_point_stiffness(mesh):
+    """The stiffness of the curved mesh with the 4-point rule on every element (what the
+    straight-element rule would give), assembled by scikit-fem itself."""
+    from skfem import asm
+    from skfem.models.elasticity import linear_elasticity
+    return asm(linear_elasticity(*STEEL.lame), _vector_basis(mesh, mesh.curved))
+
+
+def test_six_rigid_body_modes_on_the_curved_mesh(tiny_rail):
+    from scipy.sparse import identity
+    from scipy.sparse.linalg import eigsh
+
+    mesh = tiny_rail
+    assert mesh.curved_edges.shape[0] > 20
+    assert check_rigid_modes(mesh.points, mesh.tets, STEEL, 2, mesh.curved) < 1e-12
+    K, _ = assemble(mesh.points, mesh.tets, STEEL, 2, mesh.curved)
+    scale = K.diagonal().max()
+    shift = 1e-8 * scale
+    ev = np.sort(eigsh(K + shift * identity(K.shape[0]), k=8, sigma=0.0, which="LM",
+                       return_eigenvectors=False)) - shift
+    assert np.all(np.abs(ev[:6]) < 1e-9 * scale)           # six zero-energy modes
+    assert ev[6] > 1e-7 * scale                             # and no seventh
+
+
+def test_traction_on_a_curved_hole_integrates_to_the_force(short_rail):
+    _, mesh = short_rail
+    K, basis = assemble(mesh.points, mesh.tets, STEEL, 2, mesh.curved)
+    F = np.array([120.0, -45.0, 30.0])
+    total = resultant(basis, unit_traction_vectors(basis, mesh.groups, "hole_1") @ F)
+    assert np.allclose(total, F, rtol=0, atol=1e-12 * np.abs(F).max())
+
+
+def test_straight_mesh_surface_weights_equal_scikit_fem_facet_integrals(short_rail):
+    from skfem import FacetBasis, LinearForm, asm
+
+    from railcheck.fea.elasticity import _group_facets
+
+    _, mesh = short_rail
+    basis = _vector_basis(mesh, None)
+    fb = FacetBasis(basis.mesh, basis.elem, facets=_group_facets(basis, mesh.groups, "hole_0"), intorder=4)
+    area = asm(LinearForm(lambda v, w: v[0]), fb).sum()
+    ref = np.stack([asm(LinearForm(lambda v, w, c=c: v[c] / area), fb) for c in range(3)], axis=1)
+    mine = unit_traction_vectors(basis, mesh.groups, "hole_0")
+    assert np.abs(mine - ref).max() < 1e-12 * np.abs(ref).max()
+
+
+def test_jacobian_ratio_equals_finite_differences_of_the_quadratic_map():
+    rng = np.random.default_rng(3)
+    points = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1.0]]) + 0.05 * rng.standard_normal((4, 3))
+    tets = np.array([[0, 1, 2, 3]])
+    d = 0.08 * rng.standard_normal((1, 6, 3))
+    lam = curving._sample_barycentrics()
+    got = curving.jacobian_ratios(points, tets, d)[0]
+
+    def x_of(xi):
+        L = np.array([1 - xi.sum(), *xi])
+        x = sum(points[i] * L[i] * (2 * L[i] - 1) for i in range(4))
+        for k, (a, b) in enumerate(curving.LOCAL_EDGES):
+            x = x + 4 * L[a] * L[b] * (0.5 * (points[a] + points[b]) + d[0, k])
+        return x
+
+    h = 1e-6
+    for s, L in enumerate(lam):
+        xi = L[1:]
+        J = np.column_stack([(x_of(xi + h * e) - x_of(xi - h * e)) / (2 * h) for e in np.eye(3)])
+        J_aff = np.column_stack([points[k] - points[0] for k in (1, 2, 3)])
+        assert got[s] == pytest.approx(np.linalg.det(J) / np.linalg.det(J_aff), rel=1e-7, abs=1e-9)
+
+
+def test_a_folding_curved_edge_is_straightened():
+    points = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1.0], [1, 1, 1.0]])
+    tets = np.array([[0, 1, 2, 3], [1, 2, 3, 4]])
+    edges = np.array([[0, 1], [1, 4]])
+    # edge 0-1 bulges far past the opposite face: the first element folds; edge 1-4 is mild
+    mids = np.array([[0.5, 0.0, 0.0], [1.0, 0.5, 0.5]]) + np.array([[0.0, 0.0, 0.9], [0.02, 0.0, 0.0]])
+    kept, where, dropped = curving.straighten_folded(points, tets, edges, mids)
+    assert dropped == 1 and kept.tolist() == [[1, 4]] and np.array_equal(where, mids[1:])
+    d = curving.edge_offsets(points, tets, kept, where)
+    assert curving.jacobian_ratios(points, tets, d).min() > curving.MIN_JACOBIAN_RATIO
+
+
+def test_cached_mesh_keeps_its_curved_edges(tmp_path):
+    geo = rail(0.06)
+    built = mesh_part(geo, 0.01, 0.004, cache_dir=tmp_path)
+    read = mesh_part(geo, 0.01, 0.004, cache_dir=tmp_path)
+    assert read.cached and not built.cached
+    assert np.array_equal(read.curved_edges, built.curved_edges)
+    assert np.array_equal(read.curved_points, built.curved_points)
