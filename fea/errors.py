@@ -15,3 +15,6 @@ class ModelError(ValueError):
         self.field = field
         self.message = message
         super().__init__(f"{field}: {message}" if field else message)
+
+    def __reduce__(self):      # raised in a worker process, re-raised in the caller
+        return type(self), (self.field, self.message)

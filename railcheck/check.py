@@ -114,9 +114,11 @@ class CheckRun:
         return EXIT_FAIL if self.result.failures else EXIT_PASS
 
 
-def run_check(scene, out: str | None = None, force: bool = False, progress: Progress | None = None) -> CheckRun:
+def run_check(scene, out: str | None = None, force: bool = False, progress: Progress | None = None,
+              jobs: int | None = None) -> CheckRun:
     """Reserve the results directory, run the pipeline, write every output into a staging
-    directory and rename it into place (see :mod:`railcheck.files`)."""
+    directory and rename it into place (see :mod:`railcheck.files`). ``jobs``: parts
+    checked at once (:mod:`railcheck.partjobs`)."""
     requested = Path(out or scene.output.dir)
     try:
         target, replaces = reserve_results_dir(requested, force)
@@ -125,7 +127,7 @@ def run_check(scene, out: str | None = None, force: bool = False, progress: Prog
         raise InputError("output.dir", f"cannot write results at {requested}: {exc.strerror or exc}") from None
     progress = progress or Progress(quiet=True)
     try:
-        result = run_pipeline(scene, progress)
+        result = run_pipeline(scene, progress, jobs=jobs)
         summary = summary_of(result)
         write_outputs(scene, result, summary, staging.path)
         progress.say("report", f"wrote {len(result.parts)} parts")

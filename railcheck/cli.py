@@ -85,7 +85,9 @@ def _cmd_check(args) -> int:
     from .report import check_report, to_json
     from .scene import load_scene
 
-    run = run_check(load_scene(args.scene), args.out, args.force, Progress(quiet=False))
+    if args.jobs is not None and args.jobs < 1:
+        raise InputError("--jobs", f"must be at least 1, got {args.jobs}")
+    run = run_check(load_scene(args.scene), args.out, args.force, Progress(quiet=False), args.jobs)
     print(to_json(run.summary) if args.json else check_report(run))
     if run.requested != run.target:
         print(f"railcheck: {run.requested} exists; results written to {run.target} (use --force to replace)",
@@ -192,6 +194,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", metavar="DIR", help="results directory (default: the scene's output.dir)")
     p.add_argument("--json", action="store_true", help="print summary.json to stdout")
     p.add_argument("--force", action="store_true", help="overwrite an existing results directory")
+    p.add_argument("--jobs", type=int, metavar="N",
+                   help="parts checked at once in worker processes (default: one per core, at most 2)")
     p.set_defaults(func=_cmd_check)
 
     p = sub.add_parser("sweep", help="every setting of the rig: checks, verdict, safe speed, motor, bearings",
@@ -221,7 +225,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("convergence", help="accuracy against time: mesh and step convergence study")
     p.add_argument("target", nargs="?", default="cantilever",
                    help="cantilever, kinematics, or a part of the default scene")
-    p.add_argument("--orders", default="1,2", help="element orders, e.g. 1,2")
+    p.add_argument("--orders", default="1,2", help="elements: 1 (P1), 2 (curved P2), 2s (straight-sided P2), e.g. 1,2,2s")
     p.add_argument("--sizes", default=None, help="mesh sizes in mm, e.g. 8,6,4,3")
     p.add_argument("--json", action="store_true")
     p.add_argument("--plot", metavar="FILE", help="write a log-log plot of error against time")

@@ -24,6 +24,12 @@ from .parts import PARTS, kind_of
 DEFAULT_SIZES_MM = {"cantilever": [20.0, 14.0, 10.0, 7.0, 5.0], "rail": [20.0, 14.0, 10.0, 7.0],
                     "plate": [12.0, 8.5, 6.0, 4.2]}
 HOLE_RATIO = 0.3          # hole_size / size, as in the default scene (3 mm / 10 mm)
+ELEMENTS = {"1": "P1", "2": "P2", "2s": "P2s"}   # --orders token -> element: P2 curved, P2s straight-sided
+
+
+def element_order(element: str) -> tuple[int, bool]:
+    """(order, curved) of an element label: P1, P2 (isoparametric, curved) or P2s (straight)."""
+    return (1, False) if element == "P1" else (2, element == "P2")
 
 
 # -- Richardson extrapolation ---------------------------------------------------------
@@ -59,7 +65,7 @@ def richardson(h: list[float], f: list[float], max_iter: int = 100) -> tuple[flo
 
 # -- one row (run in a subprocess) ------------------------------------------------------
 
-def _solve_row(target: str, order: int, size: float) -> dict:
+def _solve_row(target: str, element: str, size: float) -> dict:
     """Mesh and solve one configuration; returns the row (SI)."""
     import resource
 
@@ -94,9 +100,10 @@ def _solve_row(target: str, order: int, size: float) -> dict:
     t = time.perf_counter()
     mesh = mesh_part(geo, size, hole, cache=False)
     t_mesh = time.perf_counter() - t
+    order, curved = element_order(element)
     sol = solve_elasticity(mesh.points, mesh.tets, mesh.groups, steel, supports, loads, order=order,
-                           tip_group=tip, exclude_distance=exclude)
-    row = {"target": target, "order": order, "size_m": size, "hole_size_m": hole, "dofs": sol.dofs,
+                           tip_group=tip, exclude_distance=exclude, curved=mesh.curved if curved else None)
+    row = {"target": target, "element": element, "order": order, "size_m": size, "hole_size_m": hole, "dofs": sol.dofs,
            "elements": sol.elements,
            "seconds": {"mesh": t_mesh, **{k: sol.seconds[k] for k in ("assembly", "solve", "stress")}},
            "peak_memory_bytes": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024,
@@ -127,8 +134,8 @@ def add_errors(rows: list[dict], target: str) -> dict:
             r["error_von_mises"] = (r["max_von_mises_Pa"] - sb) / sb
         refs = {"tip_deflection_m": analytic, "von_mises": "beam theory at the peak's x"}
         return refs
-    for order in sorted({r["order"] for r in rows}):
-        sub = sorted((r for r in rows if r["order"] == order), key=lambda r: -r["size_m"])
+    for element in sorted({r["element"] for r in rows}):
+        sub = sorted((r for r in rows if r["element"] == element), key=lambda r: -r["size_m"])
         h = [r["size_m"] for r in sub]
         ref = {}
         for key, name in (("tip_deflection_m", "error_deflection"), ("max_von_mises_Pa", "error_von_mises")):
@@ -139,11 +146,11 @@ def add_errors(rows: list[dict], target: str) -> dict:
             ref[key] = {"extrapolated": f0, "observed_order": p}
             for r in sub:
                 r[name] = (r[key] - f0) / f0 if f0 else float("nan")
-        refs[f"P{order}"] = ref
+        refs[element] = ref
     return refs
 
 
-def _refuse_beyond_memory(target: str, orders: list[int], sizes_mm: list[float]) -> None:
+def _refuse_beyond_memory(target: str, elements: list[str], sizes_mm: list[float]) -> None:
     """Every row's mesh is estimated before any is built (as `railcheck check` does)."""
     from railcheck.fea.cantilever import HEIGHT, LENGTH, WIDTH
     from railcheck.geometry.models import bar
@@ -154,24 +161,24 @@ def _refuse_beyond_memory(target: str, orders: list[int], sizes_mm: list[float])
     geo = bar(LENGTH, WIDTH, HEIGHT) if target == "cantilever" else geometry_of(target, {})
     hole = 1.0 if target == "cantilever" else HOLE_RATIO
     for size in sizes_mm:
-        for order in orders:
-            refuse_beyond_memory(geo, size * 1e-3, size * 1e-3 * hole, order, "--sizes")
+        for element in elements:
+            refuse_beyond_memory(geo, size * 1e-3, size * 1e-3 * hole, element_order(element)[0], "--sizes")
 
 
-def run_study(target: str, orders: list[int], sizes: list[float], progress=print) -> tuple[list[dict], dict]:
-    """One row per (order, size), each solved in a fresh worker process so that its peak
+def run_study(target: str, elements: list[str], sizes: list[float], progress=print) -> tuple[list[dict], dict]:
+    """One row per (element, size), each solved in a fresh worker process so that its peak
     memory is its own (``max_tasks_per_child=1``)."""
     from concurrent.futures import ProcessPoolExecutor
 
     rows = []
-    total = len(orders) * len(sizes)
+    total = len(elements) * len(sizes)
     with ProcessPoolExecutor(max_workers=1, max_tasks_per_child=1) as pool:
-        for i, order in enumerate(orders):
+        for i, element in enumerate(elements):
             for j, size in enumerate(sorted(sizes, reverse=True)):
                 t = time.perf_counter()
-                row = pool.submit(_solve_row, target, order, size).result()
+                row = pool.submit(_solve_row, target, element, size).result()
                 rows.append(row)
-                progress(f"[{i*len(sizes)+j+1}/{total}] {target} P{order} {size*1e3:g} mm: {row['dofs']} DOFs, "
+                progress(f"[{i*len(sizes)+j+1}/{total}] {target} {element} {size*1e3:g} mm: {row['dofs']} DOFs, "
                          f"{time.perf_counter() - t:.1f} s")
     refs = add_errors(rows, target)
     return rows, refs
@@ -213,7 +220,7 @@ def kinematics_study(steps_list: list[int], reference_steps: int = 200_000) -> t
 
 def _parse_list(text: str, kind, name: str) -> list:
     try:
-        values = [kind(x) for x in text.split(",") if x.strip()]
+        values = [kind(x.strip()) for x in text.split(",") if x.strip()]
     except ValueError:
         raise InputError(name, f"must be a comma-separated list, got {text!r}") from None
     if not values:
@@ -232,13 +239,13 @@ def plot_study(rows: list[dict], target: str, path: str) -> None:
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.5))
     for ax, key, title in ((axes[0], "error_deflection", "tip deflection"), (axes[1], "error_von_mises",
                                                                              "peak von Mises (away from support)")):
-        for order in sorted({r["order"] for r in rows}):
+        for element in sorted({r["element"] for r in rows}):
             # a row that is its own reference (error exactly 0) has no place on a log axis
-            sub = [r for r in rows if r["order"] == order and r.get(key) is not None and r[key] == r[key]
+            sub = [r for r in rows if r["element"] == element and r.get(key) is not None and r[key] == r[key]
                    and r[key] != 0.0]
             t = [sum(r["seconds"].values()) for r in sub]
             e = [abs(r[key]) for r in sub]
-            ax.loglog(t, e, "o-", label=f"P{order}")
+            ax.loglog(t, e, "o-", label=element)
             for r, ti, ei in zip(sub, t, e):
                 ax.annotate(f"{r['size_m']*1e3:g} mm", (ti, ei), fontsize=7, textcoords="offset points", xytext=(3, 3))
         ax.set(xlabel="wall time per solve (s)", ylabel="relative error", title=f"{target}: {title}")
@@ -260,9 +267,10 @@ def run_convergence(target: str, orders: str = "1,2", sizes: str | None = None, 
         return {"target": target, "rows": rows, "reference": ref, "reference_steps": 200_000}
     if target != "cantilever" and target not in PARTS:
         raise InputError("TARGET", f"unknown target {target!r} (cantilever, kinematics, {', '.join(PARTS)})")
-    order_list = _parse_list(orders, int, "--orders")
-    if any(o not in (1, 2) for o in order_list):
-        raise InputError("--orders", f"orders are 1 or 2, got {orders!r}")
+    tokens = _parse_list(orders, str, "--orders")
+    if any(o not in ELEMENTS for o in tokens):
+        raise InputError("--orders", f"orders are 1, 2 (curved P2) or 2s (straight-sided P2), got {orders!r}")
+    order_list = [ELEMENTS[o] for o in dict.fromkeys(tokens)]
     kind = "cantilever" if target == "cantilever" else ("rail" if kind_of(target).bolts_on_rail else "plate")
     sizes_mm = _parse_list(sizes, float, "--sizes") if sizes else DEFAULT_SIZES_MM[kind]
     if any(not (1.0 <= s <= 50.0) for s in sizes_mm):

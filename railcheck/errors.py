@@ -19,3 +19,6 @@ class InputError(ValueError):
         self.field = field
         self.message = message
         super().__init__(f"{field}: {message}" if field else message)
+
+    def __reduce__(self):      # raised in a worker process, re-raised in the caller
+        return type(self), (self.field, self.message)

@@ -175,7 +175,8 @@ def build_load_cases(scene: Scene, kin: KinematicsResult | None, geometries: dic
     return cases
 
 
-def run_pipeline(scene: Scene, progress: Progress | None = None, solver: str = "auto") -> PipelineResult:
+def run_pipeline(scene: Scene, progress: Progress | None = None, solver: str = "auto",
+                 jobs: int | None = None) -> PipelineResult:
     """Run the stages the scene needs; see the module doc."""
     progress = progress or Progress(quiet=True)
     result = PipelineResult(scene)
@@ -212,15 +213,13 @@ def run_pipeline(scene: Scene, progress: Progress | None = None, solver: str = "
     progress.say("loads", f"{len(cases)} load cases, factor {scene.check.factor:g}, bolts {scene.check.bolt_position}")
     _refuse_huge(scene, geometries)
 
-    from .cycle import check_part
+    from .partjobs import check_parts
 
     _mark(result, "geometry")
-    n = len(cases)
-    for i, (name, case) in enumerate(cases.items(), 1):
-        part = check_part(scene, result.kinematics, name, geometries[name], case, material, limit, solver,
-                          lambda msg, i=i, name=name: progress.say("solve", f"({i}/{n}) {name}: {msg}"))
-        for stage in ("mesh", "solve", "stress"):
-            _mark(result, stage)
+    parts = check_parts(scene, result.kinematics, geometries, cases, material, limit, solver, progress, jobs)
+    for stage in ("mesh", "solve", "stress"):
+        _mark(result, stage)
+    for name, part in parts.items():
         result.timings.update({f"{k}:{name}": v for k, v in part.cycle.seconds.items()})
         result.warnings += [f"{name}: {w}" for w in part.cycle.warnings]
         result.parts[name] = part

@@ -140,11 +140,11 @@ def convergence_report(result: dict) -> str:
         return "\n".join(lines)
     lines = [f"{target}: errors against " + ("Timoshenko beam theory" if target == "cantilever"
                                              else "Richardson extrapolation of the three finest meshes"),
-             f"  {'P':>2}{'size mm':>8}{'DOFs':>9}{'elements':>9}{'mesh':>7}{'asm':>7}{'solve':>7}{'stress':>7}"
+             f"  {'elem':>4}{'size mm':>8}{'DOFs':>9}{'elements':>9}{'mesh':>7}{'asm':>7}{'solve':>7}{'stress':>7}"
              f"{'mem GB':>7}{'tip mm':>11}{'err':>10}{'vM MPa':>9}{'err':>10}{'support':>9}"]
     for r in rows:
         s = r["seconds"]
-        lines.append(f"  {r['order']:>2}{r['size_m']*1e3:>8.3g}{r['dofs']:>9}{r['elements']:>9}{s['mesh']:>7.2f}"
+        lines.append(f"  {r['element']:>4}{r['size_m']*1e3:>8.3g}{r['dofs']:>9}{r['elements']:>9}{s['mesh']:>7.2f}"
                      f"{s['assembly']:>7.2f}{s['solve']:>7.2f}{s['stress']:>7.2f}{r['peak_memory_bytes']/1e9:>7.2f}"
                      f"{r['tip_deflection_m']*1e3:>11.5f}{r['error_deflection']*100:>9.3f}%"
                      f"{r['max_von_mises_Pa']/1e6:>9.2f}{r['error_von_mises']*100:>9.3f}%"

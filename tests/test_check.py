@@ -2,6 +2,7 @@
 
 import json
 import math
+import pickle
 import subprocess
 import sys
 import tomllib
@@ -187,3 +188,23 @@ def test_rail_mass_is_reported_beside_the_seeds():
     assert m["model_section"] == pytest.approx(0.023 * 0.022 * 7850)
     assert m["model_with_holes"] < m["model_section"]
     assert m["seed 000 (Anexo I)"] == 2.7 and m["HIWIN HGR25 catalogue"] == 3.21
+
+
+def test_parts_in_worker_processes_equal_parts_in_this_process():
+    """Two parts on two worker processes (spawned) give exactly the serial results, and a
+    worker's error reaches the caller as the same exception with its field."""
+    from railcheck.fea.errors import ModelError
+
+    scene = parse_scene(tomllib.loads(COARSE_CRANK.replace("FACTOR", "1.4").replace(
+        'parts = ["crank-rail"]', 'parts = ["crank-rail", "coupler-rail"]')))
+    serial = run_pipeline(scene, jobs=1)
+    parallel = run_pipeline(scene, jobs=2)
+    assert list(parallel.parts) == list(serial.parts) == ["crank-rail", "coupler-rail"]
+    for name in serial.parts:
+        a, b = serial.parts[name].cycle, parallel.parts[name].cycle
+        assert a.envelope.max_von_mises == b.envelope.max_von_mises
+        assert a.envelope.max_tip == b.envelope.max_tip
+        assert a.fatigue["min_safety_factor"] == b.fatigue["min_safety_factor"]
+    error = ModelError("hole_9", "no such group")
+    again = pickle.loads(pickle.dumps(error))
+    assert type(again) is ModelError and (again.field, str(again)) == ("hole_9", str(error))

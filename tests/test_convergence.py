@@ -6,6 +6,7 @@ import pytest
 
 from railcheck.cli import main
 from railcheck.convergence import kinematics_study, richardson
+from railcheck.scene import load_scene
 
 
 @pytest.mark.parametrize("p", [1.0, 2.0, 3.5])
@@ -51,3 +52,23 @@ def test_kinematics_steps_study_reaches_four_figures():
 def test_unknown_target_exits_2(capsys):
     assert main(["convergence", "flux-capacitor"]) == 2
     assert "TARGET" in capsys.readouterr().err
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("part", ["crank-rail", "coupler-rail", "PF_4b_006", "PF_4b_003_v2"])
+def test_default_mesh_is_within_the_accuracy_targets_of_a_finer_one(part):
+    """The default scene's curved-P2 mesh of each part (size from the registry, holes at 0.3
+    x size) against the same part on a mesh 1.4x finer: tip deflection within 1% and the
+    peak von Mises away from the support within 5% (the README's accuracy targets; the
+    rocker rail is the coupler rail's geometry)."""
+    from railcheck.convergence import HOLE_RATIO, _solve_row
+    from railcheck.parts import geometry_of
+    from railcheck.pipeline import mesh_sizes
+
+    size, hole = mesh_sizes(load_scene(None), geometry_of(part, {}).kind)
+    assert hole == pytest.approx(HOLE_RATIO * size)
+    default, finer = _solve_row(part, "P2", size), _solve_row(part, "P2", size / 1.4)
+    assert finer["dofs"] > 2 * default["dofs"]
+    tip = abs(default["tip_deflection_m"] / finer["tip_deflection_m"] - 1)
+    peak = abs(default["max_von_mises_Pa"] / finer["max_von_mises_Pa"] - 1)
+    assert tip < 0.01 and peak < 0.05, (tip, peak)
