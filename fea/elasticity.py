@@ -111,6 +111,25 @@ def _skfem_mesh(points: np.ndarray, tets: np.ndarray, curved=None):
     return replace(quadratic, doflocs=doflocs)
 
 
+def element_bases(mesh, scalar, quadrature: tuple, curved_intorder: int) -> list:
+    """Scalar bases that together cover every element once: on a straight mesh one basis
+    with ``quadrature``; on a curved one the straight elements through the affine map
+    (same DOF numbering, several times cheaper than the isoparametric one) with
+    ``quadrature``, and the curved elements with a rule of degree ``curved_intorder``."""
+    from skfem import Basis, MeshTet
+
+    curved = curved_elements(mesh)
+    if curved.size == 0:
+        return [Basis(mesh, scalar, quadrature=quadrature)]
+    affine = MeshTet(np.ascontiguousarray(mesh.doflocs[:, :mesh.nvertices]), mesh.t)
+    straight = np.setdiff1d(np.arange(mesh.nelements), curved)
+    if not (np.array_equal(affine.t, mesh.t) and np.array_equal(affine.t2e, mesh.t2e)):
+        raise RuntimeError("the affine twin numbers its DOFs differently from the curved mesh")
+    parts = [Basis(affine, scalar, quadrature=quadrature, elements=straight),
+             Basis(mesh, scalar, intorder=curved_intorder, elements=curved)]
+    return parts
+
+
 def curved_elements(mesh) -> np.ndarray:
     """Indices of the elements with a curved edge (none on a straight mesh)."""
     if mesh.doflocs.shape[1] == mesh.nvertices:
@@ -122,13 +141,28 @@ def curved_elements(mesh) -> np.ndarray:
     return np.flatnonzero(np.any(moved[mesh.t2e], axis=0))
 
 
+def _cached(owner, key: str, make):
+    """``make()``, computed once per ``owner`` object (a mesh or a basis) and kept on it."""
+    store = owner.__dict__.setdefault("_railcheck_cache", {})
+    if key not in store:
+        store[key] = make()
+    return store[key]
+
+
+def _sorted_facet_keys(mesh) -> tuple[np.ndarray, np.ndarray]:
+    """(keys, order): a key per facet of the mesh from its sorted vertex triple, and the
+    order that sorts the keys (built once per mesh)."""
+    n = np.int64(mesh.nvertices)
+    f = np.sort(mesh.facets, axis=0).astype(np.int64)
+    keys = (f[0] * n + f[1]) * n + f[2]
+    return keys, np.argsort(keys)
+
+
 def facets_of(mesh, triangles: np.ndarray, name: str) -> np.ndarray:
     """Indices of ``mesh.facets`` matching the (k, 3) vertex triangles of a group
     (vectorised search on sorted vertex triples)."""
-    n = np.int64(mesh.p.shape[1])
-    f = np.sort(mesh.facets, axis=0).astype(np.int64)
-    keys = (f[0] * n + f[1]) * n + f[2]
-    order = np.argsort(keys)
+    n = np.int64(mesh.nvertices)
+    keys, order = _cached(mesh, "facet_keys", lambda: _sorted_facet_keys(mesh))
     t = np.sort(triangles, axis=1).astype(np.int64).T
     want = (t[0] * n + t[1]) * n + t[2]
     pos = np.clip(np.searchsorted(keys[order], want), 0, keys.size - 1)
@@ -180,12 +214,7 @@ def stiffness_matrix(basis, material: Material):
     from skfem import Basis
 
     sb = Basis(basis.mesh, basis.elem.elem, quadrature=basis.quadrature)
-    curved = curved_elements(basis.mesh)
-    parts = [sb]
-    if curved.size:
-        straight = np.setdiff1d(np.arange(basis.mesh.nelements), curved)
-        parts = [Basis(basis.mesh, basis.elem.elem, quadrature=basis.quadrature, elements=straight),
-                 Basis(basis.mesh, basis.elem.elem, intorder=3, elements=curved)]
+    parts = element_bases(basis.mesh, basis.elem.elem, basis.quadrature, 3)
     vector_of = _vector_dof_map(basis, sb)               # (scalar dofs, 3)
     if not np.array_equal(vector_of, 3 * np.arange(sb.N)[:, None] + np.arange(3)[None, :]):
         raise RuntimeError("the vector basis does not interleave its components (3 s + c)")
@@ -442,9 +471,10 @@ def _coarse_free(basis, free: np.ndarray) -> np.ndarray:
 
 
 def scalar_basis(basis):
-    """The scalar basis of the vector basis's order: its nodes are the stress nodes."""
+    """The scalar basis of the vector basis's order: its nodes are the stress nodes (built
+    once per vector basis)."""
     from skfem import Basis
-    return Basis(basis.mesh, basis.elem.elem, intorder=1)
+    return _cached(basis, "scalar_basis", lambda: Basis(basis.mesh, basis.elem.elem, intorder=1))
 
 
 def stress_nodes(basis) -> np.ndarray:
@@ -475,19 +505,21 @@ def recover_stress(basis, U: np.ndarray, material: Material, report=None) -> np.
     column onto the continuous scalar space of the basis's order (xx, yy, zz, xy, yz, xz).
     The mass matrix needs a rule exact to order 2p (with the stiffness's rule a P2 mass
     matrix is rank-deficient element by element); it is factorised once for all columns."""
-    from skfem import Basis, BilinearForm, asm
+    from skfem import BilinearForm, asm
+    from skfem.quadrature import get_quadrature
 
     from .solvers import factorise
 
     scalar = basis.elem.elem
     p = scalar.maxdeg
-    sb = Basis(basis.mesh, scalar, intorder=2 * p)
+    bases = element_bases(basis.mesh, scalar, get_quadrature(scalar.refdom, 2 * p), 2 * p)
     U2 = U.reshape(U.shape[0], -1)
     k = U2.shape[1]
-    rhs = _stress_moments(basis, sb, U2, material)                  # (scalar N, 6 k)
-    M = asm(BilinearForm(lambda a, v, w: a * v), sb)
-    S = factorise(M, "direct", report=report).solve(rhs, rtol=1e-9)
-    return S.reshape(sb.N, 6, k).transpose(1, 0, 2).reshape((6, sb.N) + U.shape[1:])
+    rhs = sum(_stress_moments(basis, sb, U2, material) for sb in bases)        # (scalar N, 6 k)
+    M = sum(asm(BilinearForm(lambda a, v, w: a * v), sb) for sb in bases)
+    n = bases[0].N
+    S = factorise(M, "direct", report=report).solve(rhs, rtol=1e-9, extended=False)   # M: well conditioned
+    return S.reshape(n, 6, k).transpose(1, 0, 2).reshape((6, n) + U.shape[1:])
 
 
 def _stress_moments(basis, sb, U2: np.ndarray, material: Material) -> np.ndarray:

@@ -124,15 +124,17 @@ class Factor:
     def n(self) -> int:
         return self.K.shape[0]
 
-    def solve(self, F: np.ndarray, rtol: float = DIRECT_RTOL) -> np.ndarray:
-        """``K^-1 F`` with one refinement step; checks each column's true residual."""
+    def solve(self, F: np.ndarray, rtol: float = DIRECT_RTOL, extended: bool = True) -> np.ndarray:
+        """``K^-1 F`` with one refinement step; checks each column's true residual. The
+        refinement's residual is accumulated in long double (``extended``), which a stiff,
+        ill-conditioned system needs; a well-conditioned one (a mass matrix) does not."""
         F = np.asarray(F, float)
         if F.shape[0] != self.n:
             raise ValueError(f"load has {F.shape[0]} rows for a {self.n}-row system")
         if not np.all(np.isfinite(F)):
             raise NumericalError("the load vector is not finite")
         U = self._solve(F)
-        U = U + self._solve(self._residual(F, U))
+        U = U + self._solve(self._residual(F, U) if extended else F - self.K @ U)
         res = relative_residuals(self.K, U, F)
         if not np.all(np.isfinite(U)) or np.any(res > rtol):
             raise NumericalError(f"{self.backend} solve residual {np.max(res):.2e} above {rtol:.0e} "

@@ -12,6 +12,7 @@ timings go to ``timings.json``.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -127,7 +128,8 @@ def run_check(scene, out: str | None = None, force: bool = False, progress: Prog
         raise InputError("output.dir", f"cannot write results at {requested}: {exc.strerror or exc}") from None
     progress = progress or Progress(quiet=True)
     try:
-        result = run_pipeline(scene, progress, jobs=jobs)
+        result = run_pipeline(scene, progress, jobs=jobs,
+                              part_done=functools.partial(write_part_files, scene, directory=staging.path))
         summary = summary_of(result)
         write_outputs(scene, result, summary, staging.path)
         progress.say("report", f"wrote {len(result.parts)} parts")
@@ -150,17 +152,27 @@ def write_outputs(scene, result: PipelineResult, summary: dict, directory: Path)
         from railcheck.fea.vtk import pvd_text
         atomic_write_text(directory / "parts.pvd", pvd_text({n: f"{n}.vtu" for n in result.parts}))
     for name, p in result.parts.items():
-        if scene.output.vtk:
-            write_part_vtu(directory / f"{name}.vtu", p)
-        if scene.output.plots and p.cycle.C.shape[0] > 1:
-            from .plots import write_cycle_plot
-            write_cycle_plot(name, p, directory / f"{name}-cycle.png")
-        if scene.output.png:
-            from .render import render_part
-            render_part(directory / f"{name}.png", name, p)
+        if not (directory / f"{name}.written").exists():      # not already written as the part finished
+            write_part_files(scene, name, p, directory)
+        (directory / f"{name}.written").unlink(missing_ok=True)
     from .html_report import write_report
     with atomic_path(directory / "report.html") as tmp:
         write_report(tmp, scene, result, summary, directory)
+
+
+def write_part_files(scene, name: str, p, directory: Path) -> None:
+    """One part's files, as the scene's [output] asks: its VTU, its cycle plot and its
+    picture; then a ``NAME.written`` marker (removed by :func:`write_outputs`). Called as
+    each part finishes, in the worker that checked it (:mod:`railcheck.partjobs`)."""
+    if scene.output.vtk:
+        write_part_vtu(directory / f"{name}.vtu", p)
+    if scene.output.plots and p.cycle.C.shape[0] > 1:
+        from .plots import write_cycle_plot
+        write_cycle_plot(name, p, directory / f"{name}-cycle.png")
+    if scene.output.png:
+        from .render import render_part
+        render_part(directory / f"{name}.png", name, p)
+    (directory / f"{name}.written").touch()
 
 
 def write_part_vtu(path: Path, p) -> None:

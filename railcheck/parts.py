@@ -87,7 +87,7 @@ KINDS: dict[str, PartKind] = {k.name: k for k in (
              lambda g: (g.get("width"), g.get("height")), bolts_on_rail=True),
     PartKind("joint_plate", _joint_plate, "bearing_seat", "end_free", lambda g: g.get("bolt_diameter"),
              (6e-3, 1.8e-3), lambda g: (g.get("width"), g.get("thickness"))),
-    PartKind("i_profile", _i_profile, "base", "end_free", lambda g: g.get("flange_thickness"), (4.2e-3, 1.26e-3),
+    PartKind("i_profile", _i_profile, "base", "end_free", lambda g: g.get("flange_thickness"), (5e-3, 1.5e-3),
              lambda g: (g.get("flange_width"), g.get("depth")), view="yz"),
 )}
 

@@ -176,8 +176,9 @@ def build_load_cases(scene: Scene, kin: KinematicsResult | None, geometries: dic
 
 
 def run_pipeline(scene: Scene, progress: Progress | None = None, solver: str = "auto",
-                 jobs: int | None = None) -> PipelineResult:
-    """Run the stages the scene needs; see the module doc."""
+                 jobs: int | None = None, part_done=None) -> PipelineResult:
+    """Run the stages the scene needs; see the module doc. ``part_done(name, part)``, a
+    picklable callable, runs as each part finishes, where it was checked (its files)."""
     progress = progress or Progress(quiet=True)
     result = PipelineResult(scene)
     _mark(result, "scene")
@@ -216,7 +217,8 @@ def run_pipeline(scene: Scene, progress: Progress | None = None, solver: str = "
     from .partjobs import check_parts
 
     _mark(result, "geometry")
-    parts = check_parts(scene, result.kinematics, geometries, cases, material, limit, solver, progress, jobs)
+    parts = check_parts(scene, result.kinematics, geometries, cases, material, limit, solver, progress, jobs,
+                        part_done)
     for stage in ("mesh", "solve", "stress"):
         _mark(result, stage)
     for name, part in parts.items():

@@ -69,12 +69,12 @@ def test_only_edges_on_curved_surfaces_are_curved_and_they_lie_on_the_cylinders(
     assert np.all(np.linalg.norm(mids - straight_mid, axis=1) > 0)
 
 
-def test_patch_test_is_exact_on_the_curved_mesh(short_rail):
+def test_patch_test_is_exact_on_the_curved_mesh(tiny_rail):
     from skfem import condense, solve
 
-    _, mesh = short_rail
+    mesh = tiny_rail
     K, basis = assemble(mesh.points, mesh.tets, STEEL, 2, mesh.curved)
-    assert curved_elements(basis.mesh).size > 100
+    assert curved_elements(basis.mesh).size > 50
     G = np.array([[1e-3, 2e-4, -3e-4], [5e-4, -1e-3, 1e-4], [-2e-4, 3e-4, 7e-4]])
     c = np.array([1e-5, -2e-5, 3e-5])
     comp = _components(basis)
