@@ -190,6 +190,7 @@ def test_rail_mass_is_reported_beside_the_seeds():
     assert m["seed 000 (Anexo I)"] == 2.7 and m["HIWIN HGR25 catalogue"] == 3.21
 
 
+@pytest.mark.slow
 def test_parts_in_worker_processes_equal_parts_in_this_process():
     """Two parts on two worker processes (spawned) give exactly the serial results, and a
     worker's error reaches the caller as the same exception with its field."""

@@ -220,6 +220,7 @@ def test_every_solver_path_agrees(rail_mesh):
         assert np.abs(U - ref).max() < 1e-8 * scale, (method, np.abs(U - ref).max() / scale)
 
 
+@pytest.mark.slow
 def test_a_memory_cap_sends_p2_to_p_multigrid(rail_mesh):
     """The factor's estimate exceeds a 1 MB cap: the auto choice solves iteratively with the
     P2 -> P1 p-multigrid (its P1 level, over the cap too, by AMG), to the direct answer."""
