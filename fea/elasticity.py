@@ -195,11 +195,27 @@ def assemble(points: np.ndarray, tets: np.ndarray, material: Material, order: in
     from skfem.element import ElementVector
 
     mesh = _skfem_mesh(points, tets, curved if order == 2 else None)
-    basis = Basis(mesh, ElementVector(_element(order)), intorder=max(2 * (order - 1), 1))
+    element = _element(order)
+    # the vector basis serves DOF numbering and node positions: a one-point rule keeps its
+    # construction cheap; integrals take their own rule (stiffness, integration_basis)
+    basis = Basis(mesh, ElementVector(element), intorder=1)
     return stiffness_matrix(basis, material), basis
 
 
-def stiffness_matrix(basis, material: Material):
+def _load_intorder(order: int) -> int:
+    """The quadrature degree of the stiffness and the load integrals: 2 (the 4-point
+    rule, as C3D10) for P2, 1 for P1."""
+    return max(2 * (order - 1), 1)
+
+
+def integration_basis(basis):
+    """The vector basis with the load integrals' rule (built once per basis)."""
+    from skfem import Basis
+    order = basis.elem.elem.maxdeg
+    return _cached(basis, "integration_basis", lambda: Basis(basis.mesh, basis.elem, intorder=_load_intorder(order)))
+
+
+def stiffness_matrix(basis, material: Material, quadrature: tuple | None = None):
     """The elasticity stiffness matrix (sparse CSR, N/m) of a vector basis.
 
     All element matrices at once: with the scalar shape-function gradients G[a, i] at the
@@ -207,14 +223,18 @@ def stiffness_matrix(basis, material: Material):
     (lambda G_ai G_bj + mu (delta_ij G_a.G_b + G_aj G_bi)). The blocks are summed on the
     scalar DOF pairs (a tenth of the entries of a per-DOF COO sum) into a 3 x 3 block
     sparse matrix, then converted to CSR. Equal to scikit-fem's
-    ``asm(linear_elasticity(lambda, mu), basis)`` (tests/test_fea.py). Curved elements
-    are integrated with a degree-3 rule (:func:`curved_elements`).
+    ``asm(linear_elasticity(lambda, mu), basis)`` with a basis of the same rule
+    (tests/test_fea.py). ``quadrature``: the rule of straight elements (default: the
+    4-point rule for P2, one point for P1), whatever the basis's own; curved elements take
+    a degree-3 rule (:func:`curved_elements`).
     """
     import scipy.sparse as sp
-    from skfem import Basis
+    from skfem.quadrature import get_quadrature
 
-    sb = Basis(basis.mesh, basis.elem.elem, quadrature=basis.quadrature)
-    parts = element_bases(basis.mesh, basis.elem.elem, basis.quadrature, 3)
+    scalar = basis.elem.elem
+    quadrature = quadrature or get_quadrature(scalar.refdom, _load_intorder(scalar.maxdeg))
+    sb = scalar_basis(basis)                             # numbering only
+    parts = element_bases(basis.mesh, scalar, quadrature, 3)
     vector_of = _vector_dof_map(basis, sb)               # (scalar dofs, 3)
     if not np.array_equal(vector_of, 3 * np.arange(sb.N)[:, None] + np.arange(3)[None, :]):
         raise RuntimeError("the vector basis does not interleave its components (3 s + c)")
@@ -391,7 +411,8 @@ def unit_traction_vectors(basis, groups: dict, group: str) -> np.ndarray:
 def body_force_vectors(basis) -> np.ndarray:
     """(N, 3): the load vectors of a unit body force (1 N/m^3) along x, y and z."""
     from skfem import LinearForm, asm
-    return np.stack([asm(LinearForm(lambda v, w, c=c: v[c] + 0.0 * w.x[0]), basis) for c in range(3)], axis=1)
+    ib = integration_basis(basis)
+    return np.stack([asm(LinearForm(lambda v, w, c=c: v[c] + 0.0 * w.x[0]), ib) for c in range(3)], axis=1)
 
 
 def load_vector(basis, groups: dict, loads: list[HoleLoad], body_force=None) -> np.ndarray:
