@@ -14,10 +14,12 @@ of the part's parameters, the mesh sizes and this module's version.
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import json
 import math
 import os
+import threading
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -170,16 +172,11 @@ def mesh_part(part: PartGeometry, size: float, hole_size: float | None = None,
 def build_mesh(part: PartGeometry, size: float, hole_size: float, verbose: bool = False,
                optimize: bool = True) -> MeshData:
     """Build the gmsh model of ``part`` and mesh it (no cache)."""
-    import signal
-
-    import gmsh
-
     t0 = time.perf_counter()
-    # gmsh installs its own signal handlers: keep the caller's (SIGTERM cleans up a run)
-    handlers = {sig: signal.getsignal(sig) for sig in (signal.SIGINT, signal.SIGTERM)}
-    gmsh.initialize(interruptible=False)
-    for sig, handler in handlers.items():
-        signal.signal(sig, handler)
+    with _callers_signal_handlers() as restore:
+        import gmsh
+        gmsh.initialize(interruptible=False)
+        restore()
     try:
         gmsh.option.setNumber("General.Terminal", 1 if verbose else 0)
         gmsh.option.setNumber("General.Verbosity", 5 if verbose else 0)
@@ -222,9 +219,33 @@ def build_mesh(part: PartGeometry, size: float, hole_size: float, verbose: bool 
         from dataclasses import replace
         return replace(data, seconds=time.perf_counter() - t0)
     finally:
-        gmsh.finalize()
-        for sig, handler in handlers.items():
-            signal.signal(sig, handler)
+        with _callers_signal_handlers() as restore:
+            gmsh.finalize()
+            restore()
+
+
+@contextlib.contextmanager
+def _callers_signal_handlers():
+    """gmsh (its library's loading, initialize and finalize) installs its own SIGINT and
+    SIGTERM handlers: keep the caller's (SIGTERM cleans up a run). Both signals are held
+    back in the block, so one that arrives meanwhile reaches the caller's handler once
+    ``restore()`` has put it back, instead of gmsh's or the default action."""
+    import signal
+
+    wanted = (signal.SIGINT, signal.SIGTERM)
+    handlers = {sig: signal.getsignal(sig) for sig in wanted}
+    main = threading.current_thread() is threading.main_thread()
+
+    def restore():
+        if main:
+            for sig, handler in handlers.items():
+                signal.signal(sig, handler)
+
+    blocked = signal.pthread_sigmask(signal.SIG_BLOCK, wanted)
+    try:
+        yield restore
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, blocked)
 
 
 def _has_curved_surfaces(gmsh) -> bool:
