@@ -89,7 +89,7 @@ def _skfem_mesh(points: np.ndarray, tets: np.ndarray, curved=None):
     """scikit-fem's mesh: straight ``MeshTet``, or ``MeshTet2`` with the ``curved`` edges'
     mid nodes moved onto the true surfaces (see the module doc)."""
     from skfem import MeshTet
-    mesh = MeshTet(np.ascontiguousarray(points.T), np.ascontiguousarray(tets.T))
+    mesh = _with_entities(MeshTet(np.ascontiguousarray(points.T), np.ascontiguousarray(tets.T)))
     if curved is None or len(curved[0]) == 0:
         return mesh
     from dataclasses import replace
@@ -108,7 +108,37 @@ def _skfem_mesh(points: np.ndarray, tets: np.ndarray, curved=None):
         raise ModelError("mesh.curved", "a curved edge is not an edge of the mesh")
     doflocs = quadratic.doflocs.copy()
     doflocs[:, quadratic.dofs.edge_dofs[0, order[pos]]] = np.asarray(where, float).T
-    return replace(quadratic, doflocs=doflocs)
+    return _with_entities(replace(quadratic, doflocs=doflocs), mesh)
+
+
+def _with_entities(mesh, source=None):
+    """``mesh`` with its faces and edges (and each element's) set: copied from ``source``
+    (a mesh of the same elements), or built by :func:`mesh_entities`, in place of
+    scikit-fem's lazy ``np.unique(axis=1)``, six times slower."""
+    for name, indices in (("facets", mesh.elem.refdom.facets), ("edges", mesh.elem.refdom.edges)):
+        known = source is not None and hasattr(source, "_" + name)
+        entities, of_element = (getattr(source, "_" + name), getattr(source, "_t2" + name[0])) if known \
+            else mesh_entities(mesh.t, indices)
+        setattr(mesh, "_" + name, entities)
+        setattr(mesh, "_t2" + name[0], of_element)
+    return mesh
+
+
+def mesh_entities(t: np.ndarray, indices) -> tuple[np.ndarray, np.ndarray]:
+    """(entities, of_element): the distinct sorted vertex tuples (k, n) of the elements'
+    local ``indices`` (faces or edges), in lexicographic order, and each element's entity
+    numbers (len(indices), elements): scikit-fem's ``Mesh.build_entities`` by one integer
+    key per tuple."""
+    tuples = np.sort(np.hstack([t[list(ix)] for ix in indices]), axis=0)
+    base = np.int64(t.max(initial=0)) + 1
+    if tuples.shape[0] * np.log2(float(base)) >= 62:      # the key would overflow int64
+        from skfem.mesh import Mesh
+        return Mesh.build_entities(t, indices)
+    key = tuples[0].astype(np.int64)
+    for row in tuples[1:]:
+        key = key * base + row
+    _, first, inverse = np.unique(key, return_index=True, return_inverse=True)
+    return np.ascontiguousarray(tuples[:, first]), inverse.reshape(len(indices), t.shape[1])
 
 
 def element_bases(mesh, scalar, quadrature: tuple, curved_intorder: int) -> list:
@@ -241,21 +271,61 @@ def stiffness_matrix(basis, material: Material, quadrature: tuple | None = None)
     sdofs = sb.element_dofs.T                            # (nel, nb)
     nel, nb = sdofs.shape
     Ns = sb.N
-    key = (sdofs[:, :, None].astype(np.int64) * Ns + sdofs[:, None, :]).ravel()       # (e, a, b)
-    pairs, inverse = np.unique(key, return_inverse=True)
-    inverse = inverse.reshape(nel, nb * nb)
-    blocks = np.zeros((9, pairs.size))
+    indptr, indices, inverse = pair_pattern(sdofs, Ns)
+    blocks = np.zeros((9, indices.size))
     for part in parts:
         for elements, Kb in _element_blocks(part, material):
             per = inverse[elements].ravel()
             for c in range(9):
-                blocks[c] += np.bincount(per, weights=Kb[c], minlength=pairs.size)
-    rows = pairs // Ns
-    indptr = np.concatenate([[0], np.cumsum(np.bincount(rows, minlength=Ns))])
-    K = sp.bsr_matrix((blocks.T.reshape(-1, 3, 3), (pairs % Ns).astype(np.int32), indptr.astype(np.int32)),
-                      shape=(3 * Ns, 3 * Ns)).tocsr()
+                blocks[c] += np.bincount(per, weights=Kb[c], minlength=indices.size)
+    K = sp.bsr_matrix((blocks.T.reshape(-1, 3, 3), indices, indptr), shape=(3 * Ns, 3 * Ns)).tocsr()
     K.has_sorted_indices = True
     return K
+
+
+def pair_pattern(dofs: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The sparsity pattern of the pairs of DOFs that share an element, and where each
+    element pair goes in it. ``dofs`` (elements, nb) numbers each element's DOFs (< ``n``).
+    Returns CSR ``indptr`` (n + 1,) and sorted ``indices`` (int32), and ``inverse``
+    (elements, nb * nb): the pattern entry of pair (a, b) of each element, in (a, b) order.
+
+    A counting sort by row and a sort of each (short) row, in scipy's compiled sparse
+    tools, instead of a global sort of the pair keys: ``np.unique`` of the keys is 2.5x
+    slower on P2 meshes (README, "Assembly")."""
+    nel, nb = dofs.shape
+    pairs = nel * nb * nb
+    if pairs == 0 or pairs >= 2**31 or n >= 2**31:
+        return _pair_pattern_by_unique(dofs, n)
+    try:
+        from scipy.sparse._sparsetools import coo_tocsr, csr_sort_indices
+    except ImportError:     # a scipy without its private sparse tools
+        return _pair_pattern_by_unique(dofs, n)
+    d32 = dofs.astype(np.int32)
+    rows = np.repeat(d32, nb, axis=1).ravel()            # (e, a, b) -> dof a
+    cols = np.tile(d32, (1, nb)).ravel()                 # (e, a, b) -> dof b
+    indptr = np.empty(n + 1, np.int32)
+    indices = np.empty(pairs, np.int32)
+    source = np.empty(pairs, np.int32)                   # which pair each CSR entry came from
+    coo_tocsr(n, n, pairs, rows, cols, np.arange(pairs, dtype=np.int32), indptr, indices, source)
+    del rows, cols
+    csr_sort_indices(n, indptr, indices, source)
+    first = np.empty(pairs, bool)                        # the first of equal entries in a row
+    first[0] = True
+    np.not_equal(indices[1:], indices[:-1], out=first[1:])
+    first[indptr[1:-1][indptr[1:-1] < pairs]] = True
+    counted = np.concatenate([[0], np.cumsum(first, dtype=np.int64)])
+    inverse = np.empty(pairs, np.int32)
+    inverse[source] = counted[1:] - 1
+    return counted[indptr].astype(np.int32), indices[first], inverse.reshape(nel, nb * nb)
+
+
+def _pair_pattern_by_unique(dofs: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`pair_pattern` by a global sort of the pair keys (reference and fallback)."""
+    nel, nb = dofs.shape
+    key = (dofs[:, :, None].astype(np.int64) * n + dofs[:, None, :]).ravel()
+    pairs, inverse = np.unique(key, return_inverse=True)
+    indptr = np.concatenate([[0], np.cumsum(np.bincount(pairs // n, minlength=n))])
+    return indptr.astype(np.int32), (pairs % n).astype(np.int32), inverse.reshape(nel, nb * nb)
 
 
 def _element_blocks(sb, material: Material, values: int = 6_000_000):
@@ -453,7 +523,7 @@ def solve(K, F: np.ndarray, fixed: np.ndarray, method: str = "auto", basis=None,
     U = np.zeros(F.shape)
     if not np.any(F[free]):
         return U, {"solver": "none (zero load)", "iterations": 0, "residual": 0.0}
-    Kc = K[free][:, free]
+    Kc = free_submatrix(K, free)
     B = rigid_body_modes(basis.doflocs[:, free], _components(basis)[free]) if basis is not None else None
     prolong = (lambda: p1_prolongation(basis)[free][:, _coarse_free(basis, free)]) \
         if basis is not None and basis.elem.elem.maxdeg == 2 else None
@@ -462,6 +532,27 @@ def solve(K, F: np.ndarray, fixed: np.ndarray, method: str = "auto", basis=None,
     if not np.all(np.isfinite(U)):
         raise NumericalError("the displacement is not finite")
     return U, info
+
+
+def free_submatrix(K, free: np.ndarray):
+    """``K[free][:, free]`` for a CSR matrix and sorted, distinct ``free`` indices, in one
+    pass over the entries (scipy's two fancy-index passes take ten times as long on a
+    13M-entry stiffness). Keeps sorted column indices sorted."""
+    import scipy.sparse as sp
+
+    K = sp.csr_matrix(K)
+    n = K.shape[0]
+    keep_dof = np.zeros(n, bool)
+    keep_dof[free] = True
+    renumber = np.cumsum(keep_dof, dtype=np.int64) - 1
+    per_row = np.diff(K.indptr)
+    keep = np.repeat(keep_dof, per_row) & keep_dof[K.indices]
+    kept = np.concatenate([[0], np.cumsum(keep, dtype=np.int64)])
+    counts = kept[K.indptr[1:]] - kept[K.indptr[:-1]]
+    indptr = np.concatenate([[0], np.cumsum(counts[free], dtype=np.int64)])
+    out = sp.csr_matrix((K.data[keep], renumber[K.indices[keep]], indptr), shape=(free.size, free.size))
+    out.has_sorted_indices = K.has_sorted_indices
+    return out
 
 
 def p1_prolongation(basis):

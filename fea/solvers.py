@@ -154,8 +154,8 @@ class Factor:
         if self._K_extended is None:
             blocks = max(1, min(os.cpu_count() or 1, 4)) if self.K.nnz > 1_000_000 else 1
             edges = np.linspace(0, self.n, blocks + 1).astype(int)
-            K_ld = self.K.astype(np.longdouble)
-            self._K_extended = [(a, b, K_ld[a:b]) for a, b in zip(edges[:-1], edges[1:])]
+            self._K_extended = [(a, b, _row_block(self.K, a, b, np.longdouble))
+                                for a, b in zip(edges[:-1], edges[1:])]
         U2 = U.reshape(self.n, -1).astype(np.longdouble)
         F2 = F.reshape(self.n, -1)
         r = np.empty(F2.shape)
@@ -185,6 +185,16 @@ class Factor:
             pass
 
 
+def _row_block(K: sp.csr_matrix, first: int, stop: int, dtype) -> sp.csr_matrix:
+    """Rows ``first:stop`` of the CSR matrix ``K`` with values of ``dtype``, sharing its
+    column indices (scipy's row slice copies them through a general submatrix routine)."""
+    a, b = K.indptr[first], K.indptr[stop]
+    block = sp.csr_matrix((K.data[a:b].astype(dtype), K.indices[a:b], K.indptr[first:stop + 1] - a),
+                          shape=(stop - first, K.shape[1]), copy=False)
+    block.has_sorted_indices = K.has_sorted_indices
+    return block
+
+
 def _pardiso_factor(K: sp.csr_matrix, memory_limit: float | None, report) -> Factor:
     import time
 
@@ -195,7 +205,7 @@ def _pardiso_factor(K: sp.csr_matrix, memory_limit: float | None, report) -> Fac
     upper.sort_indices()
     solver = PyPardisoSolver(mtype=2)          # real symmetric positive definite
     solver.set_iparm(1, 1)                     # use the iparm values given here
-    solver.set_iparm(2, 2)                     # METIS nested dissection
+    solver.set_iparm(2, 3)                     # METIS nested dissection, parallel (OpenMP)
     solver.set_iparm(8, 0)                     # refinement is done by Factor.solve
     solver.set_iparm(10, 8)                    # pivot perturbation 1e-8
     solver.set_iparm(35, 0)                    # one-based indices (pypardiso adds 1)

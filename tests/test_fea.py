@@ -9,8 +9,10 @@ from railcheck.fea.elasticity import (
     Support,
     _components,
     _element,
+    _pair_pattern_by_unique,
     _skfem_mesh,
     check_rigid_modes,
+    pair_pattern,
     solve_elasticity,
     stiffness_matrix,
 )
@@ -186,6 +188,20 @@ def test_fast_assembly_equals_scikit_fem(block, order):
     assert abs(mine - ref).max() <= 1e-12 * abs(ref).max()
 
 
+def test_pair_pattern_equals_a_global_sort_of_the_pair_keys():
+    """The compiled counting-sort pattern against np.unique of the keys, with a DOF in no
+    element (an empty row) first, in the middle and last, and repeated DOFs in an element."""
+    rng = np.random.default_rng(3)
+    n = 500
+    dofs = rng.choice(np.setdiff1d(np.arange(n), [0, 250, n - 1]), size=(300, 10))
+    dofs[:5, 1] = dofs[:5, 0]
+    mine = pair_pattern(dofs, n)
+    ref = _pair_pattern_by_unique(dofs, n)
+    for a, b in zip(mine, ref):
+        np.testing.assert_array_equal(a, b)
+    assert mine[0][1] == mine[0][0] and mine[0][-1] == mine[0][-2]      # the empty rows
+
+
 @pytest.mark.slow
 def test_amg_is_deterministic(rail_mesh):
     args = (rail_mesh.points, rail_mesh.tets, rail_mesh.groups, STEEL, [Support("shaft_hole")],
@@ -231,3 +247,34 @@ def test_a_memory_cap_sends_p2_to_p_multigrid(rail_mesh):
     assert info["solver"] == "pmg" and info["coarse"] == "amg"
     ref, _ = solve(K, F[:, 0], fixed, "direct", basis)
     assert np.abs(U - ref).max() < 1e-8 * np.abs(ref).max()
+
+
+def test_free_submatrix_equals_fancy_indexing():
+    import scipy.sparse as sp
+
+    from railcheck.fea.elasticity import free_submatrix
+
+    rng = np.random.default_rng(4)
+    K = sp.random(300, 300, density=0.05, format="csr", random_state=5)
+    K.sort_indices()
+    for free in (np.arange(300), np.sort(rng.choice(300, 170, replace=False)), np.array([], int), np.array([299])):
+        mine = free_submatrix(K, free)
+        ref = K[free][:, free]
+        assert mine.shape == ref.shape and np.array_equal(mine.toarray(), ref.toarray())
+        resorted = mine.copy()
+        resorted.has_sorted_indices = False
+        resorted.sort_indices()
+        assert mine.has_sorted_indices and np.array_equal(resorted.indices, mine.indices)
+
+
+def test_mesh_entities_equal_scikit_fem(block):
+    from skfem import MeshTet
+
+    from railcheck.fea.elasticity import mesh_entities
+
+    t = np.ascontiguousarray(block.tets.T)
+    for indices in (MeshTet.elem.refdom.facets, MeshTet.elem.refdom.edges):
+        mine = mesh_entities(t, indices)
+        ref = MeshTet.build_entities(t, indices)
+        for a, b in zip(mine, ref):
+            np.testing.assert_array_equal(a, b)
