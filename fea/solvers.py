@@ -152,24 +152,15 @@ class Factor:
         step lowers the forward error below the conditioning's cond(K) x eps floor. The
         product runs on row blocks in threads, one per core (scipy releases the GIL)."""
         if self._K_extended is None:
-            blocks = max(1, min(os.cpu_count() or 1, 4)) if self.K.nnz > 1_000_000 else 1
-            edges = np.linspace(0, self.n, blocks + 1).astype(int)
-            self._K_extended = [(a, b, _row_block(self.K, a, b, np.longdouble))
-                                for a, b in zip(edges[:-1], edges[1:])]
+            self._K_extended = RowBlocks(self.K, np.longdouble)
         U2 = U.reshape(self.n, -1).astype(np.longdouble)
         F2 = F.reshape(self.n, -1)
         r = np.empty(F2.shape)
 
-        def rows(block):
-            a, b, Kb = block
-            r[a:b] = F2[a:b].astype(np.longdouble) - Kb @ U2
+        def rows(first, stop, block):
+            r[first:stop] = F2[first:stop].astype(np.longdouble) - block @ U2
 
-        if len(self._K_extended) == 1:
-            rows(self._K_extended[0])
-        else:
-            from concurrent.futures import ThreadPoolExecutor
-            with ThreadPoolExecutor(len(self._K_extended)) as pool:
-                list(pool.map(rows, self._K_extended))
+        self._K_extended.each(rows)
         return r.reshape(F.shape)
 
     def free(self) -> None:
@@ -183,6 +174,37 @@ class Factor:
             self.free()
         except Exception:   # noqa: BLE001 - interpreter shutdown
             pass
+
+
+class RowBlocks:
+    """A CSR matrix cut into row blocks, one per core (up to 4) when it is large, whose
+    products run in threads (scipy's sparse products release the GIL). ``dtype``: the
+    blocks' value type (long double for an extended-precision residual)."""
+
+    def __init__(self, K: sp.csr_matrix, dtype=float):
+        K = sp.csr_matrix(K)
+        self.shape = K.shape
+        count = max(1, min(os.cpu_count() or 1, 4)) if K.nnz > 1_000_000 else 1
+        edges = np.linspace(0, K.shape[0], count + 1).astype(int)
+        self.blocks = [(a, b, _row_block(K, a, b, dtype)) for a, b in zip(edges[:-1], edges[1:])]
+
+    def each(self, work) -> None:
+        """``work(first, stop, block)`` for every block, in threads when there are several."""
+        if len(self.blocks) == 1:
+            work(*self.blocks[0])
+            return
+        from concurrent.futures import ThreadPoolExecutor
+        with ThreadPoolExecutor(len(self.blocks)) as pool:
+            list(pool.map(lambda block: work(*block), self.blocks))
+
+    def __matmul__(self, X: np.ndarray) -> np.ndarray:
+        out = np.empty((self.shape[0],) + X.shape[1:], dtype=np.result_type(self.blocks[0][2].dtype, X.dtype))
+
+        def rows(first, stop, block):
+            out[first:stop] = block @ X
+
+        self.each(rows)
+        return out
 
 
 def _row_block(K: sp.csr_matrix, first: int, stop: int, dtype) -> sp.csr_matrix:
@@ -274,6 +296,45 @@ def factorise(K: sp.spmatrix, backend: str = "direct", memory_limit: float | Non
     if backend == "scipy":
         return _scipy_factor(K, memory_limit, report)
     raise ValueError(f"unknown direct backend {backend!r}")
+
+
+def solve_jacobi_cg(M: sp.spmatrix, B: np.ndarray, rtol: float = 1e-12, maxiter: int = 400) -> np.ndarray:
+    """``M^-1 B`` for a symmetric positive definite ``M`` that is well conditioned once
+    scaled by its diagonal (a mass matrix): conjugate gradients with the diagonal as
+    preconditioner, every column of ``B`` (n[, k]) at once, each column's scalars its own.
+    Stops when every column's true relative residual |b - M x| / |b| is below ``rtol``;
+    raises :class:`NumericalError` when that is not reached in ``maxiter`` iterations (a
+    degenerate mesh), so the caller can factorise instead."""
+    M = sp.csr_matrix(M)
+    B2 = np.asarray(B, float).reshape(M.shape[0], -1)
+    diagonal = M.diagonal()
+    M_rows = RowBlocks(M)
+    if not (np.all(np.isfinite(B2)) and np.all(diagonal > 0)):
+        raise NumericalError("the projection system is not positive definite or its load is not finite")
+    inverse_diagonal = (1.0 / diagonal)[:, None]
+    limit = (rtol * np.linalg.norm(B2, axis=0)) ** 2           # on squared residual norms
+    X = B2 * inverse_diagonal
+    R = B2 - M_rows @ X
+    Z = R * inverse_diagonal
+    P = Z.copy()
+    rz = np.einsum("ij,ij->j", R, Z)
+    for _ in range(maxiter):
+        if np.all(np.einsum("ij,ij->j", R, R) <= limit):
+            R = B2 - M_rows @ X                  # the true residual, not the recurrence's
+            if np.all(np.einsum("ij,ij->j", R, R) <= limit):
+                return X.reshape(B.shape)
+        MP = M_rows @ P
+        pMp = np.einsum("ij,ij->j", P, MP)
+        alpha = np.divide(rz, pMp, out=np.zeros_like(rz), where=pMp > 0)
+        X += alpha * P
+        R -= alpha * MP
+        np.multiply(R, inverse_diagonal, out=Z)
+        rz_next = np.einsum("ij,ij->j", R, Z)
+        beta = np.divide(rz_next, rz, out=np.zeros_like(rz), where=rz > 0)
+        P *= beta
+        P += Z
+        rz = rz_next
+    raise NumericalError(f"Jacobi-CG did not reach a relative residual of {rtol:.0e} in {maxiter} iterations")
 
 
 def solve_amg(K: sp.spmatrix, F: np.ndarray, B: np.ndarray, rtol: float = AMG_RTOL,

@@ -14,6 +14,7 @@ from railcheck.fea.elasticity import (
     check_rigid_modes,
     curved_elements,
     group_area,
+    recover_stress,
     resultant,
     unit_traction_vectors,
 )
@@ -82,6 +83,13 @@ def test_patch_test_is_exact_on_the_curved_mesh(tiny_rail):
     boundary = basis.get_dofs().all()
     u = solve(*condense(K, np.zeros(basis.N), x=exact, D=boundary))
     assert np.max(np.abs(u - exact)) < 1e-10 * np.max(np.abs(exact))
+    # its stress is constant, and the projection onto the curved space keeps it exactly
+    strain = 0.5 * (G + G.T)
+    lam, mu = STEEL.lame
+    sigma = 2 * mu * strain + lam * np.trace(strain) * np.eye(3)
+    expected = np.array([sigma[0, 0], sigma[1, 1], sigma[2, 2], sigma[0, 1], sigma[1, 2], sigma[0, 2]])
+    S = recover_stress(basis, u, STEEL)
+    assert np.max(np.abs(S - expected[:, None])) < 1e-9 * np.max(np.abs(expected))
     # the degree-3 rule on curved elements is what makes it exact: the 4-point rule is not
     K4 = _four_point_stiffness(mesh)
     u4 = solve(*condense(K4, np.zeros(basis.N), x=exact, D=boundary))

@@ -197,8 +197,15 @@ def test_pair_pattern_equals_a_global_sort_of_the_pair_keys():
     dofs[:5, 1] = dofs[:5, 0]
     mine = pair_pattern(dofs, n)
     ref = _pair_pattern_by_unique(dofs, n)
-    for a, b in zip(mine, ref):
+    for a, b in zip(mine[:2], ref[:2]):
         np.testing.assert_array_equal(a, b)
+    assert mine[2].shape == ref[2].shape and (mine[2] != ref[2]).nnz == 0
+    values = rng.normal(size=(dofs.size * 10, 2))
+    expected = np.zeros((mine[1].size, 2))      # scatter-add by pair key, the plain way
+    key = (dofs[:, :, None] * n + dofs[:, None, :]).ravel()
+    entry = np.searchsorted(np.repeat(np.arange(n), np.diff(mine[0])) * n + mine[1], key)
+    np.add.at(expected, entry, values)
+    np.testing.assert_allclose(mine[2] @ values, expected, rtol=1e-14, atol=1e-14)
     assert mine[0][1] == mine[0][0] and mine[0][-1] == mine[0][-2]      # the empty rows
 
 
@@ -278,3 +285,31 @@ def test_mesh_entities_equal_scikit_fem(block):
         ref = MeshTet.build_entities(t, indices)
         for a, b in zip(mine, ref):
             np.testing.assert_array_equal(a, b)
+
+
+def test_mass_matrix_equals_scikit_fem_and_jacobi_cg_equals_a_factorisation(block):
+    """The stress projection's mass matrix against scikit-fem's assembly, and its
+    Jacobi-CG solve (several columns, one of them zero) against a sparse factorisation."""
+    from skfem import Basis, BilinearForm, asm
+    from skfem.element import ElementVector
+    from skfem.quadrature import get_quadrature
+
+    from railcheck.fea.elasticity import element_bases, mass_matrix
+    from railcheck.fea.solvers import factorise, solve_jacobi_cg
+
+    basis = Basis(_skfem_mesh(block.points, block.tets), ElementVector(_element(2)), intorder=1)
+    scalar = basis.elem.elem
+    bases = element_bases(basis.mesh, scalar, get_quadrature(scalar.refdom, 4), 4)
+    M = mass_matrix(basis, bases)
+    ref = asm(BilinearForm(lambda u, v, w: u * v), bases[0])
+    assert abs(M - ref).max() <= 1e-13 * abs(ref).max()
+    B = np.random.default_rng(6).normal(size=(M.shape[0], 3))
+    B[:, 1] = 0.0
+    X = solve_jacobi_cg(M, B)
+    np.testing.assert_allclose(X, factorise(M, "scipy").solve(B, rtol=1e-9, extended=False),
+                               rtol=0, atol=1e-9 * np.abs(X).max())
+    assert not np.any(X[:, 1])
+    with pytest.raises(NumericalError):
+        solve_jacobi_cg(M, B, maxiter=2)
+    with pytest.raises(NumericalError):
+        solve_jacobi_cg(-M, B)
