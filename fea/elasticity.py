@@ -24,10 +24,16 @@ Curved elements take a degree-3 quadrature rule in the stiffness (straight ones 
 4-point rule, as C3D10), so the patch test stays exact on curved meshes.
 
 Stress: the element stress is projected (L2) onto the continuous scalar space of the same
-order (one factorised mass matrix for all six components and every load case); the
-"stress nodes" are that space's nodes (P2: vertices and mid-edge nodes). Every step is
-linear in the load, so the stress of a combination of loads is the same combination of
+order (one mass matrix for all six components and every load case, solved by
+Jacobi-preconditioned CG to a relative residual of 1e-12); the "stress nodes" are that
+space's nodes (P2: vertices and mid-edge nodes). Every step is linear in the load (CG to
+1e-12 is, to 1e-12), so the stress of a combination of loads is the same combination of
 their stresses (the cycle envelope relies on it).
+
+Assembly: the element matrices' 3 x 3 blocks are written in place, (element, a, b) by
+component, and summed onto the scalar DOF pairs by one sparse product
+(:func:`pair_pattern`); the pattern comes from a counting sort in scipy's compiled
+sparse tools, not a global sort of the pair keys.
 """
 
 from __future__ import annotations
@@ -292,7 +298,7 @@ def pair_pattern(dofs: np.ndarray, n: int):
 
     A counting sort by row and a sort of each (short) row, in scipy's compiled sparse
     tools, instead of a global sort of the pair keys: ``np.unique`` of the keys is 2.5x
-    slower on P2 meshes (README, "Assembly")."""
+    slower on P2 meshes (README, "What dominates a solve")."""
     nel, nb = dofs.shape
     pairs = nel * nb * nb
     if pairs == 0 or pairs >= 2**31 or n >= 2**31:

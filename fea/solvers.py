@@ -326,8 +326,10 @@ def solve_jacobi_cg(M: sp.spmatrix, B: np.ndarray, rtol: float = 1e-12, maxiter:
         MP = M_rows @ P
         pMp = np.einsum("ij,ij->j", P, MP)
         alpha = np.divide(rz, pMp, out=np.zeros_like(rz), where=pMp > 0)
-        X += alpha * P
-        R -= alpha * MP
+        np.multiply(P, alpha, out=Z)             # Z as scratch until it is recomputed
+        X += Z
+        MP *= alpha
+        R -= MP
         np.multiply(R, inverse_diagonal, out=Z)
         rz_next = np.einsum("ij,ij->j", R, Z)
         beta = np.divide(rz_next, rz, out=np.zeros_like(rz), where=rz > 0)
