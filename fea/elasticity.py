@@ -277,7 +277,7 @@ def stiffness_matrix(basis, material: Material, quadrature: tuple | None = None)
     sdofs = sb.element_dofs.T                            # (nel, nb)
     nel, nb = sdofs.shape
     Ns = sb.N
-    indptr, indices, summing = pair_pattern(sdofs, Ns)
+    indptr, indices, summing = scalar_pair_pattern(basis)
     entries = np.empty((nel * nb * nb, 9))                # element blocks, (e, a, b) x (i, j)
     for part in parts:
         _element_blocks(part, material, entries)
@@ -327,6 +327,13 @@ def pair_pattern(dofs: np.ndarray, n: int):
     summing = sp.csr_matrix((np.ones(pairs), source, np.append(starts, pairs).astype(np.int32)),
                             shape=(starts.size, pairs), copy=False)
     return counted[indptr].astype(np.int32), indices[starts], summing
+
+
+def scalar_pair_pattern(basis):
+    """:func:`pair_pattern` of the vector basis's scalar numbering, built once per basis
+    (the stiffness and the stress projection's mass matrix share it)."""
+    numbering = scalar_basis(basis)
+    return _cached(basis, "pair_pattern", lambda: pair_pattern(numbering.element_dofs.T, numbering.N))
 
 
 def _pair_pattern_by_unique(dofs: np.ndarray, n: int):
@@ -675,7 +682,7 @@ def mass_matrix(basis, bases):
 
     numbering = scalar_basis(basis)
     nb = numbering.element_dofs.shape[0]
-    indptr, indices, summing = pair_pattern(numbering.element_dofs.T, numbering.N)
+    indptr, indices, summing = scalar_pair_pattern(basis)
     entries = np.empty((numbering.element_dofs.shape[1], nb, nb))
     for sb in bases:
         phi = np.stack([sb.basis[a][0].value for a in range(nb)])              # (nb, nel, nq)
