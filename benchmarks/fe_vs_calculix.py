@@ -126,7 +126,8 @@ def write_inp(path, nodes, conn, fixed, forces, E=210e9, nu=0.3):
             for c in range(3):
                 if forces[i, c] != 0:
                     f.write(f"{i+1}, {c+1}, {forces[i, c]:.12e}\n")
-        f.write("*NODE FILE\nU\n*EL FILE\nS\n*END STEP\n")
+        # U printed to the .dat as well: 7 significant digits there against 6 in the .frd
+        f.write("*NODE FILE\nU\n*EL FILE\nS\n*NODE PRINT, NSET=NALL\nU\n*END STEP\n")
 
 
 def read_frd(path, n):
@@ -145,6 +146,19 @@ def read_frd(path, n):
                 vals = [float(line[13 + 12 * k: 25 + 12 * k]) for k in range(block.shape[1])]
                 block[node - 1] = vals
     return disp, stress
+
+
+def read_dat_displacements(path, n):
+    """Nodal U (n, 3) from the *NODE PRINT table of a CalculiX .dat (format e13.6)."""
+    u = np.full((n, 3), np.nan)
+    with open(path) as f:
+        for line in f:
+            parts = line.split()
+            if len(parts) == 4 and parts[0].isdigit():
+                u[int(parts[0]) - 1] = [float(v) for v in parts[1:]]
+    if np.isnan(u).any():
+        raise RuntimeError("the .dat file lacks some nodal displacements")
+    return u
 
 
 def von_mises6(s):
@@ -182,7 +196,8 @@ def compare(problem: str, size: float) -> dict:
     try:
         write_inp(work / "job.inp", nodes, conn, np.array(r["fixed"]), np.array(r["forces"]))
         ccx_seconds, ccx_mem = run_ccx(work)
-        u_ccx, s_ccx = read_frd(work / "job.frd", nodes.shape[0])
+        _, s_ccx = read_frd(work / "job.frd", nodes.shape[0])
+        u_ccx = read_dat_displacements(work / "job.dat", nodes.shape[0])
     finally:
         shutil.rmtree(work, ignore_errors=True)
     u_rc = np.array(r["u"])
