@@ -649,24 +649,23 @@ MASS_RTOL = 1e-12       # the stress projection's relative residual |b - M s| / 
 def recover_stress(basis, U: np.ndarray, material: Material, report=None) -> np.ndarray:
     """(6, nodes[, k]) Pa: the L2 projection of the element stress of each displacement
     column onto the continuous scalar space of the basis's order (xx, yy, zz, xy, yz, xz).
-    The mass matrix needs a rule exact to order 2p (with the stiffness's rule a P2 mass
-    matrix is rank-deficient element by element). It is well conditioned once scaled by
-    its diagonal, so Jacobi-preconditioned CG solves all columns together to a relative
-    residual of 1e-12 in some 60 iterations, far cheaper than factorising it (a factor
-    as large as the stiffness's); a direct solve takes over should CG stall."""
-    from skfem.quadrature import get_quadrature
-
+    Straight elements in closed form (:func:`_affine_stress_moments`, :func:`mass_matrix`),
+    curved ones by a rule exact to order 2p on their isoparametric map. The mass matrix is
+    well conditioned once scaled by its diagonal, so Jacobi-preconditioned CG solves all
+    columns together to a relative residual of 1e-12 in some 60 iterations, far cheaper
+    than factorising it (a factor as large as the stiffness's); a direct solve takes over
+    should CG stall."""
     from .errors import NumericalError
     from .solvers import factorise, solve_jacobi_cg
 
-    scalar = basis.elem.elem
-    p = scalar.maxdeg
-    bases = element_bases(basis.mesh, scalar, get_quadrature(scalar.refdom, 2 * p), 2 * p)
     U2 = U.reshape(U.shape[0], -1)
     k = U2.shape[1]
-    rhs = sum(_stress_moments(basis, sb, U2, material) for sb in bases)        # (scalar N, 6 k)
-    M = mass_matrix(basis, bases)
-    n = bases[0].N
+    straight, curved = _straight_and_curved(basis)
+    rhs = _affine_stress_moments(basis, straight, U2, material)                # (scalar N, 6 k)
+    if curved is not None:
+        rhs += _stress_moments(basis, curved, U2, material)
+    M = mass_matrix(basis)
+    n = M.shape[0]
     try:
         S = solve_jacobi_cg(M, rhs, rtol=MASS_RTOL)
     except NumericalError:
@@ -674,20 +673,101 @@ def recover_stress(basis, U: np.ndarray, material: Material, report=None) -> np.
     return S.reshape(n, 6, k).transpose(1, 0, 2).reshape((6, n) + U.shape[1:])
 
 
-def mass_matrix(basis, bases):
-    """The scalar mass matrix (m^3) of the vector basis's scalar space, integrated by
-    ``bases`` (the element bases that cover every element once, :func:`element_bases`):
-    M_ab = sum_q dx phi_a phi_b, summed on :func:`pair_pattern`."""
+def _straight_and_curved(basis):
+    """(straight, curved): the indices of the elements whose map is affine, and a scalar
+    basis with a rule exact to order 2p on the curved ones (None on a straight mesh),
+    built once per vector basis."""
+    def make():
+        from skfem import Basis
+        mesh = basis.mesh
+        curved = curved_elements(mesh)
+        straight = np.setdiff1d(np.arange(mesh.nelements), curved)
+        if curved.size == 0:
+            return straight, None
+        return straight, Basis(mesh, basis.elem.elem, intorder=2 * basis.elem.elem.maxdeg, elements=curved)
+    return _cached(basis, "straight_and_curved", make)
+
+
+def affine_reference(scalar) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Reference-tetrahedron integrals of a scalar element of degree p <= 2 (reference
+    volume 1/6): the shape functions' gradients at the four vertices (4, nb, 3), the mass
+    matrix int phi_a phi_b (nb, nb), and int phi_a lambda_v (nb, 4) against the vertices'
+    barycentric coordinates (a stress of degree p - 1 <= 1 is exactly its vertex
+    interpolant). Integrated by a rule exact to degree 2p."""
+    from skfem.quadrature import get_quadrature
+
+    if scalar.maxdeg > 2:
+        raise ValueError("the closed-form stress recovery needs an element of degree at most 2")
+    nb = scalar.doflocs.shape[0]
+    vertices = np.array([[0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0], [0.0, 0.0, 0.0, 1.0]])
+    X, W = get_quadrature(scalar.refdom, 2 * scalar.maxdeg)
+    phi = np.stack([scalar.lbasis(X, a)[0] for a in range(nb)])                       # (nb, q)
+    grads = np.stack([scalar.lbasis(vertices, a)[1].T for a in range(nb)], axis=1)    # (4, nb, 3)
+    lam = np.vstack([1.0 - X.sum(axis=0), X])                                          # (4, q)
+    return grads, np.einsum("aq,bq,q->ab", phi, phi, W), np.einsum("aq,vq,q->av", phi, lam, W)
+
+
+def affine_jacobians(mesh, elements: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(|det J| (n,), J^-1 (n, 3, 3)) of the affine map x = x0 + J xi of the given
+    elements, J[:, m] = x_{m+1} - x0 (m), from their vertices."""
+    x = mesh.doflocs[:, :mesh.nvertices].T[mesh.t[:, elements].T]                   # (n, 4, 3)
+    J = np.transpose(x[:, 1:] - x[:, :1], (0, 2, 1))
+    return np.abs(np.linalg.det(J)), np.linalg.inv(J)
+
+
+def _affine_stress_moments(basis, elements: np.ndarray, U2: np.ndarray, material: Material,
+                           values: int = 4_000_000) -> np.ndarray:
+    """(scalar N, 6 k): :func:`_stress_moments` of the straight ``elements``, in closed
+    form: on an affine element of degree p <= 2 the stress has degree p - 1 <= 1, so it is
+    the interpolant of its values at the four vertices, and its moments are
+    |det J| sum_v C[a, v] sigma_v with C from :func:`affine_reference`."""
+    import scipy.sparse as sp
+
+    lam, mu = material.lame
+    numbering = scalar_basis(basis)
+    grads, _, C = affine_reference(basis.elem.elem)
+    vector_of = _vector_dof_map(basis, numbering)
+    sdofs = numbering.element_dofs[:, elements]                    # (nb, n)
+    nb, n = sdofs.shape
+    k = U2.shape[1]
+    det, inverse = affine_jacobians(basis.mesh, elements)
+    ii = np.array([i for i, _ in VOIGT])
+    jj = np.array([j for _, j in VOIGT])
+    out = np.empty((n, nb, 6, k))
+    chunk = max(1, values // (4 * 9 * k))
+    for start in range(0, n, chunk):
+        sl = slice(start, min(start + chunk, n))
+        ue = U2[vector_of[sdofs[:, sl]]]                          # (nb, e, 3, k)
+        H = np.einsum("aeik,vam->evimk", ue, grads, optimize=True)            # du_i/dxi_m
+        grad = np.einsum("evimk,emj->evijk", H, inverse[sl], optimize=True)   # du_i/dx_j
+        eps = 0.5 * (grad + np.swapaxes(grad, 2, 3))
+        tr = eps[:, :, 0, 0] + eps[:, :, 1, 1] + eps[:, :, 2, 2]
+        sig = 2 * mu * eps[:, :, ii, jj, :] + lam * tr[:, :, None, :] * (ii == jj)[None, None, :, None]
+        out[sl] = np.einsum("av,evck->eack", C, sig, optimize=True) * det[sl, None, None, None]
+    scatter = sp.csr_matrix((np.ones(n * nb), (sdofs.T.ravel(), np.arange(n * nb))), shape=(numbering.N, n * nb))
+    return np.asarray(scatter @ out.reshape(n * nb, 6 * k))
+
+
+def mass_matrix(basis):
+    """The scalar mass matrix (m^3) of the vector basis's scalar space,
+    M_ab = int phi_a phi_b, summed on :func:`pair_pattern`: |det J| times the reference
+    matrix on straight elements, a rule exact to order 2p on curved ones."""
     import scipy.sparse as sp
 
     numbering = scalar_basis(basis)
     nb = numbering.element_dofs.shape[0]
     indptr, indices, summing = scalar_pair_pattern(basis)
+    straight, curved = _straight_and_curved(basis)
+    _, reference, _ = affine_reference(basis.elem.elem)
     entries = np.empty((numbering.element_dofs.shape[1], nb, nb))
-    for sb in bases:
-        phi = np.stack([sb.basis[a][0].value for a in range(nb)])              # (nb, nel, nq)
-        elements = np.arange(entries.shape[0]) if sb.tind is None else np.asarray(sb.tind)
-        entries[elements] = np.einsum("aeq,beq,eq->eab", phi, phi, sb.dx, optimize=True)
+    det, _ = affine_jacobians(basis.mesh, straight)
+    if curved is None:
+        np.multiply(det[:, None, None], reference[None], out=entries)
+    else:
+        entries[straight] = det[:, None, None] * reference[None]
+    if curved is not None:
+        phi = np.stack([curved.basis[a][0].value for a in range(nb)])          # (nb, nel, nq)
+        entries[np.asarray(curved.tind)] = np.einsum("aeq,beq,eq->eab", phi, phi, curved.dx, optimize=True)
     M = sp.csr_matrix((summing @ entries.reshape(-1), indices, indptr), shape=(numbering.N, numbering.N))
     M.has_sorted_indices = True
     return M

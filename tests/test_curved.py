@@ -8,12 +8,16 @@ import numpy as np
 import pytest
 
 from railcheck.fea.elasticity import (
+    _affine_stress_moments,
     _components,
     _skfem_mesh,
+    _straight_and_curved,
+    _stress_moments,
     assemble,
     check_rigid_modes,
     curved_elements,
     group_area,
+    mass_matrix,
     recover_stress,
     resultant,
     unit_traction_vectors,
@@ -94,6 +98,26 @@ def test_patch_test_is_exact_on_the_curved_mesh(tiny_rail):
     K4 = _four_point_stiffness(mesh)
     u4 = solve(*condense(K4, np.zeros(basis.N), x=exact, D=boundary))
     assert np.max(np.abs(u4 - exact)) > 1e-8 * np.max(np.abs(exact))
+
+
+def test_closed_form_projection_on_straight_elements_equals_quadrature_everywhere(tiny_rail):
+    """The stress projection's mass matrix and stress moments, closed form on the straight
+    elements and quadrature on the curved ones, against scikit-fem's degree-4 rule on the
+    isoparametric map of every element (random displacements, two columns)."""
+    from skfem import Basis, BilinearForm, asm
+
+    mesh = tiny_rail
+    _, basis = assemble(mesh.points, mesh.tets, STEEL, 2, mesh.curved)
+    straight, curved = _straight_and_curved(basis)
+    assert straight.size > 50 and curved is not None
+    everywhere = Basis(basis.mesh, basis.elem.elem, intorder=4)
+    M = mass_matrix(basis)
+    ref = asm(BilinearForm(lambda u, v, w: u * v), everywhere)
+    assert abs(M - ref).max() <= 1e-12 * abs(ref).max()
+    U = np.random.default_rng(3).normal(size=(basis.N, 2)) * 1e-5
+    mine = _affine_stress_moments(basis, straight, U, STEEL) + _stress_moments(basis, curved, U, STEEL)
+    quadrature = _stress_moments(basis, everywhere, U, STEEL)
+    assert np.max(np.abs(mine - quadrature)) <= 1e-11 * np.max(np.abs(quadrature))
 
 
 def _four_point_stiffness(mesh):
