@@ -8,6 +8,11 @@ For quadratic (P2) elements gmsh also places the mid-edge nodes on the true CAD 
 (``setOrder(2)``); the mesh keeps only the edges that came out curved
 (:attr:`MeshData.curved`), checked for folded elements (:mod:`geometry.curving`).
 
+The vertices are numbered by reverse Cuthill-McKee and the tetrahedra sorted by their
+lowest vertex (:func:`local_numbering`), so that neighbours sit close in every array the
+FE builds: on a 1M-DOF cantilever this makes assembly 1.2x and the iterative solve 1.25x
+faster than with gmsh's own numbering (``benchmarks/fe_stages.py``).
+
 Meshes are cached in ``$RAILCHECK_CACHE`` (default ``~/.cache/railcheck``) keyed by a hash
 of the part's parameters, the mesh sizes and this module's version.
 """
@@ -28,7 +33,7 @@ import numpy as np
 
 from .models import PartGeometry
 
-MESHER_VERSION = 7
+MESHER_VERSION = 8
 SLIVER_SICN = 0.05   # elements whose signed inverse condition number is below this are slivers
 
 
@@ -315,8 +320,28 @@ def _extract(gmsh, surfaces, qualities: np.ndarray) -> tuple[MeshData, np.ndarra
         tets = remap[tets]
         groups = {k: remap[v] for k, v in groups.items()}
         index = np.where(index >= 0, remap[np.maximum(index, 0)], -1)
+    new, tets = local_numbering(tets, points.shape[0])
+    points[new] = points.copy()
+    groups = {k: new[v] for k, v in groups.items()}
+    index = np.where(index >= 0, new[np.maximum(index, 0)], -1)
     return MeshData(points, tets.astype(np.int64), groups, float(qualities.min()),
                     int(np.count_nonzero(qualities < SLIVER_SICN)), 0.0), index
+
+
+def local_numbering(tets: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """(new, tets): each vertex's new number (n,) by reverse Cuthill-McKee on the vertex
+    graph, and the tetrahedra (m, 4) renumbered and sorted by their lowest new vertex."""
+    import scipy.sparse as sp
+    from scipy.sparse.csgraph import reverse_cuthill_mckee
+
+    rows = np.repeat(tets, 4, axis=1).ravel()
+    cols = np.tile(tets, (1, 4)).ravel()
+    graph = sp.csr_matrix((np.ones(rows.size, np.int8), (rows, cols)), shape=(n, n))
+    order = reverse_cuthill_mckee(graph, symmetric_mode=True)
+    new = np.empty(n, dtype=np.int64)
+    new[order] = np.arange(n)
+    tets = new[tets]
+    return new, tets[np.argsort(tets.min(axis=1), kind="stable")]
 
 
 # --- builders: each returns ({group: [surface tags]}, [surface tags to refine at]) ---------

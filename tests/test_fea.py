@@ -313,3 +313,32 @@ def test_mass_matrix_equals_scikit_fem_and_jacobi_cg_equals_a_factorisation(bloc
     with pytest.raises(NumericalError):
         solve_jacobi_cg(-M, B)
 
+
+def test_local_numbering_keeps_the_mesh_and_shrinks_the_bandwidth():
+    """Reverse Cuthill-McKee on a shuffled structured mesh: the same tetrahedra (as sets of
+    points), sorted by their lowest vertex, with a vertex bandwidth near a layer's size
+    (one (k+1)^2 layer of a k^3 cube) where the shuffled numbering's is near n."""
+    from railcheck.geometry.mesher import local_numbering
+
+    k = 12
+    grid = np.stack(np.meshgrid(*[np.arange(k + 1)] * 3, indexing="ij"), -1).reshape(-1, 3).astype(float)
+    corner = np.arange((k + 1) ** 3).reshape(k + 1, k + 1, k + 1)[:-1, :-1, :-1].ravel()
+    step = np.array([(k + 1) ** 2, k + 1, 1])
+    cube = [0, step[0], step[1], step[2], step[0] + step[1], step[0] + step[2], step[1] + step[2], step.sum()]
+    kuhn = [[0, 1, 4, 7], [0, 1, 5, 7], [0, 2, 4, 7], [0, 2, 6, 7], [0, 3, 5, 7], [0, 3, 6, 7]]
+    tets = np.concatenate([corner[:, None] + np.array(cube)[t] for t in kuhn])
+    shuffle = np.random.default_rng(0).permutation(grid.shape[0])
+    points, tets = grid[shuffle], np.argsort(shuffle)[tets]
+
+    def bandwidth(t):
+        return np.max(t.max(axis=1) - t.min(axis=1))
+
+    new, renumbered = local_numbering(tets, points.shape[0])
+    assert np.array_equal(np.sort(new), np.arange(points.shape[0]))
+    moved = np.empty_like(points)
+    moved[new] = points
+    as_points = {tuple(sorted(map(tuple, points[t]))) for t in tets}
+    assert {tuple(sorted(map(tuple, moved[t]))) for t in renumbered} == as_points
+    assert np.all(np.diff(renumbered.min(axis=1)) >= 0)
+    assert bandwidth(tets) > 0.8 * points.shape[0]
+    assert bandwidth(renumbered) < 3 * (k + 1) ** 2
