@@ -41,6 +41,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from .errors import NumericalError
+from .products import RowBlocks, sparse_product
 from .progress import heartbeat
 
 DIRECT_RTOL = 1e-6   # |f - K u| / |f| after one refinement step; rounding alone gives ~eps |K||u| / |f|
@@ -176,47 +177,6 @@ class Factor:
             pass
 
 
-class RowBlocks:
-    """A CSR matrix cut into row blocks, one per core (up to 4) when it is large, whose
-    products run in threads (scipy's sparse products release the GIL). ``dtype``: the
-    blocks' value type (long double for an extended-precision residual)."""
-
-    def __init__(self, K: sp.csr_matrix, dtype=float):
-        K = sp.csr_matrix(K)
-        self.shape = K.shape
-        count = max(1, min(os.cpu_count() or 1, 4)) if K.nnz > 1_000_000 else 1
-        edges = np.linspace(0, K.shape[0], count + 1).astype(int)
-        self.blocks = [(a, b, _row_block(K, a, b, dtype)) for a, b in zip(edges[:-1], edges[1:])]
-
-    def each(self, work) -> None:
-        """``work(first, stop, block)`` for every block, in threads when there are several."""
-        if len(self.blocks) == 1:
-            work(*self.blocks[0])
-            return
-        from concurrent.futures import ThreadPoolExecutor
-        with ThreadPoolExecutor(len(self.blocks)) as pool:
-            list(pool.map(lambda block: work(*block), self.blocks))
-
-    def __matmul__(self, X: np.ndarray) -> np.ndarray:
-        out = np.empty((self.shape[0],) + X.shape[1:], dtype=np.result_type(self.blocks[0][2].dtype, X.dtype))
-
-        def rows(first, stop, block):
-            out[first:stop] = block @ X
-
-        self.each(rows)
-        return out
-
-
-def _row_block(K: sp.csr_matrix, first: int, stop: int, dtype) -> sp.csr_matrix:
-    """Rows ``first:stop`` of the CSR matrix ``K`` with values of ``dtype``, sharing its
-    column indices (scipy's row slice copies them through a general submatrix routine)."""
-    a, b = K.indptr[first], K.indptr[stop]
-    block = sp.csr_matrix((K.data[a:b].astype(dtype), K.indices[a:b], K.indptr[first:stop + 1] - a),
-                          shape=(stop - first, K.shape[1]), copy=False)
-    block.has_sorted_indices = K.has_sorted_indices
-    return block
-
-
 def _pardiso_factor(K: sp.csr_matrix, memory_limit: float | None, report) -> Factor:
     import time
 
@@ -308,7 +268,7 @@ def solve_jacobi_cg(M: sp.spmatrix, B: np.ndarray, rtol: float = 1e-12, maxiter:
     M = sp.csr_matrix(M)
     B2 = np.asarray(B, float).reshape(M.shape[0], -1)
     diagonal = M.diagonal()
-    M_rows = RowBlocks(M)
+    M_rows = sparse_product(M)
     if not (np.all(np.isfinite(B2)) and np.all(diagonal > 0)):
         raise NumericalError("the projection system is not positive definite or its load is not finite")
     inverse_diagonal = (1.0 / diagonal)[:, None]
@@ -465,18 +425,22 @@ def solve_pmg(K: sp.spmatrix, F: np.ndarray, P: sp.spmatrix, B: np.ndarray | Non
             ml = pyamg.smoothed_aggregation_solver(sp.bsr_matrix(coarse, blocksize=(3, 3)), B=P.T @ B,
                                                    symmetry="hermitian", max_coarse=500)
             coarse_solve, coarse_name = ml.aspreconditioner(cycle="V").matvec, "amg"   # a fixed linear map
-    U, info = _cg_columns(K, F, _two_level(K, P, coarse_solve), "PMG", AMG_RTOL, maxiter, report)
+    product = sparse_product(K)
+    operator = spla.LinearOperator(K.shape, matvec=product.__matmul__, matmat=product.__matmul__, dtype=float)
+    cycle = _two_level(product, K.diagonal(), sparse_product(P), sparse_product(P.T), coarse_solve)
+    U, info = _cg_columns(operator, F, cycle, "PMG", AMG_RTOL, maxiter, report)
     return U, {"solver": "pmg", **info, "coarse": coarse_name, "coarse_dofs": int(coarse.shape[0])}
 
 
 CHEBYSHEV_DEGREE = 3     # smoothing steps before and after the P1 correction
 
 
-def _two_level(K: sp.csr_matrix, P: sp.csr_matrix, coarse_solve) -> spla.LinearOperator:
+def _two_level(K, diagonal: np.ndarray, P, P_T, coarse_solve) -> spla.LinearOperator:
     """The symmetric two-level V-cycle as a preconditioner: Chebyshev smoothing (Jacobi-
     scaled, on the upper part [lmax / 30, 1.1 lmax] of the spectrum), the P1 correction,
-    the same smoothing again."""
-    d_inv = 1.0 / K.diagonal()
+    the same smoothing again. ``K``, ``P`` (P1 -> P2) and ``P_T`` are products
+    (:func:`~.products.sparse_product`), ``diagonal`` K's."""
+    d_inv = 1.0 / diagonal
     rng = np.random.default_rng(20131)
     x = rng.standard_normal(K.shape[0])
     for _ in range(15):                               # power iteration for lmax(D^-1 K)
@@ -487,13 +451,17 @@ def _two_level(K: sp.csr_matrix, P: sp.csr_matrix, coarse_solve) -> spla.LinearO
     theta, delta = 0.5 * (hi + lo), 0.5 * (hi - lo)
 
     def smooth(x, r):
-        """CHEBYSHEV_DEGREE steps of Chebyshev iteration on K x = r from x."""
-        res = r - K @ x
+        """CHEBYSHEV_DEGREE steps of Chebyshev iteration on K x = r from x (None: from
+        zero); CHEBYSHEV_DEGREE products with K (none for the last step's residual, which
+        no step uses, nor for a zero start's)."""
+        res = r if x is None else r - K @ x
         sigma = theta / delta
         rho = 1.0 / sigma
         dx = d_inv * res / theta
-        for _ in range(CHEBYSHEV_DEGREE):
-            x = x + dx
+        for step in range(CHEBYSHEV_DEGREE):
+            x = dx if x is None else x + dx
+            if step == CHEBYSHEV_DEGREE - 1:
+                break
             res = r - K @ x
             rho_new = 1.0 / (2.0 * sigma - rho)
             dx = rho_new * rho * dx + 2.0 * rho_new / delta * (d_inv * res)
@@ -501,8 +469,8 @@ def _two_level(K: sp.csr_matrix, P: sp.csr_matrix, coarse_solve) -> spla.LinearO
         return x
 
     def apply(r):
-        x = smooth(np.zeros_like(r), r)
-        x = x + P @ coarse_solve(P.T @ (r - K @ x))
+        x = smooth(None, r)
+        x = x + P @ coarse_solve(P_T @ (r - K @ x))
         return smooth(x, r)
 
     return spla.LinearOperator(K.shape, matvec=apply, dtype=float)

@@ -342,3 +342,31 @@ def test_local_numbering_keeps_the_mesh_and_shrinks_the_bandwidth():
     assert np.all(np.diff(renumbered.min(axis=1)) >= 0)
     assert bandwidth(tets) > 0.8 * points.shape[0]
     assert bandwidth(renumbered) < 3 * (k + 1) ** 2
+
+
+def test_sparse_products_equal_scipy_and_fall_back_without_mkl(monkeypatch):
+    """MKL's sparse BLAS (where it loads) and the threaded row blocks against scipy's own
+    product, for a vector and a block of columns of a non-square matrix."""
+    import scipy.sparse as sp
+
+    from railcheck.fea import products
+
+    A = sp.random(3000, 2000, density=0.002, random_state=4, format="csr") + sp.eye(3000, 2000, format="csr")
+    rng = np.random.default_rng(5)
+    x, X = rng.normal(size=2000), rng.normal(size=(2000, 7))
+    fast = products.sparse_product(A)
+    if products._mkl() is not None:
+        assert isinstance(fast, products.MklProduct)
+    for v in (x, X):
+        exact = A @ v
+        assert (fast @ v).shape == exact.shape
+        np.testing.assert_allclose(fast @ v, exact, rtol=0, atol=1e-13 * np.abs(exact).max())
+    if products._mkl() is not None:
+        with pytest.raises(ValueError):
+            products.MklProduct(A) @ np.ones(3000)            # rows of A, not columns
+    monkeypatch.setattr(products, "_mkl", lambda: None)
+    slow = products.sparse_product(A)
+    assert isinstance(slow, products.RowBlocks)
+    np.testing.assert_allclose(slow @ X, A @ X, rtol=0, atol=1e-13 * np.abs(A @ X).max())
+    extended = products.sparse_product(A, np.longdouble) @ X.astype(np.longdouble)
+    assert extended.dtype == np.longdouble
