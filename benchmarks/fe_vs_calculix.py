@@ -10,7 +10,7 @@ node (nodal stresses: railcheck's L2 projection, CalculiX's extrapolated and ave
 
 Needs CalculiX (Debian): ``apt-get install calculix-ccx``. Run:
 
-    python benchmarks/fe_vs_calculix.py [--size-cantilever 6] [--size-rail 10]
+    python benchmarks/fe_vs_calculix.py [--size-cantilever 6] [--size-rail 10] [--solver direct]
 
 Node order: Abaqus/CalculiX C3D10 numbers the mid-edge nodes 5-10 on edges 1-2, 2-3,
 3-1, 1-4, 2-4, 3-4, with nodes 1-2-3 counter-clockwise seen from node 4; gmsh's tet10 swaps
@@ -35,8 +35,8 @@ import numpy as np
 ABAQUS_EDGES = [(0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3)]
 
 
-def railcheck_solve(problem: str, size: float) -> dict:
-    """Solve with railcheck (run in a child process); return arrays as lists."""
+def railcheck_solve(problem: str, size: float, solver: str = "direct") -> dict:
+    """Solve with railcheck (run in a child process) by ``solver``; return arrays as lists."""
     import resource
 
     from railcheck.fea.elasticity import (
@@ -75,7 +75,7 @@ def railcheck_solve(problem: str, size: float) -> dict:
         probe = np.array([0.3, 0.0115, 0.011])     # mid-length, on the side face, mid-height
     t = time.perf_counter()
     sol = solve_elasticity(mesh.points, mesh.tets, mesh.groups, MATERIALS["steel"], supports, loads, order=2,
-                           tip_group=tip, solver="direct")
+                           tip_group=tip, solver=solver)
     seconds = time.perf_counter() - t
     # what only this comparison needs, from the FE API: consistent nodal forces and the fixed nodes
     K, basis = assemble(mesh.points, mesh.tets, MATERIALS["steel"], 2)
@@ -178,11 +178,11 @@ def run_ccx(workdir: Path) -> tuple[float, int]:
     return seconds, usage.ru_maxrss * 1024
 
 
-def compare(problem: str, size: float) -> dict:
+def compare(problem: str, size: float, solver: str = "direct") -> dict:
     code = ("import json, importlib.util as u; "
             f"s = u.spec_from_file_location('fe_vs_calculix', {str(Path(__file__).resolve())!r}); "
             "m = u.module_from_spec(s); s.loader.exec_module(m); "
-            f"print('OUT' + json.dumps(m.railcheck_solve({problem!r}, {size!r})))")
+            f"print('OUT' + json.dumps(m.railcheck_solve({problem!r}, {size!r}, {solver!r})))")
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                           cwd=Path(__file__).resolve().parents[1])
     line = next((l for l in proc.stdout.splitlines() if l.startswith("OUT")), None)
@@ -219,10 +219,12 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--size-cantilever", type=float, default=6.0, help="mm")
     parser.add_argument("--size-rail", type=float, default=10.0, help="mm")
+    parser.add_argument("--solver", default="direct", help="railcheck's solver (direct, pmg, auto, ...)")
     args = parser.parse_args()
     if shutil.which("ccx") is None:
         sys.exit("CalculiX not found: apt-get install calculix-ccx")
-    rows = [compare("cantilever", args.size_cantilever * 1e-3), compare("crank-rail", args.size_rail * 1e-3)]
+    rows = [compare("cantilever", args.size_cantilever * 1e-3, args.solver),
+            compare("crank-rail", args.size_rail * 1e-3, args.solver)]
     print("| problem | DOFs | railcheck s | ccx s | time ratio ccx/railcheck | railcheck GB | ccx GB | "
           "tip railcheck mm | tip ccx mm | diff | von Mises railcheck / ccx MPa at (mm) | diff | max nodal u diff |")
     print("| --- " * 13 + "|")
