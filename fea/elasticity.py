@@ -25,7 +25,9 @@ Curved elements take a degree-3 quadrature rule in the stiffness (straight ones 
 
 Stress: the element stress is projected (L2) onto the continuous scalar space of the same
 order (one mass matrix for all six components and every load case, solved by
-Jacobi-preconditioned CG to a relative residual of 1e-12); the "stress nodes" are that
+Jacobi-preconditioned CG to a relative residual of 1e-12; on straight elements the mass
+matrix and the stress moments are closed form, on curved ones a degree-2p rule); the
+"stress nodes" are that
 space's nodes (P2: vertices and mid-edge nodes). Every step is linear in the load (CG to
 1e-12 is, to 1e-12), so the stress of a combination of loads is the same combination of
 their stresses (the cycle envelope relies on it).
