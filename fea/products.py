@@ -59,8 +59,11 @@ def _mkl():
 def sparse_product(A: sp.spmatrix, dtype=float):
     """The fastest installed product with the sparse matrix ``A`` (``product @ X``)."""
     A = sp.csr_matrix(A)
-    if np.dtype(dtype) == np.float64 and _mkl() is not None and A.nnz < 2**31 and max(A.shape) < 2**31:
-        return MklProduct(A)
+    if np.dtype(dtype) == np.float64 and 0 < A.nnz < 2**31 and max(A.shape) < 2**31 and _mkl() is not None:
+        try:
+            return MklProduct(A)
+        except RuntimeError:        # MKL refused the matrix: scipy takes it
+            pass
     return RowBlocks(A, dtype)
 
 

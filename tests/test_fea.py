@@ -364,6 +364,8 @@ def test_sparse_products_equal_scipy_and_fall_back_without_mkl(monkeypatch):
     if products._mkl() is not None:
         with pytest.raises(ValueError):
             products.MklProduct(A) @ np.ones(3000)            # rows of A, not columns
+    empty = products.sparse_product(sp.csr_matrix((0, 5)))
+    assert (empty @ np.ones(5)).shape == (0,)
     monkeypatch.setattr(products, "_mkl", lambda: None)
     slow = products.sparse_product(A)
     assert isinstance(slow, products.RowBlocks)
