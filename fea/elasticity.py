@@ -27,10 +27,9 @@ Stress: the element stress is projected (L2) onto the continuous scalar space of
 order (one mass matrix for all six components and every load case, solved by
 Jacobi-preconditioned CG to a relative residual of 1e-12; on straight elements the mass
 matrix and the stress moments are closed form, on curved ones a degree-2p rule); the
-"stress nodes" are that
-space's nodes (P2: vertices and mid-edge nodes). Every step is linear in the load (CG to
-1e-12 is, to 1e-12), so the stress of a combination of loads is the same combination of
-their stresses (the cycle envelope relies on it).
+"stress nodes" are that space's nodes (P2: vertices and mid-edge nodes). Every step is
+linear in the load (CG to 1e-12 is, to 1e-12), so the stress of a combination of loads is
+the same combination of their stresses (the cycle envelope relies on it).
 
 Assembly: the element matrices' 3 x 3 blocks are written in place, (element, a, b) by
 component, and summed onto the scalar DOF pairs by one sparse product
@@ -663,7 +662,7 @@ def recover_stress(basis, U: np.ndarray, material: Material, report=None) -> np.
     U2 = U.reshape(U.shape[0], -1)
     k = U2.shape[1]
     straight, curved = _straight_and_curved(basis)
-    rhs = _affine_stress_moments(basis, straight, U2, material)                # (scalar N, 6 k)
+    rhs = _affine_stress_moments(basis, U2, material)                          # (scalar N, 6 k)
     if curved is not None:
         rhs += _stress_moments(basis, curved, U2, material)
     M = mass_matrix(basis)
@@ -688,6 +687,13 @@ def _straight_and_curved(basis):
             return straight, None
         return straight, Basis(mesh, basis.elem.elem, intorder=2 * basis.elem.elem.maxdeg, elements=curved)
     return _cached(basis, "straight_and_curved", make)
+
+
+def _straight_jacobians(basis) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`affine_jacobians` of the straight elements (built once per vector basis:
+    the stress moments and the mass matrix share them)."""
+    straight, _ = _straight_and_curved(basis)
+    return _cached(basis, "straight_jacobians", lambda: affine_jacobians(basis.mesh, straight))
 
 
 def affine_reference(scalar) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -717,24 +723,19 @@ def affine_jacobians(mesh, elements: np.ndarray) -> tuple[np.ndarray, np.ndarray
     return np.abs(np.linalg.det(J)), np.linalg.inv(J)
 
 
-def _affine_stress_moments(basis, elements: np.ndarray, U2: np.ndarray, material: Material,
-                           values: int = 4_000_000) -> np.ndarray:
-    """(scalar N, 6 k): :func:`_stress_moments` of the straight ``elements``, in closed
+def _affine_stress_moments(basis, U2: np.ndarray, material: Material, values: int = 4_000_000) -> np.ndarray:
+    """(scalar N, 6 k): :func:`_stress_moments` of the straight elements, in closed
     form: on an affine element of degree p <= 2 the stress has degree p - 1 <= 1, so it is
     the interpolant of its values at the four vertices, and its moments are
     |det J| sum_v C[a, v] sigma_v with C from :func:`affine_reference`."""
-    import scipy.sparse as sp
-
-    lam, mu = material.lame
     numbering = scalar_basis(basis)
     grads, _, C = affine_reference(basis.elem.elem)
     vector_of = _vector_dof_map(basis, numbering)
-    sdofs = numbering.element_dofs[:, elements]                    # (nb, n)
+    straight, _ = _straight_and_curved(basis)
+    sdofs = numbering.element_dofs[:, straight]                    # (nb, n)
     nb, n = sdofs.shape
     k = U2.shape[1]
-    det, inverse = affine_jacobians(basis.mesh, elements)
-    ii = np.array([i for i, _ in VOIGT])
-    jj = np.array([j for _, j in VOIGT])
+    det, inverse = _straight_jacobians(basis)
     out = np.empty((n, nb, 6, k))
     chunk = max(1, values // (4 * 9 * k))
     for start in range(0, n, chunk):
@@ -742,12 +743,9 @@ def _affine_stress_moments(basis, elements: np.ndarray, U2: np.ndarray, material
         ue = U2[vector_of[sdofs[:, sl]]]                          # (nb, e, 3, k)
         H = np.einsum("aeik,vam->evimk", ue, grads, optimize=True)            # du_i/dxi_m
         grad = np.einsum("evimk,emj->evijk", H, inverse[sl], optimize=True)   # du_i/dx_j
-        eps = 0.5 * (grad + np.swapaxes(grad, 2, 3))
-        tr = eps[:, :, 0, 0] + eps[:, :, 1, 1] + eps[:, :, 2, 2]
-        sig = 2 * mu * eps[:, :, ii, jj, :] + lam * tr[:, :, None, :] * (ii == jj)[None, None, :, None]
+        sig = _voigt_stress(grad, material)                                   # (e, v, 6, k)
         out[sl] = np.einsum("av,evck->eack", C, sig, optimize=True) * det[sl, None, None, None]
-    scatter = sp.csr_matrix((np.ones(n * nb), (sdofs.T.ravel(), np.arange(n * nb))), shape=(numbering.N, n * nb))
-    return np.asarray(scatter @ out.reshape(n * nb, 6 * k))
+    return _sum_onto_nodes(sdofs, numbering.N, out)
 
 
 def mass_matrix(basis):
@@ -762,12 +760,11 @@ def mass_matrix(basis):
     straight, curved = _straight_and_curved(basis)
     _, reference, _ = affine_reference(basis.elem.elem)
     entries = np.empty((numbering.element_dofs.shape[1], nb, nb))
-    det, _ = affine_jacobians(basis.mesh, straight)
+    det, _ = _straight_jacobians(basis)
     if curved is None:
         np.multiply(det[:, None, None], reference[None], out=entries)
     else:
         entries[straight] = det[:, None, None] * reference[None]
-    if curved is not None:
         phi = np.stack([curved.basis[a][0].value for a in range(nb)])          # (nb, nel, nq)
         entries[np.asarray(curved.tind)] = np.einsum("aeq,beq,eq->eab", phi, phi, curved.dx, optimize=True)
     M = sp.csr_matrix((summing @ entries.reshape(-1), indices, indptr), shape=(numbering.N, numbering.N))
@@ -778,9 +775,6 @@ def mass_matrix(basis):
 def _stress_moments(basis, sb, U2: np.ndarray, material: Material) -> np.ndarray:
     """(scalar N, 6 k): integral of each stress component of each column times each
     scalar shape function, vectorised over elements (in chunks) and columns."""
-    import scipy.sparse as sp
-
-    lam, mu = material.lame
     vector_of = _vector_dof_map(basis, sb)
     sdofs = sb.element_dofs                                        # (nb, nel)
     nb, nel = sdofs.shape
@@ -789,18 +783,34 @@ def _stress_moments(basis, sb, U2: np.ndarray, material: Material) -> np.ndarray
     G = np.stack([sb.basis[a][0].grad for a in range(nb)])         # (nb, 3, nel, nq)
     out = np.empty((nel, nb, 6, k))
     chunk = max(1, 2_000_000 // (nb * phi.shape[2] * k * 9))
-    ii = np.array([i for i, _ in VOIGT])
-    jj = np.array([j for _, j in VOIGT])
     for start in range(0, nel, chunk):
         sl = slice(start, min(start + chunk, nel))
         ue = U2[vector_of[sdofs[:, sl]]]                          # (nb, e, 3, k)
         grad = np.einsum("aeik,ajeq->eqijk", ue, G[:, :, sl, :], optimize=True)   # du_i/dx_j
-        eps = 0.5 * (grad + np.swapaxes(grad, 2, 3))
-        tr = np.einsum("eqiik->eqk", eps)
-        sig = 2 * mu * eps[:, :, ii, jj, :] + lam * tr[:, :, None, :] * (ii == jj)[None, None, :, None]
+        sig = _voigt_stress(grad, material)                                   # (e, q, 6, k)
         out[sl] = np.einsum("aeq,eq,eqck->eack", phi[:, sl, :], sb.dx[sl], sig, optimize=True)
-    scatter = sp.csr_matrix((np.ones(nel * nb), (sdofs.T.ravel(), np.arange(nel * nb))), shape=(sb.N, nel * nb))
-    return np.asarray(scatter @ out.reshape(nel * nb, 6 * k))
+    return _sum_onto_nodes(sdofs, sb.N, out)
+
+
+def _voigt_stress(grad: np.ndarray, material: Material) -> np.ndarray:
+    """(e, p, 6, k) Pa, components in :data:`VOIGT` order: Hooke's law of the displacement
+    gradients ``grad`` (e, p, 3, 3, k), du_i/dx_j at p points of e elements, k columns."""
+    lam, mu = material.lame
+    ii = np.array([i for i, _ in VOIGT])
+    jj = np.array([j for _, j in VOIGT])
+    eps = 0.5 * (grad + np.swapaxes(grad, 2, 3))
+    tr = eps[:, :, 0, 0] + eps[:, :, 1, 1] + eps[:, :, 2, 2]
+    return 2 * mu * eps[:, :, ii, jj, :] + lam * tr[:, :, None, :] * (ii == jj)[None, None, :, None]
+
+
+def _sum_onto_nodes(sdofs: np.ndarray, n: int, values: np.ndarray) -> np.ndarray:
+    """(n, rest): per-element values (e, nb, ...) summed onto the scalar nodes ``sdofs``
+    (nb, e) of each element."""
+    import scipy.sparse as sp
+
+    nb, e = sdofs.shape
+    scatter = sp.csr_matrix((np.ones(e * nb), (sdofs.T.ravel(), np.arange(e * nb))), shape=(n, e * nb))
+    return np.asarray(scatter @ values.reshape(e * nb, -1))
 
 
 def von_mises(s: np.ndarray) -> np.ndarray:
