@@ -19,14 +19,14 @@ def main() -> None:
     parser.add_argument("--repeat", type=int, default=5)
     args = parser.parse_args()
 
-    from railcheck.cycle import evaluate_cycle, source_histories, unit_cases
+    from railcheck.check.cycle import evaluate_cycle, source_histories, unit_cases
+    from railcheck.check.kinematics_stage import run_kinematics
+    from railcheck.check.pipeline import bolt_holes, mesh_sizes, part_geometries
     from railcheck.fea.elasticity import HoleLoad, Support, solve_elasticity
     from railcheck.fea.materials import MATERIALS
     from railcheck.fea.unitcases import solve_unit_cases
     from railcheck.geometry.mesher import mesh_part
-    from railcheck.kinematics_stage import run_kinematics
     from railcheck.parts import kind_of
-    from railcheck.pipeline import bolt_holes, mesh_sizes, part_geometries
     from railcheck.scene import load_scene
 
     scene = load_scene(None)

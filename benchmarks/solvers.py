@@ -20,12 +20,12 @@ def main() -> None:
     parser.add_argument("--amg", action="store_true", help="also time AMG-CG on one right-hand side")
     args = parser.parse_args()
 
+    from railcheck.check.pipeline import mesh_sizes
     from railcheck.fea.elasticity import _components, assemble, supports, unit_traction_vectors
     from railcheck.fea.materials import MATERIALS
     from railcheck.fea.solvers import factorise, rigid_body_modes, solve_amg
     from railcheck.geometry.mesher import mesh_part
     from railcheck.parts import geometry_of, kind_of
-    from railcheck.pipeline import mesh_sizes
     from railcheck.scene import load_scene
 
     geo = geometry_of(args.part, {})

@@ -14,9 +14,9 @@ import os
 import tempfile
 import time
 
-from railcheck.pipeline import Progress
+from railcheck.check.pipeline import Progress
 from railcheck.scene import load_scene
-from railcheck.sweep import run_sweep
+from railcheck.sweep.run import run_sweep
 
 
 def one(label: str, **kw) -> None:

@@ -1,15 +1,10 @@
-"""railcheck: design check for reconfigurable planar linkages built from linear-guide rails."""
+"""railcheck: design check for reconfigurable planar linkages built from linear-guide rails.
+
+The application layer: the part registry (:mod:`railcheck.parts`), scenes
+(:mod:`railcheck.scene`), units, files and errors at the top; ``check/``, ``sweep/``,
+``report/``, ``studies/`` and ``cli/`` below. The domain packages ``railcheck.kinematics``,
+``railcheck.loads``, ``railcheck.geometry`` and ``railcheck.fea`` are installed into this
+namespace from the repository's top-level folders (see pyproject.toml).
+"""
 
 __version__ = "0.1.0"
-
-# The domain packages live at the top of the source tree (fea/, geometry/, loads/,
-# kinematics/) but are installed inside this package (railcheck.fea, ...) so that no
-# global package named "fea" or "geometry" is installed. In a source checkout, not
-# installed, they are found next to this directory:
-import os as _os
-
-_root = _os.path.dirname(_os.path.dirname(_os.path.abspath(__file__)))
-if not _os.path.isdir(_os.path.join(_os.path.dirname(__file__), "fea")) and \
-        _os.path.isdir(_os.path.join(_root, "fea")):
-    __path__.append(_root)
-del _os, _root

@@ -132,7 +132,7 @@ def _alive(pid: int) -> bool:
 def writable_dir(path: str | Path, option: str) -> Path:
     """Create (if needed) and return a directory the run may write into, or raise
     InputError naming ``option``; called before any work starts."""
-    from .errors import InputError
+    from railcheck.errors import InputError
 
     p = Path(path)
     if p.exists() and not p.is_dir():
@@ -149,7 +149,7 @@ def writable_dir(path: str | Path, option: str) -> Path:
 def writable_file(path: str | Path, option: str) -> Path:
     """Check that ``path`` can be written as a file (its directory is created), or raise
     InputError naming ``option``; called before any work starts."""
-    from .errors import InputError
+    from railcheck.errors import InputError
 
     p = Path(path)
     if p.is_dir():

@@ -13,12 +13,11 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
+from railcheck import parts as registry
+from railcheck.errors import InputError
 from railcheck.kinematics.errors import MechanismError
 from railcheck.kinematics.linkage import FourBar, SliderCrank
-
-from . import parts as registry
-from .errors import InputError
-from .units import parse_quantity
+from railcheck.units import parse_quantity
 
 EFFECTS = ("inertia", "gravity", "rail-inertia")
 

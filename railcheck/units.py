@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 import re
 
-from .errors import InputError
+from railcheck.errors import InputError
 
 __all__ = ["parse_quantity", "UNITS", "format_quantity"]
 

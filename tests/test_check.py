@@ -13,9 +13,9 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from railcheck.kinematics_stage import run_kinematics
+from railcheck.check.kinematics_stage import run_kinematics
+from railcheck.check.pipeline import build_load_cases, part_geometries, run_pipeline
 from railcheck.loads.rotation import to_rail_axes
-from railcheck.pipeline import build_load_cases, part_geometries, run_pipeline
 from railcheck.scene import load_scene, parse_scene
 from scene_texts import FINAL_DESIGN, PLATE_LOADS, assert_picture, browse
 
@@ -182,7 +182,7 @@ def test_default_check_end_to_end(tmp_path):
 
 
 def test_rail_mass_is_reported_beside_the_seeds():
-    from railcheck.check import rail_masses
+    from railcheck.check.run import rail_masses
 
     m = rail_masses(load_scene(None))
     assert m["model_section"] == pytest.approx(0.023 * 0.022 * 7850)

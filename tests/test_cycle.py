@@ -9,7 +9,9 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from railcheck.cycle import source_histories, unit_cases
+from railcheck.check.cycle import source_histories, unit_cases
+from railcheck.check.kinematics_stage import run_kinematics
+from railcheck.check.pipeline import bolt_holes
 from railcheck.fea.elasticity import HoleLoad, Support, solve_elasticity, von_mises
 from railcheck.fea.fatigue import endurance_limit, safety_factor
 from railcheck.fea.materials import MATERIALS
@@ -17,9 +19,7 @@ from railcheck.fea.superpose import candidate_steps, envelope, stress_at, von_mi
 from railcheck.fea.unitcases import TractionCase, solve_unit_cases
 from railcheck.geometry.mesher import mesh_part
 from railcheck.geometry.models import bar
-from railcheck.kinematics_stage import run_kinematics
 from railcheck.parts import geometry_of, kind_of
-from railcheck.pipeline import bolt_holes
 from railcheck.scene import parse_scene
 from scene_texts import FINAL_DESIGN
 

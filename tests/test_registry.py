@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from railcheck import parts
-from railcheck.pipeline import run_pipeline
+from railcheck.check.pipeline import run_pipeline
 from railcheck.scene import parse_scene
 from scene_texts import FINAL_DESIGN
 

@@ -7,7 +7,7 @@ from hypothesis import strategies as st
 
 from railcheck.fea.elasticity import von_mises
 from railcheck.fea.fatigue import alternating_and_mean, safety_factor
-from railcheck.sweep_fe import fatigue_min, make_screen, tip_peak, von_mises_peak
+from railcheck.sweep.fe import fatigue_min, make_screen, tip_peak, von_mises_peak
 
 
 def _brute(stress, mask, C, se=200e6, sut=750e6, criterion="goodman"):

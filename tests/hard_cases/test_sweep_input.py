@@ -39,7 +39,7 @@ def test_bad_sweep_input_names_the_field(text, needles):
 
     from railcheck.errors import InputError
     from railcheck.scene import parse_scene
-    from railcheck.sweep import validate
+    from railcheck.sweep.run import validate
 
     with pytest.raises(InputError) as err:
         validate(parse_scene(tomllib.loads(text), "test"))

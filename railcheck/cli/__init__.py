@@ -10,7 +10,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from .errors import EXIT_FAIL, EXIT_INPUT, EXIT_NUMERICAL, EXIT_PASS, InputError
+from railcheck.errors import EXIT_FAIL, EXIT_INPUT, EXIT_NUMERICAL, EXIT_PASS, InputError
 
 
 class _Parser(argparse.ArgumentParser):
@@ -21,9 +21,9 @@ class _Parser(argparse.ArgumentParser):
 
 
 def _cmd_kinematics(args) -> int:
-    from .kinematics_stage import kinematics_summary, run_kinematics
-    from .report import kinematics_table, to_json
-    from .scene import load_scene
+    from railcheck.check.kinematics_stage import kinematics_summary, run_kinematics
+    from railcheck.report.text import kinematics_table, to_json
+    from railcheck.scene import load_scene
 
     scene = load_scene(args.scene)
     if scene.mechanism is None:
@@ -31,7 +31,7 @@ def _cmd_kinematics(args) -> int:
     result = run_kinematics(scene)
     summary = kinematics_summary(scene, result)
     if args.plots:
-        from .plots import write_kinematics_plots
+        from railcheck.report.plots import write_kinematics_plots
         paths = write_kinematics_plots(result, Path(args.plots))
         summary["plots"] = [str(p) for p in paths]
     if args.json:
@@ -54,7 +54,7 @@ OUTPUT_OPTIONS = {"plots": ("--plots", True), "csv": ("--csv", False), "html": (
 
 def _check_output_options(args) -> None:
     """Every output path the command line names is checked before any work starts."""
-    from .files import writable_dir, writable_file
+    from railcheck.files import writable_dir, writable_file
 
     for attr, (option, is_dir) in OUTPUT_OPTIONS.items():
         value = getattr(args, attr, None)
@@ -65,8 +65,8 @@ def _check_output_options(args) -> None:
 def _cmd_init(args) -> int:
     from importlib import resources
 
-    from .files import atomic_write_text, writable_file
-    from .scene import parse_scene
+    from railcheck.files import atomic_write_text, writable_file
+    from railcheck.scene import parse_scene
 
     path = writable_file(args.file, "FILE")
     if path.exists() and not args.force:
@@ -80,10 +80,10 @@ def _cmd_init(args) -> int:
 
 
 def _cmd_check(args) -> int:
-    from .check import run_check
-    from .pipeline import Progress
-    from .report import check_report, to_json
-    from .scene import load_scene
+    from railcheck.check.pipeline import Progress
+    from railcheck.check.run import run_check
+    from railcheck.report.text import check_report, to_json
+    from railcheck.scene import load_scene
 
     if args.jobs is not None and args.jobs < 1:
         raise InputError("--jobs", f"must be at least 1, got {args.jobs}")
@@ -96,10 +96,10 @@ def _cmd_check(args) -> int:
 
 
 def _cmd_sweep(args) -> int:
-    from .pipeline import Progress
-    from .report import sweep_report, to_json
-    from .scene import load_scene
-    from .sweep import run_sweep
+    from railcheck.check.pipeline import Progress
+    from railcheck.report.text import sweep_report, to_json
+    from railcheck.scene import load_scene
+    from railcheck.sweep.run import run_sweep
 
     if args.workers is not None and args.workers < 1:
         raise InputError("--workers", f"must be at least 1, got {args.workers}")
@@ -113,8 +113,8 @@ def _cmd_sweep(args) -> int:
 
 
 def _cmd_bench(args) -> int:
-    from .bench import run_bench
-    from .report import bench_report, to_json
+    from railcheck.report.text import bench_report, to_json
+    from railcheck.studies.bench import run_bench
 
     out = run_bench(args.order, args.size, args.solver)
     print(to_json(out) if args.json else bench_report(out))
@@ -122,8 +122,8 @@ def _cmd_bench(args) -> int:
 
 
 def _cmd_convergence(args) -> int:
-    from .convergence import plot_study, run_convergence
-    from .report import convergence_report, to_json
+    from railcheck.report.text import convergence_report, to_json
+    from railcheck.studies.convergence import plot_study, run_convergence
 
     result = run_convergence(args.target, args.orders, args.sizes,
                              progress=lambda m: print(m, file=sys.stderr, flush=True))
@@ -136,8 +136,8 @@ def _cmd_convergence(args) -> int:
 
 
 def _cmd_mechanism(args) -> int:
-    from .mechanism_cmd import run_mechanism, write_mechanism_outputs
-    from .report import mechanism_report
+    from railcheck.report.text import mechanism_report
+    from railcheck.studies.mechanism import run_mechanism, write_mechanism_outputs
 
     run = run_mechanism(args.name, args.steps)
     print(mechanism_report(run))
@@ -157,9 +157,8 @@ def _version() -> str:
 def _catalogue_epilog() -> str:
     from railcheck.fea.fatigue import CRITERIA, SURFACE
     from railcheck.fea.materials import MATERIALS
-
-    from .parts import PARTS
-    from .scene import EFFECTS
+    from railcheck.parts import PARTS
+    from railcheck.scene import EFFECTS
     return (f"parts: {', '.join(PARTS)}\nmaterials: {', '.join(MATERIALS)}\neffects: {', '.join(EFFECTS)}\n"
             f"fatigue criteria: {', '.join(CRITERIA)}; surfaces: {', '.join(SURFACE)}\n"
             "`railcheck init` writes a commented starter scene.")

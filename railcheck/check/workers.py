@@ -1,7 +1,7 @@
 """The parts of a check, two (or ``jobs``) at a time.
 
 Each part is independent once the loads are known: mesh, unit cases, envelope, fatigue
-(:func:`railcheck.cycle.check_part`). With more than one part and more than one core the
+(:func:`railcheck.check.cycle.check_part`). With more than one part and more than one core the
 largest part (by its estimated element count) is checked in this process while the others
 run in ``jobs - 1`` worker processes (spawned, so no library state is forked); the
 workers' progress lines reach the console through a queue as they happen, and each part's
@@ -68,9 +68,8 @@ def _in_workers(scene, kin, geometries, cases, material, limit, solver, progress
 
 
 def _estimated_elements(scene, geo) -> int:
+    from railcheck.check.pipeline import mesh_sizes
     from railcheck.geometry.mesher import estimate_elements
-
-    from .pipeline import mesh_sizes
     return estimate_elements(geo, *mesh_sizes(scene, geo.kind))
 
 
@@ -96,7 +95,7 @@ def _check_one(scene, kin, name, geo, case, material, limit, solver, label, part
     worker, to the queue."""
     import time
 
-    from .cycle import check_part
+    from railcheck.check.cycle import check_part
 
     say = say or _QUEUE.put
     part = check_part(scene, kin, name, geo, case, material, limit, solver, lambda msg: say(f"{label}: {msg}"))

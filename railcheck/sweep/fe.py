@@ -16,7 +16,7 @@ Exact screening. For a setting with coefficient history ``c(t)`` (steps, k):
   of the node's, and only nodes whose bound is below the best exact factor so far (a
   few nodes of largest stress first) are evaluated exactly.
 
-The results equal evaluating every verdict node (:func:`railcheck.cycle.evaluate_cycle`)
+The results equal evaluating every verdict node (:func:`railcheck.check.cycle.evaluate_cycle`)
 to rounding. All arrays SI (Pa, m); vectorised over settings, steps and nodes, in chunks
 bounded by :data:`CHUNK_VALUES`.
 """

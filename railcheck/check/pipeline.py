@@ -17,14 +17,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .errors import InputError
-from .kinematics_stage import KinematicsResult, kinematics_summary, run_kinematics
-from .scene import Scene
+from railcheck.check.kinematics_stage import KinematicsResult, kinematics_summary, run_kinematics
+from railcheck.errors import InputError
+from railcheck.scene import Scene
 
 
 def mesh_sizes(scene, kind: str) -> tuple[float, float]:
     """(size, hole size) in m for a part kind: the scene's [mesh], else the registry's default."""
-    from .parts import KINDS
+    from railcheck.parts import KINDS
     if scene.mesh.size is None:
         return KINDS[kind].mesh
     return scene.mesh.size, scene.mesh.hole_size or 0.3 * scene.mesh.size
@@ -48,7 +48,7 @@ class Progress:
 @dataclass
 class PartResult:
     """One part's check. ``solution``: the field at the governing instant (for the VTU
-    and the picture); ``cycle``: :class:`railcheck.cycle.CycleResult` (envelope, seed
+    and the picture); ``cycle``: :class:`railcheck.check.cycle.CycleResult` (envelope, seed
     method, fatigue); ``limit`` Pa."""
 
     name: str
@@ -127,7 +127,7 @@ def needs_linkage(scene: Scene) -> bool:
 
 def part_geometries(scene: Scene) -> dict:
     """PartGeometry for each part the scene checks (light: no gmsh import)."""
-    from .parts import geometry_of
+    from railcheck.parts import geometry_of
     return {name: geometry_of(name, scene.geometry) for name in scene.check.parts}
 
 
@@ -135,8 +135,7 @@ def bolt_holes(scene: Scene, name: str, geo) -> list[str]:
     """The bolt-hole groups a part's joint uses: on a rail the pair chosen by the bar
     length and ``check.bolt_position``; on a plate every hole."""
     from railcheck.loads.cases import rail_bolt_holes
-
-    from .parts import PARTS, kind_of
+    from railcheck.parts import PARTS, kind_of
     if not kind_of(name).bolts_on_rail:
         return kind_of(name).bolts(geo)
     xs = list(geo.get("hole_x"))
@@ -154,8 +153,7 @@ def build_load_cases(scene: Scene, kin: KinematicsResult | None, geometries: dic
     """The seed method's load case of every checked part: the factored reaction at the
     instant its magnitude peaks, over the joint with the largest peak (loads stage)."""
     from railcheck.loads.cases import explicit_load_case, reaction_load_case
-
-    from .parts import BAR_INDEX, PARTS, kind_of
+    from railcheck.parts import BAR_INDEX, PARTS, kind_of
     cases = {}
     for name in scene.check.parts:
         kind, holes = kind_of(name), bolt_holes(scene, name, geometries[name])
@@ -195,7 +193,7 @@ def run_pipeline(scene: Scene, progress: Progress | None = None, solver: str = "
     if result.kinematics is not None:
         result.checks = dict(result.kinematics.checks)
     elif scene.mechanism is not None:        # closed-form geometry only: the linkage is not run
-        from .kinematics_stage import all_checks
+        from railcheck.check.kinematics_stage import all_checks
         result.checks = all_checks(scene)
     if scene.check is None:
         _mark(result, "report")
@@ -214,7 +212,7 @@ def run_pipeline(scene: Scene, progress: Progress | None = None, solver: str = "
     progress.say("loads", f"{len(cases)} load cases, factor {scene.check.factor:g}, bolts {scene.check.bolt_position}")
     _refuse_huge(scene, geometries)
 
-    from .partjobs import check_parts
+    from railcheck.check.workers import check_parts
 
     _mark(result, "geometry")
     parts = check_parts(scene, result.kinematics, geometries, cases, material, limit, solver, progress, jobs,
@@ -233,7 +231,7 @@ def _refuse_huge(scene: Scene, geometries: dict) -> None:
     """Refuse, before meshing, a mesh size too coarse for a part (more than twice its
     section's smaller side: the stress would be meaningless) and a mesh this machine's
     memory cannot hold (DOFs estimated from the volume and the size field)."""
-    from .parts import kind_of
+    from railcheck.parts import kind_of
 
     if scene.mesh.size is not None:
         for name, geo in geometries.items():

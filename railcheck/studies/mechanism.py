@@ -16,8 +16,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import InputError
-from .files import atomic_path, atomic_write_text
+from railcheck.errors import InputError
+from railcheck.files import atomic_path, atomic_write_text
 
 
 def _solve(name: str, steps: int):

@@ -18,8 +18,8 @@ import time
 
 import numpy as np
 
-from .errors import InputError
-from .parts import PARTS, kind_of
+from railcheck.errors import InputError
+from railcheck.parts import PARTS, kind_of
 
 DEFAULT_SIZES_MM = {"cantilever": [20.0, 14.0, 10.0, 7.0, 5.0], "rail": [20.0, 14.0, 10.0, 7.0],
                     "plate": [12.0, 8.5, 6.0, 4.2]}
@@ -83,9 +83,9 @@ def _solve_row(target: str, element: str, size: float) -> dict:
     else:
         from dataclasses import replace
 
-        from .kinematics_stage import run_kinematics
-        from .pipeline import build_load_cases, part_geometries
-        from .scene import load_scene
+        from railcheck.check.kinematics_stage import run_kinematics
+        from railcheck.check.pipeline import build_load_cases, part_geometries
+        from railcheck.scene import load_scene
 
         scene = load_scene(None)
         scene = replace(scene, check=replace(scene.check, parts=(target,)))
@@ -152,11 +152,10 @@ def add_errors(rows: list[dict], target: str) -> dict:
 
 def _refuse_beyond_memory(target: str, elements: list[str], sizes_mm: list[float]) -> None:
     """Every row's mesh is estimated before any is built (as `railcheck check` does)."""
+    from railcheck.check.pipeline import refuse_beyond_memory
     from railcheck.fea.cantilever import HEIGHT, LENGTH, WIDTH
     from railcheck.geometry.models import bar
-
-    from .parts import geometry_of
-    from .pipeline import refuse_beyond_memory
+    from railcheck.parts import geometry_of
 
     geo = bar(LENGTH, WIDTH, HEIGHT) if target == "cantilever" else geometry_of(target, {})
     hole = 1.0 if target == "cantilever" else HOLE_RATIO
@@ -191,8 +190,7 @@ def kinematics_study(steps_list: list[int], reference_steps: int = 200_000) -> t
     and the median time of a full cycle, for the default scene."""
     from railcheck.kinematics.dynamics import inverse_dynamics
     from railcheck.kinematics.motion import solve_motion
-
-    from .scene import load_scene
+    from railcheck.scene import load_scene
 
     scene = load_scene(None)
     lk, speed = scene.mechanism.linkage, scene.mechanism.speed
@@ -234,7 +232,7 @@ def plot_study(rows: list[dict], target: str, path: str) -> None:
     import matplotlib.pyplot as plt
     import matplotlib.ticker
 
-    from .files import atomic_path
+    from railcheck.files import atomic_path
 
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.5))
     for ax, key, title in ((axes[0], "error_deflection", "tip deflection"), (axes[1], "error_von_mises",

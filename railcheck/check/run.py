@@ -18,12 +18,11 @@ from pathlib import Path
 
 import numpy as np
 
+from railcheck.check.pipeline import PipelineResult, Progress, mesh_sizes, run_pipeline
+from railcheck.errors import EXIT_FAIL, EXIT_PASS, InputError
 from railcheck.fea.elasticity import von_mises
-
-from .errors import EXIT_FAIL, EXIT_PASS, InputError
-from .files import Staging, atomic_path, atomic_write_text, reserve_results_dir
-from .pipeline import PipelineResult, Progress, mesh_sizes, run_pipeline
-from .report import to_json
+from railcheck.files import Staging, atomic_path, atomic_write_text, reserve_results_dir
+from railcheck.report.text import to_json
 
 
 def summary_of(result: PipelineResult) -> dict:
@@ -119,7 +118,7 @@ def run_check(scene, out: str | None = None, force: bool = False, progress: Prog
               jobs: int | None = None) -> CheckRun:
     """Reserve the results directory, run the pipeline, write every output into a staging
     directory and rename it into place (see :mod:`railcheck.files`). ``jobs``: parts
-    checked at once (:mod:`railcheck.partjobs`)."""
+    checked at once (:mod:`railcheck.check.workers`)."""
     requested = Path(out or scene.output.dir)
     try:
         target, replaces = reserve_results_dir(requested, force)
@@ -146,7 +145,7 @@ def write_outputs(scene, result: PipelineResult, summary: dict, directory: Path)
     atomic_write_text(directory / "summary.json", to_json(summary) + "\n")
     atomic_write_text(directory / "timings.json", to_json(result.timings) + "\n")
     if result.kinematics is not None and scene.output.plots:
-        from .plots import write_kinematics_plots
+        from railcheck.report.plots import write_kinematics_plots
         write_kinematics_plots(result.kinematics, directory)
     if scene.output.vtk and result.parts:
         from railcheck.fea.vtk import pvd_text
@@ -155,7 +154,7 @@ def write_outputs(scene, result: PipelineResult, summary: dict, directory: Path)
         if not (directory / f"{name}.written").exists():      # not already written as the part finished
             write_part_files(scene, name, p, directory)
         (directory / f"{name}.written").unlink(missing_ok=True)
-    from .html_report import write_report
+    from railcheck.report.html import write_report
     with atomic_path(directory / "report.html") as tmp:
         write_report(tmp, scene, result, summary, directory)
 
@@ -163,14 +162,14 @@ def write_outputs(scene, result: PipelineResult, summary: dict, directory: Path)
 def write_part_files(scene, name: str, p, directory: Path) -> None:
     """One part's files, as the scene's [output] asks: its VTU, its cycle plot and its
     picture; then a ``NAME.written`` marker (removed by :func:`write_outputs`). Called as
-    each part finishes, in the worker that checked it (:mod:`railcheck.partjobs`)."""
+    each part finishes, in the worker that checked it (:mod:`railcheck.check.workers`)."""
     if scene.output.vtk:
         write_part_vtu(directory / f"{name}.vtu", p)
     if scene.output.plots and p.cycle.C.shape[0] > 1:
-        from .plots import write_cycle_plot
+        from railcheck.report.plots import write_cycle_plot
         write_cycle_plot(name, p, directory / f"{name}-cycle.png")
     if scene.output.png:
-        from .render import render_part
+        from railcheck.report.render import render_part
         render_part(directory / f"{name}.png", name, p)
     (directory / f"{name}.written").touch()
 

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .parts import BAR_INDEX, PARTS
+from railcheck.parts import BAR_INDEX, PARTS
 
 REVOLVE_MARGIN = 1e-7          # rad: closer to a toggle is singular (kinematics.motion)
 
@@ -48,9 +48,8 @@ class SweepContext:
 
 def configuration_flags(ctx: SweepContext, lengths: dict) -> dict:
     """check name -> (S,) pass flags, plus ``mu_min``/``mu_max`` (rad)."""
+    from railcheck.check.kinematics_stage import joints_on_rails_flags
     from railcheck.kinematics.checks import fourbar_checks_batch, slidercrank_checks_batch
-
-    from .kinematics_stage import joints_on_rails_flags
 
     if ctx.kind == "four-bar":
         flags = fourbar_checks_batch(lengths["crank"], lengths["coupler"], lengths["rocker"], lengths["ground"])
@@ -164,7 +163,7 @@ def coefficients(ctx: SweepContext, name: str, loads: Loads, sel: np.ndarray) ->
     """Per load source of part ``name``: (C_g or None, C_i) (S_sel, T, k) for the settings
     ``sel``: the constant part (gravity at rest) and the inertial part at the first speed
     (the total there minus the constant part)."""
-    from .cycle import source_coefficients
+    from railcheck.check.cycle import source_coefficients
 
     def coeffs(src, reactions: dict, motion):
         by_bar = lambda a: {bar: a[i][sel] for bar, i in BAR_INDEX.items()}  # noqa: E731
@@ -186,7 +185,7 @@ def coefficients(ctx: SweepContext, name: str, loads: Loads, sel: np.ndarray) ->
 def evaluate_part(model, history: list[tuple], bar_lengths: np.ndarray | None, s) -> tuple[np.ndarray, ...]:
     """(von Mises peak Pa, fatigue factor, tip m) of one part for every setting of the
     history at speed ratio squared ``s`` (scalar or (S,)), each (S,)."""
-    from .sweep_fe import fatigue_min, hull_steps, tip_peak, von_mises_peak
+    from railcheck.sweep.fe import fatigue_min, hull_steps, tip_peak, von_mises_peak
 
     n_set = history[0][1].shape[0]
     s = np.broadcast_to(np.asarray(s, float), (n_set,))

@@ -12,14 +12,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from railcheck.errors import InputError
 from railcheck.kinematics.checks import CheckResult, configuration_checks, transmission_extremes
 from railcheck.kinematics.dynamics import STANDARD_GRAVITY, Dynamics, inverse_dynamics
 from railcheck.kinematics.errors import MechanismError
 from railcheck.kinematics.linkage import FourBar
 from railcheck.kinematics.motion import Motion, solve_motion
-
-from .errors import InputError
-from .scene import Scene
+from railcheck.scene import Scene
 
 
 @dataclass(frozen=True)
@@ -74,7 +73,7 @@ def all_checks(scene: Scene) -> dict[str, CheckResult]:
 def joint_reach(rail, bar: str) -> tuple[float, float]:
     """(shortest, longest) length in m a bar can be set to on its rail: one hole pitch,
     and the distance from the pivot's hole (hole 0) to the last hole."""
-    from .parts import rail_length
+    from railcheck.parts import rail_length
 
     holes = rail.hole_positions(rail_length(bar))
     return rail.hole_pitch, (holes[-1] - holes[0] if len(holes) > 1 else 0.0)
@@ -95,8 +94,7 @@ def joints_on_rails(scene: Scene) -> dict[str, CheckResult]:
     (the rail starts at the bar's pivot hole, hole 0): not beyond the last hole, and at
     least one hole pitch from the pivot. Independent of check.bolt_position."""
     from railcheck.geometry.catalogue import with_overrides
-
-    from .parts import rail_length
+    from railcheck.parts import rail_length
 
     rail = with_overrides(scene.geometry)[0]
     lengths = scene.mechanism.linkage.lengths

@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .parts import BAR_INDEX, PARTS, kind_of
+from railcheck.parts import BAR_INDEX, PARTS, kind_of
 
 GRAVITY = 9.80665   # m/s^2
 PIVOT_JOINT = {"crank": "O2", "coupler": "A", "rocker": "O4"}
@@ -120,10 +120,9 @@ def source_histories(scene, kin, name: str, holes: list[str], density: float) ->
 
 def check_part(scene, kin, name: str, geo, case, material, limit: float, solver: str, report):
     """Mesh, unit cases, envelope, seed method and fatigue of one part -> PartResult."""
+    from railcheck.check.pipeline import PartResult, bolt_holes, mesh_sizes
     from railcheck.fea.unitcases import solve_unit_cases
     from railcheck.geometry.mesher import mesh_part
-
-    from .pipeline import PartResult, bolt_holes, mesh_sizes
 
     kind = kind_of(name)
     seconds, warnings = {}, []

@@ -88,7 +88,7 @@ def _factor(x: float) -> str:
 def check_report(run) -> str:
     """The console report of a finished check: kinematics, the FE table, warnings, the
     stages run and one verdict line naming every reason for a FAIL."""
-    from .pipeline import mesh_sizes
+    from railcheck.check.pipeline import mesh_sizes
 
     result, summary, scene = run.result, run.summary, run.result.scene
     lines = [f"scene: {scene.source}"]

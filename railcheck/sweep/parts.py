@@ -1,10 +1,10 @@
 """Each checked part of a sweep, prepared once: its mesh, one factorisation, the unit
 cases of every bolt-hole pair its joint can use, and the screens
-(:mod:`railcheck.sweep_fe`) that give any setting's cycle peak, fatigue factor and tip
+(:mod:`railcheck.sweep.fe`) that give any setting's cycle peak, fatigue factor and tip
 deflection by superposition.
 
 The unit cases and their column order are those of ``railcheck check``
-(:func:`railcheck.cycle.unit_cases`), so a setting's result equals a check of that setting
+(:func:`railcheck.check.cycle.unit_cases`), so a setting's result equals a check of that setting
 with ``bolt_position = "actual"`` and the same mesh.
 """
 
@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .parts import PARTS, kind_of
+from railcheck.parts import PARTS, kind_of
 
 
 @dataclass(frozen=True)
@@ -89,14 +89,13 @@ def hole_groups(scene, name: str, geo, lengths: np.ndarray) -> tuple[dict, dict]
 def build_part_model(scene, name: str, lengths: np.ndarray, material, limit: float, report) -> PartModel:
     """Mesh, factorise and solve the unit cases of every hole pair of one part; screen
     them (``lengths``: the bar lengths, m, the sweep's settings give this part's bar)."""
+    from railcheck.check.cycle import source_histories, unit_cases
+    from railcheck.check.pipeline import mesh_sizes
     from railcheck.fea.fatigue import endurance_limit
     from railcheck.fea.unitcases import solve_unit_cases
     from railcheck.geometry.mesher import mesh_part
-
-    from .cycle import source_histories, unit_cases
-    from .parts import geometry_of
-    from .pipeline import mesh_sizes
-    from .sweep_fe import fatigue_min, make_screen, tip_peak, von_mises_peak
+    from railcheck.parts import geometry_of
+    from railcheck.sweep.fe import fatigue_min, make_screen, tip_peak, von_mises_peak
 
     kind = kind_of(name)
     geo = geometry_of(name, scene.geometry)

@@ -8,8 +8,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .files import atomic_path
-from .kinematics_stage import KinematicsResult
+from railcheck.check.kinematics_stage import KinematicsResult
+from railcheck.files import atomic_path
 
 
 def _figure():

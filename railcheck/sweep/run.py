@@ -1,5 +1,5 @@
 """`railcheck sweep`: every setting of the reconfigurable rig, its checks, verdict, safe
-speed, motor and bearings (:mod:`railcheck.sweep_chunk` computes a chunk of settings).
+speed, motor and bearings (:mod:`railcheck.sweep.chunk` computes a chunk of settings).
 
 The settings are chunked so that a chunk's working arrays fit ``[sweep] memory``; the
 chunks run serially or on Dask (a local cluster, or ``--scheduler`` an existing one), and
@@ -18,8 +18,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import EXIT_FAIL, EXIT_PASS, InputError
-from .files import Staging, reserve_results_dir
+from railcheck.errors import EXIT_FAIL, EXIT_PASS, InputError
+from railcheck.files import Staging, reserve_results_dir
 
 #: bytes of working memory per setting and crank step of a chunk (kinematics, reactions
 #: at two speeds, FE coefficient histories; measured with tracemalloc, rounded up)
@@ -47,7 +47,7 @@ class SweepRun:
 def sweep_settings(scene) -> dict[str, dict[str, np.ndarray]]:
     """kind -> bar -> (N,) lengths (m): the rig's grid narrowed by [sweep], then its extra
     settings."""
-    from .grid import narrowed, rig_grid, settings
+    from railcheck.sweep.grid import narrowed, rig_grid, settings
 
     grid = rig_grid(scene.geometry)
     return {kind: settings(kind, narrowed(grid[kind], scene.sweep.ranges), scene.sweep.settings.get(kind))
@@ -69,10 +69,9 @@ def prepare_models(scene, by_kind: dict, progress) -> dict[str, dict]:
     """kind -> part -> PartModel: each checked part meshed, factorised and solved once."""
     if scene.check is None:
         return {kind: {} for kind in by_kind}
+    from railcheck.check.pipeline import _refuse_huge, part_geometries
     from railcheck.fea.materials import MATERIALS
-
-    from .pipeline import _refuse_huge, part_geometries
-    from .sweep_parts import applicable, build_part_model
+    from railcheck.sweep.parts import applicable, build_part_model
 
     material = MATERIALS[scene.check.material]
     limit = scene.check.limit or material.fatigue_limit
@@ -80,7 +79,7 @@ def prepare_models(scene, by_kind: dict, progress) -> dict[str, dict]:
     models = {}
     names = [n for n in scene.check.parts if any(applicable(scene, n, k) for k in by_kind)]
     for i, name in enumerate(names, 1):
-        from .parts import PARTS
+        from railcheck.parts import PARTS
         bar = PARTS[name].bar
         lengths = np.concatenate([s[bar] for s in by_kind.values() if bar in s]) if bar else np.zeros(0)
         t = time.perf_counter()
@@ -97,7 +96,7 @@ def run_sweep(scene, out: str | None = None, force: bool = False, scheduler: str
     """Run the sweep the scene asks for and write its results directory. Dask runs the
     chunks when ``scheduler`` is given or the sweep is large (``dask`` True/False forces
     it either way; ``serial`` is ``dask=False``)."""
-    from .pipeline import Progress
+    from railcheck.check.pipeline import Progress
 
     validate(scene)
     progress = progress or Progress(quiet=True)
@@ -123,7 +122,7 @@ def _default_dir(scene) -> str:
 
 
 def _run_into(scene, directory: Path, scheduler, workers, serial, progress, dask) -> tuple[dict, dict, dict]:
-    from .sweep_report import Aggregate, summary_of, write_maps
+    from railcheck.sweep.maps import Aggregate, summary_of, write_maps
 
     clock = [time.perf_counter()]
     by_kind = sweep_settings(scene)
@@ -146,8 +145,8 @@ def _run_into(scene, directory: Path, scheduler, workers, serial, progress, dask
             tables[kind] = path
     clock.append(time.perf_counter())
     summary = summary_of(scene, aggregates, tables, models)
-    from .files import atomic_write_text
-    from .report import to_json
+    from railcheck.files import atomic_write_text
+    from railcheck.report.text import to_json
 
     atomic_write_text(directory / "summary.json", to_json(summary) + "\n")
     write_maps(aggregates, directory)
@@ -160,8 +159,7 @@ def _run_into(scene, directory: Path, scheduler, workers, serial, progress, dask
 def _context(scene, kind: str, models: dict):
     from railcheck.fea.materials import MATERIALS
     from railcheck.geometry.catalogue import with_overrides
-
-    from .sweep_chunk import SweepContext
+    from railcheck.sweep.chunk import SweepContext
 
     density = MATERIALS[scene.check.material].density if scene.check else 0.0
     return SweepContext(scene, kind, tuple(scene.sweep.speeds), scene.sweep.steps, models, density,
@@ -211,7 +209,7 @@ class _Executor:
 
     def map_chunks(self, ctx, lengths: dict, size: int):
         """Yield each chunk's columns in order, with a progress line every few seconds."""
-        from .sweep_chunk import evaluate_chunk
+        from railcheck.sweep.chunk import evaluate_chunk
 
         total = lengths["crank"].size
         starts = list(range(0, total, size))
@@ -226,7 +224,7 @@ class _Executor:
         yield from self._dask_chunks(ctx, starts, chunk, size, total, meter)
 
     def _dask_chunks(self, ctx, starts, chunk, size, total, meter):
-        from .sweep_chunk import evaluate_chunk
+        from railcheck.sweep.chunk import evaluate_chunk
 
         remote_ctx = self.client.scatter(ctx, broadcast=True)
         window = 2 * max(1, len(self.client.scheduler_info()["workers"]))
