@@ -1,20 +1,12 @@
-"""Errors raised by the FE package."""
+"""Errors raised by the FE package (derived from :mod:`railcheck.errors`)."""
 
 from __future__ import annotations
 
+from railcheck.errors import InputError, NumericalError
 
-class NumericalError(RuntimeError):
-    """A numerical failure: a solve that did not converge, a singular system (exit 3)."""
+__all__ = ["ModelError", "NumericalError"]
 
 
-class ModelError(ValueError):
+class ModelError(InputError):
     """A model that cannot be solved as stated: a load on a group the mesh lacks, no
     support, a degenerate mesh (exit 2)."""
-
-    def __init__(self, field: str, message: str):
-        self.field = field
-        self.message = message
-        super().__init__(f"{field}: {message}" if field else message)
-
-    def __reduce__(self):      # raised in a worker process, re-raised in the caller
-        return type(self), (self.field, self.message)

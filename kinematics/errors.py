@@ -1,4 +1,4 @@
-"""Errors raised by the kinematics package.
+"""Errors raised by the kinematics package (derived from :mod:`railcheck.errors`).
 
 Each carries ``field``, the scene field it is about (e.g. ``mechanism.ground``), so the
 application can print one line naming it.
@@ -6,14 +6,13 @@ application can print one line naming it.
 
 from __future__ import annotations
 
+from railcheck.errors import InputError
 
-class MechanismError(ValueError):
+__all__ = ["MechanismError", "SingularConfigurationError"]
+
+
+class MechanismError(InputError):
     """The mechanism cannot be built or cannot run the requested motion (exit status 2)."""
-
-    def __init__(self, field: str, message: str):
-        self.field = field
-        self.message = message
-        super().__init__(f"{field}: {message}" if field else message)
 
 
 class SingularConfigurationError(MechanismError):

@@ -15,7 +15,6 @@ from typing import Any
 
 from railcheck import parts as registry
 from railcheck.errors import InputError
-from railcheck.kinematics.errors import MechanismError
 from railcheck.kinematics.linkage import FourBar, SliderCrank
 from railcheck.units import parse_quantity
 
@@ -192,18 +191,15 @@ def _mechanism(table: dict) -> MechanismSpec:
     if steps > 10_000_000:
         raise InputError(p + "steps", f"{steps} steps is more than this tool runs (10 000 000 at most)")
     assembly = _string_choice(table.get("assembly", "open"), ("open", "crossed"), p + "assembly")
-    try:
-        if kind == "four-bar":
-            linkage = FourBar(length("crank"), length("coupler"), length("rocker"), length("ground"), assembly)
-        else:
-            if "rocker" in table:
-                raise InputError(p + "rocker", "a slider-crank has no rocker (remove the key)")
-            offset = parse_quantity(table.get("ground", "0 mm"), "length", p + "ground")
-            if offset != 0:
-                _in_range(offset, "length", p + "ground", magnitude=True)
-            linkage = SliderCrank(length("crank"), length("coupler"), offset, assembly)
-    except MechanismError as exc:
-        raise InputError(exc.field, exc.message) from None
+    if kind == "four-bar":
+        linkage = FourBar(length("crank"), length("coupler"), length("rocker"), length("ground"), assembly)
+    else:
+        if "rocker" in table:
+            raise InputError(p + "rocker", "a slider-crank has no rocker (remove the key)")
+        offset = parse_quantity(table.get("ground", "0 mm"), "length", p + "ground")
+        if offset != 0:
+            _in_range(offset, "length", p + "ground", magnitude=True)
+        linkage = SliderCrank(length("crank"), length("coupler"), offset, assembly)
     return MechanismSpec(linkage, speed, steps)
 
 

@@ -15,7 +15,6 @@ import numpy as np
 from railcheck.errors import InputError
 from railcheck.kinematics.checks import CheckResult, configuration_checks, transmission_extremes
 from railcheck.kinematics.dynamics import STANDARD_GRAVITY, Dynamics, inverse_dynamics
-from railcheck.kinematics.errors import MechanismError
 from railcheck.kinematics.linkage import FourBar
 from railcheck.kinematics.motion import Motion, solve_motion
 from railcheck.scene import Scene
@@ -53,13 +52,10 @@ def run_kinematics(scene: Scene) -> KinematicsResult:
     if spec is None:
         raise InputError("mechanism", "missing: this run needs the linkage")
     effects = effects_for(scene)
-    try:
-        motion = solve_motion(spec.linkage, spec.speed, spec.steps)
-        dyn_motion = motion if "inertia" in effects else solve_motion(spec.linkage, 0.0, spec.steps)
-        gravity = STANDARD_GRAVITY if "gravity" in effects else 0.0
-        dynamics = inverse_dynamics(dyn_motion, scene.formulation, gravity=gravity)
-    except MechanismError as exc:
-        raise InputError(exc.field, exc.message) from None
+    motion = solve_motion(spec.linkage, spec.speed, spec.steps)
+    dyn_motion = motion if "inertia" in effects else solve_motion(spec.linkage, 0.0, spec.steps)
+    gravity = STANDARD_GRAVITY if "gravity" in effects else 0.0
+    dynamics = inverse_dynamics(dyn_motion, scene.formulation, gravity=gravity)
     mu_min, mu_max = transmission_extremes(spec.linkage)
     return KinematicsResult(motion, dynamics, all_checks(scene), effects,
                             (math.degrees(mu_min), math.degrees(mu_max)))

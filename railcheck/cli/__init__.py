@@ -10,7 +10,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from railcheck.errors import EXIT_FAIL, EXIT_INPUT, EXIT_NUMERICAL, EXIT_PASS, InputError
+from railcheck.errors import EXIT_FAIL, EXIT_INPUT, EXIT_PASS, InputError, RailcheckError
 
 
 class _Parser(argparse.ArgumentParser):
@@ -250,9 +250,8 @@ class _Terminated(KeyboardInterrupt):
 
 
 def main(argv: list[str] | None = None) -> int:
+    """Run one command; every error becomes one line on stderr and an exit status."""
     import signal
-
-    from railcheck.kinematics.errors import MechanismError
 
     parser = build_parser()
     if not (sys.argv[1:] if argv is None else argv):
@@ -263,37 +262,28 @@ def main(argv: list[str] | None = None) -> int:
     try:
         _check_output_options(args)
         return int(args.func(args))
-    except BrokenPipeError:                  # `railcheck ... | head`: end quietly
+    except (RailcheckError, OSError, KeyboardInterrupt) as exc:
+        return _report_error(exc)
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
+def _report_error(exc: BaseException) -> int:
+    """One line on stderr for an error that ends a run, and its exit status."""
+    if isinstance(exc, BrokenPipeError):     # `railcheck ... | head`: end quietly
         import os
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return EXIT_PASS
-    except _Terminated:
-        print("railcheck: terminated", file=sys.stderr)
-        return 143
-    except OSError as exc:                   # a full disk, a vanished directory: nothing half-written
+    if isinstance(exc, RailcheckError):
+        print(f"railcheck: {exc.label}: {exc}", file=sys.stderr)
+        return exc.exit_status
+    if isinstance(exc, OSError):             # a full disk, a vanished directory: nothing half-written
         print(f"railcheck: error: cannot write {exc.filename or 'the results'}: {exc.strerror or exc}",
               file=sys.stderr)
         return EXIT_INPUT
-    except InputError as exc:
-        print(f"railcheck: error: {exc}", file=sys.stderr)
-        return EXIT_INPUT
-    except MechanismError as exc:
-        print(f"railcheck: error: {exc}", file=sys.stderr)
-        return EXIT_INPUT
-    except KeyboardInterrupt:
-        print("railcheck: interrupted", file=sys.stderr)
-        return 130
-    except Exception as exc:  # model and numerical failures from the FE stage
-        from railcheck.fea.errors import ModelError, NumericalError
-        if isinstance(exc, ModelError):
-            print(f"railcheck: error: {exc}", file=sys.stderr)
-            return EXIT_INPUT
-        if isinstance(exc, NumericalError):
-            print(f"railcheck: numerical failure: {exc}", file=sys.stderr)
-            return EXIT_NUMERICAL
-        raise
-    finally:
-        signal.signal(signal.SIGTERM, previous)
+    terminated = isinstance(exc, _Terminated)
+    print(f"railcheck: {'terminated' if terminated else 'interrupted'}", file=sys.stderr)
+    return 143 if terminated else 130
 
 
 if __name__ == "__main__":
