@@ -42,15 +42,14 @@ def railcheck_solve(problem: str, size: float, solver: str = "direct") -> dict:
     from railcheck.fea.elasticity import (
         HoleLoad,
         Support,
-        _vector_dof_map,
         assemble,
         group_nodes,
         load_vector,
-        scalar_basis,
         solve_elasticity,
         von_mises,
     )
     from railcheck.fea.materials import MATERIALS
+    from railcheck.fea.mesh import scalar_basis, vector_dof_map
     from railcheck.geometry.mesher import mesh_part
 
     if problem == "cantilever":
@@ -80,7 +79,7 @@ def railcheck_solve(problem: str, size: float, solver: str = "direct") -> dict:
     # what only this comparison needs, from the FE API: consistent nodal forces and the fixed nodes
     K, basis = assemble(mesh.points, mesh.tets, MATERIALS["steel"], 2)
     f = load_vector(basis, mesh.groups, loads)
-    nodal_forces = f[_vector_dof_map(basis, scalar_basis(basis))]
+    nodal_forces = f[vector_dof_map(basis, scalar_basis(basis))]
     fixed = group_nodes(basis, mesh.groups, [s.group for s in supports])
     tip_tris = mesh.groups[tip]
     return {"seconds": seconds, "peak_memory": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024,

@@ -21,7 +21,7 @@ def main() -> None:
     args = parser.parse_args()
 
     from railcheck.check.pipeline import mesh_sizes
-    from railcheck.fea.elasticity import _components, assemble, supports, unit_traction_vectors
+    from railcheck.fea.elasticity import assemble, dof_components, supports, unit_traction_vectors
     from railcheck.fea.materials import MATERIALS
     from railcheck.fea.solvers import factorise, rigid_body_modes, solve_amg
     from railcheck.geometry.mesher import mesh_part
@@ -68,7 +68,7 @@ def main() -> None:
     print(f"  the factor's two triangular passes alone: one RHS {bare_one:.3f} s, 32 RHS {bare_32:.3f} s "
           f"= {bare_32 / bare_one:.1f} x one")
     if args.amg:
-        B = rigid_body_modes(basis.doflocs[:, free], _components(basis)[free])
+        B = rigid_body_modes(basis.doflocs[:, free], dof_components(basis)[free])
         t = time.perf_counter()
         _, info = solve_amg(Kc, F32[:, 0], B)
         print(f"  AMG-CG one RHS: {time.perf_counter() - t:.2f} s, {info['iterations']} iterations")

@@ -18,42 +18,15 @@ on the number of threads.
 from __future__ import annotations
 
 import ctypes
-import functools
 import os
 
 import numpy as np
 import scipy.sparse as sp
 
+from .mkl import MatrixDescr
+from .mkl import sparse_blas as _mkl
+
 _GENERAL, _NON_TRANSPOSE, _ROW_MAJOR, _ZERO_BASED = 20, 10, 101, 0     # MKL's sparse enums
-
-
-class _Descr(ctypes.Structure):
-    """MKL's ``struct matrix_descr`` (type, fill mode, diagonal), passed by value."""
-    _fields_ = [("type", ctypes.c_int), ("mode", ctypes.c_int), ("diag", ctypes.c_int)]
-
-
-@functools.cache
-def _mkl():
-    """MKL's runtime library with the sparse BLAS prototypes set (LP64: 32-bit
-    indices), or None where it does not load."""
-    from .solvers import pardiso_available
-    if not pardiso_available():
-        return None
-    try:
-        lib = ctypes.CDLL(os.environ["PYPARDISO_MKL_RT"]) if "PYPARDISO_MKL_RT" in os.environ else None
-        if lib is None:
-            from pypardiso.pardiso_wrapper import PyPardisoSolver
-            lib = PyPardisoSolver().libmkl
-        ptr, i32, i64, dbl = ctypes.c_void_p, ctypes.c_int32, ctypes.c_int64, ctypes.c_double
-        lib.mkl_sparse_d_create_csr.argtypes = [ctypes.POINTER(ptr), ctypes.c_int, i32, i32, ptr, ptr, ptr, ptr]
-        lib.mkl_sparse_d_mv.argtypes = [ctypes.c_int, dbl, ptr, _Descr, ptr, dbl, ptr]
-        lib.mkl_sparse_d_mm.argtypes = [ctypes.c_int, dbl, ptr, _Descr, ctypes.c_int, ptr, i64, i64, dbl, ptr, i64]
-        lib.mkl_sparse_destroy.argtypes = [ptr]
-        for name in ("mkl_sparse_d_create_csr", "mkl_sparse_d_mv", "mkl_sparse_d_mm", "mkl_sparse_destroy"):
-            getattr(lib, name).restype = ctypes.c_int
-    except (OSError, AttributeError, ImportError):
-        return None
-    return lib
 
 
 def sparse_product(A: sp.spmatrix, dtype=float):
@@ -90,7 +63,7 @@ class MklProduct:
         if X.shape[0] != self.shape[1]:
             raise ValueError(f"product of a {self.shape} matrix with {X.shape[0]} rows")
         out = np.empty((self.shape[0],) + X.shape[1:])
-        descr = _Descr(_GENERAL, 0, 0)
+        descr = MatrixDescr(_GENERAL, 0, 0)
         if X.ndim == 1:
             status = self._lib.mkl_sparse_d_mv(_NON_TRANSPOSE, 1.0, self._handle, descr, X.ctypes.data, 0.0,
                                                out.ctypes.data)

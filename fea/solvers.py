@@ -34,6 +34,7 @@ from __future__ import annotations
 
 import functools
 import os
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -41,6 +42,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from .errors import NumericalError
+from .mkl import MKL_REPRODUCIBLE, pardiso_available
 from .products import RowBlocks, sparse_product
 from .progress import heartbeat
 
@@ -86,28 +88,6 @@ def available_memory() -> float:
         return float(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES"))
     except (ValueError, OSError, AttributeError):
         return 8.0 * 2**30
-
-
-#: MKL's conditional numerical reproducibility: without it a threaded PARDISO factor of a
-#: large system differs run to run in the last digits (summary.json must be repeatable)
-MKL_REPRODUCIBLE = "AUTO,STRICT"
-
-
-@functools.cache
-def pardiso_available() -> bool:
-    """Whether MKL PARDISO loads. The first solver found MKL's library by searching the
-    installation tree (about 0.3 s); its path goes to ``PYPARDISO_MKL_RT`` so that every
-    later solver loads it directly."""
-    os.environ.setdefault("MKL_CBWR", MKL_REPRODUCIBLE)     # read once, when MKL loads
-    try:
-        from pypardiso.pardiso_wrapper import PyPardisoSolver
-        solver = PyPardisoSolver()
-    except (ImportError, OSError):
-        return False
-    path = getattr(solver.libmkl, "_name", None)
-    if path:
-        os.environ.setdefault("PYPARDISO_MKL_RT", path)
-    return True
 
 
 @dataclass
@@ -368,43 +348,90 @@ def _cg_true_residual(K, b: np.ndarray, precond, rtol: float, maxiter: int) -> t
     return u, count[0]
 
 
-def solve_reduced(K: sp.spmatrix, F: np.ndarray, B: np.ndarray | None = None, method: str = "auto",
+#: a linear solver: ``solver(K, F, B=..., prolongation=..., maxiter=..., memory_limit=...,
+#: report=...) -> (U, info)`` for an SPD ``K`` and one or several load columns ``F``
+Solver = Callable[..., tuple[np.ndarray, dict]]
+
+
+def solve_factorised(K, F, B=None, prolongation=None, maxiter: int = 2000, memory_limit: float | None = None,
+                     report=None, backend: str = "direct", capped: bool = False) -> tuple[np.ndarray, dict]:
+    """One factorisation (``backend`` ``direct``, ``pardiso`` or ``scipy``) for every column.
+    A backend chosen by name is not capped: ``memory_limit`` (bytes) applies only when
+    ``capped`` (the auto choice), raising MemoryError(bytes needed) above it."""
+    factor = factorise(K, backend, memory_limit if capped else None, report)
+    U = factor.solve(F)
+    info = {"solver": factor.backend, "iterations": 1, **factor.info}
+    factor.free()
+    return U, info
+
+
+def solve_multigrid(K, F, B=None, prolongation=None, maxiter: int = 2000, memory_limit: float | None = None,
+                    report=None) -> tuple[np.ndarray, dict]:
+    """p-multigrid CG (:func:`solve_pmg`); ``prolongation`` a callable giving the P1 -> P2
+    interpolation of the free DOFs (a P2 basis)."""
+    if prolongation is None:
+        raise ValueError("the pmg solver needs the P1 -> P2 prolongation (a P2 basis)")
+    return solve_pmg(K, F, prolongation(), B, maxiter, memory_limit, report)
+
+
+def solve_aggregation(K, F, B=None, prolongation=None, maxiter: int = 2000, memory_limit: float | None = None,
+                      report=None) -> tuple[np.ndarray, dict]:
+    """Smoothed-aggregation AMG-CG (:func:`solve_amg`); ``B`` the rigid-body modes."""
+    if B is None:
+        raise ValueError("the amg solver needs the rigid-body modes")
+    return solve_amg(K, F, B, AMG_RTOL, maxiter, report)
+
+
+def solve_auto(K, F, B=None, prolongation=None, maxiter: int = 2000, memory_limit: float | None = None,
+               report=None) -> tuple[np.ndarray, dict]:
+    """pmg for a large P2 system with few columns; otherwise the direct factor, unless its
+    memory estimate exceeds ``memory_limit`` (default a fraction of this machine's memory),
+    then pmg (P2) or amg (module doc)."""
+    columns = 1 if np.ndim(F) == 1 else np.shape(F)[1]
+    iterative = solve_multigrid if prolongation is not None else solve_aggregation
+    if prolongation is not None and K.shape[0] >= PMG_MIN_DOFS and columns <= PMG_MAX_COLUMNS:
+        return iterative(K, F, B, prolongation, maxiter, memory_limit, report)
+    limit = memory_limit if memory_limit is not None else FACTOR_MEMORY_FRACTION * available_memory()
+    try:
+        return solve_factorised(K, F, memory_limit=limit, report=report, capped=True)
+    except MemoryError as exc:
+        if report:
+            report(f"the factor would need {exc.args[0] / 2**30:.1f} GiB: iterative "
+                   f"{'PMG' if prolongation is not None else 'AMG'}-CG instead")
+    return iterative(K, F, B, prolongation, maxiter, memory_limit, report)
+
+
+#: the solvers by name (``[solver]``, ``--solver``); a caller may pass any :data:`Solver` instead
+SOLVERS: dict[str, Solver] = {
+    "auto": solve_auto,
+    "direct": functools.partial(solve_factorised, backend="direct"),
+    "pardiso": functools.partial(solve_factorised, backend="pardiso"),
+    "scipy": functools.partial(solve_factorised, backend="scipy"),
+    "pmg": solve_multigrid,
+    "amg": solve_aggregation,
+}
+
+
+def solver_of(method: str | Solver) -> Solver:
+    """The solver named ``method`` (a key of :data:`SOLVERS`), or ``method`` itself when it
+    is a callable."""
+    if callable(method):
+        return method
+    try:
+        return SOLVERS[method]
+    except (KeyError, TypeError):
+        raise ValueError(f"unknown solver {method!r}") from None
+
+
+def solve_reduced(K: sp.spmatrix, F: np.ndarray, B: np.ndarray | None = None, method: str | Solver = "auto",
                   maxiter: int = 2000, memory_limit: float | None = None,
                   report=None, prolongation=None) -> tuple[np.ndarray, dict]:
-    """Solve ``K U = F`` for an SPD ``K`` and one or several load columns.
-
-    ``method``: ``auto`` (direct unless its factor would not fit, then pmg or amg),
-    ``direct``, ``pardiso``, ``scipy``, ``pmg`` or ``amg``; ``B`` the rigid-body modes
+    """Solve ``K U = F`` for an SPD ``K`` and one or several load columns with the solver
+    ``method`` (a name of :data:`SOLVERS` or a :data:`Solver`); ``B`` the rigid-body modes
     (needed by amg); ``prolongation`` a callable giving the P1 -> P2 interpolation of the
-    free DOFs (needed by pmg). ``memory_limit`` bytes for the factor (default: a fraction
-    of this machine's memory). Returns (U, info)."""
-    columns = 1 if np.ndim(F) == 1 else np.shape(F)[1]
-    if (method == "auto" and prolongation is not None and K.shape[0] >= PMG_MIN_DOFS
-            and columns <= PMG_MAX_COLUMNS):
-        method = "pmg"
-    if method in ("auto", "direct", "pardiso", "scipy"):
-        limit = memory_limit if memory_limit is not None else FACTOR_MEMORY_FRACTION * available_memory()
-        try:
-            factor = factorise(K, "direct" if method == "auto" else method,
-                               limit if method == "auto" else None, report)
-        except MemoryError as exc:
-            method = "pmg" if prolongation is not None else "amg"
-            if report:
-                report(f"the factor would need {exc.args[0] / 2**30:.1f} GiB: iterative {method.upper()}-CG instead")
-        else:
-            U = factor.solve(F)
-            info = {"solver": factor.backend, "iterations": 1, **factor.info}
-            factor.free()
-            return U, info
-    if method == "pmg":
-        if prolongation is None:
-            raise ValueError("the pmg solver needs the P1 -> P2 prolongation (a P2 basis)")
-        return solve_pmg(K, F, prolongation(), B, maxiter, memory_limit, report)
-    if method == "amg":
-        if B is None:
-            raise ValueError("the amg solver needs the rigid-body modes")
-        return solve_amg(K, F, B, AMG_RTOL, maxiter, report)
-    raise ValueError(f"unknown solver {method!r}")
+    free DOFs (needed by pmg). ``memory_limit`` bytes for a factor. Returns (U, info)."""
+    return solver_of(method)(K, F, B=B, prolongation=prolongation, maxiter=maxiter, memory_limit=memory_limit,
+                             report=report)
 
 
 def solve_pmg(K: sp.spmatrix, F: np.ndarray, P: sp.spmatrix, B: np.ndarray | None = None, maxiter: int = 2000,

@@ -15,14 +15,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .assembly import integration_basis
 from .elasticity import (
     assemble,
     away_from,
     body_force_vectors,
     group_nodes,
-    integration_basis,
     mean_over,
-    node_cells,
     node_displacement,
     recover_stress,
     solve,
@@ -31,6 +30,7 @@ from .elasticity import (
     unit_traction_vectors,
 )
 from .materials import Material
+from .mesh import node_cells
 from .superpose import UnitFields
 
 

@@ -7,15 +7,11 @@ the resultant of a traction; Jacobians computed here by finite differences of th
 import numpy as np
 import pytest
 
+from railcheck.fea.assembly import straight_and_curved
 from railcheck.fea.elasticity import (
-    _affine_stress_moments,
-    _components,
-    _skfem_mesh,
-    _straight_and_curved,
-    _stress_moments,
     assemble,
     check_rigid_modes,
-    curved_elements,
+    dof_components,
     group_area,
     mass_matrix,
     recover_stress,
@@ -23,6 +19,8 @@ from railcheck.fea.elasticity import (
     unit_traction_vectors,
 )
 from railcheck.fea.materials import MATERIALS
+from railcheck.fea.mesh import curved_elements, skfem_mesh
+from railcheck.fea.stress import _affine_stress_moments, _stress_moments
 from railcheck.geometry import curving
 from railcheck.geometry.mesher import mesh_part
 from railcheck.geometry.models import rail
@@ -46,7 +44,7 @@ def tiny_rail():
 def _vector_basis(mesh, curved, intorder=2):
     from skfem import Basis, ElementTetP2
     from skfem.element import ElementVector
-    return Basis(_skfem_mesh(mesh.points, mesh.tets, curved), ElementVector(ElementTetP2()), intorder=intorder)
+    return Basis(skfem_mesh(mesh.points, mesh.tets, curved), ElementVector(ElementTetP2()), intorder=intorder)
 
 
 def test_curved_p2_gives_a_hole_circumference_to_1e4_where_straight_p2_does_not(short_rail):
@@ -82,7 +80,7 @@ def test_patch_test_is_exact_on_the_curved_mesh(tiny_rail):
     assert curved_elements(basis.mesh).size > 50
     G = np.array([[1e-3, 2e-4, -3e-4], [5e-4, -1e-3, 1e-4], [-2e-4, 3e-4, 7e-4]])
     c = np.array([1e-5, -2e-5, 3e-5])
-    comp = _components(basis)
+    comp = dof_components(basis)
     exact = (G @ basis.doflocs)[comp, np.arange(basis.N)] + c[comp]
     boundary = basis.get_dofs().all()
     u = solve(*condense(K, np.zeros(basis.N), x=exact, D=boundary))
@@ -108,7 +106,7 @@ def test_closed_form_projection_on_straight_elements_equals_quadrature_everywher
 
     mesh = tiny_rail
     _, basis = assemble(mesh.points, mesh.tets, STEEL, 2, mesh.curved)
-    straight, curved = _straight_and_curved(basis)
+    straight, curved = straight_and_curved(basis)
     assert straight.size > 50 and curved is not None
     everywhere = Basis(basis.mesh, basis.elem.elem, intorder=4)
     M = mass_matrix(basis)
@@ -155,11 +153,11 @@ def test_traction_on_a_curved_hole_integrates_to_the_force(short_rail):
 def test_straight_mesh_surface_weights_equal_scikit_fem_facet_integrals(short_rail):
     from skfem import FacetBasis, LinearForm, asm
 
-    from railcheck.fea.elasticity import _group_facets
+    from railcheck.fea.mesh import group_facets
 
     _, mesh = short_rail
     basis = _vector_basis(mesh, None)
-    fb = FacetBasis(basis.mesh, basis.elem, facets=_group_facets(basis, mesh.groups, "hole_0"), intorder=4)
+    fb = FacetBasis(basis.mesh, basis.elem, facets=group_facets(basis, mesh.groups, "hole_0"), intorder=4)
     area = asm(LinearForm(lambda v, w: v[0]), fb).sum()
     ref = np.stack([asm(LinearForm(lambda v, w, c=c: v[c] / area), fb) for c in range(3)], axis=1)
     mine = unit_traction_vectors(basis, mesh.groups, "hole_0")

@@ -3,21 +3,19 @@
 import numpy as np
 import pytest
 
+from railcheck.fea.assembly import _pair_pattern_by_unique, pair_pattern
 from railcheck.fea.cantilever import run_cantilever, timoshenko_tip
 from railcheck.fea.elasticity import (
     HoleLoad,
     Support,
-    _components,
-    _element,
-    _pair_pattern_by_unique,
-    _skfem_mesh,
     check_rigid_modes,
-    pair_pattern,
+    dof_components,
     solve_elasticity,
     stiffness_matrix,
 )
 from railcheck.fea.errors import ModelError, NumericalError
 from railcheck.fea.materials import MATERIALS
+from railcheck.fea.mesh import element_of, skfem_mesh
 from railcheck.fea.solvers import rigid_body_modes
 from railcheck.geometry.catalogue import RAIL
 from railcheck.geometry.mesher import mesh_part
@@ -36,12 +34,12 @@ def test_patch_test_linear_field_is_exact(block, order):
     from skfem import Basis, condense, solve
     from skfem.element import ElementVector
 
-    mesh = _skfem_mesh(block.points, block.tets)
-    basis = Basis(mesh, ElementVector(_element(order)), intorder=2)
+    mesh = skfem_mesh(block.points, block.tets)
+    basis = Basis(mesh, ElementVector(element_of(order)), intorder=2)
     K = stiffness_matrix(basis, STEEL)
     G = np.array([[1e-3, 2e-4, -3e-4], [5e-4, -1e-3, 1e-4], [-2e-4, 3e-4, 7e-4]])
     c = np.array([1e-5, -2e-5, 3e-5])
-    comp = _components(basis)
+    comp = dof_components(basis)
     exact = (G @ basis.doflocs)[comp, np.arange(basis.N)] + c[comp]
     boundary = basis.get_dofs().all()
     u = solve(*condense(K, np.zeros(basis.N), x=exact, D=boundary))
@@ -56,8 +54,8 @@ def test_six_rigid_body_modes(block, order):
     from skfem.element import ElementVector
 
     assert check_rigid_modes(block.points, block.tets, STEEL, order) < 1e-12
-    mesh = _skfem_mesh(block.points, block.tets)
-    basis = Basis(mesh, ElementVector(_element(order)), intorder=2)
+    mesh = skfem_mesh(block.points, block.tets)
+    basis = Basis(mesh, ElementVector(element_of(order)), intorder=2)
     K = stiffness_matrix(basis, STEEL).toarray()
     ev = np.linalg.eigvalsh(K)
     assert np.all(np.abs(ev[:6]) < 1e-9 * ev[-1])      # six zero-energy modes
@@ -171,8 +169,8 @@ def test_rigid_body_modes_are_the_kernel_of_a_free_stiffness(block):
     from skfem import Basis
     from skfem.element import ElementVector
 
-    basis = Basis(_skfem_mesh(block.points, block.tets), ElementVector(_element(2)), intorder=2)
-    B = rigid_body_modes(basis.doflocs, _components(basis))
+    basis = Basis(skfem_mesh(block.points, block.tets), ElementVector(element_of(2)), intorder=2)
+    B = rigid_body_modes(basis.doflocs, dof_components(basis))
     assert np.linalg.matrix_rank(B) == 6
 
 
@@ -182,7 +180,7 @@ def test_fast_assembly_equals_scikit_fem(block, order):
     from skfem.element import ElementVector
     from skfem.models.elasticity import linear_elasticity
 
-    basis = Basis(_skfem_mesh(block.points, block.tets), ElementVector(_element(order)), intorder=2)
+    basis = Basis(skfem_mesh(block.points, block.tets), ElementVector(element_of(order)), intorder=2)
     mine = stiffness_matrix(basis, STEEL)
     ref = asm(linear_elasticity(*STEEL.lame), basis)
     assert abs(mine - ref).max() <= 1e-12 * abs(ref).max()
@@ -277,7 +275,7 @@ def test_free_submatrix_equals_fancy_indexing():
 def test_mesh_entities_equal_scikit_fem(block):
     from skfem import MeshTet
 
-    from railcheck.fea.elasticity import mesh_entities
+    from railcheck.fea.mesh import mesh_entities
 
     t = np.ascontiguousarray(block.tets.T)
     for indices in (MeshTet.elem.refdom.facets, MeshTet.elem.refdom.edges):
@@ -297,7 +295,7 @@ def test_mass_matrix_equals_scikit_fem_and_jacobi_cg_equals_a_factorisation(bloc
     from railcheck.fea.elasticity import mass_matrix
     from railcheck.fea.solvers import factorise, solve_jacobi_cg
 
-    basis = Basis(_skfem_mesh(block.points, block.tets), ElementVector(_element(2)), intorder=1)
+    basis = Basis(skfem_mesh(block.points, block.tets), ElementVector(element_of(2)), intorder=1)
     scalar = basis.elem.elem
     M = mass_matrix(basis)
     ref = asm(BilinearForm(lambda u, v, w: u * v), Basis(basis.mesh, scalar, quadrature=get_quadrature(scalar.refdom, 4)))

@@ -237,6 +237,9 @@ def solution_at(fields, c: np.ndarray, meta: dict, order: int, exclude: float, e
     top = peak(vm, fields.nodes)
     away = peak(vm, fields.nodes, fields.verdict_mask)
     u = fields.displacement @ c
-    return Solution(order, meta["dofs"], meta["elements"], u[:nv], vm[:nv].copy(),
-                    top[0], top[1], fields.tip @ c, {"total": meta["resultants"] @ c}, away[0], away[1], exclude, S,
-                    fields.nodes, meta["seconds"], meta["solver"], [], u)
+    return Solution(order=order, dofs=meta["dofs"], elements=meta["elements"], displacement=u[:nv],
+                    von_mises=vm[:nv].copy(), max_von_mises=top[0], max_von_mises_location=top[1],
+                    tip_displacement=fields.tip @ c, applied_forces={"total": meta["resultants"] @ c},
+                    max_von_mises_away=away[0], max_von_mises_away_location=away[1], exclude_distance=exclude,
+                    stress=S, nodes=fields.nodes, seconds=meta["seconds"], solver=meta["solver"], warnings=[],
+                    node_displacement=u)

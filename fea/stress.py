@@ -1,0 +1,152 @@
+"""Stress recovery and post-processing: the element stress projected (L2) onto the
+continuous scalar space of the same order, von Mises, peaks away from a support, means
+over a surface.
+
+One mass matrix serves all six components and every load case, solved by
+Jacobi-preconditioned CG to a relative residual of 1e-12; on straight elements the mass
+matrix and the stress moments are closed form, on curved ones a degree-2p rule. The
+"stress nodes" are that space's nodes (P2: vertices and mid-edge nodes). Every step is
+linear in the load, so the stress of a combination of loads is the same combination of
+their stresses (the cycle envelope relies on it). Units SI (Pa)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .assembly import affine_reference, mass_matrix, straight_and_curved, straight_jacobians
+from .loading import surface_vectors
+from .materials import Material
+from .mesh import scalar_basis, vector_dof_map
+
+__all__ = ["VOIGT", "MASS_RTOL", "recover_stress", "von_mises", "away_from", "peak", "mean_over"]
+
+
+VOIGT = ((0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (0, 2))  # xx, yy, zz, xy, yz, xz
+
+
+MASS_RTOL = 1e-12  # the stress projection's relative residual |b - M s| / |b|
+
+
+def recover_stress(basis, U: np.ndarray, material: Material, report=None) -> np.ndarray:
+    """(6, nodes[, k]) Pa: the L2 projection of the element stress of each displacement
+    column onto the continuous scalar space of the basis's order (xx, yy, zz, xy, yz, xz).
+    Straight elements in closed form (:func:`_affine_stress_moments`, :func:`mass_matrix`),
+    curved ones by a rule exact to order 2p on their isoparametric map. The mass matrix is
+    well conditioned once scaled by its diagonal, so Jacobi-preconditioned CG solves all
+    columns together to a relative residual of 1e-12 in some 60 iterations, far cheaper
+    than factorising it (a factor as large as the stiffness's); a direct solve takes over
+    should CG stall."""
+    from .errors import NumericalError
+    from .solvers import factorise, solve_jacobi_cg
+
+    U2 = U.reshape(U.shape[0], -1)
+    k = U2.shape[1]
+    straight, curved = straight_and_curved(basis)
+    rhs = _affine_stress_moments(basis, U2, material)  # (scalar N, 6 k)
+    if curved is not None:
+        rhs += _stress_moments(basis, curved, U2, material)
+    M = mass_matrix(basis)
+    n = M.shape[0]
+    try:
+        S = solve_jacobi_cg(M, rhs, rtol=MASS_RTOL)
+    except NumericalError:
+        S = factorise(M, "direct", report=report).solve(rhs, rtol=1e-9, extended=False)
+    return S.reshape(n, 6, k).transpose(1, 0, 2).reshape((6, n) + U.shape[1:])
+
+
+def _affine_stress_moments(basis, U2: np.ndarray, material: Material, values: int = 4_000_000) -> np.ndarray:
+    """(scalar N, 6 k): :func:`_stress_moments` of the straight elements, in closed
+    form: on an affine element of degree p <= 2 the stress has degree p - 1 <= 1, so it is
+    the interpolant of its values at the four vertices, and its moments are
+    |det J| sum_v C[a, v] sigma_v with C from :func:`affine_reference`."""
+    numbering = scalar_basis(basis)
+    grads, _, C = affine_reference(basis.elem.elem)
+    vector_of = vector_dof_map(basis, numbering)
+    straight, _ = straight_and_curved(basis)
+    sdofs = numbering.element_dofs[:, straight]  # (nb, n)
+    nb, n = sdofs.shape
+    k = U2.shape[1]
+    det, inverse = straight_jacobians(basis)
+    out = np.empty((n, nb, 6, k))
+    chunk = max(1, values // (4 * 9 * k))
+    for start in range(0, n, chunk):
+        sl = slice(start, min(start + chunk, n))
+        ue = U2[vector_of[sdofs[:, sl]]]  # (nb, e, 3, k)
+        H = np.einsum("aeik,vam->evimk", ue, grads, optimize=True)  # du_i/dxi_m
+        grad = np.einsum("evimk,emj->evijk", H, inverse[sl], optimize=True)  # du_i/dx_j
+        sig = _voigt_stress(grad, material)  # (e, v, 6, k)
+        out[sl] = np.einsum("av,evck->eack", C, sig, optimize=True) * det[sl, None, None, None]
+    return _sum_onto_nodes(sdofs, numbering.N, out)
+
+
+def _stress_moments(basis, sb, U2: np.ndarray, material: Material) -> np.ndarray:
+    """(scalar N, 6 k): integral of each stress component of each column times each
+    scalar shape function, vectorised over elements (in chunks) and columns."""
+    vector_of = vector_dof_map(basis, sb)
+    sdofs = sb.element_dofs  # (nb, nel)
+    nb, nel = sdofs.shape
+    k = U2.shape[1]
+    phi = np.stack([sb.basis[a][0].value for a in range(nb)])  # (nb, nel, nq)
+    G = np.stack([sb.basis[a][0].grad for a in range(nb)])  # (nb, 3, nel, nq)
+    out = np.empty((nel, nb, 6, k))
+    chunk = max(1, 2_000_000 // (nb * phi.shape[2] * k * 9))
+    for start in range(0, nel, chunk):
+        sl = slice(start, min(start + chunk, nel))
+        ue = U2[vector_of[sdofs[:, sl]]]  # (nb, e, 3, k)
+        grad = np.einsum("aeik,ajeq->eqijk", ue, G[:, :, sl, :], optimize=True)  # du_i/dx_j
+        sig = _voigt_stress(grad, material)  # (e, q, 6, k)
+        out[sl] = np.einsum("aeq,eq,eqck->eack", phi[:, sl, :], sb.dx[sl], sig, optimize=True)
+    return _sum_onto_nodes(sdofs, sb.N, out)
+
+
+def _voigt_stress(grad: np.ndarray, material: Material) -> np.ndarray:
+    """(e, p, 6, k) Pa, components in :data:`VOIGT` order: Hooke's law of the displacement
+    gradients ``grad`` (e, p, 3, 3, k), du_i/dx_j at p points of e elements, k columns."""
+    lam, mu = material.lame
+    ii = np.array([i for i, _ in VOIGT])
+    jj = np.array([j for _, j in VOIGT])
+    eps = 0.5 * (grad + np.swapaxes(grad, 2, 3))
+    tr = eps[:, :, 0, 0] + eps[:, :, 1, 1] + eps[:, :, 2, 2]
+    return 2 * mu * eps[:, :, ii, jj, :] + lam * tr[:, :, None, :] * (ii == jj)[None, None, :, None]
+
+
+def _sum_onto_nodes(sdofs: np.ndarray, n: int, values: np.ndarray) -> np.ndarray:
+    """(n, rest): per-element values (e, nb, ...) summed onto the scalar nodes ``sdofs``
+    (nb, e) of each element."""
+    import scipy.sparse as sp
+
+    nb, e = sdofs.shape
+    scatter = sp.csr_matrix((np.ones(e * nb), (sdofs.T.ravel(), np.arange(e * nb))), shape=(n, e * nb))
+    return np.asarray(scatter @ values.reshape(e * nb, -1))
+
+
+def von_mises(s: np.ndarray) -> np.ndarray:
+    """Von Mises stress (Pa) of stress components (6, ...) Pa (xx, yy, zz, xy, yz, xz)."""
+    sxx, syy, szz, sxy, syz, sxz = s
+    return np.sqrt(0.5 * ((sxx - syy) ** 2 + (syy - szz) ** 2 + (szz - sxx) ** 2) + 3.0 * (sxy**2 + syz**2 + sxz**2))
+
+
+def away_from(locations: np.ndarray, support_points: np.ndarray, distance: float) -> np.ndarray:
+    """(nodes,) bool: the ``locations`` (nodes, 3) farther than ``distance`` (m) from
+    every ``support_points`` (k, 3); all True when ``distance`` is 0."""
+    if distance <= 0:
+        return np.ones(locations.shape[0], dtype=bool)
+    from scipy.spatial import cKDTree
+
+    dist, _ = cKDTree(support_points).query(locations)
+    return dist > distance
+
+
+def peak(values: np.ndarray, locations: np.ndarray, mask: np.ndarray | None = None) -> tuple[float, np.ndarray, int]:
+    """(value, location (3,), index) of the largest ``values`` (nodes,) among the nodes
+    where ``mask`` holds (all when None, or when the mask selects nothing)."""
+    if mask is not None and np.any(mask):
+        i = int(np.argmax(np.where(mask, values, -np.inf)))
+    else:
+        i = int(np.argmax(values))
+    return float(values[i]), locations[i].copy(), i
+
+
+def mean_over(basis, groups: dict, group: str) -> np.ndarray:
+    """(3, N): the area-weighted mean displacement over ``group`` is ``W @ U`` (m)."""
+    return surface_vectors(basis, groups, group)

@@ -1,0 +1,80 @@
+"""The on-disk mesh cache: one ``.npz`` entry per part and mesh parameters, stored with
+the parameters it was made for and a SHA-256 of its arrays; read back only when both
+match, written atomically (a per-process temporary name, then a rename), so concurrent
+runs never read half a file and a damaged entry is rebuilt. The directory is
+``$RAILCHECK_CACHE`` (default ``~/.cache/railcheck``)."""
+
+from __future__ import annotations
+
+import hashlib
+import os
+from pathlib import Path
+
+import numpy as np
+
+from .meshdata import MeshData
+
+__all__ = ["default_cache_dir", "read_cached", "write_cached"]
+
+
+def default_cache_dir() -> Path:
+    return Path(os.environ.get("RAILCHECK_CACHE", Path.home() / ".cache" / "railcheck"))
+
+
+def _digest(
+    points: np.ndarray, tets: np.ndarray, groups: dict[str, np.ndarray], curved: tuple[np.ndarray, np.ndarray]
+) -> str:
+    """SHA-256 of the mesh arrays' bytes (with the group names): the cache entry's content hash."""
+    h = hashlib.sha256()
+    for a in (points, tets, *curved):
+        h.update(np.ascontiguousarray(a).tobytes())
+    for name in sorted(groups):
+        h.update(name.encode())
+        h.update(np.ascontiguousarray(groups[name]).tobytes())
+    return h.hexdigest()
+
+
+def read_cached(path: Path, payload: str) -> tuple[MeshData | None, str | None]:
+    """(mesh, None) for a sound cache entry of these parameters; (None, why) for a missing,
+    damaged, swapped or stale one."""
+    if not path.exists():
+        return None, None
+    try:
+        with np.load(path, allow_pickle=False) as z:
+            stored_payload, stored_digest = str(z["payload"]), str(z["digest"])
+            points, tets = z["points"], z["tets"]
+            groups = {k[2:]: z[k] for k in z.files if k.startswith("g_")}
+            quality, slivers = float(z["min_quality"]), int(z["slivers"])
+            curved = (z["curved_edges"], z["curved_points"])
+    except Exception as exc:  # noqa: BLE001 - any unreadable file is a damaged entry
+        return None, f"unreadable ({type(exc).__name__})"
+    if stored_payload != payload:
+        return None, "made for other parameters"
+    if stored_digest != _digest(points, tets, groups, curved):
+        return None, "content does not match its hash"
+    return MeshData(
+        points, tets, groups, quality, slivers, 0.0, cached=True, curved_edges=curved[0], curved_points=curved[1]
+    ), None
+
+
+def write_cached(path: Path, data: MeshData, payload: str) -> None:
+    """Write a cache entry atomically (a per-process temporary name, then a rename), so
+    concurrent runs never read half a file; an unwritable cache only costs time."""
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = path.with_name(f".{path.stem}.{os.getpid()}.tmp.npz")
+        np.savez(
+            tmp,
+            points=data.points,
+            tets=data.tets,
+            min_quality=data.min_quality,
+            slivers=data.slivers,
+            curved_edges=data.curved_edges,
+            curved_points=data.curved_points,
+            payload=np.array(payload),
+            digest=np.array(_digest(data.points, data.tets, data.groups, data.curved)),
+            **{f"g_{k}": v for k, v in data.groups.items()},
+        )
+        os.replace(tmp, path)
+    except OSError:
+        pass
