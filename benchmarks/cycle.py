@@ -19,9 +19,10 @@ def main() -> None:
     parser.add_argument("--repeat", type=int, default=5)
     args = parser.parse_args()
 
-    from railcheck.check.cycle import evaluate_cycle, source_histories, unit_cases
+    from railcheck.check.cycle import evaluate_cycle
+    from railcheck.check.jobs import build_load_cases, part_geometries, part_jobs
     from railcheck.check.kinematics_stage import run_kinematics
-    from railcheck.check.pipeline import bolt_holes, mesh_sizes, part_geometries
+    from railcheck.check.loading import unit_cases
     from railcheck.fea.elasticity import HoleLoad, Support, solve_elasticity
     from railcheck.fea.materials import MATERIALS
     from railcheck.fea.unitcases import solve_unit_cases
@@ -33,12 +34,12 @@ def main() -> None:
     steel = MATERIALS["steel"]
     kin = run_kinematics(scene)
     geos = part_geometries(scene)
+    jobs = part_jobs(scene, kin, geos, build_load_cases(scene, kin, geos), steel, steel.fatigue_limit)
     prepared, unit_s, single_s = {}, {}, {}
-    for name, geo in geos.items():
-        kind = kind_of(name)
-        mesh = mesh_part(geo, *mesh_sizes(scene, geo.kind))
-        holes = bolt_holes(scene, name, geo)
-        cases = unit_cases(scene, name, geo, holes)
+    for name, job in jobs.items():
+        geo, kind, holes = job.geometry, kind_of(name), list(job.holes)
+        mesh = mesh_part(geo, job.mesh.size, job.mesh.hole_size)
+        cases = unit_cases(job.loads, geo, holes)
         t = time.perf_counter()
         fields, meta = solve_unit_cases(mesh.points, mesh.tets, mesh.groups, steel, [kind.support], cases, 2,
                                         kind.tip, kind.exclusion(geo))
@@ -48,14 +49,14 @@ def main() -> None:
                          [HoleLoad(h, (100.0, 100.0, 0.0)) for h in holes], order=2, tip_group=kind.tip,
                          exclude_distance=kind.exclusion(geo))
         single_s[name] = time.perf_counter() - t
-        prepared[name] = (geo, fields, source_histories(scene, kin, name, holes, steel.density), meta)
-        print(f"{name:<14} {meta['dofs']:>7} DOFs  unit cases {unit_s[name]:6.2f} s  one load {single_s[name]:6.2f} s  "
+        prepared[name] = (job, fields, meta)
+        print(f"{name:<14} {meta.dofs:>7} DOFs  unit cases {unit_s[name]:6.2f} s  one load {single_s[name]:6.2f} s  "
               f"ratio {unit_s[name] / single_s[name]:.2f}")
     runs = []
     for _ in range(args.repeat):
         t = time.perf_counter()
-        for name, (geo, fields, hist, meta) in prepared.items():
-            evaluate_cycle(scene, name, geo, fields, hist, steel, meta)
+        for job, fields, meta in prepared.values():
+            evaluate_cycle(job, fields, job.histories, meta)
         runs.append(time.perf_counter() - t)
     print(f"unit cases, all parts: {sum(unit_s.values()):.2f} s; one load each: {sum(single_s.values()):.2f} s; "
           f"ratio {sum(unit_s.values()) / sum(single_s.values()):.2f}")

@@ -61,8 +61,8 @@ def railcheck_solve(problem: str, size: float, solver: str = "direct") -> dict:
     else:
         from dataclasses import replace
 
+        from railcheck.check.jobs import build_load_cases, part_geometries
         from railcheck.check.kinematics_stage import run_kinematics
-        from railcheck.check.pipeline import build_load_cases, part_geometries
         from railcheck.scene import load_scene
         scene = load_scene(None)
         scene = replace(scene, check=replace(scene.check, parts=("crank-rail",)))

@@ -20,7 +20,7 @@ def main() -> None:
     parser.add_argument("--amg", action="store_true", help="also time AMG-CG on one right-hand side")
     args = parser.parse_args()
 
-    from railcheck.check.pipeline import mesh_sizes
+    from railcheck.check.jobs import mesh_sizes
     from railcheck.fea.elasticity import assemble, dof_components, supports, unit_traction_vectors
     from railcheck.fea.materials import MATERIALS
     from railcheck.fea.solvers import factorise, rigid_body_modes, solve_amg
@@ -30,7 +30,7 @@ def main() -> None:
 
     geo = geometry_of(args.part, {})
     kind = kind_of(args.part)
-    mesh = mesh_part(geo, *mesh_sizes(load_scene(None), geo.kind))
+    mesh = mesh_part(geo, *mesh_sizes(load_scene(None).mesh, geo.kind))
     t = time.perf_counter()
     K, basis = assemble(mesh.points, mesh.tets, MATERIALS["steel"], 2)
     t_asm = time.perf_counter() - t

@@ -14,7 +14,7 @@ import os
 import tempfile
 import time
 
-from railcheck.check.pipeline import Progress
+from railcheck.progress import Progress
 from railcheck.scene import load_scene
 from railcheck.sweep.run import run_sweep
 

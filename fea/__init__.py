@@ -32,7 +32,7 @@ from .solvers import SOLVERS, Solver, available_memory, factorise, solve_reduced
 from .stress import away_from, mean_over, peak, recover_stress, von_mises
 from .superpose import Envelope, UnitFields, envelope, stress_at
 from .system import free_submatrix, solve, supports
-from .unitcases import BodyCase, TractionCase, solve_unit_cases
+from .unitcases import BodyCase, TractionCase, UnitSolve, solve_unit_cases
 from .vtk import pvd_text, write_vtu
 
 __all__ = [
@@ -52,7 +52,7 @@ __all__ = [
     "Solver",
     "Support",
     "TractionCase",
-    "UnitFields",
+    "UnitFields", "UnitSolve",
     "alternating_and_mean",
     "assemble",
     "available_memory",

@@ -24,6 +24,7 @@ from .elasticity import (
     mean_over,
     node_displacement,
     recover_stress,
+    resultant,
     solve,
     stress_nodes,
     supports,
@@ -32,6 +33,21 @@ from .elasticity import (
 from .materials import Material
 from .mesh import node_cells
 from .superpose import UnitFields
+
+
+@dataclass(frozen=True)
+class UnitSolve:
+    """What a unit-case solve cost and balanced: DOFs, elements, vertices, the solver's
+    info, stage ``seconds``, and per unit case (3, k) N the applied ``resultants`` and the
+    ``support_reactions`` (which balance them)."""
+
+    dofs: int
+    elements: int
+    vertices: int
+    solver: dict
+    seconds: dict[str, float]
+    resultants: np.ndarray
+    support_reactions: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -69,8 +85,8 @@ def case_vector(basis, groups: dict, case) -> np.ndarray:
 def solve_unit_cases(points: np.ndarray, tets: np.ndarray, groups: dict, material: Material,
                      support_groups: list[str], cases: dict[str, object], order: int = 2,
                      tip_group: str | None = None, exclude_distance: float = 0.0, solver: str = "auto",
-                     report=None, curved=None) -> tuple[UnitFields, dict]:
-    """Unit fields of every case (one factorisation) and a dict of timings and solver info
+                     report=None, curved=None) -> tuple[UnitFields, UnitSolve]:
+    """Unit fields of every case (one factorisation) and its :class:`UnitSolve` (timings, solver info, balances)
     (``curved``: the mesh's curved edges for isoparametric P2, :func:`fea.elasticity.assemble`)."""
     t = [time.perf_counter()]
     K, basis = assemble(points, tets, material, order, curved)
@@ -88,22 +104,15 @@ def solve_unit_cases(points: np.ndarray, tets: np.ndarray, groups: dict, materia
     extras = {"cells": node_cells(basis), "support": group_nodes(basis, groups, support_groups),
               "loaded": group_nodes(basis, groups, loaded) if loaded else np.zeros(0, dtype=np.int64)}
     t.append(time.perf_counter())
-    meta = {"dofs": int(basis.N), "elements": int(tets.shape[0]), "vertices": int(points.shape[0]), "solver": info,
-            "seconds": dict(zip(("assembly", "solve", "stress"), np.diff(t))),
-            "resultants": _resultants(basis, F), "support_reactions": _support_reactions(basis, K, U, F, fixed)}
+    meta = UnitSolve(dofs=int(basis.N), elements=int(tets.shape[0]), vertices=int(points.shape[0]), solver=info,
+                     seconds=dict(zip(("assembly", "solve", "stress"), np.diff(t))), resultants=resultant(basis, F),
+                     support_reactions=_support_reactions(basis, K, U, F, fixed))
     return UnitFields(S, tip, node_displacement(basis, U), nodes, mask, tuple(cases), **extras), meta
-
-
-def _resultants(basis, F: np.ndarray) -> np.ndarray:
-    from .elasticity import resultant
-    return resultant(basis, F)
 
 
 def _support_reactions(basis, K, U: np.ndarray, F: np.ndarray, fixed: np.ndarray) -> np.ndarray:
     """(3, k) N: the total force the support exerts on the part in each unit case, the
     resultant of K U - F over the fixed DOFs (it balances the applied loads)."""
-    from .elasticity import resultant
-
     R = np.zeros_like(F)
     R[fixed] = (K @ U - F)[fixed]
     return resultant(basis, R)

@@ -15,11 +15,13 @@
 from __future__ import annotations
 
 import contextlib
+import json
+import math
 import os
 import shutil
 import tempfile
 from pathlib import Path
-from typing import Iterator
+from typing import Any, Iterator
 
 STAGING_MARK = ".staging."
 
@@ -158,3 +160,20 @@ def writable_file(path: str | Path, option: str) -> Path:
     if p.exists() and not os.access(p, os.W_OK):
         raise InputError(option, f"{p} is not writable")
     return p
+
+
+def to_json(data: Any) -> str:
+    """Deterministic JSON (sorted keys are not used: the order is the report's order)."""
+    return json.dumps(_clean(data), indent=2, ensure_ascii=False, allow_nan=False)
+
+
+def _clean(x: Any) -> Any:
+    if isinstance(x, dict):
+        return {str(k): _clean(v) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [_clean(v) for v in x]
+    if hasattr(x, "item") and not isinstance(x, (str, bytes)):
+        x = x.item()
+    if isinstance(x, float) and not math.isfinite(x):
+        return None
+    return x

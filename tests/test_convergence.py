@@ -70,11 +70,11 @@ def test_default_mesh_is_within_the_accuracy_targets_of_the_converged_study(part
     """Each part on the default scene's mesh (curved P2, size from the registry, holes at
     0.3 x size): tip deflection within 1% and peak von Mises within 5% of the study's
     converged values, the targets the defaults were chosen for."""
-    from railcheck.check.pipeline import mesh_sizes
+    from railcheck.check.jobs import mesh_sizes
     from railcheck.parts import geometry_of
     from railcheck.studies.convergence import HOLE_RATIO, _solve_row
 
-    size, hole = mesh_sizes(load_scene(None), geometry_of(part, {}).kind)
+    size, hole = mesh_sizes(load_scene(None).mesh, geometry_of(part, {}).kind)
     assert hole == pytest.approx(HOLE_RATIO * size)
     row = _solve_row(part, "P2", size)
     tip, peak = CONVERGED[part]

@@ -9,9 +9,9 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from railcheck.check.cycle import source_histories, unit_cases
+from railcheck.check.jobs import bolt_holes
 from railcheck.check.kinematics_stage import run_kinematics
-from railcheck.check.pipeline import bolt_holes
+from railcheck.check.loading import load_model, source_histories, unit_cases
 from railcheck.fea.elasticity import HoleLoad, Support, solve_elasticity, von_mises
 from railcheck.fea.fatigue import endurance_limit, safety_factor
 from railcheck.fea.materials import MATERIALS
@@ -46,7 +46,7 @@ def crank():
     geo = geometry_of("crank-rail", {})
     mesh = mesh_part(geo, 25e-3, 8e-3)
     holes = bolt_holes(scene, "crank-rail", geo)
-    cases = unit_cases(scene, "crank-rail", geo, holes)
+    cases = unit_cases(load_model(scene, "crank-rail", STEEL.density), geo, holes)
     kind = kind_of("crank-rail")
     fields, meta = solve_unit_cases(mesh.points, mesh.tets, mesh.groups, STEEL, [kind.support], cases, 2,
                                     kind.tip, kind.exclusion(geo), "direct")
@@ -67,7 +67,7 @@ def test_superposition_equals_a_direct_solve_at_three_instants(crank, step):
     scene, geo, mesh, holes, fields, meta = crank
     fields = first_cases(fields, 2)
     plain = crank_scene()
-    (h,) = source_histories(plain, run_kinematics(plain), "crank-rail", holes, STEEL.density)
+    (h,) = source_histories(load_model(plain, "crank-rail", STEEL.density), run_kinematics(plain), holes)
     direct = direct_stress(mesh, holes, h.C[step])
     scale = np.abs(direct.stress).max()
     assert np.abs(stress_at(fields.stress, h.C[step]) - direct.stress).max() < 1e-9 * scale
@@ -78,7 +78,7 @@ def test_superposition_equals_a_direct_solve_at_three_instants(crank, step):
 def test_superposition_with_body_forces_equals_a_direct_solve(crank):
     scene, geo, mesh, holes, fields, meta = crank
     assert list(fields.names) == ["bolt_x", "bolt_y", "body_x", "body_y", "body_rot", "body_rad"]
-    (h,) = source_histories(scene, run_kinematics(scene), "crank-rail", holes, STEEL.density)
+    (h,) = source_histories(load_model(scene, "crank-rail", STEEL.density), run_kinematics(scene), holes)
     c = h.C[300].copy()
     c[4:] = 0.0                                  # the direct solver takes uniform body forces only
     direct = direct_stress(mesh, holes, c, c[2:4])
@@ -109,7 +109,7 @@ def test_envelope_is_never_below_the_seed_method(crank, crank_mm, coupler_mm, ro
     if bars[0] != crank_mm or bars[0] + bars[3] >= bars[1] + bars[2]:
         return                                   # only Grashof crank-rockers revolve fully
     scene = crank_scene('effects = ["inertia", "gravity", "rail-inertia"]\n', lengths.replace("1 Hz", f"{hz} Hz"))
-    (h,) = source_histories(scene, run_kinematics(scene), "crank-rail", holes, STEEL.density)
+    (h,) = source_histories(load_model(scene, "crank-rail", STEEL.density), run_kinematics(scene), holes)
     env = envelope(fields, h.C)
     seed = von_mises(stress_at(fields.stress, h.C[h.seed_step]))[fields.verdict_mask].max()
     brute = von_mises_max(fields.stress, h.C)[0][fields.verdict_mask].max()
@@ -122,7 +122,7 @@ def test_default_crank_rail_governs_where_the_transverse_load_peaks(crank):
     fields = first_cases(fields, 2)
     scene = crank_scene()                        # the default effects: mechanism inertia only
     kin = run_kinematics(scene)
-    (h,) = source_histories(scene, kin, "crank-rail", holes, STEEL.density)
+    (h,) = source_histories(load_model(scene, "crank-rail", STEEL.density), kin, holes)
     env = envelope(fields, h.C)
     angle = np.degrees(h.crank_angle)
     transverse_peak = angle[np.argmax(np.abs(h.C[:, 1]))]
@@ -143,7 +143,7 @@ def test_rail_inertia_unit_fields_balance_the_rigid_accelerations(crank):
     V = vol.sum()
     x0 = geo.get("hole_x")[0]
     rx, ry = (vol * (centre[:, 0] - x0)).sum(), (vol * centre[:, 1]).sum()
-    R = meta["resultants"]                       # (3, cases): N per unit coefficient
+    R = meta.resultants                       # (3, cases): N per unit coefficient
     names = list(fields.names)
     np.testing.assert_allclose(R[:, names.index("bolt_x")], [1, 0, 0], atol=1e-12)
     np.testing.assert_allclose(R[:, names.index("bolt_y")], [0, 1, 0], atol=1e-12)
@@ -158,9 +158,9 @@ def test_rail_inertia_only_when_listed():
     plain = crank_scene()
     listed = crank_scene('effects = ["inertia", "rail-inertia"]\n')
     holes = bolt_holes(plain, "crank-rail", geo)
-    assert list(unit_cases(plain, "crank-rail", geo, holes)) == ["bolt_x", "bolt_y"]
-    assert list(unit_cases(listed, "crank-rail", geo, holes))[-2:] == ["body_rot", "body_rad"]
-    (h,) = source_histories(listed, run_kinematics(listed), "crank-rail", holes, STEEL.density)
+    assert list(unit_cases(load_model(plain, "crank-rail", STEEL.density), geo, holes)) == ["bolt_x", "bolt_y"]
+    assert list(unit_cases(load_model(listed, "crank-rail", STEEL.density), geo, holes))[-2:] == ["body_rot", "body_rad"]
+    (h,) = source_histories(load_model(listed, "crank-rail", STEEL.density), run_kinematics(listed), holes)
     omega = 2 * np.pi
     np.testing.assert_allclose(h.C[:, 5], STEEL.density * omega**2, rtol=1e-9)   # the crank turns steadily
 

@@ -316,7 +316,7 @@ def test_checking_at_the_safe_speed_gives_utilisation_one(fe_sweep):
     i = np.flatnonzero(rows["checks_passed"])[0]
     row = {k: v[i] for k, v in rows.items()}
     result = run_pipeline(_check_scene(row, row["safe_speed_Hz"]))
-    u = max(max(p.verdict_stress / p.limit, p.cycle.fatigue["required"] / p.cycle.fatigue["min_safety_factor"])
+    u = max(max(p.verdict_stress / p.limit, p.cycle.fatigue.required / p.cycle.fatigue.min_safety_factor)
             for p in result.parts.values())
     assert u == pytest.approx(1.0, abs=1e-6)
 

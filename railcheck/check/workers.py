@@ -1,19 +1,29 @@
 """The parts of a check, two (or ``jobs``) at a time.
 
-Each part is independent once the loads are known: mesh, unit cases, envelope, fatigue
-(:func:`railcheck.check.cycle.check_part`). With more than one part and more than one core the
-largest part (by its estimated element count) is checked in this process while the others
-run in ``jobs - 1`` worker processes (spawned, so no library state is forked); the
-workers' progress lines reach the console through a queue as they happen, and each part's
-result comes back whole. Errors raised in a worker are raised here unchanged.
-``jobs=1`` (``railcheck check --jobs 1``) runs them in this process, one after another;
-the results are the same.
+Each part is independent once its :class:`~railcheck.check.jobs.PartJob` is resolved:
+mesh, unit cases, envelope, fatigue (:func:`railcheck.check.cycle.check_part`). With more
+than one part and more than one core the largest part (by its estimated element count) is
+checked in this process while the others run in ``jobs - 1`` worker processes (spawned,
+so no library state is forked); the workers' progress lines reach the console through a
+queue as they happen, and each part's result comes back whole. Errors raised in a worker
+are raised here unchanged. ``jobs=1`` (``railcheck check --jobs 1``) runs them in this
+process, one after another; the results are the same.
 """
 
 from __future__ import annotations
 
+import dataclasses
+import multiprocessing
 import os
 import threading
+import time
+from concurrent.futures import ProcessPoolExecutor
+
+from railcheck.check.cycle import check_part
+from railcheck.check.jobs import PartJob
+from railcheck.check.records import PartResult
+from railcheck.geometry.mesher import estimate_elements
+from railcheck.progress import Progress
 
 _QUEUE = None     # the worker's progress queue (set by _init_worker)
 
@@ -24,37 +34,33 @@ def default_jobs(parts: int) -> int:
     return max(1, min(parts, os.cpu_count() or 1, 2))
 
 
-def check_parts(scene, kin, geometries: dict, cases: dict, material, limit: float, solver: str, progress,
-                jobs: int | None = None, part_done=None) -> dict:
-    """{name: PartResult} in the scene's order; ``part_done(name, part)`` runs as each
-    part finishes, in the process that checked it."""
-    n = len(cases)
+def check_parts(part_jobs: dict[str, PartJob], solver: str, progress: Progress, jobs: int | None = None,
+                part_done=None) -> dict[str, PartResult]:
+    """{name: PartResult} in the jobs' order; ``part_done(name, part)``, a picklable
+    callable, runs as each part finishes, in the process that checked it."""
+    n = len(part_jobs)
     jobs = default_jobs(n) if jobs is None else max(1, min(jobs, n))
-    label = {name: f"({i}/{n}) {name}" for i, name in enumerate(cases, 1)}
+    label = {name: f"({i}/{n}) {name}" for i, name in enumerate(part_jobs, 1)}
     if jobs == 1:
-        return {name: _check_one(scene, kin, name, geometries[name], case, material, limit, solver, label[name],
-                                 part_done, lambda msg: progress.say("solve", msg))
-                for name, case in cases.items()}
-    return _in_workers(scene, kin, geometries, cases, material, limit, solver, progress, jobs, label, part_done)
+        return {name: _check_one(job, solver, label[name], part_done, lambda msg: progress.say("solve", msg))
+                for name, job in part_jobs.items()}
+    return _in_workers(part_jobs, solver, progress, jobs, label, part_done)
 
 
-def _in_workers(scene, kin, geometries, cases, material, limit, solver, progress, jobs, label, part_done) -> dict:
-    import multiprocessing
-    from concurrent.futures import ProcessPoolExecutor
-
+def _in_workers(part_jobs: dict[str, PartJob], solver: str, progress: Progress, jobs: int, label: dict,
+                part_done) -> dict[str, PartResult]:
     ctx = multiprocessing.get_context("spawn")
     queue = ctx.SimpleQueue()
     relay = threading.Thread(target=_relay, args=(queue, progress), daemon=True)
     relay.start()
-    order = sorted(cases, key=lambda name: -_estimated_elements(scene, geometries[name]))
+    order = sorted(part_jobs, key=lambda name: -_estimated_elements(part_jobs[name]))
     largest, rest = order[0], order[1:]
     pool = ProcessPoolExecutor(jobs - 1, mp_context=ctx, initializer=_init_worker, initargs=(queue,))
     try:
-        futures = {name: pool.submit(_check_one, scene, kin, name, geometries[name], cases[name], material,
-                                     limit, solver, label[name], part_done) for name in rest}
-        here = _check_one(scene, kin, largest, geometries[largest], cases[largest], material, limit, solver,
-                          label[largest], part_done, lambda msg: progress.say("solve", msg))
-        results = {name: here if name == largest else futures[name].result() for name in cases}
+        futures = {name: pool.submit(_check_one, part_jobs[name], solver, label[name], part_done) for name in rest}
+        here = _check_one(part_jobs[largest], solver, label[largest], part_done,
+                          lambda msg: progress.say("solve", msg))
+        results = {name: here if name == largest else futures[name].result() for name in part_jobs}
     except BaseException:            # an error, Ctrl-C or SIGTERM: stop the other parts now
         for process in list(getattr(pool, "_processes", {}).values()):
             process.terminate()
@@ -67,13 +73,11 @@ def _in_workers(scene, kin, geometries, cases, material, limit, solver, progress
     return results
 
 
-def _estimated_elements(scene, geo) -> int:
-    from railcheck.check.pipeline import mesh_sizes
-    from railcheck.geometry.mesher import estimate_elements
-    return estimate_elements(geo, *mesh_sizes(scene, geo.kind))
+def _estimated_elements(job: PartJob) -> int:
+    return estimate_elements(job.geometry, job.mesh.size, job.mesh.hole_size)
 
 
-def _relay(queue, progress) -> None:
+def _relay(queue, progress: Progress) -> None:
     """Print the workers' progress lines until the sentinel arrives."""
     while True:
         item = queue.get()
@@ -90,18 +94,15 @@ def _init_worker(queue) -> None:
     _QUEUE = queue
 
 
-def _check_one(scene, kin, name, geo, case, material, limit, solver, label, part_done=None, say=None):
+def _check_one(job: PartJob, solver: str, label: str, part_done=None, say=None) -> PartResult:
     """Check one part (and write its files); progress lines go to ``say`` or, in a
     worker, to the queue."""
-    import time
-
-    from railcheck.check.cycle import check_part
-
     say = say or _QUEUE.put
-    part = check_part(scene, kin, name, geo, case, material, limit, solver, lambda msg: say(f"{label}: {msg}"))
+    part = check_part(job, solver, lambda msg: say(f"{label}: {msg}"))
     if part_done is not None:
         t = time.perf_counter()
-        part_done(name, part)
-        part.cycle.seconds["files"] = time.perf_counter() - t
-        say(f"{label}: files written in {part.cycle.seconds['files']:.1f} s")
+        part_done(job.name, part)
+        files = time.perf_counter() - t
+        part = dataclasses.replace(part, seconds={**part.seconds, "files": files})
+        say(f"{label}: files written in {files:.1f} s")
     return part

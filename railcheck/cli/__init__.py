@@ -22,7 +22,8 @@ class _Parser(argparse.ArgumentParser):
 
 def _cmd_kinematics(args) -> int:
     from railcheck.check.kinematics_stage import kinematics_summary, run_kinematics
-    from railcheck.report.text import kinematics_table, to_json
+    from railcheck.files import to_json
+    from railcheck.report.text import kinematics_table
     from railcheck.scene import load_scene
 
     scene = load_scene(args.scene)
@@ -80,9 +81,10 @@ def _cmd_init(args) -> int:
 
 
 def _cmd_check(args) -> int:
-    from railcheck.check.pipeline import Progress
     from railcheck.check.run import run_check
-    from railcheck.report.text import check_report, to_json
+    from railcheck.files import to_json
+    from railcheck.progress import Progress
+    from railcheck.report.text import check_report
     from railcheck.scene import load_scene
 
     if args.jobs is not None and args.jobs < 1:
@@ -96,8 +98,9 @@ def _cmd_check(args) -> int:
 
 
 def _cmd_sweep(args) -> int:
-    from railcheck.check.pipeline import Progress
-    from railcheck.report.text import sweep_report, to_json
+    from railcheck.files import to_json
+    from railcheck.progress import Progress
+    from railcheck.report.text import sweep_report
     from railcheck.scene import load_scene
     from railcheck.sweep.run import run_sweep
 
@@ -113,7 +116,8 @@ def _cmd_sweep(args) -> int:
 
 
 def _cmd_bench(args) -> int:
-    from railcheck.report.text import bench_report, to_json
+    from railcheck.files import to_json
+    from railcheck.report.text import bench_report
     from railcheck.studies.bench import run_bench
 
     out = run_bench(args.order, args.size, args.solver)
@@ -122,7 +126,8 @@ def _cmd_bench(args) -> int:
 
 
 def _cmd_convergence(args) -> int:
-    from railcheck.report.text import convergence_report, to_json
+    from railcheck.files import to_json
+    from railcheck.report.text import convergence_report
     from railcheck.studies.convergence import plot_study, run_convergence
 
     result = run_convergence(args.target, args.orders, args.sizes,

@@ -96,13 +96,13 @@ def _parts(result) -> str:
     rows = []
     for name, p in result.parts.items():
         c = p.cycle
-        angle = f"{c.history['crank_angle_deg']:.1f}" if c.C.shape[0] > 1 else "constant"
+        angle = f"{c.history.crank_angle_deg:.1f}" if c.C.shape[0] > 1 else "constant"
         fos = p.limit / p.verdict_stress if p.verdict_stress > 0 else np.inf
         dlim = f"{p.deflection_limit*1e3:.3g}" if p.deflection_limit else "none"
-        rows.append([_e(name), f"{p.verdict_stress/1e6:.1f}", angle, f"{c.seed_method['max_von_mises_Pa']/1e6:.1f}",
+        rows.append([_e(name), f"{p.verdict_stress/1e6:.1f}", angle, f"{c.seed_method.max_von_mises/1e6:.1f}",
                      f"{p.limit/1e6:.0f}", f"{fos:.2f}", f"{p.verdict_stress/p.limit:.0%}",
-                     f"{c.envelope.max_tip*1e3:.3g}", dlim, f"{c.fatigue['min_safety_factor']:.2f}",
-                     f"{c.fatigue['sigma_a_Pa']/1e6:.1f} / {c.fatigue['sigma_m_Pa']/1e6:.1f}", _verdict(p.passed)])
+                     f"{c.envelope.max_tip*1e3:.3g}", dlim, f"{c.fatigue.min_safety_factor:.2f}",
+                     f"{c.fatigue.sigma_a/1e6:.1f} / {c.fatigue.sigma_m/1e6:.1f}", _verdict(p.passed)])
     head = ["part", "cycle max von Mises (MPa)", "at crank (deg)", "seed method (MPa)", "limit (MPa)",
             "factor of safety", "utilisation", "max tip deflection (mm)", "deflection limit (mm)",
             "fatigue factor", "σa / σm (MPa)", "verdict"]
@@ -110,8 +110,8 @@ def _parts(result) -> str:
     return ("<h2>Parts</h2>" + _table(head, rows)
             + f'<p class="note">cycle max: the largest von Mises over the whole crank cycle, away from the '
               f"idealised support's singular edge; seed method: at the instant of the peak reaction magnitude; "
-              f"factor of safety = limit / cycle max; fatigue: {_e(crit['criterion'])}, endurance limit "
-              f"{crit['endurance_limit_Pa']/1e6:.0f} MPa (Shigley ch. 6, Marin factors in summary.json).</p>")
+              f"factor of safety = limit / cycle max; fatigue: {_e(crit.criterion)}, endurance limit "
+              f"{crit.marin.endurance_limit/1e6:.0f} MPa (Shigley ch. 6, Marin factors in summary.json).</p>")
 
 
 def _pictures(result, directory: Path) -> str:
@@ -127,11 +127,11 @@ def _mesh_and_equilibrium(result) -> str:
         return ""
     rows = []
     for name, p in result.parts.items():
-        meta, c = p.cycle.meta, p.cycle.C[p.cycle.envelope.step]
-        applied, reaction = meta["resultants"] @ c, meta["support_reactions"] @ c
+        solve, c = p.cycle.solve, p.cycle.C[p.cycle.envelope.step]
+        applied, reaction = solve.resultants @ c, solve.support_reactions @ c
         scale = max(np.linalg.norm(applied), 1e-300)
-        rows.append([_e(name), f"{meta['dofs']}", f"{meta['elements']}", f"{p.mesh.min_quality:.2f}",
-                     f"{p.mesh.slivers}", _e(meta["solver"].get("solver")),
+        rows.append([_e(name), f"{solve.dofs}", f"{solve.elements}", f"{p.mesh.min_quality:.2f}",
+                     f"{p.mesh.slivers}", _e(solve.solver.get("solver")),
                      ", ".join(f"{v:.2f}" for v in applied), ", ".join(f"{v:.2f}" for v in reaction),
                      f"{np.linalg.norm(applied + reaction) / scale:.1e}"])
     head = ["part", "DOFs", "elements", "min quality", "slivers", "solver", "applied load (N, x y z)",

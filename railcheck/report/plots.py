@@ -79,15 +79,15 @@ def write_cycle_plot(name: str, part, path: str | Path) -> Path:
     plt = _figure()
     h, limit = part.cycle.history, part.limit
     fig, ax = plt.subplots(figsize=(8, 4.5))
-    ax.plot(h["angles_deg"], h["von_mises_Pa"] / 1e6, color="C0",
-            label=f"governing node, peak {part.verdict_stress / 1e6:.1f} MPa at {h['crank_angle_deg']:.1f}°")
+    ax.plot(h.angles_deg, h.von_mises / 1e6, color="C0",
+            label=f"governing node, peak {part.verdict_stress / 1e6:.1f} MPa at {h.crank_angle_deg:.1f}°")
     seed = part.cycle.seed_method
-    ax.axvline(h["seed_angle_deg"], color="C3", ls="--",
-               label=f"seed method instant {seed['crank_angle_deg']:.1f}° (peak |R_{h['joint']}|): "
-                     f"{seed['max_von_mises_Pa'] / 1e6:.1f} MPa at its own peak node")
+    ax.axvline(h.seed_angle_deg, color="C3", ls="--",
+               label=f"seed method instant {seed.crank_angle_deg:.1f}° (peak |R_{h.joint}|): "
+                     f"{seed.max_von_mises / 1e6:.1f} MPa at its own peak node")
     ax.axhline(limit / 1e6, color="k", lw=0.8, ls=":", label=f"limit {limit / 1e6:.0f} MPa")
     ax.set(xlabel="crank angle θ2 (deg)", ylabel="von Mises (MPa)", xlim=(0, 360), ylim=(0, None),
-           title=f"{name}: von Mises over one crank revolution (joint {h['joint']})")
+           title=f"{name}: von Mises over one crank revolution (joint {h.joint})")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
     path = Path(path)

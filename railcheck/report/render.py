@@ -60,7 +60,7 @@ def render_part(path: str | Path, name: str, part) -> Path:
     _support(pv, plotter, mesh, sol, scale, part)
     _bolt_arrows(pv, plotter, mesh, sol, scale, part, cycle, min(extent.max(), 8 * np.sort(extent)[1]))
     _peak_marker(pv, plotter, cycle, sol, scale, extent.max(), part)
-    when = (f"at crank {cycle.history['crank_angle_deg']:.1f} deg" if cycle.C.shape[0] > 1
+    when = (f"at crank {cycle.history.crank_angle_deg:.1f} deg" if cycle.C.shape[0] > 1
             else "under its constant explicit loads")
     plotter.add_text(f"{name}: cycle peak {part.verdict_stress/1e6:.1f} MPa {when} (limit {part.limit/1e6:.0f} MPa, FoS "
                      f"{part.limit / max(part.verdict_stress, 1e-9):.3g}); largest tip deflection "

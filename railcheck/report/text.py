@@ -2,9 +2,7 @@
 
 from __future__ import annotations
 
-import json
 import math
-from typing import Any
 
 import numpy as np
 
@@ -37,23 +35,6 @@ def kinematics_table(summary: dict) -> str:
     return "\n".join(lines)
 
 
-def to_json(data: Any) -> str:
-    """Deterministic JSON (sorted keys are not used: the order is the report's order)."""
-    return json.dumps(_clean(data), indent=2, ensure_ascii=False, allow_nan=False)
-
-
-def _clean(x: Any) -> Any:
-    if isinstance(x, dict):
-        return {str(k): _clean(v) for k, v in x.items()}
-    if isinstance(x, (list, tuple)):
-        return [_clean(v) for v in x]
-    if hasattr(x, "item") and not isinstance(x, (str, bytes)):
-        x = x.item()
-    if isinstance(x, float) and not math.isfinite(x):
-        return None
-    return x
-
-
 def parts_table(result) -> str:
     """The console table: the cycle envelope's peak and where in the cycle, the seed
     method's single instant beside it, the fatigue factor, and each verdict."""
@@ -67,10 +48,10 @@ def parts_table(result) -> str:
         why += [] if p.fatigue_passed else ["fatigue"]
         why += [] if p.deflection_passed else ["defl"]
         verdict = ("PASS" if p.passed else "FAIL " + "+".join(why)) if np.any(c.C) else "NO LOAD"
-        angle = f"{c.history['crank_angle_deg']:>7.1f} deg" if c.C.shape[0] > 1 else f"{'constant':>11}"
+        angle = f"{c.history.crank_angle_deg:>7.1f} deg" if c.C.shape[0] > 1 else f"{'constant':>11}"
         lines.append(f"  {name:<14}{p.verdict_stress/1e6:>10.1f} MPa{angle}"
-                     f"{c.seed_method['max_von_mises_Pa']/1e6:>8.1f} MPa{c.envelope.max_tip*1e3:>8.2f} mm"
-                     f"{p.limit/1e6:>5.0f} MPa{_factor(fos):>8}{_factor(c.fatigue['min_safety_factor']):>11}  "
+                     f"{c.seed_method.max_von_mises/1e6:>8.1f} MPa{c.envelope.max_tip*1e3:>8.2f} mm"
+                     f"{p.limit/1e6:>5.0f} MPa{_factor(fos):>8}{_factor(c.fatigue.min_safety_factor):>11}  "
                      f"{verdict:<8}{loc:<24}"
                      f"{c.envelope.support_peak/1e6:>8.1f} MPa")
     lines.append("  cycle max vM: the largest von Mises over the whole crank cycle (superposed unit cases); seed inst.: "
@@ -88,15 +69,13 @@ def _factor(x: float) -> str:
 def check_report(run) -> str:
     """The console report of a finished check: kinematics, the FE table, warnings, the
     stages run and one verdict line naming every reason for a FAIL."""
-    from railcheck.check.pipeline import mesh_sizes
-
     result, summary, scene = run.result, run.summary, run.result.scene
     lines = [f"scene: {scene.source}"]
     if result.kinematics_summary is not None:
         lines += [kinematics_table(result.kinematics_summary), ""]
     if result.parts:
         c = scene.check
-        sizes = sorted({mesh_sizes(scene, p.geometry.kind) for p in result.parts.values()}, reverse=True)
+        sizes = sorted({(p.job.mesh.size, p.job.mesh.hole_size) for p in result.parts.values()}, reverse=True)
         sizes = ", ".join(f"{a*1e3:g} mm (holes {b*1e3:.3g} mm)" for a, b in sizes)
         lines.append(f"FE check: material {c.material}, factor {c.factor:g}, bolts {c.bolt_position}, "
                      f"P{scene.mesh.order} tetrahedra, size {sizes}")

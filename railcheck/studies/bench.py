@@ -7,7 +7,7 @@ from railcheck.errors import InputError
 
 def run_bench(order: int = 2, size_mm: float = 4.0, solver: str = "auto") -> dict:
     """The cantilever against Timoshenko beam theory: a JSON-ready dict (SI)."""
-    from railcheck.check.pipeline import refuse_beyond_memory
+    from railcheck.check.jobs import refuse_beyond_memory
     from railcheck.fea.cantilever import HEIGHT, LENGTH, WIDTH, run_cantilever
     from railcheck.geometry.models import bar
 

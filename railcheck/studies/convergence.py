@@ -83,8 +83,8 @@ def _solve_row(target: str, element: str, size: float) -> dict:
     else:
         from dataclasses import replace
 
+        from railcheck.check.jobs import build_load_cases, part_geometries
         from railcheck.check.kinematics_stage import run_kinematics
-        from railcheck.check.pipeline import build_load_cases, part_geometries
         from railcheck.scene import load_scene
 
         scene = load_scene(None)
@@ -152,7 +152,7 @@ def add_errors(rows: list[dict], target: str) -> dict:
 
 def _refuse_beyond_memory(target: str, elements: list[str], sizes_mm: list[float]) -> None:
     """Every row's mesh is estimated before any is built (as `railcheck check` does)."""
-    from railcheck.check.pipeline import refuse_beyond_memory
+    from railcheck.check.jobs import refuse_beyond_memory
     from railcheck.fea.cantilever import HEIGHT, LENGTH, WIDTH
     from railcheck.geometry.models import bar
     from railcheck.parts import geometry_of

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from railcheck.parts import BAR_INDEX, PARTS
+from railcheck.parts import BAR_INDEX
 
 REVOLVE_MARGIN = 1e-7          # rad: closer to a toggle is singular (kinematics.motion)
 
@@ -163,17 +163,18 @@ def coefficients(ctx: SweepContext, name: str, loads: Loads, sel: np.ndarray) ->
     """Per load source of part ``name``: (C_g or None, C_i) (S_sel, T, k) for the settings
     ``sel``: the constant part (gravity at rest) and the inertial part at the first speed
     (the total there minus the constant part)."""
-    from railcheck.check.cycle import source_coefficients
+    from railcheck.check.loading import source_coefficients
 
     def coeffs(src, reactions: dict, motion):
         by_bar = lambda a: {bar: a[i][sel] for bar, i in BAR_INDEX.items()}  # noqa: E731
-        return source_coefficients(ctx.scene, name, src, {j: r[sel] for j, r in reactions.items()},
+        return source_coefficients(loads_model, src, {j: r[sel] for j, r in reactions.items()},
                                    by_bar(motion.theta), {j: a[sel] for j, a in motion.accelerations.items()},
-                                   by_bar(motion.omega), by_bar(motion.alpha), ctx.density)
+                                   by_bar(motion.omega), by_bar(motion.alpha))
 
+    loads_model = ctx.models[name].loads
     total, _ = reactions_at(loads, 1.0)
     out = []
-    for src in PARTS[name].sources:
+    for src in loads_model.sources:
         if src.joint not in total:
             continue
         Ct = coeffs(src, total, loads.motion)

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from railcheck.check.loading import LoadModel
 from railcheck.parts import PARTS, kind_of
 
 
@@ -37,6 +38,7 @@ class PartModel:
     required: float
     deflection_limit: float | None
     dofs: int
+    loads: LoadModel
     constant: tuple | None = None
 
     def screen_for(self, length: float):
@@ -89,8 +91,8 @@ def hole_groups(scene, name: str, geo, lengths: np.ndarray) -> tuple[dict, dict]
 def build_part_model(scene, name: str, lengths: np.ndarray, material, limit: float, report) -> PartModel:
     """Mesh, factorise and solve the unit cases of every hole pair of one part; screen
     them (``lengths``: the bar lengths, m, the sweep's settings give this part's bar)."""
-    from railcheck.check.cycle import source_histories, unit_cases
-    from railcheck.check.pipeline import mesh_sizes
+    from railcheck.check.jobs import mesh_sizes
+    from railcheck.check.loading import load_model, source_histories, unit_cases
     from railcheck.fea.fatigue import endurance_limit
     from railcheck.fea.unitcases import solve_unit_cases
     from railcheck.geometry.mesher import mesh_part
@@ -99,12 +101,13 @@ def build_part_model(scene, name: str, lengths: np.ndarray, material, limit: flo
 
     kind = kind_of(name)
     geo = geometry_of(name, scene.geometry)
-    mesh = mesh_part(geo, *mesh_sizes(scene, geo.kind), optimize=scene.mesh.optimize)
+    mesh = mesh_part(geo, *mesh_sizes(scene.mesh, geo.kind), optimize=scene.mesh.optimize)
+    loads = load_model(scene, name, material.density)
     groups, pair_of = hole_groups(scene, name, geo, lengths)
     cases, columns = {}, {}
     for key, holes in groups.items():
         names = []
-        for case_name, case in unit_cases(scene, name, geo, holes).items():
+        for case_name, case in unit_cases(loads, geo, holes).items():
             full = f"{case_name}@{key[0]}-{key[1]}" if key is not None and case_name.startswith("bolt") else case_name
             cases.setdefault(full, case)
             names.append(full)
@@ -117,10 +120,10 @@ def build_part_model(scene, name: str, lengths: np.ndarray, material, limit: flo
     marin = endurance_limit(material.ultimate_strength, spec.surface, kind.section(geo), spec.load, spec.reliability)
     model = PartModel(name, PARTS[name].bar if name not in scene.check.loads else None, screens, pair_of, limit,
                       marin.endurance_limit, material.ultimate_strength, spec.criterion, material.yield_strength,
-                      spec.min_safety, scene.check.max_deflection, meta["dofs"])
+                      spec.min_safety, scene.check.max_deflection, meta.dofs, loads)
     if name not in scene.check.loads:
         return model
-    C = source_histories(scene, None, name, groups[None], material.density)[0].C[None]
+    C = source_histories(loads, None, groups[None])[0].C[None]
     scr = screens[None]
     constant = (float(von_mises_peak(scr, C)[0]),
                 float(fatigue_min(scr, C, model.endurance, model.ultimate, model.criterion, model.yield_strength)[0]),

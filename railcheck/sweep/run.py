@@ -69,13 +69,13 @@ def prepare_models(scene, by_kind: dict, progress) -> dict[str, dict]:
     """kind -> part -> PartModel: each checked part meshed, factorised and solved once."""
     if scene.check is None:
         return {kind: {} for kind in by_kind}
-    from railcheck.check.pipeline import _refuse_huge, part_geometries
+    from railcheck.check.jobs import part_geometries, refuse_huge
     from railcheck.fea.materials import MATERIALS
     from railcheck.sweep.parts import applicable, build_part_model
 
     material = MATERIALS[scene.check.material]
     limit = scene.check.limit or material.fatigue_limit
-    _refuse_huge(scene, part_geometries(scene))
+    refuse_huge(scene, part_geometries(scene))
     models = {}
     names = [n for n in scene.check.parts if any(applicable(scene, n, k) for k in by_kind)]
     for i, name in enumerate(names, 1):
@@ -96,7 +96,7 @@ def run_sweep(scene, out: str | None = None, force: bool = False, scheduler: str
     """Run the sweep the scene asks for and write its results directory. Dask runs the
     chunks when ``scheduler`` is given or the sweep is large (``dask`` True/False forces
     it either way; ``serial`` is ``dask=False``)."""
-    from railcheck.check.pipeline import Progress
+    from railcheck.progress import Progress
 
     validate(scene)
     progress = progress or Progress(quiet=True)
@@ -145,8 +145,7 @@ def _run_into(scene, directory: Path, scheduler, workers, serial, progress, dask
             tables[kind] = path
     clock.append(time.perf_counter())
     summary = summary_of(scene, aggregates, tables, models)
-    from railcheck.files import atomic_write_text
-    from railcheck.report.text import to_json
+    from railcheck.files import atomic_write_text, to_json
 
     atomic_write_text(directory / "summary.json", to_json(summary) + "\n")
     write_maps(aggregates, directory)

@@ -1,0 +1,162 @@
+"""Each checked part's work, resolved once from the scene into a picklable
+:class:`PartJob`: its geometry, support and tip groups, mesh sizes, bolt holes, load
+model and coefficient histories, material, limits and fatigue settings. Downstream stages
+(:mod:`railcheck.check.cycle`, the worker processes) take the job, never the scene.
+
+Also here, because they resolve the scene before any meshing: the seed method's load
+cases, each part's mesh sizes, the bolt holes a bar length uses, and the refusals of a
+mesh too coarse for a part or too large for this machine's memory.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from railcheck.check.kinematics_stage import KinematicsResult
+from railcheck.check.loading import LoadModel, SourceHistory, load_model, source_histories
+from railcheck.errors import InputError
+from railcheck.fea.materials import Material
+from railcheck.fea.mesh import estimate_dofs
+from railcheck.fea.solvers import available_memory
+from railcheck.geometry.mesher import estimate_elements
+from railcheck.geometry.models import PartGeometry
+from railcheck.loads.cases import LoadCase, explicit_load_case, rail_bolt_holes, reaction_load_case
+from railcheck.parts import BAR_INDEX, KINDS, PARTS, geometry_of, kind_of
+from railcheck.scene import FatigueSpec, MeshSpec, Scene
+
+#: peak memory per DOF of a P2 solve on the iterative path (assembly, AMG hierarchy, stress
+#: projection), bytes; measured on a 1000 mm rail at 145k DOFs (README, "What railcheck
+#: refuses"). The direct path falls back to it when its factor would not fit.
+BYTES_PER_DOF_AMG = 11_000
+
+
+@dataclass(frozen=True)
+class MeshJob:
+    """A part's mesh: ``size`` and ``hole_size`` (m), element ``order``, curved P2
+    (``curved``) and gmsh's optimisation (``optimize``)."""
+
+    size: float
+    hole_size: float
+    order: int
+    curved: bool
+    optimize: bool
+
+
+@dataclass(frozen=True)
+class PartJob:
+    """Everything one part's check needs (SI): ``support`` and ``tip`` mesh groups,
+    ``exclusion`` (m) the support's singular zone kept out of the verdict, ``section``
+    (width, height) m for the fatigue size factor, the bolt ``holes`` its joint loads,
+    its ``loads`` model and ``histories`` (one per load source), the seed method's
+    ``load_case``, the stress ``limit`` (Pa), the ``fatigue`` settings and the deflection
+    limit ``max_deflection`` (m or None)."""
+
+    name: str
+    geometry: PartGeometry
+    support: str
+    tip: str
+    exclusion: float
+    section: tuple[float, float]
+    mesh: MeshJob
+    holes: tuple[str, ...]
+    loads: LoadModel
+    histories: tuple[SourceHistory, ...]
+    load_case: LoadCase
+    material: Material
+    limit: float
+    fatigue: FatigueSpec
+    max_deflection: float | None
+
+
+def mesh_sizes(mesh: MeshSpec, kind: str) -> tuple[float, float]:
+    """(size, hole size) in m for a part kind: the scene's [mesh], else the registry's default."""
+    if mesh.size is None:
+        return KINDS[kind].mesh
+    return mesh.size, mesh.hole_size or 0.3 * mesh.size
+
+
+def part_geometries(scene: Scene) -> dict[str, PartGeometry]:
+    """PartGeometry for each part the scene checks (light: no gmsh import)."""
+    return {name: geometry_of(name, scene.geometry) for name in scene.check.parts}
+
+
+def bolt_holes(scene: Scene, name: str, geo: PartGeometry) -> list[str]:
+    """The bolt-hole groups a part's joint uses: on a rail the pair chosen by the bar
+    length and ``check.bolt_position``; on a plate every hole."""
+    if not kind_of(name).bolts_on_rail:
+        return kind_of(name).bolts(geo)
+    xs = list(geo.get("hole_x"))
+    explicit = name in scene.check.loads
+    bar = PARTS[name].bar
+    length = 0.0 if explicit else scene.mechanism.linkage.lengths[bar]
+    try:
+        idx = rail_bolt_holes(xs, xs[0], length, "worst" if explicit else scene.check.bolt_position)
+    except ValueError as exc:
+        raise InputError(f"mechanism.{bar}", str(exc)) from None
+    return [f"hole_{k}" for k in idx]
+
+
+def build_load_cases(scene: Scene, kin: KinematicsResult | None, geometries: dict) -> dict[str, LoadCase]:
+    """The seed method's load case of every checked part: the factored reaction at the
+    instant its magnitude peaks, over the joint with the largest peak (loads stage)."""
+    cases = {}
+    for name in scene.check.parts:
+        kind, holes = kind_of(name), bolt_holes(scene, name, geometries[name])
+        if name in scene.check.loads:
+            load = scene.check.loads[name]
+            cases[name] = explicit_load_case(name, load.longitudinal, load.transverse, holes, kind.support, kind.tip)
+            continue
+        dyn, motion = kin.dynamics, kin.motion
+        sources = [s for s in PARTS[name].sources if s.joint in dyn.reactions]
+        if not sources:
+            raise InputError("check.parts", f"{name} carries {PARTS[name].sources[0].joint}, which this mechanism "
+                                            f"lacks: give explicit [loads.{name}]")
+        src = max(sources, key=lambda s: dyn.peak(s.joint)[0])
+        angle = motion.theta[:, BAR_INDEX[src.axes_bar]] if src.axes_bar else np.zeros(motion.steps)
+        cases[name] = reaction_load_case(name, src.joint, src.sign * dyn.reactions[src.joint], angle,
+                                         motion.theta2, scene.check.factor, holes, kind.support, kind.tip)
+    return cases
+
+
+def part_jobs(scene: Scene, kin: KinematicsResult | None, geometries: dict, cases: dict, material: Material,
+              limit: float) -> dict[str, PartJob]:
+    """The :class:`PartJob` of every checked part, in the scene's order."""
+    jobs = {}
+    for name, geo in geometries.items():
+        kind = kind_of(name)
+        holes = bolt_holes(scene, name, geo)
+        loads = load_model(scene, name, material.density)
+        jobs[name] = PartJob(
+            name=name, geometry=geo, support=kind.support, tip=kind.tip, exclusion=kind.exclusion(geo),
+            section=tuple(kind.section(geo)),
+            mesh=MeshJob(*mesh_sizes(scene.mesh, geo.kind), scene.mesh.order, scene.mesh.curved, scene.mesh.optimize),
+            holes=tuple(holes), loads=loads, histories=source_histories(loads, kin, holes), load_case=cases[name],
+            material=material, limit=limit, fatigue=scene.fatigue, max_deflection=scene.check.max_deflection)
+    return jobs
+
+
+def refuse_huge(scene: Scene, geometries: dict) -> None:
+    """Refuse, before meshing, a mesh size too coarse for a part (more than twice its
+    section's smaller side: the stress would be meaningless) and a mesh this machine's
+    memory cannot hold (DOFs estimated from the volume and the size field)."""
+    if scene.mesh.size is not None:
+        for name, geo in geometries.items():
+            side = min(kind_of(name).section(geo))
+            if scene.mesh.size > 2 * side:
+                raise InputError("mesh.size", f"{scene.mesh.size*1e3:g} mm is more than twice {name}'s "
+                                              f"{side*1e3:g} mm section: too coarse to resolve its stress")
+    for geo in geometries.values():
+        refuse_beyond_memory(geo, *mesh_sizes(scene.mesh, geo.kind), scene.mesh.order, "mesh.size")
+
+
+def refuse_beyond_memory(geo: PartGeometry, size: float, hole_size: float, order: int, field: str) -> None:
+    """Raise InputError naming ``field`` when meshing ``geo`` at these sizes (m) would
+    need more memory than this machine has (estimated before meshing)."""
+    tets = estimate_elements(geo, size, hole_size)
+    dofs = estimate_dofs(tets // 5, tets, order)
+    need, avail = dofs * BYTES_PER_DOF_AMG, available_memory()
+    if need > 0.8 * avail:
+        raise InputError(field, f"about {dofs/1e6:.1f} M DOFs needing about {need/2**30:.1f} GiB, more than "
+                                f"this machine's {avail/2**30:.1f} GiB allow: use a larger mesh size")

@@ -1,0 +1,187 @@
+"""The records a check produces, each frozen and built once (SI units throughout):
+
+* :class:`SourceHistory`: one load source's coefficient history over the cycle;
+* :class:`SeedMethod`, :class:`FatigueResult`, :class:`CycleHistory`: the parts of one
+  part's cycle result, gathered in :class:`CycleResult`;
+* :class:`PartResult`: one part's check (its job, mesh, governing instant and cycle);
+* :class:`PipelineResult`: the whole run.
+
+:func:`railcheck.check.summary.summary_of` is the one place that maps them to
+``summary.json``'s keys and units.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from railcheck.check.jobs import PartJob
+from railcheck.check.kinematics_stage import KinematicsResult
+from railcheck.fea.elasticity import Solution
+from railcheck.fea.fatigue import Marin
+from railcheck.fea.superpose import Envelope, UnitFields
+from railcheck.fea.unitcases import UnitSolve
+from railcheck.geometry.meshdata import MeshData
+from railcheck.kinematics.checks import CheckResult
+from railcheck.scene import Scene
+
+
+@dataclass(frozen=True)
+class SourceHistory:
+    """A load source's coefficient history ``C`` (steps, cases) over ``crank_angle``
+    (steps,) rad; ``seed_step`` the instant of its reaction's peak magnitude."""
+
+    joint: str
+    C: np.ndarray
+    crank_angle: np.ndarray
+    seed_step: int
+
+
+@dataclass(frozen=True)
+class SeedMethod:
+    """Seed 000's single-instant method: the von Mises peak (Pa) over the verdict nodes at
+    the instant of the largest reaction magnitude, its crank angle (deg), where (m)."""
+
+    max_von_mises: float
+    crank_angle_deg: float
+    location: tuple[float, float, float]
+    joint: str
+
+
+@dataclass(frozen=True)
+class FatigueResult:
+    """The minimum fatigue safety factor over the verdict nodes, where (m), its
+    alternating and midrange von Mises stresses (Pa), the endurance limit with its Marin
+    factors, the criterion, and ``node_factor`` (nodes,) for the VTU."""
+
+    criterion: str
+    marin: Marin
+    surface: str
+    reliability: float
+    min_safety_factor: float
+    location: tuple[float, float, float]
+    sigma_a: float
+    sigma_m: float
+    required: float
+    node_factor: np.ndarray
+
+    @property
+    def passed(self) -> bool:
+        return self.min_safety_factor >= self.required
+
+
+@dataclass(frozen=True)
+class CycleHistory:
+    """The governing node's von Mises (Pa) at every step (``angles_deg``), the governing
+    crank angle, the seed method's step and angle, and the joint that governs."""
+
+    crank_angle_deg: float
+    angles_deg: np.ndarray
+    von_mises: np.ndarray
+    seed_step: int
+    joint: str
+    seed_angle_deg: float
+
+
+@dataclass(frozen=True)
+class CycleResult:
+    """One part over the whole cycle: the envelope, the seed method beside it, fatigue,
+    the governing history, the unit fields and the governing source's coefficients ``C``
+    (steps, cases), the unit solve's figures, stage seconds and warnings."""
+
+    source: str
+    envelope: Envelope
+    seed_method: SeedMethod
+    fatigue: FatigueResult
+    history: CycleHistory
+    fields: UnitFields
+    C: np.ndarray
+    solve: UnitSolve
+
+
+@dataclass(frozen=True)
+class PartResult:
+    """One part's check. ``solution``: the field at the governing instant (for the VTU and
+    the picture); ``seconds`` per stage; ``warnings`` about its mesh or loads."""
+
+    job: PartJob
+    mesh: MeshData
+    solution: Solution
+    cycle: CycleResult
+    seconds: dict[str, float] = field(default_factory=dict)
+    warnings: tuple[str, ...] = ()
+
+    @property
+    def name(self) -> str:
+        return self.job.name
+
+    @property
+    def limit(self) -> float:
+        """Pa: the stress limit."""
+        return self.job.limit
+
+    @property
+    def geometry(self):
+        return self.job.geometry
+
+    @property
+    def load_case(self):
+        """The seed method's load case (the factored reaction at its peak instant)."""
+        return self.job.load_case
+
+    @property
+    def deflection_limit(self) -> float | None:
+        """m, from ``[check] max_deflection`` (None: no limit)."""
+        return self.job.max_deflection
+
+    @property
+    def verdict_stress(self) -> float:
+        """Pa: the cycle's peak von Mises away from the support's singular edge (README)."""
+        return self.cycle.envelope.max_von_mises
+
+    @property
+    def stress_passed(self) -> bool:
+        return self.verdict_stress <= self.limit
+
+    @property
+    def fatigue_passed(self) -> bool:
+        return self.cycle.fatigue.passed
+
+    @property
+    def deflection_passed(self) -> bool:
+        return self.deflection_limit is None or self.cycle.envelope.max_tip <= self.deflection_limit
+
+    @property
+    def passed(self) -> bool:
+        return self.stress_passed and self.fatigue_passed and self.deflection_passed
+
+
+@dataclass(frozen=True)
+class PipelineResult:
+    """A whole run: the stages that ran (in order), the kinematics, the configuration
+    checks, each part's result, warnings and stage timings (s)."""
+
+    scene: Scene
+    stages_run: tuple[str, ...] = ()
+    kinematics: KinematicsResult | None = None
+    kinematics_summary: dict | None = None
+    parts: dict[str, PartResult] = field(default_factory=dict)
+    warnings: tuple[str, ...] = ()
+    timings: dict[str, float] = field(default_factory=dict)
+    checks: dict[str, CheckResult] = field(default_factory=dict)
+
+    @property
+    def failures(self) -> list[str]:
+        """Every reason the run fails: a configuration check or a part's stress, fatigue or
+        deflection verdict (empty: pass)."""
+        out = [f"check {name}" for name, c in self.checks.items() if not c.ok]
+        for name, p in self.parts.items():
+            out += [f"{name} stress"] if not p.stress_passed else []
+            out += [f"{name} fatigue"] if not p.fatigue_passed else []
+            out += [f"{name} deflection"] if not p.deflection_passed else []
+        return out
+
+    @property
+    def passed(self) -> bool:
+        return not self.failures

@@ -1,0 +1,94 @@
+"""``summary.json`` of a check: the one place that maps the check's records
+(:mod:`railcheck.check.records`) to JSON keys, each key naming its unit (``_Pa``, ``_m``,
+``_deg``, ``_N``, ``_kg``). Deterministic: no timings (those go to ``timings.json``), so the
+same scene gives a byte-identical summary.
+"""
+
+from __future__ import annotations
+
+from railcheck.check.records import FatigueResult, PartResult, PipelineResult, SeedMethod
+from railcheck.geometry.catalogue import (
+    CATALOGUE_RAIL_MASS,
+    rail_mass_per_metre,
+    rail_mass_per_metre_with_holes,
+    with_overrides,
+)
+
+
+def summary_of(result: PipelineResult) -> dict:
+    """The summary.json content."""
+    scene = result.scene
+    out = {
+        "verdict": "FAIL" if result.failures else ("PASS" if result.parts else "NO CHECK"),
+        "failures": result.failures,
+        "parts": {name: part_summary(p) for name, p in result.parts.items()},
+        "stages_run": list(result.stages_run),
+        "warnings": list(result.warnings),
+    }
+    if scene.check is not None:
+        out["material"] = scene.check.material
+        out["effects"] = list(scene.check.effects)
+    if any(p.geometry.kind == "rail" for p in result.parts.values()):
+        out["rail_mass_per_m_kg"] = rail_masses(scene.geometry)
+    if result.kinematics_summary is not None:
+        out["kinematics"] = result.kinematics_summary
+    out["scene"] = scene.raw
+    out["scene_source"] = scene.source
+    return out
+
+
+def part_summary(p: PartResult) -> dict:
+    """One part's entry of summary.json (SI; the envelope governs ``max_von_mises_Pa``)."""
+    s, cyc, job = p.solution, p.cycle, p.job
+    env = cyc.envelope
+    return {
+        "max_von_mises_Pa": env.max_von_mises,
+        "max_von_mises_location_m": [float(x) for x in env.location],
+        "crank_angle_deg": cyc.history.crank_angle_deg,
+        "support_peak_von_mises_Pa": env.support_peak,
+        "support_exclusion_m": s.exclude_distance,
+        "tip_deflection_m": env.max_tip,
+        "max_deflection_m": p.deflection_limit,
+        "deflection_pass": bool(p.deflection_passed),
+        "limit_Pa": p.limit,
+        "utilisation": p.verdict_stress / p.limit,
+        "factor_of_safety": p.limit / p.verdict_stress if p.verdict_stress > 0 else None,
+        "pass": bool(p.passed),
+        "envelope": {"max_von_mises_Pa": env.max_von_mises, "crank_angle_deg": cyc.history.crank_angle_deg,
+                     "location_m": [float(x) for x in env.location], "max_tip_deflection_m": env.max_tip,
+                     "joint": cyc.source},
+        "seed_method": seed_summary(cyc.seed_method, env.max_von_mises),
+        "fatigue": fatigue_summary(cyc.fatigue),
+        "load_case": {"support": p.load_case.support, "tip": p.load_case.tip_group,
+                      "factor": p.load_case.factor, **p.load_case.origin,
+                      "bolts": {b.group: list(b.force) for b in p.load_case.bolts}},
+        "unit_cases": list(cyc.fields.names),
+        "mesh": {"order": s.order, "size_m": job.mesh.size, "hole_size_m": job.mesh.hole_size,
+                 "dofs": s.dofs, "elements": s.elements, "min_quality": p.mesh.min_quality,
+                 "slivers": p.mesh.slivers, "solver": cyc.solve.solver.get("solver")},
+    }
+
+
+def seed_summary(seed: SeedMethod, envelope_peak: float) -> dict:
+    """The seed method's entry, with the envelope's ratio to it."""
+    return {"max_von_mises_Pa": seed.max_von_mises, "crank_angle_deg": seed.crank_angle_deg,
+            "location_m": list(seed.location), "joint": seed.joint,
+            "ratio_envelope_to_seed": envelope_peak / seed.max_von_mises if seed.max_von_mises > 0 else None}
+
+
+def fatigue_summary(f: FatigueResult) -> dict:
+    """The fatigue entry (Pa): criterion, endurance limit and Marin factors, the minimum
+    safety factor, where, its alternating and midrange stresses, and the factor required."""
+    m = f.marin
+    return {"criterion": f.criterion, "endurance_limit_Pa": m.endurance_limit,
+            "marin": {"ka": m.ka, "kb": m.kb, "kc": m.kc, "kd": m.kd, "ke": m.ke, "unmodified_Pa": m.unmodified,
+                      "surface": f.surface, "reliability": f.reliability},
+            "min_safety_factor": f.min_safety_factor, "location_m": list(f.location), "sigma_a_Pa": f.sigma_a,
+            "sigma_m_Pa": f.sigma_m, "required": f.required}
+
+
+def rail_masses(geometry_overrides: dict) -> dict:
+    """kg/m of the modelled rail section beside the seed's and the catalogue's figures."""
+    rail = with_overrides(geometry_overrides)[0]
+    return {"model_section": rail_mass_per_metre(rail), "model_with_holes": rail_mass_per_metre_with_holes(rail),
+            **CATALOGUE_RAIL_MASS}
