@@ -32,6 +32,24 @@ from pathlib import Path
 
 import numpy as np
 
+from railcheck.check.jobs import build_load_cases, part_geometries
+from railcheck.check.kinematics_stage import run_kinematics
+from railcheck.fea.cantilever import HEIGHT, LENGTH, LOAD, WIDTH
+from railcheck.fea.elasticity import (
+    HoleLoad,
+    Support,
+    assemble,
+    group_nodes,
+    load_vector,
+    solve_elasticity,
+    von_mises,
+)
+from railcheck.fea.materials import MATERIALS
+from railcheck.fea.mesh import scalar_basis, vector_dof_map
+from railcheck.geometry.mesher import mesh_part
+from railcheck.geometry.models import bar
+from railcheck.scene import load_scene
+
 ABAQUS_EDGES = [(0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3)]
 
 
@@ -39,31 +57,14 @@ def railcheck_solve(problem: str, size: float, solver: str = "direct") -> dict:
     """Solve with railcheck (run in a child process) by ``solver``; return arrays as lists."""
     import resource
 
-    from railcheck.fea.elasticity import (
-        HoleLoad,
-        Support,
-        assemble,
-        group_nodes,
-        load_vector,
-        solve_elasticity,
-        von_mises,
-    )
-    from railcheck.fea.materials import MATERIALS
-    from railcheck.fea.mesh import scalar_basis, vector_dof_map
-    from railcheck.geometry.mesher import mesh_part
 
     if problem == "cantilever":
-        from railcheck.fea.cantilever import HEIGHT, LENGTH, LOAD, WIDTH
-        from railcheck.geometry.models import bar
         mesh = mesh_part(bar(LENGTH, WIDTH, HEIGHT), size, hole_size=size)
         supports, loads, tip = [Support("clamp")], [HoleLoad("tip", (0.0, 0.0, LOAD))], "tip"
         probe = np.array([LENGTH / 4, 0.0, HEIGHT / 2])
     else:
         from dataclasses import replace
 
-        from railcheck.check.jobs import build_load_cases, part_geometries
-        from railcheck.check.kinematics_stage import run_kinematics
-        from railcheck.scene import load_scene
         scene = load_scene(None)
         scene = replace(scene, check=replace(scene.check, parts=("crank-rail",)))
         geos = part_geometries(scene)

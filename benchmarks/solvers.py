@@ -13,6 +13,14 @@ import time
 
 import numpy as np
 
+from railcheck.check.jobs import mesh_sizes
+from railcheck.fea.elasticity import assemble, dof_components, supports, unit_traction_vectors
+from railcheck.fea.materials import MATERIALS
+from railcheck.fea.solvers import factorise, rigid_body_modes, solve_amg
+from railcheck.geometry.mesher import mesh_part
+from railcheck.parts import geometry_of, kind_of
+from railcheck.scene import load_scene
+
 
 def main() -> None:
     parser = argparse.ArgumentParser()
@@ -20,13 +28,6 @@ def main() -> None:
     parser.add_argument("--amg", action="store_true", help="also time AMG-CG on one right-hand side")
     args = parser.parse_args()
 
-    from railcheck.check.jobs import mesh_sizes
-    from railcheck.fea.elasticity import assemble, dof_components, supports, unit_traction_vectors
-    from railcheck.fea.materials import MATERIALS
-    from railcheck.fea.solvers import factorise, rigid_body_modes, solve_amg
-    from railcheck.geometry.mesher import mesh_part
-    from railcheck.parts import geometry_of, kind_of
-    from railcheck.scene import load_scene
 
     geo = geometry_of(args.part, {})
     kind = kind_of(args.part)

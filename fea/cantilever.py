@@ -10,6 +10,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from railcheck.geometry.mesher import mesh_part
+from railcheck.geometry.models import bar
+
 from .elasticity import HoleLoad, Solution, Support, solve_elasticity
 from .materials import MATERIALS, Material
 
@@ -47,8 +50,6 @@ def run_cantilever(order: int = 2, size: float = 4e-3, axis: str = "z", solver: 
                    length: float = LENGTH, width: float = WIDTH, height: float = HEIGHT, load: float = LOAD,
                    material: Material = MATERIALS["steel"], cache: bool = True) -> CantileverResult:
     """Mesh, solve and compare; ``size`` in m."""
-    from railcheck.geometry.mesher import mesh_part
-    from railcheck.geometry.models import bar
 
     t = time.perf_counter()
     mesh = mesh_part(bar(length, width, height), size, hole_size=size, cache=cache)

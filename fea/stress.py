@@ -14,9 +14,11 @@ from __future__ import annotations
 import numpy as np
 
 from .assembly import affine_reference, mass_matrix, straight_and_curved, straight_jacobians
+from .errors import NumericalError
 from .loading import surface_vectors
 from .materials import Material
 from .mesh import scalar_basis, vector_dof_map
+from .solvers import factorise, solve_jacobi_cg
 
 __all__ = ["VOIGT", "MASS_RTOL", "recover_stress", "von_mises", "away_from", "peak", "mean_over"]
 
@@ -36,8 +38,6 @@ def recover_stress(basis, U: np.ndarray, material: Material, report=None) -> np.
     columns together to a relative residual of 1e-12 in some 60 iterations, far cheaper
     than factorising it (a factor as large as the stiffness's); a direct solve takes over
     should CG stall."""
-    from .errors import NumericalError
-    from .solvers import factorise, solve_jacobi_cg
 
     U2 = U.reshape(U.shape[0], -1)
     k = U2.shape[1]

@@ -31,6 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from .cache import default_cache_dir, read_cached, write_cached
+from .curving import curved_from_tet10, straighten_folded
 from .meshdata import MeshData
 from .models import PartGeometry
 from .shapes import BUILDERS
@@ -197,7 +198,6 @@ def _with_curved_edges(gmsh, data: MeshData, index: np.ndarray) -> MeshData:
     straighten any element that would fold."""
     from dataclasses import replace
 
-    from .curving import curved_from_tet10, straighten_folded
 
     tags, coords, _ = gmsh.model.mesh.getNodes()
     xyz = np.zeros((int(tags.max()) + 1, 3))

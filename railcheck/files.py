@@ -23,6 +23,8 @@ import tempfile
 from pathlib import Path
 from typing import Any, Iterator
 
+from railcheck.errors import InputError
+
 STAGING_MARK = ".staging."
 
 
@@ -134,7 +136,6 @@ def _alive(pid: int) -> bool:
 def writable_dir(path: str | Path, option: str) -> Path:
     """Create (if needed) and return a directory the run may write into, or raise
     InputError naming ``option``; called before any work starts."""
-    from railcheck.errors import InputError
 
     p = Path(path)
     if p.exists() and not p.is_dir():
@@ -151,7 +152,6 @@ def writable_dir(path: str | Path, option: str) -> Path:
 def writable_file(path: str | Path, option: str) -> Path:
     """Check that ``path`` can be written as a file (its directory is created), or raise
     InputError naming ``option``; called before any work starts."""
-    from railcheck.errors import InputError
 
     p = Path(path)
     if p.is_dir():

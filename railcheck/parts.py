@@ -13,6 +13,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Callable
 
+from railcheck.geometry.catalogue import with_overrides
+from railcheck.geometry.models import i_profile, joint_plate, rail
+from railcheck.kinematics.massmodel import MassModel
+
 
 @dataclass(frozen=True)
 class LoadSource:
@@ -65,20 +69,14 @@ class Part:
 
 
 def _rail(overrides: dict, length: float):
-    from railcheck.geometry.catalogue import with_overrides
-    from railcheck.geometry.models import rail
     return rail(length, with_overrides(overrides)[0])
 
 
 def _joint_plate(overrides: dict, length: float | None = None):
-    from railcheck.geometry.catalogue import with_overrides
-    from railcheck.geometry.models import joint_plate
     return joint_plate(with_overrides(overrides)[1])
 
 
 def _i_profile(overrides: dict, length: float | None = None):
-    from railcheck.geometry.catalogue import with_overrides
-    from railcheck.geometry.models import i_profile
     return i_profile(with_overrides(overrides)[2])
 
 
@@ -114,5 +112,4 @@ def geometry_of(name: str, overrides: dict):
 
 def rail_length(bar: str) -> float:
     """m: the physical rail of a bar (seed 000, Anexo I; the mass model's lengths)."""
-    from railcheck.kinematics.massmodel import MassModel
     return getattr(MassModel(), f"{bar}_rail_length")

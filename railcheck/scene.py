@@ -15,6 +15,12 @@ from typing import Any
 
 from railcheck import parts as registry
 from railcheck.errors import InputError
+from railcheck.fea.fatigue import CRITERIA, LOAD, RELIABILITY, SURFACE  # light module: numpy only
+from railcheck.fea.materials import MATERIALS  # light module: no skfem import
+from railcheck.geometry.catalogue import (
+    OVERRIDABLE,  # light module: no gmsh import
+    validate,  # light module
+)
 from railcheck.kinematics.linkage import FourBar, SliderCrank
 from railcheck.units import parse_quantity
 
@@ -223,7 +229,6 @@ def _check(table: dict, loads_table: dict) -> CheckSpec:
     material = table.get("material", "steel")
     if not isinstance(material, str):
         raise InputError(p + "material", f"must be a material name, got {material!r}")
-    from railcheck.fea.materials import MATERIALS  # light module: no skfem import
     if material not in MATERIALS:
         raise InputError(p + "material", f"unknown material {material!r} (known: {', '.join(MATERIALS)})")
     limit = None
@@ -287,14 +292,12 @@ def _output(table: dict) -> OutputSpec:
 
 
 def _geometry(table: dict) -> dict[str, float]:
-    from railcheck.geometry.catalogue import OVERRIDABLE  # light module: no gmsh import
     out = {}
     for key, value in table.items():
         if key not in OVERRIDABLE:
             raise InputError(f"geometry.{key}", f"unknown key (allowed: {', '.join(sorted(OVERRIDABLE))})")
         out[key] = _in_range(parse_quantity(value, "length", f"geometry.{key}", positive=True, allow_zero=False),
                              "geometry", f"geometry.{key}")
-    from railcheck.geometry.catalogue import validate  # light module
     problem = validate(out)
     if problem:
         raise InputError(*problem)
@@ -302,7 +305,6 @@ def _geometry(table: dict) -> dict[str, float]:
 
 
 def _fatigue(table: dict) -> FatigueSpec:
-    from railcheck.fea.fatigue import CRITERIA, LOAD, RELIABILITY, SURFACE  # light module: numpy only
 
     p = "fatigue."
     _unknown(table, _ALLOWED["fatigue"], p)

@@ -16,6 +16,8 @@ from hypothesis import strategies as st
 from railcheck.check.jobs import build_load_cases, part_geometries
 from railcheck.check.kinematics_stage import run_kinematics
 from railcheck.check.pipeline import run_pipeline
+from railcheck.check.summary import rail_masses
+from railcheck.fea.errors import ModelError
 from railcheck.loads.rotation import to_rail_axes
 from railcheck.scene import load_scene, parse_scene
 from scene_texts import FINAL_DESIGN, PLATE_LOADS, assert_picture, browse
@@ -183,7 +185,6 @@ def test_default_check_end_to_end(tmp_path):
 
 
 def test_rail_mass_is_reported_beside_the_seeds():
-    from railcheck.check.summary import rail_masses
 
     m = rail_masses(load_scene(None).geometry)
     assert m["model_section"] == pytest.approx(0.023 * 0.022 * 7850)
@@ -195,7 +196,6 @@ def test_rail_mass_is_reported_beside_the_seeds():
 def test_parts_in_worker_processes_equal_parts_in_this_process():
     """Two parts on two worker processes (spawned) give exactly the serial results, and a
     worker's error reaches the caller as the same exception with its field."""
-    from railcheck.fea.errors import ModelError
 
     scene = parse_scene(tomllib.loads(COARSE_CRANK.replace("FACTOR", "1.4").replace(
         'parts = ["crank-rail"]', 'parts = ["crank-rail", "coupler-rail"]')))

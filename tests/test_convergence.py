@@ -4,9 +4,11 @@ import json
 
 import pytest
 
+from railcheck.check.jobs import mesh_sizes
 from railcheck.cli import main
+from railcheck.parts import geometry_of
 from railcheck.scene import load_scene
-from railcheck.studies.convergence import kinematics_study, richardson
+from railcheck.studies.convergence import HOLE_RATIO, _solve_row, kinematics_study, richardson
 
 
 @pytest.mark.parametrize("p", [1.0, 2.0, 3.5])
@@ -70,9 +72,6 @@ def test_default_mesh_is_within_the_accuracy_targets_of_the_converged_study(part
     """Each part on the default scene's mesh (curved P2, size from the registry, holes at
     0.3 x size): tip deflection within 1% and peak von Mises within 5% of the study's
     converged values, the targets the defaults were chosen for."""
-    from railcheck.check.jobs import mesh_sizes
-    from railcheck.parts import geometry_of
-    from railcheck.studies.convergence import HOLE_RATIO, _solve_row
 
     size, hole = mesh_sizes(load_scene(None).mesh, geometry_of(part, {}).kind)
     assert hole == pytest.approx(HOLE_RATIO * size)

@@ -19,7 +19,7 @@ from railcheck.fea.elasticity import (
     unit_traction_vectors,
 )
 from railcheck.fea.materials import MATERIALS
-from railcheck.fea.mesh import curved_elements, skfem_mesh
+from railcheck.fea.mesh import curved_elements, group_facets, skfem_mesh
 from railcheck.fea.stress import _affine_stress_moments, _stress_moments
 from railcheck.geometry import curving
 from railcheck.geometry.mesher import mesh_part
@@ -153,7 +153,6 @@ def test_traction_on_a_curved_hole_integrates_to_the_force(short_rail):
 def test_straight_mesh_surface_weights_equal_scikit_fem_facet_integrals(short_rail):
     from skfem import FacetBasis, LinearForm, asm
 
-    from railcheck.fea.mesh import group_facets
 
     _, mesh = short_rail
     basis = _vector_basis(mesh, None)

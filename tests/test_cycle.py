@@ -13,9 +13,9 @@ from railcheck.check.jobs import bolt_holes
 from railcheck.check.kinematics_stage import run_kinematics
 from railcheck.check.loading import load_model, source_histories, unit_cases
 from railcheck.fea.elasticity import HoleLoad, Support, solve_elasticity, von_mises
-from railcheck.fea.fatigue import endurance_limit, safety_factor
+from railcheck.fea.fatigue import alternating_and_mean, endurance_limit, safety_factor
 from railcheck.fea.materials import MATERIALS
-from railcheck.fea.superpose import candidate_steps, envelope, stress_at, von_mises_max
+from railcheck.fea.superpose import candidate_steps, component_range, envelope, stress_at, von_mises_max
 from railcheck.fea.unitcases import TractionCase, solve_unit_cases
 from railcheck.geometry.mesher import mesh_part
 from railcheck.geometry.models import bar
@@ -176,8 +176,6 @@ def cantilever():
 
 @pytest.mark.parametrize("cycle", ["fully reversed", "zero to max"])
 def test_fatigue_of_a_cantilever_matches_goodman_by_hand(cantilever, cycle):
-    from railcheck.fea.fatigue import alternating_and_mean
-    from railcheck.fea.superpose import component_range
 
     (L, w, hgt), fields = cantilever
     F = 150.0
@@ -213,7 +211,6 @@ def test_marin_factors_match_shigley():
 
 
 def test_polygon_support_function_equals_every_step():
-    from railcheck.fea.superpose import component_range
 
     rng = np.random.default_rng(3)
     t = np.linspace(0, 2 * np.pi, 2000)

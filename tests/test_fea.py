@@ -3,22 +3,30 @@
 import numpy as np
 import pytest
 
+from railcheck.fea import products
 from railcheck.fea.assembly import _pair_pattern_by_unique, pair_pattern
 from railcheck.fea.cantilever import run_cantilever, timoshenko_tip
 from railcheck.fea.elasticity import (
     HoleLoad,
     Support,
+    assemble,
     check_rigid_modes,
     dof_components,
+    free_submatrix,
+    mass_matrix,
+    solve,
     solve_elasticity,
     stiffness_matrix,
+    supports,
+    unit_traction_vectors,
 )
 from railcheck.fea.errors import ModelError, NumericalError
 from railcheck.fea.materials import MATERIALS
-from railcheck.fea.mesh import element_of, skfem_mesh
-from railcheck.fea.solvers import rigid_body_modes
+from railcheck.fea.mesh import element_of, mesh_entities, skfem_mesh
+from railcheck.fea.solvers import factorise, rigid_body_modes, solve_jacobi_cg
+from railcheck.fea.vtk import write_vtu
 from railcheck.geometry.catalogue import RAIL
-from railcheck.geometry.mesher import mesh_part
+from railcheck.geometry.mesher import local_numbering, mesh_part
 from railcheck.geometry.models import bar, rail
 
 STEEL = MATERIALS["steel"]
@@ -154,7 +162,6 @@ def test_missing_group_and_missing_support_are_errors(rail_mesh):
 def test_vtu_round_trip(tmp_path, rail_mesh):
     import meshio
 
-    from railcheck.fea.vtk import write_vtu
 
     s = solve_elasticity(rail_mesh.points, rail_mesh.tets, rail_mesh.groups, STEEL, [Support("shaft_hole")],
                          [HoleLoad("hole_11", (10.0, 20.0, 0.0))], order=2)
@@ -217,7 +224,6 @@ def test_amg_is_deterministic(rail_mesh):
 
 
 def _rail_system(rail_mesh):
-    from railcheck.fea.elasticity import assemble, supports, unit_traction_vectors
 
     K, basis = assemble(rail_mesh.points, rail_mesh.tets, STEEL, 2)
     fixed = supports(basis, rail_mesh.groups, ["shaft_hole"])
@@ -229,7 +235,6 @@ def _rail_system(rail_mesh):
 def test_every_solver_path_agrees(rail_mesh):
     """PARDISO, SuperLU, p-multigrid CG and AMG-CG on the same P2 rail, two load columns:
     the same displacements to 1e-8 of the largest."""
-    from railcheck.fea.elasticity import solve
 
     K, basis, fixed, F = _rail_system(rail_mesh)
     ref, info = solve(K, F, fixed, "pardiso", basis)
@@ -245,7 +250,6 @@ def test_every_solver_path_agrees(rail_mesh):
 def test_a_memory_cap_sends_p2_to_p_multigrid(rail_mesh):
     """The factor's estimate exceeds a 1 MB cap: the auto choice solves iteratively with the
     P2 -> P1 p-multigrid (its P1 level, over the cap too, by AMG), to the direct answer."""
-    from railcheck.fea.elasticity import solve
 
     K, basis, fixed, F = _rail_system(rail_mesh)
     U, info = solve(K, F[:, 0], fixed, "auto", basis, memory_limit=1e6)
@@ -257,7 +261,6 @@ def test_a_memory_cap_sends_p2_to_p_multigrid(rail_mesh):
 def test_free_submatrix_equals_fancy_indexing():
     import scipy.sparse as sp
 
-    from railcheck.fea.elasticity import free_submatrix
 
     rng = np.random.default_rng(4)
     K = sp.random(300, 300, density=0.05, format="csr", random_state=5)
@@ -275,7 +278,6 @@ def test_free_submatrix_equals_fancy_indexing():
 def test_mesh_entities_equal_scikit_fem(block):
     from skfem import MeshTet
 
-    from railcheck.fea.mesh import mesh_entities
 
     t = np.ascontiguousarray(block.tets.T)
     for indices in (MeshTet.elem.refdom.facets, MeshTet.elem.refdom.edges):
@@ -292,8 +294,6 @@ def test_mass_matrix_equals_scikit_fem_and_jacobi_cg_equals_a_factorisation(bloc
     from skfem.element import ElementVector
     from skfem.quadrature import get_quadrature
 
-    from railcheck.fea.elasticity import mass_matrix
-    from railcheck.fea.solvers import factorise, solve_jacobi_cg
 
     basis = Basis(skfem_mesh(block.points, block.tets), ElementVector(element_of(2)), intorder=1)
     scalar = basis.elem.elem
@@ -316,7 +316,6 @@ def test_local_numbering_keeps_the_mesh_and_shrinks_the_bandwidth():
     """Reverse Cuthill-McKee on a shuffled structured mesh: the same tetrahedra (as sets of
     points), sorted by their lowest vertex, with a vertex bandwidth near a layer's size
     (one (k+1)^2 layer of a k^3 cube) where the shuffled numbering's is near n."""
-    from railcheck.geometry.mesher import local_numbering
 
     k = 12
     grid = np.stack(np.meshgrid(*[np.arange(k + 1)] * 3, indexing="ij"), -1).reshape(-1, 3).astype(float)
@@ -347,7 +346,6 @@ def test_sparse_products_equal_scipy_and_fall_back_without_mkl(monkeypatch):
     product, for a vector and a block of columns of a non-square matrix."""
     import scipy.sparse as sp
 
-    from railcheck.fea import products
 
     A = sp.random(3000, 2000, density=0.002, random_state=4, format="csr") + sp.eye(3000, 2000, format="csr")
     rng = np.random.default_rng(5)

@@ -7,6 +7,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
+from railcheck.cli import main
 from railcheck.kinematics.dynamics import inverse_dynamics
 from railcheck.kinematics.errors import MechanismError, SingularConfigurationError
 from railcheck.kinematics.linkage import FourBar, SliderCrank
@@ -155,7 +156,6 @@ document.body.appendChild(out);
 
 
 def test_html_slider_moves_the_drawing(tmp_path):
-    from railcheck.cli import main
 
     html = tmp_path / "m.html"
     assert main(["mechanism", "a-z-1139", "--steps", "121", "--html", str(html)]) == 0
@@ -178,7 +178,6 @@ def test_html_slider_moves_the_drawing(tmp_path):
 
 @pytest.mark.slow
 def test_csv_and_gif(tmp_path):
-    from railcheck.cli import main
 
     csv, gif = tmp_path / "t.csv", tmp_path / "t.gif"
     assert main(["mechanism", "a-z-1066", "--steps", "50", "--csv", str(csv), "--gif", str(gif)]) == 0

@@ -8,6 +8,7 @@ import pytest
 
 from railcheck import parts
 from railcheck.check.pipeline import run_pipeline
+from railcheck.geometry.models import bar
 from railcheck.scene import parse_scene
 from scene_texts import FINAL_DESIGN
 
@@ -16,7 +17,6 @@ from scene_texts import FINAL_DESIGN
 def bracket(monkeypatch):
     """A throw-away 'bracket': a 200 x 20 x 20 mm steel bar clamped at one end, carrying
     the coupler's joint B in the coupler's axes on its free end face."""
-    from railcheck.geometry.models import bar
 
     kind = parts.PartKind("bracket", lambda overrides, length: bar(0.2, 0.02, 0.02), "clamp", "tip",
                           lambda g: 0.02, (12e-3, 12e-3), lambda g: (0.02, 0.02), bolt_groups=lambda g: ["tip"])

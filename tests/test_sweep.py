@@ -7,11 +7,13 @@ import tracemalloc
 import numpy as np
 import pytest
 
+from railcheck.check.pipeline import run_pipeline
 from railcheck.kinematics import batch
 from railcheck.kinematics.massmodel import MassModel, fourbar_bodies
 from railcheck.loads.bearings import BEARING_6205, bearing_life
 from railcheck.scene import parse_scene
-from railcheck.sweep.run import read_table, run_sweep
+from railcheck.sweep.run import run_sweep
+from railcheck.sweep.table import read_table
 
 # seed 000, 3.3.6: (b2, b3, b4, d) mm -> mu_max, mu_min (deg) and the seed's label
 SEED_336 = [((540, 900, 780, 1058), 143.9544, 35.0009, "cannot be mounted"),
@@ -290,7 +292,6 @@ def test_a_sweep_row_equals_railcheck_check_of_that_setting(fe_sweep):
     """Stress, fatigue factor and tip deflection of every part: the sweep's superposition
     over all hole pairs equals `railcheck check` of the same setting (bolts at the
     setting's holes, same mesh) to 1e-9."""
-    from railcheck.check.pipeline import run_pipeline
 
     rows = fe_sweep
     passing = np.flatnonzero(rows["checks_passed"])
@@ -310,7 +311,6 @@ def test_a_sweep_row_equals_railcheck_check_of_that_setting(fe_sweep):
 def test_checking_at_the_safe_speed_gives_utilisation_one(fe_sweep):
     """The safe speed is closed-form (inertia ~ omega^2): a check at that speed puts the
     governing part exactly at its limit."""
-    from railcheck.check.pipeline import run_pipeline
 
     rows = fe_sweep
     i = np.flatnonzero(rows["checks_passed"])[0]

@@ -24,6 +24,7 @@ import numpy as np
 
 from ..linkage import FourBar, SliderCrank
 from ..massmodel import MassModel, fourbar_bodies, slidercrank_bodies
+from ..motion import solve_fourbar, solve_slidercrank
 from .model import Body, Mechanism, Prismatic, Revolute, RotationDriver
 
 MM = 1e-3
@@ -138,7 +139,6 @@ def a_z_1066() -> Mechanism:
 def rig_fourbar(linkage: FourBar = FourBar(0.48, 0.84, 0.78, 1.02), masses: MassModel = MassModel()) -> Mechanism:
     """The rig's four-bar (seed 000) in body coordinates; each body's origin is its
     centre of mass (kinematics.massmodel), its x axis along the bar."""
-    from ..motion import solve_fourbar
 
     b2, b3, b4, d = linkage.crank, linkage.coupler, linkage.rocker, linkage.ground
     crank, coupler, rocker = fourbar_bodies(linkage, masses)
@@ -165,7 +165,6 @@ def rig_fourbar(linkage: FourBar = FourBar(0.48, 0.84, 0.78, 1.02), masses: Mass
 
 def rig_slidercrank(linkage: SliderCrank = SliderCrank(0.48, 0.84, 0.0), masses: MassModel = MassModel()) -> Mechanism:
     """The rig's slider-crank in body coordinates (slider: a particle on the line y = offset)."""
-    from ..motion import solve_slidercrank
 
     b2, b3, e = linkage.crank, linkage.coupler, linkage.offset
     crank, coupler, slider = slidercrank_bodies(linkage, masses)

@@ -13,10 +13,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from railcheck.errors import InputError
+from railcheck.geometry.catalogue import with_overrides
 from railcheck.kinematics.checks import CheckResult, configuration_checks, transmission_extremes
 from railcheck.kinematics.dynamics import STANDARD_GRAVITY, Dynamics, inverse_dynamics
 from railcheck.kinematics.linkage import FourBar
 from railcheck.kinematics.motion import Motion, solve_motion
+from railcheck.parts import rail_length
 from railcheck.scene import Scene
 
 
@@ -69,7 +71,6 @@ def all_checks(scene: Scene) -> dict[str, CheckResult]:
 def joint_reach(rail, bar: str) -> tuple[float, float]:
     """(shortest, longest) length in m a bar can be set to on its rail: one hole pitch,
     and the distance from the pivot's hole (hole 0) to the last hole."""
-    from railcheck.parts import rail_length
 
     holes = rail.hole_positions(rail_length(bar))
     return rail.hole_pitch, (holes[-1] - holes[0] if len(holes) > 1 else 0.0)
@@ -89,8 +90,6 @@ def joints_on_rails(scene: Scene) -> dict[str, CheckResult]:
     """``joints_on_rails``: every bar's far joint must sit on a mounting hole of its rail
     (the rail starts at the bar's pivot hole, hole 0): not beyond the last hole, and at
     least one hole pitch from the pivot. Independent of check.bolt_position."""
-    from railcheck.geometry.catalogue import with_overrides
-    from railcheck.parts import rail_length
 
     rail = with_overrides(scene.geometry)[0]
     lengths = scene.mechanism.linkage.lengths

@@ -10,7 +10,29 @@ import argparse
 import sys
 from pathlib import Path
 
+from railcheck.check.kinematics_stage import kinematics_summary, run_kinematics
+from railcheck.check.run import run_check
 from railcheck.errors import EXIT_FAIL, EXIT_INPUT, EXIT_PASS, InputError, RailcheckError
+from railcheck.fea.fatigue import CRITERIA, SURFACE
+from railcheck.fea.materials import MATERIALS
+from railcheck.files import atomic_write_text, to_json, writable_dir, writable_file
+from railcheck.kinematics.planar.catalogue import CATALOGUE
+from railcheck.parts import PARTS
+from railcheck.progress import Progress
+from railcheck.report.plots import write_kinematics_plots
+from railcheck.report.text import (
+    bench_report,
+    check_report,
+    convergence_report,
+    kinematics_table,
+    mechanism_report,
+    sweep_report,
+)
+from railcheck.scene import EFFECTS, load_scene, parse_scene
+from railcheck.studies.bench import run_bench
+from railcheck.studies.convergence import plot_study, run_convergence
+from railcheck.studies.mechanism import run_mechanism, write_mechanism_outputs
+from railcheck.sweep.run import run_sweep
 
 
 class _Parser(argparse.ArgumentParser):
@@ -21,10 +43,6 @@ class _Parser(argparse.ArgumentParser):
 
 
 def _cmd_kinematics(args) -> int:
-    from railcheck.check.kinematics_stage import kinematics_summary, run_kinematics
-    from railcheck.files import to_json
-    from railcheck.report.text import kinematics_table
-    from railcheck.scene import load_scene
 
     scene = load_scene(args.scene)
     if scene.mechanism is None:
@@ -32,7 +50,6 @@ def _cmd_kinematics(args) -> int:
     result = run_kinematics(scene)
     summary = kinematics_summary(scene, result)
     if args.plots:
-        from railcheck.report.plots import write_kinematics_plots
         paths = write_kinematics_plots(result, Path(args.plots))
         summary["plots"] = [str(p) for p in paths]
     if args.json:
@@ -55,7 +72,6 @@ OUTPUT_OPTIONS = {"plots": ("--plots", True), "csv": ("--csv", False), "html": (
 
 def _check_output_options(args) -> None:
     """Every output path the command line names is checked before any work starts."""
-    from railcheck.files import writable_dir, writable_file
 
     for attr, (option, is_dir) in OUTPUT_OPTIONS.items():
         value = getattr(args, attr, None)
@@ -66,8 +82,6 @@ def _check_output_options(args) -> None:
 def _cmd_init(args) -> int:
     from importlib import resources
 
-    from railcheck.files import atomic_write_text, writable_file
-    from railcheck.scene import parse_scene
 
     path = writable_file(args.file, "FILE")
     if path.exists() and not args.force:
@@ -81,11 +95,6 @@ def _cmd_init(args) -> int:
 
 
 def _cmd_check(args) -> int:
-    from railcheck.check.run import run_check
-    from railcheck.files import to_json
-    from railcheck.progress import Progress
-    from railcheck.report.text import check_report
-    from railcheck.scene import load_scene
 
     if args.jobs is not None and args.jobs < 1:
         raise InputError("--jobs", f"must be at least 1, got {args.jobs}")
@@ -98,11 +107,6 @@ def _cmd_check(args) -> int:
 
 
 def _cmd_sweep(args) -> int:
-    from railcheck.files import to_json
-    from railcheck.progress import Progress
-    from railcheck.report.text import sweep_report
-    from railcheck.scene import load_scene
-    from railcheck.sweep.run import run_sweep
 
     if args.workers is not None and args.workers < 1:
         raise InputError("--workers", f"must be at least 1, got {args.workers}")
@@ -116,9 +120,6 @@ def _cmd_sweep(args) -> int:
 
 
 def _cmd_bench(args) -> int:
-    from railcheck.files import to_json
-    from railcheck.report.text import bench_report
-    from railcheck.studies.bench import run_bench
 
     out = run_bench(args.order, args.size, args.solver)
     print(to_json(out) if args.json else bench_report(out))
@@ -126,9 +127,6 @@ def _cmd_bench(args) -> int:
 
 
 def _cmd_convergence(args) -> int:
-    from railcheck.files import to_json
-    from railcheck.report.text import convergence_report
-    from railcheck.studies.convergence import plot_study, run_convergence
 
     result = run_convergence(args.target, args.orders, args.sizes,
                              progress=lambda m: print(m, file=sys.stderr, flush=True))
@@ -141,8 +139,6 @@ def _cmd_convergence(args) -> int:
 
 
 def _cmd_mechanism(args) -> int:
-    from railcheck.report.text import mechanism_report
-    from railcheck.studies.mechanism import run_mechanism, write_mechanism_outputs
 
     run = run_mechanism(args.name, args.steps)
     print(mechanism_report(run))
@@ -160,17 +156,12 @@ def _version() -> str:
 
 
 def _catalogue_epilog() -> str:
-    from railcheck.fea.fatigue import CRITERIA, SURFACE
-    from railcheck.fea.materials import MATERIALS
-    from railcheck.parts import PARTS
-    from railcheck.scene import EFFECTS
     return (f"parts: {', '.join(PARTS)}\nmaterials: {', '.join(MATERIALS)}\neffects: {', '.join(EFFECTS)}\n"
             f"fatigue criteria: {', '.join(CRITERIA)}; surfaces: {', '.join(SURFACE)}\n"
             "`railcheck init` writes a commented starter scene.")
 
 
 def _mechanism_names() -> list[str]:
-    from railcheck.kinematics.planar.catalogue import CATALOGUE
     return list(CATALOGUE)
 
 

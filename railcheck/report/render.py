@@ -20,6 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from railcheck.files import atomic_path
+from railcheck.parts import kind_of
 
 DEFORMATION_FRACTION = 0.05   # of the part's largest dimension
 COLOUR_MAP = "viridis"
@@ -68,7 +69,6 @@ def render_part(path: str | Path, name: str, part) -> Path:
                      f"deformation x {scale:.3g} (largest displacement = {DEFORMATION_FRACTION:.0%} of the part); "
                      "magenta: above the verdict peak (the support's singular zone); grey: support; "
                      "arrows: bolt forces", font_size=9)
-    from railcheck.parts import kind_of
 
     plotter.enable_parallel_projection()     # "xy": from above, the plane the mechanism moves in
     plotter.camera.tight(padding=0.05 if slender else 0.12, view=kind_of(name).view, adjust_render_window=False)

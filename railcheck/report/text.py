@@ -6,6 +6,8 @@ import math
 
 import numpy as np
 
+from railcheck.fea.cantilever import HEIGHT, LENGTH, LOAD, WIDTH
+
 
 def _fmt(x: float, digits: int = 6) -> str:
     return f"{x:.{digits}g}"
@@ -96,7 +98,6 @@ def check_report(run) -> str:
 
 def bench_report(out: dict) -> str:
     """`railcheck bench cantilever` on the console."""
-    from railcheck.fea.cantilever import HEIGHT, LENGTH, LOAD, WIDTH
 
     return "\n".join([
         f"cantilever {LENGTH*1e3:g} x {WIDTH*1e3:g} x {HEIGHT*1e3:g} mm steel, clamped at x = 0, "

@@ -2,14 +2,14 @@
 
 from __future__ import annotations
 
+from railcheck.check.jobs import refuse_beyond_memory
 from railcheck.errors import InputError
+from railcheck.fea.cantilever import HEIGHT, LENGTH, WIDTH, run_cantilever
+from railcheck.geometry.models import bar
 
 
 def run_bench(order: int = 2, size_mm: float = 4.0, solver: str = "auto") -> dict:
     """The cantilever against Timoshenko beam theory: a JSON-ready dict (SI)."""
-    from railcheck.check.jobs import refuse_beyond_memory
-    from railcheck.fea.cantilever import HEIGHT, LENGTH, WIDTH, run_cantilever
-    from railcheck.geometry.models import bar
 
     if not (0.5 <= size_mm <= 50):
         raise InputError("--size", f"must be between 0.5 and 50 mm, got {size_mm:g}")

@@ -18,8 +18,19 @@ import time
 
 import numpy as np
 
+from railcheck.check.jobs import build_load_cases, part_geometries, refuse_beyond_memory
+from railcheck.check.kinematics_stage import run_kinematics
 from railcheck.errors import InputError
-from railcheck.parts import PARTS, kind_of
+from railcheck.fea.cantilever import HEIGHT, LENGTH, LOAD, WIDTH, timoshenko_tip
+from railcheck.fea.elasticity import HoleLoad, Support, solve_elasticity
+from railcheck.fea.materials import MATERIALS
+from railcheck.files import atomic_path
+from railcheck.geometry.mesher import mesh_part
+from railcheck.geometry.models import bar
+from railcheck.kinematics.dynamics import inverse_dynamics
+from railcheck.kinematics.motion import solve_motion
+from railcheck.parts import PARTS, geometry_of, kind_of
+from railcheck.scene import load_scene
 
 DEFAULT_SIZES_MM = {"cantilever": [20.0, 14.0, 10.0, 7.0, 5.0], "rail": [20.0, 14.0, 10.0, 7.0],
                     "plate": [12.0, 8.5, 6.0, 4.2]}
@@ -69,11 +80,6 @@ def _solve_row(target: str, element: str, size: float) -> dict:
     """Mesh and solve one configuration; returns the row (SI)."""
     import resource
 
-    from railcheck.fea.cantilever import HEIGHT, LENGTH, LOAD, WIDTH
-    from railcheck.fea.elasticity import HoleLoad, Support, solve_elasticity
-    from railcheck.fea.materials import MATERIALS
-    from railcheck.geometry.mesher import mesh_part
-    from railcheck.geometry.models import bar
 
     steel = MATERIALS["steel"]
     if target == "cantilever":
@@ -83,9 +89,6 @@ def _solve_row(target: str, element: str, size: float) -> dict:
     else:
         from dataclasses import replace
 
-        from railcheck.check.jobs import build_load_cases, part_geometries
-        from railcheck.check.kinematics_stage import run_kinematics
-        from railcheck.scene import load_scene
 
         scene = load_scene(None)
         scene = replace(scene, check=replace(scene.check, parts=(target,)))
@@ -115,7 +118,6 @@ def _solve_row(target: str, element: str, size: float) -> dict:
 
 def beam_stress(x: float) -> float:
     """Bending stress (Pa) of the benchmark cantilever at distance x (m) from the clamp."""
-    from railcheck.fea.cantilever import HEIGHT, LENGTH, LOAD, WIDTH
     inertia = WIDTH * HEIGHT**3 / 12
     return LOAD * (LENGTH - x) * (HEIGHT / 2) / inertia
 
@@ -125,8 +127,6 @@ def add_errors(rows: list[dict], target: str) -> dict:
     return the reference values used, per order."""
     refs = {}
     if target == "cantilever":
-        from railcheck.fea.cantilever import HEIGHT, LENGTH, LOAD, WIDTH, timoshenko_tip
-        from railcheck.fea.materials import MATERIALS
         analytic = timoshenko_tip(LOAD, LENGTH, WIDTH, HEIGHT, MATERIALS["steel"], "z")
         for r in rows:
             r["error_deflection"] = (r["tip_deflection_m"] - analytic) / analytic
@@ -152,10 +152,6 @@ def add_errors(rows: list[dict], target: str) -> dict:
 
 def _refuse_beyond_memory(target: str, elements: list[str], sizes_mm: list[float]) -> None:
     """Every row's mesh is estimated before any is built (as `railcheck check` does)."""
-    from railcheck.check.jobs import refuse_beyond_memory
-    from railcheck.fea.cantilever import HEIGHT, LENGTH, WIDTH
-    from railcheck.geometry.models import bar
-    from railcheck.parts import geometry_of
 
     geo = bar(LENGTH, WIDTH, HEIGHT) if target == "cantilever" else geometry_of(target, {})
     hole = 1.0 if target == "cantilever" else HOLE_RATIO
@@ -188,9 +184,6 @@ def run_study(target: str, elements: list[str], sizes: list[float], progress=pri
 def kinematics_study(steps_list: list[int], reference_steps: int = 200_000) -> tuple[list[dict], dict]:
     """Error of each peak reaction and of the peak torque against ``reference_steps``,
     and the median time of a full cycle, for the default scene."""
-    from railcheck.kinematics.dynamics import inverse_dynamics
-    from railcheck.kinematics.motion import solve_motion
-    from railcheck.scene import load_scene
 
     scene = load_scene(None)
     lk, speed = scene.mechanism.linkage, scene.mechanism.speed
@@ -232,7 +225,6 @@ def plot_study(rows: list[dict], target: str, path: str) -> None:
     import matplotlib.pyplot as plt
     import matplotlib.ticker
 
-    from railcheck.files import atomic_path
 
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.5))
     for ax, key, title in ((axes[0], "error_deflection", "tip deflection"), (axes[1], "error_von_mises",

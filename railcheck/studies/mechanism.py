@@ -18,11 +18,11 @@ import numpy as np
 
 from railcheck.errors import InputError
 from railcheck.files import atomic_path, atomic_write_text
+from railcheck.kinematics.planar.catalogue import CATALOGUE, SWEEPS, driver_values
+from railcheck.kinematics.planar.solver import mobility, solve
 
 
 def _solve(name: str, steps: int):
-    from railcheck.kinematics.planar.catalogue import CATALOGUE, SWEEPS, driver_values
-    from railcheck.kinematics.planar.solver import mobility, solve
 
     if name not in CATALOGUE:
         raise InputError("NAME", f"unknown mechanism {name!r} (catalogue: {', '.join(CATALOGUE)})")

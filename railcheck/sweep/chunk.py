@@ -24,7 +24,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from railcheck.check.kinematics_stage import joints_on_rails_flags
+from railcheck.check.loading import source_coefficients
+from railcheck.kinematics import batch
+from railcheck.kinematics.checks import fourbar_checks_batch, slidercrank_checks_batch
+from railcheck.kinematics.dynamics import STANDARD_GRAVITY
+from railcheck.kinematics.motion import crank_angles
+from railcheck.loads.bearings import bearing_life
 from railcheck.parts import BAR_INDEX
+from railcheck.sweep.fe import fatigue_min, hull_steps, tip_peak, von_mises_peak
 
 REVOLVE_MARGIN = 1e-7          # rad: closer to a toggle is singular (kinematics.motion)
 
@@ -48,8 +56,6 @@ class SweepContext:
 
 def configuration_flags(ctx: SweepContext, lengths: dict) -> dict:
     """check name -> (S,) pass flags, plus ``mu_min``/``mu_max`` (rad)."""
-    from railcheck.check.kinematics_stage import joints_on_rails_flags
-    from railcheck.kinematics.checks import fourbar_checks_batch, slidercrank_checks_batch
 
     if ctx.kind == "four-bar":
         flags = fourbar_checks_batch(lengths["crank"], lengths["coupler"], lengths["rocker"], lengths["ground"])
@@ -70,8 +76,6 @@ def revolvable(ctx: SweepContext, lengths: dict, flags: dict) -> np.ndarray:
 
 
 def motion_of(ctx: SweepContext, lengths: dict, speed: float):
-    from railcheck.kinematics import batch
-    from railcheck.kinematics.motion import crank_angles
 
     sign = 1.0 if ctx.scene.sweep.assembly == "open" else -1.0
     th = crank_angles(ctx.steps)
@@ -82,7 +86,6 @@ def motion_of(ctx: SweepContext, lengths: dict, speed: float):
 
 
 def dynamics_of(ctx: SweepContext, motion, gravity: float):
-    from railcheck.kinematics import batch
 
     if ctx.scene.formulation == "seed-2013":
         return batch.seed_2013(motion)
@@ -101,7 +104,6 @@ class Loads:
 
 
 def loads_of(ctx: SweepContext, lengths: dict) -> Loads:
-    from railcheck.kinematics.dynamics import STANDARD_GRAVITY
 
     motion = motion_of(ctx, lengths, ctx.speeds[0])
     inertial = dynamics_of(ctx, motion, 0.0) if "inertia" in ctx.effects else None
@@ -125,7 +127,6 @@ def reactions_at(loads: Loads, s: float) -> tuple[dict, np.ndarray]:
 def motor_and_bearings(ctx: SweepContext, loads: Loads, speed: float) -> dict:
     """Peak reactions, motor torque (peak, RMS), peak power and the joints' bearing
     equivalent loads and L10 lives at ``speed`` rad/s: columns (S,)."""
-    from railcheck.loads.bearings import bearing_life
 
     s = (speed / ctx.speeds[0]) ** 2
     R, torque = reactions_at(loads, s)
@@ -163,7 +164,6 @@ def coefficients(ctx: SweepContext, name: str, loads: Loads, sel: np.ndarray) ->
     """Per load source of part ``name``: (C_g or None, C_i) (S_sel, T, k) for the settings
     ``sel``: the constant part (gravity at rest) and the inertial part at the first speed
     (the total there minus the constant part)."""
-    from railcheck.check.loading import source_coefficients
 
     def coeffs(src, reactions: dict, motion):
         by_bar = lambda a: {bar: a[i][sel] for bar, i in BAR_INDEX.items()}  # noqa: E731
@@ -186,7 +186,6 @@ def coefficients(ctx: SweepContext, name: str, loads: Loads, sel: np.ndarray) ->
 def evaluate_part(model, history: list[tuple], bar_lengths: np.ndarray | None, s) -> tuple[np.ndarray, ...]:
     """(von Mises peak Pa, fatigue factor, tip m) of one part for every setting of the
     history at speed ratio squared ``s`` (scalar or (S,)), each (S,)."""
-    from railcheck.sweep.fe import fatigue_min, hull_steps, tip_peak, von_mises_peak
 
     n_set = history[0][1].shape[0]
     s = np.broadcast_to(np.asarray(s, float), (n_set,))

@@ -27,6 +27,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from railcheck.fea.fatigue import alternating_and_mean, safety_factor
+from railcheck.fea.superpose import VM_QUADRATIC, candidate_steps, hull_polygon, support
+
 CHUNK_VALUES = 8_000_000     # floats per temporary (nodes x settings x steps)
 TOP_NODES = 64               # nodes evaluated first for the lower bound
 SLACK = 1e-9                 # relative margin on the bounds (rounding)
@@ -52,7 +55,6 @@ class Screen:
 
 def make_screen(stress: np.ndarray, verdict_mask: np.ndarray, tip: np.ndarray, cols: list[int]) -> Screen:
     """Screen of the unit-case columns ``cols`` of ``stress`` (6, nodes, cases)."""
-    from railcheck.fea.superpose import VM_QUADRATIC
 
     mask = verdict_mask if np.any(verdict_mask) else np.ones_like(verdict_mask)
     S = np.ascontiguousarray(stress[:, mask][:, :, cols])
@@ -72,7 +74,6 @@ def hull_steps(C: np.ndarray) -> np.ndarray:
     (padded by repeating a vertex). Every quantity evaluated here is the maximum (or
     minimum) over the cycle of a convex (or linear) function of the coefficients, reached
     at a vertex (:func:`fea.superpose.candidate_steps`), so the results are unchanged."""
-    from railcheck.fea.superpose import candidate_steps
 
     steps = [candidate_steps(c) for c in C]
     H = max(s.size for s in steps)
@@ -110,8 +111,6 @@ def fatigue_min(screen: Screen, C: np.ndarray, endurance: float, ultimate: float
                 yield_strength: float | None) -> np.ndarray:
     """(S,) the smallest fatigue safety factor over the verdict nodes of each history
     ``C`` (S, T, k) (component ranges over all steps; :mod:`fea.fatigue`)."""
-    from railcheck.fea.fatigue import safety_factor
-    from railcheck.fea.superpose import hull_polygon
 
     factor = lambda sa, sm: safety_factor(sa, sm, endurance, ultimate, criterion, yield_strength)  # noqa: E731
     polygons = [hull_polygon(c) for c in C] if screen.angle is not None else None    # once per history
@@ -160,7 +159,6 @@ def _fatigue_exact(screen: Screen, nodes: np.ndarray, C: np.ndarray, factor, pol
     minimum over the cycle from every step (tensordot), or, with two coefficients, from the
     cycle's convex polygon's support function (no step loop; :func:`fea.superpose.support`;
     ``polygons`` the histories' hulls when already known)."""
-    from railcheck.fea.fatigue import alternating_and_mean
 
     if screen.angle is not None:
         return _fatigue_exact_planar(screen, nodes, C, factor, polygons)
@@ -173,8 +171,6 @@ def _fatigue_exact(screen: Screen, nodes: np.ndarray, C: np.ndarray, factor, pol
 
 
 def _fatigue_exact_planar(screen: Screen, nodes: np.ndarray, C: np.ndarray, factor, polygons=None) -> np.ndarray:
-    from railcheck.fea.fatigue import alternating_and_mean
-    from railcheck.fea.superpose import hull_polygon, support
 
     D = screen.stress[:, nodes, :].reshape(-1, 2)
     angle = screen.angle[:, nodes].reshape(-1)

@@ -23,13 +23,15 @@ import itertools
 
 import numpy as np
 
+from railcheck.geometry.catalogue import with_overrides
+from railcheck.kinematics.massmodel import MassModel
+
 GROUND_RAIL_LENGTH = 2.5      # m, seed 000 3.2.1 and Anexo I
 BARS = {"four-bar": ("crank", "coupler", "rocker", "ground"), "slider-crank": ("crank", "coupler", "offset")}
 
 
 def rail_lengths() -> dict[str, float]:
     """m: the rail each bar's length is set on."""
-    from railcheck.kinematics.massmodel import MassModel
 
     m = MassModel()
     return {"crank": m.crank_rail_length, "coupler": m.coupler_rail_length, "rocker": m.rocker_rail_length,
@@ -44,7 +46,6 @@ def settable_lengths(rail_length: float, rail) -> np.ndarray:
 
 def rig_grid(overrides: dict | None = None) -> dict[str, dict[str, np.ndarray]]:
     """kind -> bar -> the settable lengths (m), sorted."""
-    from railcheck.geometry.catalogue import with_overrides
 
     rail = with_overrides(overrides or {})[0]
     lengths = {bar: settable_lengths(L, rail) for bar, L in rail_lengths().items()}

@@ -13,6 +13,10 @@ from pathlib import Path
 
 import numpy as np
 
+from railcheck.files import atomic_path
+from railcheck.sweep.grid import BARS, narrowed, rig_grid
+from railcheck.sweep.table import read_table
+
 REASON_ORDER = ("assembly", "grashof", "crank_shorter_than_coupler", "transmission_angle", "crank_rail_collision",
                 "joints_on_rails", "hole_grid")
 
@@ -21,7 +25,6 @@ class Aggregate:
     """Streaming statistics of one kind's rows at the first speed."""
 
     def __init__(self, scene, kind: str, lengths: dict):
-        from railcheck.sweep.grid import BARS, narrowed, rig_grid
 
         self.scene, self.kind, self.bars = scene, kind, BARS[kind]
         self.first_speed = scene.sweep.speeds[0] / (2 * math.pi)
@@ -111,7 +114,6 @@ class Aggregate:
 
 def summary_of(scene, aggregates: dict, tables: dict, models: dict) -> dict:
     """summary.json (deterministic: no timings)."""
-    from railcheck.sweep.grid import rig_grid
 
     grid = rig_grid(scene.geometry)
     out = {
@@ -141,7 +143,6 @@ def _family(t: dict, **fixed) -> np.ndarray:
 def hypotheses(path: Path, speed_hz: float) -> list[dict]:
     """Seed 000 chapter 3.3's hypotheses, each true or false on this table's four-bar
     rows at ``speed_hz`` ("reaction": the largest peak joint reaction of a setting)."""
-    from railcheck.sweep.run import read_table
 
     cols = ["crank_mm", "coupler_mm", "rocker_mm", "ground_mm", "speed_Hz", "checks_passed", "peak_O2_N",
             "peak_A_N", "peak_B_N", "peak_O4_N", "torque_peak_Nm"]
@@ -241,7 +242,6 @@ def _map_figure(agg: Aggregate, path: Path) -> None:
     from matplotlib.colors import ListedColormap
     from matplotlib.patches import Patch
 
-    from railcheck.files import atomic_path
 
     pairs = [(0, 1), (2, 3)] if len(agg.bars) == 4 else [(0, 1)]
     fig, axes = plt.subplots(2, len(pairs), figsize=(max(9.0, 6.5 * len(pairs)), 9.5), squeeze=False)

@@ -14,8 +14,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from railcheck.check.loading import LoadModel
-from railcheck.parts import PARTS, kind_of
+from railcheck.check.jobs import mesh_sizes
+from railcheck.check.loading import LoadModel, load_model, source_histories, unit_cases
+from railcheck.fea.fatigue import endurance_limit
+from railcheck.fea.unitcases import solve_unit_cases
+from railcheck.geometry.mesher import mesh_part
+from railcheck.loads.cases import rail_bolt_holes
+from railcheck.parts import PARTS, geometry_of, kind_of
+from railcheck.sweep.fe import fatigue_min, make_screen, tip_peak, von_mises_peak
 
 
 @dataclass(frozen=True)
@@ -67,7 +73,6 @@ def hole_groups(scene, name: str, geo, lengths: np.ndarray) -> tuple[dict, dict]
     """(key -> bolt-hole groups, length um -> key): a rail's pair for every bar length in
     ``lengths`` (m; lengths off the rail are left out: their settings fail
     ``joints_on_rails``); one key None with every hole for other parts."""
-    from railcheck.loads.cases import rail_bolt_holes
 
     kind = kind_of(name)
     if name in scene.check.loads:
@@ -91,13 +96,6 @@ def hole_groups(scene, name: str, geo, lengths: np.ndarray) -> tuple[dict, dict]
 def build_part_model(scene, name: str, lengths: np.ndarray, material, limit: float, report) -> PartModel:
     """Mesh, factorise and solve the unit cases of every hole pair of one part; screen
     them (``lengths``: the bar lengths, m, the sweep's settings give this part's bar)."""
-    from railcheck.check.jobs import mesh_sizes
-    from railcheck.check.loading import load_model, source_histories, unit_cases
-    from railcheck.fea.fatigue import endurance_limit
-    from railcheck.fea.unitcases import solve_unit_cases
-    from railcheck.geometry.mesher import mesh_part
-    from railcheck.parts import geometry_of
-    from railcheck.sweep.fe import fatigue_min, make_screen, tip_peak, von_mises_peak
 
     kind = kind_of(name)
     geo = geometry_of(name, scene.geometry)

@@ -18,8 +18,18 @@ from pathlib import Path
 
 import numpy as np
 
+from railcheck.check.jobs import part_geometries, refuse_huge
 from railcheck.errors import EXIT_FAIL, EXIT_PASS, InputError
-from railcheck.files import Staging, reserve_results_dir
+from railcheck.fea.materials import MATERIALS
+from railcheck.files import Staging, atomic_write_text, reserve_results_dir, to_json
+from railcheck.geometry.catalogue import with_overrides
+from railcheck.parts import PARTS
+from railcheck.progress import Progress
+from railcheck.sweep.chunk import SweepContext, evaluate_chunk
+from railcheck.sweep.grid import narrowed, rig_grid, settings
+from railcheck.sweep.maps import Aggregate, summary_of, write_maps
+from railcheck.sweep.parts import applicable, build_part_model
+from railcheck.sweep.table import TableWriter
 
 #: bytes of working memory per setting and crank step of a chunk (kinematics, reactions
 #: at two speeds, FE coefficient histories; measured with tracemalloc, rounded up)
@@ -47,7 +57,6 @@ class SweepRun:
 def sweep_settings(scene) -> dict[str, dict[str, np.ndarray]]:
     """kind -> bar -> (N,) lengths (m): the rig's grid narrowed by [sweep], then its extra
     settings."""
-    from railcheck.sweep.grid import narrowed, rig_grid, settings
 
     grid = rig_grid(scene.geometry)
     return {kind: settings(kind, narrowed(grid[kind], scene.sweep.ranges), scene.sweep.settings.get(kind))
@@ -69,9 +78,6 @@ def prepare_models(scene, by_kind: dict, progress) -> dict[str, dict]:
     """kind -> part -> PartModel: each checked part meshed, factorised and solved once."""
     if scene.check is None:
         return {kind: {} for kind in by_kind}
-    from railcheck.check.jobs import part_geometries, refuse_huge
-    from railcheck.fea.materials import MATERIALS
-    from railcheck.sweep.parts import applicable, build_part_model
 
     material = MATERIALS[scene.check.material]
     limit = scene.check.limit or material.fatigue_limit
@@ -79,7 +85,6 @@ def prepare_models(scene, by_kind: dict, progress) -> dict[str, dict]:
     models = {}
     names = [n for n in scene.check.parts if any(applicable(scene, n, k) for k in by_kind)]
     for i, name in enumerate(names, 1):
-        from railcheck.parts import PARTS
         bar = PARTS[name].bar
         lengths = np.concatenate([s[bar] for s in by_kind.values() if bar in s]) if bar else np.zeros(0)
         t = time.perf_counter()
@@ -96,7 +101,6 @@ def run_sweep(scene, out: str | None = None, force: bool = False, scheduler: str
     """Run the sweep the scene asks for and write its results directory. Dask runs the
     chunks when ``scheduler`` is given or the sweep is large (``dask`` True/False forces
     it either way; ``serial`` is ``dask=False``)."""
-    from railcheck.progress import Progress
 
     validate(scene)
     progress = progress or Progress(quiet=True)
@@ -122,7 +126,6 @@ def _default_dir(scene) -> str:
 
 
 def _run_into(scene, directory: Path, scheduler, workers, serial, progress, dask) -> tuple[dict, dict, dict]:
-    from railcheck.sweep.maps import Aggregate, summary_of, write_maps
 
     clock = [time.perf_counter()]
     by_kind = sweep_settings(scene)
@@ -145,7 +148,6 @@ def _run_into(scene, directory: Path, scheduler, workers, serial, progress, dask
             tables[kind] = path
     clock.append(time.perf_counter())
     summary = summary_of(scene, aggregates, tables, models)
-    from railcheck.files import atomic_write_text, to_json
 
     atomic_write_text(directory / "summary.json", to_json(summary) + "\n")
     write_maps(aggregates, directory)
@@ -156,9 +158,6 @@ def _run_into(scene, directory: Path, scheduler, workers, serial, progress, dask
 
 
 def _context(scene, kind: str, models: dict):
-    from railcheck.fea.materials import MATERIALS
-    from railcheck.geometry.catalogue import with_overrides
-    from railcheck.sweep.chunk import SweepContext
 
     density = MATERIALS[scene.check.material].density if scene.check else 0.0
     return SweepContext(scene, kind, tuple(scene.sweep.speeds), scene.sweep.steps, models, density,
@@ -208,7 +207,6 @@ class _Executor:
 
     def map_chunks(self, ctx, lengths: dict, size: int):
         """Yield each chunk's columns in order, with a progress line every few seconds."""
-        from railcheck.sweep.chunk import evaluate_chunk
 
         total = lengths["crank"].size
         starts = list(range(0, total, size))
@@ -223,7 +221,6 @@ class _Executor:
         yield from self._dask_chunks(ctx, starts, chunk, size, total, meter)
 
     def _dask_chunks(self, ctx, starts, chunk, size, total, meter):
-        from railcheck.sweep.chunk import evaluate_chunk
 
         remote_ctx = self.client.scatter(ctx, broadcast=True)
         window = 2 * max(1, len(self.client.scheduler_info()["workers"]))
@@ -255,63 +252,3 @@ class _Meter:
                                        f"{rate:,.0f} settings/s")
 
 
-class TableWriter:
-    """Rows streamed to a Parquet file (one row group per chunk) or a CSV file, written
-    under a temporary name and renamed at the end. NaN (not applicable) becomes null."""
-
-    def __init__(self, path: Path, fmt: str):
-        self.path, self.fmt = Path(path), fmt
-        self.tmp = self.path.with_name(f".{self.path.name}.part")
-        self.writer = None
-        self.rows = 0
-
-    def __enter__(self):
-        return self
-
-    def write(self, columns: dict) -> None:
-        import pyarrow as pa
-
-        table = pa.table({k: _arrow(v) for k, v in columns.items()})
-        if self.writer is None:
-            if self.fmt == "parquet":
-                import pyarrow.parquet as pq
-                self.writer = pq.ParquetWriter(self.tmp, table.schema, compression="zstd")
-            else:
-                import pyarrow.csv as pcsv
-                self.writer = pcsv.CSVWriter(self.tmp, table.schema)
-        self.writer.write_table(table)
-        self.rows += table.num_rows
-
-    def __exit__(self, exc_type, exc, tb):
-        if self.writer is not None:
-            self.writer.close()
-        if exc_type is None and self.writer is not None:
-            self.tmp.replace(self.path)
-        else:
-            self.tmp.unlink(missing_ok=True)
-        return False
-
-
-def _arrow(values: np.ndarray):
-    import pyarrow as pa
-
-    if values.dtype == object:                       # text; empty (nothing to name) is null
-        return pa.array([v or None for v in values.tolist()], type=pa.string())
-    if values.dtype.kind == "f":
-        return pa.array(values, mask=~np.isfinite(values) & ~np.isinf(values))
-    return pa.array(values)
-
-
-def read_table(path: Path, columns: list[str] | None = None, speed_hz: float | None = None):
-    """The sweep table (pyarrow.Table) of a Parquet or CSV file: ``columns`` only, and
-    only the rows at ``speed_hz`` when given (scanned in batches: the whole table is
-    never in memory)."""
-    import pyarrow.csv as pcsv
-    import pyarrow.dataset as ds
-
-    path = Path(path)
-    fmt = "parquet" if path.suffix == ".parquet" else ds.CsvFileFormat(
-        convert_options=pcsv.ConvertOptions(strings_can_be_null=True))
-    data = ds.dataset(path, format=fmt)
-    where = None if speed_hz is None else (ds.field("speed_Hz") == speed_hz)
-    return data.to_table(columns=columns, filter=where)

@@ -5,6 +5,9 @@ import sys
 
 import pytest
 
+from railcheck.errors import InputError
+from railcheck.scene import parse_scene
+from railcheck.sweep.run import validate
 from scene_texts import one_line_exit_2
 
 BASE = '[sweep]\nsteps = 16\nkind = "slider-crank"\n'
@@ -37,9 +40,6 @@ def test_bad_sweep_input_names_the_field(text, needles):
     """Refused when the scene is read, before any work (validate: what the sweep itself checks)."""
     import tomllib
 
-    from railcheck.errors import InputError
-    from railcheck.scene import parse_scene
-    from railcheck.sweep.run import validate
 
     with pytest.raises(InputError) as err:
         validate(parse_scene(tomllib.loads(text), "test"))
