@@ -109,11 +109,11 @@ def pair_pattern(dofs: np.ndarray, n: int):
     nel, nb = dofs.shape
     pairs = nel * nb * nb
     if pairs == 0 or pairs >= 2**31 or n >= 2**31:
-        return _pair_pattern_by_unique(dofs, n)
+        return pair_pattern_by_unique(dofs, n)
     try:
         from scipy.sparse._sparsetools import coo_tocsr, csr_sort_indices
     except ImportError:  # a scipy without its private sparse tools
-        return _pair_pattern_by_unique(dofs, n)
+        return pair_pattern_by_unique(dofs, n)
     import scipy.sparse as sp
 
     d32 = dofs.astype(np.int32)
@@ -144,7 +144,7 @@ def scalar_pair_pattern(basis):
     return cached_on(basis, "pair_pattern", lambda: pair_pattern(numbering.element_dofs.T, numbering.N))
 
 
-def _pair_pattern_by_unique(dofs: np.ndarray, n: int):
+def pair_pattern_by_unique(dofs: np.ndarray, n: int):
     """:func:`pair_pattern` by a global sort of the pair keys (reference and fallback)."""
     import scipy.sparse as sp
 

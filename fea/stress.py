@@ -32,7 +32,7 @@ MASS_RTOL = 1e-12  # the stress projection's relative residual |b - M s| / |b|
 def recover_stress(basis, U: np.ndarray, material: Material, report=None) -> np.ndarray:
     """(6, nodes[, k]) Pa: the L2 projection of the element stress of each displacement
     column onto the continuous scalar space of the basis's order (xx, yy, zz, xy, yz, xz).
-    Straight elements in closed form (:func:`_affine_stress_moments`, :func:`mass_matrix`),
+    Straight elements in closed form (:func:`affine_stress_moments`, :func:`mass_matrix`),
     curved ones by a rule exact to order 2p on their isoparametric map. The mass matrix is
     well conditioned once scaled by its diagonal, so Jacobi-preconditioned CG solves all
     columns together to a relative residual of 1e-12 in some 60 iterations, far cheaper
@@ -42,9 +42,9 @@ def recover_stress(basis, U: np.ndarray, material: Material, report=None) -> np.
     U2 = U.reshape(U.shape[0], -1)
     k = U2.shape[1]
     straight, curved = straight_and_curved(basis)
-    rhs = _affine_stress_moments(basis, U2, material)  # (scalar N, 6 k)
+    rhs = affine_stress_moments(basis, U2, material)  # (scalar N, 6 k)
     if curved is not None:
-        rhs += _stress_moments(basis, curved, U2, material)
+        rhs += quadrature_stress_moments(basis, curved, U2, material)
     M = mass_matrix(basis)
     n = M.shape[0]
     try:
@@ -54,8 +54,8 @@ def recover_stress(basis, U: np.ndarray, material: Material, report=None) -> np.
     return S.reshape(n, 6, k).transpose(1, 0, 2).reshape((6, n) + U.shape[1:])
 
 
-def _affine_stress_moments(basis, U2: np.ndarray, material: Material, values: int = 4_000_000) -> np.ndarray:
-    """(scalar N, 6 k): :func:`_stress_moments` of the straight elements, in closed
+def affine_stress_moments(basis, U2: np.ndarray, material: Material, values: int = 4_000_000) -> np.ndarray:
+    """(scalar N, 6 k): :func:`quadrature_stress_moments` of the straight elements, in closed
     form: on an affine element of degree p <= 2 the stress has degree p - 1 <= 1, so it is
     the interpolant of its values at the four vertices, and its moments are
     |det J| sum_v C[a, v] sigma_v with C from :func:`affine_reference`."""
@@ -79,7 +79,7 @@ def _affine_stress_moments(basis, U2: np.ndarray, material: Material, values: in
     return _sum_onto_nodes(sdofs, numbering.N, out)
 
 
-def _stress_moments(basis, sb, U2: np.ndarray, material: Material) -> np.ndarray:
+def quadrature_stress_moments(basis, sb, U2: np.ndarray, material: Material) -> np.ndarray:
     """(scalar N, 6 k): integral of each stress component of each column times each
     scalar shape function, vectorised over elements (in chunks) and columns."""
     vector_of = vector_dof_map(basis, sb)

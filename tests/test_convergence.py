@@ -8,7 +8,7 @@ from railcheck.check.jobs import mesh_sizes
 from railcheck.cli import main
 from railcheck.parts import geometry_of
 from railcheck.scene import load_scene
-from railcheck.studies.convergence import HOLE_RATIO, _solve_row, kinematics_study, richardson
+from railcheck.studies.convergence import HOLE_RATIO, kinematics_study, richardson, solve_row
 
 
 @pytest.mark.parametrize("p", [1.0, 2.0, 3.5])
@@ -75,7 +75,7 @@ def test_default_mesh_is_within_the_accuracy_targets_of_the_converged_study(part
 
     size, hole = mesh_sizes(load_scene(None).mesh, geometry_of(part, {}).kind)
     assert hole == pytest.approx(HOLE_RATIO * size)
-    row = _solve_row(part, "P2", size)
+    row = solve_row(part, "P2", size)
     tip, peak = CONVERGED[part]
     assert abs(row["tip_deflection_m"] / tip - 1) < 0.01, row["tip_deflection_m"] / tip - 1
     assert abs(row["max_von_mises_Pa"] / peak - 1) < 0.05, row["max_von_mises_Pa"] / peak - 1

@@ -20,7 +20,7 @@ from railcheck.fea.elasticity import (
 )
 from railcheck.fea.materials import MATERIALS
 from railcheck.fea.mesh import curved_elements, group_facets, skfem_mesh
-from railcheck.fea.stress import _affine_stress_moments, _stress_moments
+from railcheck.fea.stress import affine_stress_moments, quadrature_stress_moments
 from railcheck.geometry import curving
 from railcheck.geometry.mesher import mesh_part
 from railcheck.geometry.models import rail
@@ -113,8 +113,8 @@ def test_closed_form_projection_on_straight_elements_equals_quadrature_everywher
     ref = asm(BilinearForm(lambda u, v, w: u * v), everywhere)
     assert abs(M - ref).max() <= 1e-12 * abs(ref).max()
     U = np.random.default_rng(3).normal(size=(basis.N, 2)) * 1e-5
-    mine = _affine_stress_moments(basis, U, STEEL) + _stress_moments(basis, curved, U, STEEL)
-    quadrature = _stress_moments(basis, everywhere, U, STEEL)
+    mine = affine_stress_moments(basis, U, STEEL) + quadrature_stress_moments(basis, curved, U, STEEL)
+    quadrature = quadrature_stress_moments(basis, everywhere, U, STEEL)
     assert np.max(np.abs(mine - quadrature)) <= 1e-11 * np.max(np.abs(quadrature))
 
 

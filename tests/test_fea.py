@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from railcheck.fea import products
-from railcheck.fea.assembly import _pair_pattern_by_unique, pair_pattern
+from railcheck.fea.assembly import pair_pattern, pair_pattern_by_unique
 from railcheck.fea.cantilever import run_cantilever, timoshenko_tip
 from railcheck.fea.elasticity import (
     HoleLoad,
@@ -201,7 +201,7 @@ def test_pair_pattern_equals_a_global_sort_of_the_pair_keys():
     dofs = rng.choice(np.setdiff1d(np.arange(n), [0, 250, n - 1]), size=(300, 10))
     dofs[:5, 1] = dofs[:5, 0]
     mine = pair_pattern(dofs, n)
-    ref = _pair_pattern_by_unique(dofs, n)
+    ref = pair_pattern_by_unique(dofs, n)
     for a, b in zip(mine[:2], ref[:2]):
         np.testing.assert_array_equal(a, b)
     assert mine[2].shape == ref[2].shape and (mine[2] != ref[2]).nnz == 0

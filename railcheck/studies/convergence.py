@@ -76,7 +76,7 @@ def richardson(h: list[float], f: list[float], max_iter: int = 100) -> tuple[flo
 
 # -- one row (run in a subprocess) ------------------------------------------------------
 
-def _solve_row(target: str, element: str, size: float) -> dict:
+def solve_row(target: str, element: str, size: float) -> dict:
     """Mesh and solve one configuration; returns the row (SI)."""
     import resource
 
@@ -171,7 +171,7 @@ def run_study(target: str, elements: list[str], sizes: list[float], progress=pri
         for i, element in enumerate(elements):
             for j, size in enumerate(sorted(sizes, reverse=True)):
                 t = time.perf_counter()
-                row = pool.submit(_solve_row, target, element, size).result()
+                row = pool.submit(solve_row, target, element, size).result()
                 rows.append(row)
                 progress(f"[{i*len(sizes)+j+1}/{total}] {target} {element} {size*1e3:g} mm: {row['dofs']} DOFs, "
                          f"{time.perf_counter() - t:.1f} s")

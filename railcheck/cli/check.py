@@ -1,0 +1,44 @@
+"""``railcheck check [SCENE]``: the main job (:func:`railcheck.check.run.run_check`)."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from railcheck.check.run import run_check
+from railcheck.errors import InputError
+from railcheck.fea.fatigue import CRITERIA, SURFACE
+from railcheck.fea.materials import MATERIALS
+from railcheck.files import to_json
+from railcheck.parts import PARTS
+from railcheck.progress import Progress
+from railcheck.report.text import check_report
+from railcheck.scene import EFFECTS, load_scene
+
+HELP = "reactions -> bolt loads -> FE stress verdict for every part"
+PARSER = {"description": "Reactions over the whole crank cycle -> bolt loads -> FE stress envelope, deflection "
+                         "and fatigue per part.",
+          "epilog": f"parts: {', '.join(PARTS)}\nmaterials: {', '.join(MATERIALS)}\neffects: {', '.join(EFFECTS)}\n"
+                    f"fatigue criteria: {', '.join(CRITERIA)}; surfaces: {', '.join(SURFACE)}\n"
+                    "`railcheck init` writes a commented starter scene.",
+          "formatter_class": argparse.RawDescriptionHelpFormatter}
+
+
+def add_args(p) -> None:
+    p.add_argument("scene", nargs="?", help="scene TOML file (default: the built-in seed final design)")
+    p.add_argument("--out", metavar="DIR", help="results directory (default: the scene's output.dir)")
+    p.add_argument("--json", action="store_true", help="print summary.json to stdout")
+    p.add_argument("--force", action="store_true", help="overwrite an existing results directory")
+    p.add_argument("--jobs", type=int, metavar="N",
+                   help="parts checked at once in worker processes (default: one per core, at most 2)")
+
+
+def run(args) -> int:
+    if args.jobs is not None and args.jobs < 1:
+        raise InputError("--jobs", f"must be at least 1, got {args.jobs}")
+    result = run_check(load_scene(args.scene), args.out, args.force, Progress(quiet=False), args.jobs)
+    print(to_json(result.summary) if args.json else check_report(result))
+    if result.requested != result.target:
+        print(f"railcheck: {result.requested} exists; results written to {result.target} (use --force to replace)",
+              file=sys.stderr)
+    return result.exit_status

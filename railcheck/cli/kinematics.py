@@ -1,0 +1,43 @@
+"""``railcheck kinematics [SCENE]``: motion, joint reactions and motor torque over one crank
+revolution, the configuration checks and the peaks; exit 1 when a check fails."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from railcheck.check.kinematics_stage import kinematics_summary, run_kinematics
+from railcheck.errors import EXIT_FAIL, EXIT_PASS, InputError
+from railcheck.files import to_json
+from railcheck.report.plots import write_kinematics_plots
+from railcheck.report.text import kinematics_table
+from railcheck.scene import load_scene
+
+HELP = "kinematics, joint reactions and motor torque over a crank revolution"
+
+
+def add_args(p) -> None:
+    p.add_argument("scene", nargs="?", help="scene TOML file (default: the built-in seed final design)")
+    p.add_argument("--json", action="store_true", help="print one JSON object to stdout")
+    p.add_argument("--plots", metavar="DIR", help="write PNG plots of reactions, torque, angles into DIR")
+
+
+def run(args) -> int:
+    scene = load_scene(args.scene)
+    if scene.mechanism is None:
+        raise InputError("mechanism", "missing: `railcheck kinematics` needs a [mechanism] table")
+    result = run_kinematics(scene)
+    summary = kinematics_summary(scene, result)
+    if args.plots:
+        paths = write_kinematics_plots(result, Path(args.plots))
+        summary["plots"] = [str(p) for p in paths]
+    if args.json:
+        print(to_json(summary))
+    else:
+        print(f"scene: {scene.source}")
+        print(kinematics_table(summary))
+        for p in summary.get("plots", []):
+            print(f"wrote {p}")
+    failed = [name for name, c in summary["checks"].items() if not c["ok"]]
+    if failed and not args.json:
+        print(f"verdict: FAIL (check {', check '.join(failed)})")
+    return EXIT_FAIL if failed else EXIT_PASS
