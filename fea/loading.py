@@ -33,6 +33,8 @@ __all__ = [
     "load_vector",
     "resultant",
     "surface_vectors",
+    "SurfaceDofs",
+    "surface_dofs",
 ]
 
 
@@ -197,3 +199,22 @@ def body_force_vector(basis, force) -> np.ndarray:
 def _dot(field, v):
     """Pointwise dot product of a vector field (3, ...) with a vector test function."""
     return sum(np.asarray(field[c]) * v[c] for c in range(3))
+
+
+@dataclass(frozen=True)
+class SurfaceDofs:
+    """A named surface's nodes of the (vector) basis: ``dofs`` (n, 3) the x, y, z DOF of
+    each node, ``weights`` (n,) m^2 the integral of its shape function over the surface
+    (they sum to the area), ``points`` (n, 3) m where the nodes are. Any surface mean of
+    a field is ``weights @ field / weights.sum()``."""
+
+    dofs: np.ndarray
+    weights: np.ndarray
+    points: np.ndarray
+
+
+def surface_dofs(basis, groups: dict, group: str) -> SurfaceDofs:
+    """The :class:`SurfaceDofs` of ``group``'s surface (on the element's own faces)."""
+    sb = scalar_basis(basis)
+    nodes, weights = surface_node_weights(basis, groups, group)
+    return SurfaceDofs(dofs=vector_dof_map(basis, sb)[nodes], weights=weights, points=sb.doflocs.T[nodes])

@@ -2,6 +2,8 @@
 
 import numpy as np
 import pytest
+import scipy.sparse as sp
+import scipy.sparse.linalg  # noqa: F401
 
 from railcheck.fea import products
 from railcheck.fea.assembly import pair_pattern, pair_pattern_by_unique
@@ -368,3 +370,93 @@ def test_sparse_products_equal_scipy_and_fall_back_without_mkl(monkeypatch):
     np.testing.assert_allclose(slow @ X, A @ X, rtol=0, atol=1e-13 * np.abs(A @ X).max())
     extended = products.sparse_product(A, np.longdouble) @ X.astype(np.longdouble)
     assert extended.dtype == np.longdouble
+
+
+def test_solvers_are_callables_a_caller_may_pass_its_own():
+    """The solvers are a registry of callables: a user-supplied one is called with the
+    reduced system and its answer is used; an unknown name is refused."""
+    from railcheck.fea import SOLVERS, solve_reduced, solver_of
+
+    K = sp.diags([4.0, 5.0, 6.0]).tocsr()
+    F = np.array([4.0, 10.0, 18.0])
+    calls = []
+
+    def mine(K, F, **options):
+        calls.append(sorted(options))
+        return sp.linalg.spsolve(K.tocsc(), F), {"solver": "mine"}
+
+    U, info = solve_reduced(K, F, method=mine)
+    assert info == {"solver": "mine"} and calls == [["B", "maxiter", "memory_limit", "prolongation", "report"]]
+    np.testing.assert_allclose(U, [1.0, 2.0, 3.0])
+    for name in ("direct", "scipy", "amg"):
+        np.testing.assert_allclose(solve_reduced(K, F, B=np.eye(3), method=name)[0], [1.0, 2.0, 3.0], rtol=1e-9)
+    assert set(SOLVERS) >= {"auto", "direct", "pardiso", "scipy", "pmg", "amg"}
+    with pytest.raises(ValueError, match="unknown solver 'cholesky'"):
+        solver_of("cholesky")
+
+
+def saint_venant_torsion_constant(a: float, b: float, terms: int = 50) -> float:
+    """J (m^4) of an a x b rectangle (a >= b), Saint-Venant's exact series (Timoshenko &
+    Goodier, Theory of Elasticity, 3rd ed., sec. 109)."""
+    n = np.arange(1, 2 * terms, 2)
+    return a * b**3 * (1 / 3 - 64 / np.pi**5 * (b / a) * np.sum(np.tanh(n * np.pi * a / (2 * b)) / n**5))
+
+
+def test_a_torque_as_a_traction_twists_a_bar_as_saint_venant_says():
+    """A textbook case written with public names only: a torque T on the tip face as the
+    traction t = (T / I_p) (0, -(z - zc), y - yc), linear in the section coordinates, and
+    a body force field; the twist angle between two sections far from the ends equals
+    T L / (G J) with J from Saint-Venant's series (the ends' warping restraint stays
+    local)."""
+    from railcheck.fea import (
+        MATERIALS,
+        assemble,
+        body_force_vector,
+        body_force_vectors,
+        dof_components,
+        resultant,
+        solve,
+        supports,
+        surface_dofs,
+        traction_vector,
+        vector_dof_map,
+    )
+    from railcheck.fea.mesh import scalar_basis
+    from railcheck.geometry import bar, mesh_part
+
+    steel = MATERIALS["steel"]
+    length, width, height, torque = 0.3, 0.023, 0.020, 50.0
+    mesh = mesh_part(bar(length, width, height), 4e-3, 4e-3)
+    K, basis = assemble(mesh.points, mesh.tets, steel, 2)
+    tip = surface_dofs(basis, mesh.groups, "tip")
+    yc, zc = tip.weights @ tip.points[:, 1:] / tip.weights.sum()
+    polar = tip.weights @ ((tip.points[:, 1] - yc) ** 2 + (tip.points[:, 2] - zc) ** 2)
+    k = torque / polar
+
+    def twisting(x):
+        return np.stack([0.0 * x[0], -k * (x[2] - zc), k * (x[1] - yc)])
+
+    F = traction_vector(basis, mesh.groups, "tip", twisting)
+    np.testing.assert_allclose(resultant(basis, F), 0.0, atol=1e-9 * torque / width)
+    locs, comp = basis.doflocs.T, dof_components(basis)
+    moment = np.sum((locs[:, 1] - yc) * F * (comp == 2) - (locs[:, 2] - zc) * F * (comp == 1))
+    assert moment == pytest.approx(torque, rel=1e-9)
+    uniform = body_force_vector(basis, [lambda x, c=c: np.stack([x[0] * 0 + (c == i) for i in range(3)])
+                                        for c in range(3)])
+    np.testing.assert_allclose(uniform, body_force_vectors(basis), atol=1e-15)
+    U, _ = solve(K, F, supports(basis, mesh.groups, ["clamp"]), "direct", basis)
+    sb = scalar_basis(basis)
+    nodes, dof = sb.doflocs.T, vector_dof_map(basis, sb)
+
+    def twist_at(x0: float) -> float:
+        """The section's mean rotation about x: least squares over the nodes near x0."""
+        near = np.abs(nodes[:, 0] - x0) < 2.5e-3
+        y, z = nodes[near, 1] - yc, nodes[near, 2] - zc
+        uy, uz = U[dof[near, 1]], U[dof[near, 2]]
+        return float(np.sum(y * uz - z * uy) / np.sum(y**2 + z**2))
+
+    a, b = max(width, height), min(width, height)
+    G = steel.youngs_modulus / (2 * (1 + steel.poisson_ratio))
+    rate = torque / (G * saint_venant_torsion_constant(a, b))
+    measured = (twist_at(0.2) - twist_at(0.1)) / 0.1
+    assert measured == pytest.approx(rate, rel=0.005)

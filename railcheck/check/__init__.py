@@ -1,0 +1,18 @@
+"""railcheck.check: ``railcheck check``, one setting of the rig from scene to verdict.
+
+:mod:`.pipeline` (the stages a scene needs), :mod:`.kinematics_stage` (the linkage's
+motion, reactions and checks), :mod:`.jobs` (each part resolved once into a
+:class:`PartJob`), :mod:`.loading` (a part's load model, unit cases and coefficient
+histories), :mod:`.workers` (parts in worker processes), :mod:`.cycle` (one part over the
+cycle), :mod:`.records` (the frozen results), :mod:`.summary` (summary.json),
+:mod:`.run` (the results directory).
+"""
+
+from railcheck.check.jobs import PartJob, part_jobs
+from railcheck.check.pipeline import run_pipeline
+from railcheck.check.records import CycleResult, PartResult, PipelineResult
+from railcheck.check.run import CheckRun, run_check
+from railcheck.check.summary import summary_of
+
+__all__ = ["CheckRun", "CycleResult", "PartJob", "PartResult", "PipelineResult", "part_jobs", "run_check",
+           "run_pipeline", "summary_of"]

@@ -1,0 +1,12 @@
+"""railcheck.sweep: ``railcheck sweep``, every setting of the rig.
+
+:mod:`.run` (chunks, Dask, the results directory), :mod:`.grid` (the settings the
+rails' holes allow), :mod:`.chunk` (a chunk of settings -> rows), :mod:`.parts` (each
+part's unit fields for every hole pair), :mod:`.fe` (exact screened superposition),
+:mod:`.table` (Parquet/CSV), :mod:`.maps` (aggregates, the seed's hypotheses, maps).
+"""
+
+from railcheck.sweep.run import SweepRun, run_sweep
+from railcheck.sweep.table import read_table
+
+__all__ = ["SweepRun", "read_table", "run_sweep"]

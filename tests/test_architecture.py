@@ -1,0 +1,159 @@
+"""The layout's rules, read from the source: no import cycles between our modules, each
+domain package imports only what is upstream of it (kinematics -> loads -> geometry ->
+fea, and the one error base), heavy packages only inside the functions that need them,
+our own modules imported at module top, and each package's public API importable."""
+
+import ast
+import importlib
+import tomllib
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+HEAVY = {"gmsh", "skfem", "pyvista", "vtk", "vtkmodules", "meshio", "pyamg", "matplotlib", "dask", "distributed",
+         "pyarrow", "pypardiso"}
+#: what each domain package may import of ours (besides itself): the packages upstream of it
+UPSTREAM = {
+    "railcheck.kinematics": {"railcheck.errors"},
+    "railcheck.loads": {"railcheck.errors", "railcheck.kinematics"},
+    "railcheck.geometry": {"railcheck.errors", "railcheck.kinematics", "railcheck.loads"},
+    "railcheck.fea": {"railcheck.errors", "railcheck.kinematics", "railcheck.loads", "railcheck.geometry"},
+}
+
+
+def package_dirs() -> dict[str, Path]:
+    """Dotted package -> source folder, from pyproject.toml's setuptools mapping."""
+    config = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]
+    mapping = config["package-dir"]
+    return {pkg: ROOT / mapping.get(pkg, mapping.get(pkg.split(".")[0], "") and pkg.replace(".", "/"))
+            for pkg in config["packages"]}
+
+
+def our_modules() -> dict[str, Path]:
+    """Every module of the installed package, dotted name -> file."""
+    out = {}
+    for pkg, folder in package_dirs().items():
+        for path in folder.glob("*.py"):
+            out[pkg if path.stem == "__init__" else f"{pkg}.{path.stem}"] = path
+    return out
+
+
+def imports_of(name: str, path: Path, modules: dict) -> list[tuple[str, bool, str | None]]:
+    """(our module imported, at module level?, third-party top name) for each import."""
+    tree = ast.parse(path.read_text())
+    package = name if path.stem == "__init__" else name.rsplit(".", 1)[0]
+    out = []
+
+    def visit(node, in_function: bool):
+        for child in ast.iter_child_nodes(node):
+            if isinstance(child, ast.If) and "TYPE_CHECKING" in ast.unparse(child.test):
+                continue
+            if isinstance(child, ast.Import):
+                for a in child.names:
+                    target = a.name
+                    out.append((target if target in modules else None, not in_function, target.split(".")[0]))
+            elif isinstance(child, ast.ImportFrom) and child.module != "__future__":
+                base = package
+                for _ in range(max(child.level - 1, 0)):
+                    base = base.rsplit(".", 1)[0]
+                target = (f"{base}.{child.module}" if child.module else base) if child.level else child.module
+                subs = [f"{target}.{a.name}" for a in child.names if f"{target}.{a.name}" in modules]
+                for t in subs if len(subs) == len(child.names) else [target, *subs]:
+                    out.append((t if t in modules else None, not in_function, t.split(".")[0]))
+            visit(child, in_function or isinstance(child, (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda)))
+
+    visit(tree, False)
+    return out
+
+
+def import_graph() -> dict[str, set[str]]:
+    modules = our_modules()
+    return {name: {t for t, _, _ in imports_of(name, path, modules) if t and t != name}
+            for name, path in modules.items()}
+
+
+def cycles(graph: dict[str, set[str]]) -> list[list[str]]:
+    """The strongly connected components of more than one module (Tarjan), and self-loops."""
+    index, low, stack, on_stack, out = {}, {}, [], set(), []
+
+    def connect(v):
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        on_stack.add(v)
+        for w in graph.get(v, ()):
+            if w not in index:
+                connect(w)
+                low[v] = min(low[v], low[w])
+            elif w in on_stack:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            component = []
+            while True:
+                w = stack.pop()
+                on_stack.discard(w)
+                component.append(w)
+                if w == v:
+                    break
+            if len(component) > 1 or v in graph.get(v, ()):
+                out.append(sorted(component))
+
+    for v in graph:
+        if v not in index:
+            connect(v)
+    return out
+
+
+def test_the_cycle_finder_finds_planted_cycles():
+    assert cycles({"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}) == [["a", "b", "c"]]
+    assert cycles({"a": {"a"}}) == [["a"]]
+    assert cycles({"a": {"b"}, "b": set()}) == []
+
+
+def test_every_module_is_found():
+    modules = our_modules()
+    assert {"railcheck.cli", "railcheck.check.pipeline", "railcheck.fea.elasticity", "railcheck.geometry.mesher",
+            "railcheck.loads.cases", "railcheck.kinematics.planar.solver", "railcheck.sweep.table"} <= set(modules)
+    assert len(modules) > 60
+
+
+def test_no_import_cycles_between_our_modules():
+    """Imports inside functions count too: they hid three cycles before."""
+    assert cycles(import_graph()) == []
+
+
+@pytest.mark.parametrize("package", sorted(UPSTREAM))
+def test_a_domain_package_imports_only_what_is_upstream_of_it(package):
+    allowed = UPSTREAM[package] | {package}
+    bad = {(name, t) for name, targets in import_graph().items() if name.startswith(package)
+           for t in targets if not any(t == a or t.startswith(a + ".") for a in allowed)}
+    assert not bad
+
+
+def test_heavy_packages_are_imported_only_inside_functions():
+    modules = our_modules()
+    bad = [(name, top) for name, path in modules.items() for _, module_level, top in imports_of(name, path, modules)
+           if module_level and top in HEAVY]
+    assert not bad
+
+
+def test_our_own_modules_are_imported_at_module_top():
+    modules = our_modules()
+    bad = [(name, t) for name, path in modules.items() for t, module_level, _ in imports_of(name, path, modules)
+           if t and not module_level]
+    assert not bad
+
+
+@pytest.mark.parametrize("package", ["railcheck.fea", "railcheck.geometry", "railcheck.loads", "railcheck.kinematics",
+                                     "railcheck.kinematics.planar", "railcheck.check", "railcheck.sweep"])
+def test_each_public_name_imports(package):
+    module = importlib.import_module(package)
+    assert module.__all__ and sorted(set(module.__all__)) == sorted(module.__all__)
+    for name in module.__all__:
+        assert getattr(module, name) is not None
+
+
+def test_no_second_copy_of_the_package_and_no_tests_inside_it():
+    for name in ("railcheck.railcheck", "railcheck.tests", "railcheck.benchmarks"):
+        with pytest.raises(ModuleNotFoundError):
+            importlib.import_module(name)
