@@ -30,7 +30,6 @@ def main() -> None:
     parser.add_argument("--repeat", type=int, default=5)
     args = parser.parse_args()
 
-
     scene = load_scene(None)
     steel = MATERIALS["steel"]
     kin = run_kinematics(scene)
@@ -42,27 +41,42 @@ def main() -> None:
         mesh = mesh_part(geo, job.mesh.size, job.mesh.hole_size)
         cases = unit_cases(job.loads, geo, holes)
         t = time.perf_counter()
-        fields, meta = solve_unit_cases(mesh.points, mesh.tets, mesh.groups, steel, [kind.support], cases, 2,
-                                        kind.tip, kind.exclusion(geo))
+        fields, meta = solve_unit_cases(
+            mesh.points, mesh.tets, mesh.groups, steel, [kind.support], cases, 2, kind.tip, kind.exclusion(geo)
+        )
         unit_s[name] = time.perf_counter() - t
         t = time.perf_counter()
-        solve_elasticity(mesh.points, mesh.tets, mesh.groups, steel, [Support(kind.support)],
-                         [HoleLoad(h, (100.0, 100.0, 0.0)) for h in holes], order=2, tip_group=kind.tip,
-                         exclude_distance=kind.exclusion(geo))
+        solve_elasticity(
+            mesh.points,
+            mesh.tets,
+            mesh.groups,
+            steel,
+            [Support(kind.support)],
+            [HoleLoad(h, (100.0, 100.0, 0.0)) for h in holes],
+            order=2,
+            tip_group=kind.tip,
+            exclude_distance=kind.exclusion(geo),
+        )
         single_s[name] = time.perf_counter() - t
         prepared[name] = (job, fields, meta)
-        print(f"{name:<14} {meta.dofs:>7} DOFs  unit cases {unit_s[name]:6.2f} s  one load {single_s[name]:6.2f} s  "
-              f"ratio {unit_s[name] / single_s[name]:.2f}")
+        print(
+            f"{name:<14} {meta.dofs:>7} DOFs  unit cases {unit_s[name]:6.2f} s  one load {single_s[name]:6.2f} s  "
+            f"ratio {unit_s[name] / single_s[name]:.2f}"
+        )
     runs = []
     for _ in range(args.repeat):
         t = time.perf_counter()
         for job, fields, meta in prepared.values():
             evaluate_cycle(job, fields, job.histories, meta)
         runs.append(time.perf_counter() - t)
-    print(f"unit cases, all parts: {sum(unit_s.values()):.2f} s; one load each: {sum(single_s.values()):.2f} s; "
-          f"ratio {sum(unit_s.values()) / sum(single_s.values()):.2f}")
-    print(f"full cycle ({scene.mechanism.steps} steps), all five parts, after the unit solves: median "
-          f"{statistics.median(runs):.3f} s over {args.repeat} runs")
+    print(
+        f"unit cases, all parts: {sum(unit_s.values()):.2f} s; one load each: {sum(single_s.values()):.2f} s; "
+        f"ratio {sum(unit_s.values()) / sum(single_s.values()):.2f}"
+    )
+    print(
+        f"full cycle ({scene.mechanism.steps} steps), all five parts, after the unit solves: median "
+        f"{statistics.median(runs):.3f} s over {args.repeat} runs"
+    )
 
 
 if __name__ == "__main__":

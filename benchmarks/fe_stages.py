@@ -18,11 +18,13 @@ import sys
 
 
 def one(size_mm: float, solver: str = "auto") -> dict:
-    code = ("import json, resource; from railcheck.fea.cantilever import run_cantilever; "
-            f"r = run_cantilever(order=2, size={size_mm}e-3, cache=False, solver={solver!r}); "
-            "print('OUT' + json.dumps({'dofs': r.solution.dofs, 'elements': r.solution.elements, "
-            "'seconds': r.seconds, 'solver': r.solution.solver, 'error': r.relative_error, "
-            "'memory': resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024}))")
+    code = (
+        "import json, resource; from railcheck.fea.cantilever import run_cantilever; "
+        f"r = run_cantilever(order=2, size={size_mm}e-3, cache=False, solver={solver!r}); "
+        "print('OUT' + json.dumps({'dofs': r.solution.dofs, 'elements': r.solution.elements, "
+        "'seconds': r.seconds, 'solver': r.solution.solver, 'error': r.relative_error, "
+        "'memory': resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024}))"
+    )
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     line = next((l for l in proc.stdout.splitlines() if l.startswith("OUT")), None)
     if line is None:
@@ -42,11 +44,15 @@ def main():
         s = r["seconds"]
         stages = {k: s[k] for k in ("mesh", "assembly", "solve", "stress")}
         top = max(stages, key=stages.get)
-        solver = r["solver"]["solver"] + (f" ({r['solver']['iterations']} it)" if r["solver"]["solver"] in ("amg", "pmg")
-                                          else "")
-        print(f"| {size:g} | {r['dofs']} | {r['elements']} | {solver} | {s['mesh']:.1f} | {s['assembly']:.1f} | "
-              f"{s['solve']:.1f} | {s['stress']:.1f} | {top} {100*stages[top]/sum(stages.values()):.0f}% | "
-              f"{r['memory']/1e9:.1f} |", flush=True)
+        solver = r["solver"]["solver"] + (
+            f" ({r['solver']['iterations']} it)" if r["solver"]["solver"] in ("amg", "pmg") else ""
+        )
+        print(
+            f"| {size:g} | {r['dofs']} | {r['elements']} | {solver} | {s['mesh']:.1f} | {s['assembly']:.1f} | "
+            f"{s['solve']:.1f} | {s['stress']:.1f} | {top} {100 * stages[top] / sum(stages.values()):.0f}% | "
+            f"{r['memory'] / 1e9:.1f} |",
+            flush=True,
+        )
 
 
 if __name__ == "__main__":

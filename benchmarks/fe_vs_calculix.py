@@ -57,7 +57,6 @@ def railcheck_solve(problem: str, size: float, solver: str = "direct") -> dict:
     """Solve with railcheck (run in a child process) by ``solver``; return arrays as lists."""
     import resource
 
-
     if problem == "cantilever":
         mesh = mesh_part(bar(LENGTH, WIDTH, HEIGHT), size, hole_size=size)
         supports, loads, tip = [Support("clamp")], [HoleLoad("tip", (0.0, 0.0, LOAD))], "tip"
@@ -72,10 +71,11 @@ def railcheck_solve(problem: str, size: float, solver: str = "direct") -> dict:
         mesh = mesh_part(geos["crank-rail"], size, hole_size=0.3 * size)
         supports, tip = [Support(case.support)], case.tip_group
         loads = [HoleLoad(b.group, b.force) for b in case.bolts]
-        probe = np.array([0.3, 0.0115, 0.011])     # mid-length, on the side face, mid-height
+        probe = np.array([0.3, 0.0115, 0.011])  # mid-length, on the side face, mid-height
     t = time.perf_counter()
-    sol = solve_elasticity(mesh.points, mesh.tets, mesh.groups, MATERIALS["steel"], supports, loads, order=2,
-                           tip_group=tip, solver=solver)
+    sol = solve_elasticity(
+        mesh.points, mesh.tets, mesh.groups, MATERIALS["steel"], supports, loads, order=2, tip_group=tip, solver=solver
+    )
     seconds = time.perf_counter() - t
     # what only this comparison needs, from the FE API: consistent nodal forces and the fixed nodes
     K, basis = assemble(mesh.points, mesh.tets, MATERIALS["steel"], 2)
@@ -83,11 +83,20 @@ def railcheck_solve(problem: str, size: float, solver: str = "direct") -> dict:
     nodal_forces = f[vector_dof_map(basis, scalar_basis(basis))]
     fixed = group_nodes(basis, mesh.groups, [s.group for s in supports])
     tip_tris = mesh.groups[tip]
-    return {"seconds": seconds, "peak_memory": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024,
-            "points": mesh.points.tolist(), "tets": mesh.tets.tolist(), "nodes": sol.nodes.tolist(),
-            "u": sol.node_displacement.tolist(), "vm": von_mises(sol.stress).tolist(),
-            "forces": nodal_forces.tolist(), "fixed": fixed.tolist(),
-            "tip_vertices": np.unique(tip_tris).tolist(), "probe": probe.tolist(), "dofs": sol.dofs}
+    return {
+        "seconds": seconds,
+        "peak_memory": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024,
+        "points": mesh.points.tolist(),
+        "tets": mesh.tets.tolist(),
+        "nodes": sol.nodes.tolist(),
+        "u": sol.node_displacement.tolist(),
+        "vm": von_mises(sol.stress).tolist(),
+        "forces": nodal_forces.tolist(),
+        "fixed": fixed.tolist(),
+        "tip_vertices": np.unique(tip_tris).tolist(),
+        "probe": probe.tolist(),
+        "dofs": sol.dofs,
+    }
 
 
 def c3d10_connectivity(points, tets, nodes):
@@ -113,19 +122,19 @@ def c3d10_connectivity(points, tets, nodes):
 def write_inp(path, nodes, conn, fixed, forces, E=210e9, nu=0.3):
     with open(path, "w") as f:
         f.write("*HEADING\nrailcheck vs CalculiX\n*NODE, NSET=NALL\n")
-        f.writelines(f"{i+1}, {x:.12e}, {y:.12e}, {z:.12e}\n" for i, (x, y, z) in enumerate(nodes))
+        f.writelines(f"{i + 1}, {x:.12e}, {y:.12e}, {z:.12e}\n" for i, (x, y, z) in enumerate(nodes))
         f.write("*ELEMENT, TYPE=C3D10, ELSET=EALL\n")
-        f.writelines(f"{e+1}, " + ", ".join(str(int(n) + 1) for n in row) + "\n" for e, row in enumerate(conn))
+        f.writelines(f"{e + 1}, " + ", ".join(str(int(n) + 1) for n in row) + "\n" for e, row in enumerate(conn))
         f.write("*NSET, NSET=FIXED\n")
         fx = [int(n) + 1 for n in fixed]
         for k in range(0, len(fx), 16):
-            f.write(", ".join(map(str, fx[k:k + 16])) + "\n")
+            f.write(", ".join(map(str, fx[k : k + 16])) + "\n")
         f.write(f"*MATERIAL, NAME=STEEL\n*ELASTIC\n{E:.12e}, {nu}\n*SOLID SECTION, ELSET=EALL, MATERIAL=STEEL\n")
         f.write("*STEP\n*STATIC\n*BOUNDARY\nFIXED, 1, 3, 0.\n*CLOAD\n")
         for i in np.nonzero(np.any(forces != 0, axis=1))[0]:
             for c in range(3):
                 if forces[i, c] != 0:
-                    f.write(f"{i+1}, {c+1}, {forces[i, c]:.12e}\n")
+                    f.write(f"{i + 1}, {c + 1}, {forces[i, c]:.12e}\n")
         # U printed to the .dat as well: 7 significant digits there against 6 in the .frd
         f.write("*NODE FILE\nU\n*EL FILE\nS\n*NODE PRINT, NSET=NALL\nU\n*END STEP\n")
 
@@ -143,7 +152,7 @@ def read_frd(path, n):
                 block = None
             elif block is not None and line.startswith(" -1"):
                 node = int(line[3:13])
-                vals = [float(line[13 + 12 * k: 25 + 12 * k]) for k in range(block.shape[1])]
+                vals = [float(line[13 + 12 * k : 25 + 12 * k]) for k in range(block.shape[1])]
                 block[node - 1] = vals
     return disp, stress
 
@@ -179,12 +188,15 @@ def run_ccx(workdir: Path) -> tuple[float, int]:
 
 
 def compare(problem: str, size: float, solver: str = "direct") -> dict:
-    code = ("import json, importlib.util as u; "
-            f"s = u.spec_from_file_location('fe_vs_calculix', {str(Path(__file__).resolve())!r}); "
-            "m = u.module_from_spec(s); s.loader.exec_module(m); "
-            f"print('OUT' + json.dumps(m.railcheck_solve({problem!r}, {size!r}, {solver!r})))")
-    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                          cwd=Path(__file__).resolve().parents[1])
+    code = (
+        "import json, importlib.util as u; "
+        f"s = u.spec_from_file_location('fe_vs_calculix', {str(Path(__file__).resolve())!r}); "
+        "m = u.module_from_spec(s); s.loader.exec_module(m); "
+        f"print('OUT' + json.dumps(m.railcheck_solve({problem!r}, {size!r}, {solver!r})))"
+    )
+    proc = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, cwd=Path(__file__).resolve().parents[1]
+    )
     line = next((l for l in proc.stdout.splitlines() if l.startswith("OUT")), None)
     if line is None:
         raise RuntimeError(proc.stderr[-3000:])
@@ -202,17 +214,29 @@ def compare(problem: str, size: float, solver: str = "direct") -> dict:
         shutil.rmtree(work, ignore_errors=True)
     u_rc = np.array(r["u"])
     from scipy.spatial import cKDTree
+
     tip_nodes = cKDTree(nodes).query(points[r["tip_vertices"]])[1]
     tip_rc = np.linalg.norm(u_rc[tip_nodes].mean(axis=0))
     tip_ccx = np.linalg.norm(u_ccx[tip_nodes].mean(axis=0))
     k = int(cKDTree(nodes).query(r["probe"])[1])
-    vm_rc, vm_ccx = r["vm"][k], float(von_mises6(s_ccx[k:k + 1])[0])
-    return {"problem": problem, "size_mm": size * 1e3, "dofs": r["dofs"], "railcheck_seconds": r["seconds"],
-            "ccx_seconds": ccx_seconds, "railcheck_peak_memory": r["peak_memory"], "ccx_peak_memory": ccx_mem,
-            "tip_railcheck_mm": tip_rc * 1e3, "tip_ccx_mm": tip_ccx * 1e3, "tip_rel_diff": tip_rc / tip_ccx - 1,
-            "probe_mm": [x * 1e3 for x in nodes[k]], "vm_railcheck_MPa": vm_rc / 1e6, "vm_ccx_MPa": vm_ccx / 1e6,
-            "vm_rel_diff": vm_rc / vm_ccx - 1,
-            "max_u_diff_rel": float(np.abs(u_rc - u_ccx).max() / np.abs(u_ccx).max())}
+    vm_rc, vm_ccx = r["vm"][k], float(von_mises6(s_ccx[k : k + 1])[0])
+    return {
+        "problem": problem,
+        "size_mm": size * 1e3,
+        "dofs": r["dofs"],
+        "railcheck_seconds": r["seconds"],
+        "ccx_seconds": ccx_seconds,
+        "railcheck_peak_memory": r["peak_memory"],
+        "ccx_peak_memory": ccx_mem,
+        "tip_railcheck_mm": tip_rc * 1e3,
+        "tip_ccx_mm": tip_ccx * 1e3,
+        "tip_rel_diff": tip_rc / tip_ccx - 1,
+        "probe_mm": [x * 1e3 for x in nodes[k]],
+        "vm_railcheck_MPa": vm_rc / 1e6,
+        "vm_ccx_MPa": vm_ccx / 1e6,
+        "vm_rel_diff": vm_rc / vm_ccx - 1,
+        "max_u_diff_rel": float(np.abs(u_rc - u_ccx).max() / np.abs(u_ccx).max()),
+    }
 
 
 def main():
@@ -223,17 +247,23 @@ def main():
     args = parser.parse_args()
     if shutil.which("ccx") is None:
         sys.exit("CalculiX not found: apt-get install calculix-ccx")
-    rows = [compare("cantilever", args.size_cantilever * 1e-3, args.solver),
-            compare("crank-rail", args.size_rail * 1e-3, args.solver)]
-    print("| problem | DOFs | railcheck s | ccx s | time ratio ccx/railcheck | railcheck GB | ccx GB | "
-          "tip railcheck mm | tip ccx mm | diff | von Mises railcheck / ccx MPa at (mm) | diff | max nodal u diff |")
+    rows = [
+        compare("cantilever", args.size_cantilever * 1e-3, args.solver),
+        compare("crank-rail", args.size_rail * 1e-3, args.solver),
+    ]
+    print(
+        "| problem | DOFs | railcheck s | ccx s | time ratio ccx/railcheck | railcheck GB | ccx GB | "
+        "tip railcheck mm | tip ccx mm | diff | von Mises railcheck / ccx MPa at (mm) | diff | max nodal u diff |"
+    )
     print("| --- " * 13 + "|")
     for r in rows:
-        print(f"| {r['problem']} ({r['size_mm']:g} mm) | {r['dofs']} | {r['railcheck_seconds']:.2f} | "
-              f"{r['ccx_seconds']:.2f} | {r['ccx_seconds']/r['railcheck_seconds']:.2f} | "
-              f"{r['railcheck_peak_memory']/1e9:.2f} | {r['ccx_peak_memory']/1e9:.2f} | {r['tip_railcheck_mm']:.5f} | "
-              f"{r['tip_ccx_mm']:.5f} | {r['tip_rel_diff']:+.1e} | {r['vm_railcheck_MPa']:.3f} / {r['vm_ccx_MPa']:.3f} at "
-              f"({', '.join(f'{x:.1f}' for x in r['probe_mm'])}) | {r['vm_rel_diff']:+.1e} | {r['max_u_diff_rel']:.1e} |")
+        print(
+            f"| {r['problem']} ({r['size_mm']:g} mm) | {r['dofs']} | {r['railcheck_seconds']:.2f} | "
+            f"{r['ccx_seconds']:.2f} | {r['ccx_seconds'] / r['railcheck_seconds']:.2f} | "
+            f"{r['railcheck_peak_memory'] / 1e9:.2f} | {r['ccx_peak_memory'] / 1e9:.2f} | {r['tip_railcheck_mm']:.5f} | "
+            f"{r['tip_ccx_mm']:.5f} | {r['tip_rel_diff']:+.1e} | {r['vm_railcheck_MPa']:.3f} / {r['vm_ccx_MPa']:.3f} at "
+            f"({', '.join(f'{x:.1f}' for x in r['probe_mm'])}) | {r['vm_rel_diff']:+.1e} | {r['max_u_diff_rel']:.1e} |"
+        )
 
 
 if __name__ == "__main__":

@@ -75,22 +75,29 @@ def per_step_loop(steps: int) -> float:
     peak = 0.0
     for k in range(steps):
         t2 = th2[k]
-        f = lambda x, t2=t2: [L2 * math.cos(t2) + L3 * math.cos(x[0]) + L4 * math.cos(x[1]) - D,  # noqa: E731
-                       L2 * math.sin(t2) + L3 * math.sin(x[0]) + L4 * math.sin(x[1])]
+        f = lambda x, t2=t2: [
+            L2 * math.cos(t2) + L3 * math.cos(x[0]) + L4 * math.cos(x[1]) - D,  # noqa: E731
+            L2 * math.sin(t2) + L3 * math.sin(x[0]) + L4 * math.sin(x[1]),
+        ]
         x0 = fsolve(f, x0, xtol=1e-12)
         t3, t4 = x0
         A = np.array([[-L3 * math.sin(t3), -L4 * math.sin(t4)], [L3 * math.cos(t3), L4 * math.cos(t4)]])
         w3, w4 = np.linalg.solve(A, -np.array([-L2 * math.sin(t2), L2 * math.cos(t2)]) * w2)
-        b = (np.array([L3 * math.cos(t3) * w3**2 + L4 * math.cos(t4) * w4**2,
-                       L3 * math.sin(t3) * w3**2 + L4 * math.sin(t4) * w4**2])
-             + np.array([L2 * math.cos(t2), L2 * math.sin(t2)]) * w2**2)
+        b = (
+            np.array(
+                [
+                    L3 * math.cos(t3) * w3**2 + L4 * math.cos(t4) * w4**2,
+                    L3 * math.sin(t3) * w3**2 + L4 * math.sin(t4) * w4**2,
+                ]
+            )
+            + np.array([L2 * math.cos(t2), L2 * math.sin(t2)]) * w2**2
+        )
         a3, a4 = np.linalg.solve(A, b)
-        s2, c2, s3, c3, s4, c4 = (math.sin(t2), math.cos(t2), math.sin(t3), math.cos(t3),
-                                  math.sin(t4), math.cos(t4))
-        aA = -w2**2 * L2 * np.array([c2, s2])
+        s2, c2, s3, c3, s4, c4 = (math.sin(t2), math.cos(t2), math.sin(t3), math.cos(t3), math.sin(t4), math.cos(t4))
+        aA = -(w2**2) * L2 * np.array([c2, s2])
         aB = aA + a3 * L3 * np.array([-s3, c3]) - w3**2 * L3 * np.array([c3, s3])
         aG3 = aA + a3 * xG3 * np.array([-s3, c3]) - w3**2 * xG3 * np.array([c3, s3])
-        aG4 = -w4**2 * (-xG4) * np.array([c4, s4]) + a4 * xG4 * np.array([s4, -c4])
+        aG4 = -(w4**2) * (-xG4) * np.array([c4, s4]) + a4 * xG4 * np.array([s4, -c4])
         a4B = np.array([a4 * L4 * s4 + w4**2 * L4 * c4, -a4 * L4 * c4 + w4**2 * L4 * s4])
         AA = np.zeros((9, 9))
         AA[0, 0] = AA[0, 2] = AA[1, 1] = AA[1, 3] = 1
@@ -129,12 +136,16 @@ def main():
     per_fast, per_inner = wall / args.steps, inner / args.steps
     per_slow = statistics.median(slow) / args.loop_steps
     print(f"configuration 480/840/780/1020 mm, 1 Hz, seed-2013 reactions, medians of {len(fast)} / {len(slow)} runs")
-    print(f"closed form, {args.steps} steps : {wall:8.3f} s wall in a fresh process ({inner:.3f} s after "
-          f"imports) = {per_fast*1e6:.3f} us/step  (peak R_O2 {fast[0][2]:.4f} N)")
-    print(f"per-step fsolve loop, {args.loop_steps} steps: {per_slow*1e6:8.1f} us/step  (peak R_O2 {pl:.4f} N)")
-    print(f"closed form, {args.steps} steps, in this process: {warm:8.3f} s = {warm/args.steps*1e6:.3f} us/step")
-    print(f"ratio per step: fresh process, start-up included {per_slow/per_fast:.0f}x; fresh process after imports "
-          f"{per_slow/per_inner:.0f}x; in this process {per_slow/(warm/args.steps):.0f}x")
+    print(
+        f"closed form, {args.steps} steps : {wall:8.3f} s wall in a fresh process ({inner:.3f} s after "
+        f"imports) = {per_fast * 1e6:.3f} us/step  (peak R_O2 {fast[0][2]:.4f} N)"
+    )
+    print(f"per-step fsolve loop, {args.loop_steps} steps: {per_slow * 1e6:8.1f} us/step  (peak R_O2 {pl:.4f} N)")
+    print(f"closed form, {args.steps} steps, in this process: {warm:8.3f} s = {warm / args.steps * 1e6:.3f} us/step")
+    print(
+        f"ratio per step: fresh process, start-up included {per_slow / per_fast:.0f}x; fresh process after imports "
+        f"{per_slow / per_inner:.0f}x; in this process {per_slow / (warm / args.steps):.0f}x"
+    )
 
 
 if __name__ == "__main__":

@@ -28,7 +28,6 @@ def main() -> None:
     parser.add_argument("--amg", action="store_true", help="also time AMG-CG on one right-hand side")
     args = parser.parse_args()
 
-
     geo = geometry_of(args.part, {})
     kind = kind_of(args.part)
     mesh = mesh_part(geo, *mesh_sizes(load_scene(None).mesh, geo.kind))
@@ -47,7 +46,7 @@ def main() -> None:
     t_fac = time.perf_counter() - t
     t = time.perf_counter()
     factor.solve(F32[:, 0])
-    t_first = time.perf_counter() - t               # also builds the long-double copy of K
+    t_first = time.perf_counter() - t  # also builds the long-double copy of K
 
     def median_seconds(work, repeat: int = 3) -> float:
         times = []
@@ -62,12 +61,18 @@ def main() -> None:
     bare_one = median_seconds(lambda: factor.solve_once(F32[:, :1]))
     bare_32 = median_seconds(lambda: factor.solve_once(F32))
     print(f"{args.part}: {Kc.shape[0]} free DOFs, {Kc.nnz} non-zeros; assembly {t_asm:.2f} s")
-    print(f"  {factor.backend}: factorise {t_fac:.2f} s ({factor.info.get('factor_bytes', 0) / 2**30:.2f} GiB), "
-          f"first solve {t_first:.2f} s")
-    print(f"  with refinement and residual check (medians of 3): one RHS {t_one:.3f} s, 32 RHS {t_32:.3f} s "
-          f"= {t_32 / t_one:.1f} x one")
-    print(f"  the factor's two triangular passes alone: one RHS {bare_one:.3f} s, 32 RHS {bare_32:.3f} s "
-          f"= {bare_32 / bare_one:.1f} x one")
+    print(
+        f"  {factor.backend}: factorise {t_fac:.2f} s ({factor.info.get('factor_bytes', 0) / 2**30:.2f} GiB), "
+        f"first solve {t_first:.2f} s"
+    )
+    print(
+        f"  with refinement and residual check (medians of 3): one RHS {t_one:.3f} s, 32 RHS {t_32:.3f} s "
+        f"= {t_32 / t_one:.1f} x one"
+    )
+    print(
+        f"  the factor's two triangular passes alone: one RHS {bare_one:.3f} s, 32 RHS {bare_32:.3f} s "
+        f"= {bare_32 / bare_one:.1f} x one"
+    )
     if args.amg:
         B = rigid_body_modes(basis.doflocs[:, free], dof_components(basis)[free])
         t = time.perf_counter()

@@ -29,9 +29,11 @@ def one(label: str, **kw) -> None:
     total = sum(k["settings_total"] for k in by.values())
     fe = sum(k["settings_passing_checks"] for k in by.values())
     chunks = run.timings["chunks"]
-    print(f"{label:<28} wall {wall:7.1f} s = FE unit cases {run.timings['prepare']:6.1f} s + settings "
-          f"{chunks:6.1f} s + report {run.timings['report']:4.1f} s; {total} settings ({fe} with FE): "
-          f"{total / chunks:8.0f} settings/s, {fe / chunks:6.1f} FE settings/s")
+    print(
+        f"{label:<28} wall {wall:7.1f} s = FE unit cases {run.timings['prepare']:6.1f} s + settings "
+        f"{chunks:6.1f} s + report {run.timings['report']:4.1f} s; {total} settings ({fe} with FE): "
+        f"{total / chunks:8.0f} settings/s, {fe / chunks:6.1f} FE settings/s"
+    )
 
 
 def main():

@@ -46,9 +46,18 @@ class CantileverResult:
         return (self.computed - self.analytic) / self.analytic
 
 
-def run_cantilever(order: int = 2, size: float = 4e-3, axis: str = "z", solver: str = "auto",
-                   length: float = LENGTH, width: float = WIDTH, height: float = HEIGHT, load: float = LOAD,
-                   material: Material = MATERIALS["steel"], cache: bool = True) -> CantileverResult:
+def run_cantilever(
+    order: int = 2,
+    size: float = 4e-3,
+    axis: str = "z",
+    solver: str = "auto",
+    length: float = LENGTH,
+    width: float = WIDTH,
+    height: float = HEIGHT,
+    load: float = LOAD,
+    material: Material = MATERIALS["steel"],
+    cache: bool = True,
+) -> CantileverResult:
     """Mesh, solve and compare; ``size`` in m."""
 
     t = time.perf_counter()
@@ -57,8 +66,18 @@ def run_cantilever(order: int = 2, size: float = 4e-3, axis: str = "z", solver: 
     direction = {"x": 0, "y": 1, "z": 2}[axis]
     force = np.zeros(3)
     force[direction] = load
-    sol = solve_elasticity(mesh.points, mesh.tets, mesh.groups, material, [Support("clamp")],
-                           [HoleLoad("tip", tuple(force))], order=order, tip_group="tip", solver=solver)
+    sol = solve_elasticity(
+        mesh.points,
+        mesh.tets,
+        mesh.groups,
+        material,
+        [Support("clamp")],
+        [HoleLoad("tip", tuple(force))],
+        order=order,
+        tip_group="tip",
+        solver=solver,
+    )
     seconds = {"mesh": mesh_seconds, **sol.seconds}
-    return CantileverResult(sol, timoshenko_tip(load, length, width, height, material, axis),
-                            float(sol.tip_displacement[direction]), seconds)
+    return CantileverResult(
+        sol, timoshenko_tip(load, length, width, height, material, axis), float(sol.tip_displacement[direction]), seconds
+    )

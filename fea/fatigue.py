@@ -27,8 +27,13 @@ import numpy as np
 from .elasticity import von_mises
 
 #: surface factor ka = a Sut^b, Sut in MPa (Shigley table 6-2)
-SURFACE = {"ground": (1.58, -0.085), "machined": (4.51, -0.265), "cold-drawn": (4.51, -0.265),
-           "hot-rolled": (57.7, -0.718), "as-forged": (272.0, -0.995)}
+SURFACE = {
+    "ground": (1.58, -0.085),
+    "machined": (4.51, -0.265),
+    "cold-drawn": (4.51, -0.265),
+    "hot-rolled": (57.7, -0.718),
+    "as-forged": (272.0, -0.995),
+}
 #: reliability factor ke (Shigley table 6-5)
 RELIABILITY = {0.5: 1.000, 0.9: 0.897, 0.95: 0.868, 0.99: 0.814, 0.999: 0.753, 0.9999: 0.702}
 LOAD = {"bending": 1.0, "axial": 0.85}
@@ -48,8 +53,13 @@ class Marin:
     endurance_limit: float
 
 
-def endurance_limit(ultimate: float, surface: str = "machined", section: tuple[float, float] | None = None,
-                    load: str = "bending", reliability: float = 0.5) -> Marin:
+def endurance_limit(
+    ultimate: float,
+    surface: str = "machined",
+    section: tuple[float, float] | None = None,
+    load: str = "bending",
+    reliability: float = 0.5,
+) -> Marin:
     """Se (Pa) from the ultimate strength (Pa) and the Marin factors; ``section`` (width,
     height) m of a rectangular section for the size factor (None: kb = 1)."""
     sut_mpa = ultimate / 1e6
@@ -66,10 +76,10 @@ def size_factor(section: tuple[float, float] | None) -> float:
     """kb of a rectangular section (width, height) m through its equivalent diameter."""
     if section is None:
         return 1.0
-    d = 0.808 * np.sqrt(section[0] * section[1]) * 1e3       # mm
+    d = 0.808 * np.sqrt(section[0] * section[1]) * 1e3  # mm
     if d <= 2.79:
         return 1.0
-    return float(1.24 * d**-0.107 if d <= 51 else 1.51 * min(d, 254.0)**-0.157)
+    return float(1.24 * d**-0.107 if d <= 51 else 1.51 * min(d, 254.0) ** -0.157)
 
 
 def alternating_and_mean(high: np.ndarray, low: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -78,8 +88,9 @@ def alternating_and_mean(high: np.ndarray, low: np.ndarray) -> tuple[np.ndarray,
     return von_mises(0.5 * (high - low)), von_mises(0.5 * (high + low))
 
 
-def safety_factor(sa: np.ndarray, sm: np.ndarray, se: float, sut: float, criterion: str = "goodman",
-                  sy: float | None = None) -> np.ndarray:
+def safety_factor(
+    sa: np.ndarray, sm: np.ndarray, se: float, sut: float, criterion: str = "goodman", sy: float | None = None
+) -> np.ndarray:
     """Fatigue safety factor per node (inf where the node carries no stress)."""
     sa, sm = np.asarray(sa, float), np.asarray(sm, float)
     with np.errstate(divide="ignore", invalid="ignore"):

@@ -26,7 +26,7 @@ import scipy.sparse as sp
 from .mkl import MatrixDescr
 from .mkl import sparse_blas as _mkl
 
-_GENERAL, _NON_TRANSPOSE, _ROW_MAJOR, _ZERO_BASED = 20, 10, 101, 0     # MKL's sparse enums
+_GENERAL, _NON_TRANSPOSE, _ROW_MAJOR, _ZERO_BASED = 20, 10, 101, 0  # MKL's sparse enums
 
 
 def sparse_product(A: sp.spmatrix, dtype=float):
@@ -35,7 +35,7 @@ def sparse_product(A: sp.spmatrix, dtype=float):
     if np.dtype(dtype) == np.float64 and 0 < A.nnz < 2**31 and max(A.shape) < 2**31 and _mkl() is not None:
         try:
             return MklProduct(A)
-        except RuntimeError:        # MKL refused the matrix: scipy takes it
+        except RuntimeError:  # MKL refused the matrix: scipy takes it
             pass
     return RowBlocks(A, dtype)
 
@@ -52,8 +52,15 @@ class MklProduct:
         self._data = np.ascontiguousarray(A.data, dtype=np.float64)
         self._handle = ctypes.c_void_p()
         status = self._lib.mkl_sparse_d_create_csr(
-            ctypes.byref(self._handle), _ZERO_BASED, A.shape[0], A.shape[1], self._indptr.ctypes.data,
-            self._indptr.ctypes.data + self._indptr.itemsize, self._indices.ctypes.data, self._data.ctypes.data)
+            ctypes.byref(self._handle),
+            _ZERO_BASED,
+            A.shape[0],
+            A.shape[1],
+            self._indptr.ctypes.data,
+            self._indptr.ctypes.data + self._indptr.itemsize,
+            self._indices.ctypes.data,
+            self._data.ctypes.data,
+        )
         if status != 0:
             self._handle = None
             raise RuntimeError(f"mkl_sparse_d_create_csr failed with status {status}")
@@ -65,12 +72,12 @@ class MklProduct:
         out = np.empty((self.shape[0],) + X.shape[1:])
         descr = MatrixDescr(_GENERAL, 0, 0)
         if X.ndim == 1:
-            status = self._lib.mkl_sparse_d_mv(_NON_TRANSPOSE, 1.0, self._handle, descr, X.ctypes.data, 0.0,
-                                               out.ctypes.data)
+            status = self._lib.mkl_sparse_d_mv(_NON_TRANSPOSE, 1.0, self._handle, descr, X.ctypes.data, 0.0, out.ctypes.data)
         else:
             k = X.shape[1]
-            status = self._lib.mkl_sparse_d_mm(_NON_TRANSPOSE, 1.0, self._handle, descr, _ROW_MAJOR, X.ctypes.data,
-                                               k, k, 0.0, out.ctypes.data, k)
+            status = self._lib.mkl_sparse_d_mm(
+                _NON_TRANSPOSE, 1.0, self._handle, descr, _ROW_MAJOR, X.ctypes.data, k, k, 0.0, out.ctypes.data, k
+            )
         if status != 0:
             raise RuntimeError(f"MKL sparse product failed with status {status}")
         return out
@@ -80,7 +87,7 @@ class MklProduct:
         if handle:
             try:
                 self._lib.mkl_sparse_destroy(handle)
-            except Exception:   # noqa: BLE001 - interpreter shutdown
+            except Exception:  # noqa: BLE001 - interpreter shutdown
                 pass
             self._handle = None
 
@@ -103,6 +110,7 @@ class RowBlocks:
             work(*self.blocks[0])
             return
         from concurrent.futures import ThreadPoolExecutor
+
         with ThreadPoolExecutor(len(self.blocks)) as pool:
             list(pool.map(lambda block: work(*block), self.blocks))
 
@@ -120,7 +128,10 @@ def _row_block(K: sp.csr_matrix, first: int, stop: int, dtype) -> sp.csr_matrix:
     """Rows ``first:stop`` of the CSR matrix ``K`` with values of ``dtype``, sharing its
     column indices (scipy's row slice copies them through a general submatrix routine)."""
     a, b = K.indptr[first], K.indptr[stop]
-    block = sp.csr_matrix((K.data[a:b].astype(dtype), K.indices[a:b], K.indptr[first:stop + 1] - a),
-                          shape=(stop - first, K.shape[1]), copy=False)
+    block = sp.csr_matrix(
+        (K.data[a:b].astype(dtype), K.indices[a:b], K.indptr[first : stop + 1] - a),
+        shape=(stop - first, K.shape[1]),
+        copy=False,
+    )
     block.has_sorted_indices = K.has_sorted_indices
     return block

@@ -13,7 +13,7 @@ import threading
 import time
 from typing import Callable, Iterator
 
-INTERVAL = 5.0   # s between reports
+INTERVAL = 5.0  # s between reports
 
 
 @contextlib.contextmanager

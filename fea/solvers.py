@@ -46,17 +46,17 @@ from .mkl import MKL_REPRODUCIBLE, pardiso_available
 from .products import RowBlocks, sparse_product
 from .progress import heartbeat
 
-DIRECT_RTOL = 1e-6   # |f - K u| / |f| after one refinement step; rounding alone gives ~eps |K||u| / |f|
-AMG_RTOL = 1e-12          # CG's recurrence residual target
-AMG_TRUE_RTOL = 1e-6      # the iterative path's true residual must be below this
-FACTOR_MEMORY_FRACTION = 0.6   # of the machine's memory, for the auto choice
+DIRECT_RTOL = 1e-6  # |f - K u| / |f| after one refinement step; rounding alone gives ~eps |K||u| / |f|
+AMG_RTOL = 1e-12  # CG's recurrence residual target
+AMG_TRUE_RTOL = 1e-6  # the iterative path's true residual must be below this
+FACTOR_MEMORY_FRACTION = 0.6  # of the machine's memory, for the auto choice
 #: from this many DOFs, one or two load columns of a P2 system: p-multigrid CG is faster
 #: than a factorisation (README, "What dominates a solve": at 993k DOFs 16 s and 4.6 GB
 #: against PARDISO's 72 s and 14 GB; at 175k 3.5 s against 4.2 s, where a second column
 #: already tips it to the factor)
 PMG_MIN_DOFS = 300_000
 PMG_MAX_COLUMNS = 2
-SCIPY_BYTES_PER_DOF = 20_000   # SuperLU's measured peak per DOF on P2 parts (README)
+SCIPY_BYTES_PER_DOF = 20_000  # SuperLU's measured peak per DOF on P2 parts (README)
 
 
 def rigid_body_modes(locations: np.ndarray, components: np.ndarray) -> np.ndarray:
@@ -119,8 +119,10 @@ class Factor:
         U = U + self._solve(self._residual(F, U) if extended else F - self.K @ U)
         res = relative_residuals(self.K, U, F)
         if not np.all(np.isfinite(U)) or np.any(res > rtol):
-            raise NumericalError(f"{self.backend} solve residual {np.max(res):.2e} above {rtol:.0e} "
-                                 "(singular or ill-conditioned system: is the part held against every rigid motion?)")
+            raise NumericalError(
+                f"{self.backend} solve residual {np.max(res):.2e} above {rtol:.0e} "
+                "(singular or ill-conditioned system: is the part held against every rigid motion?)"
+            )
         self.info["residual"] = float(np.max(res, initial=0.0))
         return U
 
@@ -154,7 +156,7 @@ class Factor:
     def __del__(self):
         try:
             self.free()
-        except Exception:   # noqa: BLE001 - interpreter shutdown
+        except Exception:  # noqa: BLE001 - interpreter shutdown
             pass
 
 
@@ -166,12 +168,12 @@ def _pardiso_factor(K: sp.csr_matrix, memory_limit: float | None, report) -> Fac
 
     upper = sp.triu(K, format="csr")
     upper.sort_indices()
-    solver = PyPardisoSolver(mtype=2)          # real symmetric positive definite
-    solver.set_iparm(1, 1)                     # use the iparm values given here
-    solver.set_iparm(2, 3)                     # METIS nested dissection, parallel (OpenMP)
-    solver.set_iparm(8, 0)                     # refinement is done by Factor.solve
-    solver.set_iparm(10, 8)                    # pivot perturbation 1e-8
-    solver.set_iparm(35, 0)                    # one-based indices (pypardiso adds 1)
+    solver = PyPardisoSolver(mtype=2)  # real symmetric positive definite
+    solver.set_iparm(1, 1)  # use the iparm values given here
+    solver.set_iparm(2, 3)  # METIS nested dissection, parallel (OpenMP)
+    solver.set_iparm(8, 0)  # refinement is done by Factor.solve
+    solver.set_iparm(10, 8)  # pivot perturbation 1e-8
+    solver.set_iparm(35, 0)  # one-based indices (pypardiso adds 1)
     empty = np.zeros((K.shape[0], 1), order="F")
     info: dict = {}
 
@@ -180,11 +182,13 @@ def _pardiso_factor(K: sp.csr_matrix, memory_limit: float | None, report) -> Fac
         try:
             return solver._call_pardiso(upper, b)
         except PyPardisoError as exc:
-            raise NumericalError(f"PARDISO failed in phase {phase}: {exc} (a zero pivot means the stiffness is "
-                                 "singular: is the part held against every rigid motion?)") from None
+            raise NumericalError(
+                f"PARDISO failed in phase {phase}: {exc} (a zero pivot means the stiffness is "
+                "singular: is the part held against every rigid motion?)"
+            ) from None
 
     t = time.perf_counter()
-    call(11, empty)                            # symbolic: ordering and the factor's size
+    call(11, empty)  # symbolic: ordering and the factor's size
     info["analysis_s"] = time.perf_counter() - t
     # iparm(15..17): peak memory (KB) of the analysis, permanent memory, numeric phase
     need = 1024.0 * max(solver.get_iparm(15), solver.get_iparm(16) + solver.get_iparm(17))
@@ -214,16 +218,16 @@ def _scipy_factor(K: sp.csr_matrix, memory_limit: float | None, report) -> Facto
     t = time.perf_counter()
     try:
         with heartbeat(f"factorising {K.shape[0]} DOFs (SuperLU)", report):
-            lu = spla.splu(sp.csc_matrix(K), permc_spec="MMD_AT_PLUS_A",
-                           options={"SymmetricMode": True, "DiagPivotThresh": 0.0})
-    except RuntimeError as exc:   # exactly singular
+            lu = spla.splu(
+                sp.csc_matrix(K), permc_spec="MMD_AT_PLUS_A", options={"SymmetricMode": True, "DiagPivotThresh": 0.0}
+            )
+    except RuntimeError as exc:  # exactly singular
         raise NumericalError(f"direct solve failed: {exc} (is the part held against every rigid motion?)") from None
     info = {"factor_bytes": float(need), "factorise_s": time.perf_counter() - t}
     return Factor(K, "scipy", lambda F: lu.solve(F), None, info)
 
 
-def factorise(K: sp.spmatrix, backend: str = "direct", memory_limit: float | None = None,
-              report=None) -> Factor:
+def factorise(K: sp.spmatrix, backend: str = "direct", memory_limit: float | None = None, report=None) -> Factor:
     """Factorise the SPD matrix ``K`` once. ``backend``: ``direct`` (pardiso when
     installed, else scipy), ``pardiso`` or ``scipy``. Raises MemoryError(bytes needed)
     when the factor's estimate exceeds ``memory_limit`` (bytes)."""
@@ -253,7 +257,7 @@ def solve_jacobi_cg(M: sp.spmatrix, B: np.ndarray, rtol: float = 1e-12, maxiter:
     if not (np.all(np.isfinite(B2)) and np.all(diagonal > 0)):
         raise NumericalError("the projection system is not positive definite or its load is not finite")
     inverse_diagonal = (1.0 / diagonal)[:, None]
-    limit = (rtol * np.linalg.norm(B2, axis=0)) ** 2           # on squared residual norms
+    limit = (rtol * np.linalg.norm(B2, axis=0)) ** 2  # on squared residual norms
     X = B2 * inverse_diagonal
     R = B2 - M_rows @ X
     Z = R * inverse_diagonal
@@ -261,13 +265,13 @@ def solve_jacobi_cg(M: sp.spmatrix, B: np.ndarray, rtol: float = 1e-12, maxiter:
     rz = np.einsum("ij,ij->j", R, Z)
     for _ in range(maxiter):
         if np.all(np.einsum("ij,ij->j", R, R) <= limit):
-            R = B2 - M_rows @ X                  # the true residual, not the recurrence's
+            R = B2 - M_rows @ X  # the true residual, not the recurrence's
             if np.all(np.einsum("ij,ij->j", R, R) <= limit):
                 return X.reshape(B.shape)
         MP = M_rows @ P
         pMp = np.einsum("ij,ij->j", P, MP)
         alpha = np.divide(rz, pMp, out=np.zeros_like(rz), where=pMp > 0)
-        np.multiply(P, alpha, out=Z)             # Z as scratch until it is recomputed
+        np.multiply(P, alpha, out=Z)  # Z as scratch until it is recomputed
         X += Z
         MP *= alpha
         R -= MP
@@ -280,8 +284,9 @@ def solve_jacobi_cg(M: sp.spmatrix, B: np.ndarray, rtol: float = 1e-12, maxiter:
     raise NumericalError(f"Jacobi-CG did not reach a relative residual of {rtol:.0e} in {maxiter} iterations")
 
 
-def solve_amg(K: sp.spmatrix, F: np.ndarray, B: np.ndarray, rtol: float = AMG_RTOL,
-              maxiter: int = 2000, report=None) -> tuple[np.ndarray, dict]:
+def solve_amg(
+    K: sp.spmatrix, F: np.ndarray, B: np.ndarray, rtol: float = AMG_RTOL, maxiter: int = 2000, report=None
+) -> tuple[np.ndarray, dict]:
     """CG (scipy) preconditioned by one V-cycle of pyamg smoothed aggregation built on
     3 x 3 node blocks with the rigid-body modes ``B``, column by column of ``F``.
     (pyamg's own ``solve(accel="cg")`` stalled on these P2 systems; scipy's CG with the
@@ -296,8 +301,7 @@ def solve_amg(K: sp.spmatrix, F: np.ndarray, B: np.ndarray, rtol: float = AMG_RT
     state = np.random.get_state()
     np.random.seed(20131)
     try:
-        ml = pyamg.smoothed_aggregation_solver(A, B=B, symmetry="hermitian", strength="symmetric",
-                                               max_coarse=500)
+        ml = pyamg.smoothed_aggregation_solver(A, B=B, symmetry="hermitian", strength="symmetric", max_coarse=500)
     finally:
         np.random.set_state(state)
     U, info = _cg_columns(K, F, ml.aspreconditioner(cycle="V"), "AMG", rtol, maxiter, report)
@@ -336,15 +340,24 @@ def _cg_true_residual(K, b: np.ndarray, precond, rtol: float, maxiter: int) -> t
         if res <= AMG_TRUE_RTOL * 1e-2 or count[0] >= maxiter or res > 0.5 * previous:
             break
         previous = res
-        du, status = spla.cg(K, b - K @ u, rtol=max(rtol, AMG_TRUE_RTOL * 1e-3 / res), atol=0.0,
-                             maxiter=maxiter - count[0], M=precond, callback=tick)
+        du, status = spla.cg(
+            K,
+            b - K @ u,
+            rtol=max(rtol, AMG_TRUE_RTOL * 1e-3 / res),
+            atol=0.0,
+            maxiter=maxiter - count[0],
+            M=precond,
+            callback=tick,
+        )
         u = u + du
         if status != 0:
             break
     res = float(np.linalg.norm(b - K @ u) / np.linalg.norm(b))
     if status != 0 or not np.all(np.isfinite(u)) or res > AMG_TRUE_RTOL:
-        raise NumericalError(f"AMG-CG did not converge: relative residual {res:.2e} after {count[0]} "
-                             f"iterations (tolerance {AMG_TRUE_RTOL:.0e}, cap {maxiter})")
+        raise NumericalError(
+            f"AMG-CG did not converge: relative residual {res:.2e} after {count[0]} "
+            f"iterations (tolerance {AMG_TRUE_RTOL:.0e}, cap {maxiter})"
+        )
     return u, count[0]
 
 
@@ -353,8 +366,17 @@ def _cg_true_residual(K, b: np.ndarray, precond, rtol: float, maxiter: int) -> t
 Solver = Callable[..., tuple[np.ndarray, dict]]
 
 
-def solve_factorised(K, F, B=None, prolongation=None, maxiter: int = 2000, memory_limit: float | None = None,
-                     report=None, backend: str = "direct", capped: bool = False) -> tuple[np.ndarray, dict]:
+def solve_factorised(
+    K,
+    F,
+    B=None,
+    prolongation=None,
+    maxiter: int = 2000,
+    memory_limit: float | None = None,
+    report=None,
+    backend: str = "direct",
+    capped: bool = False,
+) -> tuple[np.ndarray, dict]:
     """One factorisation (``backend`` ``direct``, ``pardiso`` or ``scipy``) for every column.
     A backend chosen by name is not capped: ``memory_limit`` (bytes) applies only when
     ``capped`` (the auto choice), raising MemoryError(bytes needed) above it."""
@@ -365,8 +387,9 @@ def solve_factorised(K, F, B=None, prolongation=None, maxiter: int = 2000, memor
     return U, info
 
 
-def solve_multigrid(K, F, B=None, prolongation=None, maxiter: int = 2000, memory_limit: float | None = None,
-                    report=None) -> tuple[np.ndarray, dict]:
+def solve_multigrid(
+    K, F, B=None, prolongation=None, maxiter: int = 2000, memory_limit: float | None = None, report=None
+) -> tuple[np.ndarray, dict]:
     """p-multigrid CG (:func:`solve_pmg`); ``prolongation`` a callable giving the P1 -> P2
     interpolation of the free DOFs (a P2 basis)."""
     if prolongation is None:
@@ -374,16 +397,18 @@ def solve_multigrid(K, F, B=None, prolongation=None, maxiter: int = 2000, memory
     return solve_pmg(K, F, prolongation(), B, maxiter, memory_limit, report)
 
 
-def solve_aggregation(K, F, B=None, prolongation=None, maxiter: int = 2000, memory_limit: float | None = None,
-                      report=None) -> tuple[np.ndarray, dict]:
+def solve_aggregation(
+    K, F, B=None, prolongation=None, maxiter: int = 2000, memory_limit: float | None = None, report=None
+) -> tuple[np.ndarray, dict]:
     """Smoothed-aggregation AMG-CG (:func:`solve_amg`); ``B`` the rigid-body modes."""
     if B is None:
         raise ValueError("the amg solver needs the rigid-body modes")
     return solve_amg(K, F, B, AMG_RTOL, maxiter, report)
 
 
-def solve_auto(K, F, B=None, prolongation=None, maxiter: int = 2000, memory_limit: float | None = None,
-               report=None) -> tuple[np.ndarray, dict]:
+def solve_auto(
+    K, F, B=None, prolongation=None, maxiter: int = 2000, memory_limit: float | None = None, report=None
+) -> tuple[np.ndarray, dict]:
     """pmg for a large P2 system with few columns; otherwise the direct factor, unless its
     memory estimate exceeds ``memory_limit`` (default a fraction of this machine's memory),
     then pmg (P2) or amg (module doc)."""
@@ -396,8 +421,10 @@ def solve_auto(K, F, B=None, prolongation=None, maxiter: int = 2000, memory_limi
         return solve_factorised(K, F, memory_limit=limit, report=report, capped=True)
     except MemoryError as exc:
         if report:
-            report(f"the factor would need {exc.args[0] / 2**30:.1f} GiB: iterative "
-                   f"{'PMG' if prolongation is not None else 'AMG'}-CG instead")
+            report(
+                f"the factor would need {exc.args[0] / 2**30:.1f} GiB: iterative "
+                f"{'PMG' if prolongation is not None else 'AMG'}-CG instead"
+            )
     return iterative(K, F, B, prolongation, maxiter, memory_limit, report)
 
 
@@ -423,19 +450,32 @@ def solver_of(method: str | Solver) -> Solver:
         raise ValueError(f"unknown solver {method!r}") from None
 
 
-def solve_reduced(K: sp.spmatrix, F: np.ndarray, B: np.ndarray | None = None, method: str | Solver = "auto",
-                  maxiter: int = 2000, memory_limit: float | None = None,
-                  report=None, prolongation=None) -> tuple[np.ndarray, dict]:
+def solve_reduced(
+    K: sp.spmatrix,
+    F: np.ndarray,
+    B: np.ndarray | None = None,
+    method: str | Solver = "auto",
+    maxiter: int = 2000,
+    memory_limit: float | None = None,
+    report=None,
+    prolongation=None,
+) -> tuple[np.ndarray, dict]:
     """Solve ``K U = F`` for an SPD ``K`` and one or several load columns with the solver
     ``method`` (a name of :data:`SOLVERS` or a :data:`Solver`); ``B`` the rigid-body modes
     (needed by amg); ``prolongation`` a callable giving the P1 -> P2 interpolation of the
     free DOFs (needed by pmg). ``memory_limit`` bytes for a factor. Returns (U, info)."""
-    return solver_of(method)(K, F, B=B, prolongation=prolongation, maxiter=maxiter, memory_limit=memory_limit,
-                             report=report)
+    return solver_of(method)(K, F, B=B, prolongation=prolongation, maxiter=maxiter, memory_limit=memory_limit, report=report)
 
 
-def solve_pmg(K: sp.spmatrix, F: np.ndarray, P: sp.spmatrix, B: np.ndarray | None = None, maxiter: int = 2000,
-              memory_limit: float | None = None, report=None) -> tuple[np.ndarray, dict]:
+def solve_pmg(
+    K: sp.spmatrix,
+    F: np.ndarray,
+    P: sp.spmatrix,
+    B: np.ndarray | None = None,
+    maxiter: int = 2000,
+    memory_limit: float | None = None,
+    report=None,
+) -> tuple[np.ndarray, dict]:
     """CG preconditioned by the two-level p-multigrid V-cycle (module doc), column by
     column of ``F``; ``P`` (n, n1) the P1 -> P2 interpolation of the free DOFs."""
     K = sp.csr_matrix(K)
@@ -450,9 +490,11 @@ def solve_pmg(K: sp.spmatrix, F: np.ndarray, P: sp.spmatrix, B: np.ndarray | Non
             if B is None:
                 raise ValueError("the P1 level needs AMG, which needs the rigid-body modes") from None
             import pyamg
-            ml = pyamg.smoothed_aggregation_solver(sp.bsr_matrix(coarse, blocksize=(3, 3)), B=P.T @ B,
-                                                   symmetry="hermitian", max_coarse=500)
-            coarse_solve, coarse_name = ml.aspreconditioner(cycle="V").matvec, "amg"   # a fixed linear map
+
+            ml = pyamg.smoothed_aggregation_solver(
+                sp.bsr_matrix(coarse, blocksize=(3, 3)), B=P.T @ B, symmetry="hermitian", max_coarse=500
+            )
+            coarse_solve, coarse_name = ml.aspreconditioner(cycle="V").matvec, "amg"  # a fixed linear map
     product = sparse_product(K)
     operator = spla.LinearOperator(K.shape, matvec=product.__matmul__, matmat=product.__matmul__, dtype=float)
     cycle = _two_level(product, K.diagonal(), sparse_product(P), sparse_product(P.T), coarse_solve)
@@ -460,7 +502,7 @@ def solve_pmg(K: sp.spmatrix, F: np.ndarray, P: sp.spmatrix, B: np.ndarray | Non
     return U, {"solver": "pmg", **info, "coarse": coarse_name, "coarse_dofs": int(coarse.shape[0])}
 
 
-CHEBYSHEV_DEGREE = 3     # smoothing steps before and after the P1 correction
+CHEBYSHEV_DEGREE = 3  # smoothing steps before and after the P1 correction
 
 
 def _two_level(K, diagonal: np.ndarray, P, P_T, coarse_solve) -> spla.LinearOperator:
@@ -471,7 +513,7 @@ def _two_level(K, diagonal: np.ndarray, P, P_T, coarse_solve) -> spla.LinearOper
     d_inv = 1.0 / diagonal
     rng = np.random.default_rng(20131)
     x = rng.standard_normal(K.shape[0])
-    for _ in range(15):                               # power iteration for lmax(D^-1 K)
+    for _ in range(15):  # power iteration for lmax(D^-1 K)
         x = d_inv * (K @ x)
         x /= np.linalg.norm(x)
     lmax = 1.1 * float(x @ (d_inv * (K @ x)))

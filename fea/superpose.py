@@ -18,8 +18,8 @@ import numpy as np
 
 from .elasticity import von_mises
 
-CHUNK_VALUES = 20_000_000     # floats per chunk of (6, nodes, steps)
-HULL_MAX_DIM = 6              # above it, every step is evaluated (qhull grows fast with dimension)
+CHUNK_VALUES = 20_000_000  # floats per chunk of (6, nodes, steps)
+HULL_MAX_DIM = 6  # above it, every step is evaluated (qhull grows fast with dimension)
 
 
 @dataclass(frozen=True)
@@ -94,8 +94,16 @@ def _node_chunks(nodes: int, steps: int):
 
 
 #: von Mises squared is s^T P s for Voigt components s = (xx, yy, zz, xy, yz, xz)
-VM_QUADRATIC = np.array([[1.0, -0.5, -0.5, 0, 0, 0], [-0.5, 1.0, -0.5, 0, 0, 0], [-0.5, -0.5, 1.0, 0, 0, 0],
-                         [0, 0, 0, 3.0, 0, 0], [0, 0, 0, 0, 3.0, 0], [0, 0, 0, 0, 0, 3.0]])
+VM_QUADRATIC = np.array(
+    [
+        [1.0, -0.5, -0.5, 0, 0, 0],
+        [-0.5, 1.0, -0.5, 0, 0, 0],
+        [-0.5, -0.5, 1.0, 0, 0, 0],
+        [0, 0, 0, 3.0, 0, 0],
+        [0, 0, 0, 0, 3.0, 0],
+        [0, 0, 0, 0, 0, 3.0],
+    ]
+)
 
 
 def von_mises_max(S: np.ndarray, C: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -109,7 +117,7 @@ def von_mises_max(S: np.ndarray, C: np.ndarray) -> tuple[np.ndarray, np.ndarray]
     best = np.empty(nodes)
     where = np.empty(nodes, dtype=np.int64)
     for sl in _node_chunks(nodes, C.shape[0]):
-        vm2 = Q[sl] @ CC                                    # (chunk, steps)
+        vm2 = Q[sl] @ CC  # (chunk, steps)
         where[sl] = np.argmax(vm2, axis=1)
         best[sl] = np.take_along_axis(vm2, where[sl, None], axis=1)[:, 0]
     return np.sqrt(np.maximum(best, 0.0)), where
@@ -131,7 +139,7 @@ def component_range(S: np.ndarray, C: np.ndarray) -> tuple[np.ndarray, np.ndarra
     nodes = S.shape[1]
     hi, lo = np.empty((6, nodes)), np.empty((6, nodes))
     for sl in _node_chunks(nodes, C.shape[0]):
-        s = stress_at(S[:, sl], C)                         # (6, chunk, steps)
+        s = stress_at(S[:, sl], C)  # (6, chunk, steps)
         hi[:, sl], lo[:, sl] = s.max(axis=2), s.min(axis=2)
     return hi, lo
 
@@ -148,7 +156,7 @@ def hull_polygon(C: np.ndarray) -> np.ndarray | None:
         hull = ConvexHull(C / scale)
     except (QhullError, ValueError):
         return None
-    return C[hull.vertices]                                # qhull orders 2D vertices counter-clockwise
+    return C[hull.vertices]  # qhull orders 2D vertices counter-clockwise
 
 
 def support(D: np.ndarray, V: np.ndarray, angle: np.ndarray | None = None) -> np.ndarray:
@@ -156,7 +164,7 @@ def support(D: np.ndarray, V: np.ndarray, angle: np.ndarray | None = None) -> np
     d of D (m, 2): the vertex after the edge whose outward normal angle precedes d's
     (``angle``: the rows' arctan2, when already known)."""
     edges = np.roll(V, -1, axis=0) - V
-    normal_angle = np.arctan2(-edges[:, 0], edges[:, 1])   # outward normal (e_y, -e_x)
+    normal_angle = np.arctan2(-edges[:, 0], edges[:, 1])  # outward normal (e_y, -e_x)
     start = normal_angle[0]
     rel = np.mod(normal_angle - start, 2 * np.pi)
     rel[0] = 0.0
@@ -177,12 +185,20 @@ def envelope(fields: UnitFields, C: np.ndarray) -> Envelope:
     best, where = von_mises_max(fields.stress, C[steps])
     mask = fields.verdict_mask if np.any(fields.verdict_mask) else np.ones_like(fields.verdict_mask)
     node = int(np.argmax(np.where(mask, best, -np.inf)))
-    tip = np.linalg.norm(C @ fields.tip.T, axis=1)          # every step: (steps,)
+    tip = np.linalg.norm(C @ fields.tip.T, axis=1)  # every step: (steps,)
     t = int(np.argmax(tip))
-    return Envelope(float(best[node]), int(steps[where[node]]), node, fields.nodes[node].copy(), best,
-                    float(tip[t]), t, float(best.max()))
+    return Envelope(
+        float(best[node]),
+        int(steps[where[node]]),
+        node,
+        fields.nodes[node].copy(),
+        best,
+        float(tip[t]),
+        t,
+        float(best.max()),
+    )
 
 
 def history_at_node(fields: UnitFields, C: np.ndarray, node: int) -> np.ndarray:
     """(steps,) Pa: one node's von Mises over the whole history."""
-    return von_mises(stress_at(fields.stress[:, node:node + 1], C))[0]
+    return von_mises(stress_at(fields.stress[:, node : node + 1], C))[0]

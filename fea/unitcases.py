@@ -53,14 +53,14 @@ class UnitSolve:
 @dataclass(frozen=True)
 class TractionCase:
     groups: tuple[str, ...]
-    direction: int          # 0 x, 1 y, 2 z (part frame)
+    direction: int  # 0 x, 1 y, 2 z (part frame)
 
 
 @dataclass(frozen=True)
 class BodyCase:
-    field: str              # "uniform", "rotational" or "radial"
-    direction: int = 0      # for "uniform"
-    pivot: tuple[float, float] = (0.0, 0.0)   # m, part frame
+    field: str  # "uniform", "rotational" or "radial"
+    direction: int = 0  # for "uniform"
+    pivot: tuple[float, float] = (0.0, 0.0)  # m, part frame
 
 
 def case_vector(basis, groups: dict, case) -> np.ndarray:
@@ -82,10 +82,20 @@ def case_vector(basis, groups: dict, case) -> np.ndarray:
     return asm(form, integration_basis(basis))
 
 
-def solve_unit_cases(points: np.ndarray, tets: np.ndarray, groups: dict, material: Material,
-                     support_groups: list[str], cases: dict[str, object], order: int = 2,
-                     tip_group: str | None = None, exclude_distance: float = 0.0, solver: str = "auto",
-                     report=None, curved=None) -> tuple[UnitFields, UnitSolve]:
+def solve_unit_cases(
+    points: np.ndarray,
+    tets: np.ndarray,
+    groups: dict,
+    material: Material,
+    support_groups: list[str],
+    cases: dict[str, object],
+    order: int = 2,
+    tip_group: str | None = None,
+    exclude_distance: float = 0.0,
+    solver: str = "auto",
+    report=None,
+    curved=None,
+) -> tuple[UnitFields, UnitSolve]:
     """Unit fields of every case (one factorisation) and its :class:`UnitSolve` (timings, solver info, balances)
     (``curved``: the mesh's curved edges for isoparametric P2, :func:`fea.elasticity.assemble`)."""
     t = [time.perf_counter()]
@@ -101,12 +111,21 @@ def solve_unit_cases(points: np.ndarray, tets: np.ndarray, groups: dict, materia
     mask = away_from(nodes, support_pts, exclude_distance)
     tip = mean_over(basis, groups, tip_group) @ U if tip_group else np.zeros((3, F.shape[1]))
     loaded = sorted({g for c in cases.values() if isinstance(c, TractionCase) for g in c.groups})
-    extras = {"cells": node_cells(basis), "support": group_nodes(basis, groups, support_groups),
-              "loaded": group_nodes(basis, groups, loaded) if loaded else np.zeros(0, dtype=np.int64)}
+    extras = {
+        "cells": node_cells(basis),
+        "support": group_nodes(basis, groups, support_groups),
+        "loaded": group_nodes(basis, groups, loaded) if loaded else np.zeros(0, dtype=np.int64),
+    }
     t.append(time.perf_counter())
-    meta = UnitSolve(dofs=int(basis.N), elements=int(tets.shape[0]), vertices=int(points.shape[0]), solver=info,
-                     seconds=dict(zip(("assembly", "solve", "stress"), np.diff(t))), resultants=resultant(basis, F),
-                     support_reactions=_support_reactions(basis, K, U, F, fixed))
+    meta = UnitSolve(
+        dofs=int(basis.N),
+        elements=int(tets.shape[0]),
+        vertices=int(points.shape[0]),
+        solver=info,
+        seconds=dict(zip(("assembly", "solve", "stress"), np.diff(t))),
+        resultants=resultant(basis, F),
+        support_reactions=_support_reactions(basis, K, U, F, fixed),
+    )
     return UnitFields(S, tip, node_displacement(basis, U), nodes, mask, tuple(cases), **extras), meta
 
 

@@ -18,15 +18,21 @@ import numpy as np
 CELL_TYPE = {4: "tetra", 10: "tetra10"}
 
 
-def write_vtu(path: str | Path, points: np.ndarray, cells: np.ndarray, displacement: np.ndarray,
-              von_mises: np.ndarray, extra: dict[str, np.ndarray] | None = None) -> Path:
+def write_vtu(
+    path: str | Path,
+    points: np.ndarray,
+    cells: np.ndarray,
+    displacement: np.ndarray,
+    von_mises: np.ndarray,
+    extra: dict[str, np.ndarray] | None = None,
+) -> Path:
     """``points`` (n, 3) m, ``cells`` (m, 4 or 10) in VTK order, point fields (n, ...)."""
     import meshio
 
     data = {"displacement": np.asarray(displacement, float), "von_mises": np.asarray(von_mises, float)}
     for key, value in (extra or {}).items():
         value = np.asarray(value, float)
-        data[key] = np.where(np.isfinite(value), value, np.finfo(float).max)   # VTK has no inf
+        data[key] = np.where(np.isfinite(value), value, np.finfo(float).max)  # VTK has no inf
     mesh = meshio.Mesh(points, [(CELL_TYPE[cells.shape[1]], cells.astype(np.int64))], point_data=data)
     meshio.write(str(path), mesh, file_format="vtu")
     return Path(path)
@@ -34,7 +40,11 @@ def write_vtu(path: str | Path, points: np.ndarray, cells: np.ndarray, displacem
 
 def pvd_text(files: dict[str, str]) -> str:
     """A ParaView collection (.pvd) of the named .vtu files (names -> relative paths)."""
-    rows = "\n".join(f'    <DataSet part="{i}" name={quoteattr(name)} file={quoteattr(file)}/>'
-                     for i, (name, file) in enumerate(files.items()))
-    return ('<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1">\n  <Collection>\n'
-            f"{rows}\n  </Collection>\n</VTKFile>\n")
+    rows = "\n".join(
+        f'    <DataSet part="{i}" name={quoteattr(name)} file={quoteattr(file)}/>'
+        for i, (name, file) in enumerate(files.items())
+    )
+    return (
+        '<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1">\n  <Collection>\n'
+        f"{rows}\n  </Collection>\n</VTKFile>\n"
+    )

@@ -26,13 +26,13 @@ STEEL_DENSITY = 7850.0  # kg/m^3
 class RailSpec:
     """Size-25 rail (THK HSR25 / HIWIN HGR25 catalogue)."""
 
-    width: float = 23e-3            # catalogue
-    height: float = 22e-3           # catalogue
-    hole_pitch: float = 60e-3       # catalogue
-    end_distance: float = 20e-3     # catalogue (E = 20 mm)
-    hole_diameter: float = 7e-3     # catalogue, through hole for M6
-    counterbore_diameter: float = 11e-3   # catalogue
-    counterbore_depth: float = 9e-3       # catalogue
+    width: float = 23e-3  # catalogue
+    height: float = 22e-3  # catalogue
+    hole_pitch: float = 60e-3  # catalogue
+    end_distance: float = 20e-3  # catalogue (E = 20 mm)
+    hole_diameter: float = 7e-3  # catalogue, through hole for M6
+    counterbore_diameter: float = 11e-3  # catalogue
+    counterbore_depth: float = 9e-3  # catalogue
 
     def hole_positions(self, length: float) -> list[float]:
         """x of every mounting hole (m) along a rail of ``length`` m."""
@@ -46,13 +46,13 @@ class JointPlateSpec:
     6205 bearing (OD 52 mm, width 15 mm; catalogue) near one end and two M6 clearance
     holes on the rail's 60 mm pitch. 160 x 75 x 15 mm gives the seed's 1.155 kg."""
 
-    length: float = 160e-3          # assumed
-    width: float = 75e-3            # assumed
-    thickness: float = 15e-3        # = 6205 bearing width (catalogue)
-    seat_diameter: float = 52e-3    # 6205 outer diameter (catalogue)
-    seat_x: float = 40e-3           # assumed: seat centre from the plate's end
-    bolt_diameter: float = 6.6e-3   # M6 medium clearance (ISO 273)
-    bolt_x: tuple[float, float] = (80e-3, 140e-3)   # assumed, 60 mm apart (rail pitch)
+    length: float = 160e-3  # assumed
+    width: float = 75e-3  # assumed
+    thickness: float = 15e-3  # = 6205 bearing width (catalogue)
+    seat_diameter: float = 52e-3  # 6205 outer diameter (catalogue)
+    seat_x: float = 40e-3  # assumed: seat centre from the plate's end
+    bolt_diameter: float = 6.6e-3  # M6 medium clearance (ISO 273)
+    bolt_x: tuple[float, float] = (80e-3, 140e-3)  # assumed, 60 mm apart (rail pitch)
 
 
 @dataclass(frozen=True)
@@ -61,15 +61,15 @@ class IProfileSpec:
     flanges normal to z; four M6 clearance holes through the top flange on a 60 x 30 mm
     pattern; the bottom flange's lower face is bolted to the ground rail (held)."""
 
-    length: float = 100e-3          # assumed
-    flange_width: float = 60e-3     # assumed (y)
-    depth: float = 60e-3            # assumed (z, overall height)
+    length: float = 100e-3  # assumed
+    flange_width: float = 60e-3  # assumed (y)
+    depth: float = 60e-3  # assumed (z, overall height)
     flange_thickness: float = 8e-3  # assumed
-    web_thickness: float = 6e-3     # assumed
-    root_radius: float = 3e-3       # assumed: the web-flange fillet (a sharp corner is a stress singularity)
-    bolt_diameter: float = 6.6e-3   # M6 medium clearance (ISO 273)
-    bolt_pitch_x: float = 60e-3     # assumed
-    bolt_pitch_y: float = 36e-3     # assumed
+    web_thickness: float = 6e-3  # assumed
+    root_radius: float = 3e-3  # assumed: the web-flange fillet (a sharp corner is a stress singularity)
+    bolt_diameter: float = 6.6e-3  # M6 medium clearance (ISO 273)
+    bolt_pitch_x: float = 60e-3  # assumed
+    bolt_pitch_y: float = 36e-3  # assumed
 
 
 RAIL = RailSpec()
@@ -113,26 +113,57 @@ def validate(overrides: dict[str, float]) -> tuple[str, str] | None:
     holes that overlap or leave the plate, a web or fillet that does not fit."""
     rail, plate, ipr = with_overrides(overrides)
     checks = [
-        ("rail_hole_diameter", rail.hole_diameter < 0.8 * rail.width, "the through hole must be narrower than "
-                                                                       "0.8 x the rail width"),
-        ("rail_counterbore_diameter", rail.hole_diameter < rail.counterbore_diameter < 0.9 * rail.width,
-         "the counterbore must be wider than the hole and narrower than 0.9 x the rail width"),
-        ("rail_counterbore_depth", rail.counterbore_depth < 0.9 * rail.height, "the counterbore must be shallower "
-                                                                               "than 0.9 x the rail height"),
-        ("rail_end_distance", rail.hole_diameter / 2 < rail.end_distance < rail.hole_pitch,
-         "the first hole must lie on the rail, within one pitch of its end"),
+        (
+            "rail_hole_diameter",
+            rail.hole_diameter < 0.8 * rail.width,
+            "the through hole must be narrower than 0.8 x the rail width",
+        ),
+        (
+            "rail_counterbore_diameter",
+            rail.hole_diameter < rail.counterbore_diameter < 0.9 * rail.width,
+            "the counterbore must be wider than the hole and narrower than 0.9 x the rail width",
+        ),
+        (
+            "rail_counterbore_depth",
+            rail.counterbore_depth < 0.9 * rail.height,
+            "the counterbore must be shallower than 0.9 x the rail height",
+        ),
+        (
+            "rail_end_distance",
+            rail.hole_diameter / 2 < rail.end_distance < rail.hole_pitch,
+            "the first hole must lie on the rail, within one pitch of its end",
+        ),
         ("rail_hole_pitch", rail.hole_pitch > 1.2 * rail.counterbore_diameter, "neighbouring counterbores overlap"),
-        ("plate_seat_diameter", plate.seat_diameter < 0.9 * plate.width and
-         plate.seat_diameter / 2 < plate.seat_x < min(plate.bolt_x) - plate.bolt_diameter / 2 - plate.seat_diameter / 2,
-         "the bearing seat must lie inside the plate, clear of the bolt holes"),
-        ("plate_bolt_diameter", plate.bolt_diameter < 0.8 * (plate.bolt_x[1] - plate.bolt_x[0])
-         and max(plate.bolt_x) + plate.bolt_diameter / 2 < plate.length, "the bolt holes must fit on the plate"),
-        ("iprofile_web_thickness", ipr.web_thickness + 2 * ipr.root_radius < ipr.flange_width,
-         "web and fillets must be narrower than the flange"),
-        ("iprofile_flange_thickness", 2 * ipr.flange_thickness + 2 * ipr.root_radius < ipr.depth,
-         "two flanges and the fillets must fit in the depth"),
-        ("iprofile_bolt_diameter", ipr.bolt_diameter < min(ipr.bolt_pitch_y, ipr.flange_width - ipr.bolt_pitch_y)
-         and ipr.bolt_pitch_x + ipr.bolt_diameter < ipr.length, "the bolt holes must fit on the top flange"),
+        (
+            "plate_seat_diameter",
+            plate.seat_diameter < 0.9 * plate.width
+            and plate.seat_diameter / 2
+            < plate.seat_x
+            < min(plate.bolt_x) - plate.bolt_diameter / 2 - plate.seat_diameter / 2,
+            "the bearing seat must lie inside the plate, clear of the bolt holes",
+        ),
+        (
+            "plate_bolt_diameter",
+            plate.bolt_diameter < 0.8 * (plate.bolt_x[1] - plate.bolt_x[0])
+            and max(plate.bolt_x) + plate.bolt_diameter / 2 < plate.length,
+            "the bolt holes must fit on the plate",
+        ),
+        (
+            "iprofile_web_thickness",
+            ipr.web_thickness + 2 * ipr.root_radius < ipr.flange_width,
+            "web and fillets must be narrower than the flange",
+        ),
+        (
+            "iprofile_flange_thickness",
+            2 * ipr.flange_thickness + 2 * ipr.root_radius < ipr.depth,
+            "two flanges and the fillets must fit in the depth",
+        ),
+        (
+            "iprofile_bolt_diameter",
+            ipr.bolt_diameter < min(ipr.bolt_pitch_y, ipr.flange_width - ipr.bolt_pitch_y)
+            and ipr.bolt_pitch_x + ipr.bolt_diameter < ipr.length,
+            "the bolt holes must fit on the top flange",
+        ),
     ]
     for name, ok, message in checks:
         if not ok:

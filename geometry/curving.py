@@ -18,7 +18,7 @@ import numpy as np
 # barycentric gradients of the reference tetrahedron (lambda_0 = 1 - xi - eta - zeta)
 _GRAD_LAMBDA = np.array([[-1.0, -1.0, -1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
 LOCAL_EDGES = np.array([[0, 1], [1, 2], [0, 2], [0, 3], [1, 3], [2, 3]])
-MIN_JACOBIAN_RATIO = 0.2   # det J / det J_affine below this at a sample point: straighten the element
+MIN_JACOBIAN_RATIO = 0.2  # det J / det J_affine below this at a sample point: straighten the element
 
 
 def _sample_barycentrics() -> np.ndarray:
@@ -47,7 +47,7 @@ def curved_from_tet10(points: np.ndarray, tets: np.ndarray, mids: np.ndarray, to
     ``tets`` (m, 4) into ``points``, mid-edge node coordinates ``mids`` (m, 6, 3) in the
     order of :data:`LOCAL_EDGES`), the edges whose mid node lies off the straight midpoint
     by more than ``tol`` x the edge length; one row per edge, vertex indices ascending."""
-    ends = tets[:, LOCAL_EDGES]                                    # (m, 6, 2)
+    ends = tets[:, LOCAL_EDGES]  # (m, 6, 2)
     straight = 0.5 * (points[ends[..., 0]] + points[ends[..., 1]])
     length = np.linalg.norm(points[ends[..., 0]] - points[ends[..., 1]], axis=-1)
     off = np.linalg.norm(mids - straight, axis=-1) > tol * length
@@ -75,9 +75,9 @@ def edge_offsets(points: np.ndarray, tets: np.ndarray, edges: np.ndarray, edge_p
 def jacobian_ratios(points: np.ndarray, tets: np.ndarray, d: np.ndarray) -> np.ndarray:
     """(m, s): det J / det J_affine of each element at the sample points (1 for straight
     elements; <= 0 where a curved element folds over)."""
-    lam = _sample_barycentrics()                                   # (s, 4)
-    x = points[tets]                                               # (m, 4, 3)
-    J_aff = np.einsum("mai,aj->mij", x, _GRAD_LAMBDA)              # (m, 3, 3): dx_i / dxi_j
+    lam = _sample_barycentrics()  # (s, 4)
+    x = points[tets]  # (m, 4, 3)
+    J_aff = np.einsum("mai,aj->mij", x, _GRAD_LAMBDA)  # (m, 3, 3): dx_i / dxi_j
     i, j = LOCAL_EDGES[:, 0], LOCAL_EDGES[:, 1]
     # gradient (reference) of lambda_i lambda_j at each sample: (s, 6, 3)
     g = lam[:, j, None] * _GRAD_LAMBDA[i][None] + lam[:, i, None] * _GRAD_LAMBDA[j][None]
@@ -85,8 +85,9 @@ def jacobian_ratios(points: np.ndarray, tets: np.ndarray, d: np.ndarray) -> np.n
     return np.linalg.det(J) / np.linalg.det(J_aff)[:, None]
 
 
-def straighten_folded(points: np.ndarray, tets: np.ndarray, edges: np.ndarray, edge_points: np.ndarray,
-                      min_ratio: float = MIN_JACOBIAN_RATIO):
+def straighten_folded(
+    points: np.ndarray, tets: np.ndarray, edges: np.ndarray, edge_points: np.ndarray, min_ratio: float = MIN_JACOBIAN_RATIO
+):
     """(edges, edge_points, straightened): drop the curving of every element whose
     Jacobian ratio falls below ``min_ratio`` at a sample point (its edges go back to
     straight, also in its neighbours), repeated until every element is valid."""

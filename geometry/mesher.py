@@ -37,11 +37,12 @@ from .models import PartGeometry
 from .shapes import BUILDERS
 
 MESHER_VERSION = 8
-SLIVER_SICN = 0.05   # elements whose signed inverse condition number is below this are slivers
+SLIVER_SICN = 0.05  # elements whose signed inverse condition number is below this are slivers
 
 
 def _gmsh_version() -> str:
     from importlib.metadata import PackageNotFoundError, version
+
     try:
         return version("gmsh")
     except PackageNotFoundError:
@@ -50,9 +51,19 @@ def _gmsh_version() -> str:
 
 def _cache_payload(part: PartGeometry, size: float, hole_size: float, optimize: bool = True) -> str:
     """Everything a cached mesh depends on, as canonical JSON (stored beside the arrays)."""
-    return json.dumps({"v": MESHER_VERSION, "gmsh": _gmsh_version(), "kind": part.kind,
-                       "params": [list(p) for p in part.params], "size": size, "hole_size": hole_size,
-                       "optimize": optimize}, sort_keys=True, default=list)
+    return json.dumps(
+        {
+            "v": MESHER_VERSION,
+            "gmsh": _gmsh_version(),
+            "kind": part.kind,
+            "params": [list(p) for p in part.params],
+            "size": size,
+            "hole_size": hole_size,
+            "optimize": optimize,
+        },
+        sort_keys=True,
+        default=list,
+    )
 
 
 def _cache_key(part: PartGeometry, size: float, hole_size: float, optimize: bool = True) -> str:
@@ -66,14 +77,20 @@ def estimate_elements(part: PartGeometry, size: float, hole_size: float) -> int:
     holes = sum(1 for g in part.groups if g.startswith("hole_") or g in ("bearing_seat",))
     p = dict(part.params)
     thickness = p.get("height", p.get("thickness", p.get("depth", size)))
-    shell = math.pi * (size**2) * thickness          # a shell about one size thick round each hole
+    shell = math.pi * (size**2) * thickness  # a shell about one size thick round each hole
     n += holes * 6.0 * shell / hole_size**3
     return int(n)
 
 
-def mesh_part(part: PartGeometry, size: float, hole_size: float | None = None,
-              cache: bool = True, cache_dir: Path | None = None, verbose: bool | None = None,
-              optimize: bool = True) -> MeshData:
+def mesh_part(
+    part: PartGeometry,
+    size: float,
+    hole_size: float | None = None,
+    cache: bool = True,
+    cache_dir: Path | None = None,
+    verbose: bool | None = None,
+    optimize: bool = True,
+) -> MeshData:
     """Mesh ``part`` with element size ``size`` (m), ``hole_size`` at the holes (default
     size / 3); read from / write to the cache unless ``cache`` is False. A cache entry
     stores its parameters (gmsh version included) and a content hash, both verified on
@@ -95,16 +112,17 @@ def mesh_part(part: PartGeometry, size: float, hole_size: float | None = None,
         write_cached(path, data, payload)
     if why:
         from dataclasses import replace
+
         data = replace(data, warning=f"cached mesh {path.name} {why}: rebuilt")
     return data
 
 
-def build_mesh(part: PartGeometry, size: float, hole_size: float, verbose: bool = False,
-               optimize: bool = True) -> MeshData:
+def build_mesh(part: PartGeometry, size: float, hole_size: float, verbose: bool = False, optimize: bool = True) -> MeshData:
     """Build the gmsh model of ``part`` and mesh it (no cache)."""
     t0 = time.perf_counter()
     with _callers_signal_handlers() as restore:
         import gmsh
+
         gmsh.initialize(interruptible=False)
         restore()
     try:
@@ -124,9 +142,9 @@ def build_mesh(part: PartGeometry, size: float, hole_size: float, verbose: bool 
         gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
         gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
         gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
-        gmsh.option.setNumber("Mesh.Algorithm3D", 1)       # Delaunay
+        gmsh.option.setNumber("Mesh.Algorithm3D", 1)  # Delaunay
         gmsh.option.setNumber("Mesh.Optimize", 1 if optimize else 0)
-        gmsh.option.setNumber("General.NumThreads", 1)     # deterministic meshes
+        gmsh.option.setNumber("General.NumThreads", 1)  # deterministic meshes
         if refine and hole_size < size:
             fd = gmsh.model.mesh.field.add("Distance")
             gmsh.model.mesh.field.setNumbers(fd, "SurfacesList", sorted(set(refine)))
@@ -142,11 +160,12 @@ def build_mesh(part: PartGeometry, size: float, hole_size: float, verbose: bool 
         qualities = _qualities(gmsh)
         curved = _has_curved_surfaces(gmsh)
         if curved:
-            gmsh.model.mesh.setOrder(2)     # mid-edge nodes on the CAD surfaces
+            gmsh.model.mesh.setOrder(2)  # mid-edge nodes on the CAD surfaces
         data, index = _extract(gmsh, surfaces, qualities)
         if curved:
             data = _with_curved_edges(gmsh, data, index)
         from dataclasses import replace
+
         return replace(data, seconds=time.perf_counter() - t0)
     finally:
         with _callers_signal_handlers() as restore:
@@ -183,8 +202,8 @@ def _has_curved_surfaces(gmsh) -> bool:
 
 
 GMSH_TET10_EDGE_COLUMNS = [4, 5, 6, 7, 9, 8]
-TET_NODES = {4: 4, 11: 10}     # gmsh element type -> nodes (linear, quadratic tetrahedron)
-TRI_NODES = {2: 3, 9: 6}   # gmsh's mid nodes in curving.LOCAL_EDGES order
+TET_NODES = {4: 4, 11: 10}  # gmsh element type -> nodes (linear, quadratic tetrahedron)
+TRI_NODES = {2: 3, 9: 6}  # gmsh's mid nodes in curving.LOCAL_EDGES order
 
 
 def _qualities(gmsh) -> np.ndarray:
@@ -197,7 +216,6 @@ def _with_curved_edges(gmsh, data: MeshData, index: np.ndarray) -> MeshData:
     """From gmsh's second-order mesh: keep the edges that came out curved, and
     straighten any element that would fold."""
     from dataclasses import replace
-
 
     tags, coords, _ = gmsh.model.mesh.getNodes()
     xyz = np.zeros((int(tags.max()) + 1, 3))
@@ -237,7 +255,7 @@ def _extract(gmsh, surfaces, qualities: np.ndarray) -> tuple[MeshData, np.ndarra
                 tris.append(index[n.astype(np.int64)].reshape(-1, TRI_NODES[etype])[:, :3])
         groups[name] = np.concatenate(tris)
     used = np.unique(tets)
-    if used.size != points.shape[0]:       # drop nodes no tetrahedron uses (geometry points)
+    if used.size != points.shape[0]:  # drop nodes no tetrahedron uses (geometry points)
         remap = np.full(points.shape[0], -1, dtype=np.int64)
         remap[used] = np.arange(used.size)
         points = points[used]
@@ -248,8 +266,9 @@ def _extract(gmsh, surfaces, qualities: np.ndarray) -> tuple[MeshData, np.ndarra
     points[new] = points.copy()
     groups = {k: new[v] for k, v in groups.items()}
     index = np.where(index >= 0, new[np.maximum(index, 0)], -1)
-    return MeshData(points, tets.astype(np.int64), groups, float(qualities.min()),
-                    int(np.count_nonzero(qualities < SLIVER_SICN)), 0.0), index
+    return MeshData(
+        points, tets.astype(np.int64), groups, float(qualities.min()), int(np.count_nonzero(qualities < SLIVER_SICN)), 0.0
+    ), index
 
 
 def local_numbering(tets: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
@@ -269,5 +288,3 @@ def local_numbering(tets: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
 
 
 # --- builders: each returns ({group: [surface tags]}, [surface tags to refine at]) ---------
-
-

@@ -25,8 +25,8 @@ from .catalogue import I_PROFILE, JOINT_PLATE, RAIL, IProfileSpec, JointPlateSpe
 
 @dataclass(frozen=True)
 class PartGeometry:
-    kind: str                                   # bar, rail, joint_plate, i_profile
-    params: tuple[tuple[str, object], ...]      # sorted (name, value) pairs, SI
+    kind: str  # bar, rail, joint_plate, i_profile
+    params: tuple[tuple[str, object], ...]  # sorted (name, value) pairs, SI
     groups: tuple[str, ...] = field(default=())
 
     def get(self, name: str):
@@ -43,8 +43,9 @@ class PartGeometry:
         if self.kind == "joint_plate":
             return p["length"] * p["width"] * p["thickness"] - math.pi / 4 * p["seat_diameter"] ** 2 * p["thickness"]
         if self.kind == "i_profile":
-            return p["length"] * (2 * p["flange_width"] * p["flange_thickness"]
-                                  + (p["depth"] - 2 * p["flange_thickness"]) * p["web_thickness"])
+            return p["length"] * (
+                2 * p["flange_width"] * p["flange_thickness"] + (p["depth"] - 2 * p["flange_thickness"]) * p["web_thickness"]
+            )
         raise ValueError(self.kind)
 
 
@@ -62,25 +63,52 @@ def rail(length: float, spec: RailSpec = RAIL, holes: bool = True) -> PartGeomet
     ``holes`` is False (the plain profile, for beam-theory checks)."""
     xs = tuple(spec.hole_positions(length)) if holes else ()
     groups = ("end_pivot", "end_free") + (("shaft_hole",) if xs else ()) + tuple(f"hole_{k}" for k in range(len(xs)))
-    return PartGeometry("rail", _params(length=length, width=spec.width, height=spec.height,
-                                        hole_x=xs, hole_diameter=spec.hole_diameter,
-                                        counterbore_diameter=spec.counterbore_diameter,
-                                        counterbore_depth=spec.counterbore_depth), groups)
+    return PartGeometry(
+        "rail",
+        _params(
+            length=length,
+            width=spec.width,
+            height=spec.height,
+            hole_x=xs,
+            hole_diameter=spec.hole_diameter,
+            counterbore_diameter=spec.counterbore_diameter,
+            counterbore_depth=spec.counterbore_depth,
+        ),
+        groups,
+    )
 
 
 def joint_plate(spec: JointPlateSpec = JOINT_PLATE) -> PartGeometry:
     """PF_4b_006 (assumed dimensions, see the catalogue)."""
-    return PartGeometry("joint_plate", _params(length=spec.length, width=spec.width, thickness=spec.thickness,
-                                               seat_diameter=spec.seat_diameter, seat_x=spec.seat_x,
-                                               bolt_diameter=spec.bolt_diameter, bolt_x=tuple(spec.bolt_x)),
-                        ("bearing_seat", "hole_0", "hole_1", "end_free"))
+    return PartGeometry(
+        "joint_plate",
+        _params(
+            length=spec.length,
+            width=spec.width,
+            thickness=spec.thickness,
+            seat_diameter=spec.seat_diameter,
+            seat_x=spec.seat_x,
+            bolt_diameter=spec.bolt_diameter,
+            bolt_x=tuple(spec.bolt_x),
+        ),
+        ("bearing_seat", "hole_0", "hole_1", "end_free"),
+    )
 
 
 def i_profile(spec: IProfileSpec = I_PROFILE) -> PartGeometry:
     """PF_4b_003_v2 (assumed dimensions, see the catalogue)."""
-    return PartGeometry("i_profile", _params(length=spec.length, flange_width=spec.flange_width, depth=spec.depth,
-                                             flange_thickness=spec.flange_thickness,
-                                             web_thickness=spec.web_thickness, root_radius=spec.root_radius,
-                                             bolt_diameter=spec.bolt_diameter,
-                                             bolt_pitch_x=spec.bolt_pitch_x, bolt_pitch_y=spec.bolt_pitch_y),
-                        ("base", "hole_0", "hole_1", "hole_2", "hole_3", "end_free"))
+    return PartGeometry(
+        "i_profile",
+        _params(
+            length=spec.length,
+            flange_width=spec.flange_width,
+            depth=spec.depth,
+            flange_thickness=spec.flange_thickness,
+            web_thickness=spec.web_thickness,
+            root_radius=spec.root_radius,
+            bolt_diameter=spec.bolt_diameter,
+            bolt_pitch_x=spec.bolt_pitch_x,
+            bolt_pitch_y=spec.bolt_pitch_y,
+        ),
+        ("base", "hole_0", "hole_1", "hole_2", "hole_3", "end_free"),
+    )

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from types import SimpleNamespace
+from typing import Any
 
 import numpy as np
 
@@ -31,13 +32,13 @@ def half_angle_tangent(a, b, c):
     triangle"): accurate for needle-like triangles, where ``acos`` of the law of cosines
     loses half the digits. NaN where the sides do not close a triangle; inf at gamma = pi."""
     a, b, c = np.asarray(a, float), np.asarray(b, float), np.asarray(c, float)
-    big, small = np.maximum(a, b), np.minimum(a, b)          # the bars: small arrays, not broadcast
+    big, small = np.maximum(a, b), np.minimum(a, b)  # the bars: small arrays, not broadcast
     mu = np.where(small >= c, c - (big - small), small - (big - c))
     num = ((big - small) + c) * mu
     den = (big + (small + c)) * ((big - c) + small)
     with np.errstate(invalid="ignore", divide="ignore"):
-        out = np.sqrt(num / den)                             # NaN where num / den < 0 (no triangle)
-    degenerate = den == 0                                    # den == 0 -> angle pi (0/0 included)
+        out = np.sqrt(num / den)  # NaN where num / den < 0 (no triangle)
+    degenerate = den == 0  # den == 0 -> angle pi (0/0 included)
     if np.any(degenerate):
         out = np.where(degenerate & (num >= 0), np.inf, out)
     return out
@@ -128,18 +129,18 @@ def _fourbar_block(crank, coupler, rocker, ground, sign, speed, theta2) -> Batch
     th2 = np.asarray(theta2, float)[None, :]
     c2, s2 = np.cos(th2), np.sin(th2)
     Ax, Ay = b2 * c2, b2 * s2
-    dx, dy = d - Ax, -Ay                                     # A -> O4
+    dx, dy = d - Ax, -Ay  # A -> O4
     r = np.hypot(dx, dy)
-    t = half_angle_tangent(b3, r, b4)                        # tan(phi / 2), phi the angle at A
+    t = half_angle_tangent(b3, r, b4)  # tan(phi / 2), phi the angle at A
     cphi, sphi = (1.0 - t * t) / (1.0 + t * t), sign * 2.0 * t / (1.0 + t * t)
     ex, ey = dx / r, dy / r
-    c3, s3 = ex * cphi - ey * sphi, ey * cphi + ex * sphi     # coupler direction: A->O4 turned by phi
+    c3, s3 = ex * cphi - ey * sphi, ey * cphi + ex * sphi  # coupler direction: A->O4 turned by phi
     Bx, By = Ax + b3 * c3, Ay + b3 * s3
-    rBx, rBy = Bx - d, By                                    # O4 -> B
+    rBx, rBy = Bx - d, By  # O4 -> B
     c4, s4 = rBx / b4, rBy / b4
     det = b3 * b4 * (s3 * c4 - c3 * s4)
 
-    def cramer(r1, r2):          # b3 x3 n3 - b4 x4 n4 = (r1, r2)
+    def cramer(r1, r2):  # b3 x3 n3 - b4 x4 n4 = (r1, r2)
         return (-b4 * c4 * r1 - b4 * s4 * r2) / det, (-b3 * c3 * r1 - b3 * s3 * r2) / det
 
     w3, w4 = cramer(b2 * w2 * s2, -b2 * w2 * c2)
@@ -149,14 +150,17 @@ def _fourbar_block(crank, coupler, rocker, ground, sign, speed, theta2) -> Batch
     zero = np.zeros_like(A)
     shape = Ax.shape
     return BatchMotion(
-        "four-bar", {"crank": b2, "coupler": b3, "rocker": b4, "ground": d}, np.asarray(theta2, float),
+        "four-bar",
+        {"crank": b2, "coupler": b3, "rocker": b4, "ground": d},
+        np.asarray(theta2, float),
         np.stack([np.broadcast_to(th2, shape), np.arctan2(s3, c3), np.arctan2(rBy, rBx)]),
-        np.stack(np.broadcast_arrays(w2, w3, w4)), np.stack([np.zeros(shape), al3, al4]),
+        np.stack(np.broadcast_arrays(w2, w3, w4)),
+        np.stack([np.zeros(shape), al3, al4]),
         {"O2": zero, "A": A, "B": _vec(Bx, By), "O4": zero + _vec(d, np.zeros_like(d))},
         {"O2": zero, "A": w2[..., None] * _perp(A), "B": w4[..., None] * _perp(rB), "O4": zero},
-        {"O2": zero, "A": -w22[..., None] * A, "B": al4[..., None] * _perp(rB) - (w4**2)[..., None] * rB,
-         "O4": zero},
-        _angle_between(_vec(Ax - Bx, Ay - By), -rB))
+        {"O2": zero, "A": -w22[..., None] * A, "B": al4[..., None] * _perp(rB) - (w4**2)[..., None] * rB, "O4": zero},
+        _angle_between(_vec(Ax - Bx, Ay - By), -rB),
+    )
 
 
 def _slidercrank_block(crank, coupler, offset, sign, speed, theta2) -> BatchMotion:
@@ -180,25 +184,40 @@ def _slidercrank_block(crank, coupler, offset, sign, speed, theta2) -> BatchMoti
     zs = np.zeros_like(th3)
     mu = np.pi / 2 - np.abs(np.arcsin(np.clip(sin3, -1.0, 1.0)))
     return BatchMotion(
-        "slider-crank", {"crank": b2, "coupler": b3, "offset": e}, np.asarray(theta2, float),
-        np.stack([np.broadcast_to(th2, th3.shape), th3, zs]), np.stack(np.broadcast_arrays(w2, w3, zs)),
+        "slider-crank",
+        {"crank": b2, "coupler": b3, "offset": e},
+        np.asarray(theta2, float),
+        np.stack([np.broadcast_to(th2, th3.shape), th3, zs]),
+        np.stack(np.broadcast_arrays(w2, w3, zs)),
         np.stack([zs, al3, zs]),
-        {"O2": zero, "A": A, "B": B}, {"O2": zero, "A": vA, "B": vB}, {"O2": zero, "A": aA, "B": aB}, mu)
+        {"O2": zero, "A": A, "B": B},
+        {"O2": zero, "A": vA, "B": vB},
+        {"O2": zero, "A": aA, "B": aB},
+        mu,
+    )
 
 
 def bodies(motion: BatchMotion, masses: MassModel) -> tuple[BatchBody, BatchBody, BatchBody]:
     """The three moving bodies of every setting (the mass model of
     :mod:`kinematics.massmodel`, fed the settings' length arrays) with their
     centre-of-mass kinematics."""
-    lengths = SimpleNamespace(**motion.lengths)
+    lengths: Any = SimpleNamespace(**motion.lengths)  # the linkage's lengths, as arrays
     if motion.kind == "four-bar":
         crank, coupler, output = fourbar_bodies(lengths, masses)
         third = _body(motion, 2, output, "O4")
     else:
         crank, coupler, slider = slidercrank_bodies(lengths, masses)
         zs = np.zeros_like(motion.theta[0])
-        third = BatchBody(_column(slider.mass), _column(0.0), _column(0.0), motion.points["B"],
-                          motion.velocities["B"], motion.accelerations["B"], zs, zs)
+        third = BatchBody(
+            _column(slider.mass),
+            _column(0.0),
+            _column(0.0),
+            motion.points["B"],
+            motion.velocities["B"],
+            motion.accelerations["B"],
+            zs,
+            zs,
+        )
     return _body(motion, 0, crank, "O2"), _body(motion, 1, coupler, "A"), third
 
 
@@ -208,10 +227,16 @@ def _body(motion: BatchMotion, index: int, bar, origin: str) -> BatchBody:
     com = np.broadcast_to(_column(bar.com), (th.shape[0], 1))
     r = com[..., None] * _vec(np.cos(th), np.sin(th))
     pr = _perp(r)
-    return BatchBody(np.broadcast_to(_column(bar.mass), com.shape), com,
-                     np.broadcast_to(_column(bar.inertia_com), com.shape),
-                     motion.points[origin] + r, motion.velocities[origin] + w[..., None] * pr,
-                     motion.accelerations[origin] + al[..., None] * pr - (w**2)[..., None] * r, w, al)
+    return BatchBody(
+        np.broadcast_to(_column(bar.mass), com.shape),
+        com,
+        np.broadcast_to(_column(bar.inertia_com), com.shape),
+        motion.points[origin] + r,
+        motion.velocities[origin] + w[..., None] * pr,
+        motion.accelerations[origin] + al[..., None] * pr - (w**2)[..., None] * r,
+        w,
+        al,
+    )
 
 
 def _newton_euler_block(motion: BatchMotion, masses: MassModel, gravity: float) -> BatchDynamics:
@@ -219,7 +244,7 @@ def _newton_euler_block(motion: BatchMotion, masses: MassModel, gravity: float) 
     g = np.array([0.0, -gravity])
     P = motion.points
 
-    def inertial(b):             # m (a_G - g): the resultant force the body needs
+    def inertial(b):  # m (a_G - g): the resultant force the body needs
         return b.mass[..., None] * (b.acceleration - g)
 
     f_crank, f_coupler, f_out = inertial(crank), inertial(coupler), inertial(out)
@@ -238,8 +263,7 @@ def _newton_euler_block(motion: BatchMotion, masses: MassModel, gravity: float) 
         extra = {"slider": _vec(np.zeros_like(By), f_out[..., 1] - By)}
     A = f_coupler + B
     O2 = f_crank + A
-    torque = (crank.inertia_com * crank.alpha - _cross(P["O2"] - crank.position, O2)
-              + _cross(P["A"] - crank.position, A))
+    torque = crank.inertia_com * crank.alpha - _cross(P["O2"] - crank.position, O2) + _cross(P["A"] - crank.position, A)
     reactions = {"O2": O2, "A": A, "B": B, **extra}
     return BatchDynamics(reactions, torque, (crank, coupler, out))
 
@@ -256,16 +280,14 @@ def _seed_2013_block(motion: BatchMotion, masses: MassModel) -> BatchDynamics:
     xG4 = (l4 / 2 * m4 + b4 * mp4) / (m4 + mp4)
     I3 = m3 * b3**2 / 12 + mp3B * (b3 - xG3) ** 2 + mp3A * xG3**2
     I4 = m4 * b4**2 / 3 + mp4 * b4**2
-    th2, th3, th4 = motion.theta[0], motion.theta[1], motion.theta[2] + np.pi   # seed's theta_4: B -> O4
+    th2, th3, th4 = motion.theta[0], motion.theta[1], motion.theta[2] + np.pi  # seed's theta_4: B -> O4
     w2, w3, w4 = motion.omega
     al3, al4 = motion.alpha[1], motion.alpha[2]
     s2, c2, s3, c3, s4, c4 = np.sin(th2), np.cos(th2), np.sin(th3), np.cos(th3), np.sin(th4), np.cos(th4)
-    aAx, aAy = -w2**2 * b2 * c2, -w2**2 * b2 * s2
-    BB0, BB1 = m2 * -w2**2 * xG2 * c2 + mp2 * aAx, m2 * -w2**2 * xG2 * s2 + mp2 * aAy
-    BB3 = (m3 * (aAx - w3**2 * xG3 * c3 - al3 * xG3 * s3) + mp3B * (aAx - al3 * b3 * s3 - w3**2 * b3 * c3)
-           + mp3A * aAx)
-    BB4 = (m3 * (aAy - w3**2 * xG3 * s3 + al3 * xG3 * c3) + mp3B * (aAy + al3 * b3 * c3 - w3**2 * b3 * s3)
-           + mp3A * aAy)
+    aAx, aAy = -(w2**2) * b2 * c2, -(w2**2) * b2 * s2
+    BB0, BB1 = m2 * -(w2**2) * xG2 * c2 + mp2 * aAx, m2 * -(w2**2) * xG2 * s2 + mp2 * aAy
+    BB3 = m3 * (aAx - w3**2 * xG3 * c3 - al3 * xG3 * s3) + mp3B * (aAx - al3 * b3 * s3 - w3**2 * b3 * c3) + mp3A * aAx
+    BB4 = m3 * (aAy - w3**2 * xG3 * s3 + al3 * xG3 * c3) + mp3B * (aAy + al3 * b3 * c3 - w3**2 * b3 * s3) + mp3A * aAy
     BB5 = I3 * al3
     BB6 = m4 * (w4**2 * xG4 * c4 + al4 * xG4 * s4) + mp4 * (al4 * b4 * s4 + w4**2 * b4 * c4)
     BB7 = m4 * (w4**2 * xG4 * s4 - al4 * xG4 * c4) + mp4 * (-al4 * b4 * c4 + w4**2 * b4 * s4)
@@ -303,24 +325,50 @@ def _join_dict(parts: list[dict]) -> dict:
 
 def _join_motion(parts: list[BatchMotion], theta2: np.ndarray) -> BatchMotion:
     p0 = parts[0]
-    return BatchMotion(p0.kind, p0.lengths, theta2, *(_join([getattr(p, f) for p in parts], 2)
-                                                      for f in ("theta", "omega", "alpha")),
-                       _join_dict([p.points for p in parts]), _join_dict([p.velocities for p in parts]),
-                       _join_dict([p.accelerations for p in parts]),
-                       _join([p.transmission_angle for p in parts], 1))
+    theta, omega, alpha = (_join([getattr(p, f) for p in parts], 2) for f in ("theta", "omega", "alpha"))
+    return BatchMotion(
+        p0.kind,
+        p0.lengths,
+        theta2,
+        theta,
+        omega,
+        alpha,
+        _join_dict([p.points for p in parts]),
+        _join_dict([p.velocities for p in parts]),
+        _join_dict([p.accelerations for p in parts]),
+        _join([p.transmission_angle for p in parts], 1),
+    )
 
 
 def _slice_motion(m: BatchMotion, sl: slice) -> BatchMotion:
-    return BatchMotion(m.kind, m.lengths, m.theta2[sl], m.theta[:, :, sl], m.omega[:, :, sl], m.alpha[:, :, sl],
-                       {k: v[:, sl] for k, v in m.points.items()}, {k: v[:, sl] for k, v in m.velocities.items()},
-                       {k: v[:, sl] for k, v in m.accelerations.items()}, m.transmission_angle[:, sl])
+    return BatchMotion(
+        m.kind,
+        m.lengths,
+        m.theta2[sl],
+        m.theta[:, :, sl],
+        m.omega[:, :, sl],
+        m.alpha[:, :, sl],
+        {k: v[:, sl] for k, v in m.points.items()},
+        {k: v[:, sl] for k, v in m.velocities.items()},
+        {k: v[:, sl] for k, v in m.accelerations.items()},
+        m.transmission_angle[:, sl],
+    )
 
 
 def _join_dynamics(parts: list[BatchDynamics]) -> BatchDynamics:
-    bodies = tuple(BatchBody(b[0].mass, b[0].com, b[0].inertia_com,
-                             *(_join([getattr(x, f) for x in b], 1)
-                               for f in ("position", "velocity", "acceleration", "omega", "alpha")))
-                   for b in zip(*(p.bodies for p in parts))) if parts[0].bodies else ()
+    bodies = (
+        tuple(
+            BatchBody(
+                b[0].mass,
+                b[0].com,
+                b[0].inertia_com,
+                *(_join([getattr(x, f) for x in b], 1) for f in ("position", "velocity", "acceleration", "omega", "alpha")),
+            )
+            for b in zip(*(p.bodies for p in parts))
+        )
+        if parts[0].bodies
+        else ()
+    )
     return BatchDynamics(_join_dict([p.reactions for p in parts]), _join([p.torque for p in parts], 1), bodies)
 
 
@@ -330,27 +378,45 @@ def fourbar_motion(crank, coupler, rocker, ground, sign, speed, theta2) -> Batch
     revolve (see :func:`kinematics.motion.fourbar_toggle_margins`); elsewhere the results
     are NaN. Evaluated in blocks of steps (:data:`BLOCK_ELEMENTS`)."""
     theta2 = np.asarray(theta2, float)
-    return _join_motion([_fourbar_block(crank, coupler, rocker, ground, sign, speed, theta2[sl])
-                         for sl in _step_blocks(np.size(crank), theta2.size)], theta2)
+    return _join_motion(
+        [
+            _fourbar_block(crank, coupler, rocker, ground, sign, speed, theta2[sl])
+            for sl in _step_blocks(np.size(crank), theta2.size)
+        ],
+        theta2,
+    )
 
 
 def slidercrank_motion(crank, coupler, offset, sign, speed, theta2) -> BatchMotion:
     """Slider-crank kinematics for settings ``(S,)``; B slides on y = ``offset`` (m)."""
     theta2 = np.asarray(theta2, float)
-    return _join_motion([_slidercrank_block(crank, coupler, offset, sign, speed, theta2[sl])
-                         for sl in _step_blocks(np.size(crank), theta2.size)], theta2)
+    return _join_motion(
+        [
+            _slidercrank_block(crank, coupler, offset, sign, speed, theta2[sl])
+            for sl in _step_blocks(np.size(crank), theta2.size)
+        ],
+        theta2,
+    )
 
 
 def newton_euler(motion: BatchMotion, masses: MassModel = MassModel(), gravity: float = 0.0) -> BatchDynamics:
     """Rigid-body Newton-Euler reactions and motor torque in closed form (module doc);
     ``gravity`` (m/s^2) acts along -y when non-zero."""
-    return _join_dynamics([_newton_euler_block(_slice_motion(motion, sl), masses, gravity)
-                           for sl in _step_blocks(motion.theta.shape[1], motion.theta2.size)])
+    return _join_dynamics(
+        [
+            _newton_euler_block(_slice_motion(motion, sl), masses, gravity)
+            for sl in _step_blocks(motion.theta.shape[1], motion.theta2.size)
+        ]
+    )
 
 
 def seed_2013(motion: BatchMotion, masses: MassModel = MassModel()) -> BatchDynamics:
     """Seed 000 Anexo I, equations as written (four-bar only, no gravity), solved in
     closed form: its 9 x 9 system per step reduces to a 2 x 2 one in R34 (rows 5 and 8),
     then back-substitution. Its unknowns map as O2 = R12, A = -R23, B = -R34, O4 = R41."""
-    return _join_dynamics([_seed_2013_block(_slice_motion(motion, sl), masses)
-                           for sl in _step_blocks(motion.theta.shape[1], motion.theta2.size)])
+    return _join_dynamics(
+        [
+            _seed_2013_block(_slice_motion(motion, sl), masses)
+            for sl in _step_blocks(motion.theta.shape[1], motion.theta2.size)
+        ]
+    )

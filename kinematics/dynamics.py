@@ -80,50 +80,68 @@ def _as_batch(motion: Motion) -> BatchMotion:
     """The single setting as a batch of one (views, no copies)."""
     lk = motion.linkage
     lengths = {k: np.array([[v]]) for k, v in lk.lengths.items()}
-    return BatchMotion(lk.kind, lengths, motion.theta2, motion.theta.T[:, None, :], motion.omega.T[:, None, :],
-                       motion.alpha.T[:, None, :], {k: v[None] for k, v in motion.points.items()},
-                       {k: v[None] for k, v in motion.velocities.items()},
-                       {k: v[None] for k, v in motion.accelerations.items()}, motion.transmission_angle[None])
+    return BatchMotion(
+        lk.kind,
+        lengths,
+        motion.theta2,
+        motion.theta.T[:, None, :],
+        motion.omega.T[:, None, :],
+        motion.alpha.T[:, None, :],
+        {k: v[None] for k, v in motion.points.items()},
+        {k: v[None] for k, v in motion.velocities.items()},
+        {k: v[None] for k, v in motion.accelerations.items()},
+        motion.transmission_angle[None],
+    )
 
 
 def _bodies(batch_bodies) -> tuple[BodyKinematics, ...]:
-    return tuple(BodyKinematics(RigidBar(float(b.mass[0, 0]), float(b.com[0, 0]), float(b.inertia_com[0, 0])),
-                                b.position[0], b.velocity[0], b.acceleration[0], b.omega[0], b.alpha[0])
-                 for b in batch_bodies)
+    return tuple(
+        BodyKinematics(
+            RigidBar(float(b.mass[0, 0]), float(b.com[0, 0]), float(b.inertia_com[0, 0])),
+            b.position[0],
+            b.velocity[0],
+            b.acceleration[0],
+            b.omega[0],
+            b.alpha[0],
+        )
+        for b in batch_bodies
+    )
 
 
 def newton_euler(motion: Motion, masses: MassModel = MassModel(), gravity: float = 0.0) -> Dynamics:
     """Rigid-body Newton-Euler reactions (closed form, :func:`kinematics.batch.newton_euler`);
     ``gravity`` (m/s^2) acts along -y of the mechanism's plane (a vertical rig) when non-zero."""
     out = batch.newton_euler(_as_batch(motion), masses, gravity)
-    return Dynamics("newton-euler", {k: v[0] for k, v in out.reactions.items()}, out.torque[0], gravity,
-                    _bodies(out.bodies))
+    return Dynamics("newton-euler", {k: v[0] for k, v in out.reactions.items()}, out.torque[0], gravity, _bodies(out.bodies))
 
 
 def seed_2013(motion: Motion, masses: MassModel = MassModel()) -> Dynamics:
     """Seed 000 Anexo I, equations as written (four-bar only, no gravity); see
     :func:`kinematics.batch.seed_2013`."""
     if not isinstance(motion.linkage, FourBar):
-        raise MechanismError("dynamics.formulation",
-                             "seed-2013 exists only for the four-bar (the seed left the slider-crank undone); "
-                             "use newton-euler")
+        raise MechanismError(
+            "dynamics.formulation",
+            "seed-2013 exists only for the four-bar (the seed left the slider-crank undone); use newton-euler",
+        )
     out = batch.seed_2013(_as_batch(motion), masses)
     return Dynamics("seed-2013", {k: v[0] for k, v in out.reactions.items()}, out.torque[0], 0.0)
 
 
-def inverse_dynamics(motion: Motion, formulation: str = "newton-euler",
-                     masses: MassModel = MassModel(), gravity: float = 0.0) -> Dynamics:
+def inverse_dynamics(
+    motion: Motion, formulation: str = "newton-euler", masses: MassModel = MassModel(), gravity: float = 0.0
+) -> Dynamics:
     """Dispatch on the formulation name."""
     if formulation == "newton-euler":
         return newton_euler(motion, masses, gravity)
     if formulation == "seed-2013":
         if gravity:
-            raise MechanismError("check.effects",
-                                 "gravity cannot be combined with dynamics.formulation = \"seed-2013\" "
-                                 "(the seed's equations have no weight terms); use newton-euler")
+            raise MechanismError(
+                "check.effects",
+                'gravity cannot be combined with dynamics.formulation = "seed-2013" '
+                "(the seed's equations have no weight terms); use newton-euler",
+            )
         return seed_2013(motion, masses)
-    raise MechanismError("dynamics.formulation",
-                         f"must be one of {', '.join(FORMULATIONS)}, got {formulation!r}")
+    raise MechanismError("dynamics.formulation", f"must be one of {', '.join(FORMULATIONS)}, got {formulation!r}")
 
 
 def power_residual(motion: Motion, dynamics: Dynamics) -> np.ndarray:
@@ -132,13 +150,17 @@ def power_residual(motion: Motion, dynamics: Dynamics) -> np.ndarray:
     ``dV/dt = sum(m g v_Gy)``. Zero up to rounding for a consistent formulation."""
     if not dynamics.bodies:
         raise ValueError("power_residual needs body kinematics (newton-euler)")
-    dT = sum(bk.body.mass * np.einsum("ij,ij->i", bk.velocity, bk.acceleration)
-             + bk.body.inertia_com * bk.omega * bk.alpha for bk in dynamics.bodies)
+    dT = sum(
+        bk.body.mass * np.einsum("ij,ij->i", bk.velocity, bk.acceleration) + bk.body.inertia_com * bk.omega * bk.alpha
+        for bk in dynamics.bodies
+    )
     dV = sum(bk.body.mass * dynamics.gravity * bk.velocity[:, 1] for bk in dynamics.bodies)
     return dynamics.torque * motion.omega[:, 0] - dT - dV
 
 
 def kinetic_energy(dynamics: Dynamics) -> np.ndarray:
     """Kinetic energy (J) of the moving bodies at every step."""
-    return sum(0.5 * bk.body.mass * np.einsum("ij,ij->i", bk.velocity, bk.velocity)
-               + 0.5 * bk.body.inertia_com * bk.omega**2 for bk in dynamics.bodies)
+    return sum(
+        0.5 * bk.body.mass * np.einsum("ij,ij->i", bk.velocity, bk.velocity) + 0.5 * bk.body.inertia_com * bk.omega**2
+        for bk in dynamics.bodies
+    )

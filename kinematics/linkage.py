@@ -45,8 +45,7 @@ class FourBar:
         for name in ("crank", "coupler", "rocker", "ground"):
             _check_length(f"mechanism.{name}", getattr(self, name))
         if self.assembly not in ASSEMBLIES:
-            raise MechanismError("mechanism.assembly",
-                                 f"must be one of {', '.join(ASSEMBLIES)}, got {self.assembly!r}")
+            raise MechanismError("mechanism.assembly", f"must be one of {', '.join(ASSEMBLIES)}, got {self.assembly!r}")
 
     @property
     def kind(self) -> str:
@@ -59,8 +58,7 @@ class FourBar:
 
     @property
     def lengths(self) -> dict[str, float]:
-        return {"crank": self.crank, "coupler": self.coupler, "rocker": self.rocker,
-                "ground": self.ground}
+        return {"crank": self.crank, "coupler": self.coupler, "rocker": self.rocker, "ground": self.ground}
 
 
 @dataclass(frozen=True)
@@ -81,8 +79,7 @@ class SliderCrank:
         if not math.isfinite(self.offset):
             raise MechanismError("mechanism.ground", f"slider offset must be finite, got {self.offset!r}")
         if self.assembly not in ASSEMBLIES:
-            raise MechanismError("mechanism.assembly",
-                                 f"must be one of {', '.join(ASSEMBLIES)}, got {self.assembly!r}")
+            raise MechanismError("mechanism.assembly", f"must be one of {', '.join(ASSEMBLIES)}, got {self.assembly!r}")
 
     @property
     def kind(self) -> str:

@@ -24,9 +24,9 @@ class MassModel:
     crank_rail_length: float = 0.7
     coupler_rail_length: float = 1.0
     rocker_rail_length: float = 1.0
-    carriage: float = 0.68      # patin KWVE25
-    plate: float = 1.155        # disco, PF_4b_006
-    coupling: float = 0.577     # acop
+    carriage: float = 0.68  # patin KWVE25
+    plate: float = 1.155  # disco, PF_4b_006
+    coupling: float = 0.577  # acop
 
     @property
     def plate_and_carriage(self) -> float:
@@ -44,8 +44,7 @@ class RigidBar:
     inertia_com: float
 
 
-def bar_from_parts(rail_mass: float, rail_length: float,
-                   point_masses: list[tuple[float, float]]) -> RigidBar:
+def bar_from_parts(rail_mass: float, rail_length: float, point_masses: list[tuple[float, float]]) -> RigidBar:
     """Combine a uniform rail starting at local 0 with point masses [(mass kg, s m)]."""
     parts = [(rail_mass, rail_length / 2.0, rail_mass * rail_length**2 / 12.0)]
     parts += [(m, s, 0.0) for m, s in point_masses]
@@ -62,13 +61,17 @@ def fourbar_bodies(linkage: FourBar, masses: MassModel) -> tuple[RigidBar, Rigid
     and carriage at B. Rocker: rail from O4 + coupling at B.
     """
     mpc = masses.plate_and_carriage
-    crank = bar_from_parts(masses.rail_mass_per_m * masses.crank_rail_length,
-                           masses.crank_rail_length, [(mpc, linkage.crank)])
-    coupler = bar_from_parts(masses.rail_mass_per_m * masses.coupler_rail_length,
-                             masses.coupler_rail_length,
-                             [(masses.coupling, 0.0), (mpc, linkage.coupler)])
-    rocker = bar_from_parts(masses.rail_mass_per_m * masses.rocker_rail_length,
-                            masses.rocker_rail_length, [(masses.coupling, linkage.rocker)])
+    crank = bar_from_parts(
+        masses.rail_mass_per_m * masses.crank_rail_length, masses.crank_rail_length, [(mpc, linkage.crank)]
+    )
+    coupler = bar_from_parts(
+        masses.rail_mass_per_m * masses.coupler_rail_length,
+        masses.coupler_rail_length,
+        [(masses.coupling, 0.0), (mpc, linkage.coupler)],
+    )
+    rocker = bar_from_parts(
+        masses.rail_mass_per_m * masses.rocker_rail_length, masses.rocker_rail_length, [(masses.coupling, linkage.rocker)]
+    )
     return crank, coupler, rocker
 
 
@@ -79,10 +82,13 @@ def slidercrank_bodies(linkage: SliderCrank, masses: MassModel) -> tuple[RigidBa
     Slider: a carriage with its plate on the ground rail (a particle, no rotation).
     """
     mpc = masses.plate_and_carriage
-    crank = bar_from_parts(masses.rail_mass_per_m * masses.crank_rail_length,
-                           masses.crank_rail_length, [(mpc, linkage.crank)])
-    coupler = bar_from_parts(masses.rail_mass_per_m * masses.coupler_rail_length,
-                             masses.coupler_rail_length,
-                             [(masses.coupling, 0.0), (masses.coupling, linkage.coupler)])
+    crank = bar_from_parts(
+        masses.rail_mass_per_m * masses.crank_rail_length, masses.crank_rail_length, [(mpc, linkage.crank)]
+    )
+    coupler = bar_from_parts(
+        masses.rail_mass_per_m * masses.coupler_rail_length,
+        masses.coupler_rail_length,
+        [(masses.coupling, 0.0), (masses.coupling, linkage.coupler)],
+    )
     slider = RigidBar(mass=mpc, com=0.0, inertia_com=0.0)
     return crank, coupler, slider

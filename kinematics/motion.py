@@ -89,67 +89,87 @@ def _fourbar_revolvability(linkage: FourBar) -> None:
     """Raise unless the crank can make a full revolution away from any toggle."""
     b2, b3, b4, d = linkage.crank, linkage.coupler, linkage.rocker, linkage.ground
     lengths = {"crank": b2, "coupler": b3, "rocker": b4, "ground": d}
-    longest = max(lengths, key=lengths.get)
+    longest = max(lengths, key=lengths.__getitem__)
     if 2 * lengths[longest] >= sum(lengths.values()):
         raise MechanismError(
             f"mechanism.{longest}",
-            f"the four-bar cannot be assembled: {longest} = {lengths[longest]*1e3:.6g} mm is not "
-            f"shorter than the sum of the other three bars ({(sum(lengths.values()) - lengths[longest])*1e3:.6g} mm)")
+            f"the four-bar cannot be assembled: {longest} = {lengths[longest] * 1e3:.6g} mm is not "
+            f"shorter than the sum of the other three bars ({(sum(lengths.values()) - lengths[longest]) * 1e3:.6g} mm)",
+        )
     r_min, r_max = abs(d - b2), d + b2
     if r_max > b3 + b4:
         raise MechanismError(
             "mechanism",
             f"the crank cannot make a full revolution: at crank angle 180 deg the distance A-O4 = "
-            f"{r_max*1e3:.6g} mm exceeds coupler + rocker = {(b3 + b4)*1e3:.6g} mm")
+            f"{r_max * 1e3:.6g} mm exceeds coupler + rocker = {(b3 + b4) * 1e3:.6g} mm",
+        )
     if r_min < abs(b3 - b4):
         raise MechanismError(
             "mechanism",
             f"the crank cannot make a full revolution: at crank angle 0 deg the distance A-O4 = "
-            f"{r_min*1e3:.6g} mm is below |coupler - rocker| = {abs(b3 - b4)*1e3:.6g} mm")
+            f"{r_min * 1e3:.6g} mm is below |coupler - rocker| = {abs(b3 - b4) * 1e3:.6g} mm",
+        )
     mu_min, mu_max = fourbar_toggle_margins(linkage)
     ordered = sorted(lengths.values())
-    kind = ("Grashof change point (s + l = p + q): all four bars become collinear"
-            if abs(ordered[0] + ordered[3] - ordered[1] - ordered[2]) <= 1e-12 * ordered[3]
-            else "singular configuration (toggle)")
+    kind = (
+        "Grashof change point (s + l = p + q): all four bars become collinear"
+        if abs(ordered[0] + ordered[3] - ordered[1] - ordered[2]) <= 1e-12 * ordered[3]
+        else "singular configuration (toggle)"
+    )
     if mu_min < SINGULAR_TOLERANCE_RAD:
         raise SingularConfigurationError(
             "mechanism",
             f"{kind} at crank angle 0 deg: coupler and rocker "
             f"are aligned (transmission angle {math.degrees(mu_min):.3g} deg); velocities and reactions "
-            "are undefined there", 0.0)
+            "are undefined there",
+            0.0,
+        )
     if math.pi - mu_max < SINGULAR_TOLERANCE_RAD:
         raise SingularConfigurationError(
             "mechanism",
             f"{kind} at crank angle 180 deg: coupler and rocker are folded "
             f"(transmission angle {math.degrees(mu_max):.6g} deg); velocities and reactions are "
-            "undefined there", math.pi)
+            "undefined there",
+            math.pi,
+        )
 
 
 def _toggle_warnings(mu: np.ndarray, theta2: np.ndarray) -> tuple[str, ...]:
     distance = np.minimum(mu, math.pi - mu)
     k = int(np.argmin(distance))
     if distance[k] < NEAR_TOGGLE_WARNING_RAD:
-        return (f"near a toggle at crank angle {math.degrees(theta2[k]) % 360.0:.4g} deg: transmission angle "
-                f"{math.degrees(mu[k]):.6g} deg; reactions grow like 1/sin(mu) there",)
+        return (
+            f"near a toggle at crank angle {math.degrees(theta2[k]) % 360.0:.4g} deg: transmission angle "
+            f"{math.degrees(mu[k]):.6g} deg; reactions grow like 1/sin(mu) there",
+        )
     return ()
 
 
 def solve_fourbar(linkage: FourBar, speed: float, steps: int = 5000) -> Motion:
     """Four-bar motion over one crank revolution at ``speed`` rad/s (constant)."""
     _fourbar_revolvability(linkage)
-    b = fourbar_motion(linkage.crank, linkage.coupler, linkage.rocker, linkage.ground, linkage.sign,
-                       float(speed), crank_angles(steps))
+    b = fourbar_motion(
+        linkage.crank, linkage.coupler, linkage.rocker, linkage.ground, linkage.sign, float(speed), crank_angles(steps)
+    )
     return _single(linkage, speed, b)
 
 
 def _single(linkage, speed: float, b: BatchMotion) -> Motion:
     """The :class:`Motion` of the batch's only setting."""
     mu = b.transmission_angle[0]
-    return Motion(linkage=linkage, speed=float(speed), theta2=b.theta2, theta=b.theta[:, 0].T,
-                  omega=b.omega[:, 0].T, alpha=b.alpha[:, 0].T,
-                  points={k: v[0] for k, v in b.points.items()}, velocities={k: v[0] for k, v in b.velocities.items()},
-                  accelerations={k: v[0] for k, v in b.accelerations.items()}, transmission_angle=mu,
-                  warnings=_toggle_warnings(mu, b.theta2))
+    return Motion(
+        linkage=linkage,
+        speed=float(speed),
+        theta2=b.theta2,
+        theta=b.theta[:, 0].T,
+        omega=b.omega[:, 0].T,
+        alpha=b.alpha[:, 0].T,
+        points={k: v[0] for k, v in b.points.items()},
+        velocities={k: v[0] for k, v in b.velocities.items()},
+        accelerations={k: v[0] for k, v in b.accelerations.items()},
+        transmission_angle=mu,
+        warnings=_toggle_warnings(mu, b.theta2),
+    )
 
 
 def _slidercrank_revolvability(linkage: SliderCrank) -> None:
@@ -158,22 +178,23 @@ def _slidercrank_revolvability(linkage: SliderCrank) -> None:
     if reach > b3:
         raise MechanismError(
             "mechanism.coupler",
-            f"the slider-crank cannot make a full revolution: crank + |offset| = {reach*1e3:.6g} mm "
-            f"exceeds the coupler {b3*1e3:.6g} mm (seed 3.3.1 asks crank < coupler)")
+            f"the slider-crank cannot make a full revolution: crank + |offset| = {reach * 1e3:.6g} mm "
+            f"exceeds the coupler {b3 * 1e3:.6g} mm (seed 3.3.1 asks crank < coupler)",
+        )
     if b3 - reach < SINGULAR_TOLERANCE_RAD * b3:
         angle = 90.0 if e <= 0 else 270.0
         raise SingularConfigurationError(
             "mechanism.coupler",
             f"singular configuration at crank angle {angle:g} deg: the coupler is perpendicular to the "
             "slider's line (crank + |offset| = coupler); velocities and reactions are undefined there",
-            math.radians(angle))
+            math.radians(angle),
+        )
 
 
 def solve_slidercrank(linkage: SliderCrank, speed: float, steps: int = 5000) -> Motion:
     """Slider-crank motion over one crank revolution at ``speed`` rad/s (constant)."""
     _slidercrank_revolvability(linkage)
-    b = slidercrank_motion(linkage.crank, linkage.coupler, linkage.offset, linkage.sign, float(speed),
-                           crank_angles(steps))
+    b = slidercrank_motion(linkage.crank, linkage.coupler, linkage.offset, linkage.sign, float(speed), crank_angles(steps))
     return _single(linkage, speed, b)
 
 

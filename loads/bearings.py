@@ -29,12 +29,12 @@ import numpy as np
 @dataclass(frozen=True)
 class BallBearing:
     name: str
-    dynamic_capacity: float      # C, N
-    static_capacity: float       # C0, N
+    dynamic_capacity: float  # C, N
+    static_capacity: float  # C0, N
 
 
-BEARING_6205 = BallBearing("6205", 14_900.0, 7_800.0)     # seed 000, 3.3.6 (INA-FAG catalogue)
-BEARINGS_PER_JOINT = 2                                     # seed 000, 3.3.6: the shaft between two bearings
+BEARING_6205 = BallBearing("6205", 14_900.0, 7_800.0)  # seed 000, 3.3.6 (INA-FAG catalogue)
+BEARINGS_PER_JOINT = 2  # seed 000, 3.3.6: the shaft between two bearings
 
 
 @dataclass(frozen=True)
@@ -49,8 +49,12 @@ class BearingLife:
     static_safety: np.ndarray
 
 
-def bearing_life(reaction: np.ndarray, relative_speed: np.ndarray, bearing: BallBearing = BEARING_6205,
-                 per_joint: int = BEARINGS_PER_JOINT) -> BearingLife:
+def bearing_life(
+    reaction: np.ndarray,
+    relative_speed: np.ndarray,
+    bearing: BallBearing = BEARING_6205,
+    per_joint: int = BEARINGS_PER_JOINT,
+) -> BearingLife:
     """``reaction`` (..., T, 2) N the joint's force over one revolution (uniform in time),
     ``relative_speed`` (..., T) rad/s of the bearing's rings."""
     P = np.hypot(reaction[..., 0], reaction[..., 1]) / per_joint
@@ -58,9 +62,8 @@ def bearing_life(reaction: np.ndarray, relative_speed: np.ndarray, bearing: Ball
     turns = n.sum(axis=-1)
     with np.errstate(divide="ignore", invalid="ignore"):
         pm = np.cbrt(np.where(turns > 0, (P**3 * n).sum(axis=-1) / turns, 0.0))
-        n_mean = n.mean(axis=-1) / (2 * math.pi)                      # rev/s
-        life = np.where((pm > 0) & (n_mean > 0),
-                        (bearing.dynamic_capacity / pm) ** 3 * 1e6 / (3600.0 * n_mean), np.inf)
+        n_mean = n.mean(axis=-1) / (2 * math.pi)  # rev/s
+        life = np.where((pm > 0) & (n_mean > 0), (bearing.dynamic_capacity / pm) ** 3 * 1e6 / (3600.0 * n_mean), np.inf)
         peak = P.max(axis=-1)
         static = np.where(peak > 0, bearing.static_capacity / peak, np.inf)
     return BearingLife(pm, peak, life, static)

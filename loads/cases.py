@@ -49,9 +49,18 @@ def peak_in_rail_axes(force_xy: np.ndarray, bar_angle: np.ndarray) -> tuple[int,
     return k, to_rail_axes(force_xy[k], bar_angle[k])
 
 
-def reaction_load_case(part: str, joint: str, force_xy: np.ndarray, bar_angle: np.ndarray,
-                       crank_angle: np.ndarray, factor: float, holes: list[str], support: str,
-                       tip_group: str, body_force_dir: np.ndarray | None = None) -> LoadCase:
+def reaction_load_case(
+    part: str,
+    joint: str,
+    force_xy: np.ndarray,
+    bar_angle: np.ndarray,
+    crank_angle: np.ndarray,
+    factor: float,
+    holes: list[str],
+    support: str,
+    tip_group: str,
+    body_force_dir: np.ndarray | None = None,
+) -> LoadCase:
     """A load case from a joint reaction history: ``force_xy`` (steps, 2) is the force
     on the part at ``joint`` (ground frame), ``bar_angle`` (steps,) the angle of the
     part's longitudinal axis; the factored peak is split equally over ``holes``."""
@@ -59,23 +68,39 @@ def reaction_load_case(part: str, joint: str, force_xy: np.ndarray, bar_angle: n
     factored = factor * local
     per_hole = factored / len(holes)
     bolts = tuple(BoltForce(h, (float(per_hole[0]), float(per_hole[1]), 0.0)) for h in holes)
-    origin = {"joint": joint, "peak_N": float(np.hypot(*force_xy[k])),
-              "crank_angle_deg": float(np.degrees(crank_angle[k])),
-              "bar_angle_deg": float(np.degrees(bar_angle[k]) % 360.0),
-              "longitudinal_N": float(local[0]), "transverse_N": float(local[1]),
-              "factored_longitudinal_N": float(factored[0]), "factored_transverse_N": float(factored[1]),
-              "bolt_count": len(holes)}
+    origin = {
+        "joint": joint,
+        "peak_N": float(np.hypot(*force_xy[k])),
+        "crank_angle_deg": float(np.degrees(crank_angle[k])),
+        "bar_angle_deg": float(np.degrees(bar_angle[k]) % 360.0),
+        "longitudinal_N": float(local[0]),
+        "transverse_N": float(local[1]),
+        "factored_longitudinal_N": float(factored[0]),
+        "factored_transverse_N": float(factored[1]),
+        "bolt_count": len(holes),
+    }
     return LoadCase(part, support, bolts, tip_group, factor, origin)
 
 
-def explicit_load_case(part: str, longitudinal: float, transverse: float, holes: list[str], support: str,
-                       tip_group: str) -> LoadCase:
+def explicit_load_case(
+    part: str, longitudinal: float, transverse: float, holes: list[str], support: str, tip_group: str
+) -> LoadCase:
     """The same (longitudinal, transverse) force (N) on each hole, as given (already
     factored: the seed's 250 N + 250 N per hole of PF_4b_003_v2)."""
     bolts = tuple(BoltForce(h, (float(longitudinal), float(transverse), 0.0)) for h in holes)
-    return LoadCase(part, support, bolts, tip_group, 1.0,
-                    {"joint": "explicit", "per_hole_longitudinal_N": float(longitudinal),
-                     "per_hole_transverse_N": float(transverse), "bolt_count": len(holes)})
+    return LoadCase(
+        part,
+        support,
+        bolts,
+        tip_group,
+        1.0,
+        {
+            "joint": "explicit",
+            "per_hole_longitudinal_N": float(longitudinal),
+            "per_hole_transverse_N": float(transverse),
+            "bolt_count": len(holes),
+        },
+    )
 
 
 def rail_bolt_holes(hole_x: list[float], shaft_x: float, bar_length: float, position: str) -> list[int]:
@@ -94,6 +119,8 @@ def rail_bolt_holes(hole_x: list[float], shaft_x: float, bar_length: float, posi
     x = shaft_x + bar_length
     k = int(np.argmin(np.abs(np.asarray(hole_x) - x)))
     if abs(hole_x[k] - x) > 0.5 * (hole_x[1] - hole_x[0]) or x > hole_x[-1] + 1e-9:
-        raise ValueError(f"the joint at {bar_length*1e3:.6g} mm from the pivot is beyond the rail's last hole "
-                         f"({(hole_x[-1] - shaft_x)*1e3:.6g} mm)")
+        raise ValueError(
+            f"the joint at {bar_length * 1e3:.6g} mm from the pivot is beyond the rail's last hole "
+            f"({(hole_x[-1] - shaft_x) * 1e3:.6g} mm)"
+        )
     return [k, k + 1] if k + 1 < n else [k - 1, k]

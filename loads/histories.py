@@ -27,13 +27,15 @@ def gravity_history(bar_angle: np.ndarray, density: float, g: float) -> np.ndarr
     return to_rail_axes(down, angle)
 
 
-def rail_inertia_history(pivot_acceleration: np.ndarray, bar_angle: np.ndarray, omega: np.ndarray,
-                         alpha: np.ndarray, density: float) -> np.ndarray:
+def rail_inertia_history(
+    pivot_acceleration: np.ndarray, bar_angle: np.ndarray, omega: np.ndarray, alpha: np.ndarray, density: float
+) -> np.ndarray:
     """(..., 4) (leading dimensions of the inputs): coefficients of the rail's d'Alembert body force ``-rho a(r)`` for the
     rigid-body field a(r) = a_pivot + alpha k x r - omega^2 r (r from the pivot, part
     frame). Columns: uniform x and y (N/m^3), the rotational field (-r_y, r_x) and the
     radial field (r_x, r_y) (N/m^4 per m of r): (-rho a_l, -rho a_t, -rho alpha, rho omega^2).
     ``pivot_acceleration`` (steps, 2) m/s^2 ground frame; ``omega``, ``alpha`` (steps,) of the bar."""
     a = to_rail_axes(pivot_acceleration, bar_angle)
-    return np.stack(np.broadcast_arrays(-density * a[..., 0], -density * a[..., 1], -density * alpha,
-                                        density * omega**2), axis=-1)
+    return np.stack(
+        np.broadcast_arrays(-density * a[..., 0], -density * a[..., 1], -density * alpha, density * omega**2), axis=-1
+    )

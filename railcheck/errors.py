@@ -18,7 +18,7 @@ EXIT_INPUT = 2
 EXIT_NUMERICAL = 3
 
 
-def _rebuild(cls: type, args: tuple, state: dict) -> RailcheckError:
+def _rebuild(cls: type[RailcheckError], args: tuple, state: dict) -> RailcheckError:
     """Unpickle an error without calling its ``__init__`` (whatever its signature)."""
     error = cls.__new__(cls)
     error.args = args

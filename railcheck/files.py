@@ -86,8 +86,7 @@ class Staging:
         self.target = Path(target)
         self.replaces = replaces
         remove_dead_staging(self.target.parent)
-        self.path = Path(tempfile.mkdtemp(prefix=f".{self.target.name}{STAGING_MARK}{os.getpid()}.",
-                                          dir=self.target.parent))
+        self.path = Path(tempfile.mkdtemp(prefix=f".{self.target.name}{STAGING_MARK}{os.getpid()}.", dir=self.target.parent))
         os.chmod(self.path, 0o777 & ~_umask())
 
     def commit(self) -> Path:
@@ -98,7 +97,7 @@ class Staging:
             os.replace(self.path, self.target)
             shutil.rmtree(old, ignore_errors=True)
         else:
-            os.replace(self.path, self.target)      # onto the empty reserved directory
+            os.replace(self.path, self.target)  # onto the empty reserved directory
         return self.target
 
     def abandon(self) -> None:
@@ -106,7 +105,7 @@ class Staging:
         shutil.rmtree(self.path, ignore_errors=True)
         if not self.replaces:
             with contextlib.suppress(OSError):
-                self.target.rmdir()                 # only if still empty
+                self.target.rmdir()  # only if still empty
 
 
 def remove_dead_staging(directory: Path) -> list[Path]:

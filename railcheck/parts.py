@@ -45,9 +45,9 @@ class PartKind:
     exclusion: Callable
     mesh: tuple[float, float]
     section: Callable
-    bolts_on_rail: bool = False      # bolt holes chosen along a rail by the bar length
-    bolt_groups: Callable = None     # geometry -> the bolt-hole groups (default: every "hole_K")
-    view: str = "xy"                 # the picture's view axis pair (pyvista camera.tight): "xy" from above
+    bolts_on_rail: bool = False  # bolt holes chosen along a rail by the bar length
+    bolt_groups: Callable = None  # geometry -> the bolt-hole groups (default: every "hole_K")
+    view: str = "xy"  # the picture's view axis pair (pyvista camera.tight): "xy" from above
 
     def bolts(self, geometry) -> list[str]:
         """The groups a plate's joint loads (rails choose theirs by the bar length)."""
@@ -80,22 +80,51 @@ def _i_profile(overrides: dict, length: float | None = None):
     return i_profile(with_overrides(overrides)[2])
 
 
-KINDS: dict[str, PartKind] = {k.name: k for k in (
-    PartKind("rail", _rail, "shaft_hole", "end_free", lambda g: g.get("hole_diameter"), (20e-3, 6e-3),
-             lambda g: (g.get("width"), g.get("height")), bolts_on_rail=True),
-    PartKind("joint_plate", _joint_plate, "bearing_seat", "end_free", lambda g: g.get("bolt_diameter"),
-             (6e-3, 1.8e-3), lambda g: (g.get("width"), g.get("thickness"))),
-    PartKind("i_profile", _i_profile, "base", "end_free", lambda g: g.get("flange_thickness"), (5e-3, 1.5e-3),
-             lambda g: (g.get("flange_width"), g.get("depth")), view="yz"),
-)}
+KINDS: dict[str, PartKind] = {
+    k.name: k
+    for k in (
+        PartKind(
+            "rail",
+            _rail,
+            "shaft_hole",
+            "end_free",
+            lambda g: g.get("hole_diameter"),
+            (20e-3, 6e-3),
+            lambda g: (g.get("width"), g.get("height")),
+            bolts_on_rail=True,
+        ),
+        PartKind(
+            "joint_plate",
+            _joint_plate,
+            "bearing_seat",
+            "end_free",
+            lambda g: g.get("bolt_diameter"),
+            (6e-3, 1.8e-3),
+            lambda g: (g.get("width"), g.get("thickness")),
+        ),
+        PartKind(
+            "i_profile",
+            _i_profile,
+            "base",
+            "end_free",
+            lambda g: g.get("flange_thickness"),
+            (5e-3, 1.5e-3),
+            lambda g: (g.get("flange_width"), g.get("depth")),
+            view="yz",
+        ),
+    )
+}
 
-PARTS: dict[str, Part] = {p.name: p for p in (
-    Part("crank-rail", "rail", (LoadSource("A", -1.0, "crank"),), "crank"),
-    Part("coupler-rail", "rail", (LoadSource("B", -1.0, "coupler"),), "coupler"),
-    Part("rocker-rail", "rail", (LoadSource("B", +1.0, "rocker"),), "rocker"),
-    Part("PF_4b_006", "joint_plate", (LoadSource("A", -1.0, "crank"), LoadSource("B", -1.0, "coupler"))),
-    Part("PF_4b_003_v2", "i_profile", (LoadSource("O4", +1.0, None),)),
-)}
+PARTS: dict[str, Part] = {
+    p.name: p
+    for p in (
+        Part("crank-rail", "rail", (LoadSource("A", -1.0, "crank"),), "crank"),
+        Part("coupler-rail", "rail", (LoadSource("B", -1.0, "coupler"),), "coupler"),
+        Part("rocker-rail", "rail", (LoadSource("B", +1.0, "rocker"),), "rocker"),
+        Part("PF_4b_006", "joint_plate", (LoadSource("A", -1.0, "crank"), LoadSource("B", -1.0, "coupler"))),
+        Part("PF_4b_003_v2", "i_profile", (LoadSource("O4", +1.0, None),)),
+    )
+}
 
 BAR_INDEX = {"crank": 0, "coupler": 1, "rocker": 2}
 

@@ -44,9 +44,13 @@ def _in_range(value: float, kind: str, name: str, magnitude: bool = False) -> fl
     lo, hi, lo_text, hi_text = RANGES[kind]
     v = abs(value) if magnitude else value
     if not lo <= v <= hi:
-        raise InputError(name, f"{'|value|' if magnitude else 'value'} outside the physical range {lo_text} to "
-                               f"{hi_text} this tool accepts")
+        raise InputError(
+            name,
+            f"{'|value|' if magnitude else 'value'} outside the physical range {lo_text} to {hi_text} this tool accepts",
+        )
     return value
+
+
 BOLT_POSITIONS = ("worst", "actual")
 SWEEP_KINDS = ("four-bar", "slider-crank")
 SWEEP_BARS = {"four-bar": ("crank", "coupler", "rocker", "ground"), "slider-crank": ("crank", "coupler", "offset")}
@@ -58,7 +62,7 @@ DEFAULT_SCENE = "default.toml"
 @dataclass(frozen=True)
 class MechanismSpec:
     linkage: FourBar | SliderCrank
-    speed: float           # rad/s
+    speed: float  # rad/s
     steps: int
 
 
@@ -77,30 +81,30 @@ class CheckSpec:
     factor: float = 1.4
     bolt_position: str = "worst"
     material: str = "steel"
-    limit: float | None = None                 # Pa; None = sigma_u / 2
+    limit: float | None = None  # Pa; None = sigma_u / 2
     effects: tuple[str, ...] = ("inertia",)
     loads: dict[str, ExplicitLoad] = field(default_factory=dict)
-    max_deflection: float | None = None        # m; a part whose tip deflects more fails
+    max_deflection: float | None = None  # m; a part whose tip deflects more fails
 
 
 @dataclass(frozen=True)
 class FatigueSpec:
     """High-cycle fatigue settings (fea.fatigue): each default from Shigley, chapter 6."""
 
-    surface: str = "machined"        # table 6-2; precision rails are ground, plates machined
-    reliability: float = 0.5         # table 6-5: 0.5 (ke = 1) matches the mean endurance limit
-    load: str = "bending"            # kc: the parts bend under the transverse bolt loads
-    criterion: str = "goodman"       # modified Goodman (eq. 6-41); gerber, asme-elliptic
-    min_safety: float = 1.0          # a part fails below it
+    surface: str = "machined"  # table 6-2; precision rails are ground, plates machined
+    reliability: float = 0.5  # table 6-5: 0.5 (ke = 1) matches the mean endurance limit
+    load: str = "bending"  # kc: the parts bend under the transverse bolt loads
+    criterion: str = "goodman"  # modified Goodman (eq. 6-41); gerber, asme-elliptic
+    min_safety: float = 1.0  # a part fails below it
 
 
 @dataclass(frozen=True)
 class MeshSpec:
     order: int = 2
-    size: float | None = None                 # m; None = each part kind's default (parts.KINDS)
-    hole_size: float | None = None            # m; None = the kind's default, or 0.3 x size
-    optimize: bool = True                     # gmsh's tetrahedron optimisation
-    curved: bool = True                       # P2: mid-edge nodes on the true surfaces (isoparametric)
+    size: float | None = None  # m; None = each part kind's default (parts.KINDS)
+    hole_size: float | None = None  # m; None = the kind's default, or 0.3 x size
+    optimize: bool = True  # gmsh's tetrahedron optimisation
+    curved: bool = True  # P2: mid-edge nodes on the true surfaces (isoparametric)
 
 
 @dataclass(frozen=True)
@@ -150,11 +154,23 @@ _ALLOWED = {
     "check": {"parts", "factor", "bolt_position", "material", "limit", "effects", "max_deflection"},
     "mesh": {"order", "size", "hole_size", "optimize", "curved"},
     "output": {"dir", "vtk", "png", "plots"},
-    "loads": None,       # part names, checked below
-    "geometry": None,    # catalogue keys, checked below
+    "loads": None,  # part names, checked below
+    "geometry": None,  # catalogue keys, checked below
     "fatigue": {"surface", "reliability", "load", "criterion", "min_safety"},
-    "sweep": {"kind", "crank", "coupler", "rocker", "ground", "offset", "speeds", "steps", "assembly", "settings",
-              "memory", "format"},
+    "sweep": {
+        "kind",
+        "crank",
+        "coupler",
+        "rocker",
+        "ground",
+        "offset",
+        "speeds",
+        "steps",
+        "assembly",
+        "settings",
+        "memory",
+        "format",
+    },
 }
 
 
@@ -187,10 +203,20 @@ def _mechanism(table: dict) -> MechanismSpec:
     p = "mechanism."
     _unknown(table, _ALLOWED["mechanism"], p)
     kind = _string_choice(_require(table, "kind", p), ("four-bar", "slider-crank"), p + "kind")
-    length = lambda key: _in_range(parse_quantity(_require(table, key, p), "length", p + key,  # noqa: E731
-                                                  positive=True, allow_zero=False), "length", p + key)
-    speed = _in_range(parse_quantity(table.get("speed", "1 Hz"), "angular_speed", p + "speed", positive=True),
-                      "speed", p + "speed")
+    length = lambda key: _in_range(
+        parse_quantity(
+            _require(table, key, p),
+            "length",
+            p + key,  # noqa: E731
+            positive=True,
+            allow_zero=False,
+        ),
+        "length",
+        p + key,
+    )
+    speed = _in_range(
+        parse_quantity(table.get("speed", "1 Hz"), "angular_speed", p + "speed", positive=True), "speed", p + "speed"
+    )
     steps = table.get("steps", 5000)
     if isinstance(steps, bool) or not isinstance(steps, int) or steps < 3:
         raise InputError(p + "steps", f"must be a whole number >= 3, got {steps!r}")
@@ -233,8 +259,9 @@ def _check(table: dict, loads_table: dict) -> CheckSpec:
         raise InputError(p + "material", f"unknown material {material!r} (known: {', '.join(MATERIALS)})")
     limit = None
     if "limit" in table:
-        limit = _in_range(parse_quantity(table["limit"], "stress", p + "limit", positive=True, allow_zero=False),
-                          "limit", p + "limit")
+        limit = _in_range(
+            parse_quantity(table["limit"], "stress", p + "limit", positive=True, allow_zero=False), "limit", p + "limit"
+        )
     effects = table.get("effects", ["inertia"])
     if not isinstance(effects, list) or not all(isinstance(x, str) for x in effects):
         raise InputError(p + "effects", f"must be a list drawn from {', '.join(EFFECTS)}")
@@ -251,13 +278,19 @@ def _check(table: dict, loads_table: dict) -> CheckSpec:
         if not isinstance(spec, dict):
             raise InputError(f"loads.{part}", "must be a table with longitudinal and transverse forces per hole")
         _unknown(spec, {"longitudinal", "transverse"}, lp)
-        loads[part] = ExplicitLoad(*(
-            _in_range(parse_quantity(spec.get(key, "0 N"), "force", lp + key), "force", lp + key, magnitude=True)
-            for key in ("longitudinal", "transverse")))
+        loads[part] = ExplicitLoad(
+            *(
+                _in_range(parse_quantity(spec.get(key, "0 N"), "force", lp + key), "force", lp + key, magnitude=True)
+                for key in ("longitudinal", "transverse")
+            )
+        )
     max_deflection = None
     if "max_deflection" in table:
-        max_deflection = _in_range(parse_quantity(table["max_deflection"], "length", p + "max_deflection",
-                                                  positive=True, allow_zero=False), "length", p + "max_deflection")
+        max_deflection = _in_range(
+            parse_quantity(table["max_deflection"], "length", p + "max_deflection", positive=True, allow_zero=False),
+            "length",
+            p + "max_deflection",
+        )
     return CheckSpec(tuple(parts), float(factor), bolt, material, limit, tuple(effects), loads, max_deflection)
 
 
@@ -271,14 +304,14 @@ def _mesh(table: dict) -> MeshSpec:
     if "size" in table:
         size = parse_quantity(table["size"], "length", p + "size", positive=True, allow_zero=False)
         if size < 0.2e-3:
-            raise InputError(p + "size", f"{size*1e3:g} mm is below the 0.2 mm this tool meshes")
+            raise InputError(p + "size", f"{size * 1e3:g} mm is below the 0.2 mm this tool meshes")
     hole = None
     if "hole_size" in table:
         hole = parse_quantity(table["hole_size"], "length", p + "hole_size", positive=True, allow_zero=False)
         if size is None:
             raise InputError(p + "hole_size", "needs mesh.size too (the defaults come in pairs per part kind)")
     if hole is not None and size is not None and hole > size:
-        raise InputError(p + "hole_size", f"{hole*1e3:g} mm is larger than mesh.size {size*1e3:g} mm")
+        raise InputError(p + "hole_size", f"{hole * 1e3:g} mm is larger than mesh.size {size * 1e3:g} mm")
     return MeshSpec(order, size, hole, _bool(table, "optimize", p, True), _bool(table, "curved", p, True))
 
 
@@ -296,8 +329,11 @@ def _geometry(table: dict) -> dict[str, float]:
     for key, value in table.items():
         if key not in OVERRIDABLE:
             raise InputError(f"geometry.{key}", f"unknown key (allowed: {', '.join(sorted(OVERRIDABLE))})")
-        out[key] = _in_range(parse_quantity(value, "length", f"geometry.{key}", positive=True, allow_zero=False),
-                             "geometry", f"geometry.{key}")
+        out[key] = _in_range(
+            parse_quantity(value, "length", f"geometry.{key}", positive=True, allow_zero=False),
+            "geometry",
+            f"geometry.{key}",
+        )
     problem = validate(out)
     if problem:
         raise InputError(*problem)
@@ -331,16 +367,18 @@ def _sweep(table: dict) -> SweepSpec:
             continue
         value = table[bar]
         if not isinstance(value, list) or len(value) != 2:
-            raise InputError(p + bar, f"must be a [min, max] pair of lengths, e.g. [\"180 mm\", \"660 mm\"], got {value!r}")
+            raise InputError(p + bar, f'must be a [min, max] pair of lengths, e.g. ["180 mm", "660 mm"], got {value!r}')
         lo, hi = (parse_quantity(v, "length", p + bar) for v in value)
         if lo > hi:
-            raise InputError(p + bar, f"min {lo*1e3:g} mm is above max {hi*1e3:g} mm")
+            raise InputError(p + bar, f"min {lo * 1e3:g} mm is above max {hi * 1e3:g} mm")
         ranges[bar] = (lo, hi)
     speeds = table.get("speeds", ["1 Hz"])
     if not isinstance(speeds, list) or not speeds:
-        raise InputError(p + "speeds", f"must be a non-empty list of speeds, e.g. [\"0.5 Hz\", \"1 Hz\"], got {speeds!r}")
-    speeds = tuple(_in_range(parse_quantity(v, "angular_speed", p + "speeds", positive=True, allow_zero=False),
-                             "speed", p + "speeds") for v in speeds)
+        raise InputError(p + "speeds", f'must be a non-empty list of speeds, e.g. ["0.5 Hz", "1 Hz"], got {speeds!r}')
+    speeds = tuple(
+        _in_range(parse_quantity(v, "angular_speed", p + "speeds", positive=True, allow_zero=False), "speed", p + "speeds")
+        for v in speeds
+    )
     steps = table.get("steps", 720)
     if isinstance(steps, bool) or not isinstance(steps, int) or not 8 <= steps <= 100_000:
         raise InputError(p + "steps", f"must be a whole number from 8 to 100000, got {steps!r}")
@@ -349,8 +387,9 @@ def _sweep(table: dict) -> SweepSpec:
     if not 1e5 <= memory <= 1e12:
         raise InputError(p + "memory", "must be from 100 kB to 1000 GB")
     fmt = _string_choice(table.get("format", "parquet"), SWEEP_FORMATS, p + "format")
-    return SweepSpec(kinds, ranges, speeds, steps, assembly, _sweep_settings(table.get("settings", []), kinds),
-                     float(memory), fmt)
+    return SweepSpec(
+        kinds, ranges, speeds, steps, assembly, _sweep_settings(table.get("settings", []), kinds), float(memory), fmt
+    )
 
 
 def _sweep_settings(items: Any, kinds: tuple[str, ...]) -> dict:
@@ -392,11 +431,17 @@ def parse_scene(data: dict[str, Any], source: str = "<scene>") -> Scene:
     if check is not None:
         needs_linkage = [p for p in check.parts if p not in check.loads]
         if needs_linkage and mechanism is None and "sweep" not in data:
-            raise InputError("mechanism", f"missing: parts {', '.join(needs_linkage)} take their loads from the "
-                                          "linkage (or give them explicit [loads.PART])")
+            raise InputError(
+                "mechanism",
+                f"missing: parts {', '.join(needs_linkage)} take their loads from the "
+                "linkage (or give them explicit [loads.PART])",
+            )
         if "gravity" in check.effects and formulation == "seed-2013":
-            raise InputError("check.effects", "gravity cannot be combined with dynamics.formulation = "
-                                              "\"seed-2013\" (the seed's equations have no weight terms)")
+            raise InputError(
+                "check.effects",
+                "gravity cannot be combined with dynamics.formulation = "
+                '"seed-2013" (the seed\'s equations have no weight terms)',
+            )
         if mechanism is not None and isinstance(mechanism.linkage, SliderCrank):
             rails = [p for p in needs_linkage if p == "rocker-rail"]
             if rails:

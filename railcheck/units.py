@@ -32,15 +32,23 @@ UNITS: dict[str, dict[str, float]] = {
 }
 
 #: the unit an error message suggests for a bare number
-PREFERRED = {"length": "mm", "angular_speed": "Hz", "stress": "MPa", "force": "N", "mass": "kg",
-             "linear_density": "kg/m", "angle": "deg", "acceleration": "m/s2", "memory": "GB"}
+PREFERRED = {
+    "length": "mm",
+    "angular_speed": "Hz",
+    "stress": "MPa",
+    "force": "N",
+    "mass": "kg",
+    "linear_density": "kg/m",
+    "angle": "deg",
+    "acceleration": "m/s2",
+    "memory": "GB",
+}
 
 _NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?|[-+]?(?:nan|inf|infinity)"
 _PATTERN = re.compile(rf"^\s*({_NUMBER})\s*([^\s\d].*?)?\s*$", re.IGNORECASE)
 
 
-def parse_quantity(value: object, dimension: str, field: str, *, positive: bool = False,
-                   allow_zero: bool = True) -> float:
+def parse_quantity(value: object, dimension: str, field: str, *, positive: bool = False, allow_zero: bool = True) -> float:
     """Parse ``value`` ("480 mm") as a ``dimension`` quantity; return its SI value.
 
     Raises :class:`InputError` naming ``field`` for a bare number, an unknown or wrong
@@ -49,22 +57,24 @@ def parse_quantity(value: object, dimension: str, field: str, *, positive: bool 
     """
     units = UNITS[dimension]
     if isinstance(value, bool) or isinstance(value, (int, float)):
-        raise InputError(field, f"needs a unit, e.g. \"{value} {PREFERRED[dimension]}\" "
-                                f"(got the bare number {value!r})")
+        raise InputError(field, f'needs a unit, e.g. "{value} {PREFERRED[dimension]}" (got the bare number {value!r})')
     if not isinstance(value, str):
         raise InputError(field, f"must be a string with a unit, got {type(value).__name__}")
     match = _PATTERN.match(value)
     if not match:
-        raise InputError(field, f"cannot read {value!r} as a {dimension.replace('_', ' ')} "
-                                f"(expected a number and one of: {', '.join(units)})")
+        raise InputError(
+            field,
+            f"cannot read {value!r} as a {dimension.replace('_', ' ')} (expected a number and one of: {', '.join(units)})",
+        )
     number, unit = match.group(1), (match.group(2) or "").strip()
     if not unit:
-        raise InputError(field, f"needs a unit, e.g. \"{number} {PREFERRED[dimension]}\"")
+        raise InputError(field, f'needs a unit, e.g. "{number} {PREFERRED[dimension]}"')
     if unit not in units:
         wrong = [dim for dim, table in UNITS.items() if unit in table]
         hint = f" ({unit!r} is a {wrong[0].replace('_', ' ')} unit)" if wrong else ""
-        raise InputError(field, f"unit {unit!r} is not a {dimension.replace('_', ' ')} unit{hint}; "
-                                f"use one of: {', '.join(units)}")
+        raise InputError(
+            field, f"unit {unit!r} is not a {dimension.replace('_', ' ')} unit{hint}; use one of: {', '.join(units)}"
+        )
     x = float(number)
     if not math.isfinite(x):
         raise InputError(field, f"must be finite, got {value!r}")

@@ -11,8 +11,20 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-HEAVY = {"gmsh", "skfem", "pyvista", "vtk", "vtkmodules", "meshio", "pyamg", "matplotlib", "dask", "distributed",
-         "pyarrow", "pypardiso"}
+HEAVY = {
+    "gmsh",
+    "skfem",
+    "pyvista",
+    "vtk",
+    "vtkmodules",
+    "meshio",
+    "pyamg",
+    "matplotlib",
+    "dask",
+    "distributed",
+    "pyarrow",
+    "pypardiso",
+}
 #: what each domain package may import of ours (besides itself): the packages upstream of it
 UPSTREAM = {
     "railcheck.kinematics": {"railcheck.errors"},
@@ -26,8 +38,10 @@ def package_dirs() -> dict[str, Path]:
     """Dotted package -> source folder, from pyproject.toml's setuptools mapping."""
     config = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]
     mapping = config["package-dir"]
-    return {pkg: ROOT / mapping.get(pkg, mapping.get(pkg.split(".")[0], "") and pkg.replace(".", "/"))
-            for pkg in config["packages"]}
+    return {
+        pkg: ROOT / mapping.get(pkg, mapping.get(pkg.split(".")[0], "") and pkg.replace(".", "/"))
+        for pkg in config["packages"]
+    }
 
 
 def our_modules() -> dict[str, Path]:
@@ -69,8 +83,7 @@ def imports_of(name: str, path: Path, modules: dict) -> list[tuple[str, bool, st
 
 def import_graph() -> dict[str, set[str]]:
     modules = our_modules()
-    return {name: {t for t, _, _ in imports_of(name, path, modules) if t and t != name}
-            for name, path in modules.items()}
+    return {name: {t for t, _, _ in imports_of(name, path, modules) if t and t != name} for name, path in modules.items()}
 
 
 def cycles(graph: dict[str, set[str]]) -> list[list[str]]:
@@ -112,8 +125,15 @@ def test_the_cycle_finder_finds_planted_cycles():
 
 def test_every_module_is_found():
     modules = our_modules()
-    assert {"railcheck.cli", "railcheck.check.pipeline", "railcheck.fea.elasticity", "railcheck.geometry.mesher",
-            "railcheck.loads.cases", "railcheck.kinematics.planar.solver", "railcheck.sweep.table"} <= set(modules)
+    assert {
+        "railcheck.cli",
+        "railcheck.check.pipeline",
+        "railcheck.fea.elasticity",
+        "railcheck.geometry.mesher",
+        "railcheck.loads.cases",
+        "railcheck.kinematics.planar.solver",
+        "railcheck.sweep.table",
+    } <= set(modules)
     assert len(modules) > 60
 
 
@@ -125,27 +145,50 @@ def test_no_import_cycles_between_our_modules():
 @pytest.mark.parametrize("package", sorted(UPSTREAM))
 def test_a_domain_package_imports_only_what_is_upstream_of_it(package):
     allowed = UPSTREAM[package] | {package}
-    bad = {(name, t) for name, targets in import_graph().items() if name.startswith(package)
-           for t in targets if not any(t == a or t.startswith(a + ".") for a in allowed)}
+    bad = {
+        (name, t)
+        for name, targets in import_graph().items()
+        if name.startswith(package)
+        for t in targets
+        if not any(t == a or t.startswith(a + ".") for a in allowed)
+    }
     assert not bad
 
 
 def test_heavy_packages_are_imported_only_inside_functions():
     modules = our_modules()
-    bad = [(name, top) for name, path in modules.items() for _, module_level, top in imports_of(name, path, modules)
-           if module_level and top in HEAVY]
+    bad = [
+        (name, top)
+        for name, path in modules.items()
+        for _, module_level, top in imports_of(name, path, modules)
+        if module_level and top in HEAVY
+    ]
     assert not bad
 
 
 def test_our_own_modules_are_imported_at_module_top():
     modules = our_modules()
-    bad = [(name, t) for name, path in modules.items() for t, module_level, _ in imports_of(name, path, modules)
-           if t and not module_level]
+    bad = [
+        (name, t)
+        for name, path in modules.items()
+        for t, module_level, _ in imports_of(name, path, modules)
+        if t and not module_level
+    ]
     assert not bad
 
 
-@pytest.mark.parametrize("package", ["railcheck.fea", "railcheck.geometry", "railcheck.loads", "railcheck.kinematics",
-                                     "railcheck.kinematics.planar", "railcheck.check", "railcheck.sweep"])
+@pytest.mark.parametrize(
+    "package",
+    [
+        "railcheck.fea",
+        "railcheck.geometry",
+        "railcheck.loads",
+        "railcheck.kinematics",
+        "railcheck.kinematics.planar",
+        "railcheck.check",
+        "railcheck.sweep",
+    ],
+)
 def test_each_public_name_imports(package):
     module = importlib.import_module(package)
     assert module.__all__ and sorted(set(module.__all__)) == sorted(module.__all__)

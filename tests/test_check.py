@@ -24,13 +24,18 @@ from scene_texts import FINAL_DESIGN, PLATE_LOADS, assert_picture, browse
 
 KINEMATICS_ONLY = FINAL_DESIGN + 'speed = "1 Hz"\n'
 
-PLATE_ONLY = PLATE_LOADS + """[mesh]
+PLATE_ONLY = (
+    PLATE_LOADS
+    + """[mesh]
 order = 2
 size = "8 mm"
 hole_size = "4 mm"
 """
+)
 
-COARSE_CRANK = KINEMATICS_ONLY + """
+COARSE_CRANK = (
+    KINEMATICS_ONLY
+    + """
 [check]
 parts = ["crank-rail"]
 factor = FACTOR
@@ -39,6 +44,7 @@ order = 2
 size = "20 mm"
 hole_size = "6 mm"
 """
+)
 
 
 def test_rotation_unit_cases():
@@ -60,8 +66,11 @@ def test_load_cases_sum_to_factor_times_peak_reaction():
     kin = run_kinematics(scene)
     cases = build_load_cases(scene, kin, part_geometries(scene))
     dyn, th = kin.dynamics, kin.motion.theta
-    expected = {"crank-rail": (-dyn.reactions["A"], th[:, 0]), "coupler-rail": (-dyn.reactions["B"], th[:, 1]),
-                "rocker-rail": (dyn.reactions["B"], th[:, 2])}
+    expected = {
+        "crank-rail": (-dyn.reactions["A"], th[:, 0]),
+        "coupler-rail": (-dyn.reactions["B"], th[:, 1]),
+        "rocker-rail": (dyn.reactions["B"], th[:, 2]),
+    }
     for part, (force, angle) in expected.items():
         k = int(np.argmax(np.hypot(force[:, 0], force[:, 1])))
         want = 1.4 * to_rail_axes(force[k], angle[k])
@@ -70,7 +79,7 @@ def test_load_cases_sum_to_factor_times_peak_reaction():
         assert len(cases[part].bolts) == 2
         # worst position: the last two holes of the rail
         n = len(part_geometries(scene)[part].get("hole_x"))
-        assert [b.group for b in cases[part].bolts] == [f"hole_{n-2}", f"hole_{n-1}"]
+        assert [b.group for b in cases[part].bolts] == [f"hole_{n - 2}", f"hole_{n - 1}"]
     plate = cases["PF_4b_003_v2"]
     assert [b.force for b in plate.bolts] == [(250.0, 250.0, 0.0)] * 4
 
@@ -97,9 +106,11 @@ def test_stages_run_kinematics_only_and_plate_only():
 def test_kinematics_only_run_imports_no_heavy_module(tmp_path):
     scene = tmp_path / "k.toml"
     scene.write_text(KINEMATICS_ONLY)
-    code = (f"import sys; from railcheck.cli import main; rc = main(['check', {str(scene)!r}, '--out', "
-            f"{str(tmp_path / 'out')!r}, '--json']); heavy = sorted(m for m in sys.modules if m.split('.')[0] "
-            "in ('gmsh', 'skfem', 'pyvista', 'vtk', 'meshio', 'pyamg')); print('HEAVY', heavy, rc, file=sys.stderr)")
+    code = (
+        f"import sys; from railcheck.cli import main; rc = main(['check', {str(scene)!r}, '--out', "
+        f"{str(tmp_path / 'out')!r}, '--json']); heavy = sorted(m for m in sys.modules if m.split('.')[0] "
+        "in ('gmsh', 'skfem', 'pyvista', 'vtk', 'meshio', 'pyamg')); print('HEAVY', heavy, rc, file=sys.stderr)"
+    )
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert "HEAVY [] 0" in proc.stderr, proc.stderr
     summary = json.loads(proc.stdout)
@@ -133,8 +144,9 @@ def test_default_check_end_to_end(tmp_path):
     import meshio
 
     out = tmp_path / "results"
-    proc = subprocess.run([sys.executable, "-m", "railcheck.cli", "check", "--out", str(out)],
-                          capture_output=True, text=True, cwd=tmp_path)
+    proc = subprocess.run(
+        [sys.executable, "-m", "railcheck.cli", "check", "--out", str(out)], capture_output=True, text=True, cwd=tmp_path
+    )
     assert proc.returncode in (0, 1), proc.stderr
     summary = json.loads((out / "summary.json").read_text())
     assert summary["stages_run"] == ["scene", "kinematics", "loads", "geometry", "mesh", "solve", "stress", "report"]
@@ -144,24 +156,24 @@ def test_default_check_end_to_end(tmp_path):
         m = meshio.read(out / f"{name}.vtu")
         assert m.point_data["displacement"].shape[1] == 3 and "von_mises" in m.point_data
         assert_picture(out / f"{name}.png", min_size=(1000, 500))
-        if name != "PF_4b_003_v2":                   # constant explicit loads: no cycle to plot
+        if name != "PF_4b_003_v2":  # constant explicit loads: no cycle to plot
             assert_picture(out / f"{name}-cycle.png")
-        assert m.cells[0].type == "tetra10"                                  # every P2 node
+        assert m.cells[0].type == "tetra10"  # every P2 node
         env, zone = m.point_data["von_mises_envelope"], m.point_data["verdict_zone"] > 0
         assert env.max() == summary["parts"][name]["support_peak_von_mises_Pa"]
-        assert env[zone].max() == summary["parts"][name]["max_von_mises_Pa"]   # what ParaView shows = the report
+        assert env[zone].max() == summary["parts"][name]["max_von_mises_Pa"]  # what ParaView shows = the report
         vm = m.point_data["von_mises"]
         assert np.isfinite(vm).all() and vm.max() > 0
         assert m.point_data["von_mises_envelope"].max() >= vm.max() * (1 - 1e-12)
         p = summary["parts"][name]
         assert set(p) >= {"max_von_mises_Pa", "tip_deflection_m", "limit_Pa", "pass", "factor_of_safety"}
-        bolts = p["load_case"]["bolts"]                     # every bolt's force, not a count
+        bolts = p["load_case"]["bolts"]  # every bolt's force, not a count
         assert isinstance(bolts, dict) and all(len(f) == 3 for f in bolts.values())
         assert p["factor_of_safety"] == pytest.approx(p["limit_Pa"] / p["max_von_mises_Pa"], rel=1e-12)
         # the console shows the same figures
         line = next(l for l in proc.stdout.splitlines() if l.strip().startswith(name + " "))
-        assert f"{p['max_von_mises_Pa']/1e6:.1f} MPa" in line
-        assert f"{p['tip_deflection_m']*1e3:.2f} mm" in line
+        assert f"{p['max_von_mises_Pa'] / 1e6:.1f} MPa" in line
+        assert f"{p['tip_deflection_m'] * 1e3:.2f} mm" in line
         assert ("PASS" if p["pass"] else "FAIL") in line
     assert proc.returncode == (0 if summary["verdict"] == "PASS" else 1)
     # one self-contained report: tables and every picture inline, as a browser shows it
@@ -176,8 +188,12 @@ def test_default_check_end_to_end(tmp_path):
     assert_picture(shot, min_size=(1400, 1600), min_colours=200)
     assert (out / "parts.pvd").read_text().count("<DataSet") == len(parts)
     # a second run never overwrites the first
-    again = subprocess.run([sys.executable, "-m", "railcheck.cli", "check", "--out", str(out), "--json"],
-                           capture_output=True, text=True, cwd=tmp_path)
+    again = subprocess.run(
+        [sys.executable, "-m", "railcheck.cli", "check", "--out", str(out), "--json"],
+        capture_output=True,
+        text=True,
+        cwd=tmp_path,
+    )
     assert (tmp_path / "results-2" / "summary.json").exists()
     # determinism: the same scene gives a byte-identical summary
     assert (tmp_path / "results-2" / "summary.json").read_bytes() == (out / "summary.json").read_bytes()
@@ -197,8 +213,11 @@ def test_parts_in_worker_processes_equal_parts_in_this_process():
     """Two parts on two worker processes (spawned) give exactly the serial results, and a
     worker's error reaches the caller as the same exception with its field."""
 
-    scene = parse_scene(tomllib.loads(COARSE_CRANK.replace("FACTOR", "1.4").replace(
-        'parts = ["crank-rail"]', 'parts = ["crank-rail", "coupler-rail"]')))
+    scene = parse_scene(
+        tomllib.loads(
+            COARSE_CRANK.replace("FACTOR", "1.4").replace('parts = ["crank-rail"]', 'parts = ["crank-rail", "coupler-rail"]')
+        )
+    )
     serial = run_pipeline(scene, jobs=1)
     parallel = run_pipeline(scene, jobs=2)
     assert list(parallel.parts) == list(serial.parts) == ["crank-rail", "coupler-rail"]

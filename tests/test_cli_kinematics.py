@@ -9,12 +9,15 @@ import pytest
 from railcheck.cli import main
 from scene_texts import FINAL_DESIGN, assert_picture
 
-GOOD = FINAL_DESIGN + """speed = "1 Hz"
+GOOD = (
+    FINAL_DESIGN
+    + """speed = "1 Hz"
 steps = 5000
 assembly = "open"
 [dynamics]
 formulation = "seed-2013"
 """
+)
 
 
 def run(argv, capsys):
@@ -51,26 +54,25 @@ def test_plots_written(tmp_path, capsys):
     code, out, _ = run(["kinematics", "--plots", str(tmp_path / "p")], capsys)
     assert code == 0
     names = sorted(p.name for p in (tmp_path / "p").iterdir())
-    assert names == ["angles.png", "angular_accelerations.png", "angular_velocities.png",
-                     "reactions.png", "torque.png"]
+    assert names == ["angles.png", "angular_accelerations.png", "angular_velocities.png", "reactions.png", "torque.png"]
     for n in names:
         assert_picture(tmp_path / "p" / n)
 
 
 BAD = [
-    ('crank = "480 mm"', "crank = 480", "mechanism.crank"),                  # bare number
-    ('crank = "480 mm"', 'crank = "480 kg"', "mechanism.crank"),             # wrong unit
-    ('crank = "480 mm"', 'crank = "-480 mm"', "mechanism.crank"),            # negative
-    ('crank = "480 mm"', 'crank = "0 mm"', "mechanism.crank"),               # zero
-    ('crank = "480 mm"', 'crank = "nan mm"', "mechanism.crank"),             # NaN
-    ('crank = "480 mm"', "", "mechanism.crank"),                             # missing
+    ('crank = "480 mm"', "crank = 480", "mechanism.crank"),  # bare number
+    ('crank = "480 mm"', 'crank = "480 kg"', "mechanism.crank"),  # wrong unit
+    ('crank = "480 mm"', 'crank = "-480 mm"', "mechanism.crank"),  # negative
+    ('crank = "480 mm"', 'crank = "0 mm"', "mechanism.crank"),  # zero
+    ('crank = "480 mm"', 'crank = "nan mm"', "mechanism.crank"),  # NaN
+    ('crank = "480 mm"', "", "mechanism.crank"),  # missing
     ('speed = "1 Hz"', 'speed = "1 Hz"\ncolour = "red"', "mechanism.colour"),  # unknown key
     ('speed = "1 Hz"', 'speed = "1 mm"', "mechanism.speed"),
-    ('steps = 5000', 'steps = 2.5', "mechanism.steps"),
+    ("steps = 5000", "steps = 2.5", "mechanism.steps"),
     ('assembly = "open"', 'assembly = "sideways"', "mechanism.assembly"),
     ('formulation = "seed-2013"', 'formulation = "lagrange"', "dynamics.formulation"),
     ('kind = "four-bar"', 'kind = "five-bar"', "mechanism.kind"),
-    ('ground = "1020 mm"', 'ground = "3000 mm"', "mechanism.ground"),        # cannot be assembled
+    ('ground = "1020 mm"', 'ground = "3000 mm"', "mechanism.ground"),  # cannot be assembled
 ]
 
 
@@ -104,15 +106,15 @@ def test_malformed_toml_and_missing_file(tmp_path, capsys):
 def test_no_traceback_in_a_real_process(tmp_path):
     scene = tmp_path / "bad.toml"
     scene.write_text(GOOD.replace('crank = "480 mm"', "crank = 480"))
-    proc = subprocess.run([sys.executable, "-m", "railcheck.cli", "kinematics", str(scene)],
-                          capture_output=True, text=True)
+    proc = subprocess.run([sys.executable, "-m", "railcheck.cli", "kinematics", str(scene)], capture_output=True, text=True)
     assert proc.returncode == 2
     assert "Traceback" not in proc.stderr
-    assert proc.stderr.strip() == ('railcheck: error: mechanism.crank: needs a unit, e.g. "480 mm" '
-                                   "(got the bare number 480)")
+    assert proc.stderr.strip() == (
+        'railcheck: error: mechanism.crank: needs a unit, e.g. "480 mm" (got the bare number 480)'
+    )
 
 
-REJECTED = GOOD.replace('crank = "480 mm"', 'crank = "540 mm"')   # seed 3.3.6 "NO CUMPLE": mu min 34.2 deg
+REJECTED = GOOD.replace('crank = "480 mm"', 'crank = "540 mm"')  # seed 3.3.6 "NO CUMPLE": mu min 34.2 deg
 
 
 def test_seeds_rejected_design_fails_naming_the_transmission_angle(tmp_path, capsys):
@@ -125,13 +127,15 @@ def test_seeds_rejected_design_fails_naming_the_transmission_angle(tmp_path, cap
 
 def test_failed_configuration_check_fails_the_check_run(tmp_path, capsys):
     scene = tmp_path / "rejected.toml"
-    scene.write_text(REJECTED + '[check]\nparts = ["PF_4b_003_v2"]\n[loads.PF_4b_003_v2]\nlongitudinal = "10 N"\n'
-                                '[mesh]\nsize = "12 mm"\n[output]\nvtk = false\npng = false\nplots = false\n')
+    scene.write_text(
+        REJECTED + '[check]\nparts = ["PF_4b_003_v2"]\n[loads.PF_4b_003_v2]\nlongitudinal = "10 N"\n'
+        '[mesh]\nsize = "12 mm"\n[output]\nvtk = false\npng = false\nplots = false\n'
+    )
     code, out, err = run(["check", str(scene), "--out", str(tmp_path / "r"), "--json"], capsys)
     summary = json.loads(out)
     assert code == 1
     assert summary["verdict"] == "FAIL" and summary["failures"] == ["check transmission_angle"]
-    assert summary["parts"]["PF_4b_003_v2"]["pass"] is True       # the part itself passes
+    assert summary["parts"]["PF_4b_003_v2"]["pass"] is True  # the part itself passes
 
 
 def test_a_joint_beyond_its_rail_fails(tmp_path, capsys):
@@ -165,6 +169,6 @@ def test_output_paths_are_checked_before_any_work(tmp_path, capsys):
     blocker = tmp_path / "file"
     blocker.write_text("x")
     code, out, err = run(["kinematics", "--plots", str(blocker)], capsys)
-    assert code == 2 and "--plots" in err and out == ""            # nothing computed, nothing printed
+    assert code == 2 and "--plots" in err and out == ""  # nothing computed, nothing printed
     code, out, err = run(["mechanism", "a-z-1139", "--gif", str(blocker / "x.gif")], capsys)
     assert code == 2 and "--gif" in err and out == ""

@@ -14,7 +14,7 @@ from railcheck.studies.convergence import HOLE_RATIO, kinematics_study, richards
 @pytest.mark.parametrize("p", [1.0, 2.0, 3.5])
 def test_richardson_recovers_a_known_limit_and_order(p):
     f = lambda h: 3.0 + 2.0 * h**p  # noqa: E731
-    h = [0.4, 0.25, 0.15]                      # non-constant refinement ratio
+    h = [0.4, 0.25, 0.15]  # non-constant refinement ratio
     f0, order = richardson(h, [f(x) for x in h])
     assert f0 == pytest.approx(3.0, rel=1e-10)
     assert order == pytest.approx(p, rel=1e-8)
@@ -35,8 +35,17 @@ def test_cantilever_table_is_monotone_for_p2_and_finest_below_half_percent(capsy
     assert errors[-1] < 0.005
     assert abs(p2[-1]["error_von_mises"]) < 0.01
     for r in rows:
-        assert {"order", "size_m", "dofs", "seconds", "peak_memory_bytes", "tip_deflection_m",
-                "max_von_mises_Pa", "error_deflection", "error_von_mises"} <= set(r)
+        assert {
+            "order",
+            "size_m",
+            "dofs",
+            "seconds",
+            "peak_memory_bytes",
+            "tip_deflection_m",
+            "max_von_mises_Pa",
+            "error_deflection",
+            "error_von_mises",
+        } <= set(r)
         assert set(r["seconds"]) == {"mesh", "assembly", "solve", "stress"}
         assert r["peak_memory_bytes"] > 0
     # P1 locks: every P1 row is far worse than the coarsest P2 row
@@ -61,9 +70,13 @@ def test_unknown_target_exits_2(capsys):
 #: --sizes 20,14,10,7` (rails), `12,8.5,6,4.2` (PF_4b_006), `12,8.5,6,4.2,3` (PF_4b_003_v2);
 #: the rocker rail's stress oscillates, so its finest mesh (7 mm) is the reference.
 #: (tip deflection m, peak von Mises away from the support Pa)
-CONVERGED = {"crank-rail": (6.768301e-3, 110.58099e6), "coupler-rail": (9.810567e-3, 78.897083e6),
-             "rocker-rail": (9.675823e-3, 76.445442e6), "PF_4b_006": (7.077946e-7, 2.8465746e6),
-             "PF_4b_003_v2": (1.0538050e-4, 92.856826e6)}
+CONVERGED = {
+    "crank-rail": (6.768301e-3, 110.58099e6),
+    "coupler-rail": (9.810567e-3, 78.897083e6),
+    "rocker-rail": (9.675823e-3, 76.445442e6),
+    "PF_4b_006": (7.077946e-7, 2.8465746e6),
+    "PF_4b_003_v2": (1.0538050e-4, 92.856826e6),
+}
 
 
 @pytest.mark.slow

@@ -44,19 +44,20 @@ def tiny_rail():
 def _vector_basis(mesh, curved, intorder=2):
     from skfem import Basis, ElementTetP2
     from skfem.element import ElementVector
+
     return Basis(skfem_mesh(mesh.points, mesh.tets, curved), ElementVector(ElementTetP2()), intorder=intorder)
 
 
 def test_curved_p2_gives_a_hole_circumference_to_1e4_where_straight_p2_does_not(short_rail):
     geo, mesh = short_rail
     p = dict(geo.params)
-    height = p["height"] - p["counterbore_depth"]            # the through-hole below the counterbore
+    height = p["height"] - p["counterbore_depth"]  # the through-hole below the counterbore
     exact = np.pi * p["hole_diameter"]
     for k in range(2):
         curved = group_area(_vector_basis(mesh, mesh.curved), mesh.groups, f"hole_{k}") / height
         straight = group_area(_vector_basis(mesh, None), mesh.groups, f"hole_{k}") / height
         assert abs(curved / exact - 1) < 1e-4, curved / exact - 1
-        assert abs(straight / exact - 1) > 3e-3, straight / exact - 1     # faceted: ~1e-2 short
+        assert abs(straight / exact - 1) > 3e-3, straight / exact - 1  # faceted: ~1e-2 short
 
 
 def test_only_edges_on_curved_surfaces_are_curved_and_they_lie_on_the_cylinders(short_rail):
@@ -123,6 +124,7 @@ def _four_point_stiffness(mesh):
     straight-element rule would give), assembled by scikit-fem itself."""
     from skfem import asm
     from skfem.models.elasticity import linear_elasticity
+
     return asm(linear_elasticity(*STEEL.lame), _vector_basis(mesh, mesh.curved))
 
 
@@ -136,10 +138,9 @@ def test_six_rigid_body_modes_on_the_curved_mesh(tiny_rail):
     K, _ = assemble(mesh.points, mesh.tets, STEEL, 2, mesh.curved)
     scale = K.diagonal().max()
     shift = 1e-8 * scale
-    ev = np.sort(eigsh(K + shift * identity(K.shape[0]), k=8, sigma=0.0, which="LM",
-                       return_eigenvectors=False)) - shift
-    assert np.all(np.abs(ev[:6]) < 1e-9 * scale)           # six zero-energy modes
-    assert ev[6] > 1e-7 * scale                             # and no seventh
+    ev = np.sort(eigsh(K + shift * identity(K.shape[0]), k=8, sigma=0.0, which="LM", return_eigenvectors=False)) - shift
+    assert np.all(np.abs(ev[:6]) < 1e-9 * scale)  # six zero-energy modes
+    assert ev[6] > 1e-7 * scale  # and no seventh
 
 
 def test_traction_on_a_curved_hole_integrates_to_the_force(short_rail):
@@ -152,7 +153,6 @@ def test_traction_on_a_curved_hole_integrates_to_the_force(short_rail):
 
 def test_straight_mesh_surface_weights_equal_scikit_fem_facet_integrals(short_rail):
     from skfem import FacetBasis, LinearForm, asm
-
 
     _, mesh = short_rail
     basis = _vector_basis(mesh, None)

@@ -34,22 +34,28 @@ def crank_scene(extra: str = "", lengths: str = FINAL_DESIGN):
 def first_cases(fields, k):
     """The unit fields of the first ``k`` cases only."""
     from dataclasses import replace
-    return replace(fields, stress=fields.stress[:, :, :k], tip=fields.tip[:, :k],
-                   displacement=fields.displacement[:, :, :k], names=fields.names[:k])
+
+    return replace(
+        fields,
+        stress=fields.stress[:, :, :k],
+        tip=fields.tip[:, :k],
+        displacement=fields.displacement[:, :, :k],
+        names=fields.names[:k],
+    )
 
 
 @pytest.fixture(scope="module")
 def crank():
     """The crank rail on a coarse P2 mesh, its unit fields and the default kinematics."""
-    scene = crank_scene('effects = ["inertia", "gravity", "rail-inertia"]\n[mesh]\nsize = "25 mm"\n'
-                        'hole_size = "8 mm"\n')
+    scene = crank_scene('effects = ["inertia", "gravity", "rail-inertia"]\n[mesh]\nsize = "25 mm"\nhole_size = "8 mm"\n')
     geo = geometry_of("crank-rail", {})
     mesh = mesh_part(geo, 25e-3, 8e-3)
     holes = bolt_holes(scene, "crank-rail", geo)
     cases = unit_cases(load_model(scene, "crank-rail", STEEL.density), geo, holes)
     kind = kind_of("crank-rail")
-    fields, meta = solve_unit_cases(mesh.points, mesh.tets, mesh.groups, STEEL, [kind.support], cases, 2,
-                                    kind.tip, kind.exclusion(geo), "direct")
+    fields, meta = solve_unit_cases(
+        mesh.points, mesh.tets, mesh.groups, STEEL, [kind.support], cases, 2, kind.tip, kind.exclusion(geo), "direct"
+    )
     return scene, geo, mesh, holes, fields, meta
 
 
@@ -57,9 +63,18 @@ def direct_stress(mesh, holes, c, body=(0.0, 0.0)):
     """solve_elasticity with the instant's bolt forces (c[0], c[1] shared by the holes)
     and a uniform body force (N/m^3)."""
     per_hole = (c[0] / len(holes), c[1] / len(holes), 0.0)
-    return solve_elasticity(mesh.points, mesh.tets, mesh.groups, STEEL, [Support("shaft_hole")],
-                            [HoleLoad(g, per_hole) for g in holes], order=2, tip_group="end_free",
-                            solver="direct", body_force=np.array([body[0], body[1], 0.0]))
+    return solve_elasticity(
+        mesh.points,
+        mesh.tets,
+        mesh.groups,
+        STEEL,
+        [Support("shaft_hole")],
+        [HoleLoad(g, per_hole) for g in holes],
+        order=2,
+        tip_group="end_free",
+        solver="direct",
+        body_force=np.array([body[0], body[1], 0.0]),
+    )
 
 
 @pytest.mark.parametrize("step", [0, 200, 555])
@@ -71,8 +86,9 @@ def test_superposition_equals_a_direct_solve_at_three_instants(crank, step):
     direct = direct_stress(mesh, holes, h.C[step])
     scale = np.abs(direct.stress).max()
     assert np.abs(stress_at(fields.stress, h.C[step]) - direct.stress).max() < 1e-9 * scale
-    np.testing.assert_allclose(fields.tip @ h.C[step], direct.tip_displacement, rtol=1e-9,
-                               atol=1e-9 * np.abs(direct.tip_displacement).max())
+    np.testing.assert_allclose(
+        fields.tip @ h.C[step], direct.tip_displacement, rtol=1e-9, atol=1e-9 * np.abs(direct.tip_displacement).max()
+    )
 
 
 def test_superposition_with_body_forces_equals_a_direct_solve(crank):
@@ -80,7 +96,7 @@ def test_superposition_with_body_forces_equals_a_direct_solve(crank):
     assert list(fields.names) == ["bolt_x", "bolt_y", "body_x", "body_y", "body_rot", "body_rad"]
     (h,) = source_histories(load_model(scene, "crank-rail", STEEL.density), run_kinematics(scene), holes)
     c = h.C[300].copy()
-    c[4:] = 0.0                                  # the direct solver takes uniform body forces only
+    c[4:] = 0.0  # the direct solver takes uniform body forces only
     direct = direct_stress(mesh, holes, c, c[2:4])
     # gravity and the bolt loads partly cancel, so the floor is the solve's rounding times
     # the terms' size over the result's: 1e-8 here, 1e-9 for the bolt loads alone (above)
@@ -99,15 +115,22 @@ def test_hull_candidates_give_the_exact_maximum(crank):
 
 
 @settings(max_examples=12, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
-@given(crank_mm=st.integers(3, 8), coupler_mm=st.integers(12, 16), rocker_mm=st.integers(10, 16),
-       ground_mm=st.integers(12, 17), hz=st.sampled_from([0.5, 1.0, 2.0]))
+@given(
+    crank_mm=st.integers(3, 8),
+    coupler_mm=st.integers(12, 16),
+    rocker_mm=st.integers(10, 16),
+    ground_mm=st.integers(12, 17),
+    hz=st.sampled_from([0.5, 1.0, 2.0]),
+)
 def test_envelope_is_never_below_the_seed_method(crank, crank_mm, coupler_mm, rocker_mm, ground_mm, hz):
     *_, holes, fields, _ = crank
-    lengths = (f'[mechanism]\nkind = "four-bar"\ncrank = "{60 * crank_mm} mm"\ncoupler = "{60 * coupler_mm} mm"\n'
-               f'rocker = "{60 * rocker_mm} mm"\nground = "{60 * ground_mm} mm"\n')
+    lengths = (
+        f'[mechanism]\nkind = "four-bar"\ncrank = "{60 * crank_mm} mm"\ncoupler = "{60 * coupler_mm} mm"\n'
+        f'rocker = "{60 * rocker_mm} mm"\nground = "{60 * ground_mm} mm"\n'
+    )
     bars = sorted([crank_mm, coupler_mm, rocker_mm, ground_mm])
     if bars[0] != crank_mm or bars[0] + bars[3] >= bars[1] + bars[2]:
-        return                                   # only Grashof crank-rockers revolve fully
+        return  # only Grashof crank-rockers revolve fully
     scene = crank_scene('effects = ["inertia", "gravity", "rail-inertia"]\n', lengths.replace("1 Hz", f"{hz} Hz"))
     (h,) = source_histories(load_model(scene, "crank-rail", STEEL.density), run_kinematics(scene), holes)
     env = envelope(fields, h.C)
@@ -120,7 +143,7 @@ def test_envelope_is_never_below_the_seed_method(crank, crank_mm, coupler_mm, ro
 def test_default_crank_rail_governs_where_the_transverse_load_peaks(crank):
     *_, holes, fields, _ = crank
     fields = first_cases(fields, 2)
-    scene = crank_scene()                        # the default effects: mechanism inertia only
+    scene = crank_scene()  # the default effects: mechanism inertia only
     kin = run_kinematics(scene)
     (h,) = source_histories(load_model(scene, "crank-rail", STEEL.density), kin, holes)
     env = envelope(fields, h.C)
@@ -131,7 +154,7 @@ def test_default_crank_rail_governs_where_the_transverse_load_peaks(crank):
     assert abs(governing - transverse_peak) < 2.0
     assert abs(governing - magnitude_peak) > 4.0
     seed = von_mises(stress_at(fields.stress, h.C[h.seed_step]))[fields.verdict_mask].max()
-    assert env.max_von_mises > 1.1 * seed       # the seed's shortcut underestimates the bending
+    assert env.max_von_mises > 1.1 * seed  # the seed's shortcut underestimates the bending
 
 
 def test_rail_inertia_unit_fields_balance_the_rigid_accelerations(crank):
@@ -143,7 +166,7 @@ def test_rail_inertia_unit_fields_balance_the_rigid_accelerations(crank):
     V = vol.sum()
     x0 = geo.get("hole_x")[0]
     rx, ry = (vol * (centre[:, 0] - x0)).sum(), (vol * centre[:, 1]).sum()
-    R = meta.resultants                       # (3, cases): N per unit coefficient
+    R = meta.resultants  # (3, cases): N per unit coefficient
     names = list(fields.names)
     np.testing.assert_allclose(R[:, names.index("bolt_x")], [1, 0, 0], atol=1e-12)
     np.testing.assert_allclose(R[:, names.index("bolt_y")], [0, 1, 0], atol=1e-12)
@@ -162,15 +185,16 @@ def test_rail_inertia_only_when_listed():
     assert list(unit_cases(load_model(listed, "crank-rail", STEEL.density), geo, holes))[-2:] == ["body_rot", "body_rad"]
     (h,) = source_histories(load_model(listed, "crank-rail", STEEL.density), run_kinematics(listed), holes)
     omega = 2 * np.pi
-    np.testing.assert_allclose(h.C[:, 5], STEEL.density * omega**2, rtol=1e-9)   # the crank turns steadily
+    np.testing.assert_allclose(h.C[:, 5], STEEL.density * omega**2, rtol=1e-9)  # the crank turns steadily
 
 
 @pytest.fixture(scope="module")
 def cantilever():
     L, w, hgt = 0.7, 0.023, 0.020
     mesh = mesh_part(bar(L, w, hgt), 8e-3, hole_size=8e-3)
-    fields, _ = solve_unit_cases(mesh.points, mesh.tets, mesh.groups, STEEL, ["clamp"],
-                                 {"tip_z": TractionCase(("tip",), 2)}, 2, "tip", 0.0, "direct")
+    fields, _ = solve_unit_cases(
+        mesh.points, mesh.tets, mesh.groups, STEEL, ["clamp"], {"tip_z": TractionCase(("tip",), 2)}, 2, "tip", 0.0, "direct"
+    )
     return (L, w, hgt), fields
 
 

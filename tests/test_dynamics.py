@@ -13,8 +13,10 @@ from railcheck.kinematics.motion import solve_motion
 DEFAULT = FourBar(0.48, 0.84, 0.78, 1.02)
 
 
-@pytest.mark.parametrize("linkage", [DEFAULT, FourBar(0.54, 0.9, 0.78, 1.058, "crossed"),
-                                     FourBar(0.18, 0.24, 0.72, 0.72), SliderCrank(0.48, 0.84, 0.05)])
+@pytest.mark.parametrize(
+    "linkage",
+    [DEFAULT, FourBar(0.54, 0.9, 0.78, 1.058, "crossed"), FourBar(0.18, 0.24, 0.72, 0.72), SliderCrank(0.48, 0.84, 0.05)],
+)
 @pytest.mark.parametrize("gravity", [0.0, 9.80665])
 def test_power_balance_every_step(linkage, gravity):
     motion = solve_motion(linkage, 2 * math.pi, 5000)

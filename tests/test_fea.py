@@ -68,8 +68,8 @@ def test_six_rigid_body_modes(block, order):
     basis = Basis(mesh, ElementVector(element_of(order)), intorder=2)
     K = stiffness_matrix(basis, STEEL).toarray()
     ev = np.linalg.eigvalsh(K)
-    assert np.all(np.abs(ev[:6]) < 1e-9 * ev[-1])      # six zero-energy modes
-    assert ev[6] > 1e-6 * ev[-1]                        # and no seventh
+    assert np.all(np.abs(ev[:6]) < 1e-9 * ev[-1])  # six zero-energy modes
+    assert ev[6] > 1e-6 * ev[-1]  # and no seventh
 
 
 @pytest.mark.parametrize("axis", ["z", "y", "x"])
@@ -91,8 +91,16 @@ def test_plain_rail_profile_matches_beam_theory_with_its_own_section():
     L = 0.7
     mesh = mesh_part(rail(L, holes=False), 8e-3, hole_size=8e-3)
     P = 100.0
-    sol = solve_elasticity(mesh.points, mesh.tets, mesh.groups, STEEL, [Support("end_pivot")],
-                           [HoleLoad("end_free", (0.0, P, 0.0))], order=2, tip_group="end_free")
+    sol = solve_elasticity(
+        mesh.points,
+        mesh.tets,
+        mesh.groups,
+        STEEL,
+        [Support("end_pivot")],
+        [HoleLoad("end_free", (0.0, P, 0.0))],
+        order=2,
+        tip_group="end_free",
+    )
     # transverse (in-plane) load bends about z: depth = rail width
     analytic = timoshenko_tip(P, L, RAIL.height, RAIL.width, STEEL, "z")
     assert sol.tip_displacement[1] == pytest.approx(analytic, rel=0.02)
@@ -104,8 +112,16 @@ def test_holed_rail_is_more_flexible_and_the_difference_is_measured():
     out = {}
     for holes in (False, True):
         mesh = mesh_part(rail(L, holes=holes), 8e-3, hole_size=3e-3)
-        sol = solve_elasticity(mesh.points, mesh.tets, mesh.groups, STEEL, [Support("end_pivot")],
-                               [HoleLoad("end_free", (0.0, 0.0, -P))], order=2, tip_group="end_free")
+        sol = solve_elasticity(
+            mesh.points,
+            mesh.tets,
+            mesh.groups,
+            STEEL,
+            [Support("end_pivot")],
+            [HoleLoad("end_free", (0.0, 0.0, -P))],
+            order=2,
+            tip_group="end_free",
+        )
         out[holes] = -sol.tip_displacement[2]
     extra = out[True] / out[False] - 1.0
     # counterbored holes every 60 mm soften vertical bending by a few percent, not more
@@ -130,8 +146,14 @@ def test_tractions_sum_to_the_requested_force_and_linearity(rail_mesh):
 
 @pytest.mark.slow
 def test_amg_and_direct_agree(rail_mesh):
-    args = (rail_mesh.points, rail_mesh.tets, rail_mesh.groups, STEEL, [Support("shaft_hole")],
-            [HoleLoad("hole_10", (200.0, 50.0, 0.0)), HoleLoad("hole_11", (200.0, 50.0, 0.0))])
+    args = (
+        rail_mesh.points,
+        rail_mesh.tets,
+        rail_mesh.groups,
+        STEEL,
+        [Support("shaft_hole")],
+        [HoleLoad("hole_10", (200.0, 50.0, 0.0)), HoleLoad("hole_11", (200.0, 50.0, 0.0))],
+    )
     d = solve_elasticity(*args, order=2, tip_group="end_free", solver="direct")
     a = solve_elasticity(*args, order=2, tip_group="end_free", solver="amg")
     assert a.solver["solver"] == "amg" and a.solver["iterations"] > 1
@@ -143,13 +165,30 @@ def test_amg_and_direct_agree(rail_mesh):
 @pytest.mark.slow
 def test_unconverged_iterative_solve_raises(rail_mesh):
     with pytest.raises(NumericalError, match="did not converge"):
-        solve_elasticity(rail_mesh.points, rail_mesh.tets, rail_mesh.groups, STEEL, [Support("shaft_hole")],
-                         [HoleLoad("hole_11", (100.0, 100.0, 0.0))], order=2, solver="amg", maxiter=3)
+        solve_elasticity(
+            rail_mesh.points,
+            rail_mesh.tets,
+            rail_mesh.groups,
+            STEEL,
+            [Support("shaft_hole")],
+            [HoleLoad("hole_11", (100.0, 100.0, 0.0))],
+            order=2,
+            solver="amg",
+            maxiter=3,
+        )
 
 
 def test_zero_load_is_exactly_zero(rail_mesh):
-    s = solve_elasticity(rail_mesh.points, rail_mesh.tets, rail_mesh.groups, STEEL, [Support("shaft_hole")],
-                         [HoleLoad("hole_11", (0.0, 0.0, 0.0))], order=2, tip_group="end_free")
+    s = solve_elasticity(
+        rail_mesh.points,
+        rail_mesh.tets,
+        rail_mesh.groups,
+        STEEL,
+        [Support("shaft_hole")],
+        [HoleLoad("hole_11", (0.0, 0.0, 0.0))],
+        order=2,
+        tip_group="end_free",
+    )
     assert np.all(s.displacement == 0.0) and s.max_von_mises == 0.0
 
 
@@ -164,14 +203,20 @@ def test_missing_group_and_missing_support_are_errors(rail_mesh):
 def test_vtu_round_trip(tmp_path, rail_mesh):
     import meshio
 
-
-    s = solve_elasticity(rail_mesh.points, rail_mesh.tets, rail_mesh.groups, STEEL, [Support("shaft_hole")],
-                         [HoleLoad("hole_11", (10.0, 20.0, 0.0))], order=2)
+    s = solve_elasticity(
+        rail_mesh.points,
+        rail_mesh.tets,
+        rail_mesh.groups,
+        STEEL,
+        [Support("shaft_hole")],
+        [HoleLoad("hole_11", (10.0, 20.0, 0.0))],
+        order=2,
+    )
     path = write_vtu(tmp_path / "rail.vtu", rail_mesh.points, rail_mesh.tets, s.displacement, s.von_mises)
     m = meshio.read(path)
     assert m.point_data["displacement"].shape == (rail_mesh.points.shape[0], 3)
     np.testing.assert_allclose(m.point_data["von_mises"], s.von_mises)
-    assert [p.name for p in tmp_path.iterdir()] == ["rail.vtu"]     # no temporary left
+    assert [p.name for p in tmp_path.iterdir()] == ["rail.vtu"]  # no temporary left
 
 
 def test_rigid_body_modes_are_the_kernel_of_a_free_stiffness(block):
@@ -208,18 +253,24 @@ def test_pair_pattern_equals_a_global_sort_of_the_pair_keys():
         np.testing.assert_array_equal(a, b)
     assert mine[2].shape == ref[2].shape and (mine[2] != ref[2]).nnz == 0
     values = rng.normal(size=(dofs.size * 10, 2))
-    expected = np.zeros((mine[1].size, 2))      # scatter-add by pair key, the plain way
+    expected = np.zeros((mine[1].size, 2))  # scatter-add by pair key, the plain way
     key = (dofs[:, :, None] * n + dofs[:, None, :]).ravel()
     entry = np.searchsorted(np.repeat(np.arange(n), np.diff(mine[0])) * n + mine[1], key)
     np.add.at(expected, entry, values)
     np.testing.assert_allclose(mine[2] @ values, expected, rtol=1e-14, atol=1e-14)
-    assert mine[0][1] == mine[0][0] and mine[0][-1] == mine[0][-2]      # the empty rows
+    assert mine[0][1] == mine[0][0] and mine[0][-1] == mine[0][-2]  # the empty rows
 
 
 @pytest.mark.slow
 def test_amg_is_deterministic(rail_mesh):
-    args = (rail_mesh.points, rail_mesh.tets, rail_mesh.groups, STEEL, [Support("shaft_hole")],
-            [HoleLoad("hole_11", (150.0, 80.0, 0.0))])
+    args = (
+        rail_mesh.points,
+        rail_mesh.tets,
+        rail_mesh.groups,
+        STEEL,
+        [Support("shaft_hole")],
+        [HoleLoad("hole_11", (150.0, 80.0, 0.0))],
+    )
     a = solve_elasticity(*args, order=2, solver="amg")
     b = solve_elasticity(*args, order=2, solver="amg")
     assert np.array_equal(a.displacement, b.displacement) and a.max_von_mises == b.max_von_mises
@@ -263,7 +314,6 @@ def test_a_memory_cap_sends_p2_to_p_multigrid(rail_mesh):
 def test_free_submatrix_equals_fancy_indexing():
     import scipy.sparse as sp
 
-
     rng = np.random.default_rng(4)
     K = sp.random(300, 300, density=0.05, format="csr", random_state=5)
     K.sort_indices()
@@ -280,7 +330,6 @@ def test_free_submatrix_equals_fancy_indexing():
 def test_mesh_entities_equal_scikit_fem(block):
     from skfem import MeshTet
 
-
     t = np.ascontiguousarray(block.tets.T)
     for indices in (MeshTet.elem.refdom.facets, MeshTet.elem.refdom.edges):
         mine = mesh_entities(t, indices)
@@ -296,7 +345,6 @@ def test_mass_matrix_equals_scikit_fem_and_jacobi_cg_equals_a_factorisation(bloc
     from skfem.element import ElementVector
     from skfem.quadrature import get_quadrature
 
-
     basis = Basis(skfem_mesh(block.points, block.tets), ElementVector(element_of(2)), intorder=1)
     scalar = basis.elem.elem
     M = mass_matrix(basis)
@@ -305,8 +353,9 @@ def test_mass_matrix_equals_scikit_fem_and_jacobi_cg_equals_a_factorisation(bloc
     B = np.random.default_rng(6).normal(size=(M.shape[0], 3))
     B[:, 1] = 0.0
     X = solve_jacobi_cg(M, B)
-    np.testing.assert_allclose(X, factorise(M, "scipy").solve(B, rtol=1e-9, extended=False),
-                               rtol=0, atol=1e-9 * np.abs(X).max())
+    np.testing.assert_allclose(
+        X, factorise(M, "scipy").solve(B, rtol=1e-9, extended=False), rtol=0, atol=1e-9 * np.abs(X).max()
+    )
     assert not np.any(X[:, 1])
     with pytest.raises(NumericalError):
         solve_jacobi_cg(M, B, maxiter=2)
@@ -348,7 +397,6 @@ def test_sparse_products_equal_scipy_and_fall_back_without_mkl(monkeypatch):
     product, for a vector and a block of columns of a non-square matrix."""
     import scipy.sparse as sp
 
-
     A = sp.random(3000, 2000, density=0.002, random_state=4, format="csr") + sp.eye(3000, 2000, format="csr")
     rng = np.random.default_rng(5)
     x, X = rng.normal(size=2000), rng.normal(size=(2000, 7))
@@ -361,7 +409,7 @@ def test_sparse_products_equal_scipy_and_fall_back_without_mkl(monkeypatch):
         np.testing.assert_allclose(fast @ v, exact, rtol=0, atol=1e-13 * np.abs(exact).max())
     if products._mkl() is not None:
         with pytest.raises(ValueError):
-            products.MklProduct(A) @ np.ones(3000)            # rows of A, not columns
+            products.MklProduct(A) @ np.ones(3000)  # rows of A, not columns
     empty = products.sparse_product(sp.csr_matrix((0, 5)))
     assert (empty @ np.ones(5)).shape == (0,)
     monkeypatch.setattr(products, "_mkl", lambda: None)
@@ -441,8 +489,7 @@ def test_a_torque_as_a_traction_twists_a_bar_as_saint_venant_says():
     locs, comp = basis.doflocs.T, dof_components(basis)
     moment = np.sum((locs[:, 1] - yc) * F * (comp == 2) - (locs[:, 2] - zc) * F * (comp == 1))
     assert moment == pytest.approx(torque, rel=1e-9)
-    uniform = body_force_vector(basis, [lambda x, c=c: np.stack([x[0] * 0 + (c == i) for i in range(3)])
-                                        for c in range(3)])
+    uniform = body_force_vector(basis, [lambda x, c=c: np.stack([x[0] * 0 + (c == i) for i in range(3)]) for c in range(3)])
     np.testing.assert_allclose(uniform, body_force_vectors(basis), atol=1e-15)
     U, _ = solve(K, F, supports(basis, mesh.groups, ["clamp"]), "direct", basis)
     sb = scalar_basis(basis)

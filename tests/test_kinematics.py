@@ -22,9 +22,12 @@ def test_fourbar_loop_closure(lengths, assembly):
     assert np.max(np.abs(np.hypot(*(B - O4).T) - lk.rocker)) < 1e-12
     # the vector loop of seed eq. (3.2.3): b2 e2 + b3 e3 - b4 e4 - d x = 0
     th = m.theta
-    loop = (lk.crank * np.stack([np.cos(th[:, 0]), np.sin(th[:, 0])], 1)
-            + lk.coupler * np.stack([np.cos(th[:, 1]), np.sin(th[:, 1])], 1)
-            - lk.rocker * np.stack([np.cos(th[:, 2]), np.sin(th[:, 2])], 1) - [lk.ground, 0])
+    loop = (
+        lk.crank * np.stack([np.cos(th[:, 0]), np.sin(th[:, 0])], 1)
+        + lk.coupler * np.stack([np.cos(th[:, 1]), np.sin(th[:, 1])], 1)
+        - lk.rocker * np.stack([np.cos(th[:, 2]), np.sin(th[:, 2])], 1)
+        - [lk.ground, 0]
+    )
     assert np.max(np.abs(loop)) < 1e-12
 
 
@@ -69,8 +72,8 @@ def test_crossed_is_the_mirror_of_open():
 
 def test_open_assembly_is_convex_at_quarter_turn():
     m = solve_motion(FourBar(0.48, 0.84, 0.78, 1.02, "open"), 1.0, 5)
-    A, B = m.points["A"][1], m.points["B"][1]           # theta2 = 90 deg
-    assert A[1] > 0 and B[1] > 0                           # B above the ground line
+    A, B = m.points["A"][1], m.points["B"][1]  # theta2 = 90 deg
+    assert A[1] > 0 and B[1] > 0  # B above the ground line
 
 
 @pytest.mark.parametrize("offset", [0.0, 0.05, -0.1])
@@ -97,6 +100,6 @@ def test_triangle_angle_is_accurate_for_needles():
     assert triangle_angle(3.0, 4.0, 5.0) == pytest.approx(math.pi / 2, rel=1e-15)
     assert triangle_angle(1.0, 1.0, 1.0) == pytest.approx(math.pi / 3, rel=1e-15)
     eps = 1e-7
-    c = 2 * math.sin(eps / 2)        # isosceles, sides 1, 1, apex angle eps
+    c = 2 * math.sin(eps / 2)  # isosceles, sides 1, 1, apex angle eps
     assert triangle_angle(1.0, 1.0, c) == pytest.approx(eps, rel=1e-9)
     assert math.isnan(float(triangle_angle(1.0, 1.0, 3.0)))

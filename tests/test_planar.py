@@ -32,7 +32,7 @@ def test_a_z_1139_traces_the_strophoid():
     expected = a * np.cos(2 * phi) / np.cos(phi)
     # rho = a cos 2phi / cos phi, signed: points with cos 2phi < 0 lie on the other side of O
     assert np.max(np.abs(np.abs(expected) - rho)) <= 1e-9 * a
-    assert np.ptp(phi) > math.radians(90)          # the whole loop and both branches are traced
+    assert np.ptp(phi) > math.radians(90)  # the whole loop and both branches are traced
 
 
 def test_a_z_1066_traces_the_hyperbola():
@@ -95,11 +95,11 @@ def test_velocities_and_accelerations_match_finite_differences(name):
         # seed 002's sweep starts 1.5 deg after one dead point and ends 0.13 deg before the
         # other (the coupler square to the slider's guide; the acceleration grows like
         # 1/sqrt there), where differences lose their accuracy: test the inner 90%
-        idx = idx[int(0.05 * idx.size): int(0.95 * idx.size)]
+        idx = idx[int(0.05 * idx.size) : int(0.95 * idx.size)]
     for f, df in ((P, V), (V, A), (motion.q, motion.qd)):
         scale = np.abs(df).max()
-        coarse = np.abs((f[idx + 2] - f[idx - 2]) / (4 * h) - df[idx]).max()     # step 2h
-        fine = np.abs((f[idx + 1] - f[idx - 1]) / (2 * h) - df[idx]).max()       # step h
+        coarse = np.abs((f[idx + 2] - f[idx - 2]) / (4 * h) - df[idx]).max()  # step 2h
+        fine = np.abs((f[idx + 1] - f[idx - 1]) / (2 * h) - df[idx]).max()  # step h
         # second order (about a quarter), unless already at the rounding floor
         assert fine <= max(0.3 * coarse, 1e-6 * scale), (fine, coarse, scale)
         assert fine <= 1e-4 * scale
@@ -124,7 +124,7 @@ def test_an_extra_revolute_is_reported_as_redundant_not_crashed_on():
 def test_leaving_the_assembly_range_names_the_driver_value():
     mech = CATALOGUE["a-4-1553"]()
     with pytest.raises(MechanismError) as info:
-        solve(mech, np.radians(np.linspace(0.0, 240.0, 241)))      # feasible only up to about 225 deg
+        solve(mech, np.radians(np.linspace(0.0, 240.0, 241)))  # feasible only up to about 225 deg
     assert "driver value" in str(info.value)
 
 
@@ -132,11 +132,17 @@ def test_singular_jacobian_on_the_path_is_reported_with_the_driver_value():
     # a parallelogram (crank = rocker, coupler = ground): all bars aligned at crank angle 0
     L, D = 0.3, 0.8
     ground = Body("g", {"O2": (0.0, 0.0), "O4": (D, 0.0)})
-    bodies = [Body("crank", {"O": (0.0, 0.0), "A": (L, 0.0)}, initial=(0.0, 0.0, 0.3)),
-              Body("coupler", {"A": (0.0, 0.0), "B": (D, 0.0)}, initial=(L * math.cos(0.3), L * math.sin(0.3), 0.0)),
-              Body("rocker", {"O": (0.0, 0.0), "B": (L, 0.0)}, initial=(D, 0.0, 0.3))]
-    joints = [Revolute("O2", 0, "O2", 1, "O"), Revolute("A", 1, "A", 2, "A"), Revolute("B", 2, "B", 3, "B"),
-              Revolute("O4", 0, "O4", 3, "O")]
+    bodies = [
+        Body("crank", {"O": (0.0, 0.0), "A": (L, 0.0)}, initial=(0.0, 0.0, 0.3)),
+        Body("coupler", {"A": (0.0, 0.0), "B": (D, 0.0)}, initial=(L * math.cos(0.3), L * math.sin(0.3), 0.0)),
+        Body("rocker", {"O": (0.0, 0.0), "B": (L, 0.0)}, initial=(D, 0.0, 0.3)),
+    ]
+    joints = [
+        Revolute("O2", 0, "O2", 1, "O"),
+        Revolute("A", 1, "A", 2, "A"),
+        Revolute("B", 2, "B", 3, "B"),
+        Revolute("O4", 0, "O4", 3, "O"),
+    ]
     mech = Mechanism("parallelogram", ground, bodies, joints, RotationDriver("d", 1, lambda s: (s, 1.0, 0.0)))
     with pytest.raises(SingularConfigurationError) as info:
         solve(mech, np.linspace(0.3, -0.3, 61))
@@ -160,15 +166,15 @@ def test_html_slider_moves_the_drawing(tmp_path):
     html = tmp_path / "m.html"
     assert main(["mechanism", "a-z-1139", "--steps", "121", "--html", str(html)]) == 0
     text = html.read_text()
-    assert "http://" not in text and "https://" not in text and "<script src" not in text   # self-contained
-    assert "autotest" not in text.lower()             # the user's page carries no test hook
+    assert "http://" not in text and "https://" not in text and "<script src" not in text  # self-contained
+    assert "autotest" not in text.lower()  # the user's page carries no test hook
     # the test drives a copy of the page with its own script: move the slider, read the drawing
     driven = tmp_path / "driven.html"
     driven.write_text(text.replace("</body>", DRIVER + "</body>"))
     proc = browse(driven, tmp_path, "--virtual-time-budget=5000", "--dump-dom")
     marker = proc.stdout.rfind("AUTOTEST{")
     assert marker >= 0, proc.stderr[-2000:]
-    raw = proc.stdout[marker + len("AUTOTEST"):]
+    raw = proc.stdout[marker + len("AUTOTEST") :]
     state = json.JSONDecoder().raw_decode(raw.replace("&quot;", '"'))[0]
     before, after = state["before"], state["after"]
     assert before["step"] == 0 and after["step"] == 60
@@ -187,5 +193,6 @@ def test_csv_and_gif(tmp_path):
     assert row[0] == pytest.approx(math.radians(21.02))
     assert_picture(gif, min_size=(300, 200))
     from PIL import Image
+
     with Image.open(gif) as im:
-        assert im.n_frames > 10                      # an animation, not a still
+        assert im.n_frames > 10  # an animation, not a still

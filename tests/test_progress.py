@@ -11,7 +11,7 @@ def test_heartbeat_reports_while_the_work_runs_and_when_it_ends():
         time.sleep(0.32)
     assert lines[0] == "factorising 1000 DOFs"
     ticks = [ln for ln in lines if ln.endswith(" s") and "..." in ln]
-    assert len(ticks) >= 4                                   # one every interval
+    assert len(ticks) >= 4  # one every interval
     assert lines[-1].startswith("factorising 1000 DOFs: done in 0.3")
 
 

@@ -18,16 +18,26 @@ def bracket(monkeypatch):
     """A throw-away 'bracket': a 200 x 20 x 20 mm steel bar clamped at one end, carrying
     the coupler's joint B in the coupler's axes on its free end face."""
 
-    kind = parts.PartKind("bracket", lambda overrides, length: bar(0.2, 0.02, 0.02), "clamp", "tip",
-                          lambda g: 0.02, (12e-3, 12e-3), lambda g: (0.02, 0.02), bolt_groups=lambda g: ["tip"])
+    kind = parts.PartKind(
+        "bracket",
+        lambda overrides, length: bar(0.2, 0.02, 0.02),
+        "clamp",
+        "tip",
+        lambda g: 0.02,
+        (12e-3, 12e-3),
+        lambda g: (0.02, 0.02),
+        bolt_groups=lambda g: ["tip"],
+    )
     monkeypatch.setitem(parts.KINDS, "bracket", kind)
-    monkeypatch.setitem(parts.PARTS, "bracket-B", parts.Part("bracket-B", "bracket",
-                                                             (parts.LoadSource("B", -1.0, "coupler"),)))
+    monkeypatch.setitem(
+        parts.PARTS, "bracket-B", parts.Part("bracket-B", "bracket", (parts.LoadSource("B", -1.0, "coupler"),))
+    )
 
 
 def test_a_part_added_through_the_registry_alone_is_checked_end_to_end(bracket):
-    scene = parse_scene(tomllib.loads(FINAL_DESIGN + 'speed = "1 Hz"\nsteps = 720\n[check]\n'
-                                      'parts = ["bracket-B"]\n[mesh]\nsize = "12 mm"\n'))
+    scene = parse_scene(
+        tomllib.loads(FINAL_DESIGN + 'speed = "1 Hz"\nsteps = 720\n[check]\nparts = ["bracket-B"]\n[mesh]\nsize = "12 mm"\n')
+    )
     result = run_pipeline(scene)
     part = result.parts["bracket-B"]
     cycle = part.cycle

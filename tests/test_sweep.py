@@ -16,9 +16,11 @@ from railcheck.sweep.run import run_sweep
 from railcheck.sweep.table import read_table
 
 # seed 000, 3.3.6: (b2, b3, b4, d) mm -> mu_max, mu_min (deg) and the seed's label
-SEED_336 = [((540, 900, 780, 1058), 143.9544, 35.0009, "cannot be mounted"),
-            ((540, 840, 780, 1020), 148.6930, 34.2160, "fails the transmission angle"),
-            ((480, 840, 780, 1020), 135.5846, 38.7192, "passes")]
+SEED_336 = [
+    ((540, 900, 780, 1058), 143.9544, 35.0009, "cannot be mounted"),
+    ((540, 840, 780, 1020), 148.6930, 34.2160, "fails the transmission angle"),
+    ((480, 840, 780, 1020), 135.5846, 38.7192, "passes"),
+]
 
 
 def _sweep(tmp_path, text: str, name: str = "out", **kw):
@@ -86,7 +88,10 @@ def test_seed_336_cases_are_found_with_the_seeds_check_results(tmp_path):
     """540/900/780/1058 (off the hole grid: given as an extra setting) cannot be mounted;
     540/840/780/1020 fails the transmission angle; 480/840/780/1020 passes; the
     transmission angles are the seed's to its 4 decimals."""
-    run = _sweep(tmp_path, KINEMATICS_ONLY + """
+    run = _sweep(
+        tmp_path,
+        KINEMATICS_ONLY
+        + """
 kind = "four-bar"
 crank = ["480 mm", "540 mm"]
 coupler = ["840 mm", "900 mm"]
@@ -97,11 +102,17 @@ crank = "540 mm"
 coupler = "900 mm"
 rocker = "780 mm"
 ground = "1058 mm"
-""", serial=True)
+""",
+        serial=True,
+    )
     rows = _rows(run)
     for (b2, b3, b4, d), mu_max, mu_min, label in SEED_336:
-        i = np.flatnonzero((rows["crank_mm"] == b2) & (rows["coupler_mm"] == b3) & (rows["rocker_mm"] == b4)
-                           & np.isclose(rows["ground_mm"], d))
+        i = np.flatnonzero(
+            (rows["crank_mm"] == b2)
+            & (rows["coupler_mm"] == b3)
+            & (rows["rocker_mm"] == b4)
+            & np.isclose(rows["ground_mm"], d)
+        )
         assert i.size == 1, (b2, b3, b4, d)
         i = i[0]
         assert rows["mu_max_deg"][i] == pytest.approx(mu_max, abs=1e-4)
@@ -126,8 +137,7 @@ def _newton_euler_9x9(b2, b3, b4, d, theta2, speed):
     m = batch.fourbar_motion(b2, b3, b4, d, 1.0, speed, theta2)
     bodies = fourbar_bodies(SimpleNamespace(crank=b2, coupler=b3, rocker=b4), MassModel())
     origins = ("O2", "A", "O4")
-    acting = {0: [(0, "O2", 1.0), (2, "A", -1.0)], 1: [(2, "A", 1.0), (4, "B", -1.0)],
-              2: [(4, "B", 1.0), (6, "O4", 1.0)]}
+    acting = {0: [(0, "O2", 1.0), (2, "A", -1.0)], 1: [(2, "A", 1.0), (4, "B", -1.0)], 2: [(4, "B", 1.0), (6, "O4", 1.0)]}
     out = []
     for t in range(theta2.size):
         M, rhs = np.zeros((9, 9)), np.zeros(9)
@@ -137,7 +147,7 @@ def _newton_euler_9x9(b2, b3, b4, d, theta2, speed):
             n = np.array([-e[1], e[0]])
             G = m.points[origins[b]][0, t] + bar.com * e
             aG = m.accelerations[origins[b]][0, t] + al * bar.com * n - w**2 * bar.com * e
-            rhs[3 * b:3 * b + 3] = [bar.mass * aG[0], bar.mass * aG[1], bar.inertia_com * al]
+            rhs[3 * b : 3 * b + 3] = [bar.mass * aG[0], bar.mass * aG[1], bar.inertia_com * al]
             for col, joint, sgn in acting[b]:
                 r = m.points[joint][0, t] - G
                 M[3 * b, col] += sgn
@@ -154,8 +164,9 @@ def test_closed_form_inverse_dynamics_equals_the_9x9_system(lengths):
     theta2 = np.linspace(0, 2 * np.pi, 37)
     ref = _newton_euler_9x9(*lengths, theta2, 2 * np.pi)
     dyn = batch.newton_euler(batch.fourbar_motion(*lengths, 1.0, 2 * np.pi, theta2))
-    got = np.column_stack([dyn.reactions["O2"][0], dyn.reactions["A"][0], dyn.reactions["B"][0],
-                           dyn.reactions["O4"][0], dyn.torque[0]])
+    got = np.column_stack(
+        [dyn.reactions["O2"][0], dyn.reactions["A"][0], dyn.reactions["B"][0], dyn.reactions["O4"][0], dyn.torque[0]]
+    )
     np.testing.assert_allclose(got, ref, rtol=1e-10, atol=1e-9 * np.abs(ref).max())
 
 
@@ -176,14 +187,14 @@ def test_bearing_life_matches_the_rating_formula():
     """Constant load and speed: L10 = (C/P)^3 10^6 / (3600 n); a load on half the turn
     gives the cubic mean; the two bearings of a joint share it."""
     T = 1000
-    speed = 2 * np.pi * np.ones((1, T))            # 1 rev/s
+    speed = 2 * np.pi * np.ones((1, T))  # 1 rev/s
     load = np.zeros((1, T, 2))
-    load[..., 0] = 2000.0                          # N on the joint, 1000 N per bearing
+    load[..., 0] = 2000.0  # N on the joint, 1000 N per bearing
     life = bearing_life(load, speed)
     expected = (BEARING_6205.dynamic_capacity / 1000.0) ** 3 * 1e6 / 3600.0
     assert life.l10_hours[0] == pytest.approx(expected, rel=1e-12)
     assert life.static_safety[0] == pytest.approx(7800.0 / 1000.0)
-    load[0, T // 2:, 0] = 0.0
+    load[0, T // 2 :, 0] = 0.0
     half = bearing_life(load, speed)
     assert half.equivalent_load[0] == pytest.approx(1000.0 * 0.5 ** (1 / 3), rel=1e-12)
 
@@ -193,12 +204,14 @@ def test_dask_and_serial_give_identical_tables(tmp_path):
     text = KINEMATICS_ONLY + 'crank = ["420 mm", "540 mm"]\ncoupler = ["780 mm", "900 mm"]\nspeeds = ["1 Hz", "1.5 Hz"]\n'
     text = text.replace('speeds = ["1 Hz"]\n', "")
     serial = _rows(_sweep(tmp_path, text, "serial", serial=True))
-    parallel = _rows(_sweep(tmp_path, text.replace("[sweep]", "[sweep]\nmemory = \"2 MB\""), "dask", workers=2,
-                            serial=False, dask=True))
+    parallel = _rows(
+        _sweep(tmp_path, text.replace("[sweep]", '[sweep]\nmemory = "2 MB"'), "dask", workers=2, serial=False, dask=True)
+    )
     assert serial.keys() == parallel.keys()
     for k in serial:
-        assert np.array_equal(serial[k], parallel[k]) or np.allclose(serial[k], parallel[k], rtol=0, atol=0,
-                                                                    equal_nan=True), k
+        assert np.array_equal(serial[k], parallel[k]) or np.allclose(
+            serial[k], parallel[k], rtol=0, atol=0, equal_nan=True
+        ), k
 
 
 @pytest.mark.slow
@@ -219,7 +232,7 @@ ground = ["660 mm", "2460 mm"]
 speeds = ["0.25 Hz", "0.5 Hz", "0.75 Hz", "1 Hz", "1.25 Hz", "1.5 Hz", "1.75 Hz", "2 Hz", "2.25 Hz", "2.5 Hz",
           "2.75 Hz", "3 Hz", "3.25 Hz", "3.5 Hz", "3.75 Hz", "4 Hz"]
 """
-    _sweep(tmp_path, text.replace('"2460 mm"', '"720 mm"'), "warm", serial=True)   # imports, not measured
+    _sweep(tmp_path, text.replace('"2460 mm"', '"720 mm"'), "warm", serial=True)  # imports, not measured
     tracemalloc.start()
     try:
         run = _sweep(tmp_path, text, serial=True)
@@ -236,8 +249,7 @@ speeds = ["0.25 Hz", "0.5 Hz", "0.75 Hz", "1 Hz", "1.25 Hz", "1.5 Hz", "1.75 Hz"
 def test_csv_table_equals_parquet(tmp_path):
     text = KINEMATICS_ONLY + 'kind = "slider-crank"\n'
     a = _rows(_sweep(tmp_path, text, "pq", serial=True), "slider-crank")
-    b = _rows(_sweep(tmp_path, text.replace("[sweep]", '[sweep]\nformat = "csv"'), "csv", serial=True),
-              "slider-crank")
+    b = _rows(_sweep(tmp_path, text.replace("[sweep]", '[sweep]\nformat = "csv"'), "csv", serial=True), "slider-crank")
     for k in a:
         if a[k].dtype.kind == "f":
             np.testing.assert_allclose(b[k].astype(float), a[k], rtol=1e-15, equal_nan=True)
@@ -271,14 +283,14 @@ def _check_scene(row: dict, speed_hz: float):
     text = f"""
 [mechanism]
 kind = "four-bar"
-crank = "{row['crank_mm']:.6f} mm"
-coupler = "{row['coupler_mm']:.6f} mm"
-rocker = "{row['rocker_mm']:.6f} mm"
-ground = "{row['ground_mm']:.6f} mm"
+crank = "{row["crank_mm"]:.6f} mm"
+coupler = "{row["coupler_mm"]:.6f} mm"
+rocker = "{row["rocker_mm"]:.6f} mm"
+ground = "{row["ground_mm"]:.6f} mm"
 speed = "{speed_hz:.17g} Hz"
 steps = 360
 
-[check]""" + FE_SWEEP.split("[check]")[1].replace('parts = [', 'bolt_position = "actual"\nparts = [')
+[check]""" + FE_SWEEP.split("[check]")[1].replace("parts = [", 'bolt_position = "actual"\nparts = [')
     return parse_scene(__import__("tomllib").loads(text), "check")
 
 
@@ -316,8 +328,10 @@ def test_checking_at_the_safe_speed_gives_utilisation_one(fe_sweep):
     i = np.flatnonzero(rows["checks_passed"])[0]
     row = {k: v[i] for k, v in rows.items()}
     result = run_pipeline(_check_scene(row, row["safe_speed_Hz"]))
-    u = max(max(p.verdict_stress / p.limit, p.cycle.fatigue.required / p.cycle.fatigue.min_safety_factor)
-            for p in result.parts.values())
+    u = max(
+        max(p.verdict_stress / p.limit, p.cycle.fatigue.required / p.cycle.fatigue.min_safety_factor)
+        for p in result.parts.values()
+    )
     assert u == pytest.approx(1.0, abs=1e-6)
 
 
@@ -326,15 +340,25 @@ def test_safe_speed_with_gravity_by_bisection(tmp_path):
     """With gravity the loads are C_g + s C_i and the safe speed comes from bisection:
     sweeping the same setting at that speed gives utilisation 1 (to the bisection's
     tolerance), and the rows at other speeds stay consistent (above: over 1, below: under)."""
-    text = FE_SWEEP.replace('crank = ["480 mm", "540 mm"]', 'crank = ["480 mm", "480 mm"]').replace(
-        'rocker = ["780 mm", "840 mm"]', 'rocker = ["780 mm", "780 mm"]').replace(
-        'ground = ["1020 mm", "1080 mm"]', 'ground = ["1020 mm", "1020 mm"]').replace(
-        'parts = [', 'effects = ["inertia", "gravity"]\nparts = [')
+    text = (
+        FE_SWEEP.replace('crank = ["480 mm", "540 mm"]', 'crank = ["480 mm", "480 mm"]')
+        .replace('rocker = ["780 mm", "840 mm"]', 'rocker = ["780 mm", "780 mm"]')
+        .replace('ground = ["1020 mm", "1080 mm"]', 'ground = ["1020 mm", "1020 mm"]')
+        .replace("parts = [", 'effects = ["inertia", "gravity"]\nparts = [')
+    )
     first = _rows(_sweep(tmp_path, text, "g1", serial=True))
     safe = float(first["safe_speed_Hz"][0])
     assert 0.5 < safe < 10
-    again = _rows(_sweep(tmp_path, text.replace('speeds = ["1 Hz"]', f'speeds = ["{safe:.17g} Hz", '
-                                                f'"{0.9 * safe:.17g} Hz", "{1.1 * safe:.17g} Hz"]'), "g2", serial=True))
+    again = _rows(
+        _sweep(
+            tmp_path,
+            text.replace(
+                'speeds = ["1 Hz"]', f'speeds = ["{safe:.17g} Hz", "{0.9 * safe:.17g} Hz", "{1.1 * safe:.17g} Hz"]'
+            ),
+            "g2",
+            serial=True,
+        )
+    )
     assert again["utilisation"][0] == pytest.approx(1.0, abs=1e-9)
     assert again["utilisation"][1] < 1.0 < again["utilisation"][2]
-    assert list(again["verdict"][1:]) == ["pass", "fail"]      # at the safe speed itself: 1 to rounding
+    assert list(again["verdict"][1:]) == ["pass", "fail"]  # at the safe speed itself: 1 to rounding

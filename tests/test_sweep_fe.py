@@ -12,15 +12,19 @@ from railcheck.sweep.fe import fatigue_min, make_screen, tip_peak, von_mises_pea
 
 def _brute(stress, mask, C, se=200e6, sut=750e6, criterion="goodman"):
     S = stress[:, mask]
-    X = np.tensordot(S, C, axes=([2], [2]))                    # (6, n, s, T)
+    X = np.tensordot(S, C, axes=([2], [2]))  # (6, n, s, T)
     vm = von_mises(X).max(axis=(0, 2))
     sa, sm = alternating_and_mean(X.max(axis=3), X.min(axis=3))
     return vm, safety_factor(sa, sm, se, sut, criterion, 400e6).min(axis=0)
 
 
 @settings(max_examples=40, deadline=None)
-@given(seed=st.integers(0, 2**31 - 1), k=st.sampled_from([2, 3, 4]), criterion=st.sampled_from(
-    ["goodman", "gerber", "asme-elliptic"]), spread=st.floats(0.0, 3.0))
+@given(
+    seed=st.integers(0, 2**31 - 1),
+    k=st.sampled_from([2, 3, 4]),
+    criterion=st.sampled_from(["goodman", "gerber", "asme-elliptic"]),
+    spread=st.floats(0.0, 3.0),
+)
 def test_screened_peaks_equal_brute_force(seed, k, criterion, spread):
     """Random stress fields with a few hot nodes (as near a hole) and random histories,
     some offset from zero (a mean stress): the screened peak and fatigue factor equal
@@ -31,8 +35,11 @@ def test_screened_peaks_equal_brute_force(seed, k, criterion, spread):
     mask = rng.random(n) > 0.1
     tip = rng.normal(size=(3, k))
     t = np.linspace(0, 2 * np.pi, 97)
-    C = (rng.normal(size=(7, 1, k)) + rng.normal(size=(7, 1, k)) * np.cos(t)[None, :, None]
-         + rng.normal(size=(7, 1, k)) * np.sin(2 * t)[None, :, None])
+    C = (
+        rng.normal(size=(7, 1, k))
+        + rng.normal(size=(7, 1, k)) * np.cos(t)[None, :, None]
+        + rng.normal(size=(7, 1, k)) * np.sin(2 * t)[None, :, None]
+    )
     screen = make_screen(stress, mask, tip, list(range(k)))
     vm, n_min = _brute(stress, mask, C, criterion=criterion)
     np.testing.assert_allclose(von_mises_peak(screen, C), vm, rtol=1e-12)

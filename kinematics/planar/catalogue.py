@@ -59,14 +59,30 @@ def a_4_1553() -> Mechanism:
     ground = Body("1", _scale({"p1": (0, 0), "p2": (0, L11), "p3": (-L13, -L12), "p4": (L14, L11)}))
     bodies = [
         _body("2", {"p1": (0, 0), "p2": (L2, 0), "p3": (-L2, 0)}, 7.60, -8.25, 338.17),
-        _body("3", {"p1": (0, 0), "p2": (L31, 0), "p3": (-L31, 0), "p4": (-L31, L32),
-                    "p5": (-L31 + L33, L32)}, 21.62, -3.45, 75.69),
+        _body(
+            "3",
+            {"p1": (0, 0), "p2": (L31, 0), "p3": (-L31, 0), "p4": (-L31, L32), "p5": (-L31 + L33, L32)},
+            21.62,
+            -3.45,
+            75.69,
+        ),
         _body("4", {"p1": (0, 0), "p2": (L4, 0)}, 24.03, 6.0, 0.0),
     ]
-    joints = [Revolute("1", 0, "p3", 1, "p3"), Revolute("2", 1, "p2", 2, "p3"), Revolute("3", 2, "p2", 3, "p1"),
-              _translate2("4", 0, "p2", "p4", 3, "p1", "p2")]
-    return Mechanism("a-4-1553", ground, bodies, joints, RotationDriver("driver", 1, linear_driver(338.17, 225.0)),
-                     tracer=(2, "p5"), description="Artobolevsky a-4-1553 (seed 002): crank, L-shaped coupler, slider")
+    joints = [
+        Revolute("1", 0, "p3", 1, "p3"),
+        Revolute("2", 1, "p2", 2, "p3"),
+        Revolute("3", 2, "p2", 3, "p1"),
+        _translate2("4", 0, "p2", "p4", 3, "p1", "p2"),
+    ]
+    return Mechanism(
+        "a-4-1553",
+        ground,
+        bodies,
+        joints,
+        RotationDriver("driver", 1, linear_driver(338.17, 225.0)),
+        tracer=(2, "p5"),
+        description="Artobolevsky a-4-1553 (seed 002): crank, L-shaped coupler, slider",
+    )
 
 
 def a_z_1139() -> Mechanism:
@@ -96,8 +112,15 @@ def a_z_1139() -> Mechanism:
         _translate2("9", 2, "p2", "p1", 4, "p3", "p1"),
         Revolute("10", 3, "p2", 6, "p1"),
     ]
-    mech = Mechanism("a-z-1139", ground, bodies, joints, RotationDriver("driver", 1, linear_driver(110.71, -220.0)),
-                     tracer=(7, "p1"), description="Artobolevsky a-z-1139 (seed 002): strophoid tracer")
+    mech = Mechanism(
+        "a-z-1139",
+        ground,
+        bodies,
+        joints,
+        RotationDriver("driver", 1, linear_driver(110.71, -220.0)),
+        tracer=(7, "p1"),
+        description="Artobolevsky a-z-1139 (seed 002): strophoid tracer",
+    )
     mech.curve_parameters = {"a": 2 * L2 * MM}
     return mech
 
@@ -120,18 +143,29 @@ def a_z_1066() -> Mechanism:
         _body("10", {"p1": (0, 0), "p2": (L10, 0)}, 0.70, -15.89, 61.71),
     ]
     joints = [
-        Revolute("1", 0, "p2", 3, "p2"), Revolute("2", 0, "p2", 4, "p2"),
-        Revolute("3", 5, "p3", 7, "p2"), Revolute("4", 6, "p3", 7, "p2"),
-        Revolute("5", 0, "p3", 7, "p3"), Revolute("6", 3, "p3", 8, "p2"),
+        Revolute("1", 0, "p2", 3, "p2"),
+        Revolute("2", 0, "p2", 4, "p2"),
+        Revolute("3", 5, "p3", 7, "p2"),
+        Revolute("4", 6, "p3", 7, "p2"),
+        Revolute("5", 0, "p3", 7, "p3"),
+        Revolute("6", 3, "p3", 8, "p2"),
         Revolute("7", 5, "p2", 8, "p2"),
         _translate2("8", 8, "p3", "p1", 9, "p1", "p2"),
-        Revolute("9", 4, "p3", 9, "p1"), Revolute("10", 6, "p2", 9, "p1"),
+        Revolute("9", 4, "p3", 9, "p1"),
+        Revolute("10", 6, "p2", 9, "p1"),
         Revolute("11", 1, "p1", 2, "p1"),
         _translate2("12", 1, "p3", "p2", 7, "p2", "p4"),
         _translate2("13", 2, "p3", "p2", 8, "p2", "p1"),
     ]
-    mech = Mechanism("a-z-1066", ground, bodies, joints, RotationDriver("driver", 7, linear_driver(21.02, -40.0)),
-                     tracer=(1, "p1"), description="Artobolevsky a-z-1066 (seed 002): hyperbolograph of Inwards")
+    mech = Mechanism(
+        "a-z-1066",
+        ground,
+        bodies,
+        joints,
+        RotationDriver("driver", 7, linear_driver(21.02, -40.0)),
+        tracer=(1, "p1"),
+        description="Artobolevsky a-z-1066 (seed 002): hyperbolograph of Inwards",
+    )
     mech.curve_parameters = {"a": a * MM, "l": L81 * MM}
     return mech
 
@@ -150,17 +184,43 @@ def rig_fourbar(linkage: FourBar = FourBar(0.48, 0.84, 0.78, 1.02), masses: Mass
 
     ground = Body("ground", {"O2": (0.0, 0.0), "O4": (d, 0.0)})
     bodies = [
-        Body("crank", {"O2": (-crank.com, 0.0), "A": (b2 - crank.com, 0.0)}, crank.mass, crank.inertia_com,
-             place((0.0, 0.0), th[0], crank.com)),
-        Body("coupler", {"A": (-coupler.com, 0.0), "B": (b3 - coupler.com, 0.0)}, coupler.mass,
-             coupler.inertia_com, place(m0.points["A"][0], th[1], coupler.com)),
-        Body("rocker", {"O4": (-rocker.com, 0.0), "B": (b4 - rocker.com, 0.0)}, rocker.mass, rocker.inertia_com,
-             place((d, 0.0), th[2], rocker.com)),
+        Body(
+            "crank",
+            {"O2": (-crank.com, 0.0), "A": (b2 - crank.com, 0.0)},
+            crank.mass,
+            crank.inertia_com,
+            place((0.0, 0.0), th[0], crank.com),
+        ),
+        Body(
+            "coupler",
+            {"A": (-coupler.com, 0.0), "B": (b3 - coupler.com, 0.0)},
+            coupler.mass,
+            coupler.inertia_com,
+            place(m0.points["A"][0], th[1], coupler.com),
+        ),
+        Body(
+            "rocker",
+            {"O4": (-rocker.com, 0.0), "B": (b4 - rocker.com, 0.0)},
+            rocker.mass,
+            rocker.inertia_com,
+            place((d, 0.0), th[2], rocker.com),
+        ),
     ]
-    joints = [Revolute("O2", 0, "O2", 1, "O2"), Revolute("A", 1, "A", 2, "A"), Revolute("B", 2, "B", 3, "B"),
-              Revolute("O4", 0, "O4", 3, "O4")]
-    return Mechanism("rig-four-bar", ground, bodies, joints, RotationDriver("driver", 1, linear_driver(0.0, 360.0)),
-                     tracer=(2, "B"), description="the rig's four-bar (seed 000) in body coordinates")
+    joints = [
+        Revolute("O2", 0, "O2", 1, "O2"),
+        Revolute("A", 1, "A", 2, "A"),
+        Revolute("B", 2, "B", 3, "B"),
+        Revolute("O4", 0, "O4", 3, "O4"),
+    ]
+    return Mechanism(
+        "rig-four-bar",
+        ground,
+        bodies,
+        joints,
+        RotationDriver("driver", 1, linear_driver(0.0, 360.0)),
+        tracer=(2, "B"),
+        description="the rig's four-bar (seed 000) in body coordinates",
+    )
 
 
 def rig_slidercrank(linkage: SliderCrank = SliderCrank(0.48, 0.84, 0.0), masses: MassModel = MassModel()) -> Mechanism:
@@ -173,24 +233,55 @@ def rig_slidercrank(linkage: SliderCrank = SliderCrank(0.48, 0.84, 0.0), masses:
     A0, B0 = m0.points["A"][0], m0.points["B"][0]
     ground = Body("ground", {"O2": (0.0, 0.0), "L1": (0.0, e), "L2": (1.0, e)})
     bodies = [
-        Body("crank", {"O2": (-crank.com, 0.0), "A": (b2 - crank.com, 0.0)}, crank.mass, crank.inertia_com,
-             (crank.com * math.cos(th[0]), crank.com * math.sin(th[0]), th[0])),
-        Body("coupler", {"A": (-coupler.com, 0.0), "B": (b3 - coupler.com, 0.0)}, coupler.mass, coupler.inertia_com,
-             (A0[0] + coupler.com * math.cos(th[1]), A0[1] + coupler.com * math.sin(th[1]), th[1])),
+        Body(
+            "crank",
+            {"O2": (-crank.com, 0.0), "A": (b2 - crank.com, 0.0)},
+            crank.mass,
+            crank.inertia_com,
+            (crank.com * math.cos(th[0]), crank.com * math.sin(th[0]), th[0]),
+        ),
+        Body(
+            "coupler",
+            {"A": (-coupler.com, 0.0), "B": (b3 - coupler.com, 0.0)},
+            coupler.mass,
+            coupler.inertia_com,
+            (A0[0] + coupler.com * math.cos(th[1]), A0[1] + coupler.com * math.sin(th[1]), th[1]),
+        ),
         Body("slider", {"B": (0.0, 0.0), "ahead": (1.0, 0.0)}, slider.mass, 0.0, (B0[0], B0[1], 0.0)),
     ]
-    joints = [Revolute("O2", 0, "O2", 1, "O2"), Revolute("A", 1, "A", 2, "A"), Revolute("B", 2, "B", 3, "B"),
-              Prismatic("slider", 0, "L1", "L2", 3, "B", "ahead")]
-    return Mechanism("rig-slider-crank", ground, bodies, joints, RotationDriver("driver", 1, linear_driver(0.0, 360.0)),
-                     tracer=(3, "B"), description="the rig's slider-crank in body coordinates")
+    joints = [
+        Revolute("O2", 0, "O2", 1, "O2"),
+        Revolute("A", 1, "A", 2, "A"),
+        Revolute("B", 2, "B", 3, "B"),
+        Prismatic("slider", 0, "L1", "L2", 3, "B", "ahead"),
+    ]
+    return Mechanism(
+        "rig-slider-crank",
+        ground,
+        bodies,
+        joints,
+        RotationDriver("driver", 1, linear_driver(0.0, 360.0)),
+        tracer=(3, "B"),
+        description="the rig's slider-crank in body coordinates",
+    )
 
 
-CATALOGUE = {"a-4-1553": a_4_1553, "a-z-1139": a_z_1139, "a-z-1066": a_z_1066,
-             "four-bar": rig_fourbar, "slider-crank": rig_slidercrank}
+CATALOGUE = {
+    "a-4-1553": a_4_1553,
+    "a-z-1139": a_z_1139,
+    "a-z-1066": a_z_1066,
+    "four-bar": rig_fourbar,
+    "slider-crank": rig_slidercrank,
+}
 
 #: the driver's sweep (rad) of each catalogue mechanism, from seed 002's angular speeds x 1 s
-SWEEPS = {"a-4-1553": math.radians(225.0), "a-z-1139": math.radians(-220.0), "a-z-1066": math.radians(-40.0),
-          "four-bar": 2 * math.pi, "slider-crank": 2 * math.pi}
+SWEEPS = {
+    "a-4-1553": math.radians(225.0),
+    "a-z-1139": math.radians(-220.0),
+    "a-z-1066": math.radians(-40.0),
+    "four-bar": 2 * math.pi,
+    "slider-crank": 2 * math.pi,
+}
 
 
 def driver_values(name: str, steps: int) -> np.ndarray:

@@ -42,7 +42,7 @@ class Body:
     points: dict[str, Vec]
     mass: float = 0.0
     inertia: float = 0.0
-    initial: tuple[float, float, float] = (0.0, 0.0, 0.0)   # x (m), y (m), theta (rad)
+    initial: tuple[float, float, float] = (0.0, 0.0, 0.0)  # x (m), y (m), theta (rad)
 
 
 @dataclass(frozen=True)
@@ -53,7 +53,7 @@ class Revolute:
     j: int
     pj: str
 
-    equations: ClassVar[int] = 2   # constraint equations
+    equations: ClassVar[int] = 2  # constraint equations
 
 
 @dataclass(frozen=True)
@@ -66,7 +66,7 @@ class Prismatic:
     pj: str
     qj: str
 
-    equations: ClassVar[int] = 2   # constraint equations
+    equations: ClassVar[int] = 2  # constraint equations
 
 
 @dataclass(frozen=True)
@@ -75,7 +75,7 @@ class Fixed:
     i: int
     j: int
 
-    equations: ClassVar[int] = 3   # constraint equations
+    equations: ClassVar[int] = 3  # constraint equations
 
 
 @dataclass(frozen=True)
@@ -86,7 +86,7 @@ class RotationDriver:
     body: int
     f: Callable[[float], tuple[float, float, float]]
 
-    equations: ClassVar[int] = 1   # constraint equations
+    equations: ClassVar[int] = 1  # constraint equations
 
 
 @dataclass(frozen=True)
@@ -102,7 +102,7 @@ class TranslationDriver:
     pj: str
     f: Callable[[float], tuple[float, float, float]]
 
-    equations: ClassVar[int] = 1   # constraint equations
+    equations: ClassVar[int] = 1  # constraint equations
 
 
 @dataclass
@@ -114,8 +114,9 @@ class Mechanism:
     bodies: list[Body]
     joints: list = field(default_factory=list)
     driver: RotationDriver | TranslationDriver | None = None
-    tracer: tuple[int, str] | None = None          # (body, point) whose path is traced
+    tracer: tuple[int, str] | None = None  # (body, point) whose path is traced
     description: str = ""
+    curve_parameters: dict[str, float] = field(default_factory=dict)  # m: the traced curve's (tests)
 
     @property
     def n(self) -> int:
@@ -135,6 +136,7 @@ class Mechanism:
 
 
 # -- primitives ---------------------------------------------------------------------
+
 
 def _rot(theta):
     c, s = np.cos(theta), np.sin(theta)
@@ -158,8 +160,8 @@ class _Frame:
     def _body(self, k):
         if k == 0:
             return np.zeros(2), 0.0, np.zeros(2), 0.0
-        x, y, th = self.q[3 * k - 3: 3 * k]
-        vx, vy, w = self.qd[3 * k - 3: 3 * k]
+        x, y, th = self.q[3 * k - 3 : 3 * k]
+        vx, vy, w = self.qd[3 * k - 3 : 3 * k]
         return np.array([x, y]), th, np.array([vx, vy]), w
 
     def point(self, k, name):
@@ -169,9 +171,9 @@ class _Frame:
         As = _rot(th) @ s
         J = np.zeros((2, self.mech.n))
         if k:
-            J[:, 3 * k - 3: 3 * k - 1] = np.eye(2)
+            J[:, 3 * k - 3 : 3 * k - 1] = np.eye(2)
             J[:, 3 * k - 1] = _perp(As)
-        return r + As, J, v + w * _perp(As), -w**2 * As
+        return r + As, J, v + w * _perp(As), -(w**2) * As
 
     def direction(self, k, a, b):
         """The vector from local point a to b: (d, J, ddot, dddot0)."""
@@ -182,7 +184,7 @@ class _Frame:
         J = np.zeros((2, self.mech.n))
         if k:
             J[:, 3 * k - 1] = _perp(d)
-        return d, J, w * _perp(d), -w**2 * d
+        return d, J, w * _perp(d), -(w**2) * d
 
 
 def _cross_terms(a, b):
@@ -195,8 +197,7 @@ def _cross_terms(a, b):
     return value, row, gamma
 
 
-def evaluate(mech: Mechanism, q: np.ndarray, qd: np.ndarray | None = None, s: float = 0.0,
-             with_driver: bool = True):
+def evaluate(mech: Mechanism, q: np.ndarray, qd: np.ndarray | None = None, s: float = 0.0, with_driver: bool = True):
     """Constraints at (q, qdot, driver parameter s): (Phi (m,), Phi_q (m, n), nu (m,), gamma (m,)).
 
     ``nu`` is the velocity right-hand side (Phi_q qdot = nu), ``gamma`` the acceleration
@@ -234,10 +235,10 @@ def evaluate(mech: Mechanism, q: np.ndarray, qd: np.ndarray | None = None, s: fl
             Ar = _rot(thi) @ rel
             phi += list(rj - ri - Ar) + [thj - thi - rel_th]
             J = np.zeros((3, mech.n))
-            J[0:2, 3 * c.j - 3: 3 * c.j - 1] = np.eye(2)
+            J[0:2, 3 * c.j - 3 : 3 * c.j - 1] = np.eye(2)
             J[2, 3 * c.j - 1] = 1.0
             if c.i:
-                J[0:2, 3 * c.i - 3: 3 * c.i - 1] = -np.eye(2)
+                J[0:2, 3 * c.i - 3 : 3 * c.i - 1] = -np.eye(2)
                 J[0:2, 3 * c.i - 1] = -_perp(Ar)
                 J[2, 3 * c.i - 1] = -1.0
             rows += list(J)

@@ -30,15 +30,17 @@ RANK_TOL = 1e-9
 
 @dataclass(frozen=True)
 class Mobility:
-    bodies: int                 # moving bodies
-    gruebler: int               # 3 n - 2 (revolute + prismatic) - 3 fixed
-    dof: int                    # n_q - rank(Phi_q) of the joints (no driver)
-    redundant: int              # joint equations - rank
+    bodies: int  # moving bodies
+    gruebler: int  # 3 n - 2 (revolute + prismatic) - 3 fixed
+    dof: int  # n_q - rank(Phi_q) of the joints (no driver)
+    redundant: int  # joint equations - rank
     equations: int
 
     def report(self) -> str:
-        return (f"{self.bodies} moving bodies, {self.equations} joint equations: Gruebler count "
-                f"{self.gruebler}, actual DOF {self.dof}, redundant constraints {self.redundant}")
+        return (
+            f"{self.bodies} moving bodies, {self.equations} joint equations: Gruebler count "
+            f"{self.gruebler}, actual DOF {self.dof}, redundant constraints {self.redundant}"
+        )
 
 
 @dataclass(frozen=True)
@@ -59,13 +61,13 @@ class PlanarMotion:
             z = np.zeros((self.s.size, 2))
             return np.broadcast_to(p, z.shape).copy(), z, z.copy()
         k = body
-        r = self.q[:, 3 * k - 3: 3 * k - 1]
+        r = self.q[:, 3 * k - 3 : 3 * k - 1]
         th, w, al = self.q[:, 3 * k - 1], self.qd[:, 3 * k - 1], self.qdd[:, 3 * k - 1]
         c, si = np.cos(th), np.sin(th)
         As = np.stack([c * p[0] - si * p[1], si * p[0] + c * p[1]], axis=1)
         perp = np.stack([-As[:, 1], As[:, 0]], axis=1)
-        v = self.qd[:, 3 * k - 3: 3 * k - 1] + w[:, None] * perp
-        a = self.qdd[:, 3 * k - 3: 3 * k - 1] + al[:, None] * perp - (w**2)[:, None] * As
+        v = self.qd[:, 3 * k - 3 : 3 * k - 1] + w[:, None] * perp
+        a = self.qdd[:, 3 * k - 3 : 3 * k - 1] + al[:, None] * perp - (w**2)[:, None] * As
         return r + As, v, a
 
 
@@ -92,8 +94,11 @@ def _newton(mech, q, s, tol=1e-13, maxiter=50):
             phi, J, _, _ = evaluate(mech, q, s=s)
             if np.abs(phi).max() <= 1e-10 * scale:
                 return q, J
-    raise MechanismError("mechanism", f"Newton-Raphson did not close the constraints at driver value {s:.6g} "
-                                      f"(residual {np.abs(phi).max():.2e}): the mechanism cannot be assembled there")
+    raise MechanismError(
+        "mechanism",
+        f"Newton-Raphson did not close the constraints at driver value {s:.6g} "
+        f"(residual {np.abs(phi).max():.2e}): the mechanism cannot be assembled there",
+    )
 
 
 def assemble(mech: Mechanism, s0: float) -> np.ndarray:
@@ -103,12 +108,13 @@ def assemble(mech: Mechanism, s0: float) -> np.ndarray:
 
 
 def _singular(value: float, sv: np.ndarray, between: tuple[float, float] | None = None):
-    where = (f"between driver values {between[0]:.6g} and {between[1]:.6g}" if between
-             else f"at driver value {value:.6g}")
+    where = f"between driver values {between[0]:.6g} and {between[1]:.6g}" if between else f"at driver value {value:.6g}"
     raise SingularConfigurationError(
-        "mechanism", f"singular configuration {where} ({np.degrees(value):.4f} deg for an angle): the "
-                     f"constraint Jacobian loses rank (smallest singular value {sv[-1]:.2e} of {sv[0]:.2e})",
-        float(value))
+        "mechanism",
+        f"singular configuration {where} ({np.degrees(value):.4f} deg for an angle): the "
+        f"constraint Jacobian loses rank (smallest singular value {sv[-1]:.2e} of {sv[0]:.2e})",
+        float(value),
+    )
 
 
 def solve(mech: Mechanism, s: np.ndarray, q0: np.ndarray | None = None) -> PlanarMotion:
@@ -119,7 +125,7 @@ def solve(mech: Mechanism, s: np.ndarray, q0: np.ndarray | None = None) -> Plana
     Q, QD, QDD = np.zeros((s.size, n)), np.zeros((s.size, n)), np.zeros((s.size, n))
     rank0 = None
     det_sign = 0.0
-    for k, sk in enumerate(s):   # continuation is sequential: each step starts from the last
+    for k, sk in enumerate(s):  # continuation is sequential: each step starts from the last
         if k >= 2:
             guess = Q[k - 1] + (sk - s[k - 1]) * QD[k - 1] + 0.5 * (sk - s[k - 1]) ** 2 * QDD[k - 1]
         elif k == 1:

@@ -14,5 +14,14 @@ from railcheck.check.records import CycleResult, PartResult, PipelineResult
 from railcheck.check.run import CheckRun, run_check
 from railcheck.check.summary import summary_of
 
-__all__ = ["CheckRun", "CycleResult", "PartJob", "PartResult", "PipelineResult", "part_jobs", "run_check",
-           "run_pipeline", "summary_of"]
+__all__ = [
+    "CheckRun",
+    "CycleResult",
+    "PartJob",
+    "PartResult",
+    "PipelineResult",
+    "part_jobs",
+    "run_check",
+    "run_pipeline",
+    "summary_of",
+]

@@ -42,14 +42,26 @@ def check_part(job: PartJob, solver: str, report) -> PartResult:
     if mesh.warning:
         warnings.append(mesh.warning)
     if mesh.slivers:
-        warnings.append(f"{mesh.slivers} sliver elements (gmsh minSICN < 0.05, worst {mesh.min_quality:.3f}); "
-                        "stresses near them are unreliable")
-    report(f"{mesh.tets.shape[0]} tetrahedra{' (cached)' if mesh.cached else ''}, "
-           f"min quality {mesh.min_quality:.2f}")
+        warnings.append(
+            f"{mesh.slivers} sliver elements (gmsh minSICN < 0.05, worst {mesh.min_quality:.3f}); "
+            "stresses near them are unreliable"
+        )
+    report(f"{mesh.tets.shape[0]} tetrahedra{' (cached)' if mesh.cached else ''}, min quality {mesh.min_quality:.2f}")
     cases = unit_cases(job.loads, job.geometry, list(job.holes))
-    fields, solve = solve_unit_cases(mesh.points, mesh.tets, mesh.groups, job.material, [job.support], cases,
-                                     job.mesh.order, job.tip, job.exclusion, solver, report,
-                                     curved=mesh.curved if job.mesh.curved else None)
+    fields, solve = solve_unit_cases(
+        mesh.points,
+        mesh.tets,
+        mesh.groups,
+        job.material,
+        [job.support],
+        cases,
+        job.mesh.order,
+        job.tip,
+        job.exclusion,
+        solver,
+        report,
+        curved=mesh.curved if job.mesh.curved else None,
+    )
     seconds.update(solve.seconds)
     t = time.perf_counter()
     cycle = evaluate_cycle(job, fields, job.histories, solve)
@@ -58,10 +70,12 @@ def check_part(job: PartJob, solver: str, report) -> PartResult:
     if not np.any(cycle.C):
         warnings.append("carries no load: its verdict is vacuous")
     when = f"at {cycle.history.crank_angle_deg:.1f} deg" if cycle.C.shape[0] > 1 else "(constant loads)"
-    report(f"{solve.dofs} DOFs, {solve.solver.get('solver')}, {len(cases)} unit cases; cycle peak "
-           f"{cycle.envelope.max_von_mises / 1e6:.1f} MPa {when} "
-           f"(seed method {cycle.seed_method.max_von_mises / 1e6:.1f} MPa), fatigue factor "
-           f"{cycle.fatigue.min_safety_factor:.2f}")
+    report(
+        f"{solve.dofs} DOFs, {solve.solver.get('solver')}, {len(cases)} unit cases; cycle peak "
+        f"{cycle.envelope.max_von_mises / 1e6:.1f} MPa {when} "
+        f"(seed method {cycle.seed_method.max_von_mises / 1e6:.1f} MPa), fatigue factor "
+        f"{cycle.fatigue.min_safety_factor:.2f}"
+    )
     solution = solution_at(fields, cycle.C[cycle.envelope.step], solve, job.mesh.order, job.exclusion)
     return PartResult(job=job, mesh=mesh, solution=solution, cycle=cycle, seconds=seconds, warnings=tuple(warnings))
 
@@ -69,14 +83,19 @@ def check_part(job: PartJob, solver: str, report) -> PartResult:
 def _refuse_non_finite(name: str, cycle: CycleResult) -> None:
     """A NaN or an infinity in the results is a numerical failure, never a number."""
     env = cycle.envelope
-    values = [env.max_von_mises, env.max_tip, env.support_peak, cycle.seed_method.max_von_mises,
-              cycle.fatigue.sigma_a, cycle.fatigue.sigma_m]
+    values = [
+        env.max_von_mises,
+        env.max_tip,
+        env.support_peak,
+        cycle.seed_method.max_von_mises,
+        cycle.fatigue.sigma_a,
+        cycle.fatigue.sigma_m,
+    ]
     if not (np.all(np.isfinite(values)) and np.all(np.isfinite(cycle.C))):
         raise NumericalError(f"{name}: the stress or deflection over the cycle is not finite")
 
 
-def evaluate_cycle(job: PartJob, fields: UnitFields, histories: tuple[SourceHistory, ...],
-                   solve: UnitSolve) -> CycleResult:
+def evaluate_cycle(job: PartJob, fields: UnitFields, histories: tuple[SourceHistory, ...], solve: UnitSolve) -> CycleResult:
     """Envelope, seed method and fatigue over every source; the worse source governs the
     stress verdict, the lower fatigue factor the fatigue verdict."""
     results = []
@@ -84,17 +103,27 @@ def evaluate_cycle(job: PartJob, fields: UnitFields, histories: tuple[SourceHist
         env = envelope(fields, h.C)
         vm_seed = von_mises(stress_at(fields.stress, h.C[h.seed_step]))
         k = int(np.argmax(np.where(_verdict_mask(fields), vm_seed, -np.inf)))
-        seed = SeedMethod(max_von_mises=float(vm_seed[k]), crank_angle_deg=_deg(h.crank_angle[h.seed_step]),
-                          location=tuple(float(x) for x in fields.nodes[k]), joint=h.joint)
+        seed = SeedMethod(
+            max_von_mises=float(vm_seed[k]),
+            crank_angle_deg=_deg(h.crank_angle[h.seed_step]),
+            location=tuple(float(x) for x in fields.nodes[k]),
+            joint=h.joint,
+        )
         results.append((h, env, seed, fatigue_of(job, fields, h.C)))
     h, env, _, _ = max(results, key=lambda r: r[1].max_von_mises)
     seed = max((r[2] for r in results), key=lambda s: s.max_von_mises)
     fat = min((r[3] for r in results), key=lambda f: f.min_safety_factor)
-    history = CycleHistory(crank_angle_deg=_deg(h.crank_angle[env.step]), angles_deg=np.degrees(h.crank_angle),
-                           von_mises=history_at_node(fields, h.C, env.node), seed_step=h.seed_step, joint=h.joint,
-                           seed_angle_deg=_deg(h.crank_angle[h.seed_step]))
-    return CycleResult(source=h.joint, envelope=env, seed_method=seed, fatigue=fat, history=history, fields=fields,
-                       C=h.C, solve=solve)
+    history = CycleHistory(
+        crank_angle_deg=_deg(h.crank_angle[env.step]),
+        angles_deg=np.degrees(h.crank_angle),
+        von_mises=history_at_node(fields, h.C, env.node),
+        seed_step=h.seed_step,
+        joint=h.joint,
+        seed_angle_deg=_deg(h.crank_angle[h.seed_step]),
+    )
+    return CycleResult(
+        source=h.joint, envelope=env, seed_method=seed, fatigue=fat, history=history, fields=fields, C=h.C, solve=solve
+    )
 
 
 def _deg(angle: float) -> float:
@@ -114,12 +143,20 @@ def fatigue_of(job: PartJob, fields: UnitFields, C: np.ndarray) -> FatigueResult
     marin = endurance_limit(material.ultimate_strength, spec.surface, job.section, spec.load, spec.reliability)
     hi, lo = component_range(fields.stress, C[candidate_steps(C)])
     sa, sm = alternating_and_mean(hi, lo)
-    n = safety_factor(sa, sm, marin.endurance_limit, material.ultimate_strength, spec.criterion,
-                      material.yield_strength)
+    n = safety_factor(sa, sm, marin.endurance_limit, material.ultimate_strength, spec.criterion, material.yield_strength)
     k = int(np.argmin(np.where(_verdict_mask(fields), n, np.inf)))
-    return FatigueResult(criterion=spec.criterion, marin=marin, surface=spec.surface, reliability=spec.reliability,
-                         min_safety_factor=float(n[k]), location=tuple(float(x) for x in fields.nodes[k]),
-                         sigma_a=float(sa[k]), sigma_m=float(sm[k]), required=spec.min_safety, node_factor=n)
+    return FatigueResult(
+        criterion=spec.criterion,
+        marin=marin,
+        surface=spec.surface,
+        reliability=spec.reliability,
+        min_safety_factor=float(n[k]),
+        location=tuple(float(x) for x in fields.nodes[k]),
+        sigma_a=float(sa[k]),
+        sigma_m=float(sm[k]),
+        required=spec.min_safety,
+        node_factor=n,
+    )
 
 
 def solution_at(fields: UnitFields, c: np.ndarray, solve: UnitSolve, order: int, exclude: float) -> Solution:
@@ -131,9 +168,23 @@ def solution_at(fields: UnitFields, c: np.ndarray, solve: UnitSolve, order: int,
     top = peak(vm, fields.nodes)
     away = peak(vm, fields.nodes, fields.verdict_mask)
     u = fields.displacement @ c
-    return Solution(order=order, dofs=solve.dofs, elements=solve.elements, displacement=u[:nv],
-                    von_mises=vm[:nv].copy(), max_von_mises=top[0], max_von_mises_location=top[1],
-                    tip_displacement=fields.tip @ c, applied_forces={"total": solve.resultants @ c},
-                    max_von_mises_away=away[0], max_von_mises_away_location=away[1], exclude_distance=exclude,
-                    stress=S, nodes=fields.nodes, seconds=solve.seconds, solver=solve.solver, warnings=[],
-                    node_displacement=u)
+    return Solution(
+        order=order,
+        dofs=solve.dofs,
+        elements=solve.elements,
+        displacement=u[:nv],
+        von_mises=vm[:nv].copy(),
+        max_von_mises=top[0],
+        max_von_mises_location=top[1],
+        tip_displacement=fields.tip @ c,
+        applied_forces={"total": solve.resultants @ c},
+        max_von_mises_away=away[0],
+        max_von_mises_away_location=away[1],
+        exclude_distance=exclude,
+        stress=S,
+        nodes=fields.nodes,
+        seconds=solve.seconds,
+        solver=solve.solver,
+        warnings=[],
+        node_displacement=u,
+    )

@@ -111,17 +111,29 @@ def build_load_cases(scene: Scene, kin: KinematicsResult | None, geometries: dic
         dyn, motion = kin.dynamics, kin.motion
         sources = [s for s in PARTS[name].sources if s.joint in dyn.reactions]
         if not sources:
-            raise InputError("check.parts", f"{name} carries {PARTS[name].sources[0].joint}, which this mechanism "
-                                            f"lacks: give explicit [loads.{name}]")
+            raise InputError(
+                "check.parts",
+                f"{name} carries {PARTS[name].sources[0].joint}, which this mechanism lacks: give explicit [loads.{name}]",
+            )
         src = max(sources, key=lambda s: dyn.peak(s.joint)[0])
         angle = motion.theta[:, BAR_INDEX[src.axes_bar]] if src.axes_bar else np.zeros(motion.steps)
-        cases[name] = reaction_load_case(name, src.joint, src.sign * dyn.reactions[src.joint], angle,
-                                         motion.theta2, scene.check.factor, holes, kind.support, kind.tip)
+        cases[name] = reaction_load_case(
+            name,
+            src.joint,
+            src.sign * dyn.reactions[src.joint],
+            angle,
+            motion.theta2,
+            scene.check.factor,
+            holes,
+            kind.support,
+            kind.tip,
+        )
     return cases
 
 
-def part_jobs(scene: Scene, kin: KinematicsResult | None, geometries: dict, cases: dict, material: Material,
-              limit: float) -> dict[str, PartJob]:
+def part_jobs(
+    scene: Scene, kin: KinematicsResult | None, geometries: dict, cases: dict, material: Material, limit: float
+) -> dict[str, PartJob]:
     """The :class:`PartJob` of every checked part, in the scene's order."""
     jobs = {}
     for name, geo in geometries.items():
@@ -129,11 +141,22 @@ def part_jobs(scene: Scene, kin: KinematicsResult | None, geometries: dict, case
         holes = bolt_holes(scene, name, geo)
         loads = load_model(scene, name, material.density)
         jobs[name] = PartJob(
-            name=name, geometry=geo, support=kind.support, tip=kind.tip, exclusion=kind.exclusion(geo),
+            name=name,
+            geometry=geo,
+            support=kind.support,
+            tip=kind.tip,
+            exclusion=kind.exclusion(geo),
             section=tuple(kind.section(geo)),
             mesh=MeshJob(*mesh_sizes(scene.mesh, geo.kind), scene.mesh.order, scene.mesh.curved, scene.mesh.optimize),
-            holes=tuple(holes), loads=loads, histories=source_histories(loads, kin, holes), load_case=cases[name],
-            material=material, limit=limit, fatigue=scene.fatigue, max_deflection=scene.check.max_deflection)
+            holes=tuple(holes),
+            loads=loads,
+            histories=source_histories(loads, kin, holes),
+            load_case=cases[name],
+            material=material,
+            limit=limit,
+            fatigue=scene.fatigue,
+            max_deflection=scene.check.max_deflection,
+        )
     return jobs
 
 
@@ -145,8 +168,11 @@ def refuse_huge(scene: Scene, geometries: dict) -> None:
         for name, geo in geometries.items():
             side = min(kind_of(name).section(geo))
             if scene.mesh.size > 2 * side:
-                raise InputError("mesh.size", f"{scene.mesh.size*1e3:g} mm is more than twice {name}'s "
-                                              f"{side*1e3:g} mm section: too coarse to resolve its stress")
+                raise InputError(
+                    "mesh.size",
+                    f"{scene.mesh.size * 1e3:g} mm is more than twice {name}'s "
+                    f"{side * 1e3:g} mm section: too coarse to resolve its stress",
+                )
     for geo in geometries.values():
         refuse_beyond_memory(geo, *mesh_sizes(scene.mesh, geo.kind), scene.mesh.order, "mesh.size")
 
@@ -158,5 +184,8 @@ def refuse_beyond_memory(geo: PartGeometry, size: float, hole_size: float, order
     dofs = estimate_dofs(tets // 5, tets, order)
     need, avail = dofs * BYTES_PER_DOF_AMG, available_memory()
     if need > 0.8 * avail:
-        raise InputError(field, f"about {dofs/1e6:.1f} M DOFs needing about {need/2**30:.1f} GiB, more than "
-                                f"this machine's {avail/2**30:.1f} GiB allow: use a larger mesh size")
+        raise InputError(
+            field,
+            f"about {dofs / 1e6:.1f} M DOFs needing about {need / 2**30:.1f} GiB, more than "
+            f"this machine's {avail / 2**30:.1f} GiB allow: use a larger mesh size",
+        )

@@ -24,8 +24,8 @@ from railcheck.scene import Scene
 
 @dataclass(frozen=True)
 class KinematicsResult:
-    motion: Motion              # at the scene's speed (positions, velocities, accelerations)
-    dynamics: Dynamics          # reactions with the effects the scene asks for
+    motion: Motion  # at the scene's speed (positions, velocities, accelerations)
+    dynamics: Dynamics  # reactions with the effects the scene asks for
     checks: dict[str, CheckResult]
     effects: tuple[str, ...]
     transmission_deg: tuple[float, float]
@@ -59,8 +59,7 @@ def run_kinematics(scene: Scene) -> KinematicsResult:
     gravity = STANDARD_GRAVITY if "gravity" in effects else 0.0
     dynamics = inverse_dynamics(dyn_motion, scene.formulation, gravity=gravity)
     mu_min, mu_max = transmission_extremes(spec.linkage)
-    return KinematicsResult(motion, dynamics, all_checks(scene), effects,
-                            (math.degrees(mu_min), math.degrees(mu_max)))
+    return KinematicsResult(motion, dynamics, all_checks(scene), effects, (math.degrees(mu_min), math.degrees(mu_max)))
 
 
 def all_checks(scene: Scene) -> dict[str, CheckResult]:
@@ -99,13 +98,16 @@ def joints_on_rails(scene: Scene) -> dict[str, CheckResult]:
             continue
         lo, reach = joint_reach(rail, bar)
         length = lengths[bar]
-        notes.append(f"{bar} {length*1e3:.6g} mm on a {rail_length(bar)*1e3:.6g} mm rail (reach "
-                     f"{lo*1e3:.6g} to {reach*1e3:.6g} mm)")
+        notes.append(
+            f"{bar} {length * 1e3:.6g} mm on a {rail_length(bar) * 1e3:.6g} mm rail (reach "
+            f"{lo * 1e3:.6g} to {reach * 1e3:.6g} mm)"
+        )
         if length > reach + 1e-9:
-            problems.append(f"{bar} joint {length*1e3:.6g} mm from its pivot is beyond the rail's last hole "
-                            f"({reach*1e3:.6g} mm)")
+            problems.append(
+                f"{bar} joint {length * 1e3:.6g} mm from its pivot is beyond the rail's last hole ({reach * 1e3:.6g} mm)"
+            )
         elif length < lo - 1e-9:
-            problems.append(f"{bar} {length*1e3:.6g} mm is shorter than one hole pitch ({lo*1e3:.6g} mm)")
+            problems.append(f"{bar} {length * 1e3:.6g} mm is shorter than one hole pitch ({lo * 1e3:.6g} mm)")
     ok = bool(joints_on_rails_flags({k: np.asarray(v) for k, v in lengths.items()}, rail))
     return {"joints_on_rails": CheckResult(ok, "; ".join(problems) if problems else "; ".join(notes))}
 
@@ -121,9 +123,13 @@ def kinematics_summary(scene: Scene, result: KinematicsResult) -> dict:
         angles[joint] = math.degrees(result.motion.theta2[k])
     torque, kt = dyn.peak_torque()
     angles["torque"] = math.degrees(result.motion.theta2[kt])
-    mechanism = {"kind": lk.kind, "assembly": lk.assembly,
-                 **{f"{k}_mm": v * 1e3 for k, v in lk.lengths.items()},
-                 "speed_Hz": scene.mechanism.speed / (2 * math.pi), "steps": scene.mechanism.steps}
+    mechanism = {
+        "kind": lk.kind,
+        "assembly": lk.assembly,
+        **{f"{k}_mm": v * 1e3 for k, v in lk.lengths.items()},
+        "speed_Hz": scene.mechanism.speed / (2 * math.pi),
+        "steps": scene.mechanism.steps,
+    }
     return {
         "mechanism": mechanism,
         "formulation": dyn.formulation,

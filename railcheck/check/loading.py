@@ -22,7 +22,7 @@ from railcheck.loads.histories import bolt_history, gravity_history, rail_inerti
 from railcheck.parts import BAR_INDEX, PARTS, LoadSource
 from railcheck.scene import ExplicitLoad, Scene
 
-GRAVITY = 9.80665   # m/s^2
+GRAVITY = 9.80665  # m/s^2
 PIVOT_JOINT = {"crank": "O2", "coupler": "A", "rocker": "O4"}
 
 
@@ -59,10 +59,16 @@ def load_model(scene: Scene, name: str, density: float) -> LoadModel:
     """The part's :class:`LoadModel` from the scene's [check] (density kg/m^3)."""
     effects, explicit = scene.check.effects, scene.check.loads.get(name)
     bar = PARTS[name].bar
-    return LoadModel(part=name, bar=bar, sources=PARTS[name].sources, factor=scene.check.factor,
-                     gravity="gravity" in effects,
-                     rail_inertia="rail-inertia" in effects and bar is not None and explicit is None,
-                     explicit=explicit, density=density)
+    return LoadModel(
+        part=name,
+        bar=bar,
+        sources=PARTS[name].sources,
+        factor=scene.check.factor,
+        gravity="gravity" in effects,
+        rail_inertia="rail-inertia" in effects and bar is not None and explicit is None,
+        explicit=explicit,
+        density=density,
+    )
 
 
 def unit_cases(model: LoadModel, geo, holes: list[str]) -> dict:
@@ -76,8 +82,9 @@ def unit_cases(model: LoadModel, geo, holes: list[str]) -> dict:
     return cases
 
 
-def source_coefficients(model: LoadModel, src: LoadSource, reactions: dict, angles: dict, accelerations: dict,
-                        omega: dict, alpha: dict) -> np.ndarray:
+def source_coefficients(
+    model: LoadModel, src: LoadSource, reactions: dict, angles: dict, accelerations: dict, omega: dict, alpha: dict
+) -> np.ndarray:
     """(..., k): one load source's coefficients in the order of :func:`unit_cases`, for
     arrays with any leading dimensions (one setting's steps, or settings x steps):
     ``reactions`` and ``accelerations`` joint -> (..., 2) ground frame (N, m/s^2);
@@ -110,8 +117,9 @@ def source_histories(model: LoadModel, kin: KinematicsResult | None, holes: list
     for src in model.sources:
         if src.joint not in dyn.reactions:
             continue
-        C = source_coefficients(model, src, dyn.reactions, by_bar(motion.theta), motion.accelerations,
-                                by_bar(motion.omega), by_bar(motion.alpha))
+        C = source_coefficients(
+            model, src, dyn.reactions, by_bar(motion.theta), motion.accelerations, by_bar(motion.omega), by_bar(motion.alpha)
+        )
         force = dyn.reactions[src.joint]
         out.append(SourceHistory(src.joint, C, motion.theta2, int(np.argmax(np.hypot(force[:, 0], force[:, 1])))))
     return tuple(out)

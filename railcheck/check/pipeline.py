@@ -33,8 +33,9 @@ def needs_linkage(scene: Scene) -> bool:
     return any(p not in scene.check.loads for p in scene.check.parts)
 
 
-def run_pipeline(scene: Scene, progress: Progress | None = None, solver: str = "auto",
-                 jobs: int | None = None, part_done=None) -> PipelineResult:
+def run_pipeline(
+    scene: Scene, progress: Progress | None = None, solver: str = "auto", jobs: int | None = None, part_done=None
+) -> PipelineResult:
     """Run the stages the scene needs; see the module doc. ``part_done(name, part)``, a
     picklable callable, runs as each part finishes, where it was checked (its files)."""
     progress = progress or Progress(quiet=True)
@@ -48,11 +49,13 @@ def run_pipeline(scene: Scene, progress: Progress | None = None, solver: str = "
         warnings += list(kin.motion.warnings)
         timings["kinematics"] = time.perf_counter() - t
         stages.append("kinematics")
-        progress.say("kinematics", f"{scene.mechanism.steps} steps, {kin.dynamics.formulation}, "
-                                   f"effects: {', '.join(kin.effects) or 'none'}")
+        progress.say(
+            "kinematics",
+            f"{scene.mechanism.steps} steps, {kin.dynamics.formulation}, effects: {', '.join(kin.effects) or 'none'}",
+        )
     if kin is not None:
         checks = dict(kin.checks)
-    elif scene.mechanism is not None:        # closed-form geometry only: the linkage is not run
+    elif scene.mechanism is not None:  # closed-form geometry only: the linkage is not run
         checks = all_checks(scene)
     else:
         checks = {}
@@ -66,16 +69,22 @@ def run_pipeline(scene: Scene, progress: Progress | None = None, solver: str = "
         geometries = part_geometries(scene)
         cases = build_load_cases(scene, kin, geometries)
         stages.append("loads")
-        progress.say("loads", f"{len(cases)} load cases, factor {scene.check.factor:g}, "
-                              f"bolts {scene.check.bolt_position}")
+        progress.say("loads", f"{len(cases)} load cases, factor {scene.check.factor:g}, bolts {scene.check.bolt_position}")
         refuse_huge(scene, geometries)
         stages.append("geometry")
-        parts = check_parts(part_jobs(scene, kin, geometries, cases, material, limit), solver, progress, jobs,
-                            part_done)
+        parts = check_parts(part_jobs(scene, kin, geometries, cases, material, limit), solver, progress, jobs, part_done)
         stages += ["mesh", "solve", "stress"]
         for name, part in parts.items():
             timings.update({f"{k}:{name}": v for k, v in part.seconds.items()})
             warnings += [f"{name}: {w}" for w in part.warnings]
     stages.append("report")
-    return PipelineResult(scene=scene, stages_run=tuple(stages), kinematics=kin, kinematics_summary=kin_summary,
-                          parts=parts, warnings=tuple(warnings), timings=timings, checks=checks)
+    return PipelineResult(
+        scene=scene,
+        stages_run=tuple(stages),
+        kinematics=kin,
+        kinematics_summary=kin_summary,
+        parts=parts,
+        warnings=tuple(warnings),
+        timings=timings,
+        checks=checks,
+    )

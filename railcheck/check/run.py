@@ -47,8 +47,9 @@ class CheckRun:
         return EXIT_FAIL if self.result.failures else EXIT_PASS
 
 
-def run_check(scene: Scene, out: str | None = None, force: bool = False, progress: Progress | None = None,
-              jobs: int | None = None) -> CheckRun:
+def run_check(
+    scene: Scene, out: str | None = None, force: bool = False, progress: Progress | None = None, jobs: int | None = None
+) -> CheckRun:
     """Reserve the results directory, run the pipeline, write every output into a staging
     directory and rename it into place (see :mod:`railcheck.files`). ``jobs``: parts
     checked at once (:mod:`railcheck.check.workers`)."""
@@ -60,8 +61,9 @@ def run_check(scene: Scene, out: str | None = None, force: bool = False, progres
         raise InputError("output.dir", f"cannot write results at {requested}: {exc.strerror or exc}") from None
     progress = progress or Progress(quiet=True)
     try:
-        result = run_pipeline(scene, progress, jobs=jobs,
-                              part_done=functools.partial(write_part_files, scene.output, directory=staging.path))
+        result = run_pipeline(
+            scene, progress, jobs=jobs, part_done=functools.partial(write_part_files, scene.output, directory=staging.path)
+        )
         summary = summary_of(result)
         write_outputs(scene, result, summary, staging.path)
         progress.say("report", f"wrote {len(result.parts)} parts")
@@ -82,7 +84,7 @@ def write_outputs(scene: Scene, result: PipelineResult, summary: dict, directory
     if scene.output.vtk and result.parts:
         atomic_write_text(directory / "parts.pvd", pvd_text({n: f"{n}.vtu" for n in result.parts}))
     for name, p in result.parts.items():
-        if not (directory / f"{name}.written").exists():      # not already written as the part finished
+        if not (directory / f"{name}.written").exists():  # not already written as the part finished
             write_part_files(scene.output, name, p, directory)
         (directory / f"{name}.written").unlink(missing_ok=True)
     with atomic_path(directory / "report.html") as tmp:
@@ -108,10 +110,22 @@ def write_part_vtu(path: Path, p: PartResult) -> None:
     support, the loaded holes and the verdict zone (away from the support)."""
     f, s = p.cycle.fields, p.solution
     n = f.nodes.shape[0]
-    masks = {name: np.isin(np.arange(n), idx).astype(float)
-             for name, idx in (("support_surface", f.support), ("loaded_holes", f.loaded))}
+    masks = {
+        name: np.isin(np.arange(n), idx).astype(float)
+        for name, idx in (("support_surface", f.support), ("loaded_holes", f.loaded))
+    }
     with atomic_path(path) as tmp:
-        write_vtu(tmp, f.nodes, f.cells, s.node_displacement, von_mises(s.stress),
-                  {"stress": s.stress.T, "von_mises_envelope": p.cycle.envelope.node_envelope,
-                   "fatigue_safety_factor": p.cycle.fatigue.node_factor,
-                   "verdict_zone": f.verdict_mask.astype(float), **masks})
+        write_vtu(
+            tmp,
+            f.nodes,
+            f.cells,
+            s.node_displacement,
+            von_mises(s.stress),
+            {
+                "stress": s.stress.T,
+                "von_mises_envelope": p.cycle.envelope.node_envelope,
+                "fatigue_safety_factor": p.cycle.fatigue.node_factor,
+                "verdict_zone": f.verdict_mask.astype(float),
+                **masks,
+            },
+        )

@@ -54,41 +54,77 @@ def part_summary(p: PartResult) -> dict:
         "utilisation": p.verdict_stress / p.limit,
         "factor_of_safety": p.limit / p.verdict_stress if p.verdict_stress > 0 else None,
         "pass": bool(p.passed),
-        "envelope": {"max_von_mises_Pa": env.max_von_mises, "crank_angle_deg": cyc.history.crank_angle_deg,
-                     "location_m": [float(x) for x in env.location], "max_tip_deflection_m": env.max_tip,
-                     "joint": cyc.source},
+        "envelope": {
+            "max_von_mises_Pa": env.max_von_mises,
+            "crank_angle_deg": cyc.history.crank_angle_deg,
+            "location_m": [float(x) for x in env.location],
+            "max_tip_deflection_m": env.max_tip,
+            "joint": cyc.source,
+        },
         "seed_method": seed_summary(cyc.seed_method, env.max_von_mises),
         "fatigue": fatigue_summary(cyc.fatigue),
-        "load_case": {"support": p.load_case.support, "tip": p.load_case.tip_group,
-                      "factor": p.load_case.factor, **p.load_case.origin,
-                      "bolts": {b.group: list(b.force) for b in p.load_case.bolts}},
+        "load_case": {
+            "support": p.load_case.support,
+            "tip": p.load_case.tip_group,
+            "factor": p.load_case.factor,
+            **p.load_case.origin,
+            "bolts": {b.group: list(b.force) for b in p.load_case.bolts},
+        },
         "unit_cases": list(cyc.fields.names),
-        "mesh": {"order": s.order, "size_m": job.mesh.size, "hole_size_m": job.mesh.hole_size,
-                 "dofs": s.dofs, "elements": s.elements, "min_quality": p.mesh.min_quality,
-                 "slivers": p.mesh.slivers, "solver": cyc.solve.solver.get("solver")},
+        "mesh": {
+            "order": s.order,
+            "size_m": job.mesh.size,
+            "hole_size_m": job.mesh.hole_size,
+            "dofs": s.dofs,
+            "elements": s.elements,
+            "min_quality": p.mesh.min_quality,
+            "slivers": p.mesh.slivers,
+            "solver": cyc.solve.solver.get("solver"),
+        },
     }
 
 
 def seed_summary(seed: SeedMethod, envelope_peak: float) -> dict:
     """The seed method's entry, with the envelope's ratio to it."""
-    return {"max_von_mises_Pa": seed.max_von_mises, "crank_angle_deg": seed.crank_angle_deg,
-            "location_m": list(seed.location), "joint": seed.joint,
-            "ratio_envelope_to_seed": envelope_peak / seed.max_von_mises if seed.max_von_mises > 0 else None}
+    return {
+        "max_von_mises_Pa": seed.max_von_mises,
+        "crank_angle_deg": seed.crank_angle_deg,
+        "location_m": list(seed.location),
+        "joint": seed.joint,
+        "ratio_envelope_to_seed": envelope_peak / seed.max_von_mises if seed.max_von_mises > 0 else None,
+    }
 
 
 def fatigue_summary(f: FatigueResult) -> dict:
     """The fatigue entry (Pa): criterion, endurance limit and Marin factors, the minimum
     safety factor, where, its alternating and midrange stresses, and the factor required."""
     m = f.marin
-    return {"criterion": f.criterion, "endurance_limit_Pa": m.endurance_limit,
-            "marin": {"ka": m.ka, "kb": m.kb, "kc": m.kc, "kd": m.kd, "ke": m.ke, "unmodified_Pa": m.unmodified,
-                      "surface": f.surface, "reliability": f.reliability},
-            "min_safety_factor": f.min_safety_factor, "location_m": list(f.location), "sigma_a_Pa": f.sigma_a,
-            "sigma_m_Pa": f.sigma_m, "required": f.required}
+    return {
+        "criterion": f.criterion,
+        "endurance_limit_Pa": m.endurance_limit,
+        "marin": {
+            "ka": m.ka,
+            "kb": m.kb,
+            "kc": m.kc,
+            "kd": m.kd,
+            "ke": m.ke,
+            "unmodified_Pa": m.unmodified,
+            "surface": f.surface,
+            "reliability": f.reliability,
+        },
+        "min_safety_factor": f.min_safety_factor,
+        "location_m": list(f.location),
+        "sigma_a_Pa": f.sigma_a,
+        "sigma_m_Pa": f.sigma_m,
+        "required": f.required,
+    }
 
 
 def rail_masses(geometry_overrides: dict) -> dict:
     """kg/m of the modelled rail section beside the seed's and the catalogue's figures."""
     rail = with_overrides(geometry_overrides)[0]
-    return {"model_section": rail_mass_per_metre(rail), "model_with_holes": rail_mass_per_metre_with_holes(rail),
-            **CATALOGUE_RAIL_MASS}
+    return {
+        "model_section": rail_mass_per_metre(rail),
+        "model_with_holes": rail_mass_per_metre_with_holes(rail),
+        **CATALOGUE_RAIL_MASS,
+    }

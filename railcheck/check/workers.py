@@ -25,7 +25,7 @@ from railcheck.check.records import PartResult
 from railcheck.geometry.mesher import estimate_elements
 from railcheck.progress import Progress
 
-_QUEUE = None     # the worker's progress queue (set by _init_worker)
+_QUEUE = None  # the worker's progress queue (set by _init_worker)
 
 
 def default_jobs(parts: int) -> int:
@@ -34,21 +34,25 @@ def default_jobs(parts: int) -> int:
     return max(1, min(parts, os.cpu_count() or 1, 2))
 
 
-def check_parts(part_jobs: dict[str, PartJob], solver: str, progress: Progress, jobs: int | None = None,
-                part_done=None) -> dict[str, PartResult]:
+def check_parts(
+    part_jobs: dict[str, PartJob], solver: str, progress: Progress, jobs: int | None = None, part_done=None
+) -> dict[str, PartResult]:
     """{name: PartResult} in the jobs' order; ``part_done(name, part)``, a picklable
     callable, runs as each part finishes, in the process that checked it."""
     n = len(part_jobs)
     jobs = default_jobs(n) if jobs is None else max(1, min(jobs, n))
     label = {name: f"({i}/{n}) {name}" for i, name in enumerate(part_jobs, 1)}
     if jobs == 1:
-        return {name: _check_one(job, solver, label[name], part_done, lambda msg: progress.say("solve", msg))
-                for name, job in part_jobs.items()}
+        return {
+            name: _check_one(job, solver, label[name], part_done, lambda msg: progress.say("solve", msg))
+            for name, job in part_jobs.items()
+        }
     return _in_workers(part_jobs, solver, progress, jobs, label, part_done)
 
 
-def _in_workers(part_jobs: dict[str, PartJob], solver: str, progress: Progress, jobs: int, label: dict,
-                part_done) -> dict[str, PartResult]:
+def _in_workers(
+    part_jobs: dict[str, PartJob], solver: str, progress: Progress, jobs: int, label: dict, part_done
+) -> dict[str, PartResult]:
     ctx = multiprocessing.get_context("spawn")
     queue = ctx.SimpleQueue()
     relay = threading.Thread(target=_relay, args=(queue, progress), daemon=True)
@@ -58,10 +62,9 @@ def _in_workers(part_jobs: dict[str, PartJob], solver: str, progress: Progress, 
     pool = ProcessPoolExecutor(jobs - 1, mp_context=ctx, initializer=_init_worker, initargs=(queue,))
     try:
         futures = {name: pool.submit(_check_one, part_jobs[name], solver, label[name], part_done) for name in rest}
-        here = _check_one(part_jobs[largest], solver, label[largest], part_done,
-                          lambda msg: progress.say("solve", msg))
+        here = _check_one(part_jobs[largest], solver, label[largest], part_done, lambda msg: progress.say("solve", msg))
         results = {name: here if name == largest else futures[name].result() for name in part_jobs}
-    except BaseException:            # an error, Ctrl-C or SIGTERM: stop the other parts now
+    except BaseException:  # an error, Ctrl-C or SIGTERM: stop the other parts now
         for process in list(getattr(pool, "_processes", {}).values()):
             process.terminate()
         pool.shutdown(wait=False, cancel_futures=True)

@@ -20,16 +20,30 @@ from railcheck.cli import bench, check, convergence, init, kinematics, mechanism
 from railcheck.errors import EXIT_INPUT, EXIT_PASS, RailcheckError
 from railcheck.files import writable_dir, writable_file
 
-DESCRIPTION = ("Design check for reconfigurable planar linkages built from linear-guide rails: kinematics, "
-               "joint reactions, bolt loads, FE stress, deflection and fatigue verdict.")
+DESCRIPTION = (
+    "Design check for reconfigurable planar linkages built from linear-guide rails: kinematics, "
+    "joint reactions, bolt loads, FE stress, deflection and fatigue verdict."
+)
 
 #: subcommand name -> its module, in the order ``railcheck --help`` lists them
-COMMANDS = {"init": init, "kinematics": kinematics, "check": check, "sweep": sweep, "bench": bench,
-            "convergence": convergence, "mechanism": mechanism}
+COMMANDS = {
+    "init": init,
+    "kinematics": kinematics,
+    "check": check,
+    "sweep": sweep,
+    "bench": bench,
+    "convergence": convergence,
+    "mechanism": mechanism,
+}
 
 #: output options: attribute -> (option, directory?)
-OUTPUT_OPTIONS = {"plots": ("--plots", True), "csv": ("--csv", False), "html": ("--html", False),
-                  "gif": ("--gif", False), "plot": ("--plot", False)}
+OUTPUT_OPTIONS = {
+    "plots": ("--plots", True),
+    "csv": ("--csv", False),
+    "html": ("--html", False),
+    "gif": ("--gif", False),
+    "plot": ("--plot", False),
+}
 
 
 class _Parser(argparse.ArgumentParser):
@@ -93,15 +107,14 @@ def main(argv: list[str] | None = None) -> int:
 
 def _report_error(exc: BaseException) -> int:
     """One line on stderr for an error that ends a run, and its exit status."""
-    if isinstance(exc, BrokenPipeError):     # `railcheck ... | head`: end quietly
+    if isinstance(exc, BrokenPipeError):  # `railcheck ... | head`: end quietly
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return EXIT_PASS
     if isinstance(exc, RailcheckError):
         print(f"railcheck: {exc.label}: {exc}", file=sys.stderr)
         return exc.exit_status
-    if isinstance(exc, OSError):             # a full disk, a vanished directory: nothing half-written
-        print(f"railcheck: error: cannot write {exc.filename or 'the results'}: {exc.strerror or exc}",
-              file=sys.stderr)
+    if isinstance(exc, OSError):  # a full disk, a vanished directory: nothing half-written
+        print(f"railcheck: error: cannot write {exc.filename or 'the results'}: {exc.strerror or exc}", file=sys.stderr)
         return EXIT_INPUT
     terminated = isinstance(exc, _Terminated)
     print(f"railcheck: {'terminated' if terminated else 'interrupted'}", file=sys.stderr)

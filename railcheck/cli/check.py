@@ -16,12 +16,14 @@ from railcheck.report.text import check_report
 from railcheck.scene import EFFECTS, load_scene
 
 HELP = "reactions -> bolt loads -> FE stress verdict for every part"
-PARSER = {"description": "Reactions over the whole crank cycle -> bolt loads -> FE stress envelope, deflection "
-                         "and fatigue per part.",
-          "epilog": f"parts: {', '.join(PARTS)}\nmaterials: {', '.join(MATERIALS)}\neffects: {', '.join(EFFECTS)}\n"
-                    f"fatigue criteria: {', '.join(CRITERIA)}; surfaces: {', '.join(SURFACE)}\n"
-                    "`railcheck init` writes a commented starter scene.",
-          "formatter_class": argparse.RawDescriptionHelpFormatter}
+PARSER = {
+    "description": "Reactions over the whole crank cycle -> bolt loads -> FE stress envelope, deflection "
+    "and fatigue per part.",
+    "epilog": f"parts: {', '.join(PARTS)}\nmaterials: {', '.join(MATERIALS)}\neffects: {', '.join(EFFECTS)}\n"
+    f"fatigue criteria: {', '.join(CRITERIA)}; surfaces: {', '.join(SURFACE)}\n"
+    "`railcheck init` writes a commented starter scene.",
+    "formatter_class": argparse.RawDescriptionHelpFormatter,
+}
 
 
 def add_args(p) -> None:
@@ -29,8 +31,9 @@ def add_args(p) -> None:
     p.add_argument("--out", metavar="DIR", help="results directory (default: the scene's output.dir)")
     p.add_argument("--json", action="store_true", help="print summary.json to stdout")
     p.add_argument("--force", action="store_true", help="overwrite an existing results directory")
-    p.add_argument("--jobs", type=int, metavar="N",
-                   help="parts checked at once in worker processes (default: one per core, at most 2)")
+    p.add_argument(
+        "--jobs", type=int, metavar="N", help="parts checked at once in worker processes (default: one per core, at most 2)"
+    )
 
 
 def run(args) -> int:
@@ -39,6 +42,8 @@ def run(args) -> int:
     result = run_check(load_scene(args.scene), args.out, args.force, Progress(quiet=False), args.jobs)
     print(to_json(result.summary) if args.json else check_report(result))
     if result.requested != result.target:
-        print(f"railcheck: {result.requested} exists; results written to {result.target} (use --force to replace)",
-              file=sys.stderr)
+        print(
+            f"railcheck: {result.requested} exists; results written to {result.target} (use --force to replace)",
+            file=sys.stderr,
+        )
     return result.exit_status

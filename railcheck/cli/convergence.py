@@ -13,18 +13,15 @@ HELP = "accuracy against time: mesh and step convergence study"
 
 
 def add_args(p) -> None:
-    p.add_argument("target", nargs="?", default="cantilever",
-                   help="cantilever, kinematics, or a part of the default scene")
-    p.add_argument("--orders", default="1,2",
-                   help="elements: 1 (P1), 2 (curved P2), 2s (straight-sided P2), e.g. 1,2,2s")
+    p.add_argument("target", nargs="?", default="cantilever", help="cantilever, kinematics, or a part of the default scene")
+    p.add_argument("--orders", default="1,2", help="elements: 1 (P1), 2 (curved P2), 2s (straight-sided P2), e.g. 1,2,2s")
     p.add_argument("--sizes", default=None, help="mesh sizes in mm, e.g. 8,6,4,3")
     p.add_argument("--json", action="store_true")
     p.add_argument("--plot", metavar="FILE", help="write a log-log plot of error against time")
 
 
 def run(args) -> int:
-    result = run_convergence(args.target, args.orders, args.sizes,
-                             progress=lambda m: print(m, file=sys.stderr, flush=True))
+    result = run_convergence(args.target, args.orders, args.sizes, progress=lambda m: print(m, file=sys.stderr, flush=True))
     if args.plot and args.target != "kinematics":
         plot_study(result["rows"], args.target, args.plot)
     print(to_json(result) if args.json else convergence_report(result))

@@ -12,10 +12,12 @@ from railcheck.scene import load_scene
 from railcheck.sweep.run import run_sweep
 
 HELP = "every setting of the rig: checks, verdict, safe speed, motor, bearings"
-PARSER = {"description": "Every bar length the rails' holes allow (narrowed by the scene's [sweep]): configuration "
-                         "checks, reactions, motor torque, bearing life and, by superposition of unit loads, each "
-                         "part's stress and fatigue verdict and the safe crank speed. Writes a table per linkage "
-                         "kind, maps and summary.json."}
+PARSER = {
+    "description": "Every bar length the rails' holes allow (narrowed by the scene's [sweep]): configuration "
+    "checks, reactions, motor torque, bearing life and, by superposition of unit loads, each "
+    "part's stress and fatigue verdict and the safe crank speed. Writes a table per linkage "
+    "kind, maps and summary.json."
+}
 
 
 def add_args(p) -> None:
@@ -23,8 +25,11 @@ def add_args(p) -> None:
     p.add_argument("--out", metavar="DIR", help="results directory (default: sweep)")
     p.add_argument("--json", action="store_true", help="print summary.json to stdout")
     p.add_argument("--force", action="store_true", help="overwrite an existing results directory")
-    p.add_argument("--scheduler", metavar="ADDR", help="a running Dask scheduler, e.g. tcp://host:8786 "
-                                                     "(default: a local cluster for large sweeps)")
+    p.add_argument(
+        "--scheduler",
+        metavar="ADDR",
+        help="a running Dask scheduler, e.g. tcp://host:8786 (default: a local cluster for large sweeps)",
+    )
     p.add_argument("--workers", type=int, metavar="N", help="local Dask workers (default: one per core)")
     p.add_argument("--serial", action="store_true", help="run in this process, without Dask")
 
@@ -32,10 +37,13 @@ def add_args(p) -> None:
 def run(args) -> int:
     if args.workers is not None and args.workers < 1:
         raise InputError("--workers", f"must be at least 1, got {args.workers}")
-    result = run_sweep(load_scene(args.scene), args.out, args.force, args.scheduler, args.workers, args.serial,
-                       Progress(quiet=False))
+    result = run_sweep(
+        load_scene(args.scene), args.out, args.force, args.scheduler, args.workers, args.serial, Progress(quiet=False)
+    )
     print(to_json(result.summary) if args.json else sweep_report(result))
     if result.requested != result.target:
-        print(f"railcheck: {result.requested} exists; results written to {result.target} (use --force to replace)",
-              file=sys.stderr)
+        print(
+            f"railcheck: {result.requested} exists; results written to {result.target} (use --force to replace)",
+            file=sys.stderr,
+        )
     return result.exit_status

@@ -43,27 +43,40 @@ def _verdict(ok: bool) -> str:
 
 def _table(head: list[str], rows: list[list], left: int = 1) -> str:
     th = "".join(f'<th class="{"l" if i < left else ""}">{_e(h)}</th>' for i, h in enumerate(head))
-    body = "".join("<tr>" + "".join(f'<td class="{"l" if i < left else ""}">{c}</td>' for i, c in enumerate(r))
-                   + "</tr>" for r in rows)
+    body = "".join(
+        "<tr>" + "".join(f'<td class="{"l" if i < left else ""}">{c}</td>' for i, c in enumerate(r)) + "</tr>" for r in rows
+    )
     return f"<table><tr>{th}</tr>{body}</table>"
 
 
 def write_report(path: Path, scene, result, summary: dict, directory: Path) -> None:
     """Write report.html into ``path`` (pictures read from ``directory``)."""
-    sections = [_header(result, summary), _parts(result), _checks(result), _pictures(result, directory),
-                _kinematics(result, directory), _mesh_and_equilibrium(result), _scene(scene), _timings(result),
-                _versions()]
-    page = (f'<!DOCTYPE html><html lang="en"><head><meta charset="utf-8"><title>railcheck report</title>'
-            f"<style>{CSS}</style></head><body>{''.join(sections)}</body></html>\n")
+    sections = [
+        _header(result, summary),
+        _parts(result),
+        _checks(result),
+        _pictures(result, directory),
+        _kinematics(result, directory),
+        _mesh_and_equilibrium(result),
+        _scene(scene),
+        _timings(result),
+        _versions(),
+    ]
+    page = (
+        f'<!DOCTYPE html><html lang="en"><head><meta charset="utf-8"><title>railcheck report</title>'
+        f"<style>{CSS}</style></head><body>{''.join(sections)}</body></html>\n"
+    )
     path.write_text(page, encoding="utf-8")
 
 
 def _header(result, summary) -> str:
     reasons = "; ".join(result.failures)
-    return (f"<h1>railcheck report: {_verdict(not result.failures)}</h1>"
-            + (f'<p class="fail">fails: {_e(reasons)}</p>' if reasons else "<p>every check and part passes</p>")
-            + f'<p class="note">scene: {_e(result.scene.source)}; stages run: {_e(", ".join(result.stages_run))}</p>'
-            + "".join(f'<p class="note">warning: {_e(w)}</p>' for w in summary.get("warnings", [])))
+    return (
+        f"<h1>railcheck report: {_verdict(not result.failures)}</h1>"
+        + (f'<p class="fail">fails: {_e(reasons)}</p>' if reasons else "<p>every check and part passes</p>")
+        + f'<p class="note">scene: {_e(result.scene.source)}; stages run: {_e(", ".join(result.stages_run))}</p>'
+        + "".join(f'<p class="note">warning: {_e(w)}</p>' for w in summary.get("warnings", []))
+    )
 
 
 def _scene(scene) -> str:
@@ -83,11 +96,14 @@ def _kinematics(result, directory: Path) -> str:
         return ""
     rows = [[_e(j), f"{v:.1f}", f"{k['peak_crank_angle_deg'][j]:.1f}"] for j, v in k["peak_reactions_N"].items()]
     rows.append(["motor torque (N·m)", f"{k['peak_torque_Nm']:.1f}", f"{k['peak_crank_angle_deg']['torque']:.1f}"])
-    return ("<h2>Kinematics and joint reactions</h2>"
-            f"<p>{_e(k['formulation'])}, effects: {_e(', '.join(k['effects']) or 'none')}; transmission angle "
-            f"{k['transmission_angle_deg']['min']:.2f} to {k['transmission_angle_deg']['max']:.2f} deg</p>"
-            + _table(["joint", "peak (N)", "at crank angle (deg)"], rows)
-            + _img(directory / "reactions.png", "joint reactions") + _img(directory / "torque.png", "motor torque"))
+    return (
+        "<h2>Kinematics and joint reactions</h2>"
+        f"<p>{_e(k['formulation'])}, effects: {_e(', '.join(k['effects']) or 'none')}; transmission angle "
+        f"{k['transmission_angle_deg']['min']:.2f} to {k['transmission_angle_deg']['max']:.2f} deg</p>"
+        + _table(["joint", "peak (N)", "at crank angle (deg)"], rows)
+        + _img(directory / "reactions.png", "joint reactions")
+        + _img(directory / "torque.png", "motor torque")
+    )
 
 
 def _parts(result) -> str:
@@ -98,27 +114,56 @@ def _parts(result) -> str:
         c = p.cycle
         angle = f"{c.history.crank_angle_deg:.1f}" if c.C.shape[0] > 1 else "constant"
         fos = p.limit / p.verdict_stress if p.verdict_stress > 0 else np.inf
-        dlim = f"{p.deflection_limit*1e3:.3g}" if p.deflection_limit else "none"
-        rows.append([_e(name), f"{p.verdict_stress/1e6:.1f}", angle, f"{c.seed_method.max_von_mises/1e6:.1f}",
-                     f"{p.limit/1e6:.0f}", f"{fos:.2f}", f"{p.verdict_stress/p.limit:.0%}",
-                     f"{c.envelope.max_tip*1e3:.3g}", dlim, f"{c.fatigue.min_safety_factor:.2f}",
-                     f"{c.fatigue.sigma_a/1e6:.1f} / {c.fatigue.sigma_m/1e6:.1f}", _verdict(p.passed)])
-    head = ["part", "cycle max von Mises (MPa)", "at crank (deg)", "seed method (MPa)", "limit (MPa)",
-            "factor of safety", "utilisation", "max tip deflection (mm)", "deflection limit (mm)",
-            "fatigue factor", "σa / σm (MPa)", "verdict"]
+        dlim = f"{p.deflection_limit * 1e3:.3g}" if p.deflection_limit else "none"
+        rows.append(
+            [
+                _e(name),
+                f"{p.verdict_stress / 1e6:.1f}",
+                angle,
+                f"{c.seed_method.max_von_mises / 1e6:.1f}",
+                f"{p.limit / 1e6:.0f}",
+                f"{fos:.2f}",
+                f"{p.verdict_stress / p.limit:.0%}",
+                f"{c.envelope.max_tip * 1e3:.3g}",
+                dlim,
+                f"{c.fatigue.min_safety_factor:.2f}",
+                f"{c.fatigue.sigma_a / 1e6:.1f} / {c.fatigue.sigma_m / 1e6:.1f}",
+                _verdict(p.passed),
+            ]
+        )
+    head = [
+        "part",
+        "cycle max von Mises (MPa)",
+        "at crank (deg)",
+        "seed method (MPa)",
+        "limit (MPa)",
+        "factor of safety",
+        "utilisation",
+        "max tip deflection (mm)",
+        "deflection limit (mm)",
+        "fatigue factor",
+        "σa / σm (MPa)",
+        "verdict",
+    ]
     crit = next(iter(result.parts.values())).cycle.fatigue
-    return ("<h2>Parts</h2>" + _table(head, rows)
-            + f'<p class="note">cycle max: the largest von Mises over the whole crank cycle, away from the '
-              f"idealised support's singular edge; seed method: at the instant of the peak reaction magnitude; "
-              f"factor of safety = limit / cycle max; fatigue: {_e(crit.criterion)}, endurance limit "
-              f"{crit.marin.endurance_limit/1e6:.0f} MPa (Shigley ch. 6, Marin factors in summary.json).</p>")
+    return (
+        "<h2>Parts</h2>"
+        + _table(head, rows)
+        + f'<p class="note">cycle max: the largest von Mises over the whole crank cycle, away from the '
+        f"idealised support's singular edge; seed method: at the instant of the peak reaction magnitude; "
+        f"factor of safety = limit / cycle max; fatigue: {_e(crit.criterion)}, endurance limit "
+        f"{crit.marin.endurance_limit / 1e6:.0f} MPa (Shigley ch. 6, Marin factors in summary.json).</p>"
+    )
 
 
 def _pictures(result, directory: Path) -> str:
     out = []
     for name in result.parts:
-        out.append(f"<h3>{_e(name)}</h3>" + _img(directory / f"{name}.png", f"{name} von Mises")
-                   + _img(directory / f"{name}-cycle.png", f"{name} over the cycle"))
+        out.append(
+            f"<h3>{_e(name)}</h3>"
+            + _img(directory / f"{name}.png", f"{name} von Mises")
+            + _img(directory / f"{name}-cycle.png", f"{name} over the cycle")
+        )
     return "<h2>Pictures</h2>" + "".join(out) if out else ""
 
 
@@ -130,15 +175,36 @@ def _mesh_and_equilibrium(result) -> str:
         solve, c = p.cycle.solve, p.cycle.C[p.cycle.envelope.step]
         applied, reaction = solve.resultants @ c, solve.support_reactions @ c
         scale = max(np.linalg.norm(applied), 1e-300)
-        rows.append([_e(name), f"{solve.dofs}", f"{solve.elements}", f"{p.mesh.min_quality:.2f}",
-                     f"{p.mesh.slivers}", _e(solve.solver.get("solver")),
-                     ", ".join(f"{v:.2f}" for v in applied), ", ".join(f"{v:.2f}" for v in reaction),
-                     f"{np.linalg.norm(applied + reaction) / scale:.1e}"])
-    head = ["part", "DOFs", "elements", "min quality", "slivers", "solver", "applied load (N, x y z)",
-            "support reaction (N)", "imbalance"]
-    return ("<h2>Mesh and equilibrium</h2>" + _table(head, rows)
-            + '<p class="note">at each part\'s governing instant; the support reaction is the resultant of '
-              "K u - f over the fixed nodes, and balances the applied bolt and body forces.</p>")
+        rows.append(
+            [
+                _e(name),
+                f"{solve.dofs}",
+                f"{solve.elements}",
+                f"{p.mesh.min_quality:.2f}",
+                f"{p.mesh.slivers}",
+                _e(solve.solver.get("solver")),
+                ", ".join(f"{v:.2f}" for v in applied),
+                ", ".join(f"{v:.2f}" for v in reaction),
+                f"{np.linalg.norm(applied + reaction) / scale:.1e}",
+            ]
+        )
+    head = [
+        "part",
+        "DOFs",
+        "elements",
+        "min quality",
+        "slivers",
+        "solver",
+        "applied load (N, x y z)",
+        "support reaction (N)",
+        "imbalance",
+    ]
+    return (
+        "<h2>Mesh and equilibrium</h2>"
+        + _table(head, rows)
+        + '<p class="note">at each part\'s governing instant; the support reaction is the resultant of '
+        "K u - f over the fixed nodes, and balances the applied bolt and body forces.</p>"
+    )
 
 
 def _timings(result) -> str:
@@ -150,8 +216,7 @@ def _versions() -> str:
     from importlib.metadata import PackageNotFoundError, version
 
     rows = [["python", _e(platform.python_version())]]
-    for pkg in ("railcheck", "numpy", "scipy", "scikit-fem", "gmsh", "meshio", "pyvista", "pyamg", "pypardiso",
-                "mkl"):
+    for pkg in ("railcheck", "numpy", "scipy", "scikit-fem", "gmsh", "meshio", "pyvista", "pyamg", "pypardiso", "mkl"):
         try:
             rows.append([pkg, _e(version(pkg))])
         except PackageNotFoundError:

@@ -14,8 +14,10 @@ from railcheck.files import atomic_path
 
 def _figure():
     import matplotlib
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+
     return plt
 
 
@@ -40,8 +42,11 @@ def write_kinematics_plots(result: KinematicsResult, directory: str | Path) -> l
     for joint in dyn.reactions:
         value, k = dyn.peak(joint)
         ax.plot(deg, dyn.magnitude(joint), label=f"{joint} (peak {value:.1f} N at {deg[k]:.1f}°)")
-    ax.set(xlabel="crank angle θ2 (deg)", ylabel="reaction magnitude (N)",
-           title=f"Joint reactions, {dyn.formulation}, effects: {', '.join(result.effects) or 'none'}")
+    ax.set(
+        xlabel="crank angle θ2 (deg)",
+        ylabel="reaction magnitude (N)",
+        title=f"Joint reactions, {dyn.formulation}, effects: {', '.join(result.effects) or 'none'}",
+    )
     ax.set_xlim(0, 360)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
@@ -58,9 +63,10 @@ def write_kinematics_plots(result: KinematicsResult, directory: str | Path) -> l
 
     names = ("crank θ2", "coupler θ3", "output θ4")
     for key, data, unit, title, fname in (
-            ("theta", np.degrees(np.unwrap(motion.theta, axis=0)), "deg", "Bar angles", "angles.png"),
-            ("omega", motion.omega, "rad/s", "Angular velocities", "angular_velocities.png"),
-            ("alpha", motion.alpha, "rad/s²", "Angular accelerations", "angular_accelerations.png")):
+        ("theta", np.degrees(np.unwrap(motion.theta, axis=0)), "deg", "Bar angles", "angles.png"),
+        ("omega", motion.omega, "rad/s", "Angular velocities", "angular_velocities.png"),
+        ("alpha", motion.alpha, "rad/s²", "Angular accelerations", "angular_accelerations.png"),
+    ):
         fig, ax = plt.subplots(figsize=(8, 4.5))
         for j in (1, 2):
             ax.plot(deg, data[:, j], label=names[j].replace("θ", {"theta": "θ", "omega": "ω", "alpha": "α"}[key]))
@@ -72,22 +78,34 @@ def write_kinematics_plots(result: KinematicsResult, directory: str | Path) -> l
     return written
 
 
-
 def write_cycle_plot(name: str, part, path: str | Path) -> Path:
     """The governing node's von Mises over the crank angle, the seed method's instant and
     the limit marked (Pa -> MPa on the axis)."""
     plt = _figure()
     h, limit = part.cycle.history, part.limit
     fig, ax = plt.subplots(figsize=(8, 4.5))
-    ax.plot(h.angles_deg, h.von_mises / 1e6, color="C0",
-            label=f"governing node, peak {part.verdict_stress / 1e6:.1f} MPa at {h.crank_angle_deg:.1f}°")
+    ax.plot(
+        h.angles_deg,
+        h.von_mises / 1e6,
+        color="C0",
+        label=f"governing node, peak {part.verdict_stress / 1e6:.1f} MPa at {h.crank_angle_deg:.1f}°",
+    )
     seed = part.cycle.seed_method
-    ax.axvline(h.seed_angle_deg, color="C3", ls="--",
-               label=f"seed method instant {seed.crank_angle_deg:.1f}° (peak |R_{h.joint}|): "
-                     f"{seed.max_von_mises / 1e6:.1f} MPa at its own peak node")
+    ax.axvline(
+        h.seed_angle_deg,
+        color="C3",
+        ls="--",
+        label=f"seed method instant {seed.crank_angle_deg:.1f}° (peak |R_{h.joint}|): "
+        f"{seed.max_von_mises / 1e6:.1f} MPa at its own peak node",
+    )
     ax.axhline(limit / 1e6, color="k", lw=0.8, ls=":", label=f"limit {limit / 1e6:.0f} MPa")
-    ax.set(xlabel="crank angle θ2 (deg)", ylabel="von Mises (MPa)", xlim=(0, 360), ylim=(0, None),
-           title=f"{name}: von Mises over one crank revolution (joint {h.joint})")
+    ax.set(
+        xlabel="crank angle θ2 (deg)",
+        ylabel="von Mises (MPa)",
+        xlim=(0, 360),
+        ylim=(0, None),
+        title=f"{name}: von Mises over one crank revolution (joint {h.joint})",
+    )
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
     path = Path(path)

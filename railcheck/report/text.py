@@ -30,8 +30,7 @@ def kinematics_table(summary: dict) -> str:
     lines.append(f"  {'joint':<8}{'peak reaction (N)':>20}{'at crank angle (deg)':>24}")
     for joint, value in summary["peak_reactions_N"].items():
         lines.append(f"  {joint:<8}{value:>20.4f}{summary['peak_crank_angle_deg'][joint]:>24.2f}")
-    lines.append(f"  {'torque':<8}{summary['peak_torque_Nm']:>17.4f} N·m"
-                 f"{summary['peak_crank_angle_deg']['torque']:>24.2f}")
+    lines.append(f"  {'torque':<8}{summary['peak_torque_Nm']:>17.4f} N·m{summary['peak_crank_angle_deg']['torque']:>24.2f}")
     for w in summary.get("warnings", []):
         lines.append(f"warning: {w}")
     return "\n".join(lines)
@@ -40,27 +39,35 @@ def kinematics_table(summary: dict) -> str:
 def parts_table(result) -> str:
     """The console table: the cycle envelope's peak and where in the cycle, the seed
     method's single instant beside it, the fatigue factor, and each verdict."""
-    lines = [f"  {'part':<14}{'cycle max vM':>14}{'at crank':>10}{'seed inst.':>12}{'tip defl.':>11}{'limit':>9}"
-             f"{'FoS':>8}{'fatigue n':>11}  {'verdict':<8}{'peak at x, y, z (mm)':<24}{'at support*':>12}"]
+    lines = [
+        f"  {'part':<14}{'cycle max vM':>14}{'at crank':>10}{'seed inst.':>12}{'tip defl.':>11}{'limit':>9}"
+        f"{'FoS':>8}{'fatigue n':>11}  {'verdict':<8}{'peak at x, y, z (mm)':<24}{'at support*':>12}"
+    ]
     for name, p in result.parts.items():
         c = p.cycle
-        loc = ", ".join(f"{x*1e3:.1f}" for x in c.envelope.location)
+        loc = ", ".join(f"{x * 1e3:.1f}" for x in c.envelope.location)
         fos = p.limit / p.verdict_stress if p.verdict_stress > 0 else math.inf
         why = [] if p.stress_passed else ["stress"]
         why += [] if p.fatigue_passed else ["fatigue"]
         why += [] if p.deflection_passed else ["defl"]
         verdict = ("PASS" if p.passed else "FAIL " + "+".join(why)) if np.any(c.C) else "NO LOAD"
         angle = f"{c.history.crank_angle_deg:>7.1f} deg" if c.C.shape[0] > 1 else f"{'constant':>11}"
-        lines.append(f"  {name:<14}{p.verdict_stress/1e6:>10.1f} MPa{angle}"
-                     f"{c.seed_method.max_von_mises/1e6:>8.1f} MPa{c.envelope.max_tip*1e3:>8.2f} mm"
-                     f"{p.limit/1e6:>5.0f} MPa{_factor(fos):>8}{_factor(c.fatigue.min_safety_factor):>11}  "
-                     f"{verdict:<8}{loc:<24}"
-                     f"{c.envelope.support_peak/1e6:>8.1f} MPa")
-    lines.append("  cycle max vM: the largest von Mises over the whole crank cycle (superposed unit cases); seed inst.: "
-                 "at the instant of the peak |reaction| (seed 000's method); FoS = limit / cycle max; fatigue n: "
-                 "minimum fatigue safety factor (Shigley 6-14 with the [fatigue] criterion)")
-    lines.append("  * the peak at the idealised clamped support grows with mesh refinement (a singularity); the "
-                 "verdict uses the peak farther than one hole diameter from it")
+        lines.append(
+            f"  {name:<14}{p.verdict_stress / 1e6:>10.1f} MPa{angle}"
+            f"{c.seed_method.max_von_mises / 1e6:>8.1f} MPa{c.envelope.max_tip * 1e3:>8.2f} mm"
+            f"{p.limit / 1e6:>5.0f} MPa{_factor(fos):>8}{_factor(c.fatigue.min_safety_factor):>11}  "
+            f"{verdict:<8}{loc:<24}"
+            f"{c.envelope.support_peak / 1e6:>8.1f} MPa"
+        )
+    lines.append(
+        "  cycle max vM: the largest von Mises over the whole crank cycle (superposed unit cases); seed inst.: "
+        "at the instant of the peak |reaction| (seed 000's method); FoS = limit / cycle max; fatigue n: "
+        "minimum fatigue safety factor (Shigley 6-14 with the [fatigue] criterion)"
+    )
+    lines.append(
+        "  * the peak at the idealised clamped support grows with mesh refinement (a singularity); the "
+        "verdict uses the peak farther than one hole diameter from it"
+    )
     return "\n".join(lines)
 
 
@@ -78,16 +85,20 @@ def check_report(run) -> str:
     if result.parts:
         c = scene.check
         sizes = sorted({(p.job.mesh.size, p.job.mesh.hole_size) for p in result.parts.values()}, reverse=True)
-        sizes = ", ".join(f"{a*1e3:g} mm (holes {b*1e3:.3g} mm)" for a, b in sizes)
-        lines.append(f"FE check: material {c.material}, factor {c.factor:g}, bolts {c.bolt_position}, "
-                     f"P{scene.mesh.order} tetrahedra, size {sizes}")
+        sizes = ", ".join(f"{a * 1e3:g} mm (holes {b * 1e3:.3g} mm)" for a, b in sizes)
+        lines.append(
+            f"FE check: material {c.material}, factor {c.factor:g}, bolts {c.bolt_position}, "
+            f"P{scene.mesh.order} tetrahedra, size {sizes}"
+        )
         lines.append(parts_table(result))
         if "rail_mass_per_m_kg" in summary:
             m = summary["rail_mass_per_m_kg"]
-            lines.append(f"  rail mass: modelled section {m['model_section']:.2f} kg/m ({m['model_with_holes']:.2f} "
-                         f"with its holes; solid rectangle, grooves omitted), HIWIN HGR25 "
-                         f"{m['HIWIN HGR25 catalogue']:.2f} kg/m, seed {m['seed 000 (Anexo I)']:.2f} kg/m (used by the "
-                         "dynamics)")
+            lines.append(
+                f"  rail mass: modelled section {m['model_section']:.2f} kg/m ({m['model_with_holes']:.2f} "
+                f"with its holes; solid rectangle, grooves omitted), HIWIN HGR25 "
+                f"{m['HIWIN HGR25 catalogue']:.2f} kg/m, seed {m['seed 000 (Anexo I)']:.2f} kg/m (used by the "
+                "dynamics)"
+            )
         known = (result.kinematics_summary or {}).get("warnings", [])
         lines += [f"warning: {w}" for w in result.warnings if w not in known]
     lines.append(f"stages run: {', '.join(result.stages_run)}")
@@ -99,42 +110,56 @@ def check_report(run) -> str:
 def bench_report(out: dict) -> str:
     """`railcheck bench cantilever` on the console."""
 
-    return "\n".join([
-        f"cantilever {LENGTH*1e3:g} x {WIDTH*1e3:g} x {HEIGHT*1e3:g} mm steel, clamped at x = 0, "
-        f"{LOAD:g} N transverse tip load; P{out['order']} tetrahedra, size {out['size_mm']:g} mm",
-        f"  tip deflection (FE)         {out['tip_deflection_m']*1e3:12.6f} mm",
-        f"  Timoshenko PL^3/3EI+PL/kGA  {out['analytic_m']*1e3:12.6f} mm",
-        f"  relative error              {out['relative_error']*100:+12.4f} %",
-        f"  DOFs {out['dofs']}, elements {out['elements']}, solver {out['solver']}",
-        "  seconds: " + ", ".join(f"{k} {v:.2f}" for k, v in out["seconds"].items())])
+    return "\n".join(
+        [
+            f"cantilever {LENGTH * 1e3:g} x {WIDTH * 1e3:g} x {HEIGHT * 1e3:g} mm steel, clamped at x = 0, "
+            f"{LOAD:g} N transverse tip load; P{out['order']} tetrahedra, size {out['size_mm']:g} mm",
+            f"  tip deflection (FE)         {out['tip_deflection_m'] * 1e3:12.6f} mm",
+            f"  Timoshenko PL^3/3EI+PL/kGA  {out['analytic_m'] * 1e3:12.6f} mm",
+            f"  relative error              {out['relative_error'] * 100:+12.4f} %",
+            f"  DOFs {out['dofs']}, elements {out['elements']}, solver {out['solver']}",
+            "  seconds: " + ", ".join(f"{k} {v:.2f}" for k, v in out["seconds"].items()),
+        ]
+    )
 
 
 def convergence_report(result: dict) -> str:
     """`railcheck convergence` on the console."""
     rows, target = result["rows"], result["target"]
     if target == "kinematics":
-        lines = [f"default scene, newton-euler; reference: {result['reference_steps']} steps",
-                 f"  {'steps':>7}{'seconds':>10}{'max |error|':>13}  4 sig. figures"]
-        lines += [f"  {r['steps']:>7}{r['seconds']:>10.4f}{r['max_abs_error']:>13.2e}  "
-                  f"{'yes' if r['four_significant_figures'] else 'no'}" for r in rows]
+        lines = [
+            f"default scene, newton-euler; reference: {result['reference_steps']} steps",
+            f"  {'steps':>7}{'seconds':>10}{'max |error|':>13}  4 sig. figures",
+        ]
+        lines += [
+            f"  {r['steps']:>7}{r['seconds']:>10.4f}{r['max_abs_error']:>13.2e}  "
+            f"{'yes' if r['four_significant_figures'] else 'no'}"
+            for r in rows
+        ]
         return "\n".join(lines)
-    lines = [f"{target}: errors against " + ("Timoshenko beam theory" if target == "cantilever"
-                                             else "Richardson extrapolation of the three finest meshes"),
-             f"  {'elem':>4}{'size mm':>8}{'DOFs':>9}{'elements':>9}{'mesh':>7}{'asm':>7}{'solve':>7}{'stress':>7}"
-             f"{'mem GB':>7}{'tip mm':>11}{'err':>10}{'vM MPa':>9}{'err':>10}{'support':>9}"]
+    lines = [
+        f"{target}: errors against "
+        + ("Timoshenko beam theory" if target == "cantilever" else "Richardson extrapolation of the three finest meshes"),
+        f"  {'elem':>4}{'size mm':>8}{'DOFs':>9}{'elements':>9}{'mesh':>7}{'asm':>7}{'solve':>7}{'stress':>7}"
+        f"{'mem GB':>7}{'tip mm':>11}{'err':>10}{'vM MPa':>9}{'err':>10}{'support':>9}",
+    ]
     for r in rows:
         s = r["seconds"]
-        lines.append(f"  {r['element']:>4}{r['size_m']*1e3:>8.3g}{r['dofs']:>9}{r['elements']:>9}{s['mesh']:>7.2f}"
-                     f"{s['assembly']:>7.2f}{s['solve']:>7.2f}{s['stress']:>7.2f}{r['peak_memory_bytes']/1e9:>7.2f}"
-                     f"{r['tip_deflection_m']*1e3:>11.5f}{r['error_deflection']*100:>9.3f}%"
-                     f"{r['max_von_mises_Pa']/1e6:>9.2f}{r['error_von_mises']*100:>9.3f}%"
-                     f"{r['support_peak_von_mises_Pa']/1e6:>9.1f}")
+        lines.append(
+            f"  {r['element']:>4}{r['size_m'] * 1e3:>8.3g}{r['dofs']:>9}{r['elements']:>9}{s['mesh']:>7.2f}"
+            f"{s['assembly']:>7.2f}{s['solve']:>7.2f}{s['stress']:>7.2f}{r['peak_memory_bytes'] / 1e9:>7.2f}"
+            f"{r['tip_deflection_m'] * 1e3:>11.5f}{r['error_deflection'] * 100:>9.3f}%"
+            f"{r['max_von_mises_Pa'] / 1e6:>9.2f}{r['error_von_mises'] * 100:>9.3f}%"
+            f"{r['support_peak_von_mises_Pa'] / 1e6:>9.1f}"
+        )
     if target != "cantilever":
         for name, ref in result["references"].items():
             d, v = ref["tip_deflection_m"], ref["max_von_mises_Pa"]
-            lines.append(f"  {name} extrapolated: tip {d['extrapolated']*1e3:.5f} mm (observed order "
-                         f"{d['observed_order']:.2f}), von Mises {v['extrapolated']/1e6:.2f} MPa "
-                         f"(order {v['observed_order']:.2f})")
+            lines.append(
+                f"  {name} extrapolated: tip {d['extrapolated'] * 1e3:.5f} mm (observed order "
+                f"{d['observed_order']:.2f}), von Mises {v['extrapolated'] / 1e6:.2f} MPa "
+                f"(order {v['observed_order']:.2f})"
+            )
     return "\n".join(lines)
 
 
@@ -142,43 +167,55 @@ def mechanism_report(run) -> str:
     """`railcheck mechanism` on the console."""
     mech, table = run.mech, run.table
     x, y = table[:, 1] * 1e3, table[:, 2] * 1e3
-    return "\n".join([
-        f"{mech.name}: {mech.description}", f"mobility: {run.mobility.report()}",
-        f"driver: {math.degrees(table[0, 0]):.2f} to {math.degrees(table[-1, 0]):.2f} deg in {run.steps} steps "
-        f"({math.degrees(run.rate):.0f} deg/s)",
-        f"tracer ({mech.bodies[mech.tracer[0] - 1].name}.{mech.tracer[1]}): x {x.min():.4f} to {x.max():.4f} mm, "
-        f"y {y.min():.4f} to {y.max():.4f} mm"])
+    return "\n".join(
+        [
+            f"{mech.name}: {mech.description}",
+            f"mobility: {run.mobility.report()}",
+            f"driver: {math.degrees(table[0, 0]):.2f} to {math.degrees(table[-1, 0]):.2f} deg in {run.steps} steps "
+            f"({math.degrees(run.rate):.0f} deg/s)",
+            f"tracer ({mech.bodies[mech.tracer[0] - 1].name}.{mech.tracer[1]}): x {x.min():.4f} to {x.max():.4f} mm, "
+            f"y {y.min():.4f} to {y.max():.4f} mm",
+        ]
+    )
 
 
 def sweep_report(run) -> str:
     """The console report of a finished sweep: per kind the counts, the worst setting,
     the motor and bearing envelope, then seed 000's hypotheses and where the results are."""
     s = run.summary
-    lines = [f"sweep: {', '.join(f'{v:g}' for v in s['speeds_Hz'])} Hz, {s['steps']} steps per revolution, "
-             f"{s['assembly']} assembly, effects: {', '.join(s['effects'])}"]
-    mm = lambda d: "/".join(f"{v*1e3:.0f}" for v in d.values()) + " mm"  # noqa: E731
+    lines = [
+        f"sweep: {', '.join(f'{v:g}' for v in s['speeds_Hz'])} Hz, {s['steps']} steps per revolution, "
+        f"{s['assembly']} assembly, effects: {', '.join(s['effects'])}"
+    ]
+    mm = lambda d: "/".join(f"{v * 1e3:.0f}" for v in d.values()) + " mm"  # noqa: E731
     for kind, k in s["by_kind"].items():
-        lines.append(f"{kind}: {k['settings_total']} settings, {k['settings_assemblable']} assemble, "
-                     f"{k['settings_revolving']} revolve, {k['settings_passing_checks']} pass the configuration "
-                     f"checks, {k['settings_passing']} pass every check at {s['speeds_Hz'][0]:g} Hz")
+        lines.append(
+            f"{kind}: {k['settings_total']} settings, {k['settings_assemblable']} assemble, "
+            f"{k['settings_revolving']} revolve, {k['settings_passing_checks']} pass the configuration "
+            f"checks, {k['settings_passing']} pass every check at {s['speeds_Hz'][0]:g} Hz"
+        )
         if k["worst"]:
             w = k["worst"]
-            lines.append(f"  worst passing-checks setting {mm(w['lengths_m'])}: {w['part']} utilisation "
-                         f"{w['utilisation']:.3f}")
+            lines.append(
+                f"  worst passing-checks setting {mm(w['lengths_m'])}: {w['part']} utilisation {w['utilisation']:.3f}"
+            )
         if k["lowest_safe_speed"]:
             m = k["lowest_safe_speed"]
             lines.append(f"  lowest safe speed {m['safe_speed_Hz']:.3g} Hz at {mm(m['lengths_m'])} ({m['part']})")
         if k["motor"]:
             m = k["motor"]
-            lines.append(f"  motor: peak torque {m['torque_peak_Nm']:.1f} N m (RMS {m['torque_rms_Nm']:.1f} N m, "
-                         f"peak power {m['power_peak_W']:.0f} W) at {mm(m['lengths_m'])}")
+            lines.append(
+                f"  motor: peak torque {m['torque_peak_Nm']:.1f} N m (RMS {m['torque_rms_Nm']:.1f} N m, "
+                f"peak power {m['power_peak_W']:.0f} W) at {mm(m['lengths_m'])}"
+            )
         if k["shortest_bearing_life"]:
             b = k["shortest_bearing_life"]
-            lines.append(f"  6205 bearings: shortest L10 {b['hours']:.3g} h at {mm(b['lengths_m'])}, static "
-                         f"safety {b['static_safety']:.3g}")
+            lines.append(
+                f"  6205 bearings: shortest L10 {b['hours']:.3g} h at {mm(b['lengths_m'])}, static "
+                f"safety {b['static_safety']:.3g}"
+            )
     for h in s.get("seed_hypotheses", []):
         mark = {True: "true ", False: "FALSE", None: "n/a  "}[h["holds"]]
         lines.append(f"  seed {h['id']:<10} {mark} {h['statement']} ({h['evidence']})")
-    lines.append(f"results in {run.target}/ ({', '.join(s['tables'].values())}, maps, summary.json), "
-                 f"{run.seconds:.1f} s")
+    lines.append(f"results in {run.target}/ ({', '.join(s['tables'].values())}, maps, summary.json), {run.seconds:.1f} s")
     return "\n".join(lines)

@@ -15,8 +15,15 @@ def run_bench(order: int = 2, size_mm: float = 4.0, solver: str = "auto") -> dic
         raise InputError("--size", f"must be between 0.5 and 50 mm, got {size_mm:g}")
     refuse_beyond_memory(bar(LENGTH, WIDTH, HEIGHT), size_mm * 1e-3, size_mm * 1e-3, order, "--size")
     r = run_cantilever(order=order, size=size_mm * 1e-3, solver=solver)
-    return {"tip_deflection_m": r.computed, "analytic_m": r.analytic, "relative_error": r.relative_error,
-            "dofs": r.solution.dofs, "elements": r.solution.elements,
-            "seconds": {k: r.seconds[k] for k in ("mesh", "assembly", "solve", "stress")},
-            "order": order, "size_mm": size_mm, "solver": r.solution.solver.get("solver"),
-            "max_von_mises_Pa": r.solution.max_von_mises}
+    return {
+        "tip_deflection_m": r.computed,
+        "analytic_m": r.analytic,
+        "relative_error": r.relative_error,
+        "dofs": r.solution.dofs,
+        "elements": r.solution.elements,
+        "seconds": {k: r.seconds[k] for k in ("mesh", "assembly", "solve", "stress")},
+        "order": order,
+        "size_mm": size_mm,
+        "solver": r.solution.solver.get("solver"),
+        "max_von_mises_Pa": r.solution.max_von_mises,
+    }

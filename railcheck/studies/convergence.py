@@ -32,10 +32,13 @@ from railcheck.kinematics.motion import solve_motion
 from railcheck.parts import PARTS, geometry_of, kind_of
 from railcheck.scene import load_scene
 
-DEFAULT_SIZES_MM = {"cantilever": [20.0, 14.0, 10.0, 7.0, 5.0], "rail": [20.0, 14.0, 10.0, 7.0],
-                    "plate": [12.0, 8.5, 6.0, 4.2]}
-HOLE_RATIO = 0.3          # hole_size / size, as in the default scene (3 mm / 10 mm)
-ELEMENTS = {"1": "P1", "2": "P2", "2s": "P2s"}   # --orders token -> element: P2 curved, P2s straight-sided
+DEFAULT_SIZES_MM = {
+    "cantilever": [20.0, 14.0, 10.0, 7.0, 5.0],
+    "rail": [20.0, 14.0, 10.0, 7.0],
+    "plate": [12.0, 8.5, 6.0, 4.2],
+}
+HOLE_RATIO = 0.3  # hole_size / size, as in the default scene (3 mm / 10 mm)
+ELEMENTS = {"1": "P1", "2": "P2", "2s": "P2s"}  # --orders token -> element: P2 curved, P2s straight-sided
 
 
 def element_order(element: str) -> tuple[int, bool]:
@@ -44,6 +47,7 @@ def element_order(element: str) -> tuple[int, bool]:
 
 
 # -- Richardson extrapolation ---------------------------------------------------------
+
 
 def richardson(h: list[float], f: list[float], max_iter: int = 100) -> tuple[float, float]:
     """Extrapolate three solutions ``f`` at mesh sizes ``h`` (coarse to fine) to h -> 0.
@@ -76,10 +80,10 @@ def richardson(h: list[float], f: list[float], max_iter: int = 100) -> tuple[flo
 
 # -- one row (run in a subprocess) ------------------------------------------------------
 
+
 def solve_row(target: str, element: str, size: float) -> dict:
     """Mesh and solve one configuration; returns the row (SI)."""
     import resource
-
 
     steel = MATERIALS["steel"]
     if target == "cantilever":
@@ -88,7 +92,6 @@ def solve_row(target: str, element: str, size: float) -> dict:
         supports, loads, tip, exclude = [Support("clamp")], [HoleLoad("tip", (0.0, 0.0, LOAD))], "tip", HEIGHT
     else:
         from dataclasses import replace
-
 
         scene = load_scene(None)
         scene = replace(scene, check=replace(scene.check, parts=(target,)))
@@ -104,15 +107,34 @@ def solve_row(target: str, element: str, size: float) -> dict:
     mesh = mesh_part(geo, size, hole, cache=False)
     t_mesh = time.perf_counter() - t
     order, curved = element_order(element)
-    sol = solve_elasticity(mesh.points, mesh.tets, mesh.groups, steel, supports, loads, order=order,
-                           tip_group=tip, exclude_distance=exclude, curved=mesh.curved if curved else None)
-    row = {"target": target, "element": element, "order": order, "size_m": size, "hole_size_m": hole, "dofs": sol.dofs,
-           "elements": sol.elements,
-           "seconds": {"mesh": t_mesh, **{k: sol.seconds[k] for k in ("assembly", "solve", "stress")}},
-           "peak_memory_bytes": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024,
-           "tip_deflection_m": sol.tip_deflection, "max_von_mises_Pa": sol.max_von_mises_away,
-           "max_von_mises_location_m": [float(x) for x in sol.max_von_mises_away_location],
-           "support_peak_von_mises_Pa": sol.max_von_mises, "solver": sol.solver.get("solver")}
+    sol = solve_elasticity(
+        mesh.points,
+        mesh.tets,
+        mesh.groups,
+        steel,
+        supports,
+        loads,
+        order=order,
+        tip_group=tip,
+        exclude_distance=exclude,
+        curved=mesh.curved if curved else None,
+    )
+    row = {
+        "target": target,
+        "element": element,
+        "order": order,
+        "size_m": size,
+        "hole_size_m": hole,
+        "dofs": sol.dofs,
+        "elements": sol.elements,
+        "seconds": {"mesh": t_mesh, **{k: sol.seconds[k] for k in ("assembly", "solve", "stress")}},
+        "peak_memory_bytes": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024,
+        "tip_deflection_m": sol.tip_deflection,
+        "max_von_mises_Pa": sol.max_von_mises_away,
+        "max_von_mises_location_m": [float(x) for x in sol.max_von_mises_away_location],
+        "support_peak_von_mises_Pa": sol.max_von_mises,
+        "solver": sol.solver.get("solver"),
+    }
     return row
 
 
@@ -173,13 +195,16 @@ def run_study(target: str, elements: list[str], sizes: list[float], progress=pri
                 t = time.perf_counter()
                 row = pool.submit(solve_row, target, element, size).result()
                 rows.append(row)
-                progress(f"[{i*len(sizes)+j+1}/{total}] {target} {element} {size*1e3:g} mm: {row['dofs']} DOFs, "
-                         f"{time.perf_counter() - t:.1f} s")
+                progress(
+                    f"[{i * len(sizes) + j + 1}/{total}] {target} {element} {size * 1e3:g} mm: {row['dofs']} DOFs, "
+                    f"{time.perf_counter() - t:.1f} s"
+                )
     refs = add_errors(rows, target)
     return rows, refs
 
 
 # -- kinematics: crank steps ------------------------------------------------------------
+
 
 def kinematics_study(steps_list: list[int], reference_steps: int = 200_000) -> tuple[list[dict], dict]:
     """Error of each peak reaction and of the peak torque against ``reference_steps``,
@@ -202,12 +227,20 @@ def kinematics_study(steps_list: list[int], reference_steps: int = 200_000) -> t
             times.append(time.perf_counter() - t)
         err = {k: (p[k] - ref[k]) / ref[k] for k in ref}
         four = all(abs(p[k] - ref[k]) <= 0.5 * 10 ** (math.floor(math.log10(ref[k])) - 3) for k in ref)
-        rows.append({"steps": n, "seconds": float(np.median(times)), "errors": err,
-                     "max_abs_error": max(abs(e) for e in err.values()), "four_significant_figures": four})
+        rows.append(
+            {
+                "steps": n,
+                "seconds": float(np.median(times)),
+                "errors": err,
+                "max_abs_error": max(abs(e) for e in err.values()),
+                "four_significant_figures": four,
+            }
+        )
     return rows, ref
 
 
 # -- command ----------------------------------------------------------------------------
+
 
 def _parse_list(text: str, kind, name: str) -> list:
     try:
@@ -221,23 +254,26 @@ def _parse_list(text: str, kind, name: str) -> list:
 
 def plot_study(rows: list[dict], target: str, path: str) -> None:
     import matplotlib
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     import matplotlib.ticker
 
-
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.5))
-    for ax, key, title in ((axes[0], "error_deflection", "tip deflection"), (axes[1], "error_von_mises",
-                                                                             "peak von Mises (away from support)")):
+    for ax, key, title in (
+        (axes[0], "error_deflection", "tip deflection"),
+        (axes[1], "error_von_mises", "peak von Mises (away from support)"),
+    ):
         for element in sorted({r["element"] for r in rows}):
             # a row that is its own reference (error exactly 0) has no place on a log axis
-            sub = [r for r in rows if r["element"] == element and r.get(key) is not None and r[key] == r[key]
-                   and r[key] != 0.0]
+            sub = [
+                r for r in rows if r["element"] == element and r.get(key) is not None and r[key] == r[key] and r[key] != 0.0
+            ]
             t = [sum(r["seconds"].values()) for r in sub]
             e = [abs(r[key]) for r in sub]
             ax.loglog(t, e, "o-", label=element)
             for r, ti, ei in zip(sub, t, e):
-                ax.annotate(f"{r['size_m']*1e3:g} mm", (ti, ei), fontsize=7, textcoords="offset points", xytext=(3, 3))
+                ax.annotate(f"{r['size_m'] * 1e3:g} mm", (ti, ei), fontsize=7, textcoords="offset points", xytext=(3, 3))
         ax.set(xlabel="wall time per solve (s)", ylabel="relative error", title=f"{target}: {title}")
         ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
         ax.grid(alpha=0.3, which="both")

@@ -48,7 +48,7 @@ def _segments(mech, motion) -> list:
     out = []
     for k, body in enumerate(mech.bodies, start=1):
         names = sorted(body.points, key=lambda n: (body.points[n][0], body.points[n][1]))
-        pos = np.stack([motion.point(k, n)[0] for n in names], axis=1)   # (steps, points, 2)
+        pos = np.stack([motion.point(k, n)[0] for n in names], axis=1)  # (steps, points, 2)
         out.append((body.name, names, pos))
     return out
 
@@ -60,10 +60,12 @@ def write_html(path: Path, mech, motion, table: np.ndarray) -> None:
     all_pts = np.concatenate([p.reshape(-1, 2) for _, _, p in segs] + [np.array(ground), table[:, 1:3]])
     lo, hi = all_pts.min(axis=0), all_pts.max(axis=0)
     data = {
-        "name": mech.name, "description": mech.description,
+        "name": mech.name,
+        "description": mech.description,
         "driver_deg": [round(math.degrees(v), 6) for v in table[:, 0]],
         "bodies": [{"name": n, "points": names, "xy": np.round(p, 9).tolist()} for n, names, p in segs],
-        "ground": ground, "tracer": np.round(table[:, 1:3], 9).tolist(),
+        "ground": ground,
+        "tracer": np.round(table[:, 1:3], 9).tolist(),
         "bounds": [float(lo[0]), float(lo[1]), float(hi[0]), float(hi[1])],
         "tracer_body": mech.bodies[mech.tracer[0] - 1].name,
     }
@@ -73,6 +75,7 @@ def write_html(path: Path, mech, motion, table: np.ndarray) -> None:
 
 def write_gif(path: Path, mech, motion, table: np.ndarray, frames: int = 60) -> None:
     import matplotlib
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     from matplotlib.animation import FuncAnimation, PillowWriter

@@ -34,7 +34,7 @@ from railcheck.loads.bearings import bearing_life
 from railcheck.parts import BAR_INDEX
 from railcheck.sweep.fe import fatigue_min, hull_steps, tip_peak, von_mises_peak
 
-REVOLVE_MARGIN = 1e-7          # rad: closer to a toggle is singular (kinematics.motion)
+REVOLVE_MARGIN = 1e-7  # rad: closer to a toggle is singular (kinematics.motion)
 
 
 @dataclass(frozen=True)
@@ -43,11 +43,11 @@ class SweepContext:
 
     scene: object
     kind: str
-    speeds: tuple                  # rad/s
+    speeds: tuple  # rad/s
     steps: int
-    models: dict                   # part name -> sweep_parts.PartModel
+    models: dict  # part name -> sweep_parts.PartModel
     density: float
-    rail: object                   # geometry.catalogue.RailSpec
+    rail: object  # geometry.catalogue.RailSpec
 
     @property
     def effects(self) -> tuple[str, ...]:
@@ -69,8 +69,12 @@ def revolvable(ctx: SweepContext, lengths: dict, flags: dict) -> np.ndarray:
     """(S,) True where the crank makes a full revolution away from a toggle."""
     if ctx.kind == "four-bar":
         with np.errstate(invalid="ignore"):
-            return ((flags["mu_min"] > REVOLVE_MARGIN) & (math.pi - flags["mu_max"] > REVOLVE_MARGIN)
-                    & np.isfinite(flags["mu_min"]) & np.isfinite(flags["mu_max"]))
+            return (
+                (flags["mu_min"] > REVOLVE_MARGIN)
+                & (math.pi - flags["mu_max"] > REVOLVE_MARGIN)
+                & np.isfinite(flags["mu_min"])
+                & np.isfinite(flags["mu_max"])
+            )
     reach = lengths["crank"] + np.abs(lengths["offset"])
     return lengths["coupler"] - reach >= REVOLVE_MARGIN * lengths["coupler"]
 
@@ -80,8 +84,9 @@ def motion_of(ctx: SweepContext, lengths: dict, speed: float):
     sign = 1.0 if ctx.scene.sweep.assembly == "open" else -1.0
     th = crank_angles(ctx.steps)
     if ctx.kind == "four-bar":
-        return batch.fourbar_motion(lengths["crank"], lengths["coupler"], lengths["rocker"], lengths["ground"],
-                                    sign, speed, th)
+        return batch.fourbar_motion(
+            lengths["crank"], lengths["coupler"], lengths["rocker"], lengths["ground"], sign, speed, th
+        )
     return batch.slidercrank_motion(lengths["crank"], lengths["coupler"], lengths["offset"], sign, speed, th)
 
 
@@ -97,10 +102,10 @@ class Loads:
     """The revolving settings' loads at the first speed: ``inertial`` and ``constant``
     (gravity) parts of the reactions and torque, and the two motions they come from."""
 
-    motion: object              # at the first speed
-    static: object | None       # at rest (gravity), or None
-    inertial: object | None     # BatchDynamics of the inertia at the first speed (no gravity)
-    constant: object | None     # BatchDynamics of gravity at rest
+    motion: object  # at the first speed
+    static: object | None  # at rest (gravity), or None
+    inertial: object | None  # BatchDynamics of the inertia at the first speed (no gravity)
+    constant: object | None  # BatchDynamics of gravity at rest
 
 
 def loads_of(ctx: SweepContext, lengths: dict) -> Loads:
@@ -117,7 +122,7 @@ def loads_of(ctx: SweepContext, lengths: dict) -> Loads:
 def reactions_at(loads: Loads, s: float) -> tuple[dict, np.ndarray]:
     """(joint -> (S, T, 2) N, torque (S, T) N m) at speed ratio squared ``s``."""
     parts = [(d, w) for d, w in ((loads.constant, 1.0), (loads.inertial, s)) if d is not None]
-    ref = (loads.inertial or loads.constant)
+    ref = loads.inertial or loads.constant
     if not parts:
         raise ValueError("no effect to simulate")
     R = {j: sum(w * d.reactions[j] for d, w in parts) for j in ref.reactions}
@@ -131,7 +136,7 @@ def motor_and_bearings(ctx: SweepContext, loads: Loads, speed: float) -> dict:
     s = (speed / ctx.speeds[0]) ** 2
     R, torque = reactions_at(loads, s)
     ratio = speed / ctx.speeds[0]
-    w = loads.motion.omega * ratio                                       # (3, S, T) rad/s
+    w = loads.motion.omega * ratio  # (3, S, T) rad/s
     out = {f"peak_{j}_N": np.hypot(r[..., 0], r[..., 1]).max(axis=1) for j, r in R.items()}
     out["torque_peak_Nm"] = np.abs(torque).max(axis=1)
     out["torque_rms_Nm"] = np.sqrt(np.mean(torque**2, axis=1))
@@ -155,9 +160,12 @@ def kinematic_columns(ctx: SweepContext) -> list[str]:
     """The columns :func:`motor_and_bearings` gives, in order (NaN where a setting does not revolve)."""
     joints = ("O2", "A", "B", "O4") if ctx.kind == "four-bar" else ("O2", "A", "B", "slider")
     bearings = ("O2", "A", "B", "O4") if ctx.kind == "four-bar" else ("O2", "A", "B")
-    return ([f"peak_{j}_N" for j in joints] + ["torque_peak_Nm", "torque_rms_Nm", "power_peak_W"]
-            + [f"bearing_{j}_{q}_N" for j in bearings for q in ("load", "peak")]
-            + ["bearing_life_h", "bearing_static_safety"])
+    return (
+        [f"peak_{j}_N" for j in joints]
+        + ["torque_peak_Nm", "torque_rms_Nm", "power_peak_W"]
+        + [f"bearing_{j}_{q}_N" for j in bearings for q in ("load", "peak")]
+        + ["bearing_life_h", "bearing_static_safety"]
+    )
 
 
 def coefficients(ctx: SweepContext, name: str, loads: Loads, sel: np.ndarray) -> list[tuple]:
@@ -167,9 +175,15 @@ def coefficients(ctx: SweepContext, name: str, loads: Loads, sel: np.ndarray) ->
 
     def coeffs(src, reactions: dict, motion):
         by_bar = lambda a: {bar: a[i][sel] for bar, i in BAR_INDEX.items()}  # noqa: E731
-        return source_coefficients(loads_model, src, {j: r[sel] for j, r in reactions.items()},
-                                   by_bar(motion.theta), {j: a[sel] for j, a in motion.accelerations.items()},
-                                   by_bar(motion.omega), by_bar(motion.alpha))
+        return source_coefficients(
+            loads_model,
+            src,
+            {j: r[sel] for j, r in reactions.items()},
+            by_bar(motion.theta),
+            {j: a[sel] for j, a in motion.accelerations.items()},
+            by_bar(motion.omega),
+            by_bar(motion.alpha),
+        )
 
     loads_model = ctx.models[name].loads
     total, _ = reactions_at(loads, 1.0)
@@ -199,8 +213,9 @@ def evaluate_part(model, history: list[tuple], bar_lengths: np.ndarray | None, s
         for Cg, Ci in history:
             C = hull_steps(s[idx, None, None] * Ci[idx] + (Cg[idx] if Cg is not None else 0.0))
             vm[idx] = np.maximum(vm[idx], von_mises_peak(screen, C))
-            fat[idx] = np.minimum(fat[idx], fatigue_min(screen, C, model.endurance, model.ultimate, model.criterion,
-                                                        model.yield_strength))
+            fat[idx] = np.minimum(
+                fat[idx], fatigue_min(screen, C, model.endurance, model.ultimate, model.criterion, model.yield_strength)
+            )
             tip[idx] = np.maximum(tip[idx], tip_peak(screen, C))
     return vm, fat, tip
 
@@ -268,6 +283,7 @@ def _safe_s_bisect(ctx: SweepContext, at, n: int, iterations: int = 60) -> np.nd
     from 1 until it is exceeded, then bisection (vectorised over the settings); 0 where the
     rig fails at rest, inf where no ``s`` up to 2^60 reaches 1. Assumes the utilisation
     grows with ``s`` once inertia dominates (it is convex in the loads)."""
+
     def worst(s):
         return np.max([u for *_, u in at(s).values()], axis=0)
 
@@ -335,8 +351,11 @@ def _fe_columns(ctx: SweepContext, n: int, fe, j: int, speed: float, passed: np.
         if fe is not None:
             at, res = fe
             vm[at], fat[at], tip[at], u[at] = res["per_speed"][j][name]
-            for i in at[(vm[at] > m.limit) | (fat[at] < m.required)
-                        | ((tip[at] > m.deflection_limit) if m.deflection_limit else False)]:
+            for i in at[
+                (vm[at] > m.limit)
+                | (fat[at] < m.required)
+                | ((tip[at] > m.deflection_limit) if m.deflection_limit else False)
+            ]:
                 failing[i].append(name)
         col[f"{name}_stress_MPa"], col[f"{name}_fatigue"] = vm / 1e6, fat
         col[f"{name}_tip_mm"], col[f"{name}_utilisation"] = tip * 1e3, u
@@ -347,9 +366,15 @@ def _fe_columns(ctx: SweepContext, n: int, fe, j: int, speed: float, passed: np.
         safe[fe[0]] = ctx.speeds[0] * np.sqrt(fe[1]["safe_s"]) / (2 * math.pi)
     col["utilisation"], col["governing_part"], col["safe_speed_Hz"] = worst, governing, safe
     names = list(checks)
-    reason = np.array([", ".join(names[k] for k in range(len(names)) if not checks[names[k]][i]) if not passed[i]
-                       else ", ".join(failing[i]) for i in range(n)], dtype=object)
+    reason = np.array(
+        [
+            ", ".join(names[k] for k in range(len(names)) if not checks[names[k]][i])
+            if not passed[i]
+            else ", ".join(failing[i])
+            for i in range(n)
+        ],
+        dtype=object,
+    )
     verdict = np.where(~passed, "refused", np.where(np.array([bool(f) for f in failing]), "fail", "pass"))
     col["verdict"], col["reason"] = verdict.astype(object), reason
     return col
-

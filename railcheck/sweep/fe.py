@@ -30,9 +30,9 @@ import numpy as np
 from railcheck.fea.fatigue import alternating_and_mean, safety_factor
 from railcheck.fea.superpose import VM_QUADRATIC, candidate_steps, hull_polygon, support
 
-CHUNK_VALUES = 8_000_000     # floats per temporary (nodes x settings x steps)
-TOP_NODES = 64               # nodes evaluated first for the lower bound
-SLACK = 1e-9                 # relative margin on the bounds (rounding)
+CHUNK_VALUES = 8_000_000  # floats per temporary (nodes x settings x steps)
+TOP_NODES = 64  # nodes evaluated first for the lower bound
+SLACK = 1e-9  # relative margin on the bounds (rounding)
 
 
 @dataclass(frozen=True)
@@ -50,7 +50,7 @@ class Screen:
     tip: np.ndarray
     by_lam: np.ndarray = field(repr=False, default=None)
     by_G: np.ndarray = field(repr=False, default=None)
-    angle: np.ndarray | None = field(repr=False, default=None)     # (6, n) arctan2 of each component (k = 2)
+    angle: np.ndarray | None = field(repr=False, default=None)  # (6, n) arctan2 of each component (k = 2)
 
 
 def make_screen(stress: np.ndarray, verdict_mask: np.ndarray, tip: np.ndarray, cols: list[int]) -> Screen:
@@ -61,7 +61,7 @@ def make_screen(stress: np.ndarray, verdict_mask: np.ndarray, tip: np.ndarray, c
     k = S.shape[2]
     Q = np.einsum("cnk,cd,dnl->nkl", S, VM_QUADRATIC, S, optimize=True)
     lam = np.linalg.eigvalsh(Q)[:, -1]
-    norms = np.linalg.norm(S, axis=2)                                   # (6, n)
+    norms = np.linalg.norm(S, axis=2)  # (6, n)
     shear = 3.0 * (norms[3] ** 2 + norms[4] ** 2 + norms[5] ** 2)
     G = np.sqrt(0.5 * ((norms[0] + norms[1]) ** 2 + (norms[1] + norms[2]) ** 2 + (norms[2] + norms[0]) ** 2) + shear)
     Ga = np.sqrt(norms[0] ** 2 + norms[1] ** 2 + norms[2] ** 2 + shear)
@@ -98,7 +98,7 @@ def von_mises_peak(screen: Screen, C: np.ndarray) -> np.ndarray:
         vm2 = screen.Q[top] @ CC[g].reshape(-1, k * k).T
         L2[g] = vm2.reshape(top.size, -1, T).max(axis=(0, 2))
     best = L2.copy()
-    can = screen.lam[:, None] * R2[None, :] * (1.0 + SLACK) >= L2[None, :]        # (n, S)
+    can = screen.lam[:, None] * R2[None, :] * (1.0 + SLACK) >= L2[None, :]  # (n, S)
     for g in _groups(S_, max(1, int(can.sum(axis=0).max())) * T):
         nodes = np.flatnonzero(can[:, g].any(axis=1))
         if nodes.size:
@@ -107,18 +107,19 @@ def von_mises_peak(screen: Screen, C: np.ndarray) -> np.ndarray:
     return np.sqrt(np.maximum(best, 0.0))
 
 
-def fatigue_min(screen: Screen, C: np.ndarray, endurance: float, ultimate: float, criterion: str,
-                yield_strength: float | None) -> np.ndarray:
+def fatigue_min(
+    screen: Screen, C: np.ndarray, endurance: float, ultimate: float, criterion: str, yield_strength: float | None
+) -> np.ndarray:
     """(S,) the smallest fatigue safety factor over the verdict nodes of each history
     ``C`` (S, T, k) (component ranges over all steps; :mod:`fea.fatigue`)."""
 
     factor = lambda sa, sm: safety_factor(sa, sm, endurance, ultimate, criterion, yield_strength)  # noqa: E731
-    polygons = [hull_polygon(c) for c in C] if screen.angle is not None else None    # once per history
+    polygons = [hull_polygon(c) for c in C] if screen.angle is not None else None  # once per history
     best = _fatigue_exact(screen, screen.by_G[:TOP_NODES], C, factor, polygons)
     c0, E = _enclosing_ellipse(C)
     n = screen.stress.shape[1]
     for g in _groups(C.shape[0], 12 * n):
-        bound = factor(*_fatigue_bounds(screen.stress, c0[g], E[g]))                     # (n, s)
+        bound = factor(*_fatigue_bounds(screen.stress, c0[g], E[g]))  # (n, s)
         can = bound <= best[g][None, :] * (1.0 + SLACK)
         for h in _groups(can.shape[1], 6 * max(1, int(can.sum(axis=0).max())) * C.shape[1]):
             nodes = np.flatnonzero(can[:, h].any(axis=1))
@@ -149,8 +150,9 @@ def _fatigue_bounds(stress: np.ndarray, c0: np.ndarray, E: np.ndarray) -> tuple[
     h = np.sqrt(np.maximum(np.einsum("jnk,skl,jnl->jns", stress, E, stress, optimize=True), 0.0))
     B = np.abs(np.einsum("jnk,sk->jns", stress, c0)) + h
     sa = np.sqrt(h[0] ** 2 + h[1] ** 2 + h[2] ** 2 + 3.0 * (h[3] ** 2 + h[4] ** 2 + h[5] ** 2))
-    sm = np.sqrt(0.5 * ((B[0] + B[1]) ** 2 + (B[1] + B[2]) ** 2 + (B[2] + B[0]) ** 2)
-                 + 3.0 * (B[3] ** 2 + B[4] ** 2 + B[5] ** 2))
+    sm = np.sqrt(
+        0.5 * ((B[0] + B[1]) ** 2 + (B[1] + B[2]) ** 2 + (B[2] + B[0]) ** 2) + 3.0 * (B[3] ** 2 + B[4] ** 2 + B[5] ** 2)
+    )
     return sa, sm
 
 
@@ -164,7 +166,7 @@ def _fatigue_exact(screen: Screen, nodes: np.ndarray, C: np.ndarray, factor, pol
         return _fatigue_exact_planar(screen, nodes, C, factor, polygons)
     out = np.full(C.shape[0], np.inf)
     for g in _groups(C.shape[0], 6 * nodes.size * C.shape[1]):
-        X = np.tensordot(screen.stress[:, nodes, :], C[g], axes=([2], [2]))              # (6, u, s, T)
+        X = np.tensordot(screen.stress[:, nodes, :], C[g], axes=([2], [2]))  # (6, u, s, T)
         sa, sm = alternating_and_mean(X.max(axis=3), X.min(axis=3))
         out[g] = factor(sa, sm).min(axis=0)
     return out
@@ -177,7 +179,7 @@ def _fatigue_exact_planar(screen: Screen, nodes: np.ndarray, C: np.ndarray, fact
     out = np.empty(C.shape[0])
     for s, c in enumerate(C):
         V = hull_polygon(c) if polygons is None else polygons[s]
-        if V is None:                                   # a segment or a point: every step, exactly
+        if V is None:  # a segment or a point: every step, exactly
             X = D @ c.T
             hi, lo = X.max(axis=1), X.min(axis=1)
         else:

@@ -26,7 +26,7 @@ import numpy as np
 from railcheck.geometry.catalogue import with_overrides
 from railcheck.kinematics.massmodel import MassModel
 
-GROUND_RAIL_LENGTH = 2.5      # m, seed 000 3.2.1 and Anexo I
+GROUND_RAIL_LENGTH = 2.5  # m, seed 000 3.2.1 and Anexo I
 BARS = {"four-bar": ("crank", "coupler", "rocker", "ground"), "slider-crank": ("crank", "coupler", "offset")}
 
 
@@ -34,8 +34,12 @@ def rail_lengths() -> dict[str, float]:
     """m: the rail each bar's length is set on."""
 
     m = MassModel()
-    return {"crank": m.crank_rail_length, "coupler": m.coupler_rail_length, "rocker": m.rocker_rail_length,
-            "ground": GROUND_RAIL_LENGTH}
+    return {
+        "crank": m.crank_rail_length,
+        "coupler": m.coupler_rail_length,
+        "rocker": m.rocker_rail_length,
+        "ground": GROUND_RAIL_LENGTH,
+    }
 
 
 def settable_lengths(rail_length: float, rail) -> np.ndarray:
@@ -49,8 +53,10 @@ def rig_grid(overrides: dict | None = None) -> dict[str, dict[str, np.ndarray]]:
 
     rail = with_overrides(overrides or {})[0]
     lengths = {bar: settable_lengths(L, rail) for bar, L in rail_lengths().items()}
-    return {"four-bar": {bar: lengths[bar] for bar in BARS["four-bar"]},
-            "slider-crank": {"crank": lengths["crank"], "coupler": lengths["coupler"], "offset": np.zeros(1)}}
+    return {
+        "four-bar": {bar: lengths[bar] for bar in BARS["four-bar"]},
+        "slider-crank": {"crank": lengths["crank"], "coupler": lengths["coupler"], "offset": np.zeros(1)},
+    }
 
 
 def narrowed(grid: dict[str, np.ndarray], ranges: dict) -> dict[str, np.ndarray]:

@@ -17,8 +17,15 @@ from railcheck.files import atomic_path
 from railcheck.sweep.grid import BARS, narrowed, rig_grid
 from railcheck.sweep.table import read_table
 
-REASON_ORDER = ("assembly", "grashof", "crank_shorter_than_coupler", "transmission_angle", "crank_rail_collision",
-                "joints_on_rails", "hole_grid")
+REASON_ORDER = (
+    "assembly",
+    "grashof",
+    "crank_shorter_than_coupler",
+    "transmission_angle",
+    "crank_rail_collision",
+    "joints_on_rails",
+    "hole_grid",
+)
 
 
 class Aggregate:
@@ -29,18 +36,23 @@ class Aggregate:
         self.scene, self.kind, self.bars = scene, kind, BARS[kind]
         self.first_speed = scene.sweep.speeds[0] / (2 * math.pi)
         self.grid = narrowed(rig_grid(scene.geometry)[kind], scene.sweep.ranges)
-        self.counts = {"settings_total": int(lengths["crank"].size), "settings_assemblable": 0,
-                       "settings_revolving": 0, "settings_passing_checks": 0, "settings_passing": 0}
+        self.counts = {
+            "settings_total": int(lengths["crank"].size),
+            "settings_assemblable": 0,
+            "settings_revolving": 0,
+            "settings_passing_checks": 0,
+            "settings_passing": 0,
+        }
         self.passing_by_speed = {}
         self.worst = None
         self.motor = None
         self.min_safe = None
         self.min_life = None
         shape = tuple(v.size for v in self.grid.values())
-        self.util = np.full(shape, np.nan)          # per grid setting: utilisation at the first speed
-        self.safe = np.full(shape, np.nan)          # Hz
-        self.torque = np.full(shape, np.nan)        # N m, peak motor torque
-        self.reaction = np.full(shape, np.nan)      # N, the largest peak joint reaction
+        self.util = np.full(shape, np.nan)  # per grid setting: utilisation at the first speed
+        self.safe = np.full(shape, np.nan)  # Hz
+        self.torque = np.full(shape, np.nan)  # N m, peak motor torque
+        self.reaction = np.full(shape, np.nan)  # N, the largest peak joint reaction
         self.reason = np.full(shape, -1, dtype=np.int8)
 
     def add(self, col: dict) -> None:
@@ -65,23 +77,32 @@ class Aggregate:
         u = np.where(ok & np.isfinite(c["utilisation"]), c["utilisation"], -np.inf)
         if u.size and np.isfinite(u.max()) and (self.worst is None or u.max() > self.worst["utilisation"]):
             i = int(np.argmax(u))
-            self.worst = {"lengths_m": self._lengths(c, i), "part": str(c["governing_part"][i]),
-                          "utilisation": float(u[i])}
+            self.worst = {"lengths_m": self._lengths(c, i), "part": str(c["governing_part"][i]), "utilisation": float(u[i])}
         t = np.where(ok & np.isfinite(c["torque_peak_Nm"]), c["torque_peak_Nm"], -np.inf)
         if t.size and np.isfinite(t.max()) and (self.motor is None or t.max() > self.motor["torque_peak_Nm"]):
             i = int(np.argmax(t))
-            self.motor = {"lengths_m": self._lengths(c, i), "torque_peak_Nm": float(t[i]),
-                          "torque_rms_Nm": float(c["torque_rms_Nm"][i]), "power_peak_W": float(c["power_peak_W"][i])}
+            self.motor = {
+                "lengths_m": self._lengths(c, i),
+                "torque_peak_Nm": float(t[i]),
+                "torque_rms_Nm": float(c["torque_rms_Nm"][i]),
+                "power_peak_W": float(c["power_peak_W"][i]),
+            }
         s = np.where(ok & ~np.isnan(c["safe_speed_Hz"]), c["safe_speed_Hz"], np.inf)
         if s.size and np.isfinite(s.min()) and (self.min_safe is None or s.min() < self.min_safe["safe_speed_Hz"]):
             i = int(np.argmin(s))
-            self.min_safe = {"lengths_m": self._lengths(c, i), "safe_speed_Hz": float(s[i]),
-                             "part": str(c["governing_part"][i])}
+            self.min_safe = {
+                "lengths_m": self._lengths(c, i),
+                "safe_speed_Hz": float(s[i]),
+                "part": str(c["governing_part"][i]),
+            }
         life = np.where(ok & ~np.isnan(c["bearing_life_h"]), c["bearing_life_h"], np.inf)
         if life.size and np.isfinite(life.min()) and (self.min_life is None or life.min() < self.min_life["hours"]):
             i = int(np.argmin(life))
-            self.min_life = {"lengths_m": self._lengths(c, i), "hours": float(life[i]),
-                             "static_safety": float(c["bearing_static_safety"][i])}
+            self.min_life = {
+                "lengths_m": self._lengths(c, i),
+                "hours": float(life[i]),
+                "static_safety": float(c["bearing_static_safety"][i]),
+            }
 
     def _maps(self, c: dict) -> None:
         index = []
@@ -107,9 +128,15 @@ class Aggregate:
         self.reason[idx] = reasons
 
     def summary(self) -> dict:
-        return {**self.counts, "settings_passing_by_speed_Hz": self.passing_by_speed, "worst": self.worst,
-                "max_motor_torque_Nm": self.motor["torque_peak_Nm"] if self.motor else None,
-                "motor": self.motor, "lowest_safe_speed": self.min_safe, "shortest_bearing_life": self.min_life}
+        return {
+            **self.counts,
+            "settings_passing_by_speed_Hz": self.passing_by_speed,
+            "worst": self.worst,
+            "max_motor_torque_Nm": self.motor["torque_peak_Nm"] if self.motor else None,
+            "motor": self.motor,
+            "lowest_safe_speed": self.min_safe,
+            "shortest_bearing_life": self.min_life,
+        }
 
 
 def summary_of(scene, aggregates: dict, tables: dict, models: dict) -> dict:
@@ -144,11 +171,24 @@ def hypotheses(path: Path, speed_hz: float) -> list[dict]:
     """Seed 000 chapter 3.3's hypotheses, each true or false on this table's four-bar
     rows at ``speed_hz`` ("reaction": the largest peak joint reaction of a setting)."""
 
-    cols = ["crank_mm", "coupler_mm", "rocker_mm", "ground_mm", "speed_Hz", "checks_passed", "peak_O2_N",
-            "peak_A_N", "peak_B_N", "peak_O4_N", "torque_peak_Nm"]
+    cols = [
+        "crank_mm",
+        "coupler_mm",
+        "rocker_mm",
+        "ground_mm",
+        "speed_Hz",
+        "checks_passed",
+        "peak_O2_N",
+        "peak_A_N",
+        "peak_B_N",
+        "peak_O4_N",
+        "torque_peak_Nm",
+    ]
     table = read_table(path, cols, speed_hz)
-    t = {k: np.asarray(v.to_numpy(zero_copy_only=False), dtype=float if k != "checks_passed" else bool)
-         for k, v in zip(cols, table.columns)}
+    t = {
+        k: np.asarray(v.to_numpy(zero_copy_only=False), dtype=float if k != "checks_passed" else bool)
+        for k, v in zip(cols, table.columns)
+    }
     t["reaction"] = functools.reduce(np.fmax, [t[f"peak_{j}_N"] for j in ("O2", "A", "B", "O4")])
     return [_h1(t), _h2(t), _h32(t), _smallest(t), _final(t)]
 
@@ -162,9 +202,12 @@ def _h1(t: dict) -> dict:
     x, r = t["rocker_mm"][sel], t["reaction"][sel]
     order = np.argsort(x)
     holds = bool(np.all(np.diff(r[order]) < 0)) if x.size > 1 else None
-    return _verdict("3.3.2 H1", "crank 180 mm, coupler 240 mm, rocker = ground: the longer rocker and ground, the "
-                                "smaller the reactions", holds,
-                    f"{x.size} revolving settings, rocker = ground {_span(x)} mm; reaction {_trend(x, r)}")
+    return _verdict(
+        "3.3.2 H1",
+        "crank 180 mm, coupler 240 mm, rocker = ground: the longer rocker and ground, the smaller the reactions",
+        holds,
+        f"{x.size} revolving settings, rocker = ground {_span(x)} mm; reaction {_trend(x, r)}",
+    )
 
 
 def _h2(t: dict) -> dict:
@@ -172,10 +215,13 @@ def _h2(t: dict) -> dict:
     x, r = t["coupler_mm"][sel], t["reaction"][sel]
     base = r[np.isclose(x, 240)]
     holds = bool(np.all(r[x > 240] < base[0])) if base.size and np.any(x > 240) else None
-    return _verdict("3.3.2 H2", "crank 180 mm, rocker = ground = 720 mm: every coupler longer than 240 mm gives "
-                                "smaller reactions than 240 mm", holds,
-                    f"{x.size} revolving settings, coupler {_span(x)} mm; reaction at 240 mm "
-                    f"{base[0] if base.size else float('nan'):.1f} N, largest beyond {np.max(r[x > 240], initial=0):.1f} N")
+    return _verdict(
+        "3.3.2 H2",
+        "crank 180 mm, rocker = ground = 720 mm: every coupler longer than 240 mm gives smaller reactions than 240 mm",
+        holds,
+        f"{x.size} revolving settings, coupler {_span(x)} mm; reaction at 240 mm "
+        f"{base[0] if base.size else float('nan'):.1f} N, largest beyond {np.max(r[x > 240], initial=0):.1f} N",
+    )
 
 
 def _h32(t: dict) -> dict:
@@ -183,9 +229,12 @@ def _h32(t: dict) -> dict:
     cranks = np.unique(t["crank_mm"][ok])
     worst = np.array([t["reaction"][ok & np.isclose(t["crank_mm"], c)].max() for c in cranks])
     holds = bool(np.all(np.diff(worst) > 0)) if cranks.size > 1 else None
-    return _verdict("3.3.5 H3.2", "among settings that pass every check, the longer the crank, the larger the "
-                                  "largest reaction", holds,
-                    "largest reaction per crank: " + ", ".join(f"{c:.0f} mm {w:.0f} N" for c, w in zip(cranks, worst)))
+    return _verdict(
+        "3.3.5 H3.2",
+        "among settings that pass every check, the longer the crank, the larger the largest reaction",
+        holds,
+        "largest reaction per crank: " + ", ".join(f"{c:.0f} mm {w:.0f} N" for c, w in zip(cranks, worst)),
+    )
 
 
 def _smallest(t: dict) -> dict:
@@ -195,23 +244,30 @@ def _smallest(t: dict) -> dict:
     size = (t["crank_mm"] + t["coupler_mm"] + t["rocker_mm"] + t["ground_mm"])[ok]
     r = t["reaction"][ok]
     i = int(np.argmax(r))
-    return _verdict("3.3.3", "among settings that pass every check, the smallest mechanism (least total bar length) "
-                             "has the largest reactions", bool(np.isclose(size[i], size.min())),
-                    f"largest reaction {r[i]:.1f} N at total length {size[i]:.0f} mm; smallest total {size.min():.0f} mm")
+    return _verdict(
+        "3.3.3",
+        "among settings that pass every check, the smallest mechanism (least total bar length) has the largest reactions",
+        bool(np.isclose(size[i], size.min())),
+        f"largest reaction {r[i]:.1f} N at total length {size[i]:.0f} mm; smallest total {size.min():.0f} mm",
+    )
 
 
 def _final(t: dict) -> dict:
     ok = t["checks_passed"]
     if not np.any(ok):
-        return _verdict("3.3.6", "480/840/780/1020 mm has the largest reactions of the settings that pass", None,
-                        "no setting passes")
+        return _verdict(
+            "3.3.6", "480/840/780/1020 mm has the largest reactions of the settings that pass", None, "no setting passes"
+        )
     i = int(np.argmax(np.where(ok, t["reaction"], -np.inf)))
     name = "/".join(f"{t[f'{b}_mm'][i]:.0f}" for b in ("crank", "coupler", "rocker", "ground"))
     torque = np.nanmax(np.where(ok, t["torque_peak_Nm"], np.nan))
-    return _verdict("3.3.6", "480/840/780/1020 mm has the largest reactions of the settings that pass every check",
-                    name == "480/840/780/1020",
-                    f"largest: {name} mm with {t['reaction'][i]:.1f} N; largest peak motor torque of the settings "
-                    f"that pass {torque:.1f} N m (the seed asks for a motor of at least 200 N m)")
+    return _verdict(
+        "3.3.6",
+        "480/840/780/1020 mm has the largest reactions of the settings that pass every check",
+        name == "480/840/780/1020",
+        f"largest: {name} mm with {t['reaction'][i]:.1f} N; largest peak motor torque of the settings "
+        f"that pass {torque:.1f} N m (the seed asks for a motor of at least 200 N m)",
+    )
 
 
 def _span(x: np.ndarray) -> str:
@@ -242,21 +298,25 @@ def _map_figure(agg: Aggregate, path: Path) -> None:
     from matplotlib.colors import ListedColormap
     from matplotlib.patches import Patch
 
-
     pairs = [(0, 1), (2, 3)] if len(agg.bars) == 4 else [(0, 1)]
     fig, axes = plt.subplots(2, len(pairs), figsize=(max(9.0, 6.5 * len(pairs)), 9.5), squeeze=False)
     reason_colors = ListedColormap(["#d9d9d9", "#fdd0a2", "#c6dbef", "#fcbba1", "#dadaeb", "#c7e9c0", "#f0f0f0"])
     for col, (a, b) in enumerate(pairs):
         others = tuple(i for i in range(len(agg.bars)) if i not in (a, b))
-        panels = ((agg.util, np.nanmax, "worst utilisation (1 = limit)", "viridis"),
-                  (agg.safe, np.nanmin, "lowest safe crank speed (Hz)", "viridis_r"))
-        if np.all(np.isnan(agg.util)):          # no FE parts: the loads instead
-            panels = ((agg.reaction, np.nanmax, "largest peak joint reaction (N)", "viridis"),
-                      (agg.torque, np.nanmax, "largest peak motor torque (N m)", "viridis"))
+        panels = (
+            (agg.util, np.nanmax, "worst utilisation (1 = limit)", "viridis"),
+            (agg.safe, np.nanmin, "lowest safe crank speed (Hz)", "viridis_r"),
+        )
+        if np.all(np.isnan(agg.util)):  # no FE parts: the loads instead
+            panels = (
+                (agg.reaction, np.nanmax, "largest peak joint reaction (N)", "viridis"),
+                (agg.torque, np.nanmax, "largest peak motor torque (N m)", "viridis"),
+            )
         for row, (data, reduce, label, cmap) in enumerate(panels):
             ax = axes[row, col]
             with np.errstate(all="ignore"):
                 import warnings
+
                 with warnings.catch_warnings():
                     warnings.simplefilter("ignore", RuntimeWarning)
                     grid = reduce(data, axis=others) if others else data
@@ -264,12 +324,27 @@ def _map_figure(agg: Aggregate, path: Path) -> None:
             xs, ys = agg.grid[agg.bars[a]] * 1e3, agg.grid[agg.bars[b]] * 1e3
             extent = _extent(xs, ys)
             refused = np.ma.masked_where(~np.isnan(grid) | (reasons < 0), reasons)
-            ax.imshow(refused.T, origin="lower", extent=extent, aspect="auto", cmap=reason_colors, vmin=0,
-                      vmax=len(REASON_ORDER) - 1, interpolation="nearest")
+            ax.imshow(
+                refused.T,
+                origin="lower",
+                extent=extent,
+                aspect="auto",
+                cmap=reason_colors,
+                vmin=0,
+                vmax=len(REASON_ORDER) - 1,
+                interpolation="nearest",
+            )
             finite = grid[np.isfinite(grid)]
-            im = ax.imshow(np.ma.masked_invalid(grid).T, origin="lower", extent=extent, aspect="auto", cmap=cmap,
-                           interpolation="nearest", vmin=finite.min() if finite.size else 0,
-                           vmax=finite.max() if finite.size else 1)
+            im = ax.imshow(
+                np.ma.masked_invalid(grid).T,
+                origin="lower",
+                extent=extent,
+                aspect="auto",
+                cmap=cmap,
+                interpolation="nearest",
+                vmin=finite.min() if finite.size else 0,
+                vmax=finite.max() if finite.size else 1,
+            )
             fig.colorbar(im, ax=ax, label=label)
             if data is agg.util and finite.size and finite.min() < 1 < finite.max():
                 ax.contour(xs, ys, grid.T, levels=[1.0], colors="red", linewidths=1.5)
@@ -280,8 +355,11 @@ def _map_figure(agg: Aggregate, path: Path) -> None:
     handles = [Patch(color=reason_colors(i), label=f"refused: {n.replace('_', ' ')}") for i, n in enumerate(REASON_ORDER)]
     fig.legend(handles=handles, loc="lower center", ncol=4 if len(pairs) > 1 else 3, fontsize=8)
     note = " (red line: utilisation 1)" if not np.all(np.isnan(agg.util)) else ""
-    fig.suptitle(f"railcheck sweep, {agg.kind} at {agg.first_speed:g} Hz\nsettings that pass every configuration "
-                 f"check in colour{note}", fontsize=10)
+    fig.suptitle(
+        f"railcheck sweep, {agg.kind} at {agg.first_speed:g} Hz\nsettings that pass every configuration "
+        f"check in colour{note}",
+        fontsize=10,
+    )
     fig.tight_layout(rect=(0, 0.06, 1, 0.97))
     with atomic_path(path) as tmp:
         fig.savefig(tmp, dpi=110)

@@ -76,8 +76,11 @@ def hole_groups(scene, name: str, geo, lengths: np.ndarray) -> tuple[dict, dict]
 
     kind = kind_of(name)
     if name in scene.check.loads:
-        holes = kind.bolts(geo) if not kind.bolts_on_rail else [f"hole_{k}" for k in
-                                                                  rail_bolt_holes(list(geo.get("hole_x")), 0, 0, "worst")]
+        holes = (
+            kind.bolts(geo)
+            if not kind.bolts_on_rail
+            else [f"hole_{k}" for k in rail_bolt_holes(list(geo.get("hole_x")), 0, 0, "worst")]
+        )
         return {None: holes}, {}
     if not kind.bolts_on_rail:
         return {None: kind.bolts(geo)}, {}
@@ -110,20 +113,45 @@ def build_part_model(scene, name: str, lengths: np.ndarray, material, limit: flo
             cases.setdefault(full, case)
             names.append(full)
         columns[key] = [list(cases).index(n) for n in names]
-    fields, meta = solve_unit_cases(mesh.points, mesh.tets, mesh.groups, material, [kind.support], cases,
-                                    scene.mesh.order, kind.tip, kind.exclusion(geo), "auto", report,
-                                    curved=mesh.curved if scene.mesh.curved else None)
+    fields, meta = solve_unit_cases(
+        mesh.points,
+        mesh.tets,
+        mesh.groups,
+        material,
+        [kind.support],
+        cases,
+        scene.mesh.order,
+        kind.tip,
+        kind.exclusion(geo),
+        "auto",
+        report,
+        curved=mesh.curved if scene.mesh.curved else None,
+    )
     screens = {key: make_screen(fields.stress, fields.verdict_mask, fields.tip, cols) for key, cols in columns.items()}
     spec = scene.fatigue
     marin = endurance_limit(material.ultimate_strength, spec.surface, kind.section(geo), spec.load, spec.reliability)
-    model = PartModel(name, PARTS[name].bar if name not in scene.check.loads else None, screens, pair_of, limit,
-                      marin.endurance_limit, material.ultimate_strength, spec.criterion, material.yield_strength,
-                      spec.min_safety, scene.check.max_deflection, meta.dofs, loads)
+    model = PartModel(
+        name,
+        PARTS[name].bar if name not in scene.check.loads else None,
+        screens,
+        pair_of,
+        limit,
+        marin.endurance_limit,
+        material.ultimate_strength,
+        spec.criterion,
+        material.yield_strength,
+        spec.min_safety,
+        scene.check.max_deflection,
+        meta.dofs,
+        loads,
+    )
     if name not in scene.check.loads:
         return model
     C = source_histories(loads, None, groups[None])[0].C[None]
     scr = screens[None]
-    constant = (float(von_mises_peak(scr, C)[0]),
-                float(fatigue_min(scr, C, model.endurance, model.ultimate, model.criterion, model.yield_strength)[0]),
-                float(tip_peak(scr, C)[0]))
+    constant = (
+        float(von_mises_peak(scr, C)[0]),
+        float(fatigue_min(scr, C, model.endurance, model.ultimate, model.criterion, model.yield_strength)[0]),
+        float(tip_peak(scr, C)[0]),
+    )
     return PartModel(**{**model.__dict__, "constant": constant})

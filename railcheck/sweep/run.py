@@ -45,7 +45,7 @@ class SweepRun:
     requested: Path
     seconds: float = 0.0
     tables: dict = field(default_factory=dict)
-    timings: dict = field(default_factory=dict)     # s per stage: prepare (FE unit cases), chunks, report
+    timings: dict = field(default_factory=dict)  # s per stage: prepare (FE unit cases), chunks, report
 
     @property
     def exit_status(self) -> int:
@@ -59,8 +59,10 @@ def sweep_settings(scene) -> dict[str, dict[str, np.ndarray]]:
     settings."""
 
     grid = rig_grid(scene.geometry)
-    return {kind: settings(kind, narrowed(grid[kind], scene.sweep.ranges), scene.sweep.settings.get(kind))
-            for kind in scene.sweep.kinds}
+    return {
+        kind: settings(kind, narrowed(grid[kind], scene.sweep.ranges), scene.sweep.settings.get(kind))
+        for kind in scene.sweep.kinds
+    }
 
 
 def chunk_size(scene) -> int:
@@ -70,8 +72,10 @@ def chunk_size(scene) -> int:
 
 def validate(scene) -> None:
     if scene.formulation == "seed-2013" and "slider-crank" in scene.sweep.kinds:
-        raise InputError("sweep.kind", "dynamics.formulation = \"seed-2013\" exists only for the four-bar: "
-                                       "sweep kind = \"four-bar\", or use newton-euler")
+        raise InputError(
+            "sweep.kind",
+            'dynamics.formulation = "seed-2013" exists only for the four-bar: sweep kind = "four-bar", or use newton-euler',
+        )
 
 
 def prepare_models(scene, by_kind: dict, progress) -> dict[str, dict]:
@@ -90,14 +94,25 @@ def prepare_models(scene, by_kind: dict, progress) -> dict[str, dict]:
         t = time.perf_counter()
         say = lambda msg, i=i, name=name: progress.say("solve", f"({i}/{len(names)}) {name}: {msg}")  # noqa: E731
         models[name] = build_part_model(scene, name, lengths, material, limit, say)
-        progress.say("solve", f"({i}/{len(names)}) {name}: {models[name].dofs} DOFs, "
-                              f"{sum(s.stress.shape[2] for s in models[name].screens.values())} unit columns "
-                              f"({time.perf_counter() - t:.1f} s)")
+        progress.say(
+            "solve",
+            f"({i}/{len(names)}) {name}: {models[name].dofs} DOFs, "
+            f"{sum(s.stress.shape[2] for s in models[name].screens.values())} unit columns "
+            f"({time.perf_counter() - t:.1f} s)",
+        )
     return {kind: {n: m for n, m in models.items() if applicable(scene, n, kind)} for kind in by_kind}
 
 
-def run_sweep(scene, out: str | None = None, force: bool = False, scheduler: str | None = None,
-              workers: int | None = None, serial: bool = False, progress=None, dask: bool | None = None) -> SweepRun:
+def run_sweep(
+    scene,
+    out: str | None = None,
+    force: bool = False,
+    scheduler: str | None = None,
+    workers: int | None = None,
+    serial: bool = False,
+    progress=None,
+    dask: bool | None = None,
+) -> SweepRun:
     """Run the sweep the scene asks for and write its results directory. Dask runs the
     chunks when ``scheduler`` is given or the sweep is large (``dask`` True/False forces
     it either way; ``serial`` is ``dask=False``)."""
@@ -129,8 +144,11 @@ def _run_into(scene, directory: Path, scheduler, workers, serial, progress, dask
 
     clock = [time.perf_counter()]
     by_kind = sweep_settings(scene)
-    progress.say("sweep", ", ".join(f"{k}: {v['crank'].size} settings" for k, v in by_kind.items())
-                 + f" x {len(scene.sweep.speeds)} speed(s), {scene.sweep.steps} steps")
+    progress.say(
+        "sweep",
+        ", ".join(f"{k}: {v['crank'].size} settings" for k, v in by_kind.items())
+        + f" x {len(scene.sweep.speeds)} speed(s), {scene.sweep.steps} steps",
+    )
     models = prepare_models(scene, by_kind, progress)
     clock.append(time.perf_counter())
     aggregates, tables = {}, {}
@@ -160,8 +178,9 @@ def _run_into(scene, directory: Path, scheduler, workers, serial, progress, dask
 def _context(scene, kind: str, models: dict):
 
     density = MATERIALS[scene.check.material].density if scene.check else 0.0
-    return SweepContext(scene, kind, tuple(scene.sweep.speeds), scene.sweep.steps, models, density,
-                        with_overrides(scene.geometry)[0])
+    return SweepContext(
+        scene, kind, tuple(scene.sweep.speeds), scene.sweep.steps, models, density, with_overrides(scene.geometry)[0]
+    )
 
 
 class _Executor:
@@ -192,11 +211,13 @@ class _Executor:
                 raise InputError("--scheduler", f"cannot reach {self.scheduler}: {exc}") from None
         else:
             n = self.workers or os.cpu_count() or 1
-            self.cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
-                                        silence_logs=logging.ERROR)
+            self.cluster = LocalCluster(
+                n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None, silence_logs=logging.ERROR
+            )
             self.client = Client(self.cluster)
-        self.progress.say("sweep", f"Dask: {len(self.client.scheduler_info()['workers'])} workers "
-                                   f"({self.scheduler or 'local cluster'})")
+        self.progress.say(
+            "sweep", f"Dask: {len(self.client.scheduler_info()['workers'])} workers ({self.scheduler or 'local cluster'})"
+        )
 
     def __exit__(self, *exc):
         if self.client is not None:
@@ -210,7 +231,7 @@ class _Executor:
 
         total = lengths["crank"].size
         starts = list(range(0, total, size))
-        chunk = lambda a: ({b: v[a:a + size] for b, v in lengths.items()}, np.arange(a, min(a + size, total)))  # noqa: E731
+        chunk = lambda a: ({b: v[a : a + size] for b, v in lengths.items()}, np.arange(a, min(a + size, total)))  # noqa: E731
         meter = _Meter(self.progress, ctx.kind, total)
         if not self.use_dask:
             for a in starts:
@@ -248,7 +269,6 @@ class _Meter:
             self.last = now
             rate = self.count / max(now - self.t0, 1e-9)
             bar = "#" * int(30 * self.count / max(self.total, 1))
-            self.progress.say("sweep", f"{self.kind:<12} [{bar:<30}] {self.count}/{self.total} settings, "
-                                       f"{rate:,.0f} settings/s")
-
-
+            self.progress.say(
+                "sweep", f"{self.kind:<12} [{bar:<30}] {self.count}/{self.total} settings, {rate:,.0f} settings/s"
+            )

@@ -31,9 +31,11 @@ class TableWriter:
         if self.writer is None:
             if self.fmt == "parquet":
                 import pyarrow.parquet as pq
+
                 self.writer = pq.ParquetWriter(self.tmp, table.schema, compression="zstd")
             else:
                 import pyarrow.csv as pcsv
+
                 self.writer = pcsv.CSVWriter(self.tmp, table.schema)
         self.writer.write_table(table)
         self.rows += table.num_rows
@@ -51,7 +53,7 @@ class TableWriter:
 def _arrow(values: np.ndarray):
     import pyarrow as pa
 
-    if values.dtype == object:                       # text; empty (nothing to name) is null
+    if values.dtype == object:  # text; empty (nothing to name) is null
         return pa.array([v or None for v in values.tolist()], type=pa.string())
     if values.dtype.kind == "f":
         return pa.array(values, mask=~np.isfinite(values) & ~np.isinf(values))
@@ -66,8 +68,11 @@ def read_table(path: Path, columns: list[str] | None = None, speed_hz: float | N
     import pyarrow.dataset as ds
 
     path = Path(path)
-    fmt = "parquet" if path.suffix == ".parquet" else ds.CsvFileFormat(
-        convert_options=pcsv.ConvertOptions(strings_can_be_null=True))
+    fmt = (
+        "parquet"
+        if path.suffix == ".parquet"
+        else ds.CsvFileFormat(convert_options=pcsv.ConvertOptions(strings_can_be_null=True))
+    )
     data = ds.dataset(path, format=fmt)
     where = None if speed_hz is None else (ds.field("speed_Hz") == speed_hz)
     return data.to_table(columns=columns, filter=where)

@@ -8,10 +8,13 @@ import pytest
 
 from scene_texts import FINAL_DESIGN, PLATE_LOADS, one_line_exit_2
 
-PLATE = PLATE_LOADS + """[mesh]
+PLATE = (
+    PLATE_LOADS
+    + """[mesh]
 size = "12 mm"
 hole_size = "4 mm"
 """
+)
 
 FOURBAR = FINAL_DESIGN
 
@@ -19,38 +22,73 @@ FOURBAR = FINAL_DESIGN
 def check(tmp_path, scene_text, *extra, out="results"):
     scene = tmp_path / "scene.toml"
     scene.write_text(scene_text)
-    return subprocess.run([sys.executable, "-m", "railcheck.cli", "check", str(scene), "--out",
-                           str(tmp_path / out), *extra], capture_output=True, text=True, cwd=tmp_path)
+    return subprocess.run(
+        [sys.executable, "-m", "railcheck.cli", "check", str(scene), "--out", str(tmp_path / out), *extra],
+        capture_output=True,
+        text=True,
+        cwd=tmp_path,
+    )
 
 
 CASES = [
     ("malformed TOML", "[check\nparts = [", ("scene", "malformed TOML")),
     ("length in kg", FOURBAR.replace('"480 mm"', '"480 kg"'), ("mechanism.crank", "kg")),
-    ("unknown part", PLATE.replace('["PF_4b_003_v2"]', '["PF_4b_003_v2", "flux-capacitor"]'),
-     ("check.parts", "flux-capacitor")),
-    ("gravity with seed-2013", FOURBAR + '[dynamics]\nformulation = "seed-2013"\n[check]\nparts = ["crank-rail"]\n'
-     'effects = ["inertia", "gravity"]\n', ("check.effects", "seed-2013")),
-    ("loads for an unchecked part", PLATE.replace('parts = ["PF_4b_003_v2"]', 'parts = ["PF_4b_006"]'),
-     ("loads.PF_4b_003_v2",)),
-    ("unknown effect", PLATE.replace('[loads.', 'effects = ["wind"]\n[loads.'), ("check.effects", "wind")),
+    (
+        "unknown part",
+        PLATE.replace('["PF_4b_003_v2"]', '["PF_4b_003_v2", "flux-capacitor"]'),
+        ("check.parts", "flux-capacitor"),
+    ),
+    (
+        "gravity with seed-2013",
+        FOURBAR + '[dynamics]\nformulation = "seed-2013"\n[check]\nparts = ["crank-rail"]\n'
+        'effects = ["inertia", "gravity"]\n',
+        ("check.effects", "seed-2013"),
+    ),
+    (
+        "loads for an unchecked part",
+        PLATE.replace('parts = ["PF_4b_003_v2"]', 'parts = ["PF_4b_006"]'),
+        ("loads.PF_4b_003_v2",),
+    ),
+    ("unknown effect", PLATE.replace("[loads.", 'effects = ["wind"]\n[loads.'), ("check.effects", "wind")),
     ("hole size above size", PLATE.replace('hole_size = "4 mm"', 'hole_size = "40 mm"'), ("mesh.hole_size",)),
-    ("mesh beyond memory", PLATE.replace('size = "12 mm"', 'size = "0.3 mm"').replace('hole_size = "4 mm"', ''),
-     ("mesh.size", "GiB")),
+    (
+        "mesh beyond memory",
+        PLATE.replace('size = "12 mm"', 'size = "0.3 mm"').replace('hole_size = "4 mm"', ""),
+        ("mesh.size", "GiB"),
+    ),
     ("absurd speed", FOURBAR + 'speed = "1e308 Hz"\n', ("mechanism.speed", "50 Hz")),
-    ("absurd limit", PLATE.replace('parts = ["PF_4b_003_v2"]', 'parts = ["PF_4b_003_v2"]\nlimit = "1e308 GPa"'),
-     ("check.limit", "5 GPa")),
-    ("absurd factor", PLATE.replace('parts = ["PF_4b_003_v2"]', 'parts = ["PF_4b_003_v2"]\nfactor = 1e9'),
-     ("check.factor",)),
+    (
+        "absurd limit",
+        PLATE.replace('parts = ["PF_4b_003_v2"]', 'parts = ["PF_4b_003_v2"]\nlimit = "1e308 GPa"'),
+        ("check.limit", "5 GPa"),
+    ),
+    (
+        "absurd factor",
+        PLATE.replace('parts = ["PF_4b_003_v2"]', 'parts = ["PF_4b_003_v2"]\nfactor = 1e9'),
+        ("check.factor",),
+    ),
     ("absurd load", PLATE.replace('"250 N"', '"1e12 N"'), ("loads.PF_4b_003_v2.longitudinal", "1 MN")),
     ("absurd length", FOURBAR.replace('"1020 mm"', '"1e6 m"'), ("mechanism.ground", "10 m")),
-    ("mesh coarser than the part", PLATE.replace('size = "12 mm"', 'size = "1000 m"').replace('hole_size = "4 mm"', ''),
-     ("mesh.size", "too coarse")),
-    ("rail hole wider than the rail", PLATE + '[geometry]\nrail_hole_diameter = "30 mm"\n',
-     ("geometry.rail_hole_diameter",)),
-    ("bearing seat off the plate", PLATE + '[geometry]\nplate_seat_diameter = "200 mm"\n',
-     ("geometry.plate_seat_diameter",)),
-    ("rocker rail of a slider-crank", '[mechanism]\nkind = "slider-crank"\ncrank = "300 mm"\ncoupler = "800 mm"\n'
-     '[check]\nparts = ["rocker-rail"]\n', ("check.parts", "rocker")),
+    (
+        "mesh coarser than the part",
+        PLATE.replace('size = "12 mm"', 'size = "1000 m"').replace('hole_size = "4 mm"', ""),
+        ("mesh.size", "too coarse"),
+    ),
+    (
+        "rail hole wider than the rail",
+        PLATE + '[geometry]\nrail_hole_diameter = "30 mm"\n',
+        ("geometry.rail_hole_diameter",),
+    ),
+    (
+        "bearing seat off the plate",
+        PLATE + '[geometry]\nplate_seat_diameter = "200 mm"\n',
+        ("geometry.plate_seat_diameter",),
+    ),
+    (
+        "rocker rail of a slider-crank",
+        '[mechanism]\nkind = "slider-crank"\ncrank = "300 mm"\ncoupler = "800 mm"\n[check]\nparts = ["rocker-rail"]\n',
+        ("check.parts", "rocker"),
+    ),
 ]
 
 
@@ -58,7 +96,7 @@ CASES = [
 def test_bad_scene_exits_2_and_writes_nothing(tmp_path, name, text, needles):
     proc = check(tmp_path, text)
     one_line_exit_2(proc, *needles)
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["scene.toml"]   # nothing half-written
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["scene.toml"]  # nothing half-written
 
 
 def test_output_dir_that_is_a_file(tmp_path):
@@ -99,8 +137,7 @@ def test_toggle_scene_exits_2_naming_the_crank_angle(tmp_path):
     # d = 420: d + b2 = 900 < 1620, |d - b2| = 60 = |840 - 780|: aligned at crank angle 0 (change point)
     scene = tmp_path / "t.toml"
     scene.write_text(aligned)
-    proc = subprocess.run([sys.executable, "-m", "railcheck.cli", "kinematics", str(scene)], capture_output=True,
-                          text=True)
+    proc = subprocess.run([sys.executable, "-m", "railcheck.cli", "kinematics", str(scene)], capture_output=True, text=True)
     one_line_exit_2(proc, "crank angle 0 deg")
 
 
@@ -108,8 +145,9 @@ def test_two_runs_into_one_out_both_survive(tmp_path):
     scene = tmp_path / "scene.toml"
     scene.write_text(PLATE + "[output]\nvtk = false\npng = false\n")
     cmd = [sys.executable, "-m", "railcheck.cli", "check", str(scene), "--out", str(tmp_path / "r")]
-    procs = [subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, cwd=tmp_path)
-             for _ in range(2)]
+    procs = [
+        subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, cwd=tmp_path) for _ in range(2)
+    ]
     for p in procs:
         assert p.wait(timeout=300) == 0, p.stderr.read()
     dirs = sorted(p.name for p in tmp_path.iterdir() if p.is_dir())
@@ -125,9 +163,13 @@ def test_sigterm_cleans_up_and_the_next_run_removes_dead_staging(tmp_path):
 
     scene = tmp_path / "scene.toml"
     scene.write_text(FOURBAR + 'steps = 200\n[check]\nparts = ["crank-rail"]\n[mesh]\nsize = "8 mm"\n')
-    proc = subprocess.Popen([sys.executable, "-m", "railcheck.cli", "check", str(scene), "--out",
-                             str(tmp_path / "r")], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
-                            cwd=tmp_path)
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "railcheck.cli", "check", str(scene), "--out", str(tmp_path / "r")],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        text=True,
+        cwd=tmp_path,
+    )
     deadline = time.time() + 60
     while not list(tmp_path.glob(".r.staging.*")) and time.time() < deadline:
         time.sleep(0.05)
@@ -149,11 +191,15 @@ def test_bad_output_path_fails_before_any_meshing(tmp_path):
     scene = tmp_path / "scene.toml"
     scene.write_text(PLATE)
     (tmp_path / "taken").write_text("a file where the results should go")
-    proc = subprocess.run([sys.executable, "-m", "railcheck.cli", "check", str(scene), "--out",
-                           str(tmp_path / "taken" / "results")], capture_output=True, text=True, cwd=tmp_path,
-                          env={**os.environ, "RAILCHECK_CACHE": str(cache)})
+    proc = subprocess.run(
+        [sys.executable, "-m", "railcheck.cli", "check", str(scene), "--out", str(tmp_path / "taken" / "results")],
+        capture_output=True,
+        text=True,
+        cwd=tmp_path,
+        env={**os.environ, "RAILCHECK_CACHE": str(cache)},
+    )
     one_line_exit_2(proc, "output.dir")
-    assert not cache.exists() or not any(cache.iterdir())           # no mesh was built
+    assert not cache.exists() or not any(cache.iterdir())  # no mesh was built
 
 
 def test_full_disk_gives_one_line_and_leaves_nothing(tmp_path):
@@ -166,6 +212,6 @@ def test_full_disk_gives_one_line_and_leaves_nothing(tmp_path):
         proc = check(tmp_path, PLATE, out=str(disk / "results"))
         assert proc.returncode == 2 and "Traceback" not in proc.stderr, proc.stderr
         assert "No space left" in proc.stderr
-        assert list(disk.iterdir()) == []                          # no staging, no half results
+        assert list(disk.iterdir()) == []  # no staging, no half results
     finally:
         subprocess.run(["umount", str(disk)], capture_output=True)

@@ -35,15 +35,16 @@ def test_sound_entry_is_read_back(cache):
 def test_damaged_entry_is_rebuilt_with_a_warning(cache, damage):
     mesh_part(bar(0.1, 0.02, 0.02), 8e-3, 8e-3, cache_dir=cache)
     (entry,) = entries(cache)
-    if damage == "swapped":                     # another mesh's sound entry under this name
+    if damage == "swapped":  # another mesh's sound entry under this name
         other = mesh_part(bar(0.1, 0.02, 0.02), 12e-3, 12e-3, cache_dir=cache)
         assert other.cached is False
         (other_entry,) = [p for p in entries(cache) if p != entry]
         shutil.copy(other_entry, entry)
     elif damage == "truncated":
         entry.write_bytes(entry.read_bytes()[: entry.stat().st_size // 2])
-    else:                                       # one bit of the stored coordinates flipped
+    else:  # one bit of the stored coordinates flipped
         import zipfile
+
         with zipfile.ZipFile(entry) as z:
             members = {n: z.read(n) for n in z.namelist()}
         raw = bytearray(members["points.npy"])
@@ -58,4 +59,4 @@ def test_damaged_entry_is_rebuilt_with_a_warning(cache, damage):
     assert np.array_equal(got.points, want.points) and np.array_equal(got.tets, want.tets)
     assert not got.cached and got.warning and "rebuilt" in got.warning
     again = mesh_part(bar(0.1, 0.02, 0.02), 8e-3, 8e-3, cache_dir=cache)
-    assert again.cached and again.warning is None                   # the rebuilt entry is sound
+    assert again.cached and again.warning is None  # the rebuilt entry is sound

@@ -17,9 +17,15 @@ STEEL = MATERIALS["steel"]
 @pytest.mark.slow
 def test_coarse_2500_mm_rail_amg_converges_to_direct():
     mesh = mesh_part(rail(2.5), 25e-3, hole_size=6e-3)
-    assert 2.5 / 0.022 > 100                                   # the part's aspect ratio
-    args = (mesh.points, mesh.tets, mesh.groups, STEEL, [Support("shaft_hole")],
-            [HoleLoad("hole_40", (300.0, 150.0, 0.0)), HoleLoad("hole_41", (300.0, 150.0, 0.0))])
+    assert 2.5 / 0.022 > 100  # the part's aspect ratio
+    args = (
+        mesh.points,
+        mesh.tets,
+        mesh.groups,
+        STEEL,
+        [Support("shaft_hole")],
+        [HoleLoad("hole_40", (300.0, 150.0, 0.0)), HoleLoad("hole_41", (300.0, 150.0, 0.0))],
+    )
     d = solve_elasticity(*args, order=2, tip_group="end_free", solver="direct")
     a = solve_elasticity(*args, order=2, tip_group="end_free", solver="amg")
     assert a.solver["solver"] == "amg"
@@ -30,16 +36,41 @@ def test_coarse_2500_mm_rail_amg_converges_to_direct():
 @pytest.mark.parametrize("order", [1, 2])
 def test_same_problem_in_mm_and_m_gives_the_same_stresses(order):
     mesh = mesh_part(bar(0.2, 0.02, 0.02), 8e-3, hole_size=8e-3)
-    si = solve_elasticity(mesh.points, mesh.tets, mesh.groups, STEEL, [Support("clamp")],
-                          [HoleLoad("tip", (10.0, 50.0, -30.0))], order=order, tip_group="tip", solver="direct")
+    si = solve_elasticity(
+        mesh.points,
+        mesh.tets,
+        mesh.groups,
+        STEEL,
+        [Support("clamp")],
+        [HoleLoad("tip", (10.0, 50.0, -30.0))],
+        order=order,
+        tip_group="tip",
+        solver="direct",
+    )
     # mm, N, MPa (N/mm^2): coordinates x 1000, E in N/mm^2
-    mm = Material("steel-mm", STEEL.youngs_modulus / 1e6, STEEL.poisson_ratio, STEEL.ultimate_strength / 1e6,
-                  STEEL.density, "same steel in N/mm^2")
-    smm = solve_elasticity(mesh.points * 1e3, mesh.tets, mesh.groups, mm, [Support("clamp")],
-                           [HoleLoad("tip", (10.0, 50.0, -30.0))], order=order, tip_group="tip", solver="direct")
+    mm = Material(
+        "steel-mm",
+        STEEL.youngs_modulus / 1e6,
+        STEEL.poisson_ratio,
+        STEEL.ultimate_strength / 1e6,
+        STEEL.density,
+        "same steel in N/mm^2",
+    )
+    smm = solve_elasticity(
+        mesh.points * 1e3,
+        mesh.tets,
+        mesh.groups,
+        mm,
+        [Support("clamp")],
+        [HoleLoad("tip", (10.0, 50.0, -30.0))],
+        order=order,
+        tip_group="tip",
+        solver="direct",
+    )
     np.testing.assert_allclose(smm.von_mises, si.von_mises / 1e6, rtol=1e-9, atol=1e-9 * si.von_mises.max() / 1e6)
-    np.testing.assert_allclose(smm.displacement, si.displacement * 1e3, rtol=1e-9,
-                               atol=1e-9 * np.abs(si.displacement).max() * 1e3)
+    np.testing.assert_allclose(
+        smm.displacement, si.displacement * 1e3, rtol=1e-9, atol=1e-9 * np.abs(si.displacement).max() * 1e3
+    )
 
 
 def test_nearly_incompressible_p1_locks_and_warns():
@@ -66,16 +97,24 @@ def plate():
 
 
 def test_zero_load_gives_exactly_zero(plate):
-    s = solve_elasticity(plate.points, plate.tets, plate.groups, STEEL, [Support("bearing_seat")],
-                         [HoleLoad("hole_0", (0.0, 0.0, 0.0)), HoleLoad("hole_1", (0.0, 0.0, 0.0))], order=2,
-                         tip_group="end_free")
+    s = solve_elasticity(
+        plate.points,
+        plate.tets,
+        plate.groups,
+        STEEL,
+        [Support("bearing_seat")],
+        [HoleLoad("hole_0", (0.0, 0.0, 0.0)), HoleLoad("hole_1", (0.0, 0.0, 0.0))],
+        order=2,
+        tip_group="end_free",
+    )
     assert np.all(s.displacement == 0.0) and np.all(s.von_mises == 0.0) and s.tip_deflection == 0.0
 
 
 def test_load_on_a_hole_not_in_the_mesh_is_an_error(plate):
     with pytest.raises(ModelError, match="hole_7: no such group"):
-        solve_elasticity(plate.points, plate.tets, plate.groups, STEEL, [Support("bearing_seat")],
-                         [HoleLoad("hole_7", (10.0, 0.0, 0.0))])
+        solve_elasticity(
+            plate.points, plate.tets, plate.groups, STEEL, [Support("bearing_seat")], [HoleLoad("hole_7", (10.0, 0.0, 0.0))]
+        )
 
 
 def test_unsupported_part_is_detected_before_the_solve(plate):

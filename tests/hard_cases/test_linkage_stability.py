@@ -64,16 +64,19 @@ def test_reactions_grow_as_the_toggle_nears_but_stay_finite(which):
 
 @pytest.mark.parametrize("which", ["min", "max"])
 def test_inside_the_singular_set_is_refused(which):
-    d = B2 + (B3 - B4) if which == "min" else (B3 + B4) - B2     # exactly aligned / folded
+    d = B2 + (B3 - B4) if which == "min" else (B3 + B4) - B2  # exactly aligned / folded
     with pytest.raises(MechanismError) as info:
         solve_motion(FourBar(B2, B3, B4, d), 2 * math.pi, 1000)
     assert "crank angle" in str(info.value)
 
 
-@pytest.mark.parametrize("lengths,angle", [
-    ((0.3, 0.5, 0.4, 0.6), math.pi),     # 300 + 600 = 500 + 400: folds straight at 180 deg
-    ((0.2, 0.7, 0.4, 0.5), 0.0),         # 200 + 700 = 400 + 500: d - b2 = b3 - b4 at 0 deg
-])
+@pytest.mark.parametrize(
+    "lengths,angle",
+    [
+        ((0.3, 0.5, 0.4, 0.6), math.pi),  # 300 + 600 = 500 + 400: folds straight at 180 deg
+        ((0.2, 0.7, 0.4, 0.5), 0.0),  # 200 + 700 = 400 + 500: d - b2 = b3 - b4 at 0 deg
+    ],
+)
 def test_grashof_change_point_is_refused_naming_the_angle(lengths, angle):
     with pytest.raises(SingularConfigurationError) as info:
         solve_motion(FourBar(*lengths), 2 * math.pi, 1000)
@@ -104,8 +107,9 @@ def test_reactions_scale_with_omega_squared_at_extreme_speeds(hz):
     base = inverse_dynamics(solve_motion(lk, 2 * math.pi, 500), "newton-euler")
     fast = inverse_dynamics(solve_motion(lk, 2 * math.pi * hz, 500), "newton-euler")
     for j in base.reactions:
-        np.testing.assert_allclose(fast.reactions[j], hz**2 * base.reactions[j], rtol=1e-11,
-                                   atol=1e-11 * hz**2 * np.abs(base.reactions[j]).max())
+        np.testing.assert_allclose(
+            fast.reactions[j], hz**2 * base.reactions[j], rtol=1e-11, atol=1e-11 * hz**2 * np.abs(base.reactions[j]).max()
+        )
     np.testing.assert_allclose(fast.torque, hz**2 * base.torque, rtol=1e-11, atol=1e-11 * hz**2 * np.abs(base.torque).max())
 
 

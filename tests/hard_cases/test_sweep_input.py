@@ -16,30 +16,41 @@ BASE = '[sweep]\nsteps = 16\nkind = "slider-crank"\n'
 def sweep(tmp_path, text, *extra):
     scene = tmp_path / "scene.toml"
     scene.write_text(text)
-    return subprocess.run([sys.executable, "-m", "railcheck.cli", "sweep", str(scene), "--out", str(tmp_path / "out"),
-                           *extra], capture_output=True, text=True, cwd=tmp_path, timeout=120)
+    return subprocess.run(
+        [sys.executable, "-m", "railcheck.cli", "sweep", str(scene), "--out", str(tmp_path / "out"), *extra],
+        capture_output=True,
+        text=True,
+        cwd=tmp_path,
+        timeout=120,
+    )
 
 
-@pytest.mark.parametrize("text, needles", [
-    (BASE + 'crank = "60 mm"\n', ("sweep.crank", "[min, max]")),
-    (BASE + 'crank = ["660 mm", "60 mm"]\n', ("sweep.crank", "above max")),
-    (BASE + 'crank = ["60 kg", "660 mm"]\n', ("sweep.crank", "kg")),
-    (BASE + 'speeds = []\n', ("sweep.speeds",)),
-    (BASE + 'speeds = ["1e9 Hz"]\n', ("sweep.speeds", "physical range")),
-    (BASE.replace("steps = 16", "steps = 3"), ("sweep.steps",)),
-    (BASE + 'memory = "1 kB"\n', ("sweep.memory",)),
-    (BASE + 'format = "xlsx"\n', ("sweep.format",)),
-    (BASE.replace('"slider-crank"', '"crane"'), ("sweep.kind",)),
-    (BASE + '[[sweep.settings]]\ncrank = "60 mm"\n', ("sweep.settings[0]", "bars")),
-    (BASE + 'colour = "red"\n', ("sweep.colour", "unknown key")),
-    ('[dynamics]\nformulation = "seed-2013"\n' + BASE, ("sweep.kind", "seed-2013")),
-    ('[dynamics]\nformulation = "seed-2013"\n[sweep]\nsteps = 16\nkind = "four-bar"\n[check]\nparts = ["crank-rail"]\n'
-     'effects = ["inertia", "gravity"]\n', ("check.effects", "seed-2013")),
-])
+@pytest.mark.parametrize(
+    "text, needles",
+    [
+        (BASE + 'crank = "60 mm"\n', ("sweep.crank", "[min, max]")),
+        (BASE + 'crank = ["660 mm", "60 mm"]\n', ("sweep.crank", "above max")),
+        (BASE + 'crank = ["60 kg", "660 mm"]\n', ("sweep.crank", "kg")),
+        (BASE + "speeds = []\n", ("sweep.speeds",)),
+        (BASE + 'speeds = ["1e9 Hz"]\n', ("sweep.speeds", "physical range")),
+        (BASE.replace("steps = 16", "steps = 3"), ("sweep.steps",)),
+        (BASE + 'memory = "1 kB"\n', ("sweep.memory",)),
+        (BASE + 'format = "xlsx"\n', ("sweep.format",)),
+        (BASE.replace('"slider-crank"', '"crane"'), ("sweep.kind",)),
+        (BASE + '[[sweep.settings]]\ncrank = "60 mm"\n', ("sweep.settings[0]", "bars")),
+        (BASE + 'colour = "red"\n', ("sweep.colour", "unknown key")),
+        ('[dynamics]\nformulation = "seed-2013"\n' + BASE, ("sweep.kind", "seed-2013")),
+        (
+            '[dynamics]\nformulation = "seed-2013"\n[sweep]\nsteps = 16\nkind = "four-bar"\n'
+            '[check]\nparts = ["crank-rail"]\n'
+            'effects = ["inertia", "gravity"]\n',
+            ("check.effects", "seed-2013"),
+        ),
+    ],
+)
 def test_bad_sweep_input_names_the_field(text, needles):
     """Refused when the scene is read, before any work (validate: what the sweep itself checks)."""
     import tomllib
-
 
     with pytest.raises(InputError) as err:
         validate(parse_scene(tomllib.loads(text), "test"))
