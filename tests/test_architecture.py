@@ -200,3 +200,41 @@ def test_no_second_copy_of_the_package_and_no_tests_inside_it():
     for name in ("railcheck.railcheck", "railcheck.tests", "railcheck.benchmarks"):
         with pytest.raises(ModuleNotFoundError):
             importlib.import_module(name)
+
+
+def readme_layout() -> set[str]:
+    """The paths the README's Layout section lists (folders end with /)."""
+    text = (ROOT / "README.md").read_text()
+    block = text.split("## Layout", 1)[1].split("```", 2)[1]
+    paths, parents = set(), []
+    for line in block.splitlines():
+        if not line.strip():
+            continue
+        depth = (len(line) - len(line.lstrip())) // 2
+        parents = parents[:depth]
+        names = [w for w in line.split() if w.endswith((".py", "/"))]
+        listed = names if all(n.endswith(".py") for n in names) else names[:1]
+        for name in listed:
+            paths.add("".join(parents) + name)
+        if names and names[0].endswith("/"):
+            parents.append(names[0])
+    return paths
+
+
+def test_the_readme_layout_matches_the_tree():
+    listed = readme_layout()
+    missing = sorted(p for p in listed if not (ROOT / p).exists())
+    assert not missing, f"listed in the README but not in the tree: {missing}"
+    modules = {str(path.relative_to(ROOT)) for path in our_modules().values()}
+    unlisted = sorted(m for m in modules if not m.endswith(("__init__.py", "__main__.py")) and m not in listed)
+    assert not unlisted, f"in the tree but not in the README's Layout: {unlisted}"
+
+
+def test_the_readme_fe_api_example_runs_with_public_names():
+    """The README's FE API example (a torque as a traction) runs as printed."""
+    text = (ROOT / "README.md").read_text()
+    code = text.split("### The FE API", 1)[1].split("```python\n", 1)[1].split("```", 1)[0]
+    assert "import _" not in code and "._" not in code
+    scope: dict = {}
+    exec(compile(code, "README.md", "exec"), scope)
+    assert 20e6 < scope["value"] < 80e6  # von Mises of a 50 N·m torque on a 23 x 20 mm bar
