@@ -35,7 +35,7 @@ def solve(
 ) -> tuple[np.ndarray, dict]:
     """(U, info): displacements (N[, k]) m for loads F (N[, k]) with the ``fixed`` DOFs
     held at zero; one factorisation serves every column. ``basis`` gives the rigid-body
-    modes the ``amg`` path needs; see :mod:`fea.solvers` for ``method``."""
+    modes the ``amg`` path needs; see :mod:`railcheck.fea.solvers` for ``method``."""
     N = K.shape[0]
     free = np.setdiff1d(np.arange(N), fixed)
     U = np.zeros(F.shape)

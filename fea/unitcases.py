@@ -1,5 +1,5 @@
 """Unit load cases of one part: assemble and factorise once, solve every unit load, keep
-what superposition needs (:class:`fea.superpose.UnitFields`).
+what superposition needs (:class:`railcheck.fea.superpose.UnitFields`).
 
 A case is either a :class:`TractionCase` (a total force of 1 N along one axis, shared
 equally by the named groups as uniform tractions) or a :class:`BodyCase` (a body force
@@ -97,7 +97,7 @@ def solve_unit_cases(
     curved=None,
 ) -> tuple[UnitFields, UnitSolve]:
     """Unit fields of every case (one factorisation) and its :class:`UnitSolve` (timings, solver info, balances)
-    (``curved``: the mesh's curved edges for isoparametric P2, :func:`fea.elasticity.assemble`)."""
+    (``curved``: the mesh's curved edges for isoparametric P2, :func:`railcheck.fea.elasticity.assemble`)."""
     t = [time.perf_counter()]
     K, basis = assemble(points, tets, material, order, curved)
     fixed = supports(basis, groups, support_groups)

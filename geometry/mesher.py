@@ -6,7 +6,7 @@ the mesh at every hole (to ``hole_size``) and grows to ``size`` away from them.
 
 For quadratic (P2) elements gmsh also places the mid-edge nodes on the true CAD surfaces
 (``setOrder(2)``); the mesh keeps only the edges that came out curved
-(:attr:`MeshData.curved`), checked for folded elements (:mod:`geometry.curving`).
+(:attr:`MeshData.curved`), checked for folded elements (:mod:`railcheck.geometry.curving`).
 
 The vertices are numbered by reverse Cuthill-McKee and the tetrahedra sorted by their
 lowest vertex (:func:`local_numbering`), so that neighbours sit close in every array the

@@ -1,8 +1,8 @@
 """Parametric part descriptions, light (no gmsh import): what to mesh and its named groups.
 
 A :class:`PartGeometry` is a frozen, hashable description: its kind, its dimensions (SI,
-from :mod:`geometry.catalogue`), and the names of its physical groups. The gmsh model
-is built from it in :mod:`geometry.mesher`.
+from :mod:`railcheck.geometry.catalogue`), and the names of its physical groups. The gmsh model
+is built from it in :mod:`railcheck.geometry.mesher`.
 
 Named groups (surfaces):
 

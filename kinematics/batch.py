@@ -3,10 +3,10 @@
 One function per concept, shaped for many rig settings at once: bar lengths and speeds are
 arrays ``(S, 1)`` (one row per setting), the crank angles ``(T,)``, and every result
 ``(S, T)`` (scalars per step) or ``(S, T, 2)`` (ground-frame vectors). A single setting
-is ``S = 1`` (:mod:`kinematics.motion` and :mod:`kinematics.dynamics` wrap these).
+is ``S = 1`` (:mod:`railcheck.kinematics.motion` and :mod:`railcheck.kinematics.dynamics` wrap these).
 
 SI units: m, rad, rad/s, rad/s^2, N, N m. Frames and angle conventions: see
-:mod:`kinematics.linkage`. The crank turns at constant speed (its angular acceleration
+:mod:`railcheck.kinematics.linkage`. The crank turns at constant speed (its angular acceleration
 is zero).
 
 Inverse dynamics is solved in closed form, never as a per-step linear system: the
@@ -86,7 +86,7 @@ class BatchBody:
 
 @dataclass(frozen=True)
 class BatchDynamics:
-    """Joint reactions ``(S, T, 2)`` N (sign convention of :mod:`kinematics.dynamics`)
+    """Joint reactions ``(S, T, 2)`` N (sign convention of :mod:`railcheck.kinematics.dynamics`)
     and motor torque ``(S, T)`` N m."""
 
     reactions: dict
@@ -199,7 +199,7 @@ def _slidercrank_block(crank, coupler, offset, sign, speed, theta2) -> BatchMoti
 
 def bodies(motion: BatchMotion, masses: MassModel) -> tuple[BatchBody, BatchBody, BatchBody]:
     """The three moving bodies of every setting (the mass model of
-    :mod:`kinematics.massmodel`, fed the settings' length arrays) with their
+    :mod:`railcheck.kinematics.massmodel`, fed the settings' length arrays) with their
     centre-of-mass kinematics."""
     lengths: Any = SimpleNamespace(**motion.lengths)  # the linkage's lengths, as arrays
     if motion.kind == "four-bar":
@@ -375,7 +375,7 @@ def _join_dynamics(parts: list[BatchDynamics]) -> BatchDynamics:
 def fourbar_motion(crank, coupler, rocker, ground, sign, speed, theta2) -> BatchMotion:
     """Four-bar kinematics for settings ``(S,)`` (lengths m, ``sign`` +1 open / -1
     crossed, ``speed`` rad/s) at the crank angles ``theta2`` ``(T,)``. The settings must
-    revolve (see :func:`kinematics.motion.fourbar_toggle_margins`); elsewhere the results
+    revolve (see :func:`railcheck.kinematics.motion.fourbar_toggle_margins`); elsewhere the results
     are NaN. Evaluated in blocks of steps (:data:`BLOCK_ELEMENTS`)."""
     theta2 = np.asarray(theta2, float)
     return _join_motion(

@@ -3,7 +3,7 @@
 Two formulations (seed 000, Anexo I; README "Kinematics and inverse dynamics"):
 
 * ``newton-euler`` (default): each bar is one rigid body (its rail plus the point masses
-  it carries, :mod:`kinematics.massmodel`); Newton-Euler equations about each body's
+  it carries, :mod:`railcheck.kinematics.massmodel`); Newton-Euler equations about each body's
   own centre of mass. Physically consistent: the motor power equals the rate of change
   of kinetic (plus potential) energy at every step, see :func:`power_residual`.
 * ``seed-2013``: the equations of seed 000 Anexo I as written (four-bar only), with its
@@ -109,7 +109,7 @@ def _bodies(batch_bodies) -> tuple[BodyKinematics, ...]:
 
 
 def newton_euler(motion: Motion, masses: MassModel = MassModel(), gravity: float = 0.0) -> Dynamics:
-    """Rigid-body Newton-Euler reactions (closed form, :func:`kinematics.batch.newton_euler`);
+    """Rigid-body Newton-Euler reactions (closed form, :func:`railcheck.kinematics.batch.newton_euler`);
     ``gravity`` (m/s^2) acts along -y of the mechanism's plane (a vertical rig) when non-zero."""
     out = batch.newton_euler(_as_batch(motion), masses, gravity)
     return Dynamics("newton-euler", {k: v[0] for k, v in out.reactions.items()}, out.torque[0], gravity, _bodies(out.bodies))
@@ -117,7 +117,7 @@ def newton_euler(motion: Motion, masses: MassModel = MassModel(), gravity: float
 
 def seed_2013(motion: Motion, masses: MassModel = MassModel()) -> Dynamics:
     """Seed 000 Anexo I, equations as written (four-bar only, no gravity); see
-    :func:`kinematics.batch.seed_2013`."""
+    :func:`railcheck.kinematics.batch.seed_2013`."""
     if not isinstance(motion.linkage, FourBar):
         raise MechanismError(
             "dynamics.formulation",

@@ -2,7 +2,7 @@
 
 Everything is vectorised over the crank-angle steps (arrays shaped ``(steps,)`` or
 ``(steps, 2)``). SI units: m, rad, rad/s, rad/s^2, m/s, m/s^2. Frames and angle
-conventions: see :mod:`kinematics.linkage`.
+conventions: see :mod:`railcheck.kinematics.linkage`.
 
 The crank turns at constant speed ``omega2`` (rad/s) through one revolution,
 ``theta2 = linspace(0, 2 pi, steps)`` (both ends included, as the seed's MATLAB does).

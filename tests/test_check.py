@@ -229,3 +229,41 @@ def test_parts_in_worker_processes_equal_parts_in_this_process():
     error = ModelError("hole_9", "no such group")
     again = pickle.loads(pickle.dumps(error))
     assert type(again) is ModelError and (again.field, str(again)) == ("hole_9", str(error))
+
+
+def test_each_part_is_resolved_once_into_a_picklable_job_without_the_scene():
+    """Downstream stages take the job: it pickles whole (worker processes), carries no
+    Scene, and holds what the scene asked for (mesh sizes, holes, histories, limits)."""
+    import dataclasses
+    import pickle
+
+    from railcheck.check.jobs import build_load_cases, part_jobs
+    from railcheck.fea.materials import MATERIALS
+    from railcheck.scene import Scene
+
+    scene = load_scene(None)
+    kin = run_kinematics(scene)
+    geos = part_geometries(scene)
+    steel = MATERIALS["steel"]
+    jobs = part_jobs(scene, kin, geos, build_load_cases(scene, kin, geos), steel, 375e6)
+    assert list(jobs) == list(scene.check.parts)
+
+    def values(x):
+        if dataclasses.is_dataclass(x):
+            for f in dataclasses.fields(x):
+                yield from values(getattr(x, f.name))
+        elif isinstance(x, (tuple, list)):
+            for v in x:
+                yield from values(v)
+        yield x
+
+    for name, job in jobs.items():
+        assert not any(isinstance(v, Scene) for v in values(job))
+        back = pickle.loads(pickle.dumps(job))
+        assert back.name == name and back.holes == job.holes and back.mesh == job.mesh
+        for h, g in zip(back.histories, job.histories):
+            np.testing.assert_array_equal(h.C, g.C)
+    crank = jobs["crank-rail"]
+    assert (crank.mesh.size, crank.mesh.hole_size, crank.mesh.order) == (20e-3, 6e-3, 2)
+    assert crank.limit == 375e6 and crank.loads.factor == 1.4 and crank.histories[0].C.shape == (5000, 2)
+    assert jobs["PF_4b_006"].mesh.size == 6e-3 and len(jobs["PF_4b_006"].histories) == 2

@@ -45,7 +45,7 @@ class SweepContext:
     kind: str
     speeds: tuple  # rad/s
     steps: int
-    models: dict  # part name -> sweep_parts.PartModel
+    models: dict  # part name -> railcheck.sweep.parts.PartModel
     density: float
     rail: object  # geometry.catalogue.RailSpec
 

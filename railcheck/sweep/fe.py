@@ -73,7 +73,7 @@ def hull_steps(C: np.ndarray) -> np.ndarray:
     """(S, H, k): each history ``C`` (S, T, k) reduced to the vertices of its convex hull
     (padded by repeating a vertex). Every quantity evaluated here is the maximum (or
     minimum) over the cycle of a convex (or linear) function of the coefficients, reached
-    at a vertex (:func:`fea.superpose.candidate_steps`), so the results are unchanged."""
+    at a vertex (:func:`railcheck.fea.superpose.candidate_steps`), so the results are unchanged."""
 
     steps = [candidate_steps(c) for c in C]
     H = max(s.size for s in steps)
@@ -111,7 +111,7 @@ def fatigue_min(
     screen: Screen, C: np.ndarray, endurance: float, ultimate: float, criterion: str, yield_strength: float | None
 ) -> np.ndarray:
     """(S,) the smallest fatigue safety factor over the verdict nodes of each history
-    ``C`` (S, T, k) (component ranges over all steps; :mod:`fea.fatigue`)."""
+    ``C`` (S, T, k) (component ranges over all steps; :mod:`railcheck.fea.fatigue`)."""
 
     factor = lambda sa, sm: safety_factor(sa, sm, endurance, ultimate, criterion, yield_strength)  # noqa: E731
     polygons = [hull_polygon(c) for c in C] if screen.angle is not None else None  # once per history
@@ -159,7 +159,7 @@ def _fatigue_bounds(stress: np.ndarray, c0: np.ndarray, E: np.ndarray) -> tuple[
 def _fatigue_exact(screen: Screen, nodes: np.ndarray, C: np.ndarray, factor, polygons=None) -> np.ndarray:
     """(S,) the smallest fatigue factor over ``nodes``: each component's maximum and
     minimum over the cycle from every step (tensordot), or, with two coefficients, from the
-    cycle's convex polygon's support function (no step loop; :func:`fea.superpose.support`;
+    cycle's convex polygon's support function (no step loop; :func:`railcheck.fea.superpose.support`;
     ``polygons`` the histories' hulls when already known)."""
 
     if screen.angle is not None:

@@ -3,7 +3,7 @@
 Each bar's pivot shaft passes through the first mounting hole of its rail, and its far
 joint's plate is bolted at another hole, so a bar's settable lengths are the distances
 from the first hole to every other one: ``k x pitch`` for ``k = 1 .. holes - 1``. The
-holes follow the size-25 rail catalogue (:class:`geometry.catalogue.RailSpec`: 60 mm
+holes follow the size-25 rail catalogue (:class:`railcheck.geometry.catalogue.RailSpec`: 60 mm
 pitch, 20 mm end distance). The rails:
 
 * crank 700 mm, coupler 1000 mm, rocker 1000 mm (seed 000, Anexo I; the mass model);
