@@ -25,7 +25,7 @@ def one(size_mm: float, solver: str = "auto") -> dict:
         "'seconds': r.seconds, 'solver': r.solution.solver, 'error': r.relative_error, "
         "'memory': resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024}))"
     )
-    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    proc = subprocess.run([sys.executable, "-P", "-c", code], capture_output=True, text=True)
     line = next((l for l in proc.stdout.splitlines() if l.startswith("OUT")), None)
     if line is None:
         raise RuntimeError(proc.stderr[-3000:])

@@ -195,7 +195,7 @@ def compare(problem: str, size: float, solver: str = "direct") -> dict:
         f"print('OUT' + json.dumps(m.railcheck_solve({problem!r}, {size!r}, {solver!r})))"
     )
     proc = subprocess.run(
-        [sys.executable, "-c", code], capture_output=True, text=True, cwd=Path(__file__).resolve().parents[1]
+        [sys.executable, "-P", "-c", code], capture_output=True, text=True, cwd=Path(__file__).resolve().parents[1]
     )
     line = next((l for l in proc.stdout.splitlines() if l.startswith("OUT")), None)
     if line is None:

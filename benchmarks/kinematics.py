@@ -54,7 +54,7 @@ def vectorised(steps: int) -> tuple[float, float, float]:
     """(wall s of a fresh process, of which in-process s, peak R_O2 N) for ``steps`` steps."""
     code = VECTORISED.format(L2=L2, L3=L3, L4=L4, D=D, steps=steps)
     t = time.perf_counter()
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.split()
+    out = subprocess.run([sys.executable, "-P", "-c", code], capture_output=True, text=True, check=True).stdout.split()
     return time.perf_counter() - t, float(out[1]), float(out[0])
 
 

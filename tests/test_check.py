@@ -111,7 +111,7 @@ def test_kinematics_only_run_imports_no_heavy_module(tmp_path):
         f"{str(tmp_path / 'out')!r}, '--json']); heavy = sorted(m for m in sys.modules if m.split('.')[0] "
         "in ('gmsh', 'skfem', 'pyvista', 'vtk', 'meshio', 'pyamg')); print('HEAVY', heavy, rc, file=sys.stderr)"
     )
-    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    proc = subprocess.run([sys.executable, "-P", "-c", code], capture_output=True, text=True)
     assert "HEAVY [] 0" in proc.stderr, proc.stderr
     summary = json.loads(proc.stdout)
     assert summary["stages_run"] == ["scene", "kinematics", "report"]
@@ -145,7 +145,7 @@ def test_default_check_end_to_end(tmp_path):
 
     out = tmp_path / "results"
     proc = subprocess.run(
-        [sys.executable, "-m", "railcheck.cli", "check", "--out", str(out)], capture_output=True, text=True, cwd=tmp_path
+        [sys.executable, "-P", "-m", "railcheck.cli", "check", "--out", str(out)], capture_output=True, text=True, cwd=tmp_path
     )
     assert proc.returncode in (0, 1), proc.stderr
     summary = json.loads((out / "summary.json").read_text())
@@ -189,7 +189,7 @@ def test_default_check_end_to_end(tmp_path):
     assert (out / "parts.pvd").read_text().count("<DataSet") == len(parts)
     # a second run never overwrites the first
     again = subprocess.run(
-        [sys.executable, "-m", "railcheck.cli", "check", "--out", str(out), "--json"],
+        [sys.executable, "-P", "-m", "railcheck.cli", "check", "--out", str(out), "--json"],
         capture_output=True,
         text=True,
         cwd=tmp_path,

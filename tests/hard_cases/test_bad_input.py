@@ -23,7 +23,7 @@ def check(tmp_path, scene_text, *extra, out="results"):
     scene = tmp_path / "scene.toml"
     scene.write_text(scene_text)
     return subprocess.run(
-        [sys.executable, "-m", "railcheck.cli", "check", str(scene), "--out", str(tmp_path / out), *extra],
+        [sys.executable, "-P", "-m", "railcheck.cli", "check", str(scene), "--out", str(tmp_path / out), *extra],
         capture_output=True,
         text=True,
         cwd=tmp_path,
@@ -137,14 +137,14 @@ def test_toggle_scene_exits_2_naming_the_crank_angle(tmp_path):
     # d = 420: d + b2 = 900 < 1620, |d - b2| = 60 = |840 - 780|: aligned at crank angle 0 (change point)
     scene = tmp_path / "t.toml"
     scene.write_text(aligned)
-    proc = subprocess.run([sys.executable, "-m", "railcheck.cli", "kinematics", str(scene)], capture_output=True, text=True)
+    proc = subprocess.run([sys.executable, "-P", "-m", "railcheck.cli", "kinematics", str(scene)], capture_output=True, text=True)
     one_line_exit_2(proc, "crank angle 0 deg")
 
 
 def test_two_runs_into_one_out_both_survive(tmp_path):
     scene = tmp_path / "scene.toml"
     scene.write_text(PLATE + "[output]\nvtk = false\npng = false\n")
-    cmd = [sys.executable, "-m", "railcheck.cli", "check", str(scene), "--out", str(tmp_path / "r")]
+    cmd = [sys.executable, "-P", "-m", "railcheck.cli", "check", str(scene), "--out", str(tmp_path / "r")]
     procs = [
         subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, cwd=tmp_path) for _ in range(2)
     ]
@@ -164,7 +164,7 @@ def test_sigterm_cleans_up_and_the_next_run_removes_dead_staging(tmp_path):
     scene = tmp_path / "scene.toml"
     scene.write_text(FOURBAR + 'steps = 200\n[check]\nparts = ["crank-rail"]\n[mesh]\nsize = "8 mm"\n')
     proc = subprocess.Popen(
-        [sys.executable, "-m", "railcheck.cli", "check", str(scene), "--out", str(tmp_path / "r")],
+        [sys.executable, "-P", "-m", "railcheck.cli", "check", str(scene), "--out", str(tmp_path / "r")],
         stdout=subprocess.DEVNULL,
         stderr=subprocess.PIPE,
         text=True,
@@ -192,7 +192,7 @@ def test_bad_output_path_fails_before_any_meshing(tmp_path):
     scene.write_text(PLATE)
     (tmp_path / "taken").write_text("a file where the results should go")
     proc = subprocess.run(
-        [sys.executable, "-m", "railcheck.cli", "check", str(scene), "--out", str(tmp_path / "taken" / "results")],
+        [sys.executable, "-P", "-m", "railcheck.cli", "check", str(scene), "--out", str(tmp_path / "taken" / "results")],
         capture_output=True,
         text=True,
         cwd=tmp_path,

@@ -17,7 +17,7 @@ def sweep(tmp_path, text, *extra):
     scene = tmp_path / "scene.toml"
     scene.write_text(text)
     return subprocess.run(
-        [sys.executable, "-m", "railcheck.cli", "sweep", str(scene), "--out", str(tmp_path / "out"), *extra],
+        [sys.executable, "-P", "-m", "railcheck.cli", "sweep", str(scene), "--out", str(tmp_path / "out"), *extra],
         capture_output=True,
         text=True,
         cwd=tmp_path,
