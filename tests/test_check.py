@@ -145,7 +145,10 @@ def test_default_check_end_to_end(tmp_path):
 
     out = tmp_path / "results"
     proc = subprocess.run(
-        [sys.executable, "-P", "-m", "railcheck.cli", "check", "--out", str(out)], capture_output=True, text=True, cwd=tmp_path
+        [sys.executable, "-P", "-m", "railcheck.cli", "check", "--out", str(out)],
+        capture_output=True,
+        text=True,
+        cwd=tmp_path,
     )
     assert proc.returncode in (0, 1), proc.stderr
     summary = json.loads((out / "summary.json").read_text())

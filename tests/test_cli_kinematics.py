@@ -106,7 +106,9 @@ def test_malformed_toml_and_missing_file(tmp_path, capsys):
 def test_no_traceback_in_a_real_process(tmp_path):
     scene = tmp_path / "bad.toml"
     scene.write_text(GOOD.replace('crank = "480 mm"', "crank = 480"))
-    proc = subprocess.run([sys.executable, "-P", "-m", "railcheck.cli", "kinematics", str(scene)], capture_output=True, text=True)
+    proc = subprocess.run(
+        [sys.executable, "-P", "-m", "railcheck.cli", "kinematics", str(scene)], capture_output=True, text=True
+    )
     assert proc.returncode == 2
     assert "Traceback" not in proc.stderr
     assert proc.stderr.strip() == (

@@ -137,7 +137,9 @@ def test_toggle_scene_exits_2_naming_the_crank_angle(tmp_path):
     # d = 420: d + b2 = 900 < 1620, |d - b2| = 60 = |840 - 780|: aligned at crank angle 0 (change point)
     scene = tmp_path / "t.toml"
     scene.write_text(aligned)
-    proc = subprocess.run([sys.executable, "-P", "-m", "railcheck.cli", "kinematics", str(scene)], capture_output=True, text=True)
+    proc = subprocess.run(
+        [sys.executable, "-P", "-m", "railcheck.cli", "kinematics", str(scene)], capture_output=True, text=True
+    )
     one_line_exit_2(proc, "crank angle 0 deg")
 
 
