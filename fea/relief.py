@@ -28,6 +28,7 @@ import numpy as np
 
 from .loading import body_force_vector
 from .mesh import dof_components
+from .system import solve
 
 __all__ = [
     "FreeBodySolve",
@@ -157,8 +158,6 @@ class FreeBodySolve:
 def solve_free_body(K, F: np.ndarray, basis, density: float, method="auto", report=None) -> FreeBodySolve:
     """Solve an unsupported part under loads ``F`` (N[, k]) by inertia relief (module doc);
     ``density`` kg/m^3 the mass the imbalance accelerates."""
-    from .system import solve
-
     modes = rigid_modes(basis, density)
     relieved = relieve(modes, F)
     held = three_two_one(basis)

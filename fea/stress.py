@@ -15,12 +15,23 @@ import numpy as np
 
 from .assembly import affine_reference, mass_matrix, straight_and_curved, straight_jacobians
 from .errors import NumericalError
-from .loading import surface_vectors
+from .loading import surface_node_weights, surface_vectors
 from .materials import Material
 from .mesh import scalar_basis, vector_dof_map
 from .solvers import factorise, solve_jacobi_cg
 
-__all__ = ["VOIGT", "MASS_RTOL", "recover_stress", "von_mises", "away_from", "peak", "mean_over"]
+__all__ = [
+    "VOIGT",
+    "MASS_RTOL",
+    "recover_stress",
+    "von_mises",
+    "away_from",
+    "peak",
+    "mean_over",
+    "group_mean_operator",
+    "section_mean_operator",
+    "relative_deflection",
+]
 
 
 VOIGT = ((0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (0, 2))  # xx, yy, zz, xy, yz, xz
@@ -150,3 +161,46 @@ def peak(values: np.ndarray, locations: np.ndarray, mask: np.ndarray | None = No
 def mean_over(basis, groups: dict, group: str) -> np.ndarray:
     """(3, N): the area-weighted mean displacement over ``group`` is ``W @ U`` (m)."""
     return surface_vectors(basis, groups, group)
+
+
+def group_mean_operator(basis, groups: dict, names: list[str]) -> tuple[np.ndarray, float]:
+    """((3, N), x m): the operator giving the mean displacement over the named surfaces
+    (each surface's area-weighted mean, then their plain mean) and where they sit along x."""
+    vector_of = vector_dof_map(basis, scalar_basis(basis))
+    sb = scalar_basis(basis)
+    op, xs = np.zeros((3, basis.N)), []
+    for name in names:
+        nodes, weights = surface_node_weights(basis, groups, name)
+        w = weights / weights.sum()
+        for c in range(3):
+            op[c, vector_of[nodes, c]] += w / len(names)
+        xs.append(float(w @ sb.doflocs[0, nodes]))
+    return op, float(np.mean(xs))
+
+
+def section_mean_operator(basis, x0: float, half: float) -> np.ndarray:
+    """(3, N): the mean displacement of the nodes within ``half`` (m) of the section x = x0."""
+    sb = scalar_basis(basis)
+    near = np.flatnonzero(np.abs(sb.doflocs[0] - x0) <= half)
+    if near.size == 0:
+        raise ValueError(f"no node within {half} m of x = {x0} m")
+    vector_of = vector_dof_map(basis, sb)
+    op = np.zeros((3, basis.N))
+    for c in range(3):
+        op[c, vector_of[near, c]] = 1.0 / near.size
+    return op
+
+
+def relative_deflection(basis, groups: dict, ref_a: list[str], ref_b: list[str], measure) -> np.ndarray:
+    """(3, N): the displacement at ``measure`` (a list of surfaces, or the x in m of a
+    section) less the rigid line through the mean displacements of the surfaces ``ref_a``
+    and ``ref_b`` (interpolated, or extrapolated, along x): a pinned link's sag relative
+    to the line through its pins, or a crank's deflection at A relative to its shaft."""
+    A, xa = group_mean_operator(basis, groups, ref_a)
+    B, xb = group_mean_operator(basis, groups, ref_b)
+    if isinstance(measure, (int, float)):
+        M, xm = section_mean_operator(basis, float(measure), 0.5 * abs(xb - xa) / 20), float(measure)
+    else:
+        M, xm = group_mean_operator(basis, groups, list(measure))
+    s = (xm - xa) / (xb - xa)
+    return M - (1 - s) * A - s * B

@@ -32,6 +32,8 @@ from .elasticity import (
 )
 from .materials import Material
 from .mesh import node_cells
+from .relief import solve_free_body
+from .stress import relative_deflection
 from .superpose import UnitFields
 
 
@@ -48,12 +50,37 @@ class UnitSolve:
     seconds: dict[str, float]
     resultants: np.ndarray
     support_reactions: np.ndarray
+    imbalance: np.ndarray | None = None  # (6, k) N, N m about the centroid: a free body's loads before relief
+
+
+@dataclass(frozen=True)
+class FreeBodyCases:
+    """How a free body's unit cases are solved: its body cases carry ``mass`` kg (the
+    dynamics' mass of the part, spread uniformly over the mesh) and its deflection is
+    ``deflection`` = (reference groups A, reference groups B, measured groups or the x (m)
+    of a section): the displacement there less the rigid line through A and B."""
+
+    mass: float
+    deflection: tuple
 
 
 @dataclass(frozen=True)
 class TractionCase:
+    """A unit force (1 N) along ``direction`` (0 x, 1 y, 2 z, part frame) shared by the
+    ``groups``: equally, or in the proportions ``weights`` (summing to 1)."""
+
     groups: tuple[str, ...]
-    direction: int  # 0 x, 1 y, 2 z (part frame)
+    direction: int
+    weights: tuple[float, ...] = ()
+
+
+@dataclass(frozen=True)
+class CoupleCase:
+    """A unit couple (1 N m about +z) carried by two holes ``arm`` m apart along x: -1/arm N
+    along y on ``groups[0]``, +1/arm N on ``groups[1]`` (a shaft and a driving pin)."""
+
+    groups: tuple[str, str]
+    arm: float
 
 
 @dataclass(frozen=True)
@@ -68,8 +95,11 @@ def case_vector(basis, groups: dict, case) -> np.ndarray:
     from skfem import LinearForm, asm
 
     if isinstance(case, TractionCase):
-        share = sum(unit_traction_vectors(basis, groups, g)[:, case.direction] for g in case.groups)
-        return share / len(case.groups)
+        weights = case.weights or (1.0 / len(case.groups),) * len(case.groups)
+        return sum(w * unit_traction_vectors(basis, groups, g)[:, case.direction] for g, w in zip(case.groups, weights))
+    if isinstance(case, CoupleCase):
+        first, second = (unit_traction_vectors(basis, groups, g)[:, 1] for g in case.groups)
+        return (second - first) / case.arm
     if case.field == "uniform":
         return body_force_vectors(basis)[:, case.direction]
     x0, y0 = case.pivot
@@ -95,25 +125,41 @@ def solve_unit_cases(
     solver: str = "auto",
     report=None,
     curved=None,
+    free_body: FreeBodyCases | None = None,
 ) -> tuple[UnitFields, UnitSolve]:
     """Unit fields of every case (one factorisation) and its :class:`UnitSolve` (timings, solver info, balances)
-    (``curved``: the mesh's curved edges for isoparametric P2, :func:`railcheck.fea.elasticity.assemble`)."""
+    (``curved``: the mesh's curved edges for isoparametric P2, :func:`railcheck.fea.elasticity.assemble`).
+    With ``free_body`` the part has no support: each case is solved by inertia relief
+    (:mod:`railcheck.fea.relief`), the body cases carry ``free_body.mass`` kg spread
+    uniformly, every node is in the verdict, and the "tip" is the deflection that
+    ``free_body.deflection`` defines (:func:`railcheck.fea.stress.relative_deflection`)."""
     t = [time.perf_counter()]
     K, basis = assemble(points, tets, material, order, curved)
-    fixed = supports(basis, groups, support_groups)
     F = np.column_stack([case_vector(basis, groups, c) for c in cases.values()])
-    t.append(time.perf_counter())
-    U, info = solve(K, F, fixed, solver, basis, report=report)
+    nodes = stress_nodes(basis)
+    if free_body is not None:
+        body = np.array([isinstance(c, BodyCase) for c in cases.values()])
+        F[:, body] *= free_body.mass / body_force_vectors(basis)[:, 0].sum()  # kg / m^3: the FE body weighs mass
+        t.append(time.perf_counter())
+        relieved = solve_free_body(K, F, basis, material.density, solver, report)
+        U, info, fixed, imbalance = relieved.U, relieved.info, np.zeros(0, dtype=np.int64), relieved.imbalance
+        reactions = -imbalance[:3]
+        mask = np.ones(nodes.shape[0], dtype=bool)
+        tip = relative_deflection(basis, groups, *free_body.deflection) @ U
+    else:
+        fixed = supports(basis, groups, support_groups)
+        t.append(time.perf_counter())
+        U, info = solve(K, F, fixed, solver, basis, report=report)
+        imbalance, reactions = None, _support_reactions(basis, K, U, F, fixed)
+        support_pts = points[np.unique(np.concatenate([groups[g].ravel() for g in support_groups]))]
+        mask = away_from(nodes, support_pts, exclude_distance)
+        tip = mean_over(basis, groups, tip_group) @ U if tip_group else np.zeros((3, F.shape[1]))
     t.append(time.perf_counter())
     S = recover_stress(basis, U, material)
-    nodes = stress_nodes(basis)
-    support_pts = points[np.unique(np.concatenate([groups[g].ravel() for g in support_groups]))]
-    mask = away_from(nodes, support_pts, exclude_distance)
-    tip = mean_over(basis, groups, tip_group) @ U if tip_group else np.zeros((3, F.shape[1]))
     loaded = sorted({g for c in cases.values() if isinstance(c, TractionCase) for g in c.groups})
     extras = {
         "cells": node_cells(basis),
-        "support": group_nodes(basis, groups, support_groups),
+        "support": group_nodes(basis, groups, support_groups) if support_groups else np.zeros(0, dtype=np.int64),
         "loaded": group_nodes(basis, groups, loaded) if loaded else np.zeros(0, dtype=np.int64),
     }
     t.append(time.perf_counter())
@@ -124,7 +170,8 @@ def solve_unit_cases(
         solver=info,
         seconds=dict(zip(("assembly", "solve", "stress"), np.diff(t))),
         resultants=resultant(basis, F),
-        support_reactions=_support_reactions(basis, K, U, F, fixed),
+        support_reactions=reactions,
+        imbalance=imbalance,
     )
     return UnitFields(S, tip, node_displacement(basis, U), nodes, mask, tuple(cases), **extras), meta
 

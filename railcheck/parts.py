@@ -30,6 +30,30 @@ class LoadSource:
 
 
 @dataclass(frozen=True)
+class JointLoad:
+    """A joint of a bar seen from its rail: the force on the bar there is ``sign`` x the
+    solver's reaction at ``joint``, and the point masses ``masses`` (attribute names of
+    :class:`railcheck.kinematics.massmodel.MassModel`) sit there, bolted to the rail, so
+    their d'Alembert force and weight pass through the same holes."""
+
+    joint: str
+    sign: float
+    masses: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True)
+class FreeBody:
+    """A rail as a free body (``[check] support = "free-body"``): its ``near`` joint at
+    the first hole (the pivot's pin or shaft), its ``far`` joint at the bolt holes the bar
+    length picks, and, for the crank, the ``motor`` torque entering as a couple over the
+    shaft (first hole) and the driving pin (second hole)."""
+
+    near: JointLoad
+    far: JointLoad
+    motor: bool = False
+
+
+@dataclass(frozen=True)
 class PartKind:
     """``build(overrides, rail_length_m or None)`` -> geometry.models.PartGeometry; ``support`` and
     ``tip`` are mesh groups; ``exclusion(geometry)`` the distance (m) from the support
@@ -66,6 +90,7 @@ class Part:
     kind: str
     sources: tuple[LoadSource, ...]
     bar: str | None = None
+    free_body: FreeBody | None = None
 
 
 def _rail(overrides: dict, length: float):
@@ -118,9 +143,27 @@ KINDS: dict[str, PartKind] = {
 PARTS: dict[str, Part] = {
     p.name: p
     for p in (
-        Part("crank-rail", "rail", (LoadSource("A", -1.0, "crank"),), "crank"),
-        Part("coupler-rail", "rail", (LoadSource("B", -1.0, "coupler"),), "coupler"),
-        Part("rocker-rail", "rail", (LoadSource("B", +1.0, "rocker"),), "rocker"),
+        Part(
+            "crank-rail",
+            "rail",
+            (LoadSource("A", -1.0, "crank"),),
+            "crank",
+            FreeBody(JointLoad("O2", +1.0), JointLoad("A", -1.0, ("plate", "carriage")), motor=True),
+        ),
+        Part(
+            "coupler-rail",
+            "rail",
+            (LoadSource("B", -1.0, "coupler"),),
+            "coupler",
+            FreeBody(JointLoad("A", +1.0, ("coupling",)), JointLoad("B", -1.0, ("plate", "carriage"))),
+        ),
+        Part(
+            "rocker-rail",
+            "rail",
+            (LoadSource("B", +1.0, "rocker"),),
+            "rocker",
+            FreeBody(JointLoad("O4", +1.0), JointLoad("B", +1.0, ("coupling",))),
+        ),
         Part("PF_4b_006", "joint_plate", (LoadSource("A", -1.0, "crank"), LoadSource("B", -1.0, "coupler"))),
         Part("PF_4b_003_v2", "i_profile", (LoadSource("O4", +1.0, None),)),
     )

@@ -52,6 +52,7 @@ def _in_range(value: float, kind: str, name: str, magnitude: bool = False) -> fl
 
 
 BOLT_POSITIONS = ("worst", "actual")
+SUPPORTS = ("clamped", "free-body")
 SWEEP_KINDS = ("four-bar", "slider-crank")
 SWEEP_BARS = {"four-bar": ("crank", "coupler", "rocker", "ground"), "slider-crank": ("crank", "coupler", "offset")}
 SWEEP_FORMATS = ("parquet", "csv")
@@ -85,6 +86,7 @@ class CheckSpec:
     effects: tuple[str, ...] = ("inertia",)
     loads: dict[str, ExplicitLoad] = field(default_factory=dict)
     max_deflection: float | None = None  # m; a part whose tip deflects more fails
+    support: str = "clamped"  # "clamped" (the 2013 cantilever) or "free-body" (inertia relief, rails)
 
 
 @dataclass(frozen=True)
@@ -151,7 +153,7 @@ class Scene:
 _ALLOWED = {
     "mechanism": {"kind", "crank", "coupler", "rocker", "ground", "speed", "steps", "assembly"},
     "dynamics": {"formulation"},
-    "check": {"parts", "factor", "bolt_position", "material", "limit", "effects", "max_deflection"},
+    "check": {"parts", "factor", "bolt_position", "material", "limit", "effects", "max_deflection", "support"},
     "mesh": {"order", "size", "hole_size", "optimize", "curved"},
     "output": {"dir", "vtk", "png", "plots"},
     "loads": None,  # part names, checked below
@@ -291,7 +293,8 @@ def _check(table: dict, loads_table: dict) -> CheckSpec:
             "length",
             p + "max_deflection",
         )
-    return CheckSpec(tuple(parts), float(factor), bolt, material, limit, tuple(effects), loads, max_deflection)
+    support = _string_choice(table.get("support", "clamped"), SUPPORTS, p + "support")
+    return CheckSpec(tuple(parts), float(factor), bolt, material, limit, tuple(effects), loads, max_deflection, support)
 
 
 def _mesh(table: dict) -> MeshSpec:

@@ -115,3 +115,118 @@ def test_a_pinned_bar_under_uniform_transverse_inertia_bends_as_beam_theory(rail
     bending = abs(b) * width / 2
     assert bending == pytest.approx(abs(moment) / Z, rel=0.02)
     assert abs(a) < 0.01 * bending
+
+
+# --- the rig's rails as free bodies (railcheck check, [check] support = "free-body") ---
+
+FREE_BODY_SCENE = """
+[mechanism]
+kind = "four-bar"
+crank = "480 mm"
+coupler = "840 mm"
+rocker = "780 mm"
+ground = "1020 mm"
+steps = 360
+[check]
+parts = ["crank-rail", "coupler-rail", "rocker-rail"]
+support = "free-body"
+"""
+
+
+@pytest.fixture(scope="module")
+def free_run():
+    import tomllib
+
+    from railcheck.check.pipeline import run_pipeline
+    from railcheck.scene import parse_scene
+
+    scene = parse_scene(tomllib.loads(FREE_BODY_SCENE), "free-body")
+    clamped = parse_scene(tomllib.loads(FREE_BODY_SCENE.replace('support = "free-body"', "")), "clamped")
+    return run_pipeline(scene, jobs=1), run_pipeline(clamped, jobs=1)
+
+
+def test_free_rails_have_no_support_zone_and_their_loads_nearly_balance(free_run):
+    """Pin and bolt forces (reactions plus the point masses' d'Alembert forces) and the
+    rail's own inertia balance before relief, to what the two mass models' difference
+    leaves (the dynamics' rail starts at the pivot, the FE's 20 mm behind it)."""
+    from railcheck.check.summary import imbalance_summary
+
+    free, _ = free_run
+    for name, part in free.parts.items():
+        assert part.job.free_body is not None and part.job.exclusion == 0.0
+        assert np.all(part.cycle.fields.verdict_mask)
+        assert part.cycle.envelope.support_peak == part.cycle.envelope.max_von_mises
+        imbalance = imbalance_summary(part)
+        assert imbalance["force_fraction"] < 0.02 and imbalance["moment_fraction"] < 0.01, (name, imbalance)
+
+
+def test_free_links_bend_a_tenth_of_what_the_clamp_says(free_run):
+    free, clamped = free_run
+    for name in ("coupler-rail", "rocker-rail"):
+        assert free.parts[name].verdict_stress < 0.15 * clamped.parts[name].verdict_stress
+    assert free.parts["crank-rail"].verdict_stress < clamped.parts["crank-rail"].verdict_stress
+
+
+def test_a_free_coupler_bends_as_the_statics_of_its_loads_say(free_run):
+    """At the governing instant, the in-plane bending moment at a section between holes,
+    from the statics of the loads left of it (the pin force at the first hole, the rail's
+    distributed inertia whose coefficients the load model gives, and the inertia relief's
+    rigid acceleration that removes the small imbalance), equals the FE's bending stress
+    times I/c within 3%."""
+    free, _ = free_run
+    part = free.parts["coupler-rail"]
+    cyc, geo = part.cycle, part.geometry
+    names = list(cyc.fields.names)
+    c = cyc.C[cyc.envelope.step]
+    xs = geo.get("hole_x")
+    x_pivot, x0, length = xs[0], 0.5 * (xs[6] + xs[7]), geo.get("length")
+    mu = part.job.free_body.mass / length  # kg/m
+    pin, uniform, rot = c[names.index("pin_y")], c[names.index("body_y")], c[names.index("body_rot")]
+    # left segment [0, x0]: pin force at x_pivot, load mu (uniform + rot (x - x_pivot)) per metre
+    moment = pin * (x0 - x_pivot) + mu * (uniform * x0**2 / 2 + rot * (x0**3 / 6 - x_pivot * x0**2 / 2))
+    # relief: the imbalance (force y, moment z about the centre) as a rigid acceleration of the rail
+    imbalance = cyc.solve.imbalance @ c
+    mass, x_c = part.job.free_body.mass, length / 2
+    inertia = mass * (length**2 + geo.get("width") ** 2) / 12
+    a_y, alpha = imbalance[1] / mass, imbalance[5] / inertia
+    moment -= mu * (a_y * x0**2 / 2 + alpha * (x0**3 / 6 - x_c * x0**2 / 2))
+    S = np.einsum("snk,k->sn", cyc.fields.stress, c)
+    a, b, _ = section_fit(S, cyc.fields.nodes, x0)
+    I = geo.get("height") * geo.get("width") ** 3 / 12
+    assert abs(b) * I == pytest.approx(abs(moment), rel=0.03)
+
+
+def test_free_body_superposition_equals_a_direct_solve(rail):
+    """Inertia relief is linear: the relieved unit cases combined equal the combined load
+    relieved and solved directly, to 1e-9."""
+    from railcheck.fea.unitcases import CoupleCase, TractionCase
+
+    geo, mesh, K, basis, xs = rail
+    cases = [
+        TractionCase(("hole_0",), 1),
+        CoupleCase(("hole_0", "hole_1"), xs[1] - xs[0]),
+        TractionCase(("hole_12", "hole_13"), 1, (0.25, 0.75)),
+        BodyCase("uniform", 1),
+        BodyCase("rotational", pivot=(xs[0], 0.0)),
+        BodyCase("radial", pivot=(xs[0], 0.0)),
+    ]
+    F = np.column_stack([case_vector(basis, mesh.groups, k) for k in cases])
+    c = np.array([120.0, 35.0, -80.0, -2.0e4, 3.0e3, 1.5e3])
+    units = solve_free_body(K, F, basis, STEEL.density, "direct")
+    direct = solve_free_body(K, F @ c, basis, STEEL.density, "direct")
+    S_units = np.einsum("snk,k->sn", recover_stress(basis, units.U, STEEL), c)
+    S_direct = recover_stress(basis, direct.U, STEEL)
+    assert np.abs(S_units - S_direct).max() <= 1e-9 * np.abs(S_direct).max()
+
+
+def test_free_body_is_refused_where_it_is_not_modelled():
+    import tomllib
+
+    from railcheck.errors import InputError
+    from railcheck.scene import parse_scene
+    from railcheck.sweep.run import validate
+
+    with pytest.raises(InputError, match="check.support"):
+        parse_scene(tomllib.loads(FREE_BODY_SCENE.replace('"free-body"', '"hinged"')), "bad")
+    with pytest.raises(InputError, match="check.support"):
+        validate(parse_scene(tomllib.loads(FREE_BODY_SCENE), "sweep"))

@@ -53,7 +53,7 @@ def check_part(job: PartJob, solver: str, report) -> PartResult:
         mesh.tets,
         mesh.groups,
         job.material,
-        [job.support],
+        job.supports,
         cases,
         job.mesh.order,
         job.tip,
@@ -61,6 +61,7 @@ def check_part(job: PartJob, solver: str, report) -> PartResult:
         solver,
         report,
         curved=mesh.curved if job.mesh.curved else None,
+        free_body=job.free_body,
     )
     seconds.update(solve.seconds)
     t = time.perf_counter()

@@ -20,6 +20,7 @@ from railcheck.errors import InputError
 from railcheck.fea.materials import Material
 from railcheck.fea.mesh import estimate_dofs
 from railcheck.fea.solvers import available_memory
+from railcheck.fea.unitcases import FreeBodyCases
 from railcheck.geometry.mesher import estimate_elements
 from railcheck.geometry.models import PartGeometry
 from railcheck.loads.cases import LoadCase, explicit_load_case, rail_bolt_holes, reaction_load_case
@@ -68,6 +69,12 @@ class PartJob:
     limit: float
     fatigue: FatigueSpec
     max_deflection: float | None
+    free_body: FreeBodyCases | None = None
+
+    @property
+    def supports(self) -> list[str]:
+        """The clamped groups (none for a free body)."""
+        return [] if self.free_body is not None else [self.support]
 
 
 def mesh_sizes(mesh: MeshSpec, kind: str) -> tuple[float, float]:
@@ -91,8 +98,11 @@ def bolt_holes(scene: Scene, name: str, geo: PartGeometry) -> list[str]:
     explicit = name in scene.check.loads
     bar = PARTS[name].bar
     length = 0.0 if explicit else scene.mechanism.linkage.lengths[bar]
+    position = "worst" if explicit else scene.check.bolt_position
+    if not explicit and scene.check.support == "free-body" and PARTS[name].free_body is not None:
+        position = "actual"  # a free body's joint force acts where the joint is
     try:
-        idx = rail_bolt_holes(xs, xs[0], length, "worst" if explicit else scene.check.bolt_position)
+        idx = rail_bolt_holes(xs, xs[0], length, position)
     except ValueError as exc:
         raise InputError(f"mechanism.{bar}", str(exc)) from None
     return [f"hole_{k}" for k in idx]
@@ -140,12 +150,13 @@ def part_jobs(
         kind = kind_of(name)
         holes = bolt_holes(scene, name, geo)
         loads = load_model(scene, name, material.density)
+        free = free_body_cases(loads, geo, holes) if loads.is_free_body else None
         jobs[name] = PartJob(
             name=name,
             geometry=geo,
             support=kind.support,
             tip=kind.tip,
-            exclusion=kind.exclusion(geo),
+            exclusion=0.0 if free is not None else kind.exclusion(geo),
             section=tuple(kind.section(geo)),
             mesh=MeshJob(*mesh_sizes(scene.mesh, geo.kind), scene.mesh.order, scene.mesh.curved, scene.mesh.optimize),
             holes=tuple(holes),
@@ -156,8 +167,23 @@ def part_jobs(
             limit=limit,
             fatigue=scene.fatigue,
             max_deflection=scene.check.max_deflection,
+            free_body=free,
         )
     return jobs
+
+
+def free_body_cases(loads: LoadModel, geo: PartGeometry, holes: list[str]) -> FreeBodyCases:
+    """How a free rail is solved: its body cases carry the dynamics' rail mass; its
+    deflection is, for the crank, the displacement at A's bolts relative to the line
+    through the shaft and the driving pin, for a link the sag at mid-span relative to the
+    line through its two joints."""
+    xs = geo.get("hole_x")
+    far_x = float(np.mean([xs[int(h.split("_")[1])] for h in holes]))
+    if loads.free_body.motor:
+        deflection = (["hole_0"], ["hole_1"], list(holes))
+    else:
+        deflection = (["hole_0"], list(holes), 0.5 * (xs[0] + far_x))
+    return FreeBodyCases(mass=loads.rail_mass, deflection=deflection)
 
 
 def refuse_huge(scene: Scene, geometries: dict) -> None:

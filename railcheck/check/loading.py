@@ -8,18 +8,34 @@ the joint's bolt holes; with ``gravity`` or ``rail-inertia``, ``body_x`` and ``b
 rotation's tangential and centripetal fields about the rail's pivot). Each load source of
 the part (a joint it can sit at) gives a coefficient history (steps, cases). The check and
 the sweep share these functions, so a sweep's setting equals a check of it.
+
+Free body (``[check] support = "free-body"``, rails): the bar is loaded as the rig loads
+it, with no clamp. Unit cases ``pin_x``, ``pin_y`` (the near joint's force on the first
+hole), for the crank ``torque`` (the motor torque as a couple over the shaft and the
+driving pin), ``bolt_x``, ``bolt_y`` (the far joint's force on its bolt holes) and, with
+gravity or inertia, the rail's own body forces ``body_x``, ``body_y``, ``body_rot``,
+``body_rad``, which carry the dynamics' rail mass (:class:`~railcheck.fea.unitcases.FreeBodyCases`),
+so their coefficients are accelerations (m/s^2, rad/s^2, rad^2/s^2). A joint's force on
+the rail is the reaction on the bar plus the d'Alembert force and weight of the point
+masses bolted there (plate, carriage, coupling). One load factor multiplies every load,
+so the body stays in equilibrium; the solve removes what remains by inertia relief.
 """
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
 
-from railcheck.check.kinematics_stage import KinematicsResult
-from railcheck.fea.unitcases import BodyCase, TractionCase
+from railcheck.check.kinematics_stage import KinematicsResult, effects_for
+from railcheck.errors import InputError
+from railcheck.fea.unitcases import BodyCase, CoupleCase, TractionCase
+from railcheck.kinematics.linkage import FourBar
+from railcheck.kinematics.massmodel import MassModel
 from railcheck.loads.histories import bolt_history, gravity_history, rail_inertia_history
-from railcheck.parts import BAR_INDEX, PARTS, LoadSource
+from railcheck.loads.rotation import to_rail_axes
+from railcheck.parts import BAR_INDEX, PARTS, FreeBody, LoadSource, rail_length
 from railcheck.scene import ExplicitLoad, Scene
 
 GRAVITY = 9.80665  # m/s^2
@@ -42,6 +58,15 @@ class LoadModel:
     rail_inertia: bool
     explicit: ExplicitLoad | None
     density: float
+    free_body: FreeBody | None = None
+    inertia: bool = False
+    joint_masses: tuple[float, float] = (0.0, 0.0)
+    rail_mass: float = 0.0
+    bar_length: float = 0.0
+
+    @property
+    def is_free_body(self) -> bool:
+        return self.free_body is not None
 
 
 @dataclass(frozen=True)
@@ -58,21 +83,38 @@ class SourceHistory:
 def load_model(scene: Scene, name: str, density: float) -> LoadModel:
     """The part's :class:`LoadModel` from the scene's [check] (density kg/m^3)."""
     effects, explicit = scene.check.effects, scene.check.loads.get(name)
-    bar = PARTS[name].bar
-    return LoadModel(
+    part = PARTS[name]
+    bar = part.bar
+    model = LoadModel(
         part=name,
         bar=bar,
-        sources=PARTS[name].sources,
+        sources=part.sources,
         factor=scene.check.factor,
         gravity="gravity" in effects,
         rail_inertia="rail-inertia" in effects and bar is not None and explicit is None,
         explicit=explicit,
         density=density,
     )
+    if not (scene.check.support == "free-body" and part.free_body is not None and explicit is None):
+        return model
+    if not isinstance(scene.mechanism.linkage, FourBar):
+        raise InputError("check.support", '"free-body" is modelled for the four-bar so far: use "clamped"')
+    masses, fb = MassModel(), part.free_body
+    return dataclasses.replace(
+        model,
+        rail_inertia=False,
+        free_body=fb,
+        inertia="inertia" in effects_for(scene),
+        joint_masses=tuple(sum(getattr(masses, m) for m in j.masses) for j in (fb.near, fb.far)),
+        rail_mass=masses.rail_mass_per_m * rail_length(bar),
+        bar_length=scene.mechanism.linkage.lengths[bar],
+    )
 
 
 def unit_cases(model: LoadModel, geo, holes: list[str]) -> dict:
     """The part's unit load cases, named (see the module doc)."""
+    if model.is_free_body:
+        return free_body_cases(model, geo, holes)
     cases = {"bolt_x": TractionCase(tuple(holes), 0), "bolt_y": TractionCase(tuple(holes), 1)}
     if model.gravity or model.rail_inertia:
         cases.update(body_x=BodyCase("uniform", 0), body_y=BodyCase("uniform", 1))
@@ -80,6 +122,59 @@ def unit_cases(model: LoadModel, geo, holes: list[str]) -> dict:
         pivot = (float(geo.get("hole_x")[0]), 0.0)
         cases.update(body_rot=BodyCase("rotational", pivot=pivot), body_rad=BodyCase("radial", pivot=pivot))
     return cases
+
+
+def free_body_cases(model: LoadModel, geo, holes: list[str]) -> dict:
+    """A free rail's unit cases (module doc): first-hole pin, motor couple, far bolts, body."""
+    xs = geo.get("hole_x")
+    cases: dict = {"pin_x": TractionCase(("hole_0",), 0), "pin_y": TractionCase(("hole_0",), 1)}
+    if model.free_body.motor:
+        cases["torque"] = CoupleCase(("hole_0", "hole_1"), float(xs[1] - xs[0]))
+    cases.update(bolt_x=TractionCase(tuple(holes), 0), bolt_y=TractionCase(tuple(holes), 1, lever_rule(geo, holes, model)))
+    if model.gravity or model.inertia:
+        cases.update(body_x=BodyCase("uniform", 0), body_y=BodyCase("uniform", 1))
+    if model.inertia:
+        pivot = (float(xs[0]), 0.0)
+        cases.update(body_rot=BodyCase("rotational", pivot=pivot), body_rad=BodyCase("radial", pivot=pivot))
+    return cases
+
+
+def lever_rule(geo, holes: list[str], model: LoadModel) -> tuple[float, ...]:
+    """The shares of a transverse joint force over the two bolt holes of the joint's plate
+    that keep its line of action at the joint (x = first hole + bar length): the plate
+    is in equilibrium, so the bolts carry the force and no moment about the joint."""
+    xs = geo.get("hole_x")
+    x1, x2 = (float(xs[int(h.split("_")[1])]) for h in holes)
+    joint = float(xs[0]) + model.bar_length
+    return ((x2 - joint) / (x2 - x1), (joint - x1) / (x2 - x1))
+
+
+def free_body_coefficients(
+    model: LoadModel, reactions: dict, torque, angles: dict, accelerations: dict, omega: dict, alpha: dict
+) -> np.ndarray:
+    """(..., k): a free rail's coefficients in the order of :func:`free_body_cases` (module
+    doc), arrays as :func:`source_coefficients`; ``torque`` (...) N m the motor's on the crank."""
+    fb, bar, f = model.free_body, model.bar, model.factor
+    angle = angles[bar]
+    down = np.array([0.0, -GRAVITY]) if model.gravity else np.zeros(2)
+
+    def joint_force(joint, mass):
+        force = joint.sign * reactions[joint.joint]
+        return force + mass * (down - accelerations[joint.joint]) if mass else force
+
+    cols = [f * to_rail_axes(joint_force(fb.near, model.joint_masses[0]), angle)]
+    if fb.motor:
+        cols.append(f * np.asarray(torque)[..., None])
+    cols.append(f * to_rail_axes(joint_force(fb.far, model.joint_masses[1]), angle))
+    if model.gravity or model.inertia:
+        body = gravity_history(angle, 1.0, GRAVITY) if model.gravity else np.zeros(angle.shape + (2,))
+        if model.inertia:
+            rigid = rail_inertia_history(accelerations[PIVOT_JOINT[bar]], angle, omega[bar], alpha[bar], 1.0)
+            body = body + rigid[..., :2]
+        cols.append(f * body)
+        if model.inertia:
+            cols.append(f * rigid[..., 2:])
+    return np.concatenate(cols, axis=-1)
 
 
 def source_coefficients(
@@ -113,6 +208,19 @@ def source_histories(model: LoadModel, kin: KinematicsResult | None, holes: list
         return (SourceHistory("explicit", np.array([c]), np.zeros(1), 0),)
     dyn, motion = kin.dynamics, kin.motion
     by_bar = lambda a: {bar: a[:, i] for bar, i in BAR_INDEX.items()}  # noqa: E731
+    if model.is_free_body:
+        far = model.free_body.far.joint
+        C = free_body_coefficients(
+            model,
+            dyn.reactions,
+            dyn.torque,
+            by_bar(motion.theta),
+            motion.accelerations,
+            by_bar(motion.omega),
+            by_bar(motion.alpha),
+        )
+        step = int(np.argmax(np.hypot(dyn.reactions[far][:, 0], dyn.reactions[far][:, 1])))
+        return (SourceHistory(far, C, motion.theta2, step),)
     out = []
     for src in model.sources:
         if src.joint not in dyn.reactions:

@@ -6,6 +6,8 @@ same scene gives a byte-identical summary.
 
 from __future__ import annotations
 
+import numpy as np
+
 from railcheck.check.records import FatigueResult, PartResult, PipelineResult, SeedMethod
 from railcheck.geometry.catalogue import (
     CATALOGUE_RAIL_MASS,
@@ -38,10 +40,11 @@ def summary_of(result: PipelineResult) -> dict:
 
 
 def part_summary(p: PartResult) -> dict:
-    """One part's entry of summary.json (SI; the envelope governs ``max_von_mises_Pa``)."""
+    """One part's entry of summary.json (SI; the envelope governs ``max_von_mises_Pa``).
+    A free body adds ``support``, the deflection's meaning and its ``imbalance``."""
     s, cyc, job = p.solution, p.cycle, p.job
     env = cyc.envelope
-    return {
+    out = {
         "max_von_mises_Pa": env.max_von_mises,
         "max_von_mises_location_m": [float(x) for x in env.location],
         "crank_angle_deg": cyc.history.crank_angle_deg,
@@ -81,6 +84,35 @@ def part_summary(p: PartResult) -> dict:
             "slivers": p.mesh.slivers,
             "solver": cyc.solve.solver.get("solver"),
         },
+    }
+    if job.free_body is not None:
+        out["support"] = {
+            "model": "free-body",
+            "deflection": "at A's bolts relative to the line through the shaft and the driving pin"
+            if job.loads.free_body.motor
+            else "sag at mid-span relative to the line through the two joints",
+            "imbalance": imbalance_summary(p),
+        }
+    return out
+
+
+def imbalance_summary(p: PartResult) -> dict:
+    """How far a free body's loads are from equilibrium before inertia relief, over the
+    cycle: the largest resultant force (N) and moment about the centroid (N m), and each
+    as a fraction of the largest joint force (and of it times the part's length)."""
+    cyc = p.cycle
+    imbalance = (cyc.solve.imbalance @ cyc.C.T).T  # (steps, 6)
+    joints = [i for i, n in enumerate(cyc.fields.names) if n.startswith(("pin_", "bolt_"))]
+    scale = float(np.abs(cyc.C[:, joints]).max()) or 1.0
+    force = float(np.linalg.norm(imbalance[:, :3], axis=1).max())
+    moment = float(np.linalg.norm(imbalance[:, 3:], axis=1).max())
+    length = float(p.geometry.get("length"))
+    return {
+        "max_force_N": force,
+        "max_moment_Nm": moment,
+        "force_fraction": force / scale,
+        "moment_fraction": moment / (scale * length),
+        "largest_joint_force_N": scale,
     }
 
 

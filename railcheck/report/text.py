@@ -64,10 +64,20 @@ def parts_table(result) -> str:
         "at the instant of the peak |reaction| (seed 000's method); FoS = limit / cycle max; fatigue n: "
         "minimum fatigue safety factor (Shigley 6-14 with the [fatigue] criterion)"
     )
-    lines.append(
-        "  * the peak at the idealised clamped support grows with mesh refinement (a singularity); the "
-        "verdict uses the peak farther than one hole diameter from it"
-    )
+    free = [n for n, p in result.parts.items() if p.job.free_body is not None]
+    clamped = [n for n in result.parts if n not in free]
+    if clamped:
+        lines.append(
+            f"  * {', '.join(clamped)}: clamped at the support; its peak grows with mesh refinement (a singularity); "
+            "the verdict uses the peak farther than one hole diameter from it"
+        )
+    if free:
+        lines.append(
+            f"  {', '.join(free)}: free bodies (joint forces at their holes, the point masses' and the rail's own "
+            "inertia, one load factor; inertia relief, no support): the verdict reads every node; tip defl. is "
+            "the crank's deflection at A relative to its shaft and pin, a link's mid-span sag relative to its "
+            "joints"
+        )
     return "\n".join(lines)
 
 
