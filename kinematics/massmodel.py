@@ -27,6 +27,10 @@ class MassModel:
     carriage: float = 0.68  # patin KWVE25
     plate: float = 1.155  # disco, PF_4b_006
     coupling: float = 0.577  # acop
+    # m of rail behind the first joint: 0 is the 2013 study's placement (the rail starts at
+    # the pivot); the rail's first hole, where the pivot sits, is really 20 mm from its end,
+    # and the free-body check uses that (railcheck.parts.mass_model), as its FE meshes it
+    rail_overhang: float = 0.0
 
     @property
     def plate_and_carriage(self) -> float:
@@ -44,9 +48,11 @@ class RigidBar:
     inertia_com: float
 
 
-def bar_from_parts(rail_mass: float, rail_length: float, point_masses: list[tuple[float, float]]) -> RigidBar:
-    """Combine a uniform rail starting at local 0 with point masses [(mass kg, s m)]."""
-    parts = [(rail_mass, rail_length / 2.0, rail_mass * rail_length**2 / 12.0)]
+def bar_from_parts(
+    rail_mass: float, rail_length: float, point_masses: list[tuple[float, float]], overhang: float = 0.0
+) -> RigidBar:
+    """Combine a uniform rail from local ``-overhang`` (m) with point masses [(mass kg, s m)]."""
+    parts = [(rail_mass, rail_length / 2.0 - overhang, rail_mass * rail_length**2 / 12.0)]
     parts += [(m, s, 0.0) for m, s in point_masses]
     mass = sum(m for m, _, _ in parts)
     com = sum(m * s for m, s, _ in parts) / mass
@@ -62,15 +68,22 @@ def fourbar_bodies(linkage: FourBar, masses: MassModel) -> tuple[RigidBar, Rigid
     """
     mpc = masses.plate_and_carriage
     crank = bar_from_parts(
-        masses.rail_mass_per_m * masses.crank_rail_length, masses.crank_rail_length, [(mpc, linkage.crank)]
+        masses.rail_mass_per_m * masses.crank_rail_length,
+        masses.crank_rail_length,
+        [(mpc, linkage.crank)],
+        masses.rail_overhang,
     )
     coupler = bar_from_parts(
         masses.rail_mass_per_m * masses.coupler_rail_length,
         masses.coupler_rail_length,
         [(masses.coupling, 0.0), (mpc, linkage.coupler)],
+        masses.rail_overhang,
     )
     rocker = bar_from_parts(
-        masses.rail_mass_per_m * masses.rocker_rail_length, masses.rocker_rail_length, [(masses.coupling, linkage.rocker)]
+        masses.rail_mass_per_m * masses.rocker_rail_length,
+        masses.rocker_rail_length,
+        [(masses.coupling, linkage.rocker)],
+        masses.rail_overhang,
     )
     return crank, coupler, rocker
 
@@ -83,12 +96,16 @@ def slidercrank_bodies(linkage: SliderCrank, masses: MassModel) -> tuple[RigidBa
     """
     mpc = masses.plate_and_carriage
     crank = bar_from_parts(
-        masses.rail_mass_per_m * masses.crank_rail_length, masses.crank_rail_length, [(mpc, linkage.crank)]
+        masses.rail_mass_per_m * masses.crank_rail_length,
+        masses.crank_rail_length,
+        [(mpc, linkage.crank)],
+        masses.rail_overhang,
     )
     coupler = bar_from_parts(
         masses.rail_mass_per_m * masses.coupler_rail_length,
         masses.coupler_rail_length,
         [(masses.coupling, 0.0), (masses.coupling, linkage.coupler)],
+        masses.rail_overhang,
     )
     slider = RigidBar(mass=mpc, com=0.0, inertia_com=0.0)
     return crank, coupler, slider

@@ -182,6 +182,15 @@ def geometry_of(name: str, overrides: dict):
     return KINDS[part.kind].build(overrides, rail_length(part.bar) if part.bar else None)
 
 
+def mass_model(support: str, geometry_overrides: dict) -> MassModel:
+    """The one mass model of a check, shared by the dynamics and the FE: a free-body check
+    places each rail as it is meshed, its first hole (the pivot) the catalogue's end
+    distance from its end; the clamped check keeps the 2013 placement (rail from the pivot)."""
+    if support != "free-body":
+        return MassModel()
+    return MassModel(rail_overhang=with_overrides(geometry_overrides)[0].end_distance)
+
+
 def rail_length(bar: str) -> float:
     """m: the physical rail of a bar (seed 000, Anexo I; the mass model's lengths)."""
     return getattr(MassModel(), f"{bar}_rail_length")

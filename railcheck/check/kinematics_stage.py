@@ -18,7 +18,7 @@ from railcheck.kinematics.checks import CheckResult, configuration_checks, trans
 from railcheck.kinematics.dynamics import STANDARD_GRAVITY, Dynamics, inverse_dynamics
 from railcheck.kinematics.linkage import FourBar
 from railcheck.kinematics.motion import Motion, solve_motion
-from railcheck.parts import rail_length
+from railcheck.parts import mass_model, rail_length
 from railcheck.scene import Scene
 
 
@@ -57,7 +57,9 @@ def run_kinematics(scene: Scene) -> KinematicsResult:
     motion = solve_motion(spec.linkage, spec.speed, spec.steps)
     dyn_motion = motion if "inertia" in effects else solve_motion(spec.linkage, 0.0, spec.steps)
     gravity = STANDARD_GRAVITY if "gravity" in effects else 0.0
-    dynamics = inverse_dynamics(dyn_motion, scene.formulation, gravity=gravity)
+    support = scene.check.support if scene.check else "clamped"
+    masses = mass_model(support, scene.geometry)
+    dynamics = inverse_dynamics(dyn_motion, scene.formulation, masses, gravity=gravity)
     mu_min, mu_max = transmission_extremes(spec.linkage)
     return KinematicsResult(motion, dynamics, all_checks(scene), effects, (math.degrees(mu_min), math.degrees(mu_max)))
 

@@ -32,10 +32,9 @@ from railcheck.check.kinematics_stage import KinematicsResult, effects_for
 from railcheck.errors import InputError
 from railcheck.fea.unitcases import BodyCase, CoupleCase, TractionCase
 from railcheck.kinematics.linkage import FourBar
-from railcheck.kinematics.massmodel import MassModel
 from railcheck.loads.histories import bolt_history, gravity_history, rail_inertia_history
 from railcheck.loads.rotation import to_rail_axes
-from railcheck.parts import BAR_INDEX, PARTS, FreeBody, LoadSource, rail_length
+from railcheck.parts import BAR_INDEX, PARTS, FreeBody, LoadSource, mass_model, rail_length
 from railcheck.scene import ExplicitLoad, Scene
 
 GRAVITY = 9.80665  # m/s^2
@@ -99,7 +98,7 @@ def load_model(scene: Scene, name: str, density: float) -> LoadModel:
         return model
     if not isinstance(scene.mechanism.linkage, FourBar):
         raise InputError("check.support", '"free-body" is modelled for the four-bar so far: use "clamped"')
-    masses, fb = MassModel(), part.free_body
+    masses, fb = mass_model(scene.check.support, scene.geometry), part.free_body
     return dataclasses.replace(
         model,
         rail_inertia=False,

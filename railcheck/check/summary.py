@@ -98,20 +98,27 @@ def part_summary(p: PartResult) -> dict:
 
 def imbalance_summary(p: PartResult) -> dict:
     """How far a free body's loads are from equilibrium before inertia relief, over the
-    cycle: the largest resultant force (N) and moment about the centroid (N m), and each
-    as a fraction of the largest joint force (and of it times the part's length)."""
+    cycle: the largest resultant force (N), in-plane moment (about z) and out-of-plane
+    moment (about x and y, N m, about the centroid), and each as a fraction of the largest
+    joint force (times the part's length for moments). The out-of-plane part is what the
+    joints' bearings carry in the rig (the pins bear below the section's centroid, the
+    inertia acts at it; the planar dynamics has no out-of-plane equations); inertia relief
+    applies it as a rigid rotational acceleration."""
     cyc = p.cycle
     imbalance = (cyc.solve.imbalance @ cyc.C.T).T  # (steps, 6)
     joints = [i for i, n in enumerate(cyc.fields.names) if n.startswith(("pin_", "bolt_"))]
     scale = float(np.abs(cyc.C[:, joints]).max()) or 1.0
-    force = float(np.linalg.norm(imbalance[:, :3], axis=1).max())
-    moment = float(np.linalg.norm(imbalance[:, 3:], axis=1).max())
     length = float(p.geometry.get("length"))
+    force = float(np.linalg.norm(imbalance[:, :3], axis=1).max())
+    in_plane = float(np.abs(imbalance[:, 5]).max())
+    out_of_plane = float(np.linalg.norm(imbalance[:, 3:5], axis=1).max())
     return {
         "max_force_N": force,
-        "max_moment_Nm": moment,
+        "max_moment_in_plane_Nm": in_plane,
+        "max_moment_out_of_plane_Nm": out_of_plane,
         "force_fraction": force / scale,
-        "moment_fraction": moment / (scale * length),
+        "moment_in_plane_fraction": in_plane / (scale * length),
+        "moment_out_of_plane_fraction": out_of_plane / (scale * length),
         "largest_joint_force_N": scale,
     }
 
