@@ -68,7 +68,8 @@ def render_part(path: str | Path, name: str, part) -> Path:
             **({"position_x": 0.3, "position_y": 0.04, "width": 0.4, "height": 0.08} if slender else {}),
         },
     )
-    _support(pv, plotter, mesh, sol, scale, part)
+    if part.job.free_body is None:
+        _support(pv, plotter, mesh, sol, scale, part)
     _bolt_arrows(pv, plotter, mesh, sol, scale, part, cycle, min(extent.max(), 8 * np.sort(extent)[1]))
     _peak_marker(pv, plotter, cycle, sol, scale, extent.max(), part)
     when = (
@@ -79,8 +80,11 @@ def render_part(path: str | Path, name: str, part) -> Path:
         f"{part.limit / max(part.verdict_stress, 1e-9):.3g}); largest tip deflection "
         f"{cycle.envelope.max_tip * 1e3:.3g} mm\n"
         f"deformation x {scale:.3g} (largest displacement = {DEFORMATION_FRACTION:.0%} of the part); "
-        "magenta: above the verdict peak (the support's singular zone); grey: support; "
-        "arrows: bolt forces",
+        + (
+            "free body (no support: inertia relief); arrows: the joints' forces on the first hole and the bolts"
+            if part.job.free_body is not None
+            else "magenta: above the verdict peak (the support's singular zone); grey: support; arrows: bolt forces"
+        ),
         font_size=9,
     )
 
@@ -106,19 +110,24 @@ def _support(pv, plotter, mesh, sol, scale, part) -> None:
 
 
 def _bolt_arrows(pv, plotter, mesh, sol, scale, part, cycle, size) -> None:
-    """An arrow per loaded hole, at its centre, along the bolt force of the governing instant."""
-    c = cycle.C[cycle.envelope.step]
-    force = np.array([c[0], c[1], 0.0])
-    if not np.any(force):
-        return
-    direction = force / np.linalg.norm(force)
-    holes = [b.group for b in part.load_case.bolts]
+    """An arrow per loaded hole, at its centre, along the joint force of the governing
+    instant on it: the bolts' (``bolt_x``, ``bolt_y``) and, on a free body, the first
+    hole's pin (``pin_x``, ``pin_y``)."""
+    c, names = cycle.C[cycle.envelope.step], list(cycle.fields.names)
+    loads = [([b.group for b in part.load_case.bolts], "bolt")]
+    if "pin_x" in names:
+        loads.append((["hole_0"], "pin"))
     above = mesh.points[:, 2].max() + 0.02 * size  # drawn over the part, seen from above
-    for hole in holes:
-        centre = _group_points(mesh, sol, scale, [hole]).mean(axis=0)
-        centre[2] = above
-        length = 0.18 * size
-        plotter.add_mesh(pv.Arrow(start=centre - direction * length, direction=direction, scale=length), color="red")
+    for holes, case in loads:
+        force = np.array([c[names.index(f"{case}_x")], c[names.index(f"{case}_y")], 0.0])
+        if not np.any(force):
+            continue
+        direction = force / np.linalg.norm(force)
+        for hole in holes:
+            centre = _group_points(mesh, sol, scale, [hole]).mean(axis=0)
+            centre[2] = above
+            length = 0.18 * size
+            plotter.add_mesh(pv.Arrow(start=centre - direction * length, direction=direction, scale=length), color="red")
 
 
 def _peak_marker(pv, plotter, cycle, sol, scale, size, part) -> None:
