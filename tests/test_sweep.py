@@ -314,7 +314,7 @@ def test_a_sweep_row_equals_railcheck_check_of_that_setting(fe_sweep):
         for name, part in result.parts.items():
             env, fat = part.cycle.envelope, part.cycle.fatigue
             assert row[f"{name}_stress_MPa"] * 1e6 == pytest.approx(env.max_von_mises, rel=1e-9), name
-            assert row[f"{name}_fatigue"] == pytest.approx(fat["min_safety_factor"], rel=1e-9), name
+            assert row[f"{name}_fatigue"] == pytest.approx(fat.min_safety_factor, rel=1e-9), name
             if part.geometry.kind == "rail":
                 assert row[f"{name}_tip_mm"] / 1e3 == pytest.approx(env.max_tip, rel=1e-9), name
 

@@ -36,7 +36,7 @@ from railcheck.sweep.table import TableWriter
 BYTES_PER_SETTING_STEP = 3_000
 
 
-@dataclass
+@dataclass(frozen=True)
 class SweepRun:
     """A finished sweep: its summary, where it went, and the directory asked for."""
 
@@ -44,8 +44,8 @@ class SweepRun:
     target: Path
     requested: Path
     seconds: float = 0.0
-    tables: dict = field(default_factory=dict)
-    timings: dict = field(default_factory=dict)  # s per stage: prepare (FE unit cases), chunks, report
+    tables: dict[str, Path] = field(default_factory=dict)
+    timings: dict[str, float] = field(default_factory=dict)  # s per stage: prepare (FE unit cases), chunks, report
 
     @property
     def exit_status(self) -> int:
