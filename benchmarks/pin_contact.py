@@ -27,8 +27,18 @@ import argparse
 import numpy as np
 import scipy.sparse as sp
 
-from railcheck.fea import MATERIALS, assemble, free_submatrix, peak, recover_stress, stress_nodes, supports
-from railcheck.fea import factorise, unit_traction_vectors, von_mises
+from railcheck.fea import (
+    MATERIALS,
+    assemble,
+    factorise,
+    free_submatrix,
+    peak,
+    recover_stress,
+    stress_nodes,
+    supports,
+    unit_traction_vectors,
+    von_mises,
+)
 from railcheck.fea.loading import surface_node_weights, traction_vector
 from railcheck.fea.mesh import scalar_basis, vector_dof_map
 from railcheck.geometry import mesh_part, rail
@@ -129,7 +139,6 @@ def main() -> None:
             return np.maximum(c, 0.0) * radial  # pressure pushes the material outward
 
         F_cos = traction_vector(basis, mesh.groups, "hole_0", cosine)
-        comp = np.zeros(K.shape[0])
         total = np.array([F_cos[vector_dof_map(basis, scalar_basis(basis))[:, c]].sum() for c in range(2)])
         F_cos *= FORCE / np.linalg.norm(total)
         cos_u = solved(F_cos)
@@ -138,7 +147,6 @@ def main() -> None:
         cells = "".join(f"{a / 1e6:>9.2f} ({b / 1e6:5.2f}) MPa" for a, b in values)
         ratios = "".join(f"{values[k][0] / values[2][0]:>11.3f} ({values[k][1] / values[2][1]:.3f})" for k in (0, 1))
         print(f"{label:<24}{cells}{ratios}   {n_active}/{n} bore nodes in contact")
-        del comp
 
 
 if __name__ == "__main__":
