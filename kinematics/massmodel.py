@@ -60,6 +60,13 @@ def bar_from_parts(
     return RigidBar(mass=mass, com=com, inertia_com=inertia)
 
 
+def rail_body(masses: MassModel, bar: str, point_masses: list[tuple[float, float]]) -> RigidBar:
+    """The ``bar``'s rail (``crank``, ``coupler``, ``rocker``) with the point masses it
+    carries [(kg, m from its first joint)], from the mass model."""
+    length = getattr(masses, f"{bar}_rail_length")
+    return bar_from_parts(masses.rail_mass_per_m * length, length, point_masses, masses.rail_overhang)
+
+
 def fourbar_bodies(linkage: FourBar, masses: MassModel) -> tuple[RigidBar, RigidBar, RigidBar]:
     """Crank, coupler and rocker as rigid bodies (seed 000, Anexo I mass model).
 
@@ -67,24 +74,9 @@ def fourbar_bodies(linkage: FourBar, masses: MassModel) -> tuple[RigidBar, Rigid
     and carriage at B. Rocker: rail from O4 + coupling at B.
     """
     mpc = masses.plate_and_carriage
-    crank = bar_from_parts(
-        masses.rail_mass_per_m * masses.crank_rail_length,
-        masses.crank_rail_length,
-        [(mpc, linkage.crank)],
-        masses.rail_overhang,
-    )
-    coupler = bar_from_parts(
-        masses.rail_mass_per_m * masses.coupler_rail_length,
-        masses.coupler_rail_length,
-        [(masses.coupling, 0.0), (mpc, linkage.coupler)],
-        masses.rail_overhang,
-    )
-    rocker = bar_from_parts(
-        masses.rail_mass_per_m * masses.rocker_rail_length,
-        masses.rocker_rail_length,
-        [(masses.coupling, linkage.rocker)],
-        masses.rail_overhang,
-    )
+    crank = rail_body(masses, "crank", [(mpc, linkage.crank)])
+    coupler = rail_body(masses, "coupler", [(masses.coupling, 0.0), (mpc, linkage.coupler)])
+    rocker = rail_body(masses, "rocker", [(masses.coupling, linkage.rocker)])
     return crank, coupler, rocker
 
 
@@ -95,17 +87,7 @@ def slidercrank_bodies(linkage: SliderCrank, masses: MassModel) -> tuple[RigidBa
     Slider: a carriage with its plate on the ground rail (a particle, no rotation).
     """
     mpc = masses.plate_and_carriage
-    crank = bar_from_parts(
-        masses.rail_mass_per_m * masses.crank_rail_length,
-        masses.crank_rail_length,
-        [(mpc, linkage.crank)],
-        masses.rail_overhang,
-    )
-    coupler = bar_from_parts(
-        masses.rail_mass_per_m * masses.coupler_rail_length,
-        masses.coupler_rail_length,
-        [(masses.coupling, 0.0), (masses.coupling, linkage.coupler)],
-        masses.rail_overhang,
-    )
+    crank = rail_body(masses, "crank", [(mpc, linkage.crank)])
+    coupler = rail_body(masses, "coupler", [(masses.coupling, 0.0), (masses.coupling, linkage.coupler)])
     slider = RigidBar(mass=mpc, com=0.0, inertia_com=0.0)
     return crank, coupler, slider

@@ -18,6 +18,7 @@ from railcheck.fea import (
 from railcheck.fea.unitcases import BodyCase, case_vector
 from railcheck.geometry import mesh_part
 from railcheck.parts import geometry_of
+from scene_texts import FINAL_DESIGN
 
 STEEL = MATERIALS["steel"]
 
@@ -119,18 +120,14 @@ def test_a_pinned_bar_under_uniform_transverse_inertia_bends_as_beam_theory(rail
 
 # --- the rig's rails as free bodies (railcheck check, [check] support = "free-body") ---
 
-FREE_BODY_SCENE = """
-[mechanism]
-kind = "four-bar"
-crank = "480 mm"
-coupler = "840 mm"
-rocker = "780 mm"
-ground = "1020 mm"
-steps = 360
+FREE_BODY_SCENE = (
+    FINAL_DESIGN
+    + """steps = 360
 [check]
 parts = ["crank-rail", "coupler-rail", "rocker-rail"]
 support = "free-body"
 """
+)
 
 
 @pytest.fixture(scope="module")

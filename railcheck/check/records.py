@@ -1,6 +1,5 @@
 """The records a check produces, each frozen and built once (SI units throughout):
 
-* :class:`SourceHistory`: one load source's coefficient history over the cycle;
 * :class:`SeedMethod`, :class:`FatigueResult`, :class:`CycleHistory`: the parts of one
   part's cycle result, gathered in :class:`CycleResult`;
 * :class:`PartResult`: one part's check (its job, mesh, governing instant and cycle);
@@ -25,17 +24,6 @@ from railcheck.fea.unitcases import UnitSolve
 from railcheck.geometry.meshdata import MeshData
 from railcheck.kinematics.checks import CheckResult
 from railcheck.scene import Scene
-
-
-@dataclass(frozen=True)
-class SourceHistory:
-    """A load source's coefficient history ``C`` (steps, cases) over ``crank_angle``
-    (steps,) rad; ``seed_step`` the instant of its reaction's peak magnitude."""
-
-    joint: str
-    C: np.ndarray
-    crank_angle: np.ndarray
-    seed_step: int
 
 
 @dataclass(frozen=True)

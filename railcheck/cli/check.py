@@ -3,9 +3,9 @@
 from __future__ import annotations
 
 import argparse
-import sys
 
 from railcheck.check.run import run_check
+from railcheck.cli.common import say_where
 from railcheck.errors import InputError
 from railcheck.fea.fatigue import CRITERIA, SURFACE
 from railcheck.fea.materials import MATERIALS
@@ -41,9 +41,5 @@ def run(args) -> int:
         raise InputError("--jobs", f"must be at least 1, got {args.jobs}")
     result = run_check(load_scene(args.scene), args.out, args.force, Progress(quiet=False), args.jobs)
     print(to_json(result.summary) if args.json else check_report(result))
-    if result.requested != result.target:
-        print(
-            f"railcheck: {result.requested} exists; results written to {result.target} (use --force to replace)",
-            file=sys.stderr,
-        )
+    say_where(result)
     return result.exit_status

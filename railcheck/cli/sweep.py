@@ -2,8 +2,7 @@
 
 from __future__ import annotations
 
-import sys
-
+from railcheck.cli.common import say_where
 from railcheck.errors import InputError
 from railcheck.files import to_json
 from railcheck.progress import Progress
@@ -41,9 +40,5 @@ def run(args) -> int:
         load_scene(args.scene), args.out, args.force, args.scheduler, args.workers, args.serial, Progress(quiet=False)
     )
     print(to_json(result.summary) if args.json else sweep_report(result))
-    if result.requested != result.target:
-        print(
-            f"railcheck: {result.requested} exists; results written to {result.target} (use --force to replace)",
-            file=sys.stderr,
-        )
+    say_where(result)
     return result.exit_status
