@@ -77,7 +77,8 @@ def render_part(path: str | Path, name: str, part) -> Path:
     )
     plotter.add_text(
         f"{name}: cycle peak {part.verdict_stress / 1e6:.1f} MPa {when} (limit {part.limit / 1e6:.0f} MPa, FoS "
-        f"{part.limit / max(part.verdict_stress, 1e-9):.3g}); largest tip deflection "
+        f"{part.limit / max(part.verdict_stress, 1e-9):.3g}); largest "
+        f"{'deflection relative to the joints' if part.job.free_body is not None else 'tip deflection'} "
         f"{cycle.envelope.max_tip * 1e3:.3g} mm\n"
         f"deformation x {scale:.3g} (largest displacement = {DEFORMATION_FRACTION:.0%} of the part); "
         + (
