@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import hashlib
 import os
+import stat
 from pathlib import Path
 
 import numpy as np
@@ -39,6 +40,12 @@ def read_cached(path: Path, payload: str) -> tuple[MeshData | None, str | None]:
     damaged, swapped or stale one."""
     if not path.exists():
         return None, None
+    try:
+        regular = stat.S_ISREG(os.stat(path).st_mode)
+    except OSError as exc:
+        return None, f"unreadable ({type(exc).__name__})"
+    if not regular:  # a FIFO would block np.load forever; a device or a folder is no entry
+        return None, "not a regular file"
     try:
         with np.load(path, allow_pickle=False) as z:
             stored_payload, stored_digest = str(z["payload"]), str(z["digest"])

@@ -60,3 +60,19 @@ def test_damaged_entry_is_rebuilt_with_a_warning(cache, damage):
     assert not got.cached and got.warning and "rebuilt" in got.warning
     again = mesh_part(bar(0.1, 0.02, 0.02), 8e-3, 8e-3, cache_dir=cache)
     assert again.cached and again.warning is None  # the rebuilt entry is sound
+
+
+@pytest.mark.parametrize("kind", ["fifo", "folder"])
+def test_an_entry_that_is_not_a_regular_file_is_rebuilt_without_blocking(cache, kind):
+    """A FIFO under an entry's name would block np.load forever: any non-regular file is a
+    damaged entry, rebuilt with a warning."""
+    mesh_part(bar(0.1, 0.02, 0.02), 8e-3, 8e-3, cache_dir=cache)
+    (entry,) = entries(cache)
+    entry.unlink()
+    if kind == "fifo":
+        os.mkfifo(entry)
+    else:
+        entry.mkdir()
+    again = mesh_part(bar(0.1, 0.02, 0.02), 8e-3, 8e-3, cache_dir=cache)
+    assert not again.cached and "not a regular file" in again.warning
+    assert np.array_equal(again.points, fresh(8e-3).points)
