@@ -30,6 +30,7 @@ from .loading import (
 )
 from .materials import MATERIALS, Material, limit_warning
 from .mesh import dof_components, estimate_dofs, group_nodes, stress_nodes, vector_dof_map
+from .modes import Modes, natural_modes, vector_mass_matrix
 from .relief import FreeBodySolve, RigidModes, relieve, rigid_modes, solve_free_body, three_two_one
 from .solvers import SOLVERS, Solver, available_memory, factorise, solve_reduced, solver_of
 from .stress import away_from, mean_over, peak, recover_stress, von_mises
@@ -54,6 +55,9 @@ __all__ = [
     "three_two_one",
     "HoleLoad",
     "Marin",
+    "Modes",
+    "natural_modes",
+    "vector_mass_matrix",
     "Material",
     "ModelError",
     "NumericalError",
