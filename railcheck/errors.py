@@ -26,6 +26,11 @@ def _rebuild(cls: type[RailcheckError], args: tuple, state: dict) -> RailcheckEr
     return error
 
 
+def _one_line(text: str) -> str:
+    """The error's text on one line: line breaks and tabs (from a key, a file name) escaped."""
+    return text.replace("\r", "\\r").replace("\n", "\\n").replace("\t", "\\t")
+
+
 class RailcheckError(Exception):
     """Base of every error railcheck reports: ``field`` (the scene key or option it is
     about, "" when none), ``message``, ``exit_status`` and the ``label`` the command line
@@ -38,7 +43,7 @@ class RailcheckError(Exception):
     def __init__(self, field: str, message: str):
         self.field = field
         self.message = message
-        super().__init__(f"{field}: {message}" if field else message)
+        super().__init__(_one_line(f"{field}: {message}" if field else message))
 
     def __reduce__(self):
         return _rebuild, (type(self), self.args, dict(self.__dict__))

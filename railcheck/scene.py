@@ -37,6 +37,7 @@ RANGES = {
     "force": (0.0, 1e6, "0 N", "1 MN"),
     "factor": (0.1, 100.0, "0.1", "100"),
     "geometry": (0.1e-3, 2.0, "0.1 mm", "2 m"),
+    "deflection": (1e-6, 1.0, "1 um", "1 m"),  # a plate's limit is a few tenths of a millimetre
 }
 
 
@@ -290,7 +291,7 @@ def _check(table: dict, loads_table: dict) -> CheckSpec:
     if "max_deflection" in table:
         max_deflection = _in_range(
             parse_quantity(table["max_deflection"], "length", p + "max_deflection", positive=True, allow_zero=False),
-            "length",
+            "deflection",
             p + "max_deflection",
         )
     support = _string_choice(table.get("support", "clamped"), SUPPORTS, p + "support")
@@ -469,7 +470,7 @@ def load_scene(path: str | Path | None) -> Scene:
         if not p.is_file():
             raise InputError("scene", f"not a file: {p}")
         try:
-            text = p.read_text(encoding="utf-8")
+            text = p.read_text(encoding="utf-8-sig")  # a byte-order mark is not part of the scene
         except (OSError, UnicodeDecodeError) as exc:
             raise InputError("scene", f"cannot read {p}: {exc}") from None
         source = str(p)
@@ -477,4 +478,6 @@ def load_scene(path: str | Path | None) -> Scene:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise InputError("scene", f"malformed TOML in {source}: {exc}") from None
+    except RecursionError:
+        raise InputError("scene", f"{source} nests tables or arrays too deeply to be a scene") from None
     return parse_scene(data, source)

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 import re
+import unicodedata
 
 from railcheck.errors import InputError
 
@@ -19,7 +20,14 @@ _TWO_PI = 2.0 * math.pi
 
 #: dimension -> {unit symbol: factor to SI}
 UNITS: dict[str, dict[str, float]] = {
-    "length": {"m": 1.0, "cm": 1e-2, "mm": 1e-3, "um": 1e-6, "µm": 1e-6, "in": 0.0254},
+    "length": {
+        "m": 1.0,
+        "cm": 1e-2,
+        "mm": 1e-3,
+        "um": 1e-6,
+        "\u03bcm": 1e-6,
+        "in": 0.0254,
+    },  # the micro sign reads as \u03bc
     # a crank speed: SI is rad/s
     "angular_speed": {"rad/s": 1.0, "Hz": _TWO_PI, "rpm": _TWO_PI / 60.0, "deg/s": math.pi / 180.0},
     "stress": {"Pa": 1.0, "kPa": 1e3, "MPa": 1e6, "GPa": 1e9, "N/mm2": 1e6, "N/mm^2": 1e6},
@@ -44,7 +52,7 @@ PREFERRED = {
     "memory": "GB",
 }
 
-_NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?|[-+]?(?:nan|inf|infinity)"
+_NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?|[-+]?(?:nan|infinity|inf)"
 _PATTERN = re.compile(rf"^\s*({_NUMBER})\s*([^\s\d].*?)?\s*$", re.IGNORECASE)
 
 
@@ -60,6 +68,7 @@ def parse_quantity(value: object, dimension: str, field: str, *, positive: bool 
         raise InputError(field, f'needs a unit, e.g. "{value} {PREFERRED[dimension]}" (got the bare number {value!r})')
     if not isinstance(value, str):
         raise InputError(field, f"must be a string with a unit, got {type(value).__name__}")
+    value = unicodedata.normalize("NFKC", value)  # the micro sign and the Greek mu are one letter
     match = _PATTERN.match(value)
     if not match:
         raise InputError(

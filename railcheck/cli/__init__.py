@@ -90,6 +90,9 @@ class _Terminated(KeyboardInterrupt):
 
 def main(argv: list[str] | None = None) -> int:
     """Run one command; every error becomes one line on stderr and an exit status."""
+    for stream in (sys.stdout, sys.stderr):  # a console that cannot print a character gets an escape
+        if hasattr(stream, "reconfigure"):
+            stream.reconfigure(errors="backslashreplace")
     parser = build_parser()
     if not (sys.argv[1:] if argv is None else argv):
         parser.print_help()

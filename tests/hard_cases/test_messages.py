@@ -1,0 +1,63 @@
+"""Hostile scenes get one clear line naming the field, never a traceback or a split
+message: a byte-order mark, a key with a line break, "Infinity mm", the Greek mu, a scene
+nested thousands deep, a console that cannot print a character, a plate's deflection limit."""
+
+import subprocess
+import sys
+import tomllib
+
+import pytest
+
+from railcheck.errors import InputError
+from railcheck.scene import load_scene, parse_scene
+from railcheck.units import parse_quantity
+from scene_texts import FINAL_DESIGN
+
+
+def test_a_byte_order_mark_is_not_part_of_the_scene(tmp_path):
+    scene = tmp_path / "bom.toml"
+    scene.write_bytes("\ufeff".encode() + FINAL_DESIGN.encode())
+    assert load_scene(scene).mechanism.linkage.crank == pytest.approx(0.48)
+
+
+def test_a_key_with_a_line_break_stays_on_one_line():
+    with pytest.raises(InputError) as err:
+        parse_scene(tomllib.loads(FINAL_DESIGN + '"speed\\nbad" = "1 Hz"\n'), "t")
+    assert "\n" not in str(err.value) and "speed\\nbad" in str(err.value)
+
+
+def test_infinity_is_refused_as_not_finite_not_as_a_unit():
+    with pytest.raises(InputError, match="must be finite"):
+        parse_quantity("Infinity mm", "length", "mechanism.crank")
+    with pytest.raises(InputError, match="must be finite"):
+        parse_quantity("-inf mm", "length", "mechanism.crank")
+
+
+def test_the_greek_mu_and_the_micro_sign_are_one_unit():
+    assert parse_quantity("250 \u03bcm", "length", "f") == pytest.approx(250e-6)
+    assert parse_quantity("250 \u00b5m", "length", "f") == pytest.approx(250e-6)
+
+
+def test_a_scene_nested_thousands_deep_is_refused(tmp_path):
+    scene = tmp_path / "deep.toml"
+    scene.write_text("x = " + "[" * 20000 + "]" * 20000 + "\n")
+    with pytest.raises(InputError, match="scene"):
+        load_scene(scene)
+
+
+def test_a_plate_can_have_a_deflection_limit_of_tenths_of_a_millimetre():
+    text = FINAL_DESIGN + '[check]\nparts = ["PF_4b_006"]\nmax_deflection = "0.2 mm"\n'
+    assert parse_scene(tomllib.loads(text), "t").check.max_deflection == pytest.approx(0.2e-3)
+    with pytest.raises(InputError, match="check.max_deflection"):
+        parse_scene(tomllib.loads(text.replace("0.2 mm", "0.0001 mm")), "t")
+
+
+def test_a_console_that_cannot_print_a_character_gets_an_escape(tmp_path):
+    proc = subprocess.run(
+        [sys.executable, "-P", "-m", "railcheck.cli", "kinematics"],
+        capture_output=True,
+        env={**__import__("os").environ, "PYTHONIOENCODING": "ascii"},
+        cwd=tmp_path,
+    )
+    assert proc.returncode == 0, proc.stderr.decode()
+    assert b"Traceback" not in proc.stderr and b"N\\xb7m" in proc.stdout
