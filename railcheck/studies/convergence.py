@@ -289,6 +289,8 @@ def run_convergence(target: str, orders: str = "1,2", sizes: str | None = None, 
     (mm for meshes, step counts for kinematics) and returns {"target", "rows", ...}."""
     if target == "kinematics":
         steps = _parse_list(sizes, int, "--sizes") if sizes else [50, 100, 200, 500, 1000, 2000, 5000, 10000]
+        if any(n < 3 or n > 10_000_000 for n in steps):
+            raise InputError("--sizes", "crank step counts must be whole numbers from 3 to 10 000 000")
         rows, ref = kinematics_study(steps)
         return {"target": target, "rows": rows, "reference": ref, "reference_steps": 200_000}
     if target != "cantilever" and target not in PARTS:

@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from railcheck.check.jobs import part_geometries, refuse_huge
+from railcheck.check.kinematics_stage import effects_for
 from railcheck.errors import EXIT_FAIL, EXIT_PASS, InputError
 from railcheck.fea.materials import MATERIALS
 from railcheck.files import Staging, atomic_write_text, reserve_results_dir, to_json
@@ -70,7 +71,28 @@ def chunk_size(scene) -> int:
     return int(max(1, min(4096, scene.sweep.memory // (BYTES_PER_SETTING_STEP * scene.sweep.steps))))
 
 
+#: the address schemes a Dask scheduler listens on
+SCHEDULER_SCHEMES = ("tcp", "tls", "inproc", "ucx", "ws", "wss")
+
+
+def check_scheduler(address: str) -> None:
+    """Refuse, naming ``--scheduler``, an address that is not ``scheme://host:port``."""
+    scheme, sep, rest = address.partition("://")
+    host, colon, port = rest.rpartition(":")
+    if not sep or scheme not in SCHEDULER_SCHEMES or not host or not port.isdigit() or not 0 < int(port) < 65536:
+        raise InputError(
+            "--scheduler",
+            f"{address!r} is not a Dask scheduler address: scheme://host:port, the scheme one of "
+            f"{', '.join(SCHEDULER_SCHEMES)} (e.g. tcp://127.0.0.1:8786)",
+        )
+
+
 def validate(scene) -> None:
+    if scene.check is not None and not effects_for(scene):
+        raise InputError(
+            "check.effects",
+            'a sweep needs a load to compare settings by: list "inertia" (with a speed) or "gravity"',
+        )
     if scene.check is not None and scene.check.support == "free-body":
         raise InputError(
             "check.support",
@@ -123,6 +145,8 @@ def run_sweep(
     it either way; ``serial`` is ``dask=False``)."""
 
     validate(scene)
+    if scheduler is not None:
+        check_scheduler(scheduler)
     progress = progress or Progress(quiet=True)
     t0 = time.perf_counter()
     requested = Path(out or _default_dir(scene))

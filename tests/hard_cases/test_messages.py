@@ -61,3 +61,27 @@ def test_a_console_that_cannot_print_a_character_gets_an_escape(tmp_path):
     )
     assert proc.returncode == 0, proc.stderr.decode()
     assert b"Traceback" not in proc.stderr and b"N\\xb7m" in proc.stdout
+
+
+def test_a_sweep_without_any_load_is_refused_naming_the_effects():
+    from railcheck.sweep.run import validate
+
+    text = FINAL_DESIGN + '[check]\nparts = ["crank-rail"]\neffects = []\n[sweep]\nsteps = 16\nkind = "four-bar"\n'
+    with pytest.raises(InputError, match="check.effects"):
+        validate(parse_scene(tomllib.loads(text), "t"))
+
+
+@pytest.mark.parametrize("address", ["not an address", "udp://host:1", "tcp://host", "tcp://:8786", "tcp://h:99999"])
+def test_a_malformed_scheduler_address_is_refused(address):
+    from railcheck.sweep.run import check_scheduler
+
+    with pytest.raises(InputError, match="--scheduler"):
+        check_scheduler(address)
+    check_scheduler("tcp://127.0.0.1:8786")
+
+
+def test_a_kinematics_study_with_too_few_steps_blames_its_option():
+    from railcheck.studies.convergence import run_convergence
+
+    with pytest.raises(InputError, match="--sizes"):
+        run_convergence("kinematics", sizes="0")
