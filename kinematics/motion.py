@@ -97,19 +97,23 @@ def _fourbar_revolvability(linkage: FourBar) -> None:
             f"shorter than the sum of the other three bars ({(sum(lengths.values()) - lengths[longest]) * 1e3:.6g} mm)",
         )
     r_min, r_max = abs(d - b2), d + b2
-    if r_max > b3 + b4:
+    tol = 1e-12 * (d + b2 + b3 + b4)  # equal to rounding: a change point or a toggle, reported below
+    if r_max > b3 + b4 + tol:
         raise MechanismError(
             "mechanism",
             f"the crank cannot make a full revolution: at crank angle 180 deg the distance A-O4 = "
             f"{r_max * 1e3:.6g} mm exceeds coupler + rocker = {(b3 + b4) * 1e3:.6g} mm",
         )
-    if r_min < abs(b3 - b4):
+    if r_min < abs(b3 - b4) - tol:
         raise MechanismError(
             "mechanism",
             f"the crank cannot make a full revolution: at crank angle 0 deg the distance A-O4 = "
             f"{r_min * 1e3:.6g} mm is below |coupler - rocker| = {abs(b3 - b4) * 1e3:.6g} mm",
         )
     mu_min, mu_max = fourbar_toggle_margins(linkage)
+    # collinear to rounding (a change point): the margin's arccos falls outside [-1, 1]
+    mu_min = 0.0 if math.isnan(mu_min) else mu_min
+    mu_max = math.pi if math.isnan(mu_max) else mu_max
     ordered = sorted(lengths.values())
     kind = (
         "Grashof change point (s + l = p + q): all four bars become collinear"

@@ -85,3 +85,14 @@ def test_a_kinematics_study_with_too_few_steps_blames_its_option():
 
     with pytest.raises(InputError, match="--sizes"):
         run_convergence("kinematics", sizes="0")
+
+
+def test_a_change_point_equal_to_rounding_is_named_a_change_point_not_a_number_below_itself():
+    """0.1 / 0.2 / 0.3 / 0.4 m: s + l = p + q, and at crank angle 0 |d - b2| equals
+    |coupler - rocker| up to rounding; the message names the change point, with no NaN."""
+    from railcheck.kinematics import FourBar, SingularConfigurationError, solve_motion
+
+    with pytest.raises(SingularConfigurationError) as err:
+        solve_motion(FourBar(0.2, 0.3, 0.4, 0.1), 6.28, 10)
+    text = str(err.value)
+    assert "change point" in text and "nan" not in text.lower() and "is below" not in text
