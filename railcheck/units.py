@@ -14,7 +14,7 @@ import unicodedata
 
 from railcheck.errors import InputError
 
-__all__ = ["parse_quantity", "UNITS", "format_quantity"]
+__all__ = ["parse_quantity", "UNITS", "format_quantity", "for_people"]
 
 _TWO_PI = 2.0 * math.pi
 
@@ -98,3 +98,14 @@ def parse_quantity(value: object, dimension: str, field: str, *, positive: bool 
 def format_quantity(si: float, unit: str, dimension: str, digits: int = 4) -> str:
     """Format an SI value in ``unit`` with ``digits`` significant figures: '480 mm'."""
     return f"{si / UNITS[dimension][unit]:.{digits}g} {unit}"
+
+
+def for_people(x: float | None, spec: str = ".2f", unlimited: str = "unlimited", missing: str = "none") -> str:
+    """A number as a person reads it: ``format(x, spec)``, a word for infinity
+    (``unlimited``: a safety factor with no load, a safe speed with no limit) and for a
+    missing or NaN value (``missing``), never "inf" or "nan"."""
+    if x is None or math.isnan(x):
+        return missing
+    if math.isinf(x):
+        return unlimited if x > 0 else f"-{unlimited}"
+    return format(x, spec)

@@ -30,6 +30,7 @@ from railcheck.fea.superpose import (
 )
 from railcheck.fea.unitcases import UnitSolve, solve_unit_cases
 from railcheck.geometry.mesher import mesh_part
+from railcheck.units import for_people
 
 
 def check_part(job: PartJob, solver: str, report) -> PartResult:
@@ -75,7 +76,7 @@ def check_part(job: PartJob, solver: str, report) -> PartResult:
         f"{solve.dofs} DOFs, {solve.solver.get('solver')}, {len(cases)} unit cases; cycle peak "
         f"{cycle.envelope.max_von_mises / 1e6:.1f} MPa {when} "
         f"(seed method {cycle.seed_method.max_von_mises / 1e6:.1f} MPa), fatigue factor "
-        f"{cycle.fatigue.min_safety_factor:.2f}"
+        f"{for_people(cycle.fatigue.min_safety_factor)}"
     )
     solution = solution_at(fields, cycle.C[cycle.envelope.step], solve, job.mesh.order, job.exclusion)
     return PartResult(job=job, mesh=mesh, solution=solution, cycle=cycle, seconds=seconds, warnings=tuple(warnings))

@@ -7,6 +7,7 @@ import math
 import numpy as np
 
 from railcheck.fea.cantilever import HEIGHT, LENGTH, LOAD, WIDTH
+from railcheck.units import for_people
 
 
 def _fmt(x: float, digits: int = 6) -> str:
@@ -82,7 +83,7 @@ def parts_table(result) -> str:
 
 
 def _factor(x: float) -> str:
-    return "inf" if not math.isfinite(x) else f"{x:.2f}"
+    return for_people(x, ".2f")
 
 
 def check_report(run) -> str:

@@ -96,3 +96,10 @@ def test_a_change_point_equal_to_rounding_is_named_a_change_point_not_a_number_b
         solve_motion(FourBar(0.2, 0.3, 0.4, 0.1), 6.28, 10)
     text = str(err.value)
     assert "change point" in text and "nan" not in text.lower() and "is below" not in text
+
+
+def test_numbers_for_people_never_read_inf_or_nan():
+    from railcheck.units import for_people
+
+    assert for_people(float("inf")) == "unlimited" and for_people(float("nan")) == "none" and for_people(None) == "none"
+    assert for_people(2.345) == "2.35" and for_people(float("-inf")) == "-unlimited"
