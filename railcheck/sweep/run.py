@@ -19,7 +19,6 @@ from pathlib import Path
 import numpy as np
 
 from railcheck.check.jobs import part_geometries, refuse_huge
-from railcheck.check.kinematics_stage import effects_for
 from railcheck.errors import EXIT_FAIL, EXIT_PASS, InputError
 from railcheck.fea.materials import MATERIALS
 from railcheck.files import Staging, atomic_write_text, reserve_results_dir, to_json
@@ -87,8 +86,16 @@ def check_scheduler(address: str) -> None:
         )
 
 
+def sweep_effects(scene) -> tuple[str, ...]:
+    """The effects a sweep simulates: inertia when listed and some [sweep] speed is not
+    zero (a sweep's speeds are its own, not [mechanism]'s), gravity when listed."""
+    effects = scene.check.effects
+    inertia = "inertia" in effects and any(s > 0 for s in scene.sweep.speeds)
+    return (("inertia",) if inertia else ()) + (("gravity",) if "gravity" in effects else ())
+
+
 def validate(scene) -> None:
-    if scene.check is not None and not effects_for(scene):
+    if scene.check is not None and not sweep_effects(scene):
         raise InputError(
             "check.effects",
             'a sweep needs a load to compare settings by: list "inertia" (with a speed) or "gravity"',
