@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 
 from railcheck.check.run import run_check
-from railcheck.cli.common import say_where
+from railcheck.cli.common import add_results_args, say_where
 from railcheck.errors import InputError
 from railcheck.fea.fatigue import CRITERIA, SURFACE
 from railcheck.fea.materials import MATERIALS
@@ -27,10 +27,7 @@ PARSER = {
 
 
 def add_args(p) -> None:
-    p.add_argument("scene", nargs="?", help="scene TOML file (default: the built-in seed final design)")
-    p.add_argument("--out", metavar="DIR", help="results directory (default: the scene's output.dir)")
-    p.add_argument("--json", action="store_true", help="print summary.json to stdout")
-    p.add_argument("--force", action="store_true", help="overwrite an existing results directory")
+    add_results_args(p, "the built-in seed final design", "the scene's output.dir")
     p.add_argument(
         "--jobs", type=int, metavar="N", help="parts checked at once in worker processes (default: one per core, at most 2)"
     )

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from railcheck.cli.common import say_where
+from railcheck.cli.common import add_results_args, say_where
 from railcheck.errors import InputError
 from railcheck.files import to_json
 from railcheck.progress import Progress
@@ -20,10 +20,7 @@ PARSER = {
 
 
 def add_args(p) -> None:
-    p.add_argument("scene", nargs="?", help="scene TOML file (default: the built-in scene, the whole rig at 1 Hz)")
-    p.add_argument("--out", metavar="DIR", help="results directory (default: sweep)")
-    p.add_argument("--json", action="store_true", help="print summary.json to stdout")
-    p.add_argument("--force", action="store_true", help="overwrite an existing results directory")
+    add_results_args(p, "the built-in scene, the whole rig at 1 Hz", "sweep")
     p.add_argument(
         "--scheduler",
         metavar="ADDR",
