@@ -139,18 +139,31 @@ def _parts(result) -> str:
         "limit (MPa)",
         "factor of safety",
         "utilisation",
-        "max tip deflection (mm)",
+        "max deflection* (mm)",
         "deflection limit (mm)",
         "fatigue factor",
         "σa / σm (MPa)",
         "verdict",
     ]
     crit = next(iter(result.parts.values())).cycle.fatigue
+    free = [n for n, p in result.parts.items() if p.job.free_body is not None]
+    clamped = [n for n in result.parts if n not in free]
+    models = (
+        f"clamped ({_e(', '.join(clamped))}): the peak away from the idealised support's singular edge, the "
+        "deflection at the free end; "
+        if clamped
+        else ""
+    ) + (
+        f"free bodies ({_e(', '.join(free))}): no support, every node in the verdict, the crank's deflection "
+        "at A relative to its shaft and pin, a link's mid-span sag relative to its joints; "
+        if free
+        else ""
+    )
     return (
         "<h2>Parts</h2>"
         + _table(head, rows)
-        + f'<p class="note">cycle max: the largest von Mises over the whole crank cycle, away from the '
-        f"idealised support's singular edge; seed method: at the instant of the peak reaction magnitude; "
+        + f'<p class="note">cycle max: the largest von Mises over the whole crank cycle; * {models}'
+        f"seed method: at the instant of the peak reaction magnitude; "
         f"factor of safety = limit / cycle max; fatigue: {_e(crit.criterion)}, endurance limit "
         f"{crit.marin.endurance_limit / 1e6:.0f} MPa (Shigley ch. 6, Marin factors in summary.json).</p>"
     )
@@ -174,7 +187,15 @@ def _mesh_and_equilibrium(result) -> str:
     for name, p in result.parts.items():
         solve, c = p.cycle.solve, p.cycle.C[p.cycle.envelope.step]
         applied, reaction = solve.resultants @ c, solve.support_reactions @ c
-        scale = max(np.linalg.norm(applied), 1e-300)
+        if p.job.free_body is not None:  # no support: the loads balance themselves, the rest is relieved
+            names = list(p.cycle.fields.names)
+            joints = [i for i, n in enumerate(names) if n.startswith(("pin_", "bolt_"))]
+            scale = max(float(np.abs(c[joints]).max()), 1e-300)
+            held, balance = "none: inertia relief", f"{np.linalg.norm(applied) / scale:.1e} of the largest joint force"
+        else:
+            scale = max(np.linalg.norm(applied), 1e-300)
+            held = ", ".join(f"{v:.2f}" for v in reaction)
+            balance = f"{np.linalg.norm(applied + reaction) / scale:.1e}"
         rows.append(
             [
                 _e(name),
@@ -184,8 +205,8 @@ def _mesh_and_equilibrium(result) -> str:
                 f"{p.mesh.slivers}",
                 _e(solve.solver.get("solver")),
                 ", ".join(f"{v:.2f}" for v in applied),
-                ", ".join(f"{v:.2f}" for v in reaction),
-                f"{np.linalg.norm(applied + reaction) / scale:.1e}",
+                held,
+                balance,
             ]
         )
     head = [
@@ -202,8 +223,10 @@ def _mesh_and_equilibrium(result) -> str:
     return (
         "<h2>Mesh and equilibrium</h2>"
         + _table(head, rows)
-        + '<p class="note">at each part\'s governing instant; the support reaction is the resultant of '
-        "K u - f over the fixed nodes, and balances the applied bolt and body forces.</p>"
+        + '<p class="note">at each part\'s governing instant. A supported part: the support reaction is the '
+        "resultant of K u - f over the fixed nodes, and balances the applied bolt and body forces. A free body: "
+        "the applied load is the resultant of its joint forces and its own inertia, which balance each other; "
+        "what remains is removed as a rigid-body acceleration (inertia relief).</p>"
     )
 
 
