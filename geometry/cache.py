@@ -23,15 +23,22 @@ def default_cache_dir() -> Path:
 
 
 def _digest(
-    points: np.ndarray, tets: np.ndarray, groups: dict[str, np.ndarray], curved: tuple[np.ndarray, np.ndarray]
+    points: np.ndarray,
+    tets: np.ndarray,
+    groups: dict[str, np.ndarray],
+    curved: tuple[np.ndarray, np.ndarray],
+    quality: tuple[float, int, str],
 ) -> str:
-    """SHA-256 of the mesh arrays' bytes (with the group names): the cache entry's content hash."""
+    """SHA-256 of everything an entry gives back: the mesh arrays' bytes, the group names,
+    and the quality record (smallest minSICN, sliver count, the mesher's warning), so a
+    flipped quality figure is damage like a flipped coordinate."""
     h = hashlib.sha256()
     for a in (points, tets, *curved):
         h.update(np.ascontiguousarray(a).tobytes())
     for name in sorted(groups):
         h.update(name.encode())
         h.update(np.ascontiguousarray(groups[name]).tobytes())
+    h.update(repr((float(quality[0]), int(quality[1]), str(quality[2]))).encode())
     return h.hexdigest()
 
 
@@ -51,16 +58,25 @@ def read_cached(path: Path, payload: str) -> tuple[MeshData | None, str | None]:
             stored_payload, stored_digest = str(z["payload"]), str(z["digest"])
             points, tets = z["points"], z["tets"]
             groups = {k[2:]: z[k] for k in z.files if k.startswith("g_")}
-            quality, slivers = float(z["min_quality"]), int(z["slivers"])
+            quality, slivers, warning = float(z["min_quality"]), int(z["slivers"]), str(z["warning"])
             curved = (z["curved_edges"], z["curved_points"])
     except Exception as exc:  # noqa: BLE001 - any unreadable file is a damaged entry
         return None, f"unreadable ({type(exc).__name__})"
     if stored_payload != payload:
         return None, "made for other parameters"
-    if stored_digest != _digest(points, tets, groups, curved):
+    if stored_digest != _digest(points, tets, groups, curved, (quality, slivers, warning)):
         return None, "content does not match its hash"
     return MeshData(
-        points, tets, groups, quality, slivers, 0.0, cached=True, curved_edges=curved[0], curved_points=curved[1]
+        points,
+        tets,
+        groups,
+        quality,
+        slivers,
+        0.0,
+        cached=True,
+        warning=warning or None,
+        curved_edges=curved[0],
+        curved_points=curved[1],
     ), None
 
 
@@ -78,8 +94,13 @@ def write_cached(path: Path, data: MeshData, payload: str) -> None:
             slivers=data.slivers,
             curved_edges=data.curved_edges,
             curved_points=data.curved_points,
+            warning=np.array(data.warning or ""),
             payload=np.array(payload),
-            digest=np.array(_digest(data.points, data.tets, data.groups, data.curved)),
+            digest=np.array(
+                _digest(
+                    data.points, data.tets, data.groups, data.curved, (data.min_quality, data.slivers, data.warning or "")
+                )
+            ),
             **{f"g_{k}": v for k, v in data.groups.items()},
         )
         os.replace(tmp, path)

@@ -36,7 +36,7 @@ from .meshdata import MeshData
 from .models import PartGeometry
 from .shapes import BUILDERS
 
-MESHER_VERSION = 8
+MESHER_VERSION = 9
 SLIVER_SICN = 0.05  # elements whose signed inverse condition number is below this are slivers
 
 

@@ -224,7 +224,17 @@ def test_rigid_body_modes_are_the_kernel_of_a_free_stiffness(block):
     from skfem.element import ElementVector
 
     basis = Basis(skfem_mesh(block.points, block.tets), ElementVector(element_of(2)), intorder=2)
-    B = rigid_body_modes(basis.doflocs, dof_components(basis))
+    x, comp = basis.doflocs, dof_components(basis)
+    B = rigid_body_modes(x, comp)
+    # each column is a rigid motion written out here: u(p) = t + w x (p - centroid)
+    c = x.mean(axis=1, keepdims=True)
+    for k in range(6):
+        t, w = np.eye(3)[k] if k < 3 else np.zeros(3), np.eye(3)[k - 3] if k >= 3 else np.zeros(3)
+        u = t[:, None] + np.cross(w[:, None], x - c, axis=0)
+        np.testing.assert_allclose(B[:, k], u[comp, np.arange(comp.size)], atol=1e-15)
+    # and they are the free stiffness's kernel: no strain energy, no force
+    K = stiffness_matrix(basis, STEEL)
+    assert np.abs(K @ B).max() < 1e-9 * abs(K).max() * np.abs(B).max()
     assert np.linalg.matrix_rank(B) == 6
 
 

@@ -15,6 +15,11 @@ def test_heartbeat_reports_while_the_work_runs_and_when_it_ends():
     assert lines[-1].startswith("factorising 1000 DOFs: done in 0.3")
 
 
-def test_heartbeat_is_silent_without_a_reporter():
+def test_heartbeat_is_silent_without_a_reporter(capsys):
     with heartbeat("anything", None, interval=0.01):
         time.sleep(0.03)
+    assert capsys.readouterr() == ("", "")
+    lines = []  # the same work with a reporter does speak: the silence above is the None
+    with heartbeat("anything", lines.append, interval=0.01):
+        time.sleep(0.03)
+    assert lines and capsys.readouterr() == ("", "")

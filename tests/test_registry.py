@@ -45,9 +45,12 @@ def test_a_part_added_through_the_registry_alone_is_checked_end_to_end(bracket):
     reaction = result.kinematics.dynamics.reactions["B"]
     peak = 1.4 * np.hypot(reaction[:, 0], reaction[:, 1]).max()
     np.testing.assert_allclose(np.hypot(cycle.C[:, 0], cycle.C[:, 1]).max(), peak, rtol=1e-12)
-    # a cantilever with an end load: the largest bending stress away from the clamp is
-    # below M c / I at the clamp and above it at the exclusion distance (beam theory)
-    c, inertia = 0.01, 0.02 * 0.02**3 / 12
-    transverse = np.abs(cycle.C[:, 1:2]).max()
-    assert 0.5 * transverse * 0.18 * c / inertia < part.verdict_stress < 1.3 * transverse * 0.2 * c / inertia
+    # a cantilever with an end load: the verdict's peak sits at the edge of the clamp's
+    # 20 mm exclusion zone, where beam theory gives F_t (L - x) c / I + |F_l| / A on the
+    # face where bending and axial stress add (3%: the clamp's Saint-Venant zone, the mesh)
+    c, inertia, area = 0.01, 0.02 * 0.02**3 / 12, 0.02 * 0.02
+    x = part.cycle.envelope.location[0]
+    assert 0.02 <= x < 0.025
+    beam = np.max(np.abs(cycle.C[:, 1]) * (0.2 - x) * c / inertia + np.abs(cycle.C[:, 0]) / area)
+    assert part.verdict_stress == pytest.approx(beam, rel=0.03)
     assert result.stages_run[-1] == "report" and part.passed

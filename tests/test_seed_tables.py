@@ -94,3 +94,35 @@ def test_transmission_extremes_bound_the_sampled_angle():
     lo, hi = transmission_extremes(lk)
     assert np.min(motion.transmission_angle) == pytest.approx(lo, abs=1e-12)
     assert np.max(motion.transmission_angle) == pytest.approx(hi, abs=1e-7)
+
+
+@pytest.mark.parametrize(
+    ("crank", "coupler", "offset", "assembly"),
+    [
+        (0.48, 0.84, 0.0, "open"),
+        (0.48, 0.84, 0.05, "open"),
+        (0.48, 0.84, -0.05, "crossed"),
+        (0.12, 0.84, 0.30, "open"),  # offset beyond the crank: the coupler never lies flat
+        (0.30, 0.96, -0.45, "open"),
+    ],
+)
+def test_slider_crank_transmission_extremes_equal_the_motion_sampled_densely(crank, coupler, offset, assembly):
+    """mu_min = acos((b2 + |e|) / b3), mu_max = 90 deg or 90 deg - asin((|e| - b2) / b3):
+    against the angle between the coupler and the slider line's normal, measured from the
+    joint positions at 200,001 crank angles, and the sweep's batch formulas likewise."""
+    from railcheck.kinematics.checks import slidercrank_checks_batch
+    from railcheck.kinematics.linkage import SliderCrank
+    from railcheck.kinematics.motion import solve_motion
+
+    motion = solve_motion(SliderCrank(crank, coupler, offset, assembly), 1.0, 200_001)
+    ab = motion.points["B"] - motion.points["A"]
+    mu = np.arccos(np.abs(ab[:, 1]) / np.hypot(ab[:, 0], ab[:, 1]))
+    lo, hi = transmission_extremes(SliderCrank(crank, coupler, offset, assembly))
+    assert lo == pytest.approx(mu.min(), abs=1e-9)
+    # where the coupler lies flat mu has a kink, linear in the crank angle: the sampling
+    # misses it by up to b2 / b3 times the step
+    assert hi == pytest.approx(mu.max(), abs=1e-9 + crank / coupler * 2 * math.pi / 200_000)
+    assert hi >= mu.max()
+    batch = slidercrank_checks_batch(np.array([crank]), np.array([coupler]), np.array([offset]))
+    assert (batch["mu_min"][0], batch["mu_max"][0]) == pytest.approx((lo, hi), abs=1e-15)
+    assert batch["transmission_angle"][0] == (lo > math.radians(35.0))

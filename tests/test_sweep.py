@@ -199,6 +199,25 @@ def test_bearing_life_matches_the_rating_formula():
     assert half.equivalent_load[0] == pytest.approx(1000.0 * 0.5 ** (1 / 3), rel=1e-12)
 
 
+def test_bearing_life_weights_each_load_by_the_turns_it_is_carried():
+    """A speed that varies over the turn: 1000 N per bearing for the first half of the
+    steps at 1 rev/s, 2000 N for the second half at 3 rev/s (uniform steps in time). By
+    hand: P_m^3 = (1000^3 * 1 + 2000^3 * 3) / 4, n_mean = 2 rev/s, L10 = (C / P_m)^3 10^6
+    revolutions in hours at n_mean. A plain time mean of P^3 would give (1 + 8) / 2."""
+    T = 1000
+    speed = np.where(np.arange(T) < T // 2, 2 * np.pi, 6 * np.pi)[None, :]
+    load = np.zeros((1, T, 2))
+    load[0, :, 1] = np.where(np.arange(T) < T // 2, 2000.0, 4000.0)  # on the joint: two bearings share it
+    life = bearing_life(load, -speed)  # either sense of rotation turns the rings the same
+    pm = ((1000.0**3 * 1 + 2000.0**3 * 3) / 4) ** (1 / 3)
+    assert life.equivalent_load[0] == pytest.approx(pm, rel=1e-12)
+    hours = (BEARING_6205.dynamic_capacity / pm) ** 3 * 1e6 / (3600.0 * 2.0)
+    assert life.l10_hours[0] == pytest.approx(hours, rel=1e-12)
+    assert life.peak_load[0] == 2000.0 and life.static_safety[0] == pytest.approx(7800.0 / 2000.0)
+    still = bearing_life(load, np.zeros((1, T)))  # rings that never turn: no rating life
+    assert still.l10_hours[0] == np.inf
+
+
 @pytest.mark.slow
 def test_dask_and_serial_give_identical_tables(tmp_path):
     text = KINEMATICS_ONLY + 'crank = ["420 mm", "540 mm"]\ncoupler = ["780 mm", "900 mm"]\nspeeds = ["1 Hz", "1.5 Hz"]\n'

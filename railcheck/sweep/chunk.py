@@ -342,6 +342,16 @@ def _scatter(n: int, idx: np.ndarray, values: np.ndarray, fill=np.nan) -> np.nda
     return out
 
 
+def failed_criteria(model, vm: np.ndarray, fat: np.ndarray, tip: np.ndarray) -> dict[str, np.ndarray]:
+    """criterion -> (S,) True where that criterion fails: ``stress`` above the limit,
+    ``fatigue`` below the required factor, ``deflection`` above the limit (when one is set);
+    the words of ``railcheck check``'s failures."""
+    out = {"stress": vm > model.limit, "fatigue": fat < model.required}
+    if model.deflection_limit:
+        out["deflection"] = tip > model.deflection_limit
+    return out
+
+
 def _fe_columns(ctx: SweepContext, n: int, fe, j: int, speed: float, passed: np.ndarray, checks: dict) -> dict:
     """Per-part columns, the utilisation, governing part, safe speed, verdict and reason."""
     col, worst, governing = {}, np.full(n, np.nan), np.full(n, "", dtype=object)
@@ -351,12 +361,9 @@ def _fe_columns(ctx: SweepContext, n: int, fe, j: int, speed: float, passed: np.
         if fe is not None:
             at, res = fe
             vm[at], fat[at], tip[at], u[at] = res["per_speed"][j][name]
-            for i in at[
-                (vm[at] > m.limit)
-                | (fat[at] < m.required)
-                | ((tip[at] > m.deflection_limit) if m.deflection_limit else False)
-            ]:
-                failing[i].append(name)
+            for criterion, fails in failed_criteria(m, vm[at], fat[at], tip[at]).items():
+                for i in at[fails]:
+                    failing[i].append(f"{name} {criterion}")
         col[f"{name}_stress_MPa"], col[f"{name}_fatigue"] = vm / 1e6, fat
         col[f"{name}_tip_mm"], col[f"{name}_utilisation"] = tip * 1e3, u
         better = np.isfinite(u) & ~(u <= worst)

@@ -31,7 +31,7 @@ def test_sound_entry_is_read_back(cache):
     assert np.array_equal(first.points, second.points)
 
 
-@pytest.mark.parametrize("damage", ["swapped", "truncated", "bit-flipped"])
+@pytest.mark.parametrize("damage", ["swapped", "truncated", "bit-flipped", "quality-flipped"])
 def test_damaged_entry_is_rebuilt_with_a_warning(cache, damage):
     mesh_part(bar(0.1, 0.02, 0.02), 8e-3, 8e-3, cache_dir=cache)
     (entry,) = entries(cache)
@@ -42,14 +42,15 @@ def test_damaged_entry_is_rebuilt_with_a_warning(cache, damage):
         shutil.copy(other_entry, entry)
     elif damage == "truncated":
         entry.write_bytes(entry.read_bytes()[: entry.stat().st_size // 2])
-    else:  # one bit of the stored coordinates flipped
+    else:  # one bit of the stored coordinates, or of the stored mesh quality, flipped
         import zipfile
 
         with zipfile.ZipFile(entry) as z:
             members = {n: z.read(n) for n in z.namelist()}
-        raw = bytearray(members["points.npy"])
+        member = "points.npy" if damage == "bit-flipped" else "min_quality.npy"
+        raw = bytearray(members[member])
         raw[-5] ^= 0x01
-        members["points.npy"] = bytes(raw)
+        members[member] = bytes(raw)
         os.remove(entry)
         with zipfile.ZipFile(entry, "w") as z:
             for n, data in members.items():
@@ -76,3 +77,19 @@ def test_an_entry_that_is_not_a_regular_file_is_rebuilt_without_blocking(cache, 
     again = mesh_part(bar(0.1, 0.02, 0.02), 8e-3, 8e-3, cache_dir=cache)
     assert not again.cached and "not a regular file" in again.warning
     assert np.array_equal(again.points, fresh(8e-3).points)
+
+
+def test_an_entry_gives_back_the_meshers_warning_and_quality(cache):
+    """A cached mesh says what the fresh one said (e.g. curved edges straightened): the
+    warning and quality record are stored with the arrays and read back under the hash."""
+    from dataclasses import replace
+
+    from railcheck.geometry.cache import read_cached, write_cached
+
+    data = replace(fresh(8e-3), warning="3 curved edges straightened to keep elements from folding")
+    write_cached(cache / "entry.npz", data, "parameters")
+    back, why = read_cached(cache / "entry.npz", "parameters")
+    assert why is None and back.cached
+    assert (back.warning, back.min_quality, back.slivers) == (data.warning, data.min_quality, data.slivers)
+    quiet, _ = read_cached(cache / "entry.npz", "other parameters")
+    assert quiet is None

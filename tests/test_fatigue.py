@@ -1,0 +1,187 @@
+"""Fatigue against hand values from Shigley's equations (Budynas & Nisbett, 10th ed.,
+chapter 6): each criterion, every Marin branch, and each ``[fatigue]`` scene option
+carried into the calculation of a part's safety factor."""
+
+import math
+import tomllib
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from railcheck.check.cycle import fatigue_of
+from railcheck.fea.fatigue import alternating_and_mean, endurance_limit, safety_factor, size_factor
+from railcheck.fea.materials import MATERIALS
+from railcheck.fea.superpose import UnitFields
+from railcheck.scene import parse_scene
+
+MPa = 1e6
+SA, SM, SE, SUT, SY = 100 * MPa, 200 * MPa, 250 * MPa, 750 * MPa, 490 * MPa
+
+
+def _n(criterion, sa=SA, sm=SM, sy=SY):
+    return float(safety_factor(np.array([sa]), np.array([sm]), SE, SUT, criterion, sy)[0])
+
+
+def test_criteria_equal_shigley_by_hand():
+    """sa = 100, sm = 200, Se = 250, Sut = 750, Sy = 490 MPa, load line through the origin:
+    Goodman 1/n = 0.4 + 0.2667 (eq. 6-41); Gerber eq. 6-47 by hand: 1.875; ASME-elliptic
+    1/n^2 = 0.16 + (200/490)^2 (eq. 6-50): 1.7498."""
+    assert _n("goodman") == pytest.approx(1.5, rel=1e-12)
+    gerber = 0.5 * (750 / 200) ** 2 * (100 / 250) * (-1 + math.sqrt(1 + (2 * 200 * 250 / (750 * 100)) ** 2))
+    assert gerber == pytest.approx(1.875, rel=1e-12)
+    assert _n("gerber") == pytest.approx(1.875, rel=1e-12)
+    assert _n("asme-elliptic") == pytest.approx(1.7498, abs=5e-5)
+    assert _n("asme-elliptic") == pytest.approx(1 / math.sqrt(0.4**2 + (200 / 490) ** 2), rel=1e-12)
+
+
+@pytest.mark.parametrize("criterion", ["goodman", "gerber", "asme-elliptic"])
+def test_fully_reversed_static_and_unloaded_limits(criterion):
+    """No mean stress: every criterion gives Se / sa. No alternation: Sut / sm (Goodman,
+    Gerber) or Sy / sm (ASME-elliptic). Nothing: infinity."""
+    assert _n(criterion, sm=0.0) == pytest.approx(2.5, rel=1e-12)
+    static = 490 / 200 if criterion == "asme-elliptic" else 750 / 200
+    assert _n(criterion, sa=0.0) == pytest.approx(static, rel=1e-12)
+    assert _n(criterion, sa=0.0, sm=0.0) == math.inf
+
+
+def test_criteria_refuse_what_they_cannot_compute():
+    with pytest.raises(ValueError, match="yield"):
+        _n("asme-elliptic", sy=0.0)
+    with pytest.raises(ValueError, match="unknown"):
+        _n("soderberg")
+
+
+def test_alternating_and_mean_von_mises_by_hand():
+    """A uniaxial history 100..300 MPa with a constant 50 MPa shear: sa = 100 (the shear
+    does not alternate), sm = sqrt(200^2 + 3 * 50^2) (eqs. 6-66, 6-67)."""
+    high = np.array([[300.0], [0], [0], [50.0], [0], [0]]) * MPa
+    low = np.array([[100.0], [0], [0], [50.0], [0], [0]]) * MPa
+    sa, sm = alternating_and_mean(high, low)
+    assert sa[0] == pytest.approx(100 * MPa, rel=1e-12)
+    assert sm[0] == pytest.approx(math.sqrt(200**2 + 3 * 50**2) * MPa, rel=1e-12)
+
+
+def test_marin_surface_factor_and_its_cap():
+    """ka = a Sut^b (table 6-2), never above 1: ground at Sut = 200 MPa would give 1.007."""
+    for surface, (a, b) in {"ground": (1.58, -0.085), "machined": (4.51, -0.265), "hot-rolled": (57.7, -0.718)}.items():
+        assert endurance_limit(750e6, surface).ka == pytest.approx(a * 750**b, rel=1e-12)
+    assert 1.58 * 200**-0.085 > 1.0
+    assert endurance_limit(200e6, "ground").ka == 1.0
+
+
+def test_marin_size_factor_branches():
+    """kb from d_e = 0.808 sqrt(h b) (table 6-3): 1 below 2.79 mm and without a section;
+    1.24 d^-0.107 up to 51 mm; 1.51 d^-0.157 above (eq. 6-20); held at 254 mm."""
+    assert size_factor(None) == 1.0
+    assert size_factor((0.002, 0.002)) == 1.0  # d = 1.6 mm
+    d_small = 0.808 * math.sqrt(23 * 22)
+    assert size_factor((0.023, 0.022)) == pytest.approx(1.24 * d_small**-0.107, rel=1e-12)
+    d_large = 0.808 * math.sqrt(80 * 70)  # 60.5 mm
+    assert size_factor((0.080, 0.070)) == pytest.approx(1.51 * d_large**-0.157, rel=1e-12)
+    assert size_factor((0.5, 0.5)) == pytest.approx(1.51 * 254.0**-0.157, rel=1e-12)
+    # continuity at 51 mm within Shigley's rounding of the two fits
+    assert 1.24 * 51**-0.107 == pytest.approx(1.51 * 51**-0.157, rel=0.01)
+
+
+def test_marin_load_reliability_and_the_ceiling_of_the_unmodified_limit():
+    """Axial: kc = 0.85 and no size effect (kb = 1); ke from table 6-5; Se' = 0.5 Sut up to
+    1400 MPa, 700 MPa above (eq. 6-8); Se the product of every factor."""
+    section = (0.023, 0.022)
+    bending = endurance_limit(750e6, "machined", section, "bending", 0.5)
+    axial = endurance_limit(750e6, "machined", section, "axial", 0.5)
+    assert (bending.kc, axial.kc, axial.kb) == (1.0, 0.85, 1.0) and bending.kb < 1.0
+    assert axial.endurance_limit == pytest.approx(bending.ka * 0.85 * 375e6, rel=1e-12)
+    for reliability, ke in {0.9: 0.897, 0.99: 0.814, 0.9999: 0.702}.items():
+        assert endurance_limit(750e6, "machined", None, "bending", reliability).ke == ke
+    assert endurance_limit(1000e6).unmodified == 500e6
+    assert endurance_limit(1500e6).unmodified == 700e6
+    m = endurance_limit(1500e6, "ground", section, "bending", 0.95)
+    assert m.endurance_limit == pytest.approx(1.58 * 1500**-0.085 * m.kb * 0.868 * 700e6, rel=1e-12)
+
+
+def _crank_job(fatigue_table: str):
+    """The default scene's crank-rail job with a ``[fatigue]`` table, no FE."""
+    from railcheck.check.jobs import build_load_cases, part_geometries, part_jobs
+    from railcheck.check.kinematics_stage import run_kinematics
+
+    text = (
+        '[mechanism]\nkind = "four-bar"\ncrank = "480 mm"\ncoupler = "840 mm"\nrocker = "780 mm"\nground = "1020 mm"\n'
+        'speed = "1 Hz"\nsteps = 8\n[check]\nparts = ["crank-rail"]\n' + fatigue_table
+    )
+    scene = parse_scene(tomllib.loads(text), "test")
+    kin = run_kinematics(scene)
+    geos = part_geometries(scene)
+    steel = MATERIALS["steel"]
+    return part_jobs(scene, kin, geos, build_load_cases(scene, kin, geos), steel, 375e6)["crank-rail"]
+
+
+def _one_node_fields() -> UnitFields:
+    """One node whose unit case is 1 Pa of uniaxial stress: a history C (Pa) is its stress."""
+    stress = np.zeros((6, 1, 1))
+    stress[0, 0, 0] = 1.0
+    return UnitFields(
+        stress=stress,
+        tip=np.zeros((3, 1)),
+        displacement=np.zeros((1, 3, 1)),
+        nodes=np.zeros((1, 3)),
+        verdict_mask=np.ones(1, bool),
+        names=("unit",),
+    )
+
+
+@pytest.mark.parametrize(
+    ("table", "expect"),
+    [
+        ("", dict(surface="machined", reliability=0.5, load="bending", criterion="goodman", required=1.0)),
+        ('[fatigue]\nsurface = "ground"\n', dict(surface="ground")),
+        ("[fatigue]\nreliability = 0.99\n", dict(reliability=0.99)),
+        ('[fatigue]\nload = "axial"\n', dict(load="axial")),
+        ('[fatigue]\ncriterion = "gerber"\n', dict(criterion="gerber")),
+        ('[fatigue]\ncriterion = "asme-elliptic"\n', dict(criterion="asme-elliptic")),
+        ("[fatigue]\nmin_safety = 2.5\n", dict(required=2.5)),
+    ],
+)
+def test_each_fatigue_option_reaches_the_safety_factor(table, expect):
+    """A node cycling 100..300 MPa (sa = 100, sm = 200 MPa): the part's fatigue result uses
+    exactly the scene's surface, reliability, load type, criterion and required factor,
+    against Shigley's formulas written out here."""
+    job = _crank_job(table)
+    spec = dict(surface="machined", reliability=0.5, load="bending", criterion="goodman", required=1.0) | expect
+    C = np.array([[100e6], [300e6], [200e6]])
+    result = fatigue_of(job, _one_node_fields(), C)
+    a, b = {"machined": (4.51, -0.265), "ground": (1.58, -0.085)}[spec["surface"]]
+    ka = a * 750**b
+    d = 0.808 * math.sqrt(23 * 22)
+    kb = 1.0 if spec["load"] == "axial" else 1.24 * d**-0.107
+    kc = 0.85 if spec["load"] == "axial" else 1.0
+    ke = {0.5: 1.0, 0.99: 0.814}[spec["reliability"]]
+    se = ka * kb * kc * ke * 375e6
+    sa, sm = 100e6, 200e6
+    hand = {
+        "goodman": 1 / (sa / se + sm / 750e6),
+        "gerber": 0.5 * (750e6 / sm) ** 2 * (sa / se) * (-1 + math.sqrt(1 + (2 * sm * se / (750e6 * sa)) ** 2)),
+        "asme-elliptic": 1 / math.sqrt((sa / se) ** 2 + (sm / 490e6) ** 2),
+    }[spec["criterion"]]
+    assert job.section == pytest.approx((0.023, 0.022))
+    assert (result.sigma_a, result.sigma_m) == pytest.approx((sa, sm), rel=1e-12)
+    assert result.marin.endurance_limit == pytest.approx(se, rel=1e-12)
+    assert result.min_safety_factor == pytest.approx(hand, rel=1e-12)
+    assert (result.criterion, result.surface, result.reliability, result.required) == (
+        spec["criterion"],
+        spec["surface"],
+        spec["reliability"],
+        spec["required"],
+    )
+    assert result.passed == (hand >= spec["required"])
+
+
+def test_the_fatigue_verdict_compares_with_the_required_factor():
+    job = _crank_job("[fatigue]\nmin_safety = 3\n")
+    C = np.array([[100e6], [300e6]])
+    result = fatigue_of(job, _one_node_fields(), C)
+    assert 1.0 < result.min_safety_factor < 3.0 and not result.passed
+    lower = fatigue_of(
+        replace(job, fatigue=replace(job.fatigue, min_safety=result.min_safety_factor)), _one_node_fields(), C
+    )
+    assert lower.passed  # at exactly the required factor: passes

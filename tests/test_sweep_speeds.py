@@ -1,0 +1,96 @@
+"""The sweep's speed scaling without gravity (inertia loads grow with the speed squared):
+a second speed's row is the first's scaled (stress x s, fatigue factor / s, tip x s with
+s the squared speed ratio) and equals ``railcheck check`` of that setting at that speed;
+the closed-form safe speed puts every setting's governing part exactly at its limit."""
+
+import tomllib
+
+import numpy as np
+import pytest
+
+from railcheck.check.pipeline import run_pipeline
+from railcheck.scene import parse_scene
+from railcheck.sweep.run import run_sweep
+from railcheck.sweep.table import read_table
+
+MESH = """
+[mesh]
+size = "20 mm"
+hole_size = "6 mm"
+"""
+
+SWEEP = (
+    """
+[sweep]
+kind = "four-bar"
+speeds = ["1 Hz", "2 Hz"]
+steps = 90
+crank = ["420 mm", "480 mm"]
+coupler = ["840 mm", "840 mm"]
+rocker = ["780 mm", "780 mm"]
+ground = ["1020 mm", "1020 mm"]
+[check]
+parts = ["crank-rail"]
+"""
+    + MESH
+)
+
+
+def _check(row: dict, speed_hz: float):
+    """``railcheck check`` of a sweep row's setting at ``speed_hz``: bolts at the
+    setting's holes, as the sweep loads them, and the sweep's mesh and steps."""
+    text = f"""
+[mechanism]
+kind = "four-bar"
+crank = "{row["crank_mm"]:.6f} mm"
+coupler = "{row["coupler_mm"]:.6f} mm"
+rocker = "{row["rocker_mm"]:.6f} mm"
+ground = "{row["ground_mm"]:.6f} mm"
+speed = "{speed_hz:.17g} Hz"
+steps = 90
+[check]
+parts = ["crank-rail"]
+bolt_position = "actual"
+"""
+    return run_pipeline(parse_scene(tomllib.loads(text + MESH), "check")).parts["crank-rail"]
+
+
+@pytest.fixture(scope="module")
+def rows(tmp_path_factory):
+    run = run_sweep(parse_scene(tomllib.loads(SWEEP), "test"), str(tmp_path_factory.mktemp("speeds") / "s"), serial=True)
+    table = read_table(run.tables["four-bar"])
+    out = {k: np.asarray(v.to_numpy(zero_copy_only=False)) for k, v in zip(table.column_names, table.columns)}
+    assert out["setting"].size == 4 and list(out["speed_Hz"]) == [1.0, 2.0, 1.0, 2.0]  # setting-major
+    assert out["checks_passed"].all()
+    return out
+
+
+def test_the_second_speed_is_the_first_scaled_by_the_speed_squared(rows):
+    one, two = (np.flatnonzero(rows["speed_Hz"] == hz) for hz in (1.0, 2.0))
+    np.testing.assert_allclose(rows["crank-rail_stress_MPa"][two], 4 * rows["crank-rail_stress_MPa"][one], rtol=1e-12)
+    np.testing.assert_allclose(rows["crank-rail_fatigue"][two], rows["crank-rail_fatigue"][one] / 4, rtol=1e-12)
+    np.testing.assert_allclose(rows["crank-rail_tip_mm"][two], 4 * rows["crank-rail_tip_mm"][one], rtol=1e-12)
+    np.testing.assert_allclose(rows["utilisation"][two], 4 * rows["utilisation"][one], rtol=1e-12)
+    # the safe speed is a property of the setting, the same on both rows
+    np.testing.assert_array_equal(rows["safe_speed_Hz"][two], rows["safe_speed_Hz"][one])
+
+
+def test_a_second_speed_row_equals_check_at_that_speed(rows):
+    i = int(np.flatnonzero(rows["speed_Hz"] == 2.0)[-1])
+    row = {k: v[i] for k, v in rows.items()}
+    part = _check(row, 2.0)
+    assert row["crank-rail_stress_MPa"] * 1e6 == pytest.approx(part.cycle.envelope.max_von_mises, rel=1e-9)
+    assert row["crank-rail_fatigue"] == pytest.approx(part.cycle.fatigue.min_safety_factor, rel=1e-9)
+    assert row["crank-rail_tip_mm"] / 1e3 == pytest.approx(part.cycle.envelope.max_tip, rel=1e-9)
+
+
+def test_checking_each_setting_at_its_safe_speed_puts_it_at_its_limit(rows):
+    """Two settings: at the safe speed the governing utilisation (stress / limit or required
+    / fatigue factor) is 1, by a check that knows nothing of the sweep's closed form."""
+    first = np.flatnonzero(rows["speed_Hz"] == 1.0)
+    assert len(set(rows["safe_speed_Hz"][first])) == 2
+    for i in first:
+        row = {k: v[i] for k, v in rows.items()}
+        part = _check(row, float(row["safe_speed_Hz"]))
+        u = max(part.verdict_stress / part.limit, part.cycle.fatigue.required / part.cycle.fatigue.min_safety_factor)
+        assert u == pytest.approx(1.0, abs=1e-9)

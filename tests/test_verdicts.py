@@ -1,0 +1,134 @@
+"""The verdict's fail side: a part fails on stress, on fatigue and on deflection, each
+alone, with exit 1 and its own entry in ``failures``; the default limit is sigma_u / 2;
+the sweep refuses a setting for each criterion and names it. A planted bug in any of the
+verdict's comparisons (a limit scaled, a check forced to pass) fails one of these tests."""
+
+import contextlib
+import io
+import json
+import tomllib
+
+import numpy as np
+import pytest
+
+from railcheck.cli import main
+from railcheck.scene import parse_scene
+from railcheck.sweep.run import run_sweep
+from railcheck.sweep.table import read_table
+
+#: PF_4b_003_v2 under the seed's constant explicit loads (4.2.1) on a coarse mesh:
+#: about 81 MPa, fatigue factor about 9.2 (constant loads: n = Sut / sigma_m), 0.10 mm
+PLATE = """
+[check]
+parts = ["PF_4b_003_v2"]
+EXTRA
+[loads.PF_4b_003_v2]
+longitudinal = "250 N"
+transverse = "250 N"
+[mesh]
+size = "8 mm"
+hole_size = "4 mm"
+[output]
+vtk = false
+png = false
+plots = false
+"""
+
+
+def _check(tmp_path, extra: str, fatigue: str = ""):
+    """``railcheck check`` through its command line (in this process): (exit status,
+    stdout, summary)."""
+    scene = tmp_path / "scene.toml"
+    scene.write_text(PLATE.replace("EXTRA", extra) + fatigue)
+    out = tmp_path / "out"
+    stdout, stderr = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(stdout), contextlib.redirect_stderr(stderr):
+        status = main(["check", str(scene), "--out", str(out)])
+    assert "Traceback" not in stderr.getvalue(), stderr.getvalue()
+    return status, stdout.getvalue(), json.loads((out / "summary.json").read_text())
+
+
+@pytest.fixture(scope="module")
+def passing(tmp_path_factory):
+    """The same plate with no limit given: the default limit, every check passing."""
+    return _check(tmp_path_factory.mktemp("pass"), "")
+
+
+def test_default_limit_is_half_the_ultimate_strength_and_the_plate_passes(passing):
+    status, stdout, summary = passing
+    part = summary["parts"]["PF_4b_003_v2"]
+    assert part["limit_Pa"] == 375e6  # seed 000, 3.3.1: sigma_u / 2 of the 750 MPa steel
+    assert summary["verdict"] == "PASS" and summary["failures"] == [] and status == 0
+    assert stdout.strip().splitlines()[-1].startswith("verdict: PASS")
+    assert 60e6 < part["max_von_mises_Pa"] < 120e6 and part["pass"] is True
+
+
+@pytest.mark.parametrize(
+    ("extra", "fatigue", "criterion"),
+    [
+        ('limit = "40 MPa"', "", "stress"),
+        ("", "[fatigue]\nmin_safety = 20\n", "fatigue"),
+        ('max_deflection = "0.05 mm"', "", "deflection"),
+    ],
+)
+def test_a_part_fails_on_each_criterion_alone(tmp_path, passing, extra, fatigue, criterion):
+    """Each scene breaks one criterion, which the passing run meets with margin: exit 1,
+    exactly that failure, and the console's verdict line names it."""
+    *_, ok = passing
+    base = ok["parts"]["PF_4b_003_v2"]
+    assert base["max_von_mises_Pa"] > 40e6 and base["tip_deflection_m"] > 0.05e-3
+    status, stdout, summary = _check(tmp_path, extra, fatigue)
+    assert status == 1
+    assert summary["verdict"] == "FAIL" and summary["failures"] == [f"PF_4b_003_v2 {criterion}"]
+    part = summary["parts"]["PF_4b_003_v2"]
+    assert part["pass"] is False
+    # the same figures as the passing run: only the verdict moved
+    assert part["max_von_mises_Pa"] == pytest.approx(base["max_von_mises_Pa"], rel=1e-12)
+    assert f"PF_4b_003_v2 {criterion}" in stdout.strip().splitlines()[-1]
+
+
+SWEEP = """
+[sweep]
+kind = "four-bar"
+speeds = ["1 Hz"]
+steps = 90
+crank = ["480 mm", "480 mm"]
+coupler = ["840 mm", "840 mm"]
+rocker = ["780 mm", "780 mm"]
+ground = ["1020 mm", "1020 mm"]
+[check]
+parts = ["crank-rail"]
+EXTRA
+[mesh]
+size = "20 mm"
+hole_size = "6 mm"
+"""
+
+
+def _sweep_row(tmp_path, extra: str, fatigue: str = "") -> dict:
+    scene = parse_scene(tomllib.loads(SWEEP.replace("EXTRA", extra) + fatigue), "test")
+    run = run_sweep(scene, str(tmp_path / "sweep"), serial=True)
+    table = read_table(run.tables["four-bar"])
+    rows = {k: np.asarray(v.to_numpy(zero_copy_only=False)) for k, v in zip(table.column_names, table.columns)}
+    assert rows["setting"].size == 1
+    return {k: v[0] for k, v in rows.items()}
+
+
+@pytest.mark.parametrize(
+    ("extra", "fatigue", "criterion"),
+    [
+        ('limit = "30 MPa"', "", "stress"),
+        ("", "[fatigue]\nmin_safety = 30\n", "fatigue"),
+        ('max_deflection = "0.01 mm"', "", "deflection"),
+        ("", "", None),
+    ],
+)
+def test_sweep_fails_a_setting_on_each_criterion_and_names_it(tmp_path, extra, fatigue, criterion):
+    row = _sweep_row(tmp_path, extra, fatigue)
+    assert row["checks_passed"]
+    if criterion is None:
+        assert row["verdict"] == "pass" and row["reason"] is None and row["utilisation"] < 1.0
+        assert row["crank-rail_stress_MPa"] > 30 and row["crank-rail_fatigue"] < 30 and row["crank-rail_tip_mm"] > 0.01
+    else:
+        assert row["verdict"] == "fail" and row["reason"] == f"crank-rail {criterion}"
+        assert row["utilisation"] > 1.0
