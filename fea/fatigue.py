@@ -69,7 +69,8 @@ def endurance_limit(
     kb = size_factor(section) if load != "axial" else 1.0
     kc = LOAD[load]
     ke = RELIABILITY[reliability]
-    return Marin(ka, kb, kc, 1.0, ke, unmodified, ka * kb * kc * ke * unmodified)
+    kd = 1.0  # temperature factor: room temperature
+    return Marin(ka, kb, kc, kd, ke, unmodified, ka * kb * kc * kd * ke * unmodified)
 
 
 def size_factor(section: tuple[float, float] | None) -> float:

@@ -41,6 +41,8 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from railcheck.machine import available_memory
+
 from .errors import NumericalError
 from .mkl import MKL_REPRODUCIBLE, pardiso_available
 from .products import RowBlocks, sparse_product
@@ -80,14 +82,6 @@ def relative_residuals(K: sp.spmatrix, U: np.ndarray, F: np.ndarray) -> np.ndarr
     r = np.linalg.norm(F2 - K @ U2, axis=0)
     nf = np.linalg.norm(F2, axis=0)
     return np.where(nf > 0, r / np.where(nf > 0, nf, 1.0), r)
-
-
-def available_memory() -> float:
-    """Bytes of physical memory on this machine (8 GiB when it cannot be read)."""
-    try:
-        return float(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES"))
-    except (ValueError, OSError, AttributeError):
-        return 8.0 * 2**30
 
 
 @dataclass

@@ -5,6 +5,8 @@
   file gets the user's umask (not mkstemp's 0600).
 * :func:`reserve_results_dir`: a run claims its results directory atomically (``mkdir``
   succeeds for one process only), so two runs never share one: the second gets ``DIR-2``.
+  The reservation holds a mark naming its process; a reservation whose process is gone
+  (a run killed with SIGKILL) is reclaimed by the next run.
   ``force`` replaces an existing directory, but only when the run has succeeded.
 * :class:`Staging`: the run writes into a hidden staging directory beside the target,
   named with its process id; :meth:`Staging.commit` renames it onto the reserved target,
@@ -26,6 +28,7 @@ from typing import Any, Iterator
 from railcheck.errors import InputError
 
 STAGING_MARK = ".staging."
+RESERVED_MARK = ".railcheck-reserved-by."
 
 
 def _umask() -> int:
@@ -74,9 +77,39 @@ def reserve_results_dir(requested: Path, force: bool = False) -> tuple[Path, boo
         try:
             candidate.mkdir()
             os.chmod(candidate, 0o777 & ~_umask())
+            _reservation_mark(candidate).touch()
             return candidate, False
         except FileExistsError:
-            k += 1
+            if not _reclaim_dead_reservation(candidate):
+                k += 1
+
+
+def _reservation_mark(target: Path, pid: int | None = None) -> Path:
+    """The file that says which process reserved ``target`` (removed when it commits)."""
+    return Path(target) / f"{RESERVED_MARK}{os.getpid() if pid is None else pid}"
+
+
+def _reclaim_dead_reservation(candidate: Path) -> bool:
+    """Remove ``candidate`` when it is only the reservation of a process that no longer
+    runs (a run killed with SIGKILL before it committed); True when removed."""
+    try:
+        entries = list(candidate.iterdir())
+    except OSError:
+        return False
+    if len(entries) != 1 or not entries[0].name.startswith(RESERVED_MARK):
+        return False
+    try:
+        pid = int(entries[0].name[len(RESERVED_MARK) :])
+    except ValueError:
+        return False
+    if pid == os.getpid() or _alive(pid):
+        return False
+    try:
+        entries[0].unlink()
+        candidate.rmdir()
+    except OSError:
+        return False  # another run reclaimed or filled it first
+    return True
 
 
 class Staging:
@@ -97,6 +130,8 @@ class Staging:
             os.replace(self.path, self.target)
             shutil.rmtree(old, ignore_errors=True)
         else:
+            with contextlib.suppress(FileNotFoundError):
+                _reservation_mark(self.target).unlink()
             os.replace(self.path, self.target)  # onto the empty reserved directory
         return self.target
 
@@ -105,6 +140,7 @@ class Staging:
         shutil.rmtree(self.path, ignore_errors=True)
         if not self.replaces:
             with contextlib.suppress(OSError):
+                _reservation_mark(self.target).unlink()
                 self.target.rmdir()  # only if still empty
 
 

@@ -372,7 +372,7 @@ def _sweep(table: dict) -> SweepSpec:
         value = table[bar]
         if not isinstance(value, list) or len(value) != 2:
             raise InputError(p + bar, f'must be a [min, max] pair of lengths, e.g. ["180 mm", "660 mm"], got {value!r}')
-        lo, hi = (parse_quantity(v, "length", p + bar) for v in value)
+        lo, hi = (_sweep_length(v, bar, p + bar) for v in value)
         if lo > hi:
             raise InputError(p + bar, f"min {lo * 1e3:g} mm is above max {hi * 1e3:g} mm")
         ranges[bar] = (lo, hi)
@@ -396,6 +396,16 @@ def _sweep(table: dict) -> SweepSpec:
     )
 
 
+def _sweep_length(value: Any, bar: str, name: str) -> float:
+    """A bar length of a sweep (m): positive and within the physical range; a slider's
+    offset may be zero or negative (either side of the crank's pivot), its size within the
+    same range."""
+    if bar == "offset":
+        v = parse_quantity(value, "length", name)
+        return v if v == 0 else _in_range(v, "length", name, magnitude=True)
+    return _in_range(parse_quantity(value, "length", name, positive=True, allow_zero=False), "length", name)
+
+
 def _sweep_settings(items: Any, kinds: tuple[str, ...]) -> dict:
     """``[[sweep.settings]]`` entries: tables with every bar of one kind (lengths)."""
     p = "sweep.settings"
@@ -409,8 +419,7 @@ def _sweep_settings(items: Any, kinds: tuple[str, ...]) -> dict:
             raise InputError(f"{p}[{i}]", f"must give exactly the bars {wanted}, got {sorted(item)}")
         setting = {}
         for bar, value in item.items():
-            v = parse_quantity(value, "length", f"{p}[{i}].{bar}")
-            setting[bar] = v if bar == "offset" else _in_range(v, "length", f"{p}[{i}].{bar}")
+            setting[bar] = _sweep_length(value, bar, f"{p}[{i}].{bar}")
         out.setdefault(kind, []).append(setting)
     return out
 

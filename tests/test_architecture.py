@@ -26,11 +26,12 @@ HEAVY = {
     "pypardiso",
 }
 #: what each domain package may import of ours (besides itself): the packages upstream of it
+BASE = {"railcheck.errors", "railcheck.machine"}  # the error base and the machine's memory: any layer
 UPSTREAM = {
-    "railcheck.kinematics": {"railcheck.errors"},
-    "railcheck.loads": {"railcheck.errors", "railcheck.kinematics"},
-    "railcheck.geometry": {"railcheck.errors", "railcheck.kinematics", "railcheck.loads"},
-    "railcheck.fea": {"railcheck.errors", "railcheck.kinematics", "railcheck.loads", "railcheck.geometry"},
+    "railcheck.kinematics": BASE,
+    "railcheck.loads": BASE | {"railcheck.kinematics"},
+    "railcheck.geometry": BASE | {"railcheck.kinematics", "railcheck.loads"},
+    "railcheck.fea": BASE | {"railcheck.kinematics", "railcheck.loads", "railcheck.geometry"},
 }
 
 

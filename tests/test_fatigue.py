@@ -70,6 +70,36 @@ def test_marin_surface_factor_and_its_cap():
     assert endurance_limit(200e6, "ground").ka == 1.0
 
 
+def test_marin_tables_are_shigleys():
+    """Every row of table 6-2 (surface, a in MPa, b) and table 6-5 (reliability, ke) as
+    printed in Shigley, 10th ed."""
+    from railcheck.fea.fatigue import RELIABILITY, SURFACE
+
+    table_6_2 = {
+        "ground": (1.58, -0.085),
+        "machined": (4.51, -0.265),
+        "cold-drawn": (4.51, -0.265),
+        "hot-rolled": (57.7, -0.718),
+        "as-forged": (272.0, -0.995),
+    }
+    table_6_5 = {0.5: 1.000, 0.9: 0.897, 0.95: 0.868, 0.99: 0.814, 0.999: 0.753, 0.9999: 0.702}
+    assert SURFACE == table_6_2 and RELIABILITY == table_6_5
+    for surface, (a, b) in table_6_2.items():
+        assert endurance_limit(600e6, surface).ka == pytest.approx(min(1.0, a * 600**b), rel=1e-12)
+    for r, ke in table_6_5.items():
+        assert endurance_limit(600e6, "machined", None, "bending", r).ke == ke
+
+
+def test_the_marin_record_is_frozen_and_its_product_is_se():
+    import dataclasses
+
+    m = endurance_limit(750e6, "machined", (0.023, 0.022), "bending", 0.99)
+    assert m.kd == 1.0  # room temperature
+    assert m.endurance_limit == pytest.approx(m.ka * m.kb * m.kc * m.kd * m.ke * m.unmodified, rel=1e-15)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        m.ka = 1.0
+
+
 def test_marin_size_factor_branches():
     """kb from d_e = 0.808 sqrt(h b) (table 6-3): 1 below 2.79 mm and without a section;
     1.24 d^-0.107 up to 51 mm; 1.51 d^-0.157 above (eq. 6-20); held at 254 mm."""
@@ -80,6 +110,10 @@ def test_marin_size_factor_branches():
     d_large = 0.808 * math.sqrt(80 * 70)  # 60.5 mm
     assert size_factor((0.080, 0.070)) == pytest.approx(1.51 * d_large**-0.157, rel=1e-12)
     assert size_factor((0.5, 0.5)) == pytest.approx(1.51 * 254.0**-0.157, rel=1e-12)
+    # just inside each branch's end: d = 3.0 mm (first fit) and d = 51.5 mm (second fit)
+    side = lambda d: (d / 0.808 / 1e3, d / 0.808 / 1e3)  # noqa: E731 - a square section of that d_e
+    assert size_factor(side(3.0)) == pytest.approx(1.24 * 3.0**-0.107, rel=1e-12)
+    assert size_factor(side(51.5)) == pytest.approx(1.51 * 51.5**-0.157, rel=1e-12)
     # continuity at 51 mm within Shigley's rounding of the two fits
     assert 1.24 * 51**-0.107 == pytest.approx(1.51 * 51**-0.157, rel=0.01)
 
@@ -96,6 +130,8 @@ def test_marin_load_reliability_and_the_ceiling_of_the_unmodified_limit():
         assert endurance_limit(750e6, "machined", None, "bending", reliability).ke == ke
     assert endurance_limit(1000e6).unmodified == 500e6
     assert endurance_limit(1500e6).unmodified == 700e6
+    assert endurance_limit(1400e6).unmodified == 700e6
+    assert endurance_limit(1400.5e6).unmodified == 700e6  # not 0.5 x 1400.5
     m = endurance_limit(1500e6, "ground", section, "bending", 0.95)
     assert m.endurance_limit == pytest.approx(1.58 * 1500**-0.085 * m.kb * 0.868 * 700e6, rel=1e-12)
 

@@ -14,12 +14,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from railcheck import machine
 from railcheck.check.kinematics_stage import KinematicsResult
 from railcheck.check.loading import LoadModel, SourceHistory, load_model, source_histories
 from railcheck.errors import InputError
 from railcheck.fea.materials import Material
 from railcheck.fea.mesh import estimate_dofs
-from railcheck.fea.solvers import available_memory
 from railcheck.fea.unitcases import FreeBodyCases
 from railcheck.geometry.mesher import estimate_elements
 from railcheck.geometry.models import PartGeometry
@@ -208,10 +208,4 @@ def refuse_beyond_memory(geo: PartGeometry, size: float, hole_size: float, order
     need more memory than this machine has (estimated before meshing)."""
     tets = estimate_elements(geo, size, hole_size)
     dofs = estimate_dofs(tets // 5, tets, order)
-    need, avail = dofs * BYTES_PER_DOF_AMG, available_memory()
-    if need > 0.8 * avail:
-        raise InputError(
-            field,
-            f"about {dofs / 1e6:.1f} M DOFs needing about {need / 2**30:.1f} GiB, more than "
-            f"this machine's {avail / 2**30:.1f} GiB allow: use a larger mesh size",
-        )
+    machine.refuse_beyond_memory(dofs * BYTES_PER_DOF_AMG, field, f"about {dofs / 1e6:.1f} M DOFs", "use a larger mesh size")

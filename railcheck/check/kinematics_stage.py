@@ -18,6 +18,7 @@ from railcheck.kinematics.checks import CheckResult, configuration_checks, trans
 from railcheck.kinematics.dynamics import STANDARD_GRAVITY, Dynamics, inverse_dynamics
 from railcheck.kinematics.linkage import FourBar
 from railcheck.kinematics.motion import Motion, solve_motion
+from railcheck.machine import refuse_kinematics_beyond_memory
 from railcheck.parts import mass_model, rail_length
 from railcheck.scene import Scene
 
@@ -53,6 +54,7 @@ def run_kinematics(scene: Scene) -> KinematicsResult:
     spec = scene.mechanism
     if spec is None:
         raise InputError("mechanism", "missing: this run needs the linkage")
+    refuse_kinematics_beyond_memory(spec.steps, "mechanism.steps")
     effects = effects_for(scene)
     motion = solve_motion(spec.linkage, spec.speed, spec.steps)
     dyn_motion = motion if "inertia" in effects else solve_motion(spec.linkage, 0.0, spec.steps)

@@ -15,6 +15,8 @@ from __future__ import annotations
 
 import time
 
+import numpy as np
+
 from railcheck.check.jobs import build_load_cases, part_geometries, part_jobs, refuse_huge
 from railcheck.check.kinematics_stage import all_checks, kinematics_summary, run_kinematics
 from railcheck.check.records import PipelineResult
@@ -59,7 +61,8 @@ def run_pipeline(
         checks = all_checks(scene)
     else:
         checks = {}
-    parts = {}
+    parts: dict = {}
+    unloaded: tuple[str, ...] = ()
     if scene.check is not None:
         material = MATERIALS[scene.check.material]
         limit = scene.check.limit or material.fatigue_limit
@@ -72,8 +75,15 @@ def run_pipeline(
         progress.say("loads", f"{len(cases)} load cases, factor {scene.check.factor:g}, bolts {scene.check.bolt_position}")
         refuse_huge(scene, geometries)
         stages.append("geometry")
-        parts = check_parts(part_jobs(scene, kin, geometries, cases, material, limit), solver, progress, jobs, part_done)
-        stages += ["mesh", "solve", "stress"]
+        all_jobs = part_jobs(scene, kin, geometries, cases, material, limit)
+        unloaded = tuple(name for name, job in all_jobs.items() if not carries_load(job))
+        for name in unloaded:
+            warnings.append(f"{name}: {NO_LOAD}")
+            progress.say("loads", f"{name}: {NO_LOAD}")
+        loaded = {name: job for name, job in all_jobs.items() if name not in unloaded}
+        if loaded:
+            parts = check_parts(loaded, solver, progress, jobs, part_done)
+            stages += ["mesh", "solve", "stress"]
         for name, part in parts.items():
             timings.update({f"{k}:{name}": v for k, v in part.seconds.items()})
             warnings += [f"{name}: {w}" for w in part.warnings]
@@ -87,4 +97,14 @@ def run_pipeline(
         warnings=tuple(warnings),
         timings=timings,
         checks=checks,
+        unloaded=unloaded,
     )
+
+
+#: why a part is not meshed or solved
+NO_LOAD = "carries no load (no speed, no gravity and no explicit load): nothing to check; not meshed or solved"
+
+
+def carries_load(job) -> bool:
+    """True when some load history of the part is not zero at every step."""
+    return any(np.any(h.C) for h in job.histories)

@@ -148,7 +148,8 @@ class PartResult:
 @dataclass(frozen=True)
 class PipelineResult:
     """A whole run: the stages that ran (in order), the kinematics, the configuration
-    checks, each part's result, warnings and stage timings (s)."""
+    checks, each part's result, the parts left unsolved because nothing loads them,
+    warnings and stage timings (s)."""
 
     scene: Scene
     stages_run: tuple[str, ...] = ()
@@ -158,6 +159,7 @@ class PipelineResult:
     warnings: tuple[str, ...] = ()
     timings: dict[str, float] = field(default_factory=dict)
     checks: dict[str, CheckResult] = field(default_factory=dict)
+    unloaded: tuple[str, ...] = ()  # parts with no load at any step: reported, not solved
 
     @property
     def failures(self) -> list[str]:

@@ -21,9 +21,10 @@ def summary_of(result: PipelineResult) -> dict:
     """The summary.json content."""
     scene = result.scene
     out = {
-        "verdict": "FAIL" if result.failures else ("PASS" if result.parts else "NO CHECK"),
+        "verdict": verdict_of(result),
         "failures": result.failures,
         "parts": {name: part_summary(p) for name, p in result.parts.items()},
+        "unloaded_parts": list(result.unloaded),
         "stages_run": list(result.stages_run),
         "warnings": list(result.warnings),
     }
@@ -37,6 +38,16 @@ def summary_of(result: PipelineResult) -> dict:
     out["scene"] = scene.raw
     out["scene_source"] = scene.source
     return out
+
+
+def verdict_of(result: PipelineResult) -> str:
+    """FAIL on any failure; PASS when parts were checked; NO LOAD when every part was
+    left unloaded; NO CHECK when there was nothing to check."""
+    if result.failures:
+        return "FAIL"
+    if result.parts:
+        return "PASS"
+    return "NO LOAD" if result.unloaded else "NO CHECK"
 
 
 def part_summary(p: PartResult) -> dict:

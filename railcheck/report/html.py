@@ -71,9 +71,19 @@ def write_report(path: Path, scene, result, summary: dict, directory: Path) -> N
 
 def _header(result, summary) -> str:
     reasons = "; ".join(result.failures)
+    verdict = summary["verdict"]
+    title = _verdict(not result.failures) if verdict in ("PASS", "FAIL") else f'<span class="note">{_e(verdict)}</span>'
+    unloaded = (
+        f"<p>NO LOAD: {_e(', '.join(result.unloaded))}: no load at any step (no speed, no gravity, no explicit "
+        "load); nothing to check, so not meshed or solved</p>"
+        if result.unloaded
+        else ""
+    )
+    passes = "<p>every check and part passes</p>" if result.parts else ""
     return (
-        f"<h1>railcheck report: {_verdict(not result.failures)}</h1>"
-        + (f'<p class="fail">fails: {_e(reasons)}</p>' if reasons else "<p>every check and part passes</p>")
+        f"<h1>railcheck report: {title}</h1>"
+        + (f'<p class="fail">fails: {_e(reasons)}</p>' if reasons else passes)
+        + unloaded
         + f'<p class="note">scene: {_e(result.scene.source)}; stages run: {_e(", ".join(result.stages_run))}</p>'
         + "".join(f'<p class="note">warning: {_e(w)}</p>' for w in summary.get("warnings", []))
     )

@@ -102,6 +102,12 @@ def check_report(run) -> str:
             f"P{scene.mesh.order} tetrahedra, size {sizes}"
         )
         lines.append(parts_table(result))
+    if result.unloaded:
+        lines.append(
+            f"  NO LOAD: {', '.join(result.unloaded)}: no load at any step (no speed, no gravity, no explicit load)"
+        )
+        lines.append("  nothing to check, so not meshed or solved")
+    if result.parts:
         if "rail_mass_per_m_kg" in summary:
             m = summary["rail_mass_per_m_kg"]
             lines.append(

@@ -29,6 +29,7 @@ from railcheck.geometry.mesher import mesh_part
 from railcheck.geometry.models import bar
 from railcheck.kinematics.dynamics import inverse_dynamics
 from railcheck.kinematics.motion import solve_motion
+from railcheck.machine import refuse_kinematics_beyond_memory
 from railcheck.parts import PARTS, geometry_of, kind_of
 from railcheck.scene import load_scene
 
@@ -291,6 +292,7 @@ def run_convergence(target: str, orders: str = "1,2", sizes: str | None = None, 
         steps = _parse_list(sizes, int, "--sizes") if sizes else [50, 100, 200, 500, 1000, 2000, 5000, 10000]
         if any(n < 3 or n > 10_000_000 for n in steps):
             raise InputError("--sizes", "crank step counts must be whole numbers from 3 to 10 000 000")
+        refuse_kinematics_beyond_memory(max(max(steps), 200_000), "--sizes")
         rows, ref = kinematics_study(steps)
         return {"target": target, "rows": rows, "reference": ref, "reference_steps": 200_000}
     if target != "cantilever" and target not in PARTS:

@@ -372,6 +372,7 @@ def _fe_columns(ctx: SweepContext, n: int, fe, j: int, speed: float, passed: np.
     if fe is not None:
         safe[fe[0]] = ctx.speeds[0] * np.sqrt(fe[1]["safe_s"]) / (2 * math.pi)
     col["utilisation"], col["governing_part"], col["safe_speed_Hz"] = worst, governing, safe
+    col["safe_speed_unlimited"] = np.isinf(safe)  # the table holds null for the infinite speed
     names = list(checks)
     reason = np.array(
         [

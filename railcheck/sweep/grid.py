@@ -23,6 +23,7 @@ import itertools
 
 import numpy as np
 
+from railcheck.errors import InputError
 from railcheck.geometry.catalogue import with_overrides
 from railcheck.kinematics.massmodel import MassModel
 
@@ -60,12 +61,25 @@ def rig_grid(overrides: dict | None = None) -> dict[str, dict[str, np.ndarray]]:
 
 
 def narrowed(grid: dict[str, np.ndarray], ranges: dict) -> dict[str, np.ndarray]:
-    """The grid with each bar limited to its [min, max] range (m, inclusive to 1 um)."""
+    """The grid with each bar limited to its [min, max] range (m, inclusive to 1 um).
+    Raises :class:`~railcheck.errors.InputError` naming ``sweep.BAR`` and the nearest
+    settable lengths when a range holds none of them."""
     out = {}
     for bar, values in grid.items():
         lo, hi = ranges.get(bar, (-np.inf, np.inf))
         out[bar] = values[(values >= lo - 1e-6) & (values <= hi + 1e-6)]
+        if values.size and not out[bar].size:
+            raise InputError(f"sweep.{bar}", _no_setting_message(values, lo, hi))
     return out
+
+
+def _no_setting_message(values: np.ndarray, lo: float, hi: float) -> str:
+    """Which settable lengths (m) lie nearest a range that holds none, in mm."""
+    below, above = values[values < lo], values[values > hi]
+    near = [f"{x * 1e3:g} mm" for x in np.concatenate([below[-1:], above[:1]])]
+    near_text = " and ".join(near) if values.size > 1 else f"{values[0] * 1e3:g} mm only"
+    hint = " (other offsets: [[sweep.settings]])" if values.size == 1 else ""
+    return f"no settable length of the rig from {lo * 1e3:g} to {hi * 1e3:g} mm; the nearest: {near_text}{hint}"
 
 
 def settings(kind: str, grid: dict[str, np.ndarray], extra: list[dict] | None = None) -> dict[str, np.ndarray]:

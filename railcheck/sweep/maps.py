@@ -16,6 +16,7 @@ import numpy as np
 from railcheck.files import atomic_path
 from railcheck.sweep.grid import BARS, narrowed, rig_grid
 from railcheck.sweep.table import read_table
+from railcheck.units import for_people
 
 REASON_ORDER = (
     "assembly",
@@ -197,16 +198,19 @@ def _verdict(hid: str, statement: str, holds, evidence: str) -> dict:
     return {"id": hid, "statement": statement, "holds": None if holds is None else bool(holds), "evidence": evidence}
 
 
+NOT_SWEPT = "not in this sweep: no revolving setting of its family"
+
+
 def _h1(t: dict) -> dict:
     sel = _family(t, crank=180, coupler=240) & np.isclose(t["rocker_mm"], t["ground_mm"])
     x, r = t["rocker_mm"][sel], t["reaction"][sel]
     order = np.argsort(x)
     holds = bool(np.all(np.diff(r[order]) < 0)) if x.size > 1 else None
+    statement = "crank 180 mm, coupler 240 mm, rocker = ground: the longer rocker and ground, the smaller the reactions"
+    if not x.size:
+        return _verdict("3.3.2 H1", statement, None, NOT_SWEPT)
     return _verdict(
-        "3.3.2 H1",
-        "crank 180 mm, coupler 240 mm, rocker = ground: the longer rocker and ground, the smaller the reactions",
-        holds,
-        f"{x.size} revolving settings, rocker = ground {_span(x)} mm; reaction {_trend(x, r)}",
+        "3.3.2 H1", statement, holds, f"{x.size} revolving settings, rocker = ground {_span(x)} mm; reaction {_trend(x, r)}"
     )
 
 
@@ -214,24 +218,33 @@ def _h2(t: dict) -> dict:
     sel = _family(t, crank=180, rocker=720, ground=720)
     x, r = t["coupler_mm"][sel], t["reaction"][sel]
     base = r[np.isclose(x, 240)]
-    holds = bool(np.all(r[x > 240] < base[0])) if base.size and np.any(x > 240) else None
+    longer = r[x > 240]
+    holds = bool(np.all(longer < base[0])) if base.size and longer.size else None
+    statement = (
+        "crank 180 mm, rocker = ground = 720 mm: every coupler longer than 240 mm gives smaller reactions than 240 mm"
+    )
+    if not base.size or not longer.size:
+        return _verdict("3.3.2 H2", statement, None, NOT_SWEPT + " (coupler 240 mm and a longer one)")
     return _verdict(
         "3.3.2 H2",
-        "crank 180 mm, rocker = ground = 720 mm: every coupler longer than 240 mm gives smaller reactions than 240 mm",
+        statement,
         holds,
-        f"{x.size} revolving settings, coupler {_span(x)} mm; reaction at 240 mm "
-        f"{base[0] if base.size else float('nan'):.1f} N, largest beyond {np.max(r[x > 240], initial=0):.1f} N",
+        f"{x.size} revolving settings, coupler {_span(x)} mm; reaction at 240 mm {base[0]:.1f} N, "
+        f"largest beyond {longer.max():.1f} N",
     )
 
 
 def _h32(t: dict) -> dict:
-    ok = t["checks_passed"]
+    ok = t["checks_passed"] & np.isfinite(t["reaction"])
     cranks = np.unique(t["crank_mm"][ok])
     worst = np.array([t["reaction"][ok & np.isclose(t["crank_mm"], c)].max() for c in cranks])
     holds = bool(np.all(np.diff(worst) > 0)) if cranks.size > 1 else None
+    statement = "among settings that pass every check, the longer the crank, the larger the largest reaction"
+    if cranks.size < 2:
+        return _verdict("3.3.5 H3.2", statement, None, "not in this sweep: fewer than two crank lengths pass every check")
     return _verdict(
         "3.3.5 H3.2",
-        "among settings that pass every check, the longer the crank, the larger the largest reaction",
+        statement,
         holds,
         "largest reaction per crank: " + ", ".join(f"{c:.0f} mm {w:.0f} N" for c, w in zip(cranks, worst)),
     )
@@ -266,7 +279,7 @@ def _final(t: dict) -> dict:
         "480/840/780/1020 mm has the largest reactions of the settings that pass every check",
         name == "480/840/780/1020",
         f"largest: {name} mm with {t['reaction'][i]:.1f} N; largest peak motor torque of the settings "
-        f"that pass {torque:.1f} N m (the seed asks for a motor of at least 200 N m)",
+        f"that pass {for_people(torque, '.1f', missing='not computed')} N m (the seed asks for a motor of at least 200 N m)",
     )
 
 

@@ -110,6 +110,9 @@ def validate(scene) -> None:
             "sweep.kind",
             'dynamics.formulation = "seed-2013" exists only for the four-bar: sweep kind = "four-bar", or use newton-euler',
         )
+    grid = rig_grid(scene.geometry)
+    for kind in scene.sweep.kinds:
+        narrowed(grid[kind], scene.sweep.ranges)  # a range with no settable length: refused, naming it
 
 
 def prepare_models(scene, by_kind: dict, progress) -> dict[str, dict]:

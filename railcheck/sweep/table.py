@@ -13,7 +13,9 @@ __all__ = ["TableWriter", "read_table"]
 
 class TableWriter:
     """Rows streamed to a Parquet file (one row group per chunk) or a CSV file, written
-    under a temporary name and renamed at the end. NaN (not applicable) becomes null."""
+    under a temporary name and renamed at the end. NaN (not applicable) and infinity
+    (unlimited: a safe speed no load limits, the fatigue factor of an unstressed part)
+    become null, never "inf" or "nan"."""
 
     def __init__(self, path: Path, fmt: str):
         self.path, self.fmt = Path(path), fmt
@@ -55,8 +57,8 @@ def _arrow(values: np.ndarray):
 
     if values.dtype == object:  # text; empty (nothing to name) is null
         return pa.array([v or None for v in values.tolist()], type=pa.string())
-    if values.dtype.kind == "f":
-        return pa.array(values, mask=~np.isfinite(values) & ~np.isinf(values))
+    if values.dtype.kind == "f":  # no number for infinity in data: null (a flag column says "unlimited")
+        return pa.array(values, mask=~np.isfinite(values))
     return pa.array(values)
 
 

@@ -217,3 +217,39 @@ def test_full_disk_gives_one_line_and_leaves_nothing(tmp_path):
         assert list(disk.iterdir()) == []  # no staging, no half results
     finally:
         subprocess.run(["umount", str(disk)], capture_output=True)
+
+
+def test_a_sweep_killed_with_sigkill_leaves_nothing_after_the_next_run(tmp_path):
+    """SIGKILL gives no chance to clean up: the killed sweep leaves its reservation and its
+    staging directory. The next run reclaims the reservation (it writes ``res``, not
+    ``res-2``) and removes the staging; afterwards only the results are left."""
+    import os
+    import signal
+    import time
+
+    scene = tmp_path / "scene.toml"
+    scene.write_text('[sweep]\nkind = "four-bar"\nsteps = 720\ncrank = ["60 mm", "660 mm"]\n')
+    proc = subprocess.Popen(
+        [sys.executable, "-P", "-m", "railcheck.cli", "sweep", str(scene), "--out", str(tmp_path / "res"), "--serial"],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+        cwd=tmp_path,
+    )
+    deadline = time.time() + 60
+    while not list(tmp_path.glob(".res.staging.*")) and time.time() < deadline:
+        time.sleep(0.02)
+    os.kill(proc.pid, signal.SIGKILL)
+    assert proc.wait(timeout=60) == -signal.SIGKILL
+    assert (tmp_path / "res").is_dir() and list(tmp_path.glob(".res.staging.*"))  # what SIGKILL leaves
+    scene.write_text('[sweep]\nkind = "four-bar"\nsteps = 16\ncrank = ["480 mm", "480 mm"]\n')
+    again = subprocess.run(
+        [sys.executable, "-P", "-m", "railcheck.cli", "sweep", str(scene), "--out", str(tmp_path / "res"), "--serial"],
+        capture_output=True,
+        text=True,
+        cwd=tmp_path,
+        timeout=120,
+    )
+    assert again.returncode in (0, 1), again.stderr
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["res", "scene.toml"]
+    assert (tmp_path / "res" / "summary.json").exists()
+    assert not [p for p in (tmp_path / "res").iterdir() if p.name.startswith(".")]

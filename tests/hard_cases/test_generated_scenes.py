@@ -3,9 +3,10 @@ always exits 0, 1, 2 or 3 (hypothesis)."""
 
 import json
 import math
+import re
 
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
 
 from railcheck.cli import main
@@ -130,3 +131,73 @@ def test_generated_check_scenes_never_crash(tmp_path, capsys, doc):
     out, err = capsys.readouterr()
     assert code in (0, 1, 2, 3), (code, err)
     assert "Traceback" not in err
+
+
+VALID_RANGE = st.sampled_from([["480 mm", "480 mm"], ["60 mm", "180 mm"], ["780 mm", "840 mm"], ["1020 mm", "1080 mm"]])
+RANGE = st.one_of(
+    VALID_RANGE,
+    VALID_RANGE,
+    VALID_RANGE,
+    st.lists(LENGTHS, min_size=2, max_size=2),
+    st.just(["480 mm", "480 mm"]),
+    st.just(["660 mm", "60 mm"]),
+    LENGTHS,
+    st.lists(LENGTHS, max_size=3),
+)
+SWEEP = st.fixed_dictionaries(
+    {
+        "kind": st.sampled_from(["four-bar", "slider-crank", "both", "four-bar", "crane"]),
+        "steps": st.one_of(st.sampled_from([8, 16]), st.sampled_from([3, -5, 0, 10**9, "many", True, 2.5])),
+        "crank": st.one_of(st.just(["480 mm", "480 mm"]), RANGE),
+    },
+    optional={
+        "coupler": RANGE,
+        "rocker": RANGE,
+        "ground": RANGE,
+        "offset": RANGE,
+        "speeds": st.one_of(st.lists(SPEEDS, max_size=3), SPEEDS),
+        "assembly": st.sampled_from(["open", "crossed", "sideways"]),
+        "memory": st.sampled_from(["64 MB", "1 kB", "1e30 GB", "-1 MB", "x"]),
+        "format": st.sampled_from(["parquet", "csv", "xlsx"]),
+    },
+)
+SWEEP_ARGS = st.lists(
+    st.one_of(
+        st.tuples(st.just("--workers"), st.sampled_from(["1", "2", "0", "-3", "many", "1e9"])),
+        st.tuples(
+            st.just("--scheduler"),
+            st.sampled_from(["not an address", "tcp://", "ftp://x:1", "tcp://127.0.0.1:0", "tcp://[::1", ""]),
+        ),
+        st.tuples(st.just("--out"), st.sampled_from(["", "/proc/railcheck", "scene.toml", "out\nx", "out"])),
+        st.tuples(st.just("--serial")),
+        st.tuples(st.just("--bogus")),
+    ),
+    max_size=3,
+)
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(sweep=SWEEP, argv=SWEEP_ARGS, formulation=st.sampled_from(["newton-euler", "seed-2013"]))
+def test_generated_sweep_scenes_and_arguments_never_crash(tmp_path, capsys, sweep, argv, formulation):
+    """Generated [sweep] tables (kinematics only, few steps) and command-line arguments:
+    exit 0-3, no traceback, no non-finite number in the console, and nothing left behind
+    but the results directory."""
+    args = ["sweep"] + [x for pair in argv for x in pair]
+    if "--out" not in args:
+        args += ["--out", str(tmp_path / "res")]
+    if "--serial" not in args and "--scheduler" not in args:
+        args.append("--serial")  # a local Dask cluster per example would take seconds
+    path = tmp_path / "scene.toml"
+    path.write_text(toml({"sweep": sweep, "dynamics": {"formulation": formulation}}))
+    before = {p.name for p in tmp_path.iterdir()}
+    try:
+        code = main([args[0], str(path), *args[1:]])
+    except SystemExit as exc:  # argparse
+        code = exc.code
+    out, err = capsys.readouterr()
+    assert code in (0, 1, 2, 3), (code, err)
+    event(f"exit {code}")
+    assert "Traceback" not in err
+    assert not re.search(r"\b(nan|inf)\b", out, re.IGNORECASE), out
+    left = {p.name for p in tmp_path.iterdir()} - before
+    assert not [n for n in left if n.startswith(".")], left  # no staging, no temporary

@@ -106,3 +106,24 @@ def test_numbers_for_people_never_read_inf_or_nan():
 
     assert for_people(float("inf")) == "unlimited" and for_people(float("nan")) == "none" and for_people(None) == "none"
     assert for_people(2.345) == "2.35" and for_people(float("-inf")) == "-unlimited"
+
+
+def test_steps_beyond_this_machines_memory_are_refused_with_an_estimate(monkeypatch, capsys):
+    """A step count whose kinematics would not fit is refused before any work, naming the
+    field and the estimate (not a MemoryError), in `check`/`kinematics` and in
+    `convergence kinematics --sizes`."""
+    from railcheck import machine
+    from railcheck.cli import main
+
+    monkeypatch.setattr(machine, "available_memory", lambda: 1.0 * 2**30)  # a 1 GiB machine
+    scene = parse_scene(tomllib.loads(FINAL_DESIGN + "steps = 2000000\n"), "t")
+    from railcheck.check.kinematics_stage import run_kinematics
+
+    with pytest.raises(InputError) as err:
+        run_kinematics(scene)
+    assert err.value.field == "mechanism.steps" and "GiB" in str(err.value) and "fewer steps" in str(err.value)
+    assert main(["convergence", "kinematics", "--sizes", "1000,2000000"]) == 2
+    line = capsys.readouterr().err.strip().splitlines()[-1]
+    assert "--sizes" in line and "1.0 GiB" in line
+    # what fits runs: 1000 steps need well under a MB
+    run_kinematics(parse_scene(tomllib.loads(FINAL_DESIGN + "steps = 1000\n"), "t"))

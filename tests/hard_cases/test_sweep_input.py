@@ -39,6 +39,16 @@ def sweep(tmp_path, text, *extra):
         (BASE.replace('"slider-crank"', '"crane"'), ("sweep.kind",)),
         (BASE + '[[sweep.settings]]\ncrank = "60 mm"\n', ("sweep.settings[0]", "bars")),
         (BASE + 'colour = "red"\n', ("sweep.colour", "unknown key")),
+        (BASE + 'crank = ["-60 mm", "660 mm"]\n', ("sweep.crank", "positive")),
+        (BASE + 'crank = ["0 mm", "660 mm"]\n', ("sweep.crank", "greater than zero")),
+        (BASE + 'coupler = ["60 mm", "1e308 mm"]\n', ("sweep.coupler", "physical range")),
+        (BASE + 'offset = ["-1e308 mm", "0 mm"]\n', ("sweep.offset", "physical range")),
+        (
+            BASE + '[[sweep.settings]]\ncrank = "120 mm"\ncoupler = "480 mm"\noffset = "1e308 mm"\n',
+            ("sweep.settings[0].offset",),
+        ),
+        (BASE + 'offset = ["10 mm", "20 mm"]\n', ("sweep.offset", "0 mm only", "[[sweep.settings]]")),
+        (BASE.replace('"slider-crank"', '"four-bar"') + 'ground = ["2500 mm", "3000 mm"]\n', ("sweep.ground", "2460 mm")),
         ('[dynamics]\nformulation = "seed-2013"\n' + BASE, ("sweep.kind", "seed-2013")),
         (
             '[dynamics]\nformulation = "seed-2013"\n[sweep]\nsteps = 16\nkind = "four-bar"\n'
@@ -71,8 +81,10 @@ def test_unreachable_scheduler(tmp_path):
     assert not (tmp_path / "out").exists()
 
 
-def test_empty_range_gives_an_empty_but_valid_sweep(tmp_path):
-    """A range that holds no settable length: zero settings, a clear summary, exit 1."""
-    proc = sweep(tmp_path, BASE + 'crank = ["61 mm", "62 mm"]\n', "--serial")
-    assert proc.returncode == 1, proc.stderr
-    assert "0 settings" in proc.stdout and "Traceback" not in proc.stderr
+@pytest.mark.parametrize("extra", ["", "--serial"])
+def test_a_range_without_a_settable_length_is_refused_naming_the_nearest(tmp_path, extra):
+    """A range that holds no hole of the rig (#26: it used to end in "cannot write the
+    results"): exit 2, the field, the nearest settable lengths, nothing written."""
+    proc = sweep(tmp_path, BASE + 'crank = ["61 mm", "62 mm"]\n', *([extra] if extra else []))
+    one_line_exit_2(proc, "sweep.crank", "no settable length", "60 mm and 120 mm")
+    assert not (tmp_path / "out").exists()
