@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .assembly import integration_basis
+from .dynamic import DynamicModel, part_modes
 from .elasticity import (
     assemble,
     away_from,
@@ -51,6 +52,7 @@ class UnitSolve:
     resultants: np.ndarray
     support_reactions: np.ndarray
     imbalance: np.ndarray | None = None  # (6, k) N, N m about the centroid: a free body's loads before relief
+    modes: DynamicModel | None = None  # the lowest modes (their shapes dropped) when a dynamic response was asked
 
 
 @dataclass(frozen=True)
@@ -126,13 +128,17 @@ def solve_unit_cases(
     report=None,
     curved=None,
     free_body: FreeBodyCases | None = None,
+    modes: tuple[int, list | None] | None = None,
 ) -> tuple[UnitFields, UnitSolve]:
     """Unit fields of every case (one factorisation) and its :class:`UnitSolve` (timings, solver info, balances)
     (``curved``: the mesh's curved edges for isoparametric P2, :func:`railcheck.fea.elasticity.assemble`).
     With ``free_body`` the part has no support: each case is solved by inertia relief
     (:mod:`railcheck.fea.relief`), the body cases carry ``free_body.mass`` kg spread
     uniformly, every node is in the verdict, and the "tip" is the deflection that
-    ``free_body.deflection`` defines (:func:`railcheck.fea.stress.relative_deflection`)."""
+    ``free_body.deflection`` defines (:func:`railcheck.fea.stress.relative_deflection`).
+    With ``modes`` = (count, pins) the part's lowest modes are computed too
+    (:func:`railcheck.fea.dynamic.part_modes`: held at its supports, or at ``pins`` for a
+    free body) and their fields follow the unit cases' as extra columns ("mode 1", ...)."""
     t = [time.perf_counter()]
     K, basis = assemble(points, tets, material, order, curved)
     F = np.column_stack([case_vector(basis, groups, c) for c in cases.values()])
@@ -145,7 +151,7 @@ def solve_unit_cases(
         U, info, fixed, imbalance = relieved.U, relieved.info, np.zeros(0, dtype=np.int64), relieved.imbalance
         reactions = -imbalance[:3]
         mask = np.ones(nodes.shape[0], dtype=bool)
-        tip = relative_deflection(basis, groups, *free_body.deflection) @ U
+        tip_op = relative_deflection(basis, groups, *free_body.deflection)
     else:
         fixed = supports(basis, groups, support_groups)
         t.append(time.perf_counter())
@@ -153,7 +159,20 @@ def solve_unit_cases(
         imbalance, reactions = None, _support_reactions(basis, K, U, F, fixed)
         support_pts = points[np.unique(np.concatenate([groups[g].ravel() for g in support_groups]))]
         mask = away_from(nodes, support_pts, exclude_distance)
-        tip = mean_over(basis, groups, tip_group) @ U if tip_group else np.zeros((3, F.shape[1]))
+        tip_op = mean_over(basis, groups, tip_group) if tip_group else None
+    model = None
+    names = tuple(cases)
+    t.append(time.perf_counter())
+    if modes is not None:
+        count, pins = modes
+        density = material.density
+        if free_body is not None:  # the FE body carries the dynamics' mass, as its body cases do
+            density = free_body.mass / body_force_vectors(basis)[:, 0].sum()
+        model = part_modes(K, basis, density, F, count, fixed=None if pins else fixed, pins=pins, groups=groups)
+        U = np.hstack([U, model.shapes])
+        names += tuple(f"mode {i + 1}" for i in range(count))
+        model = DynamicModel(hz=model.hz, shapes=np.zeros((0, count)), modal_loads=model.modal_loads)
+    tip = tip_op @ U if tip_op is not None else np.zeros((3, U.shape[1]))
     t.append(time.perf_counter())
     S = recover_stress(basis, U, material)
     loaded = sorted({g for c in cases.values() if isinstance(c, TractionCase) for g in c.groups})
@@ -168,12 +187,15 @@ def solve_unit_cases(
         elements=int(tets.shape[0]),
         vertices=int(points.shape[0]),
         solver=info,
-        seconds=dict(zip(("assembly", "solve", "stress"), np.diff(t))),
+        seconds={
+            k: v for k, v in zip(("assembly", "solve", "modes", "stress"), np.diff(t)) if k != "modes" or modes is not None
+        },
         resultants=resultant(basis, F),
         support_reactions=reactions,
         imbalance=imbalance,
+        modes=model,
     )
-    return UnitFields(S, tip, node_displacement(basis, U), nodes, mask, tuple(cases), **extras), meta
+    return UnitFields(S, tip, node_displacement(basis, U), nodes, mask, names, **extras), meta
 
 
 def _support_reactions(basis, K, U: np.ndarray, F: np.ndarray, fixed: np.ndarray) -> np.ndarray:

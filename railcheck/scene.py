@@ -24,7 +24,7 @@ from railcheck.geometry.catalogue import (
 from railcheck.kinematics.linkage import FourBar, SliderCrank
 from railcheck.units import parse_quantity
 
-EFFECTS = ("inertia", "gravity", "rail-inertia")
+EFFECTS = ("inertia", "gravity", "rail-inertia", "dynamic")
 
 #: physical ranges checked when the scene is read (SI): a value outside is refused, naming
 #: the field. A teaching rig's bars are centimetres to metres; its crank turns at most a
@@ -102,6 +102,21 @@ class FatigueSpec:
 
 
 @dataclass(frozen=True)
+class DynamicSpec:
+    """The dynamic response (effect ``dynamic``; fea.dynamic): the modal damping ratio
+    (0.02, assumed for a bolted steel frame with carriages and bearings; EN 1991-1-4 table
+    F.2 gives a structural logarithmic decrement of 0.05 for ordinary-bolted steel, zeta =
+    0.05 / 2 pi = 0.008, so near a resonance the real peak may be up to 2.5x what 0.02
+    gives: the report states the damping used), the largest dynamic amplification a part may
+    show (1.10: dynamics that raise a part's stress by more than 10% mean the quasi-static
+    check does not hold, and the part fails), and how many modes."""
+
+    damping: float = 0.02
+    max_amplification: float = 1.10
+    modes: int = 6
+
+
+@dataclass(frozen=True)
 class MeshSpec:
     order: int = 2
     size: float | None = None  # m; None = each part kind's default (parts.KINDS)
@@ -149,6 +164,7 @@ class Scene:
     source: str
     fatigue: FatigueSpec = FatigueSpec()
     sweep: SweepSpec = SweepSpec()
+    dynamic: DynamicSpec = DynamicSpec()
 
 
 _ALLOWED = {
@@ -160,6 +176,7 @@ _ALLOWED = {
     "loads": None,  # part names, checked below
     "geometry": None,  # catalogue keys, checked below
     "fatigue": {"surface", "reliability", "load", "criterion", "min_safety"},
+    "dynamic": {"damping", "max_amplification", "modes"},
     "sweep": {
         "kind",
         "crank",
@@ -360,6 +377,24 @@ def _fatigue(table: dict) -> FatigueSpec:
     return FatigueSpec(surface, float(reliability), load, criterion, float(n))
 
 
+def _dynamic(table: dict) -> DynamicSpec:
+    p = "dynamic."
+    _unknown(table, _ALLOWED["dynamic"], p)
+    damping = _number(table.get("damping", 0.02), p + "damping", 1e-4, 0.5, "a ratio of critical damping")
+    amplification = _number(table.get("max_amplification", 1.10), p + "max_amplification", 1.0, 10.0, "a ratio")
+    modes = table.get("modes", 6)
+    if isinstance(modes, bool) or not isinstance(modes, int) or not 1 <= modes <= 50:
+        raise InputError(p + "modes", f"must be a whole number from 1 to 50, got {modes!r}")
+    return DynamicSpec(damping, amplification, modes)
+
+
+def _number(value: Any, name: str, lo: float, hi: float, what: str) -> float:
+    """A plain finite number within [lo, hi] (dimensionless)."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or not lo <= value <= hi:
+        raise InputError(name, f"must be {what} from {lo:g} to {hi:g}, got {value!r}")
+    return float(value)
+
+
 def _sweep(table: dict) -> SweepSpec:
     p = "sweep."
     _unknown(table, _ALLOWED["sweep"], p)
@@ -464,7 +499,8 @@ def parse_scene(data: dict[str, Any], source: str = "<scene>") -> Scene:
     geometry = _geometry(data.get("geometry", {}))
     fatigue = _fatigue(data.get("fatigue", {}))
     sweep = _sweep(data.get("sweep", {}))
-    return Scene(mechanism, formulation, check, mesh, output, geometry, data, source, fatigue, sweep)
+    dynamic = _dynamic(data.get("dynamic", {}))
+    return Scene(mechanism, formulation, check, mesh, output, geometry, data, source, fatigue, sweep, dynamic)
 
 
 def load_scene(path: str | Path | None) -> Scene:

@@ -47,3 +47,48 @@ def test_a_cantilever_bends_at_beam_theory_frequency(beam):
     assert modes.hz[1] == pytest.approx(beam_hz(1.8751041, W, H), rel=0.01)
     phi = modes.shapes[:, 0]
     assert phi @ M @ phi == pytest.approx(1.0, rel=1e-8)
+
+
+def test_pins_at_both_ends_give_the_simply_supported_beam(beam):
+    """Both end faces held as pins (mean translation and roll; rotation in bending free):
+    the first bending frequency is the simply supported beam's, beta L = pi."""
+    from railcheck.fea.dynamic import part_modes
+
+    mesh, K, basis, M = beam
+    model = part_modes(K, basis, STEEL.density, np.zeros((basis.N, 1)), 2, pins=[["clamp"], ["tip"]], groups=mesh.groups)
+    assert model.hz[0] == pytest.approx(beam_hz(np.pi, H, W), rel=0.02)
+    assert model.hz[1] == pytest.approx(beam_hz(np.pi, W, H), rel=0.02)
+
+
+@pytest.mark.parametrize("ratio", [0.6, 0.047])
+def test_mode_acceleration_equals_a_direct_harmonic_solve(beam, ratio):
+    """A cantilever under a tip force F cos(Omega t): quasi-static superposition plus the
+    mode-acceleration correction of its six lowest modes (no damping) against the direct
+    solve of (K - Omega^2 M) u = F, at Omega = 0.6 and 0.047 of the first frequency (no
+    harmonic of it on a natural frequency)."""
+    import scipy.sparse.linalg as spla
+
+    from railcheck.fea import unit_traction_vectors
+    from railcheck.fea.dynamic import modal_correction, part_modes
+    from railcheck.fea.system import free_submatrix
+
+    mesh, K, basis, M = beam
+    fixed = supports(basis, mesh.groups, ["clamp"])
+    F = unit_traction_vectors(basis, mesh.groups, "tip")[:, 2:3]  # 1 N across the 20 mm side
+    model = part_modes(K, basis, STEEL.density, F, 6, fixed=fixed)
+    omega = ratio * 2 * np.pi * model.hz[0]
+    steps = 361
+    C = np.cos(np.linspace(0, 2 * np.pi, steps))[:, None]  # one period of cos(Omega t)
+    free = np.setdiff1d(np.arange(basis.N), fixed)
+    Kf, Mf = free_submatrix(K, free), free_submatrix(M, free)
+    static = np.zeros(basis.N)
+    static[free] = spla.spsolve(Kf.tocsc(), F[free, 0])
+    direct = np.zeros(basis.N)
+    direct[free] = spla.spsolve((Kf - omega**2 * Mf).tocsc(), F[free, 0])
+    dq = modal_correction(model.modal_loads, model.hz, C, omega, 0.0)
+    u0 = static * C[0, 0] + model.shapes @ dq[0]  # at t = 0 the response peaks with the load
+    tip = np.argmax(np.abs(direct))
+    assert u0[tip] == pytest.approx(direct[tip], rel=2e-3)
+    if ratio == 0.6:  # well above quasi-static: 1 / (1 - 0.36) on the first mode
+        assert direct[tip] / static[tip] > 1.5
+    np.testing.assert_allclose(dq[-1], dq[0], rtol=1e-12)  # the period's end is its start

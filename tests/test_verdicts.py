@@ -132,3 +132,56 @@ def test_sweep_fails_a_setting_on_each_criterion_and_names_it(tmp_path, extra, f
     else:
         assert row["verdict"] == "fail" and row["reason"] == f"crank-rail {criterion}"
         assert row["utilisation"] > 1.0
+
+
+@pytest.fixture(scope="module")
+def plate_result():
+    """The plate's check in this process (the records themselves, not their JSON)."""
+    from railcheck.check.pipeline import run_pipeline
+
+    return run_pipeline(parse_scene(tomllib.loads(PLATE.replace("EXTRA", "")), "test"))
+
+
+def test_each_limit_is_inclusive_and_the_next_float_below_fails(plate_result):
+    """At exactly its limit a part passes (stress <= limit, deflection <= limit, fatigue
+    factor >= required); one float beyond, it fails that criterion alone."""
+    from dataclasses import replace
+
+    part = plate_result.parts["PF_4b_003_v2"]
+    stress, tip = part.verdict_stress, part.cycle.envelope.max_tip
+    at = replace(part, job=replace(part.job, limit=stress, max_deflection=tip))
+    assert at.stress_passed and at.deflection_passed and at.passed
+    below = replace(part, job=replace(part.job, limit=np.nextafter(stress, 0)))
+    assert not below.stress_passed and below.deflection_passed and not below.passed
+    stiff = replace(part, job=replace(part.job, max_deflection=np.nextafter(tip, 0)))
+    assert stiff.stress_passed and not stiff.deflection_passed and not stiff.passed
+    unlimited = replace(part, job=replace(part.job, max_deflection=None))
+    assert unlimited.deflection_passed and unlimited.deflection_limit is None
+    assert part.limit == part.job.limit and part.name == "PF_4b_003_v2"
+
+
+def test_a_failed_configuration_check_is_a_failure_of_the_run(plate_result):
+    from dataclasses import replace
+
+    from railcheck.kinematics.checks import CheckResult
+
+    assert plate_result.passed and plate_result.failures == []
+    bad = replace(plate_result, checks={"grashof": CheckResult(False, "no"), "assembly": CheckResult(True, "ok")})
+    assert bad.failures == ["check grashof"] and not bad.passed
+    failing_part = replace(
+        plate_result.parts["PF_4b_003_v2"], job=replace(plate_result.parts["PF_4b_003_v2"].job, limit=1e6)
+    )
+    both = replace(bad, parts={"PF_4b_003_v2": failing_part})
+    assert both.failures == ["check grashof", "PF_4b_003_v2 stress"]
+
+
+def test_the_records_are_frozen(plate_result):
+    """Every record of a check is immutable once built (workers and the report share them)."""
+    import dataclasses
+
+    part = plate_result.parts["PF_4b_003_v2"]
+    cycle = part.cycle
+    for record in (plate_result, part, cycle, cycle.fatigue, cycle.seed_method, cycle.history):
+        field = dataclasses.fields(record)[0].name
+        with pytest.raises(dataclasses.FrozenInstanceError):
+            setattr(record, field, None)

@@ -3,20 +3,24 @@ mesh, unit load cases solved once (:mod:`railcheck.check.loading`), the stress a
 step by superposition, the von Mises envelope, the seed method's single instant beside
 it, and high-cycle fatigue. A part with several load sources (a plate used at two joints)
 takes the worse source: the larger stress governs the stress verdict, the lower fatigue
-factor the fatigue verdict.
+factor the fatigue verdict. With the effect ``dynamic`` each history gains the modes'
+mode-acceleration columns, so the envelope, fatigue and deflection read the dynamic
+response, and the result states the amplification over the quasi-static one.
 """
 
 from __future__ import annotations
 
 import math
 import time
+from dataclasses import replace
 
 import numpy as np
 
 from railcheck.check.jobs import PartJob
 from railcheck.check.loading import SourceHistory, unit_cases
-from railcheck.check.records import CycleHistory, CycleResult, FatigueResult, PartResult, SeedMethod
+from railcheck.check.records import CycleHistory, CycleResult, DynamicResult, FatigueResult, PartResult, SeedMethod
 from railcheck.errors import NumericalError
+from railcheck.fea.dynamic import modal_correction
 from railcheck.fea.elasticity import Solution
 from railcheck.fea.fatigue import alternating_and_mean, endurance_limit, safety_factor
 from railcheck.fea.stress import peak, von_mises
@@ -63,6 +67,7 @@ def check_part(job: PartJob, solver: str, report) -> PartResult:
         report,
         curved=mesh.curved if job.mesh.curved else None,
         free_body=job.free_body,
+        modes=(job.dynamic.modes, list(job.dynamic.pins) if job.dynamic.pins else None) if job.dynamic else None,
     )
     seconds.update(solve.seconds)
     t = time.perf_counter()
@@ -101,6 +106,7 @@ def evaluate_cycle(job: PartJob, fields: UnitFields, histories: tuple[SourceHist
     """Envelope, seed method and fatigue over every source; the worse source governs the
     stress verdict, the lower fatigue factor the fatigue verdict."""
     results = []
+    histories = tuple(with_dynamics(job, solve, h) for h in histories)
     for h in histories:
         env = envelope(fields, h.C)
         vm_seed = von_mises(stress_at(fields.stress, h.C[h.seed_step]))
@@ -124,7 +130,56 @@ def evaluate_cycle(job: PartJob, fields: UnitFields, histories: tuple[SourceHist
         seed_angle_deg=_deg(h.crank_angle[h.seed_step]),
     )
     return CycleResult(
-        source=h.joint, envelope=env, seed_method=seed, fatigue=fat, history=history, fields=fields, C=h.C, solve=solve
+        source=h.joint,
+        envelope=env,
+        seed_method=seed,
+        fatigue=fat,
+        history=history,
+        fields=fields,
+        C=h.C,
+        solve=solve,
+        dynamic=dynamic_result(job, fields, solve, histories),
+    )
+
+
+def with_dynamics(job: PartJob, solve: UnitSolve, h: SourceHistory) -> SourceHistory:
+    """The history with one coefficient column per mode appended: the mode-acceleration
+    correction (:func:`railcheck.fea.dynamic.modal_correction`) with ``dynamic``, else as
+    it is."""
+    if solve.modes is None:
+        return h
+    d = job.dynamic
+    dq = modal_correction(solve.modes.modal_loads, solve.modes.hz, h.C, d.speed, d.damping)
+    return replace(h, C=np.hstack([h.C, dq]))
+
+
+def dynamic_result(job: PartJob, fields: UnitFields, solve: UnitSolve, histories) -> DynamicResult | None:
+    """Frequencies, the crank harmonic nearest each, and the dynamic amplification: the
+    cycle's von Mises peak with the modal correction over the quasi-static peak (the
+    correction's columns zeroed), the largest over the load sources."""
+    if solve.modes is None:
+        return None
+    d, hz = job.dynamic, solve.modes.hz
+    m = hz.size
+    ratios = []
+    for h in histories:
+        quasi = h.C.copy()
+        quasi[:, -m:] = 0.0
+        qs = envelope(fields, quasi).max_von_mises
+        dyn = envelope(fields, h.C).max_von_mises
+        ratios.append((dyn / qs if qs > 0 else 1.0, qs, dyn))
+    amplification, qs, dyn = max(ratios)
+    crank_hz = d.speed / (2 * math.pi)
+    harmonics = np.maximum(np.rint(hz / crank_hz), 1).astype(int)
+    return DynamicResult(
+        hz=hz,
+        harmonics=harmonics,
+        crank_hz=crank_hz,
+        amplification=float(amplification),
+        quasi_static_peak=float(qs),
+        dynamic_peak=float(dyn),
+        damping=d.damping,
+        max_amplification=d.max_amplification,
     )
 
 
@@ -179,7 +234,7 @@ def solution_at(fields: UnitFields, c: np.ndarray, solve: UnitSolve, order: int,
         max_von_mises=top[0],
         max_von_mises_location=top[1],
         tip_displacement=fields.tip @ c,
-        applied_forces={"total": solve.resultants @ c},
+        applied_forces={"total": solve.resultants @ c[: solve.resultants.shape[1]]},
         max_von_mises_away=away[0],
         max_von_mises_away_location=away[1],
         exclude_distance=exclude,

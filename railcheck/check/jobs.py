@@ -46,6 +46,20 @@ class MeshJob:
 
 
 @dataclass(frozen=True)
+class DynamicJob:
+    """The dynamic response a part's check computes (effect ``dynamic``): the crank
+    ``speed`` rad/s, modal ``damping`` ratio, ``max_amplification``, the number of
+    ``modes``, and the ``pins`` (lists of hole surfaces) a free body is held at in its
+    modal model (None: a clamped part keeps its clamp)."""
+
+    speed: float
+    damping: float
+    max_amplification: float
+    modes: int
+    pins: tuple[tuple[str, ...], ...] | None
+
+
+@dataclass(frozen=True)
 class PartJob:
     """Everything one part's check needs (SI): ``support`` and ``tip`` mesh groups,
     ``exclusion`` (m) the support's singular zone kept out of the verdict, ``section``
@@ -70,6 +84,7 @@ class PartJob:
     fatigue: FatigueSpec
     max_deflection: float | None
     free_body: FreeBodyCases | None = None
+    dynamic: DynamicJob | None = None
 
     @property
     def supports(self) -> list[str]:
@@ -168,8 +183,19 @@ def part_jobs(
             fatigue=scene.fatigue,
             max_deflection=scene.check.max_deflection,
             free_body=free,
+            dynamic=dynamic_job(scene, free),
         )
     return jobs
+
+
+def dynamic_job(scene: Scene, free: FreeBodyCases | None) -> DynamicJob | None:
+    """The part's dynamic request when ``dynamic`` is listed and the crank turns (a still
+    rig has no cycle to respond to); a free body is pinned at its two joints."""
+    if "dynamic" not in scene.check.effects or scene.mechanism is None or scene.mechanism.speed <= 0:
+        return None
+    d = scene.dynamic
+    pins = (tuple(free.deflection[0]), tuple(free.deflection[1])) if free is not None else None
+    return DynamicJob(scene.mechanism.speed, d.damping, d.max_amplification, d.modes, pins)
 
 
 def free_body_cases(loads: LoadModel, geo: PartGeometry, holes: list[str]) -> FreeBodyCases:

@@ -73,6 +73,28 @@ class CycleHistory:
 
 
 @dataclass(frozen=True)
+class DynamicResult:
+    """The dynamic response of one part (effect ``dynamic``): its lowest natural
+    frequencies ``hz`` (Hz), the crank harmonic nearest each (``harmonics``, of
+    ``crank_hz``), the ``amplification`` (dynamic over quasi-static cycle peak of von
+    Mises), both peaks (Pa), the modal ``damping`` ratio used and the largest amplification
+    allowed."""
+
+    hz: np.ndarray
+    harmonics: np.ndarray
+    crank_hz: float
+    amplification: float
+    quasi_static_peak: float
+    dynamic_peak: float
+    damping: float
+    max_amplification: float
+
+    @property
+    def passed(self) -> bool:
+        return self.amplification <= self.max_amplification
+
+
+@dataclass(frozen=True)
 class CycleResult:
     """One part over the whole cycle: the envelope, the seed method beside it, fatigue,
     the governing history, the unit fields and the governing source's coefficients ``C``
@@ -86,6 +108,13 @@ class CycleResult:
     fields: UnitFields
     C: np.ndarray
     solve: UnitSolve
+    dynamic: DynamicResult | None = None
+
+    @property
+    def load_C(self) -> np.ndarray:
+        """(steps, k) the coefficients of the unit load cases alone (``C`` less the modal
+        columns a dynamic response appends)."""
+        return self.C[:, : self.solve.resultants.shape[1]]
 
 
 @dataclass(frozen=True)
@@ -141,8 +170,13 @@ class PartResult:
         return self.deflection_limit is None or self.cycle.envelope.max_tip <= self.deflection_limit
 
     @property
+    def dynamic_passed(self) -> bool:
+        """True without a dynamic response, else the amplification within its limit."""
+        return self.cycle.dynamic is None or self.cycle.dynamic.passed
+
+    @property
     def passed(self) -> bool:
-        return self.stress_passed and self.fatigue_passed and self.deflection_passed
+        return self.stress_passed and self.fatigue_passed and self.deflection_passed and self.dynamic_passed
 
 
 @dataclass(frozen=True)
@@ -170,6 +204,7 @@ class PipelineResult:
             out += [f"{name} stress"] if not p.stress_passed else []
             out += [f"{name} fatigue"] if not p.fatigue_passed else []
             out += [f"{name} deflection"] if not p.deflection_passed else []
+            out += [f"{name} dynamic"] if not p.dynamic_passed else []
         return out
 
     @property

@@ -27,7 +27,7 @@ from railcheck.fea.vtk import pvd_text, write_vtu
 from railcheck.files import Staging, atomic_path, atomic_write_text, reserve_results_dir, to_json
 from railcheck.progress import Progress
 from railcheck.report.html import write_report
-from railcheck.report.plots import write_cycle_plot, write_kinematics_plots
+from railcheck.report.plots import write_campbell_plot, write_cycle_plot, write_kinematics_plots
 from railcheck.report.render import render_part
 from railcheck.scene import OutputSpec, Scene
 
@@ -81,6 +81,8 @@ def write_outputs(scene: Scene, result: PipelineResult, summary: dict, directory
     atomic_write_text(directory / "timings.json", to_json(result.timings) + "\n")
     if result.kinematics is not None and scene.output.plots:
         write_kinematics_plots(result.kinematics, directory)
+    if scene.output.plots:
+        write_campbell_plot(result.parts, directory / "campbell.png")
     if scene.output.vtk and result.parts:
         atomic_write_text(directory / "parts.pvd", pvd_text({n: f"{n}.vtu" for n in result.parts}))
     for name, p in result.parts.items():
@@ -102,6 +104,16 @@ def write_part_files(output: OutputSpec, name: str, p: PartResult, directory: Pa
     if output.png:
         render_part(directory / f"{name}.png", name, p)
     (directory / f"{name}.written").touch()
+
+
+def mode_shapes(p: PartResult) -> dict[str, np.ndarray]:
+    """The lowest mode shapes (nodes, 3), mass-normalised, as VTU point data named with
+    their frequency, when the part has a dynamic response."""
+    d = p.cycle.dynamic
+    if d is None:
+        return {}
+    k = p.cycle.load_C.shape[1]
+    return {f"mode_{i + 1}_{hz:.1f}Hz": p.cycle.fields.displacement[:, :, k + i] for i, hz in enumerate(d.hz)}
 
 
 def write_part_vtu(path: Path, p: PartResult) -> None:
@@ -127,5 +139,6 @@ def write_part_vtu(path: Path, p: PartResult) -> None:
                 "fatigue_safety_factor": p.cycle.fatigue.node_factor,
                 "verdict_zone": f.verdict_mask.astype(float),
                 **masks,
+                **mode_shapes(p),
             },
         )

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from railcheck.check.records import FatigueResult, PartResult, PipelineResult, SeedMethod
+from railcheck.check.records import DynamicResult, FatigueResult, PartResult, PipelineResult, SeedMethod
 from railcheck.geometry.catalogue import (
     CATALOGUE_RAIL_MASS,
     rail_mass_per_metre,
@@ -96,6 +96,8 @@ def part_summary(p: PartResult) -> dict:
             "solver": cyc.solve.solver.get("solver"),
         },
     }
+    if cyc.dynamic is not None:
+        out["dynamic"] = dynamic_summary(cyc.dynamic)
     if job.free_body is not None:
         out["support"] = {
             "model": "free-body",
@@ -107,6 +109,23 @@ def part_summary(p: PartResult) -> dict:
     return out
 
 
+def dynamic_summary(d: DynamicResult) -> dict:
+    """The dynamic response of a part (effect ``dynamic``): frequencies, nearest crank
+    harmonics, amplification (dynamic over quasi-static cycle peak) and its verdict."""
+    return {
+        "frequencies_Hz": [float(x) for x in d.hz],
+        "nearest_harmonic": [int(n) for n in d.harmonics],
+        "crank_Hz": d.crank_hz,
+        "quasi_static_peak_von_mises_Pa": d.quasi_static_peak,
+        "dynamic_peak_von_mises_Pa": d.dynamic_peak,
+        "amplification": d.amplification,
+        "damping_ratio": d.damping,
+        "max_amplification": d.max_amplification,
+        "pass": bool(d.passed),
+        "method": "steady-state modal superposition with the mode-acceleration correction over one revolution",
+    }
+
+
 def imbalance_summary(p: PartResult) -> dict:
     """How far a free body's loads are from equilibrium before inertia relief, over the
     cycle: the largest resultant force (N), in-plane moment (about z) and out-of-plane
@@ -116,7 +135,7 @@ def imbalance_summary(p: PartResult) -> dict:
     inertia acts at it; the planar dynamics has no out-of-plane equations); inertia relief
     applies it as a rigid rotational acceleration."""
     cyc = p.cycle
-    imbalance = (cyc.solve.imbalance @ cyc.C.T).T  # (steps, 6)
+    imbalance = (cyc.solve.imbalance @ cyc.load_C.T).T  # (steps, 6)
     joints = [i for i, n in enumerate(cyc.fields.names) if n.startswith(("pin_", "bolt_"))]
     scale = float(np.abs(cyc.C[:, joints]).max()) or 1.0
     length = float(p.geometry.get("length"))

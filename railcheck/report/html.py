@@ -195,7 +195,7 @@ def _mesh_and_equilibrium(result) -> str:
         return ""
     rows = []
     for name, p in result.parts.items():
-        solve, c = p.cycle.solve, p.cycle.C[p.cycle.envelope.step]
+        solve, c = p.cycle.solve, p.cycle.load_C[p.cycle.envelope.step]
         applied, reaction = solve.resultants @ c, solve.support_reactions @ c
         if p.job.free_body is not None:  # no support: the loads balance themselves, the rest is relieved
             names = list(p.cycle.fields.names)

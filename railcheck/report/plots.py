@@ -113,3 +113,52 @@ def write_cycle_plot(name: str, part, path: str | Path) -> Path:
         fig.savefig(tmp, dpi=110, format="png")
     plt.close(fig)
     return path
+
+
+def write_campbell_plot(parts: dict, path: str | Path) -> Path | None:
+    """Campbell diagram: the crank harmonics n x crank speed against crank speed from 0 to
+    3x the scene's, and each part's lowest natural frequencies as horizontal lines; where
+    a harmonic line crosses a frequency the cycle excites that mode in resonance. ``parts``
+    maps a name to its :class:`~railcheck.check.records.PartResult` (those without a
+    dynamic response are left out). None when no part has one."""
+    dynamic = {n: p.cycle.dynamic for n, p in parts.items() if p.cycle.dynamic is not None}
+    if not dynamic:
+        return None
+    plt = _figure()
+    crank = next(iter(dynamic.values())).crank_hz
+    firsts = [float(d.hz[0]) for d in dynamic.values()]
+    lowest = min(firsts)
+    top = min(1.3 * max(firsts), 4.0 * lowest)  # the lowest modes, where resonance comes first
+    fig, ax = plt.subplots(figsize=(8, 5))
+    reach = int(np.ceil(top / (3.0 * crank)))  # the harmonics that reach the top by 3x the speed
+    harmonics = [n for n in range(1, reach + 1) if n <= 10 or (n <= 50 and n % 5 == 0) or n % 10 == 0]
+    for n in harmonics:
+        ax.plot([0.0, 3.0 * crank], [0.0, 3.0 * n * crank], color="0.7", lw=0.7, zorder=1)
+        if n > 1 and n % 5:
+            continue  # label 1x, 5x, 10x, ...
+        x = min(3.0 * crank, 0.98 * top / n)
+        ax.annotate(f"{n}×", (x, n * x), fontsize=7, color="0.35", ha="right", va="bottom")
+    above = []
+    for k, (name, d) in enumerate(dynamic.items()):
+        shown = [f for f in d.hz[:3] if f <= top]
+        for j, f in enumerate(shown):
+            ax.axhline(f, color=f"C{k}", lw=1.6, ls="-" if j == 0 else "--", label=f"{name}: {f:.3g} Hz")
+        if not shown:
+            above.append(f"{name} {d.hz[0]:.3g} Hz")
+    ax.axvline(crank, color="k", lw=1.0, ls=":", label=f"scene speed {crank:.3g} Hz")
+    ax.set(
+        xlabel="crank speed (Hz)",
+        ylabel="frequency (Hz)",
+        xlim=(0, 3.0 * crank),
+        ylim=(0, top),
+        title="Campbell diagram: crank harmonics n × speed against the parts' natural frequencies\n"
+        f"(lowest {lowest:.3g} Hz, harmonic {lowest / crank:.1f} of the scene's speed)"
+        + (f"; above the plot: {', '.join(above)}" if above else ""),
+    )
+    ax.grid(alpha=0.25)
+    ax.legend(fontsize=7, loc="upper left")
+    path = Path(path)
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=110, format="png")
+    plt.close(fig)
+    return path

@@ -51,6 +51,7 @@ def parts_table(result) -> str:
         why = [] if p.stress_passed else ["stress"]
         why += [] if p.fatigue_passed else ["fatigue"]
         why += [] if p.deflection_passed else ["defl"]
+        why += [] if p.dynamic_passed else ["dynamic"]
         verdict = ("PASS" if p.passed else "FAIL " + "+".join(why)) if np.any(c.C) else "NO LOAD"
         angle = f"{c.history.crank_angle_deg:>7.1f} deg" if c.C.shape[0] > 1 else f"{'constant':>11}"
         lines.append(
@@ -65,6 +66,7 @@ def parts_table(result) -> str:
         "at the instant of the peak |reaction| (seed 000's method); FoS = limit / cycle max; fatigue n: "
         "minimum fatigue safety factor (Shigley 6-14 with the [fatigue] criterion)"
     )
+    lines += dynamic_lines(result)
     free = [n for n, p in result.parts.items() if p.job.free_body is not None]
     clamped = [n for n in result.parts if n not in free]
     if clamped:
@@ -80,6 +82,27 @@ def parts_table(result) -> str:
             "joints"
         )
     return "\n".join(lines)
+
+
+def dynamic_lines(result) -> list[str]:
+    """Per part with a dynamic response: its lowest frequencies, the crank harmonics
+    nearest them, and the amplification against its limit."""
+    parts = {n: p.cycle.dynamic for n, p in result.parts.items() if p.cycle.dynamic is not None}
+    if not parts:
+        return []
+    d0 = next(iter(parts.values()))
+    lines = [
+        f"  dynamic response (modes, modal damping {d0.damping:g}, crank {d0.crank_hz:.3g} Hz; amplification = cycle "
+        f"peak with the modes' response over the quasi-static peak, limit {d0.max_amplification:.3g}):"
+    ]
+    for name, d in parts.items():
+        freqs = ", ".join(f"{f:.3g}" for f in d.hz[:3])
+        harmonics = ", ".join(str(n) for n in d.harmonics[:3])
+        lines.append(
+            f"    {name:<14} {freqs} Hz (nearest crank harmonics {harmonics}); amplification "
+            f"{d.amplification:.4f} {'PASS' if d.passed else 'FAIL'}"
+        )
+    return lines
 
 
 def _factor(x: float) -> str:

@@ -100,6 +100,11 @@ def validate(scene) -> None:
             "check.effects",
             'a sweep needs a load to compare settings by: list "inertia" (with a speed) or "gravity"',
         )
+    if scene.check is not None and "dynamic" in scene.check.effects:
+        raise InputError(
+            "check.effects",
+            '"dynamic" is not in the sweep yet (railcheck check has it): leave it out of a sweep\'s effects',
+        )
     if scene.check is not None and scene.check.support == "free-body":
         raise InputError(
             "check.support",

@@ -1,0 +1,101 @@
+"""Is quasi-static true? The steady-state response of a part to its periodic load cycle by
+modal superposition with the mode-acceleration correction (DESIGN.md section 11).
+
+The unit-case coefficients ``c(t)`` (steps, k) repeat every crank revolution (period
+``T = 2 pi / Omega``). With the part's lowest modes ``phi_m`` (mass-normalised, angular
+frequencies ``omega_m``, modal damping ratio ``zeta``), the unit load vectors ``F`` (N, k)
+and the modal loads ``p_m(t) = phi_m^T F c(t)``:
+
+    u(t) = u_qs(t) + sum_m phi_m (q_m(t) - p_m(t) / omega_m^2)
+
+where ``u_qs`` is the quasi-static (superposed) solution and ``q_m`` the steady-state modal
+response: harmonic ``n`` of ``p_m`` (frequency ``n Omega``) divided by
+``omega_m^2 - (n Omega)^2 + 2 i zeta omega_m n Omega``. The correction ``delta q_m(t)`` is
+computed by FFT over one revolution (the steps are uniform in time at constant speed; the
+last step repeats the first and is left out of the transform). The mode shapes' stress
+fields join the unit fields as extra columns and ``delta q`` joins the coefficients, so the
+same envelope, fatigue and deflection code runs on the dynamic response.
+
+Supports of the modal model: a clamped part keeps its clamp; a free body is held at its
+joints as pins, each pin holding the mean translation of its hole surfaces and their mean
+rotation about the bar's axis (the rig's joint keeps the rail in its plane), by a penalty
+``alpha W^T W`` on those means (``alpha`` 1e4 times the largest diagonal entry of K).
+
+Units SI: N, m, kg, s, rad/s; frequencies reported in Hz.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+
+from .loading import surface_dofs
+from .modes import natural_modes, vector_mass_matrix
+
+__all__ = ["DynamicModel", "modal_correction", "part_modes", "pin_constraints"]
+
+#: penalty stiffness of a pin, relative to the largest diagonal entry of K
+PIN_PENALTY = 1e4
+
+
+@dataclass(frozen=True)
+class DynamicModel:
+    """A part's lowest modes for the dynamic response: ``hz`` (m,) natural frequencies,
+    ``shapes`` (N, m) mass-normalised mode shapes (1/sqrt(kg) per m), ``modal_loads``
+    (m, k) ``phi^T F`` of each unit case (N/sqrt(kg))."""
+
+    hz: np.ndarray
+    shapes: np.ndarray
+    modal_loads: np.ndarray
+
+
+def pin_constraints(basis, groups: dict, pins: list[list[str]]) -> sp.csr_matrix:
+    """(4 x pins, N): each pin's constraint rows, the area-weighted mean x, y and z
+    displacement of its surfaces and their mean rotation about x (the bar's axis)."""
+    rows = []
+    for names in pins:
+        parts = [surface_dofs(basis, groups, g) for g in names]
+        dofs = np.concatenate([p.dofs for p in parts])  # (n, 3)
+        w = np.concatenate([p.weights for p in parts])
+        pts = np.concatenate([p.points for p in parts])
+        w = w / w.sum()
+        for c in range(3):
+            rows.append(sp.csr_matrix((w, (np.zeros(w.size, dtype=np.int64), dofs[:, c])), shape=(1, basis.N)))
+        y, z = pts[:, 1] - w @ pts[:, 1], pts[:, 2] - w @ pts[:, 2]
+        r2 = w @ (y**2 + z**2)
+        data = np.concatenate([-w * z, w * y]) / r2  # theta_x = mean of (y u_z - z u_y) / r^2
+        cols = np.concatenate([dofs[:, 1], dofs[:, 2]])
+        rows.append(sp.csr_matrix((data, (np.zeros(data.size, dtype=np.int64), cols)), shape=(1, basis.N)))
+    return sp.vstack(rows).tocsr()
+
+
+def part_modes(K, basis, density: float, F: np.ndarray, count: int, fixed=None, pins=None, groups=None) -> DynamicModel:
+    """The ``count`` lowest modes of a part with its ``fixed`` DOFs held (a clamped part)
+    or its ``pins`` (lists of hole surfaces, :func:`pin_constraints`) held by penalty (a
+    free body), and each unit load vector's modal load (``F`` (N, k))."""
+    M = vector_mass_matrix(basis, density)
+    Kd = K
+    if pins:
+        G = pin_constraints(basis, groups, pins)
+        alpha = PIN_PENALTY * K.diagonal().max()
+        Kd = (K + alpha * (G.T @ G)).tocsr()
+    modes = natural_modes(Kd, M, np.zeros(0, dtype=np.int64) if fixed is None else fixed, count, shift=0.0)
+    return DynamicModel(hz=modes.hz, shapes=modes.shapes, modal_loads=modes.shapes.T @ F)
+
+
+def modal_correction(modal_loads: np.ndarray, hz: np.ndarray, C: np.ndarray, speed: float, damping: float) -> np.ndarray:
+    """(steps, m): ``delta q_m(t) = q_m(t) - p_m(t) / omega_m^2`` at each step of one
+    revolution, for coefficients ``C`` (steps, k) at crank ``speed`` rad/s with modal
+    ``damping`` (ratio of critical). The first and last steps are the same instant."""
+    steps = C.shape[0]
+    if steps < 3 or speed <= 0:
+        return np.zeros((steps, hz.size))
+    p = C[:-1] @ modal_loads.T  # (T, m): one period without the repeated end point
+    P = np.fft.rfft(p, axis=0)
+    n = np.arange(P.shape[0])[:, None]
+    w, W = 2 * np.pi * hz[None, :], n * speed
+    H = 1.0 / (w**2 - W**2 + 2j * damping * w * W) - 1.0 / w**2
+    dq = np.fft.irfft(P * H, n=steps - 1, axis=0)
+    return np.vstack([dq, dq[:1]])

@@ -1,0 +1,126 @@
+"""The effect ``dynamic`` in a check: each part's lowest modes and its steady-state
+response to the cycle (mode-acceleration), the amplification over the quasi-static peak,
+its verdict, and nothing of it when the effect is not listed. The method itself is checked
+against a direct harmonic solve in test_modes.py."""
+
+import json
+import math
+import tomllib
+
+import numpy as np
+import pytest
+
+from railcheck.check.pipeline import run_pipeline
+from railcheck.check.summary import summary_of
+from railcheck.errors import InputError
+from railcheck.scene import parse_scene
+
+SCENE = """
+[mechanism]
+kind = "four-bar"
+crank = "480 mm"
+coupler = "840 mm"
+rocker = "780 mm"
+ground = "1020 mm"
+speed = "SPEED"
+steps = 360
+[check]
+parts = ["crank-rail"]
+effects = EFFECTS
+[mesh]
+size = "20 mm"
+hole_size = "6 mm"
+"""
+
+
+def _crank(speed="1 Hz", effects='["inertia", "dynamic"]', extra=""):
+    text = SCENE.replace("SPEED", speed).replace("EFFECTS", effects) + extra
+    return run_pipeline(parse_scene(tomllib.loads(text), "test"), jobs=1)
+
+
+@pytest.fixture(scope="module")
+def one_hz():
+    return _crank()
+
+
+def test_the_dynamic_response_is_reported_and_quasi_static_holds_at_1_hz(one_hz):
+    part = one_hz.parts["crank-rail"]
+    d = part.cycle.dynamic
+    assert d.hz.size == 6 and np.all(np.diff(d.hz) >= 0) and 20 < d.hz[0] < 200
+    assert d.crank_hz == pytest.approx(1.0) and list(d.harmonics[:1]) == [round(d.hz[0])]
+    assert 1.0 < d.amplification < 1.05 and d.passed and part.passed
+    assert d.dynamic_peak == pytest.approx(part.verdict_stress, rel=1e-12)  # the verdict reads the dynamic response
+    assert part.cycle.fields.names[-6:] == tuple(f"mode {i}" for i in range(1, 7))
+    assert "modes" in part.seconds
+    entry = summary_of(one_hz)["parts"]["crank-rail"]["dynamic"]
+    assert entry["amplification"] == d.amplification and entry["pass"] is True
+    json.dumps(entry, allow_nan=False)
+
+
+@pytest.mark.slow
+def test_the_amplification_grows_with_the_speed_squared_below_resonance(one_hz):
+    """Far below the first mode the modal correction of harmonic n is (n Omega / omega)^2
+    of its static response to leading order: amplification - 1 grows as the speed squared
+    (the quasi-static peak itself scales with it too)."""
+    a1 = one_hz.parts["crank-rail"].cycle.dynamic.amplification - 1
+    a_half = _crank("0.5 Hz").parts["crank-rail"].cycle.dynamic.amplification - 1
+    assert a1 / a_half == pytest.approx(4.0, rel=0.05)
+
+
+def test_a_part_above_its_amplification_limit_fails_naming_dynamic(one_hz):
+    from dataclasses import replace
+
+    part = one_hz.parts["crank-rail"]
+    d = part.cycle.dynamic
+    at = replace(part, cycle=replace(part.cycle, dynamic=replace(d, max_amplification=d.amplification)))
+    assert at.dynamic_passed  # the limit itself passes
+    over = replace(part, cycle=replace(part.cycle, dynamic=replace(d, max_amplification=1.0)))
+    result = replace(one_hz, parts={"crank-rail": over})
+    assert result.failures == ["crank-rail dynamic"]
+    assert over.stress_passed and over.fatigue_passed and not over.dynamic_passed and not over.passed
+    assert summary_of(result)["parts"]["crank-rail"]["dynamic"]["pass"] is False
+    # and the scene's limit reaches the part
+    scene = parse_scene(
+        tomllib.loads(
+            SCENE.replace("SPEED", "1 Hz").replace("EFFECTS", '["inertia", "dynamic"]')
+            + "[dynamic]\nmax_amplification = 1.0\ndamping = 0.05\nmodes = 3\n"
+        ),
+        "t",
+    )
+    from railcheck.check.jobs import dynamic_job
+
+    job = dynamic_job(scene, None)
+    assert (job.max_amplification, job.damping, job.modes, job.speed) == (1.0, 0.05, 3, pytest.approx(2 * math.pi))
+
+
+def test_without_the_effect_no_mode_is_computed():
+    part = _crank(effects='["inertia"]').parts["crank-rail"]
+    assert part.cycle.dynamic is None and part.cycle.solve.modes is None
+    assert "modes" not in part.seconds and not any(n.startswith("mode") for n in part.cycle.fields.names)
+
+
+@pytest.mark.parametrize(
+    ("table", "field"),
+    [
+        ("damping = 0", "dynamic.damping"),
+        ("damping = 2.0", "dynamic.damping"),
+        ('damping = "2 %"', "dynamic.damping"),
+        ("max_amplification = 0.9", "dynamic.max_amplification"),
+        ("max_amplification = nan", "dynamic.max_amplification"),
+        ("modes = 0", "dynamic.modes"),
+        ("modes = 2.5", "dynamic.modes"),
+        ("colour = 1", "dynamic.colour"),
+    ],
+)
+def test_bad_dynamic_settings_are_refused_naming_the_field(table, field):
+    text = SCENE.replace("SPEED", "1 Hz").replace("EFFECTS", '["inertia", "dynamic"]') + f"[dynamic]\n{table}\n"
+    with pytest.raises(InputError) as err:
+        parse_scene(tomllib.loads(text), "t")
+    assert err.value.field == field
+
+
+def test_a_still_rig_has_no_cycle_to_respond_to():
+    from railcheck.check.jobs import dynamic_job
+
+    scene = parse_scene(tomllib.loads(SCENE.replace("SPEED", "0 Hz").replace("EFFECTS", '["gravity", "dynamic"]')), "t")
+    assert dynamic_job(scene, None) is None

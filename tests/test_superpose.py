@@ -1,0 +1,140 @@
+"""Superposition and its screens (railcheck.fea.superpose) against brute force on random
+fields: every node at every step, with von Mises written out from its definition. No FE:
+these run in a second and guard each shortcut (the hull's candidate steps, the quadratic
+form, the polygon's support function) on its own."""
+
+import numpy as np
+import pytest
+
+from railcheck.fea.superpose import (
+    UnitFields,
+    candidate_steps,
+    component_range,
+    envelope,
+    history_at_node,
+    hull_polygon,
+    stress_at,
+    support,
+    von_mises_max,
+)
+
+
+def von_mises_by_definition(s: np.ndarray) -> np.ndarray:
+    """Voigt (xx, yy, zz, xy, yz, xz) on the first axis -> von Mises, written out."""
+    xx, yy, zz, xy, yz, xz = s
+    return np.sqrt(0.5 * ((xx - yy) ** 2 + (yy - zz) ** 2 + (zz - xx) ** 2) + 3 * (xy**2 + yz**2 + xz**2))
+
+
+def brute(S: np.ndarray, C: np.ndarray) -> np.ndarray:
+    """(nodes, steps) von Mises of every node at every step."""
+    return von_mises_by_definition(np.einsum("cnk,tk->cnt", S, C))
+
+
+def random_case(seed: int, nodes: int = 300, k: int = 3, steps: int = 200):
+    rng = np.random.default_rng(seed)
+    t = np.linspace(0, 2 * np.pi, steps)
+    C = np.column_stack([np.cos((j + 1) * t + rng.uniform(0, 6)) * rng.uniform(50, 500) for j in range(k)])
+    C += rng.normal(scale=5.0, size=C.shape)
+    S = rng.normal(size=(6, nodes, k)) * 1e5
+    return S, C
+
+
+@pytest.mark.parametrize(("k", "seed"), [(1, 0), (2, 1), (3, 2), (5, 3)])
+def test_von_mises_max_equals_every_step(k, seed):
+    S, C = random_case(seed, k=k)
+    vm = brute(S, C)
+    best, where = von_mises_max(S, C)
+    np.testing.assert_allclose(best, vm.max(axis=1), rtol=1e-12)
+    np.testing.assert_allclose(vm[np.arange(vm.shape[0]), where], vm.max(axis=1), rtol=1e-12)
+
+
+@pytest.mark.parametrize(("k", "seed"), [(2, 4), (3, 5)])
+def test_candidate_steps_hold_every_maximum_of_a_convex_function(k, seed):
+    """The hull's vertices: fewer than the steps, and the maximum of von Mises (convex in
+    the coefficients) over them is the maximum over all steps, at every node."""
+    S, C = random_case(seed, k=k, steps=400)
+    steps = candidate_steps(C)
+    assert 0 < steps.size < C.shape[0] and np.all(np.diff(steps) > 0)
+    np.testing.assert_allclose(brute(S, C[steps]).max(axis=1), brute(S, C).max(axis=1), rtol=1e-12)
+    # every step for few steps or one coefficient
+    assert candidate_steps(C[:10]).size == 10
+    assert candidate_steps(C[:, :1]).size == C.shape[0]
+    # a degenerate (collinear) history: every step, nothing lost
+    line = np.outer(np.linspace(-1, 1, 100), [1.0, 2.0])
+    assert candidate_steps(line).size == 100
+
+
+def test_stress_at_is_the_weighted_sum_of_unit_fields():
+    S, C = random_case(6)
+    c = C[17]
+    np.testing.assert_allclose(stress_at(S, c), S[:, :, 0] * c[0] + S[:, :, 1] * c[1] + S[:, :, 2] * c[2], rtol=1e-12)
+    assert stress_at(S, C).shape == (6, S.shape[1], C.shape[0])
+
+
+@pytest.mark.parametrize("k", [1, 2, 3])
+def test_component_range_equals_every_step(k):
+    S, C = random_case(7, k=k)
+    s = np.einsum("cnk,tk->cnt", S, C)
+    hi, lo = component_range(S, C)
+    np.testing.assert_allclose(hi, s.max(axis=2), rtol=1e-12, atol=1e-9)
+    np.testing.assert_allclose(lo, s.min(axis=2), rtol=1e-12, atol=1e-9)
+
+
+def test_hull_polygon_and_its_support_function():
+    """A square's hull is its four corners counter-clockwise; the support function of any
+    direction is the largest projection of the corners; no polygon for three points or
+    a zero column."""
+    square = np.array([[1.0, 1.0], [-1.0, 1.0], [-1.0, -1.0], [1.0, -1.0], [0.2, 0.1], [0.0, 0.5]])
+    V = hull_polygon(square)
+    assert V.shape == (4, 2)
+    area = 0.5 * np.sum(V[:, 0] * np.roll(V[:, 1], -1) - np.roll(V[:, 0], -1) * V[:, 1])
+    assert area == pytest.approx(4.0)  # positive: counter-clockwise
+    rng = np.random.default_rng(8)
+    D = rng.normal(size=(1000, 2))
+    np.testing.assert_allclose(support(D, V), (D @ square.T).max(axis=1), rtol=1e-12)
+    angle = np.arctan2(D[:, 1], D[:, 0])
+    np.testing.assert_allclose(support(D, V, angle), (D @ square.T).max(axis=1), rtol=1e-12)
+    assert hull_polygon(square[:3]) is None
+    assert hull_polygon(np.column_stack([square[:, 0], np.zeros(6)])) is None
+
+
+def _fields(S, verdict=None, tip=None):
+    nodes = S.shape[1]
+    rng = np.random.default_rng(9)
+    return UnitFields(
+        stress=S,
+        tip=rng.normal(size=(3, S.shape[2])) * 1e-6 if tip is None else tip,
+        displacement=np.zeros((nodes, 3, S.shape[2])),
+        nodes=rng.normal(size=(nodes, 3)),
+        verdict_mask=np.ones(nodes, bool) if verdict is None else verdict,
+        names=tuple(f"c{i}" for i in range(S.shape[2])),
+    )
+
+
+@pytest.mark.parametrize("k", [2, 3])
+def test_envelope_equals_every_node_at_every_step(k):
+    """The peak over the verdict nodes and its step, node and place; every node's maximum;
+    the support peak over all nodes; the tip's largest magnitude and its step."""
+    S, C = random_case(10 + k, k=k)
+    verdict = np.arange(S.shape[1]) % 3 != 0
+    f = _fields(S, verdict)
+    vm = brute(S, C)
+    env = envelope(f, C)
+    masked = np.where(verdict[:, None], vm, -np.inf)
+    node, step = np.unravel_index(np.argmax(masked), vm.shape)
+    assert env.max_von_mises == pytest.approx(vm[node, step], rel=1e-12)
+    assert (env.node, env.step) == (node, step)
+    np.testing.assert_array_equal(env.location, f.nodes[node])
+    np.testing.assert_allclose(env.node_envelope, vm.max(axis=1), rtol=1e-12)
+    assert env.support_peak == pytest.approx(vm.max(), rel=1e-12) and env.support_peak >= env.max_von_mises
+    tip = np.linalg.norm(C @ f.tip.T, axis=1)
+    assert env.max_tip == pytest.approx(tip.max(), rel=1e-12) and env.tip_step == int(np.argmax(tip))
+    # an all-excluded mask reads every node
+    none = envelope(_fields(S, np.zeros(S.shape[1], bool)), C)
+    assert none.max_von_mises == pytest.approx(vm.max(), rel=1e-12)
+
+
+def test_history_at_one_node_is_its_von_mises_at_every_step():
+    S, C = random_case(14)
+    f = _fields(S)
+    np.testing.assert_allclose(history_at_node(f, C, 42), brute(S, C)[42], rtol=1e-12)
