@@ -124,3 +124,27 @@ def test_a_still_rig_has_no_cycle_to_respond_to():
 
     scene = parse_scene(tomllib.loads(SCENE.replace("SPEED", "0 Hz").replace("EFFECTS", '["gravity", "dynamic"]')), "t")
     assert dynamic_job(scene, None) is None
+
+
+@pytest.mark.slow
+def test_the_report_and_the_files_carry_the_dynamic_response(tmp_path):
+    """summary.json, report.html (the table and the Campbell diagram), campbell.png and
+    the mode shapes in the VTU, from `railcheck check`."""
+    import meshio
+
+    from railcheck.cli import main
+    from scene_texts import assert_picture
+
+    scene = tmp_path / "scene.toml"
+    scene.write_text(SCENE.replace("SPEED", "1 Hz").replace("EFFECTS", '["inertia", "dynamic"]') + "[output]\npng = false\n")
+    assert main(["check", str(scene), "--out", str(tmp_path / "r")]) == 0
+    out = tmp_path / "r"
+    d = json.loads((out / "summary.json").read_text())["parts"]["crank-rail"]["dynamic"]
+    assert len(d["frequencies_Hz"]) == 6 and d["pass"] is True
+    assert_picture(out / "campbell.png")
+    page = (out / "report.html").read_text()
+    assert "Dynamic response" in page and 'alt="Campbell diagram"' in page
+    m = meshio.read(out / "crank-rail.vtu")
+    modes = [k for k in m.point_data if k.startswith("mode_")]
+    assert len(modes) == 6 and modes[0] == f"mode_1_{d['frequencies_Hz'][0]:.1f}Hz"
+    assert m.point_data[modes[0]].shape == (m.points.shape[0], 3)

@@ -54,6 +54,7 @@ def write_report(path: Path, scene, result, summary: dict, directory: Path) -> N
     sections = [
         _header(result, summary),
         _parts(result),
+        _dynamic(result, directory),
         _checks(result),
         _pictures(result, directory),
         _kinematics(result, directory),
@@ -176,6 +177,44 @@ def _parts(result) -> str:
         f"seed method: at the instant of the peak reaction magnitude; "
         f"factor of safety = limit / cycle max; fatigue: {_e(crit.criterion)}, endurance limit "
         f"{crit.marin.endurance_limit / 1e6:.0f} MPa (Shigley ch. 6, Marin factors in summary.json).</p>"
+    )
+
+
+def _dynamic(result, directory: Path) -> str:
+    """The dynamic response (effect ``dynamic``): per part its lowest frequencies, the
+    crank harmonics nearest them and the amplification, then the Campbell diagram."""
+    parts = {n: p.cycle.dynamic for n, p in result.parts.items() if p.cycle.dynamic is not None}
+    if not parts:
+        return ""
+    rows = [
+        [
+            _e(name),
+            ", ".join(f"{f:.3g}" for f in d.hz[:3]),
+            ", ".join(str(n) for n in d.harmonics[:3]),
+            f"{d.quasi_static_peak / 1e6:.1f}",
+            f"{d.dynamic_peak / 1e6:.1f}",
+            f"{d.amplification:.4f}",
+            _verdict(d.passed),
+        ]
+        for name, d in parts.items()
+    ]
+    d0 = next(iter(parts.values()))
+    head = [
+        "part",
+        "lowest natural frequencies (Hz)",
+        "nearest crank harmonics",
+        "quasi-static peak (MPa)",
+        "dynamic peak (MPa)",
+        "amplification",
+        "verdict",
+    ]
+    return (
+        "<h2>Dynamic response</h2>"
+        + _table(head, rows)
+        + f'<p class="note">steady state over one revolution at {d0.crank_hz:.3g} Hz by modal superposition with the '
+        f"mode-acceleration correction; modal damping {d0.damping:g} (assumed); a part fails above an amplification "
+        f"of {d0.max_amplification:.3g}; free bodies pinned at their joints, clamped parts at their clamp.</p>"
+        + _img(directory / "campbell.png", "Campbell diagram")
     )
 
 
