@@ -39,7 +39,11 @@ ROOT = Path(__file__).resolve().parent.parent
 #: test files, then optionally "-k" and an expression)
 TARGETS: dict[str, tuple[str, tuple[str, ...] | None, tuple[str, ...]]] = {
     "railcheck.fea.fatigue": ("fea/fatigue.py", None, ("tests/test_fatigue.py",)),
-    "railcheck.check.records": ("railcheck/check/records.py", None, ("tests/test_verdicts.py", "tests/test_fatigue.py")),
+    "railcheck.check.records": (
+        "railcheck/check/records.py",
+        None,
+        ("tests/test_verdicts.py", "tests/test_fatigue.py", "tests/test_dynamic.py"),
+    ),
     "railcheck.fea.superpose": ("fea/superpose.py", None, ("tests/test_superpose.py",)),
     "railcheck.sweep.fe": ("railcheck/sweep/fe.py", None, ("tests/test_sweep_fe.py",)),
     "railcheck.sweep.chunk": (

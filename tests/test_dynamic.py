@@ -52,6 +52,10 @@ def test_the_dynamic_response_is_reported_and_quasi_static_holds_at_1_hz(one_hz)
     assert d.dynamic_peak == pytest.approx(part.verdict_stress, rel=1e-12)  # the verdict reads the dynamic response
     assert part.cycle.fields.names[-6:] == tuple(f"mode {i}" for i in range(1, 7))
     assert "modes" in part.seconds
+    import dataclasses
+
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        d.amplification = 1.0
     entry = summary_of(one_hz)["parts"]["crank-rail"]["dynamic"]
     assert entry["amplification"] == d.amplification and entry["pass"] is True
     json.dumps(entry, allow_nan=False)

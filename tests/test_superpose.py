@@ -138,3 +138,49 @@ def test_history_at_one_node_is_its_von_mises_at_every_step():
     S, C = random_case(14)
     f = _fields(S)
     np.testing.assert_allclose(history_at_node(f, C, 42), brute(S, C)[42], rtol=1e-12)
+
+
+def test_screens_on_histories_with_zeros_a_dead_column_and_a_line():
+    """Histories that take the screens' other branches: a column with exact zeros (sin 0),
+    one live column beside a dead one, and two columns on a line (no polygon); every
+    result equals brute force, and a node with no stress has none."""
+    t = np.linspace(0, 2 * np.pi, 300)
+    rng = np.random.default_rng(15)
+    S = rng.normal(size=(6, 50, 2)) * 1e5
+    S[:, 7] = 0.0  # an unstressed node
+    for C in (
+        np.column_stack([300 * np.cos(t), 200 * np.sin(t)]),  # sin(0) = 0 exactly
+        np.column_stack([300 * np.cos(t) + 40 * np.cos(3 * t), np.zeros_like(t)]),  # one live column
+        np.outer(np.cos(t), [1.0, -2.0]),  # collinear: no polygon
+    ):
+        vm = brute(S, C)
+        steps = candidate_steps(C)
+        np.testing.assert_allclose(brute(S, C[steps]).max(axis=1), vm.max(axis=1), rtol=1e-12)
+        best, _ = von_mises_max(S, C)
+        np.testing.assert_allclose(best, vm.max(axis=1), rtol=1e-12)
+        assert best[7] == 0.0
+        s = np.einsum("cnk,tk->cnt", S, C)
+        hi, lo = component_range(S, C)
+        np.testing.assert_allclose(hi, s.max(axis=2), rtol=1e-12, atol=1e-6)
+        np.testing.assert_allclose(lo, s.min(axis=2), rtol=1e-12, atol=1e-6)
+        env = envelope(_fields(S), C)
+        assert env.node_envelope[7] == 0.0 and env.max_von_mises == pytest.approx(vm.max(), rel=1e-12)
+
+
+def test_the_support_function_of_a_many_sided_polygon():
+    """A 60-gon (the binary search over edge normals has work to do) in every direction."""
+    a = np.sort(np.random.default_rng(16).uniform(0, 2 * np.pi, 60))
+    P = np.column_stack([3 * np.cos(a), np.sin(a)])
+    V = hull_polygon(P)
+    D = np.random.default_rng(17).normal(size=(5000, 2))
+    np.testing.assert_allclose(support(D, V), (D @ P.T).max(axis=1), rtol=1e-12)
+
+
+def test_the_records_are_frozen():
+    import dataclasses
+
+    S, C = random_case(18)
+    f = _fields(S)
+    for record in (f, envelope(f, C)):
+        with pytest.raises(dataclasses.FrozenInstanceError):
+            record.stress = None
