@@ -269,7 +269,7 @@ def score_module(module: str, jobs: int, tests_root: Path, log) -> dict:
     status, base = run_tests(module, ast.unparse(ast.parse(source)), origin, tests, tests_root, 1800)
     if status != "passed":
         raise SystemExit(f"{module}: the tests fail on the unmutated module ({status}); fix that first")
-    timeout = 5 * base + 30
+    timeout = 3 * base + 10  # a mutant that disables a screen may only be slow: killed as a timeout
     log(f"{module}: {len(found)} mutants, tests {base:.1f} s each")
     results = {}
     with cf.ThreadPoolExecutor(jobs) as pool:

@@ -185,3 +185,31 @@ def test_the_records_are_frozen(plate_result):
         field = dataclasses.fields(record)[0].name
         with pytest.raises(dataclasses.FrozenInstanceError):
             setattr(record, field, None)
+
+
+def test_the_console_table_keeps_its_columns_when_a_part_fails(plate_result):
+    """A failing part's verdict ("FAIL stress+fatigue+deflection") and long numbers widen
+    their columns: every cell starts where its header starts, and the utilisation names the
+    criterion that governs it (fatigue counts: #24)."""
+    from dataclasses import replace
+
+    from railcheck.report.text import parts_table
+
+    part = plate_result.parts["PF_4b_003_v2"]
+    spec = replace(part.job.fatigue, min_safety=100.0)
+    failing = replace(part, job=replace(part.job, limit=1e6, max_deflection=1e-6, fatigue=spec))
+    failing = replace(failing, cycle=replace(failing.cycle, fatigue=replace(failing.cycle.fatigue, required=100.0)))
+    result = replace(plate_result, parts={"PF_4b_003_v2": failing, "copy-of-the-plate": part})
+    lines = parts_table(result).splitlines()
+    header, rows = lines[0], lines[1:3]
+    assert "FAIL stress+fatigue+deflection" in rows[0]
+    starts = [header.index(h) for h in ("utilisation", "governs", "verdict", "peak at x, y, z (mm)")]
+    for row in rows:
+        for s in starts[1:]:
+            assert row[s - 2 : s] == "  " and row[s] != " "  # two spaces, then the cell
+    assert failing.governing_criterion == "deflection" and failing.utilisation > 10
+    assert part.governing_criterion == "stress" and part.utilisation == pytest.approx(part.verdict_stress / 375e6)
+    fatigue_governs = replace(part, job=replace(part.job, fatigue=replace(spec, min_safety=9.0)))
+    fatigue_governs = replace(fatigue_governs, cycle=replace(part.cycle, fatigue=replace(part.cycle.fatigue, required=9.0)))
+    assert fatigue_governs.governing_criterion == "fatigue"
+    assert fatigue_governs.utilisation == pytest.approx(9.0 / part.cycle.fatigue.min_safety_factor)

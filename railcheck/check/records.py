@@ -170,6 +170,33 @@ class PartResult:
         return self.deflection_limit is None or self.cycle.envelope.max_tip <= self.deflection_limit
 
     @property
+    def utilisations(self) -> dict[str, float]:
+        """Each criterion's share of its limit (1 = at the limit): ``stress`` (cycle peak /
+        limit), ``fatigue`` (required / fatigue factor), ``deflection`` (when limited) and
+        ``dynamic`` (amplification / its limit, with a dynamic response)."""
+        fat = self.cycle.fatigue
+        out = {
+            "stress": self.verdict_stress / self.limit,
+            "fatigue": fat.required / fat.min_safety_factor if fat.min_safety_factor > 0 else float("inf"),
+        }
+        if self.deflection_limit is not None:
+            out["deflection"] = self.cycle.envelope.max_tip / self.deflection_limit
+        if self.cycle.dynamic is not None:
+            out["dynamic"] = self.cycle.dynamic.amplification / self.cycle.dynamic.max_amplification
+        return out
+
+    @property
+    def utilisation(self) -> float:
+        """The largest of :attr:`utilisations`: the part fails above 1."""
+        return max(self.utilisations.values())
+
+    @property
+    def governing_criterion(self) -> str:
+        """The criterion with the largest utilisation."""
+        u = self.utilisations
+        return max(u, key=u.__getitem__)
+
+    @property
     def dynamic_passed(self) -> bool:
         """True without a dynamic response, else the amplification within its limit."""
         return self.cycle.dynamic is None or self.cycle.dynamic.passed

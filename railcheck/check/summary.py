@@ -65,7 +65,9 @@ def part_summary(p: PartResult) -> dict:
         "max_deflection_m": p.deflection_limit,
         "deflection_pass": bool(p.deflection_passed),
         "limit_Pa": p.limit,
-        "utilisation": p.verdict_stress / p.limit,
+        "utilisation": p.utilisation,
+        "governing_criterion": p.governing_criterion,
+        "utilisation_by_criterion": p.utilisations,
         "factor_of_safety": p.limit / p.verdict_stress if p.verdict_stress > 0 else None,
         "pass": bool(p.passed),
         "envelope": {

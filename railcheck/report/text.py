@@ -37,34 +37,75 @@ def kinematics_table(summary: dict) -> str:
     return "\n".join(lines)
 
 
+def aligned(header: list[str], rows: list[list[str]], left: frozenset = frozenset({0}), indent: str = "  ") -> list[str]:
+    """Rows of text under ``header``, each column as wide as its widest cell (the columns
+    numbered in ``left`` left-aligned, words; the rest right-aligned, numbers), two spaces
+    apart: a FAIL or a long number widens its column instead of running into the next."""
+    widths = [max(len(r[c]) for r in [header, *rows]) for c in range(len(header))]
+
+    def line(cells):
+        return (
+            indent
+            + "  ".join(
+                cell.ljust(w) if c in left else cell.rjust(w) for c, (cell, w) in enumerate(zip(cells, widths))
+            ).rstrip()
+        )
+
+    return [line(header), *(line(r) for r in rows)]
+
+
 def parts_table(result) -> str:
     """The console table: the cycle envelope's peak and where in the cycle, the seed
-    method's single instant beside it, the fatigue factor, and each verdict."""
-    lines = [
-        f"  {'part':<14}{'cycle max vM':>14}{'at crank':>10}{'seed inst.':>12}{'tip defl.':>11}{'limit':>9}"
-        f"{'FoS':>8}{'fatigue n':>11}  {'verdict':<8}{'peak at x, y, z (mm)':<24}{'at support*':>12}"
+    method's single instant beside it, the fatigue factor, the utilisation with the
+    criterion that governs it, and each verdict naming every failed criterion."""
+    header = [
+        "part",
+        "cycle max vM (MPa)",
+        "at crank (deg)",
+        "seed inst. (MPa)",
+        "tip defl. (mm)",
+        "limit (MPa)",
+        "FoS",
+        "fatigue n",
+        "utilisation",
+        "governs",
+        "verdict",
+        "peak at x, y, z (mm)",
+        "at support* (MPa)",
     ]
+    rows = []
     for name, p in result.parts.items():
         c = p.cycle
         loc = ", ".join(f"{x * 1e3:.1f}" for x in c.envelope.location)
         fos = p.limit / p.verdict_stress if p.verdict_stress > 0 else math.inf
         why = [] if p.stress_passed else ["stress"]
         why += [] if p.fatigue_passed else ["fatigue"]
-        why += [] if p.deflection_passed else ["defl"]
+        why += [] if p.deflection_passed else ["deflection"]
         why += [] if p.dynamic_passed else ["dynamic"]
         verdict = ("PASS" if p.passed else "FAIL " + "+".join(why)) if np.any(c.C) else "NO LOAD"
-        angle = f"{c.history.crank_angle_deg:>7.1f} deg" if c.C.shape[0] > 1 else f"{'constant':>11}"
-        lines.append(
-            f"  {name:<14}{p.verdict_stress / 1e6:>10.1f} MPa{angle}"
-            f"{c.seed_method.max_von_mises / 1e6:>8.1f} MPa{c.envelope.max_tip * 1e3:>8.2f} mm"
-            f"{p.limit / 1e6:>5.0f} MPa{_factor(fos):>8}{_factor(c.fatigue.min_safety_factor):>11}  "
-            f"{verdict:<8}{loc:<24}"
-            f"{c.envelope.support_peak / 1e6:>8.1f} MPa"
+        rows.append(
+            [
+                name,
+                f"{p.verdict_stress / 1e6:.1f}",
+                f"{c.history.crank_angle_deg:.1f}" if c.C.shape[0] > 1 else "constant",
+                f"{c.seed_method.max_von_mises / 1e6:.1f}",
+                f"{c.envelope.max_tip * 1e3:.2f}",
+                f"{p.limit / 1e6:.0f}",
+                _factor(fos),
+                _factor(c.fatigue.min_safety_factor),
+                f"{p.utilisation:.0%}",
+                p.governing_criterion,
+                verdict,
+                loc,
+                f"{c.envelope.support_peak / 1e6:.1f}",
+            ]
         )
+    lines = aligned(header, rows, left=frozenset({0, 9, 10, 11}))
     lines.append(
         "  cycle max vM: the largest von Mises over the whole crank cycle (superposed unit cases); seed inst.: "
         "at the instant of the peak |reaction| (seed 000's method); FoS = limit / cycle max; fatigue n: "
-        "minimum fatigue safety factor (Shigley 6-14 with the [fatigue] criterion)"
+        "minimum fatigue safety factor (Shigley 6-14 with the [fatigue] criterion); utilisation: the largest "
+        "of stress / limit, required / fatigue n, deflection / its limit and amplification / its limit"
     )
     lines += dynamic_lines(result)
     free = [n for n, p in result.parts.items() if p.job.free_body is not None]
