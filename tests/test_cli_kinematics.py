@@ -159,6 +159,22 @@ def test_init_writes_a_commented_scene_that_runs(tmp_path, capsys):
     assert code == 2 and "exists" in err
 
 
+def test_init_writes_a_scene_that_checks_exactly_what_the_default_checks(tmp_path, capsys):
+    """#24: the starter scene is the built-in default (explicit plate loads included):
+    every parsed setting equal, so `railcheck check` of it gives the default's results (only
+    the scene's text and name in summary.json differ)."""
+    import dataclasses
+
+    from railcheck.scene import load_scene
+
+    path = tmp_path / "mine.toml"
+    assert run(["init", str(path)], capsys)[0] == 0
+    mine, default = load_scene(path), load_scene(None)
+    for f in dataclasses.fields(default):
+        if f.name not in ("raw", "source"):
+            assert getattr(mine, f.name) == getattr(default, f.name), f.name
+
+
 def test_bare_command_prints_usage_and_version(capsys):
     assert main([]) == 2
     assert "usage: railcheck" in capsys.readouterr().out
