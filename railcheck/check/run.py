@@ -47,6 +47,13 @@ class CheckRun:
         return EXIT_FAIL if self.result.failures else EXIT_PASS
 
 
+def say_target(progress: Progress, requested: Path, target: Path) -> None:
+    """First, when the results go elsewhere than asked (the directory exists): say where,
+    so a report open in a browser is not taken for this run's."""
+    if Path(target) != Path(requested):
+        progress.say("output", f"{requested}/ exists: this run's results go to {target}/ (--force replaces it)")
+
+
 def run_check(
     scene: Scene, out: str | None = None, force: bool = False, progress: Progress | None = None, jobs: int | None = None
 ) -> CheckRun:
@@ -60,6 +67,7 @@ def run_check(
     except OSError as exc:
         raise InputError("output.dir", f"cannot write results at {requested}: {exc.strerror or exc}") from None
     progress = progress or Progress(quiet=True)
+    say_target(progress, requested, target)
     try:
         result = run_pipeline(
             scene, progress, jobs=jobs, part_done=functools.partial(write_part_files, scene.output, directory=staging.path)

@@ -286,7 +286,7 @@ def sweep_report(run) -> str:
         if k["motor"]:
             m = k["motor"]
             lines.append(
-                f"  motor: peak torque {m['torque_peak_Nm']:.1f} N m (RMS {m['torque_rms_Nm']:.1f} N m, "
+                f"  motor: peak torque {m['torque_peak_Nm']:.1f} N·m (RMS {m['torque_rms_Nm']:.1f} N·m, "
                 f"peak power {m['power_peak_W']:.0f} W) at {mm(m['lengths_m'])}"
             )
         if k["shortest_bearing_life"]:

@@ -279,7 +279,7 @@ def _final(t: dict) -> dict:
         "480/840/780/1020 mm has the largest reactions of the settings that pass every check",
         name == "480/840/780/1020",
         f"largest: {name} mm with {t['reaction'][i]:.1f} N; largest peak motor torque of the settings "
-        f"that pass {for_people(torque, '.1f', missing='not computed')} N m (the seed asks for a motor of at least 200 N m)",
+        f"that pass {for_people(torque, '.1f', missing='not computed')} N·m (the seed asks for a motor of at least 200 N·m)",
     )
 
 
@@ -323,7 +323,7 @@ def _map_figure(agg: Aggregate, path: Path) -> None:
         if np.all(np.isnan(agg.util)):  # no FE parts: the loads instead
             panels = (
                 (agg.reaction, np.nanmax, "largest peak joint reaction (N)", "viridis"),
-                (agg.torque, np.nanmax, "largest peak motor torque (N m)", "viridis"),
+                (agg.torque, np.nanmax, "largest peak motor torque (N·m)", "viridis"),
             )
         for row, (data, reduce, label, cmap) in enumerate(panels):
             ax = axes[row, col]

@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from railcheck.check.jobs import part_geometries, refuse_huge
+from railcheck.check.run import say_target
 from railcheck.errors import EXIT_FAIL, EXIT_PASS, InputError
 from railcheck.fea.materials import MATERIALS
 from railcheck.files import Staging, atomic_write_text, reserve_results_dir, to_json
@@ -170,6 +171,7 @@ def run_sweep(
         staging = Staging(target, replaces)
     except OSError as exc:
         raise InputError("output.dir", f"cannot write results at {requested}: {exc.strerror or exc}") from None
+    say_target(progress, requested, target)
     try:
         summary, tables, timings = _run_into(scene, staging.path, scheduler, workers, serial, progress, dask)
         staging.commit()

@@ -253,3 +253,14 @@ def test_a_sweep_killed_with_sigkill_leaves_nothing_after_the_next_run(tmp_path)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["res", "scene.toml"]
     assert (tmp_path / "res" / "summary.json").exists()
     assert not [p for p in (tmp_path / "res").iterdir() if p.name.startswith(".")]
+
+
+def test_a_second_run_says_first_where_its_results_go(tmp_path):
+    """The results directory exists: before any work the run names the one it writes, so a
+    report open in a browser is not taken for this run's (#24)."""
+    text = PLATE + "[output]\nvtk = false\npng = false\nplots = false\n"
+    first = check(tmp_path, text, out="r")
+    assert first.returncode in (0, 1) and "exists" not in first.stderr
+    second = check(tmp_path, text, out="r")
+    assert second.returncode in (0, 1)
+    assert "r/ exists: this run's results go to" in second.stderr.splitlines()[0] and "r-2/" in second.stderr.splitlines()[0]
