@@ -49,7 +49,7 @@ TARGETS: dict[str, tuple[str, tuple[str, ...] | None, tuple[str, ...]]] = {
     "railcheck.sweep.chunk": (
         "railcheck/sweep/chunk.py",
         ("evaluate_part", "utilisation", "fe_results", "_scaled", "_safe_s_closed", "failed_criteria", "_fe_columns"),
-        ("tests/test_sweep_speeds.py", "tests/test_verdicts.py", "-k", "sweep or speed"),
+        ("tests/test_sweep_speeds.py", "tests/test_verdicts.py", "tests/test_sweep.py", "-k", "sweep or speed"),
     ),
     "railcheck.loads.bearings": ("loads/bearings.py", None, ("tests/test_sweep.py", "-k", "bearing")),
     "railcheck.kinematics.checks": (
@@ -64,6 +64,17 @@ TARGETS: dict[str, tuple[str, tuple[str, ...] | None, tuple[str, ...]]] = {
         ),
     ),
     "railcheck.loads.rotation": ("loads/rotation.py", None, ("tests/test_check.py",)),
+}
+
+#: the fast tests that guarded each module before issue 27 (commit c3ef04e), for its
+#: "before" score: ``--targets before --tests-root`` a checkout of that commit
+BEFORE: dict[str, tuple[str, ...]] = {
+    "railcheck.fea.fatigue": ("tests/test_cycle.py", "-k", "marin or goodman or polygon"),
+    "railcheck.check.records": ("tests/test_check.py", "tests/test_registry.py", "tests/test_cli_kinematics.py"),
+    "railcheck.sweep.chunk": ("tests/test_sweep.py", "-k", "not dask and not memory"),
+    "railcheck.loads.bearings": ("tests/test_sweep.py", "-k", "bearing"),
+    "railcheck.kinematics.checks": TARGETS["railcheck.kinematics.checks"][2],
+    "railcheck.loads.rotation": ("tests/test_check.py",),
 }
 
 _BINOPS = {ast.Add: ast.Sub, ast.Sub: ast.Add, ast.Mult: ast.Div, ast.Div: ast.Mult, ast.Pow: ast.Mult}
@@ -259,8 +270,9 @@ def run_tests(module: str, source_text: str, origin: Path, tests: tuple[str, ...
     return status, time.perf_counter() - t0
 
 
-def score_module(module: str, jobs: int, tests_root: Path, log) -> dict:
+def score_module(module: str, jobs: int, tests_root: Path, log, before: bool = False) -> dict:
     path, functions, wanted = TARGETS[module]
+    wanted = BEFORE[module] if before else wanted
     k = wanted.index("-k") if "-k" in wanted else len(wanted)
     tests = tuple(t for t in wanted[:k] if (tests_root / t).exists()) + wanted[k:]  # an older checkout may lack some
     origin = ROOT / path
@@ -301,12 +313,16 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--module", action="append", choices=sorted(TARGETS), help="default: every target")
     parser.add_argument("--jobs", type=int, default=2)
     parser.add_argument("--tests-root", type=Path, default=ROOT)
+    parser.add_argument("--targets", choices=("after", "before"), default="after", help="which tests guard each module")
     parser.add_argument("--json", type=Path)
     args = parser.parse_args(argv)
     out = []
     t0 = time.perf_counter()
-    for module in args.module or list(TARGETS):
-        r = score_module(module, args.jobs, args.tests_root, lambda s: print(s, file=sys.stderr, flush=True))
+    default = list(BEFORE) if args.targets == "before" else list(TARGETS)
+    for module in args.module or default:
+        r = score_module(
+            module, args.jobs, args.tests_root, lambda s: print(s, file=sys.stderr, flush=True), args.targets == "before"
+        )
         out.append(r)
         print(f"{module:28s} {r['killed']:4d}/{r['mutants']:<4d} killed  {100 * r['score']:5.1f}%", flush=True)
         for s in r["survivors"]:

@@ -218,6 +218,36 @@ def test_bearing_life_weights_each_load_by_the_turns_it_is_carried():
     assert still.l10_hours[0] == np.inf
 
 
+def test_bearing_life_over_settings_and_joints_slow_rings_and_light_loads():
+    """Leading dimensions (settings, joints) are kept apart; a ring turning at 0.2 rev/s
+    under 0.4 N still has a finite (huge) life; rings that never turn carry an equivalent
+    load of 0 and no rating life; the 6205's ratings are the 2013 study's (3.3.6)."""
+    import dataclasses
+
+    assert (BEARING_6205.dynamic_capacity, BEARING_6205.static_capacity) == (14_900.0, 7_800.0)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        BEARING_6205.dynamic_capacity = 1.0
+    T = 400
+    load = np.zeros((2, 3, T, 2))
+    load[..., 0] = np.arange(1, 7).reshape(2, 3, 1) * 100.0  # 100 .. 600 N on the joint
+    speed = np.full((2, 3, T), 2 * np.pi)
+    life = bearing_life(load, speed)
+    assert life.l10_hours.shape == (2, 3)
+    per_bearing = np.arange(1, 7).reshape(2, 3) * 50.0
+    np.testing.assert_allclose(life.equivalent_load, per_bearing, rtol=1e-12)
+    np.testing.assert_allclose(life.l10_hours, (14_900.0 / per_bearing) ** 3 * 1e6 / 3600.0, rtol=1e-12)
+    light = np.zeros((1, T, 2))
+    light[..., 1] = 0.8  # 0.4 N per bearing
+    slow = bearing_life(light, np.full((1, T), 0.4 * np.pi))  # 0.2 rev/s
+    assert slow.equivalent_load[0] == pytest.approx(0.4, rel=1e-12)
+    assert slow.l10_hours[0] == pytest.approx((14_900.0 / 0.4) ** 3 * 1e6 / (3600.0 * 0.2), rel=1e-12)
+    assert slow.static_safety[0] == pytest.approx(7_800.0 / 0.4, rel=1e-12)
+    still = bearing_life(light, np.zeros((1, T)))
+    assert still.equivalent_load[0] == 0.0 and still.l10_hours[0] == np.inf
+    nothing = bearing_life(np.zeros((1, T, 2)), np.full((1, T), 2 * np.pi))
+    assert nothing.l10_hours[0] == np.inf and nothing.static_safety[0] == np.inf
+
+
 @pytest.mark.slow
 def test_dask_and_serial_give_identical_tables(tmp_path):
     text = KINEMATICS_ONLY + 'crank = ["420 mm", "540 mm"]\ncoupler = ["780 mm", "900 mm"]\nspeeds = ["1 Hz", "1.5 Hz"]\n'

@@ -94,3 +94,54 @@ def test_checking_each_setting_at_its_safe_speed_puts_it_at_its_limit(rows):
         part = _check(row, float(row["safe_speed_Hz"]))
         u = max(part.verdict_stress / part.limit, part.cycle.fatigue.required / part.cycle.fatigue.min_safety_factor)
         assert u == pytest.approx(1.0, abs=1e-9)
+
+
+def _sweep_rows(tmp_path, text: str) -> dict:
+    run = run_sweep(parse_scene(tomllib.loads(text), "test"), str(tmp_path / "s"), serial=True)
+    table = read_table(run.tables["four-bar"])
+    return {k: np.asarray(v.to_numpy(zero_copy_only=False)) for k, v in zip(table.column_names, table.columns)}
+
+
+def test_a_constant_load_part_that_fails_at_rest_gives_a_safe_speed_of_zero(tmp_path):
+    """A plate under explicit (speed-independent) loads above its limit fails at every
+    speed: safe speed 0, verdict fail naming it; the speed-dependent crank rail does not
+    hide it (the worst constant part counts, not the first)."""
+    text = (
+        SWEEP.replace('crank = ["420 mm", "480 mm"]', 'crank = ["480 mm", "480 mm"]')
+        .replace('speeds = ["1 Hz", "2 Hz"]', 'speeds = ["1 Hz"]')
+        .replace('parts = ["crank-rail"]', 'parts = ["crank-rail", "PF_4b_006", "PF_4b_003_v2"]\nlimit = "50 MPa"')
+        + '[loads.PF_4b_006]\nlongitudinal = "1 N"\ntransverse = "1 N"\n'
+        + '[loads.PF_4b_003_v2]\nlongitudinal = "250 N"\ntransverse = "250 N"\n'
+    )
+    rows = _sweep_rows(tmp_path, text)
+    assert rows["PF_4b_003_v2_stress_MPa"][0] > 50 and rows["PF_4b_006_stress_MPa"][0] < 50
+    assert rows["safe_speed_Hz"][0] == 0.0 and rows["verdict"][0] == "fail"
+    assert "PF_4b_003_v2 stress" in rows["reason"][0]
+
+
+def test_a_sweep_with_gravity_equals_check_with_gravity(tmp_path):
+    """With gravity the loads are C_g + s C_i (no closed-form scaling): the row equals
+    `railcheck check` of the setting with gravity, to 1e-9."""
+    text = SWEEP.replace('crank = ["420 mm", "480 mm"]', 'crank = ["480 mm", "480 mm"]').replace(
+        'parts = ["crank-rail"]', 'parts = ["crank-rail"]\neffects = ["inertia", "gravity"]'
+    )
+    rows = _sweep_rows(tmp_path, text)
+    i = int(np.flatnonzero(rows["speed_Hz"] == 2.0)[0])
+    row = {k: v[i] for k, v in rows.items()}
+    check_text = f"""
+[mechanism]
+kind = "four-bar"
+crank = "{row["crank_mm"]:.6f} mm"
+coupler = "{row["coupler_mm"]:.6f} mm"
+rocker = "{row["rocker_mm"]:.6f} mm"
+ground = "{row["ground_mm"]:.6f} mm"
+speed = "2 Hz"
+steps = 90
+[check]
+parts = ["crank-rail"]
+bolt_position = "actual"
+effects = ["inertia", "gravity"]
+"""
+    part = run_pipeline(parse_scene(tomllib.loads(check_text + MESH), "check")).parts["crank-rail"]
+    assert row["crank-rail_stress_MPa"] * 1e6 == pytest.approx(part.cycle.envelope.max_von_mises, rel=1e-9)
+    assert row["crank-rail_fatigue"] == pytest.approx(part.cycle.fatigue.min_safety_factor, rel=1e-9)
