@@ -145,3 +145,22 @@ effects = ["inertia", "gravity"]
     part = run_pipeline(parse_scene(tomllib.loads(check_text + MESH), "check")).parts["crank-rail"]
     assert row["crank-rail_stress_MPa"] * 1e6 == pytest.approx(part.cycle.envelope.max_von_mises, rel=1e-9)
     assert row["crank-rail_fatigue"] == pytest.approx(part.cycle.fatigue.min_safety_factor, rel=1e-9)
+
+
+def test_the_safe_speed_names_the_part_and_criterion_that_reach_their_limit(tmp_path):
+    """At 0.5 Hz the constant-load plate governs the utilisation; the safe speed is set by
+    the crank rail (whose loads grow with the speed), and the row says so (#24): a check at
+    that speed puts the crank rail's named criterion at exactly 1."""
+    text = (
+        SWEEP.replace('crank = ["420 mm", "480 mm"]', 'crank = ["480 mm", "480 mm"]')
+        .replace('speeds = ["1 Hz", "2 Hz"]', 'speeds = ["0.5 Hz"]')
+        .replace('parts = ["crank-rail"]', 'parts = ["crank-rail", "PF_4b_003_v2"]')
+        + '[loads.PF_4b_003_v2]\nlongitudinal = "250 N"\ntransverse = "250 N"\n'
+    )
+    rows = _sweep_rows(tmp_path, text)
+    row = {k: v[0] for k, v in rows.items()}
+    assert row["governing_part"] == "PF_4b_003_v2" and row["governing_criterion"] == "stress"
+    assert row["safe_speed_part"] == "crank-rail"
+    part = _check(row, float(row["safe_speed_Hz"]))
+    assert part.utilisations[row["safe_speed_criterion"]] == pytest.approx(1.0, abs=1e-9)
+    assert part.governing_criterion == row["safe_speed_criterion"]

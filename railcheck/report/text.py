@@ -278,11 +278,15 @@ def sweep_report(run) -> str:
         if k["worst"]:
             w = k["worst"]
             lines.append(
-                f"  worst passing-checks setting {mm(w['lengths_m'])}: {w['part']} utilisation {w['utilisation']:.3f}"
+                f"  worst passing-checks setting {mm(w['lengths_m'])}: {w['part']} utilisation {w['utilisation']:.3f} "
+                f"({w['criterion']})"
             )
         if k["lowest_safe_speed"]:
             m = k["lowest_safe_speed"]
-            lines.append(f"  lowest safe speed {m['safe_speed_Hz']:.3g} Hz at {mm(m['lengths_m'])} ({m['part']})")
+            lines.append(
+                f"  lowest safe speed {m['safe_speed_Hz']:.3g} Hz at {mm(m['lengths_m'])}: there {m['part']} "
+                f"reaches its {m['criterion']} limit"
+            )
         if k["motor"]:
             m = k["motor"]
             lines.append(

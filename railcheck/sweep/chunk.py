@@ -220,11 +220,32 @@ def evaluate_part(model, history: list[tuple], bar_lengths: np.ndarray | None, s
     return vm, fat, tip
 
 
-def utilisation(model, vm, fat, tip) -> np.ndarray:
-    """The largest of stress / limit, required / fatigue factor and tip / deflection limit."""
+def criterion_utilisations(model, vm, fat, tip) -> dict[str, np.ndarray]:
+    """criterion -> (S,) its share of the limit: stress / limit, required / fatigue factor
+    and (with a limit) tip / deflection limit; the words of ``railcheck check``."""
     with np.errstate(divide="ignore"):
-        u = np.maximum(vm / model.limit, model.required / fat)
-    return np.maximum(u, tip / model.deflection_limit) if model.deflection_limit else u
+        out = {"stress": vm / model.limit, "fatigue": model.required / fat}
+    if model.deflection_limit:
+        out["deflection"] = tip / model.deflection_limit
+    return out
+
+
+def utilisation(model, vm, fat, tip) -> np.ndarray:
+    """The largest of :func:`criterion_utilisations`."""
+    return np.max(list(criterion_utilisations(model, vm, fat, tip).values()), axis=0)
+
+
+def governing_of(ctx: SweepContext, results: dict) -> tuple[np.ndarray, np.ndarray]:
+    """(part, criterion) (S,) object arrays: what has the largest utilisation in
+    ``results`` (part -> (vm, fatigue, tip, utilisation))."""
+    names, crits, values = [], [], []
+    for name, (vm, fat, tip, _) in results.items():
+        for crit, u in criterion_utilisations(ctx.models[name], vm, fat, tip).items():
+            names.append(name)
+            crits.append(crit)
+            values.append(np.where(np.isnan(u), -np.inf, u))
+    k = np.argmax(np.array(values), axis=0)
+    return np.array(names, dtype=object)[k], np.array(crits, dtype=object)[k]
 
 
 def fe_results(ctx: SweepContext, loads: Loads, sel: np.ndarray, lengths: dict, speeds_s: list) -> dict:
@@ -248,10 +269,12 @@ def fe_results(ctx: SweepContext, loads: Loads, sel: np.ndarray, lengths: dict, 
     base = at(1.0)
     per_speed = [base if s == 1.0 else (at(s) if gravity else _scaled(ctx, base, s)) for s in speeds_s]
     safe = _safe_s_bisect(ctx, at, n_sel) if gravity else _safe_s_closed(ctx, base, n_sel)
-    return {"per_speed": per_speed, "safe_s": safe}
+    finite = np.where(np.isfinite(safe), safe, 1.0)  # unlimited: what governs at the reference speed
+    at_safe = at(finite) if gravity else _scaled(ctx, base, finite)
+    return {"per_speed": per_speed, "safe_s": safe, "safe_governs": governing_of(ctx, at_safe)}
 
 
-def _scaled(ctx: SweepContext, base: dict, s: float) -> dict:
+def _scaled(ctx: SweepContext, base: dict, s) -> dict:
     """Results at speed ratio squared ``s`` from those at 1, without gravity (module doc)."""
     out = {}
     for name, (vm, fat, tip, _) in base.items():
@@ -369,9 +392,14 @@ def _fe_columns(ctx: SweepContext, n: int, fe, j: int, speed: float, passed: np.
         better = np.isfinite(u) & ~(u <= worst)
         worst, governing = np.where(better, u, worst), np.where(better, name, governing)
     safe = np.full(n, np.nan)
+    criterion, safe_part, safe_criterion = (np.full(n, "", dtype=object) for _ in range(3))
     if fe is not None:
-        safe[fe[0]] = ctx.speeds[0] * np.sqrt(fe[1]["safe_s"]) / (2 * math.pi)
-    col["utilisation"], col["governing_part"], col["safe_speed_Hz"] = worst, governing, safe
+        at, res = fe
+        safe[at] = ctx.speeds[0] * np.sqrt(res["safe_s"]) / (2 * math.pi)
+        safe_part[at], safe_criterion[at] = res["safe_governs"]
+        criterion[at] = governing_of(ctx, res["per_speed"][j])[1]
+    col["utilisation"], col["governing_part"], col["governing_criterion"] = worst, governing, criterion
+    col["safe_speed_Hz"], col["safe_speed_part"], col["safe_speed_criterion"] = safe, safe_part, safe_criterion
     col["safe_speed_unlimited"] = np.isinf(safe)  # the table holds null for the infinite speed
     names = list(checks)
     reason = np.array(

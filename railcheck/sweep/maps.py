@@ -78,7 +78,12 @@ class Aggregate:
         u = np.where(ok & np.isfinite(c["utilisation"]), c["utilisation"], -np.inf)
         if u.size and np.isfinite(u.max()) and (self.worst is None or u.max() > self.worst["utilisation"]):
             i = int(np.argmax(u))
-            self.worst = {"lengths_m": self._lengths(c, i), "part": str(c["governing_part"][i]), "utilisation": float(u[i])}
+            self.worst = {
+                "lengths_m": self._lengths(c, i),
+                "part": str(c["governing_part"][i]),
+                "criterion": str(c["governing_criterion"][i]),
+                "utilisation": float(u[i]),
+            }
         t = np.where(ok & np.isfinite(c["torque_peak_Nm"]), c["torque_peak_Nm"], -np.inf)
         if t.size and np.isfinite(t.max()) and (self.motor is None or t.max() > self.motor["torque_peak_Nm"]):
             i = int(np.argmax(t))
@@ -94,7 +99,8 @@ class Aggregate:
             self.min_safe = {
                 "lengths_m": self._lengths(c, i),
                 "safe_speed_Hz": float(s[i]),
-                "part": str(c["governing_part"][i]),
+                "part": str(c["safe_speed_part"][i]),  # what reaches utilisation 1 at that speed
+                "criterion": str(c["safe_speed_criterion"][i]),
             }
         life = np.where(ok & ~np.isnan(c["bearing_life_h"]), c["bearing_life_h"], np.inf)
         if life.size and np.isfinite(life.min()) and (self.min_life is None or life.min() < self.min_life["hours"]):
