@@ -34,7 +34,7 @@ import scipy.sparse as sp
 from .loading import surface_dofs
 from .modes import natural_modes, vector_mass_matrix
 
-__all__ = ["DynamicModel", "modal_correction", "part_modes", "pin_constraints"]
+__all__ = ["DynamicModel", "lumped_masses", "modal_correction", "part_modes", "pin_constraints"]
 
 #: penalty stiffness of a pin, relative to the largest diagonal entry of K
 PIN_PENALTY = 1e4
@@ -71,11 +71,29 @@ def pin_constraints(basis, groups: dict, pins: list[list[str]]) -> sp.csr_matrix
     return sp.vstack(rows).tocsr()
 
 
-def part_modes(K, basis, density: float, F: np.ndarray, count: int, fixed=None, pins=None, groups=None) -> DynamicModel:
+def lumped_masses(basis, groups: dict, lumped) -> sp.csr_matrix:
+    """(N, N) kg: point masses carried by hole surfaces, ``lumped`` = [(surfaces, kg)],
+    each spread over its surfaces' nodes in proportion to their area, on every component
+    (a translational mass: the carried body's rotary inertia is left out)."""
+    diag = np.zeros(basis.N)
+    for names, kg in lumped:
+        parts = [surface_dofs(basis, groups, g) for g in names]
+        dofs = np.concatenate([p.dofs for p in parts])
+        w = np.concatenate([p.weights for p in parts])
+        np.add.at(diag, dofs, kg * (w / w.sum())[:, None])
+    return sp.diags(diag).tocsr()
+
+
+def part_modes(
+    K, basis, density: float, F: np.ndarray, count: int, fixed=None, pins=None, groups=None, lumped=()
+) -> DynamicModel:
     """The ``count`` lowest modes of a part with its ``fixed`` DOFs held (a clamped part)
     or its ``pins`` (lists of hole surfaces, :func:`pin_constraints`) held by penalty (a
-    free body), and each unit load vector's modal load (``F`` (N, k))."""
+    free body), the masses ``lumped`` on hole surfaces ([(surfaces, kg)]) added to the
+    consistent mass, and each unit load vector's modal load (``F`` (N, k))."""
     M = vector_mass_matrix(basis, density)
+    if lumped:
+        M = (M + lumped_masses(basis, groups, lumped)).tocsr()
     Kd = K
     if pins:
         G = pin_constraints(basis, groups, pins)

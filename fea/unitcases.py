@@ -128,7 +128,7 @@ def solve_unit_cases(
     report=None,
     curved=None,
     free_body: FreeBodyCases | None = None,
-    modes: tuple[int, list | None] | None = None,
+    modes: tuple[int, list | None, tuple] | None = None,
 ) -> tuple[UnitFields, UnitSolve]:
     """Unit fields of every case (one factorisation) and its :class:`UnitSolve` (timings, solver info, balances)
     (``curved``: the mesh's curved edges for isoparametric P2, :func:`railcheck.fea.elasticity.assemble`).
@@ -136,7 +136,7 @@ def solve_unit_cases(
     (:mod:`railcheck.fea.relief`), the body cases carry ``free_body.mass`` kg spread
     uniformly, every node is in the verdict, and the "tip" is the deflection that
     ``free_body.deflection`` defines (:func:`railcheck.fea.stress.relative_deflection`).
-    With ``modes`` = (count, pins) the part's lowest modes are computed too
+    With ``modes`` = (count, pins, lumped masses) the part's lowest modes are computed too
     (:func:`railcheck.fea.dynamic.part_modes`: held at its supports, or at ``pins`` for a
     free body) and their fields follow the unit cases' as extra columns ("mode 1", ...)."""
     t = [time.perf_counter()]
@@ -164,11 +164,13 @@ def solve_unit_cases(
     names = tuple(cases)
     t.append(time.perf_counter())
     if modes is not None:
-        count, pins = modes
+        count, pins, lumped = modes
         density = material.density
         if free_body is not None:  # the FE body carries the dynamics' mass, as its body cases do
             density = free_body.mass / body_force_vectors(basis)[:, 0].sum()
-        model = part_modes(K, basis, density, F, count, fixed=None if pins else fixed, pins=pins, groups=groups)
+        model = part_modes(
+            K, basis, density, F, count, fixed=None if pins else fixed, pins=pins, groups=groups, lumped=lumped
+        )
         U = np.hstack([U, model.shapes])
         names += tuple(f"mode {i + 1}" for i in range(count))
         model = DynamicModel(hz=model.hz, shapes=np.zeros((0, count)), modal_loads=model.modal_loads)

@@ -92,3 +92,22 @@ def test_mode_acceleration_equals_a_direct_harmonic_solve(beam, ratio):
     if ratio == 0.6:  # well above quasi-static: 1 / (1 - 0.36) on the first mode
         assert direct[tip] / static[tip] > 1.5
     np.testing.assert_allclose(dq[-1], dq[0], rtol=1e-12)  # the period's end is its start
+
+
+def test_a_mass_on_the_tip_lowers_the_cantilever_as_rayleigh_says(beam):
+    """2 kg lumped on the free end face: f = sqrt(k / (m + 0.2357 m_beam)) / 2 pi with the
+    tip stiffness k = 3 E I / L^3 (Rayleigh, within 2%); the mass matrix weighs 2 kg more."""
+    from railcheck.fea.dynamic import lumped_masses, part_modes
+
+    mesh, K, basis, M = beam
+    extra = lumped_masses(basis, mesh.groups, [(("tip",), 2.0)])
+    translation = (dof_components(basis) == 1).astype(float)
+    assert translation @ extra @ translation == pytest.approx(2.0, rel=1e-12)
+    fixed = supports(basis, mesh.groups, ["clamp"])
+    model = part_modes(
+        K, basis, STEEL.density, np.zeros((basis.N, 1)), 1, fixed=fixed, groups=mesh.groups, lumped=[(("tip",), 2.0)]
+    )
+    I = W * H**3 / 12
+    k = 3 * STEEL.youngs_modulus * I / L**3
+    m_beam = STEEL.density * L * W * H
+    assert model.hz[0] == pytest.approx(np.sqrt(k / (2.0 + 0.2357 * m_beam)) / (2 * np.pi), rel=0.02)

@@ -67,7 +67,9 @@ def check_part(job: PartJob, solver: str, report) -> PartResult:
         report,
         curved=mesh.curved if job.mesh.curved else None,
         free_body=job.free_body,
-        modes=(job.dynamic.modes, list(job.dynamic.pins) if job.dynamic.pins else None) if job.dynamic else None,
+        modes=(job.dynamic.modes, list(job.dynamic.pins) if job.dynamic.pins else None, job.dynamic.lumped)
+        if job.dynamic
+        else None,
     )
     seconds.update(solve.seconds)
     t = time.perf_counter()

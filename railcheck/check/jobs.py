@@ -24,7 +24,7 @@ from railcheck.fea.unitcases import FreeBodyCases
 from railcheck.geometry.mesher import estimate_elements
 from railcheck.geometry.models import PartGeometry
 from railcheck.loads.cases import LoadCase, explicit_load_case, rail_bolt_holes, reaction_load_case
-from railcheck.parts import BAR_INDEX, KINDS, PARTS, geometry_of, kind_of
+from railcheck.parts import BAR_INDEX, KINDS, PARTS, geometry_of, kind_of, mass_model
 from railcheck.scene import FatigueSpec, MeshSpec, Scene
 
 #: peak memory per DOF of a P2 solve on the iterative path (assembly, AMG hierarchy, stress
@@ -57,6 +57,7 @@ class DynamicJob:
     max_amplification: float
     modes: int
     pins: tuple[tuple[str, ...], ...] | None
+    lumped: tuple[tuple[tuple[str, ...], float], ...] = ()  # (hole groups, kg): masses the joints carry
 
 
 @dataclass(frozen=True)
@@ -183,19 +184,29 @@ def part_jobs(
             fatigue=scene.fatigue,
             max_deflection=scene.check.max_deflection,
             free_body=free,
-            dynamic=dynamic_job(scene, free),
+            dynamic=dynamic_job(scene, free, name, holes),
         )
     return jobs
 
 
-def dynamic_job(scene: Scene, free: FreeBodyCases | None) -> DynamicJob | None:
+def dynamic_job(
+    scene: Scene, free: FreeBodyCases | None, name: str = "", holes: list[str] | tuple = ()
+) -> DynamicJob | None:
     """The part's dynamic request when ``dynamic`` is listed and the crank turns (a still
-    rig has no cycle to respond to); a free body is pinned at its two joints."""
+    rig has no cycle to respond to); a free body is pinned at its two joints. A rail's
+    joints carry the mass model's point masses (plates, carriages, coupling), lumped on
+    their holes: the near joint's on its first hole, the far joint's on its bolt holes."""
     if "dynamic" not in scene.check.effects or scene.mechanism is None or scene.mechanism.speed <= 0:
         return None
     d = scene.dynamic
     pins = (tuple(free.deflection[0]), tuple(free.deflection[1])) if free is not None else None
-    return DynamicJob(scene.mechanism.speed, d.damping, d.max_amplification, d.modes, pins)
+    lumped: tuple = ()
+    fb = PARTS[name].free_body if name in PARTS else None
+    if fb is not None and holes and name not in scene.check.loads:
+        masses = mass_model(scene.check.support, scene.geometry)
+        kg = [sum(getattr(masses, m) for m in joint.masses) for joint in (fb.near, fb.far)]
+        lumped = tuple((g, m) for g, m in ((("hole_0",), kg[0]), (tuple(holes), kg[1])) if m > 0)
+    return DynamicJob(scene.mechanism.speed, d.damping, d.max_amplification, d.modes, pins, lumped)
 
 
 def free_body_cases(loads: LoadModel, geo: PartGeometry, holes: list[str]) -> FreeBodyCases:
