@@ -56,6 +56,7 @@ TARGETS: dict[str, tuple[str, tuple[str, ...] | None, tuple[str, ...]]] = {
         "kinematics/checks.py",
         None,
         (
+            "tests/test_checks.py",
             "tests/test_seed_tables.py",
             "tests/test_cli_kinematics.py",
             "tests/test_sweep.py",
@@ -73,7 +74,9 @@ BEFORE: dict[str, tuple[str, ...]] = {
     "railcheck.check.records": ("tests/test_check.py", "tests/test_registry.py", "tests/test_cli_kinematics.py"),
     "railcheck.sweep.chunk": ("tests/test_sweep.py", "-k", "not dask and not memory"),
     "railcheck.loads.bearings": ("tests/test_sweep.py", "-k", "bearing"),
-    "railcheck.kinematics.checks": TARGETS["railcheck.kinematics.checks"][2],
+    "railcheck.kinematics.checks": tuple(
+        t for t in TARGETS["railcheck.kinematics.checks"][2] if t != "tests/test_checks.py"
+    ),
     "railcheck.loads.rotation": ("tests/test_check.py",),
 }
 
