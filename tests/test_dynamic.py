@@ -50,6 +50,8 @@ def test_the_dynamic_response_is_reported_and_quasi_static_holds_at_1_hz(one_hz)
     assert d.crank_hz == pytest.approx(1.0) and list(d.harmonics[:1]) == [round(d.hz[0])]
     assert 1.0 < d.amplification < d.max_amplification and d.passed and part.passed
     assert d.dynamic_peak == pytest.approx(part.verdict_stress, rel=1e-12)  # the verdict reads the dynamic response
+    # its utilisation: the excess over quasi-static as a share of the allowed 10%
+    assert part.utilisations["dynamic"] == pytest.approx((d.amplification - 1) / 0.1, rel=1e-12)
     assert part.cycle.fields.names[-6:] == tuple(f"mode {i}" for i in range(1, 7))
     assert "modes" in part.seconds
     import dataclasses

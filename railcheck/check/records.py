@@ -181,8 +181,13 @@ class PartResult:
         }
         if self.deflection_limit is not None:
             out["deflection"] = self.cycle.envelope.max_tip / self.deflection_limit
-        if self.cycle.dynamic is not None:
-            out["dynamic"] = self.cycle.dynamic.amplification / self.cycle.dynamic.max_amplification
+        d = self.cycle.dynamic
+        if d is not None:  # the share of the allowed excess over quasi-static: 0 at 1.0, 1 at the limit
+            out["dynamic"] = (
+                (d.amplification - 1.0) / (d.max_amplification - 1.0)
+                if d.max_amplification > 1
+                else (0.0 if d.amplification <= 1.0 else float("inf"))
+            )
         return out
 
     @property

@@ -105,7 +105,7 @@ def parts_table(result) -> str:
         "  cycle max vM: the largest von Mises over the whole crank cycle (superposed unit cases); seed inst.: "
         "at the instant of the peak |reaction| (seed 000's method); FoS = limit / cycle max; fatigue n: "
         "minimum fatigue safety factor (Shigley 6-14 with the [fatigue] criterion); utilisation: the largest "
-        "of stress / limit, required / fatigue n, deflection / its limit and amplification / its limit"
+        "of stress / limit, required / fatigue n, deflection / its limit and (amplification - 1) / (its limit - 1)"
     )
     lines += dynamic_lines(result)
     free = [n for n, p in result.parts.items() if p.job.free_body is not None]
