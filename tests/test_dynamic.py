@@ -152,6 +152,7 @@ def test_the_report_and_the_files_carry_the_dynamic_response(tmp_path):
     assert_picture(out / "campbell.png")
     page = (out / "report.html").read_text()
     assert "Dynamic response" in page and 'alt="Campbell diagram"' in page
+    assert "dynamic amplification" in page and f"{d['amplification']:.4f}" in page  # in the parts table too
     m = meshio.read(out / "crank-rail.vtu")
     modes = [k for k in m.point_data if k.startswith("mode_")]
     assert len(modes) == 6 and modes[0] == f"mode_1_{d['frequencies_Hz'][0]:.1f}Hz"

@@ -121,6 +121,7 @@ def _parts(result) -> str:
     if not result.parts:
         return ""
     rows = []
+    dynamic = any(p.cycle.dynamic is not None for p in result.parts.values())
     for name, p in result.parts.items():
         c = p.cycle
         angle = f"{c.history.crank_angle_deg:.1f}" if c.C.shape[0] > 1 else "constant"
@@ -139,6 +140,7 @@ def _parts(result) -> str:
                 dlim,
                 f"{c.fatigue.min_safety_factor:.2f}",
                 f"{c.fatigue.sigma_a / 1e6:.1f} / {c.fatigue.sigma_m / 1e6:.1f}",
+                *([f"{c.dynamic.amplification:.4f}" if c.dynamic else "—"] if dynamic else []),
                 _verdict(p.passed),
             ]
         )
@@ -154,6 +156,7 @@ def _parts(result) -> str:
         "deflection limit (mm)",
         "fatigue factor",
         "σa / σm (MPa)",
+        *(["dynamic amplification"] if dynamic else []),
         "verdict",
     ]
     crit = next(iter(result.parts.values())).cycle.fatigue
