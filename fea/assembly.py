@@ -105,7 +105,7 @@ def pair_pattern(dofs: np.ndarray, n: int):
 
     A counting sort by row and a sort of each (short) row, in scipy's compiled sparse
     tools, instead of a global sort of the pair keys: ``np.unique`` of the keys is 2.5x
-    slower on P2 meshes (README, "What dominates a solve")."""
+    slower on P2 meshes (docs/performance.md, "What dominates a solve")."""
     nel, nb = dofs.shape
     pairs = nel * nb * nb
     if pairs == 0 or pairs >= 2**31 or n >= 2**31:

@@ -1,6 +1,6 @@
 """Inverse dynamics: joint reactions and motor torque at every crank step.
 
-Two formulations (seed 000, Anexo I; README "Kinematics and inverse dynamics"):
+Two formulations (seed 000, Anexo I; docs/model.md "Kinematics and inverse dynamics"):
 
 * ``newton-euler`` (default): each bar is one rigid body (its rail plus the point masses
   it carries, :mod:`railcheck.kinematics.massmodel`); Newton-Euler equations about each body's

@@ -203,9 +203,12 @@ def test_no_second_copy_of_the_package_and_no_tests_inside_it():
             importlib.import_module(name)
 
 
+DEVELOPMENT = ROOT / "docs" / "development.md"  # the README's development page
+
+
 def readme_layout() -> set[str]:
-    """The paths the README's Layout section lists (folders end with /)."""
-    text = (ROOT / "README.md").read_text()
+    """The paths the development page's Layout section lists (folders end with /)."""
+    text = DEVELOPMENT.read_text()
     block = text.split("## Layout", 1)[1].split("```", 2)[1]
     paths, parents = set(), []
     for line in block.splitlines():
@@ -232,10 +235,10 @@ def test_the_readme_layout_matches_the_tree():
 
 
 def test_the_readme_fe_api_example_runs_with_public_names():
-    """The README's FE API example (a torque as a traction) runs as printed."""
-    text = (ROOT / "README.md").read_text()
+    """The development page's FE API example (a torque as a traction) runs as printed."""
+    text = DEVELOPMENT.read_text()
     code = text.split("### The FE API", 1)[1].split("```python\n", 1)[1].split("```", 1)[0]
     assert "import _" not in code and "._" not in code
     scope: dict = {}
-    exec(compile(code, "README.md", "exec"), scope)
+    exec(compile(code, "docs/development.md", "exec"), scope)
     assert 20e6 < scope["value"] < 80e6  # von Mises of a 50 N·m torque on a 23 x 20 mm bar

@@ -65,7 +65,7 @@ def test_unknown_target_exits_2(capsys):
     assert "TARGET" in capsys.readouterr().err
 
 
-#: converged references of the curved-P2 study (README "What accuracy costs"): Richardson
+#: converged references of the curved-P2 study (docs/performance.md "What accuracy costs"): Richardson
 #: extrapolations of the three finest meshes of `railcheck convergence PART --orders 2
 #: --sizes 20,14,10,7` (rails), `12,8.5,6,4.2` (PF_4b_006), `12,8.5,6,4.2,3` (PF_4b_003_v2);
 #: the rocker rail's stress oscillates, so its finest mesh (7 mm) is the reference.

@@ -19,3 +19,15 @@ def test_quick_start_has_two_commands_and_ci_runs_them():
     ci = (ROOT / ".ci" / "run").read_text().splitlines()
     for c in cmds:
         assert c in ci, c
+
+
+def test_the_readme_is_a_front_door_whose_links_resolve():
+    """A README of about 250 lines at most, every relative link in it and in docs/ to a
+    file that exists (#24)."""
+    import re
+
+    readme = ROOT / "README.md"
+    assert len(readme.read_text().splitlines()) <= 250
+    for page in [readme, *sorted((ROOT / "docs").glob("*.md"))]:
+        for target in re.findall(r"\]\(([^)#:]+)(?:#[^)]*)?\)", page.read_text()):
+            assert (page.parent / target).exists(), f"{page.name} links to a missing {target}"

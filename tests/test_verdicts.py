@@ -213,3 +213,26 @@ def test_the_console_table_keeps_its_columns_when_a_part_fails(plate_result):
     fatigue_governs = replace(fatigue_governs, cycle=replace(part.cycle, fatigue=replace(part.cycle.fatigue, required=9.0)))
     assert fatigue_governs.governing_criterion == "fatigue"
     assert fatigue_governs.utilisation == pytest.approx(9.0 / part.cycle.fatigue.min_safety_factor)
+
+
+def test_the_dynamic_verdict_is_inclusive_and_its_record_frozen():
+    """Amplification at exactly its limit passes, one float above fails (records alone,
+    no FE: test_dynamic.py runs the response itself)."""
+    import dataclasses
+
+    from railcheck.check.records import DynamicResult
+
+    d = DynamicResult(
+        hz=np.array([30.0]),
+        harmonics=np.array([30]),
+        crank_hz=1.0,
+        amplification=1.05,
+        quasi_static_peak=100e6,
+        dynamic_peak=105e6,
+        damping=0.02,
+        max_amplification=1.05,
+    )
+    assert d.passed
+    assert not dataclasses.replace(d, amplification=np.nextafter(1.05, 2.0)).passed
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        d.amplification = 1.0

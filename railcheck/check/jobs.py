@@ -28,7 +28,7 @@ from railcheck.parts import BAR_INDEX, KINDS, PARTS, geometry_of, kind_of, mass_
 from railcheck.scene import FatigueSpec, MeshSpec, Scene
 
 #: peak memory per DOF of a P2 solve on the iterative path (assembly, AMG hierarchy, stress
-#: projection), bytes; measured on a 1000 mm rail at 145k DOFs (README, "What railcheck
+#: projection), bytes; measured on a 1000 mm rail at 145k DOFs (docs/refusals.md, "What railcheck
 #: refuses"). The direct path falls back to it when its factor would not fit.
 BYTES_PER_DOF_AMG = 11_000
 

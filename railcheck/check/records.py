@@ -154,7 +154,7 @@ class PartResult:
 
     @property
     def verdict_stress(self) -> float:
-        """Pa: the cycle's peak von Mises away from the support's singular edge (README)."""
+        """Pa: the cycle's peak von Mises away from the support's singular edge (docs/model.md)."""
         return self.cycle.envelope.max_von_mises
 
     @property
