@@ -236,3 +236,30 @@ def test_the_dynamic_verdict_is_inclusive_and_its_record_frozen():
     assert not dataclasses.replace(d, amplification=np.nextafter(1.05, 2.0)).passed
     with pytest.raises(dataclasses.FrozenInstanceError):
         d.amplification = 1.0
+
+
+def test_each_criterions_utilisation_by_hand(plate_result):
+    """stress / limit; required / fatigue factor (a factor below 1 too, and 0: unlimited);
+    deflection / its limit; dynamic: (A - 1) / (A_max - 1), 0 for A = 1 and, with no
+    allowed excess, unlimited above 1."""
+    from dataclasses import replace
+
+    from railcheck.check.records import DynamicResult
+
+    part = plate_result.parts["PF_4b_003_v2"]
+    c = part.cycle
+    weak = replace(part, cycle=replace(c, fatigue=replace(c.fatigue, min_safety_factor=0.5, required=1.0)))
+    assert weak.utilisations["fatigue"] == pytest.approx(2.0) and weak.governing_criterion == "fatigue"
+    broken = replace(part, cycle=replace(c, fatigue=replace(c.fatigue, min_safety_factor=0.0)))
+    assert broken.utilisations["fatigue"] == float("inf")
+    limited = replace(part, job=replace(part.job, max_deflection=4 * c.envelope.max_tip))
+    assert limited.utilisations["deflection"] == pytest.approx(0.25)
+    d = DynamicResult(np.array([30.0]), np.array([30]), 1.0, 1.05, 1e8, 1.05e8, 0.02, 1.10)
+    dyn = replace(part, cycle=replace(c, dynamic=d))
+    assert dyn.utilisations["dynamic"] == pytest.approx(0.5, rel=1e-12)
+    assert replace(part, cycle=replace(c, dynamic=replace(d, amplification=1.0))).utilisations["dynamic"] == 0.0
+    none_allowed = replace(d, max_amplification=1.0)
+    assert replace(part, cycle=replace(c, dynamic=none_allowed)).utilisations["dynamic"] == float("inf")
+    exact = replace(none_allowed, amplification=1.0)
+    assert replace(part, cycle=replace(c, dynamic=exact)).utilisations["dynamic"] == 0.0
+    assert set(part.utilisations) == {"stress", "fatigue"}  # no limit, no response: not criteria

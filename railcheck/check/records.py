@@ -173,7 +173,8 @@ class PartResult:
     def utilisations(self) -> dict[str, float]:
         """Each criterion's share of its limit (1 = at the limit): ``stress`` (cycle peak /
         limit), ``fatigue`` (required / fatigue factor), ``deflection`` (when limited) and
-        ``dynamic`` (amplification / its limit, with a dynamic response)."""
+        ``dynamic`` (with a dynamic response: the amplification's excess over 1 as a share of
+        the allowed excess, (A - 1) / (A_max - 1))."""
         fat = self.cycle.fatigue
         out = {
             "stress": self.verdict_stress / self.limit,
