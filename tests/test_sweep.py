@@ -232,7 +232,12 @@ def test_bearing_life_over_settings_and_joints_slow_rings_and_light_loads():
     load[..., 0] = np.arange(1, 7).reshape(2, 3, 1) * 100.0  # 100 .. 600 N on the joint
     speed = np.full((2, 3, T), 2 * np.pi)
     life = bearing_life(load, speed)
-    assert life.l10_hours.shape == (2, 3)
+    assert life.l10_hours.shape == life.peak_load.shape == life.static_safety.shape == (2, 3)
+    np.testing.assert_allclose(life.peak_load, np.arange(1, 7).reshape(2, 3) * 50.0, rtol=1e-12)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        life.l10_hours = None
+    crawl = bearing_life(load[:1, :1], np.full((1, 1, T), 1e-5))  # 0.004 rad in all: still a life
+    assert np.isfinite(crawl.l10_hours[0, 0]) and crawl.equivalent_load[0, 0] == pytest.approx(50.0, rel=1e-12)
     per_bearing = np.arange(1, 7).reshape(2, 3) * 50.0
     np.testing.assert_allclose(life.equivalent_load, per_bearing, rtol=1e-12)
     np.testing.assert_allclose(life.l10_hours, (14_900.0 / per_bearing) ** 3 * 1e6 / 3600.0, rtol=1e-12)
