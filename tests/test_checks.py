@@ -126,3 +126,41 @@ def test_each_named_check_equals_the_batch_flag(linkage):
         if name in flags:
             assert result.ok == bool(flags[name][0]), name
             assert result.message
+
+
+def test_near_ties_frozen_records_and_exact_limits():
+    """Grashof's change point within rounding (1e-14 m) is a tie, not a crank-rocker; the
+    grid tolerance is 1 um, not more; every transmission limit is strict; the records are
+    frozen."""
+    import dataclasses
+
+    near = (0.4, 0.6, 0.7, 0.5 + 1e-14)  # s + l a hair below p + q: a change point to rounding
+    assert grashof_class(FourBar(*near)) == "change-point (s + l = p + q)"
+    assert not fourbar_checks_batch(*(np.array([x]) for x in near))["grashof"][0]
+    just_off = fourbar_checks_batch(np.array([0.48000105]), np.array([0.84]), np.array([0.78]), np.array([1.02]))
+    assert not just_off["hole_grid"][0]
+    lo, hi = transmission_extremes(FourBar(0.48, 0.84, 0.78, 1.02))
+    args = (np.array([0.48]), np.array([0.84]), np.array([0.78]), np.array([1.02]))
+    assert not fourbar_checks_batch(*args, CheckLimits(mu_min=0.1, mu_max=hi))["transmission_angle"][0]
+    slo, _ = transmission_extremes(SliderCrank(0.3, 0.6, 0.0))
+    sargs = (np.array([0.3]), np.array([0.6]), np.array([0.0]))
+    assert not slidercrank_checks_batch(*sargs, CheckLimits(mu_min=slo))["transmission_angle"][0]
+    assert slidercrank_checks_batch(*sargs, CheckLimits(mu_min=slo - 1e-9))["transmission_angle"][0]
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        CheckLimits().mu_min = 0.0
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        configuration_checks(FourBar(0.48, 0.84, 0.78, 1.02))["assembly"].ok = False
+
+
+def test_the_messages_state_the_values_in_mm():
+    """What the console and the summary print: the assembly's longest bar and the sum of the
+    others, each bar off the grid with its length, and a linkage that does not close."""
+    ok = configuration_checks(FourBar(0.48, 0.84, 0.78, 1.02))
+    assert "longest bar (ground) 1020 mm vs sum of the others 2100 mm" in ok["assembly"].message
+    off = configuration_checks(FourBar(0.48, 0.845, 0.78, 1.02))
+    assert not off["hole_grid"].ok and "coupler 845 mm" in off["hole_grid"].message
+    assert "crank 480" not in off["hole_grid"].message  # only the bars off the grid
+    slider = configuration_checks(SliderCrank(0.3, 0.6, 0.0123))
+    assert slider["hole_grid"].ok  # the offset is not on a rail's grid
+    locked = configuration_checks(FourBar(0.25, 0.25, 0.5, 1.0))
+    assert not locked["assembly"].ok and not locked["transmission_angle"].ok

@@ -151,6 +151,7 @@ def test_screens_on_histories_with_zeros_a_dead_column_and_a_line():
     for C in (
         np.column_stack([300 * np.cos(t), 200 * np.sin(t)]),  # sin(0) = 0 exactly
         np.column_stack([-50 - 300 * np.cos(t), np.zeros_like(t)]),  # one live column, its minimum the larger
+        np.column_stack([50 + 300 * np.cos(t), np.zeros_like(t)]),  # and its maximum the larger
         np.outer(np.cos(t), [1.0, -2.0]),  # collinear: no polygon
     ):
         vm = brute(S, C)
