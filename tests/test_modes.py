@@ -49,6 +49,7 @@ def test_a_cantilever_bends_at_beam_theory_frequency(beam):
     assert phi @ M @ phi == pytest.approx(1.0, rel=1e-8)
 
 
+@pytest.mark.slow
 def test_pins_at_both_ends_give_the_simply_supported_beam(beam):
     """Both end faces held as pins (mean translation and roll; rotation in bending free):
     the first bending frequency is the simply supported beam's, beta L = pi."""
@@ -60,7 +61,7 @@ def test_pins_at_both_ends_give_the_simply_supported_beam(beam):
     assert model.hz[1] == pytest.approx(beam_hz(np.pi, W, H), rel=0.02)
 
 
-@pytest.mark.parametrize("ratio", [0.6, 0.047])
+@pytest.mark.parametrize("ratio", [0.6, pytest.param(0.047, marks=pytest.mark.slow)])
 def test_mode_acceleration_equals_a_direct_harmonic_solve(beam, ratio):
     """A cantilever under a tip force F cos(Omega t): quasi-static superposition plus the
     mode-acceleration correction of its six lowest modes (no damping) against the direct
@@ -94,6 +95,7 @@ def test_mode_acceleration_equals_a_direct_harmonic_solve(beam, ratio):
     np.testing.assert_allclose(dq[-1], dq[0], rtol=1e-12)  # the period's end is its start
 
 
+@pytest.mark.slow
 def test_a_mass_on_the_tip_lowers_the_cantilever_as_rayleigh_says(beam):
     """2 kg lumped on the free end face: f = sqrt(k / (m + 0.2357 m_beam)) / 2 pi with the
     tip stiffness k = 3 E I / L^3 (Rayleigh, within 2%); the mass matrix weighs 2 kg more."""

@@ -84,6 +84,7 @@ def test_a_second_speed_row_equals_check_at_that_speed(rows):
     assert row["crank-rail_tip_mm"] / 1e3 == pytest.approx(part.cycle.envelope.max_tip, rel=1e-9)
 
 
+@pytest.mark.slow
 def test_checking_each_setting_at_its_safe_speed_puts_it_at_its_limit(rows):
     """Two settings: at the safe speed the governing utilisation (stress / limit or required
     / fatigue factor) is 1, by a check that knows nothing of the sweep's closed form."""
@@ -119,6 +120,7 @@ def test_a_constant_load_part_that_fails_at_rest_gives_a_safe_speed_of_zero(tmp_
     assert "PF_4b_003_v2 stress" in rows["reason"][0]
 
 
+@pytest.mark.slow
 def test_a_sweep_with_gravity_equals_check_with_gravity(tmp_path):
     """With gravity the loads are C_g + s C_i (no closed-form scaling): the row equals
     `railcheck check` of the setting with gravity, to 1e-9."""

@@ -255,6 +255,7 @@ def test_a_sweep_killed_with_sigkill_leaves_nothing_after_the_next_run(tmp_path)
     assert not [p for p in (tmp_path / "res").iterdir() if p.name.startswith(".")]
 
 
+@pytest.mark.slow
 def test_a_second_run_says_first_where_its_results_go(tmp_path):
     """The results directory exists: before any work the run names the one it writes, so a
     report open in a browser is not taken for this run's (#24)."""
