@@ -69,3 +69,57 @@ def test_screen_selects_columns(columns):
     full[..., columns] = C
     vm, _ = _brute(stress, np.ones(400, bool), full)
     np.testing.assert_allclose(von_mises_peak(screen, C), vm, rtol=1e-12)
+
+
+@pytest.mark.parametrize("k", [2, 3])
+def test_screens_stay_exact_when_the_largest_nodes_are_decoys(k):
+    """The screens evaluate the nodes with the largest bounds first, then prune the rest
+    with those bounds. Here the 300 nodes with the largest bounds are decoys: huge stress
+    on a coefficient the history barely uses. The true peak and the true lowest fatigue
+    factor lie elsewhere, so only correct bounds find them (a bound too tight loses them,
+    which brute force shows)."""
+    rng = np.random.default_rng(7)
+    n = 2000
+    stress = rng.normal(size=(6, n, k))
+    decoys = rng.choice(n, 300, replace=False)
+    stress[:, decoys, :] *= 1e-3
+    stress[:, decoys, k - 1] = rng.normal(size=(6, 300)) * 1e3
+    t = np.linspace(0, 2 * np.pi, 181)
+    C = np.zeros((3, t.size, k))
+    C[..., 0] = 200 * np.cos(t)[None] + np.array([[0.0], [50.0], [-80.0]])
+    if k == 3:
+        C[..., 1] = 120 * np.sin(2 * t)[None]
+    C[..., k - 1] = 1e-4 * np.sin(t)[None]  # the decoys' coefficient: barely used
+    mask = np.ones(n, bool)
+    screen = make_screen(stress, mask, rng.normal(size=(3, k)), list(range(k)))
+    assert set(screen.by_lam[:64]) <= set(decoys)  # the largest bounds are all decoys
+    vm, n_min = _brute(stress, mask, C)
+    np.testing.assert_allclose(von_mises_peak(screen, C), vm, rtol=1e-12)
+    np.testing.assert_allclose(fatigue_min(screen, C, 200e6, 750e6, "goodman", None), n_min, rtol=1e-12)
+
+
+def test_hull_steps_keep_every_result():
+    """Reducing each history to its hull's vertices (padded by repetition) leaves the peak,
+    the fatigue factor and the tip unchanged, for histories of different hull sizes."""
+    from railcheck.sweep.fe import hull_steps
+
+    rng = np.random.default_rng(8)
+    stress = rng.normal(size=(6, 800, 2))
+    screen = make_screen(stress, np.ones(800, bool), rng.normal(size=(3, 2)), [0, 1])
+    t = np.linspace(0, 2 * np.pi, 241)
+    C = np.stack(
+        [
+            np.column_stack([np.cos(t), np.sin(t)]),  # many vertices
+            np.column_stack([np.cos(t) + 0.3 * np.cos(5 * t), 0.5 * np.sin(t)]),
+            np.column_stack([np.sign(np.cos(t)), np.sign(np.sin(t))]),  # four corners
+        ]
+    )
+    H = hull_steps(C)
+    assert H.shape[0] == 3 and H.shape[1] < t.size
+    np.testing.assert_allclose(von_mises_peak(screen, H), von_mises_peak(screen, C), rtol=1e-12)
+    np.testing.assert_allclose(
+        fatigue_min(screen, H, 200e6, 750e6, "gerber", None),
+        fatigue_min(screen, C, 200e6, 750e6, "gerber", None),
+        rtol=1e-12,
+    )
+    np.testing.assert_allclose(tip_peak(screen, H), tip_peak(screen, C), rtol=1e-12)
