@@ -103,6 +103,7 @@ def _sweep_rows(tmp_path, text: str) -> dict:
     return {k: np.asarray(v.to_numpy(zero_copy_only=False)) for k, v in zip(table.column_names, table.columns)}
 
 
+@pytest.mark.slow
 def test_a_constant_load_part_that_fails_at_rest_gives_a_safe_speed_of_zero(tmp_path):
     """A plate under explicit (speed-independent) loads above its limit fails at every
     speed: safe speed 0, verdict fail naming it; the speed-dependent crank rail does not

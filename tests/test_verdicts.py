@@ -120,7 +120,7 @@ def _sweep_row(tmp_path, extra: str, fatigue: str = "") -> dict:
         ('limit = "30 MPa"', "", "stress"),
         ("", "[fatigue]\nmin_safety = 30\n", "fatigue"),
         ('max_deflection = "0.01 mm"', "", "deflection"),
-        ("", "", None),
+        pytest.param("", "", None, marks=pytest.mark.slow),
     ],
 )
 def test_sweep_fails_a_setting_on_each_criterion_and_names_it(tmp_path, extra, fatigue, criterion):

@@ -97,6 +97,7 @@ parts = ["crank-rail", "PF_4b_006"]
     json.dumps(summary, allow_nan=False)  # nothing non-finite in the data
 
 
+@pytest.mark.slow
 def test_a_loaded_part_beside_an_unloaded_one_is_still_checked():
     text = """
 [mechanism]
