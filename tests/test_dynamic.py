@@ -14,15 +14,11 @@ from railcheck.check.pipeline import run_pipeline
 from railcheck.check.summary import summary_of
 from railcheck.errors import InputError
 from railcheck.scene import parse_scene
+from scene_texts import FINAL_DESIGN
 
-SCENE = """
-[mechanism]
-kind = "four-bar"
-crank = "480 mm"
-coupler = "840 mm"
-rocker = "780 mm"
-ground = "1020 mm"
-speed = "SPEED"
+SCENE = (
+    FINAL_DESIGN
+    + """speed = "SPEED"
 steps = 360
 [check]
 parts = ["crank-rail"]
@@ -31,6 +27,7 @@ effects = EFFECTS
 size = "20 mm"
 hole_size = "6 mm"
 """
+)
 
 
 def _crank(speed="1 Hz", effects='["inertia", "dynamic"]', extra=""):

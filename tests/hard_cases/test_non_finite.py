@@ -15,6 +15,7 @@ from railcheck.check.pipeline import run_pipeline
 from railcheck.scene import parse_scene
 from railcheck.sweep.run import run_sweep
 from railcheck.sweep.table import read_table
+from scene_texts import FINAL_DESIGN
 
 NON_FINITE = re.compile(r"\b(nan|inf|infinity|none)\b", re.IGNORECASE)
 
@@ -74,17 +75,13 @@ def test_a_part_with_no_load_is_reported_without_fe():
     """Speed 0, no gravity: every reaction is zero. NO LOAD, and no mesh, solve or stress
     stage ran (gmsh is not even imported)."""
     before = "gmsh" in sys.modules
-    text = """
-[mechanism]
-kind = "four-bar"
-crank = "480 mm"
-coupler = "840 mm"
-rocker = "780 mm"
-ground = "1020 mm"
-speed = "0 Hz"
+    text = (
+        FINAL_DESIGN
+        + """speed = "0 Hz"
 [check]
 parts = ["crank-rail", "PF_4b_006"]
 """
+    )
     result = run_pipeline(parse_scene(tomllib.loads(text), "t"))
     assert result.unloaded == ("crank-rail", "PF_4b_006") and result.parts == {}
     assert result.stages_run == ("scene", "kinematics", "loads", "geometry", "report")
@@ -99,14 +96,9 @@ parts = ["crank-rail", "PF_4b_006"]
 
 @pytest.mark.slow
 def test_a_loaded_part_beside_an_unloaded_one_is_still_checked():
-    text = """
-[mechanism]
-kind = "four-bar"
-crank = "480 mm"
-coupler = "840 mm"
-rocker = "780 mm"
-ground = "1020 mm"
-speed = "0 Hz"
+    text = (
+        FINAL_DESIGN
+        + """speed = "0 Hz"
 [check]
 parts = ["crank-rail", "PF_4b_003_v2"]
 [loads.PF_4b_003_v2]
@@ -116,6 +108,7 @@ transverse = "250 N"
 size = "8 mm"
 hole_size = "4 mm"
 """
+    )
     result = run_pipeline(parse_scene(tomllib.loads(text), "t"))
     assert result.unloaded == ("crank-rail",) and list(result.parts) == ["PF_4b_003_v2"]
     assert np.any(result.parts["PF_4b_003_v2"].cycle.C) and "mesh" in result.stages_run
