@@ -32,7 +32,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .loading import surface_dofs
-from .modes import natural_modes, vector_mass_matrix
+from .modes import natural_modes, stiffness_factor, vector_mass_matrix
 
 __all__ = ["DynamicModel", "lumped_masses", "modal_correction", "part_modes", "pin_constraints"]
 
@@ -85,13 +85,18 @@ def lumped_masses(basis, groups: dict, lumped) -> sp.csr_matrix:
 
 
 def part_modes(
-    K, basis, density: float, F: np.ndarray, count: int, fixed=None, pins=None, groups=None, lumped=()
+    K, basis, density: float, F: np.ndarray, count: int, fixed=None, pins=None, groups=None, lumped=(), shared=None
 ) -> DynamicModel:
     """The ``count`` lowest modes of a part with its ``fixed`` DOFs held (a clamped part)
     or its ``pins`` (lists of hole surfaces, :func:`pin_constraints`) held by penalty (a
     free body), the masses ``lumped`` on hole surfaces ([(surfaces, kg)]) added to the
-    consistent mass, and each unit load vector's modal load (``F`` (N, k))."""
-    M = vector_mass_matrix(basis, density)
+    consistent mass, and each unit load vector's modal load (``F`` (N, k)). ``shared``: a
+    dict reused across calls on one part (its consistent mass matrix and, for a part held
+    at ``fixed`` DOFs, its stiffness factorisation: both independent of the lumped masses)."""
+    shared = {} if shared is None else shared
+    if "M" not in shared:
+        shared["M"] = vector_mass_matrix(basis, density)
+    M = shared["M"]
     if lumped:
         M = (M + lumped_masses(basis, groups, lumped)).tocsr()
     Kd = K
@@ -99,21 +104,30 @@ def part_modes(
         G = pin_constraints(basis, groups, pins)
         alpha = PIN_PENALTY * K.diagonal().max()
         Kd = (K + alpha * (G.T @ G)).tocsr()
-    modes = natural_modes(Kd, M, np.zeros(0, dtype=np.int64) if fixed is None else fixed, count, shift=0.0)
+    held = np.zeros(0, dtype=np.int64) if fixed is None else fixed
+    if not pins and "factor" not in shared:
+        shared["factor"] = stiffness_factor(K, held)
+    modes = natural_modes(Kd, M, held, count, shift=0.0, factor=None if pins else shared["factor"])
     return DynamicModel(hz=modes.hz, shapes=modes.shapes, modal_loads=modes.shapes.T @ F)
 
 
-def modal_correction(modal_loads: np.ndarray, hz: np.ndarray, C: np.ndarray, speed: float, damping: float) -> np.ndarray:
-    """(steps, m): ``delta q_m(t) = q_m(t) - p_m(t) / omega_m^2`` at each step of one
-    revolution, for coefficients ``C`` (steps, k) at crank ``speed`` rad/s with modal
-    ``damping`` (ratio of critical). The first and last steps are the same instant."""
-    steps = C.shape[0]
-    if steps < 3 or speed <= 0:
-        return np.zeros((steps, hz.size))
-    p = C[:-1] @ modal_loads.T  # (T, m): one period without the repeated end point
-    P = np.fft.rfft(p, axis=0)
-    n = np.arange(P.shape[0])[:, None]
-    w, W = 2 * np.pi * hz[None, :], n * speed
+def modal_correction(modal_loads: np.ndarray, hz: np.ndarray, C: np.ndarray, speed, damping: float) -> np.ndarray:
+    """(..., steps, m): ``delta q_m(t) = q_m(t) - p_m(t) / omega_m^2`` at each step of one
+    revolution, for coefficients ``C`` (..., steps, k) (one history or a stack of them) at
+    crank ``speed`` rad/s (a scalar, or one per history: shape ``C.shape[:-2]``) with modal
+    ``damping`` (ratio of critical). The first and last steps are the same instant; a
+    history at speed 0 has no correction."""
+    steps = C.shape[-2]
+    lead = C.shape[:-2]
+    if steps < 3:
+        return np.zeros((*lead, steps, hz.size))
+    speed = np.broadcast_to(np.asarray(speed, float), lead)
+    p = C[..., :-1, :] @ modal_loads.T  # (..., T, m): one period without the repeated end point
+    P = np.fft.rfft(p, axis=-2)
+    n = np.arange(P.shape[-2])[:, None]  # harmonic number
+    w = 2 * np.pi * hz  # (m,)
+    W = n * speed[..., None, None]  # (..., H, 1)
     H = 1.0 / (w**2 - W**2 + 2j * damping * w * W) - 1.0 / w**2
-    dq = np.fft.irfft(P * H, n=steps - 1, axis=0)
-    return np.vstack([dq, dq[:1]])
+    dq = np.fft.irfft(P * H, n=steps - 1, axis=-2)
+    dq = np.where((speed > 0)[..., None, None], dq, 0.0)
+    return np.concatenate([dq, dq[..., :1, :]], axis=-2)

@@ -20,7 +20,7 @@ from .mesh import scalar_basis, vector_dof_map
 from .solvers import factorise
 from .system import free_submatrix
 
-__all__ = ["Modes", "natural_modes", "vector_mass_matrix"]
+__all__ = ["Modes", "natural_modes", "stiffness_factor", "vector_mass_matrix"]
 
 
 @dataclass(frozen=True)
@@ -43,18 +43,27 @@ def vector_mass_matrix(basis, density: float) -> sp.csr_matrix:
     return sp.csr_matrix((density * np.tile(Ms.data, 3), (rows, cols)), shape=(basis.N, basis.N))
 
 
-def natural_modes(K, M, fixed: np.ndarray, count: int, shift: float | None = None) -> Modes:
+def natural_modes(K, M, fixed: np.ndarray, count: int, shift: float | None = None, factor=None) -> Modes:
     """The ``count`` lowest modes of ``K phi = omega^2 M phi`` with the ``fixed`` DOFs held.
     ``shift`` (rad^2/s^2) the spectral shift: default 0 for a supported part and, for a
-    free one (no fixed DOF), minus the squared angular frequency of 1 Hz."""
+    free one (no fixed DOF), minus the squared angular frequency of 1 Hz. ``factor``: a
+    factorisation of ``K - shift M`` on the free DOFs already made (:func:`shift_factor`;
+    with shift 0 it does not depend on M, so several mass distributions share it)."""
     N = K.shape[0]
     free = np.setdiff1d(np.arange(N), np.asarray(fixed, dtype=np.int64))
     Kf, Mf = free_submatrix(K, free), free_submatrix(M, free)
     sigma = shift if shift is not None else (0.0 if free.size < N else -((2 * np.pi) ** 2))
-    factor = factorise((Kf - sigma * Mf).tocsr(), "direct")
+    factor = factor or factorise((Kf - sigma * Mf).tocsr(), "direct")
     inverse = spla.LinearOperator(Kf.shape, matvec=factor.solve_once, dtype=float)
     values, vectors = spla.eigsh(Kf, k=count, M=Mf, sigma=sigma, which="LM", OPinv=inverse)
     order = np.argsort(values)
     shapes = np.zeros((N, count))
     shapes[free] = vectors[:, order]
     return Modes(hz=np.sqrt(np.maximum(values[order], 0.0)) / (2 * np.pi), shapes=shapes)
+
+
+def stiffness_factor(K, fixed: np.ndarray):
+    """The factorisation of ``K`` on its free DOFs (``fixed`` held): :func:`natural_modes`'s
+    operator at shift 0, shared by every mass distribution of one supported part."""
+    free = np.setdiff1d(np.arange(K.shape[0]), np.asarray(fixed, dtype=np.int64))
+    return factorise(free_submatrix(K, free).tocsr(), "direct")

@@ -53,6 +53,7 @@ class UnitSolve:
     support_reactions: np.ndarray
     imbalance: np.ndarray | None = None  # (6, k) N, N m about the centroid: a free body's loads before relief
     modes: DynamicModel | None = None  # the lowest modes (their shapes dropped) when a dynamic response was asked
+    mode_sets: dict | None = None  # key -> DynamicModel when several mode sets were asked (``modes`` a dict)
 
 
 @dataclass(frozen=True)
@@ -128,7 +129,7 @@ def solve_unit_cases(
     report=None,
     curved=None,
     free_body: FreeBodyCases | None = None,
-    modes: tuple[int, list | None, tuple] | None = None,
+    modes: tuple[int, list | None, tuple] | dict | None = None,
 ) -> tuple[UnitFields, UnitSolve]:
     """Unit fields of every case (one factorisation) and its :class:`UnitSolve` (timings, solver info, balances)
     (``curved``: the mesh's curved edges for isoparametric P2, :func:`railcheck.fea.elasticity.assemble`).
@@ -138,7 +139,10 @@ def solve_unit_cases(
     ``free_body.deflection`` defines (:func:`railcheck.fea.stress.relative_deflection`).
     With ``modes`` = (count, pins, lumped masses) the part's lowest modes are computed too
     (:func:`railcheck.fea.dynamic.part_modes`: held at its supports, or at ``pins`` for a
-    free body) and their fields follow the unit cases' as extra columns ("mode 1", ...)."""
+    free body) and their fields follow the unit cases' as extra columns ("mode 1", ...).
+    ``modes`` may also be a dict key -> (count, pins, lumped masses): one mode set per key
+    (a rail's hole pairs carry their far joint's mass at different holes), columns
+    "mode 1@key", ..., key by key, and ``UnitSolve.mode_sets`` key -> its modes."""
     t = [time.perf_counter()]
     K, basis = assemble(points, tets, material, order, curved)
     F = np.column_stack([case_vector(basis, groups, c) for c in cases.values()])
@@ -163,17 +167,30 @@ def solve_unit_cases(
     model = None
     names = tuple(cases)
     t.append(time.perf_counter())
+    sets = None
     if modes is not None:
-        count, pins, lumped = modes
+        requests = modes if isinstance(modes, dict) else {None: modes}
         density = material.density
         if free_body is not None:  # the FE body carries the dynamics' mass, as its body cases do
             density = free_body.mass / body_force_vectors(basis)[:, 0].sum()
-        model = part_modes(
-            K, basis, density, F, count, fixed=None if pins else fixed, pins=pins, groups=groups, lumped=lumped
-        )
-        U = np.hstack([U, model.shapes])
-        names += tuple(f"mode {i + 1}" for i in range(count))
-        model = DynamicModel(hz=model.hz, shapes=np.zeros((0, count)), modal_loads=model.modal_loads)
+        sets, shared = {}, {}
+        for key, (count, pins, lumped) in requests.items():
+            found = part_modes(
+                K,
+                basis,
+                density,
+                F,
+                count,
+                fixed=None if pins else fixed,
+                pins=pins,
+                groups=groups,
+                lumped=lumped,
+                shared=shared,
+            )
+            U = np.hstack([U, found.shapes])
+            names += tuple(f"mode {i + 1}" + ("" if key is None else f"@{key}") for i in range(count))
+            sets[key] = DynamicModel(hz=found.hz, shapes=np.zeros((0, count)), modal_loads=found.modal_loads)
+        model = sets[None] if not isinstance(modes, dict) else None
     tip = tip_op @ U if tip_op is not None else np.zeros((3, U.shape[1]))
     t.append(time.perf_counter())
     S = recover_stress(basis, U, material)
@@ -196,6 +213,7 @@ def solve_unit_cases(
         support_reactions=reactions,
         imbalance=imbalance,
         modes=model,
+        mode_sets=sets if isinstance(modes, dict) else None,
     )
     return UnitFields(S, tip, node_displacement(basis, U), nodes, mask, names, **extras), meta
 

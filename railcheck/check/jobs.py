@@ -200,13 +200,20 @@ def dynamic_job(
         return None
     d = scene.dynamic
     pins = (tuple(free.deflection[0]), tuple(free.deflection[1])) if free is not None else None
-    lumped: tuple = ()
-    fb = PARTS[name].free_body if name in PARTS else None
-    if fb is not None and holes and name not in scene.check.loads:
-        masses = mass_model(scene.check.support, scene.geometry)
-        kg = [sum(getattr(masses, m) for m in joint.masses) for joint in (fb.near, fb.far)]
-        lumped = tuple((g, m) for g, m in ((("hole_0",), kg[0]), (tuple(holes), kg[1])) if m > 0)
+    lumped = carried_masses(scene, name, holes)
     return DynamicJob(scene.mechanism.speed, d.damping, d.max_amplification, d.modes, pins, lumped)
+
+
+def carried_masses(scene: Scene, name: str, holes: list[str] | tuple) -> tuple:
+    """((hole surfaces, kg), ...): the point masses a rail carries at its joints in the
+    mass model (plates, carriages, coupling): the near joint's on its first hole, the far
+    joint's on the bolt holes ``holes``; () for a plate or a part with explicit loads."""
+    fb = PARTS[name].free_body if name in PARTS else None
+    if fb is None or not holes or name in scene.check.loads:
+        return ()
+    masses = mass_model(scene.check.support, scene.geometry)
+    kg = [sum(getattr(masses, m) for m in joint.masses) for joint in (fb.near, fb.far)]
+    return tuple((g, m) for g, m in ((("hole_0",), kg[0]), (tuple(holes), kg[1])) if m > 0)
 
 
 def free_body_cases(loads: LoadModel, geo: PartGeometry, holes: list[str]) -> FreeBodyCases:

@@ -26,6 +26,7 @@ import numpy as np
 
 from railcheck.check.kinematics_stage import joints_on_rails_flags
 from railcheck.check.loading import source_coefficients
+from railcheck.fea.dynamic import modal_correction
 from railcheck.kinematics import batch
 from railcheck.kinematics.checks import fourbar_checks_batch, slidercrank_checks_batch
 from railcheck.kinematics.dynamics import STANDARD_GRAVITY
@@ -197,50 +198,71 @@ def coefficients(ctx: SweepContext, name: str, loads: Loads, sel: np.ndarray) ->
     return out
 
 
-def evaluate_part(model, history: list[tuple], bar_lengths: np.ndarray | None, s) -> tuple[np.ndarray, ...]:
-    """(von Mises peak Pa, fatigue factor, tip m) of one part for every setting of the
-    history at speed ratio squared ``s`` (scalar or (S,)), each (S,)."""
+def evaluate_part(
+    model, history: list[tuple], bar_lengths: np.ndarray | None, s, speed0: float = 0.0
+) -> tuple[np.ndarray, ...]:
+    """(von Mises peak Pa, fatigue factor, tip m, dynamic amplification) of one part for
+    every setting of the history at speed ratio squared ``s`` (scalar or (S,)), each (S,).
+    With a dynamic response (``model.dynamic``) the peak, factor and tip are those of the
+    quasi-static history plus the mode-acceleration correction at crank speed
+    ``speed0 sqrt(s)`` rad/s, and the amplification is that peak over the quasi-static
+    one (the largest over the load sources); without, the amplification is 1."""
 
     n_set = history[0][1].shape[0]
     s = np.broadcast_to(np.asarray(s, float), (n_set,))
-    vm, fat, tip = np.zeros(n_set), np.full(n_set, np.inf), np.zeros(n_set)
+    vm, fat, tip, amp = np.zeros(n_set), np.full(n_set, np.inf), np.zeros(n_set), np.ones(n_set)
     if model.bar is None:
-        groups = [(np.arange(n_set), model.screens[None])]
+        groups = [(np.arange(n_set), model.screens[None], model.modes_for(0.0))]
     else:
         keys, inverse = np.unique(np.round(bar_lengths * 1e6).astype(np.int64), return_inverse=True)
-        groups = [(np.flatnonzero(inverse == i), model.screen_for(key / 1e6)) for i, key in enumerate(keys)]
-    for idx, screen in groups:
+        groups = [
+            (np.flatnonzero(inverse == i), model.screen_for(key / 1e6), model.modes_for(key / 1e6))
+            for i, key in enumerate(keys)
+        ]
+    for idx, screen, modes in groups:
         for Cg, Ci in history:
-            C = hull_steps(s[idx, None, None] * Ci[idx] + (Cg[idx] if Cg is not None else 0.0))
-            vm[idx] = np.maximum(vm[idx], von_mises_peak(screen, C))
+            C = s[idx, None, None] * Ci[idx] + (Cg[idx] if Cg is not None else 0.0)
+            quasi = von_mises_peak(screen, hull_steps(C))
+            read = screen
+            if modes is not None:
+                dq = modal_correction(modes.modal_loads, modes.hz, C, speed0 * np.sqrt(s[idx]), model.damping)
+                C, read = np.concatenate([C, dq], axis=2), modes.screen
+            C = hull_steps(C)
+            peak = von_mises_peak(read, C) if modes is not None else quasi
+            with np.errstate(invalid="ignore", divide="ignore"):
+                amp[idx] = np.maximum(amp[idx], np.where(quasi > 0, peak / quasi, 1.0))
+            vm[idx] = np.maximum(vm[idx], peak)
             fat[idx] = np.minimum(
-                fat[idx], fatigue_min(screen, C, model.endurance, model.ultimate, model.criterion, model.yield_strength)
+                fat[idx], fatigue_min(read, C, model.endurance, model.ultimate, model.criterion, model.yield_strength)
             )
-            tip[idx] = np.maximum(tip[idx], tip_peak(screen, C))
-    return vm, fat, tip
+            tip[idx] = np.maximum(tip[idx], tip_peak(read, C))
+    return vm, fat, tip, amp
 
 
-def criterion_utilisations(model, vm, fat, tip) -> dict[str, np.ndarray]:
-    """criterion -> (S,) its share of the limit: stress / limit, required / fatigue factor
-    and (with a limit) tip / deflection limit; the words of ``railcheck check``."""
+def criterion_utilisations(model, vm, fat, tip, amp=None) -> dict[str, np.ndarray]:
+    """criterion -> (S,) its share of the limit: stress / limit, required / fatigue factor,
+    (with a limit) tip / deflection limit and (with a dynamic response) the amplification's
+    excess over 1 as a share of the allowed excess; the words of ``railcheck check``."""
     with np.errstate(divide="ignore"):
         out = {"stress": vm / model.limit, "fatigue": model.required / fat}
     if model.deflection_limit:
         out["deflection"] = tip / model.deflection_limit
+    if model.dynamic is not None and amp is not None:
+        out["dynamic"] = (amp - 1.0) / (model.max_amplification - 1.0)
     return out
 
 
-def utilisation(model, vm, fat, tip) -> np.ndarray:
+def utilisation(model, vm, fat, tip, amp=None) -> np.ndarray:
     """The largest of :func:`criterion_utilisations`."""
-    return np.max(list(criterion_utilisations(model, vm, fat, tip).values()), axis=0)
+    return np.max(list(criterion_utilisations(model, vm, fat, tip, amp).values()), axis=0)
 
 
 def governing_of(ctx: SweepContext, results: dict) -> tuple[np.ndarray, np.ndarray]:
     """(part, criterion) (S,) object arrays: what has the largest utilisation in
     ``results`` (part -> (vm, fatigue, tip, utilisation))."""
     names, crits, values = [], [], []
-    for name, (vm, fat, tip, _) in results.items():
-        for crit, u in criterion_utilisations(ctx.models[name], vm, fat, tip).items():
+    for name, (vm, fat, tip, amp, _) in results.items():
+        for crit, u in criterion_utilisations(ctx.models[name], vm, fat, tip, amp).items():
             names.append(name)
             crits.append(crit)
             values.append(np.where(np.isnan(u), -np.inf, u))
@@ -249,8 +271,10 @@ def governing_of(ctx: SweepContext, results: dict) -> tuple[np.ndarray, np.ndarr
 
 
 def fe_results(ctx: SweepContext, loads: Loads, sel: np.ndarray, lengths: dict, speeds_s: list) -> dict:
-    """part -> list over speeds of (vm, fatigue, tip, utilisation) (S_sel,) arrays, and
-    ``safe_s``: the speed ratio squared at which the largest utilisation reaches 1."""
+    """part -> list over speeds of (vm, fatigue, tip, amplification, utilisation) (S_sel,)
+    arrays, and ``safe_s``: the speed ratio squared at which the largest utilisation
+    reaches 1 (closed form when every result scales with ``s``; searched with gravity or a
+    dynamic response)."""
     histories = {name: coefficients(ctx, name, loads, sel) for name, m in ctx.models.items() if m.constant is None}
     bar_len = lambda m: lengths[m.bar][sel] if m.bar else None  # noqa: E731
     n_sel = sel.size
@@ -260,28 +284,34 @@ def fe_results(ctx: SweepContext, loads: Loads, sel: np.ndarray, lengths: dict, 
         for name, m in ctx.models.items():
             if m.constant is not None:
                 vm, fat, tip = (np.full(n_sel, v) for v in m.constant)
+                amp = np.ones(n_sel)
             else:
-                vm, fat, tip = evaluate_part(m, histories[name], bar_len(m), s)
-            out[name] = (vm, fat, tip, utilisation(m, vm, fat, tip))
+                vm, fat, tip, amp = evaluate_part(m, histories[name], bar_len(m), s, ctx.speeds[0])
+            out[name] = (vm, fat, tip, amp, utilisation(m, vm, fat, tip, amp))
         return out
 
-    gravity = "gravity" in ctx.effects
+    dynamic = any(m.dynamic is not None for m in ctx.models.values())
+    exact = "gravity" in ctx.effects or dynamic
     base = at(1.0)
-    per_speed = [base if s == 1.0 else (at(s) if gravity else _scaled(ctx, base, s)) for s in speeds_s]
-    safe = _safe_s_bisect(ctx, at, n_sel) if gravity else _safe_s_closed(ctx, base, n_sel)
+    per_speed = [base if s == 1.0 else (at(s) if exact else _scaled(ctx, base, s)) for s in speeds_s]
+    if exact:
+        safe = _safe_s_bisect(ctx, at, n_sel, scan=SAFE_SPEED_SCAN if dynamic else 0)
+    else:
+        safe = _safe_s_closed(ctx, base, n_sel)
     finite = np.where(np.isfinite(safe), safe, 1.0)  # unlimited: what governs at the reference speed
-    at_safe = at(finite) if gravity else _scaled(ctx, base, finite)
+    at_safe = at(finite) if exact else _scaled(ctx, base, finite)
     return {"per_speed": per_speed, "safe_s": safe, "safe_governs": governing_of(ctx, at_safe)}
 
 
 def _scaled(ctx: SweepContext, base: dict, s) -> dict:
-    """Results at speed ratio squared ``s`` from those at 1, without gravity (module doc)."""
+    """Results at speed ratio squared ``s`` from those at 1, without gravity and without
+    a dynamic response (module doc)."""
     out = {}
-    for name, (vm, fat, tip, _) in base.items():
+    for name, (vm, fat, tip, amp, _) in base.items():
         m = ctx.models[name]
         if m.constant is None:
             vm, fat, tip = s * vm, fat / s, s * tip
-        out[name] = (vm, fat, tip, utilisation(m, vm, fat, tip))
+        out[name] = (vm, fat, tip, amp, utilisation(m, vm, fat, tip, amp))
     return out
 
 
@@ -301,28 +331,77 @@ def _safe_s_closed(ctx: SweepContext, base: dict, n: int) -> np.ndarray:
     return np.where(u_const > 1.0, 0.0, safe)
 
 
-def _safe_s_bisect(ctx: SweepContext, at, n: int, iterations: int = 60) -> np.ndarray:
-    """With gravity: the ``s`` where the largest utilisation first reaches 1, by doubling
-    from 1 until it is exceeded, then bisection (vectorised over the settings); 0 where the
-    rig fails at rest, inf where no ``s`` up to 2^60 reaches 1. Assumes the utilisation
-    grows with ``s`` once inertia dominates (it is convex in the loads)."""
+#: speeds scanned below the bracketing speed before the root is refined, with a dynamic response
+SAFE_SPEED_SCAN = 8
+#: regula falsi (Illinois) iterations refining a bracketed crossing with a dynamic response
+SAFE_SPEED_REFINE = 10
+
+
+def _safe_s_bisect(ctx: SweepContext, at, n: int, iterations: int = 60, scan: int = 0) -> np.ndarray:
+    """The ``s`` where the largest utilisation first reaches 1 (vectorised over the
+    settings): doubling from 1 until it is exceeded, then bisection; 0 where the rig fails
+    at rest, inf where no ``s`` up to 2^60 reaches 1.
+
+    With gravity alone the utilisation grows with ``s`` once inertia dominates (it is
+    convex in the loads), so the bracket holds the first crossing. A dynamic response is
+    not monotonic in the speed (a harmonic of the crank meets a mode): with ``scan`` > 0
+    the first of ``scan`` speeds evenly spaced up to the bracketing one that exceeds 1
+    brackets the crossing, and regula falsi (Illinois) refines it. A resonance narrower
+    than the scan's spacing (1/``scan`` of the bracketing speed) below that crossing can be
+    missed; docs/sweep.md states this."""
 
     def worst(s):
         return np.max([u for *_, u in at(s).values()], axis=0)
 
     fails_at_rest = worst(np.zeros(n)) > 1.0
     lo, hi = np.zeros(n), np.ones(n)
+    u_hi = worst(hi)
     for _ in range(60):
-        over = worst(hi) > 1.0
+        over = u_hi > 1.0
         if np.all(over | fails_at_rest):
             break
         lo, hi = np.where(over, lo, hi), np.where(over, hi, 2.0 * hi)
-    unbounded = ~(worst(hi) > 1.0)
+        u_hi = np.where(over, u_hi, worst(hi))
+    unbounded = ~(u_hi > 1.0)
+    if not scan:
+        for _ in range(iterations):
+            mid = 0.5 * (lo + hi)
+            over = worst(mid) > 1.0
+            lo, hi = np.where(over, lo, mid), np.where(over, mid, hi)
+        return np.where(fails_at_rest, 0.0, np.where(unbounded, np.inf, 0.5 * (lo + hi)))
+    top = np.sqrt(hi)  # speed ratios from here on: the bracket [a, b] of the first crossing
+    a, u_a, b, u_b = np.zeros(n), np.zeros(n), top.copy(), u_hi.copy()
+    found = np.zeros(n, dtype=bool)
+    for j in range(1, scan + 1):
+        r = top * j / scan
+        u = worst(r**2)
+        over = ~found & (u > 1.0)
+        b, u_b = np.where(over, r, b), np.where(over, u, u_b)
+        found |= over
+        a, u_a = np.where(found, a, r), np.where(found, u_a, u)
+    r = _illinois(lambda r: worst(r**2), a, u_a, b, u_b, SAFE_SPEED_REFINE)
+    return np.where(fails_at_rest, 0.0, np.where(unbounded, np.inf, r**2))
+
+
+def _illinois(u_of, a, u_a, b, u_b, iterations: int):
+    """Refine brackets ``[a, b]`` (u(a) <= 1 < u(b), vectorised) of ``u(x) = 1`` by regula
+    falsi with the Illinois modification (superlinear on smooth crossings, never leaving
+    the bracket); returns the end whose utilisation is nearer 1."""
+    fa, fb, side = u_a - 1.0, u_b - 1.0, np.zeros(a.shape, dtype=int)
+    ga, gb = fa.copy(), fb.copy()  # the ends' true values (fa, fb may be halved)
     for _ in range(iterations):
-        mid = 0.5 * (lo + hi)
-        over = worst(mid) > 1.0
-        lo, hi = np.where(over, lo, mid), np.where(over, mid, hi)
-    return np.where(fails_at_rest, 0.0, np.where(unbounded, np.inf, 0.5 * (lo + hi)))
+        with np.errstate(invalid="ignore", divide="ignore"):
+            x = np.where(fb != fa, b - fb * (b - a) / (fb - fa), 0.5 * (a + b))
+        x = np.where((x > a) & (x < b), x, 0.5 * (a + b))
+        fx = u_of(x) - 1.0
+        over = fx > 0.0
+        # the end that stays twice in a row has its value halved (Illinois)
+        fa = np.where(over & (side == -1), 0.5 * fa, fa)
+        fb = np.where(~over & (side == 1), 0.5 * fb, fb)
+        a, fa, ga = np.where(over, a, x), np.where(over, fa, fx), np.where(over, ga, fx)
+        b, fb, gb = np.where(over, x, b), np.where(over, fx, fb), np.where(over, fx, gb)
+        side = np.where(over, -1, 1)
+    return np.where(np.abs(gb) < np.abs(ga), b, a)
 
 
 def evaluate_chunk(ctx: SweepContext, lengths: dict, ids: np.ndarray) -> dict:
@@ -365,13 +444,16 @@ def _scatter(n: int, idx: np.ndarray, values: np.ndarray, fill=np.nan) -> np.nda
     return out
 
 
-def failed_criteria(model, vm: np.ndarray, fat: np.ndarray, tip: np.ndarray) -> dict[str, np.ndarray]:
+def failed_criteria(model, vm: np.ndarray, fat: np.ndarray, tip: np.ndarray, amp=None) -> dict[str, np.ndarray]:
     """criterion -> (S,) True where that criterion fails: ``stress`` above the limit,
-    ``fatigue`` below the required factor, ``deflection`` above the limit (when one is set);
-    the words of ``railcheck check``'s failures."""
+    ``fatigue`` below the required factor, ``deflection`` above the limit (when one is set),
+    ``dynamic`` an amplification above the largest allowed (with a dynamic response); the
+    words of ``railcheck check``'s failures."""
     out = {"stress": vm > model.limit, "fatigue": fat < model.required}
     if model.deflection_limit:
         out["deflection"] = tip > model.deflection_limit
+    if model.dynamic is not None and amp is not None:
+        out["dynamic"] = amp > model.max_amplification
     return out
 
 
@@ -380,15 +462,17 @@ def _fe_columns(ctx: SweepContext, n: int, fe, j: int, speed: float, passed: np.
     col, worst, governing = {}, np.full(n, np.nan), np.full(n, "", dtype=object)
     failing = [[] for _ in range(n)]
     for name, m in ctx.models.items():
-        vm, fat, tip, u = (np.full(n, np.nan) for _ in range(4))
+        vm, fat, tip, amp, u = (np.full(n, np.nan) for _ in range(5))
         if fe is not None:
             at, res = fe
-            vm[at], fat[at], tip[at], u[at] = res["per_speed"][j][name]
-            for criterion, fails in failed_criteria(m, vm[at], fat[at], tip[at]).items():
+            vm[at], fat[at], tip[at], amp[at], u[at] = res["per_speed"][j][name]
+            for criterion, fails in failed_criteria(m, vm[at], fat[at], tip[at], amp[at]).items():
                 for i in at[fails]:
                     failing[i].append(f"{name} {criterion}")
         col[f"{name}_stress_MPa"], col[f"{name}_fatigue"] = vm / 1e6, fat
         col[f"{name}_tip_mm"], col[f"{name}_utilisation"] = tip * 1e3, u
+        if m.dynamic is not None:
+            col[f"{name}_amplification"] = amp
         better = np.isfinite(u) & ~(u <= worst)
         worst, governing = np.where(better, u, worst), np.where(better, name, governing)
     safe = np.full(n, np.nan)

@@ -52,6 +52,8 @@ class Aggregate:
         shape = tuple(v.size for v in self.grid.values())
         self.util = np.full(shape, np.nan)  # per grid setting: utilisation at the first speed
         self.safe = np.full(shape, np.nan)  # Hz
+        self.safe_dynamic = np.zeros(shape, dtype=bool)  # the safe speed is set by the dynamic amplification
+        self.safe_criteria: dict[str, int] = {}  # criterion -> settings whose safe speed it sets
         self.torque = np.full(shape, np.nan)  # N m, peak motor torque
         self.reaction = np.full(shape, np.nan)  # N, the largest peak joint reaction
         self.reason = np.full(shape, -1, dtype=np.int8)
@@ -93,6 +95,8 @@ class Aggregate:
                 "torque_rms_Nm": float(c["torque_rms_Nm"][i]),
                 "power_peak_W": float(c["power_peak_W"][i]),
             }
+        for crit in c["safe_speed_criterion"][ok & np.isfinite(c["safe_speed_Hz"])]:
+            self.safe_criteria[str(crit)] = self.safe_criteria.get(str(crit), 0) + 1
         s = np.where(ok & ~np.isnan(c["safe_speed_Hz"]), c["safe_speed_Hz"], np.inf)
         if s.size and np.isfinite(s.min()) and (self.min_safe is None or s.min() < self.min_safe["safe_speed_Hz"]):
             i = int(np.argmin(s))
@@ -123,6 +127,7 @@ class Aggregate:
         idx = tuple(k[on_grid] for k in index)
         self.util[idx] = np.where(c["checks_passed"][on_grid], c["utilisation"][on_grid], np.nan)
         self.safe[idx] = np.where(c["checks_passed"][on_grid], c["safe_speed_Hz"][on_grid], np.nan)
+        self.safe_dynamic[idx] = c["checks_passed"][on_grid] & (c["safe_speed_criterion"][on_grid] == "dynamic")
         ok = c["checks_passed"][on_grid]
         self.torque[idx] = np.where(ok, c["torque_peak_Nm"][on_grid], np.nan)
         peaks = [c[k][on_grid] for k in c if k.startswith("peak_") and k.endswith("_N")]
@@ -142,6 +147,7 @@ class Aggregate:
             "max_motor_torque_Nm": self.motor["torque_peak_Nm"] if self.motor else None,
             "motor": self.motor,
             "lowest_safe_speed": self.min_safe,
+            "safe_speed_criteria": dict(sorted(self.safe_criteria.items())),
             "shortest_bearing_life": self.min_life,
         }
 
@@ -365,6 +371,8 @@ def _map_figure(agg: Aggregate, path: Path) -> None:
                 vmax=finite.max() if finite.size else 1,
             )
             fig.colorbar(im, ax=ax, label=label)
+            if data is agg.safe and agg.safe_dynamic.any():
+                _mark_dynamic(ax, agg, others, xs, ys)
             if data is agg.util and finite.size and finite.min() < 1 < finite.max():
                 ax.contour(xs, ys, grid.T, levels=[1.0], colors="red", linewidths=1.5)
             ax.set_xlabel(f"{agg.bars[a]} (mm)")
@@ -383,6 +391,20 @@ def _map_figure(agg: Aggregate, path: Path) -> None:
     with atomic_path(path) as tmp:
         fig.savefig(tmp, dpi=110)
     plt.close(fig)
+
+
+def _mark_dynamic(ax, agg: Aggregate, others: tuple, xs: np.ndarray, ys: np.ndarray) -> None:
+    """White crosses on the safe-speed panel where the lowest safe speed shown (over the
+    other bars) is set by the dynamic amplification rather than by stress or fatigue."""
+    safe = np.moveaxis(agg.safe, others, tuple(range(-len(others), 0))) if others else agg.safe[..., None]
+    dyn = np.moveaxis(agg.safe_dynamic, others, tuple(range(-len(others), 0))) if others else agg.safe_dynamic[..., None]
+    safe, dyn = safe.reshape(*safe.shape[:2], -1), dyn.reshape(*dyn.shape[:2], -1)
+    filled = np.where(np.isnan(safe), np.inf, safe)
+    pick = np.argmin(filled, axis=2)
+    marked = np.take_along_axis(dyn, pick[..., None], axis=2)[..., 0] & np.isfinite(filled.min(axis=2))
+    i, j = np.nonzero(marked)
+    ax.plot(xs[i], ys[j], "x", color="white", markersize=4, label="safe speed set by dynamics")
+    ax.legend(loc="upper right", fontsize=7)
 
 
 def _extent(xs: np.ndarray, ys: np.ndarray) -> tuple:

@@ -10,11 +10,12 @@ with ``bolt_position = "actual"`` and the same mesh.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
-from railcheck.check.jobs import mesh_sizes
+from railcheck.check.jobs import carried_masses, mesh_sizes
 from railcheck.check.loading import LoadModel, load_model, source_histories, unit_cases
 from railcheck.fea.fatigue import endurance_limit
 from railcheck.fea.unitcases import solve_unit_cases
@@ -46,12 +47,35 @@ class PartModel:
     dofs: int
     loads: LoadModel
     constant: tuple | None = None
+    dynamic: dict | None = None  # hole-pair key -> PairModes (effect ``dynamic``)
+    damping: float = 0.0
+    max_amplification: float = math.inf
+
+    def modes_for(self, length: float):
+        """The :class:`PairModes` of the hole pair a bar of ``length`` m uses (like
+        :meth:`screen_for`), or None without a dynamic response."""
+        if self.dynamic is None:
+            return None
+        return self.dynamic[None] if self.bar is None else self.dynamic[self.pair_of[_um(length)]]
 
     def screen_for(self, length: float):
         """The screen of the hole pair a bar of ``length`` m uses (rails), else the only one."""
         if self.bar is None:
             return self.screens[None]
         return self.screens[self.pair_of[_um(length)]]
+
+
+@dataclass(frozen=True)
+class PairModes:
+    """One hole pair's lowest modes (clamped part, its joints' carried masses lumped on
+    the pair's holes): ``hz`` (m,), ``modal_loads`` (m, k) per unit coefficient of the
+    pair's columns, and ``screen``: the pair's unit columns followed by the mode columns,
+    so a history with the mode-acceleration correction appended reads the dynamic
+    response (:mod:`railcheck.fea.dynamic`)."""
+
+    hz: np.ndarray
+    modal_loads: np.ndarray
+    screen: object
 
 
 def _um(length: float) -> int:
@@ -113,6 +137,7 @@ def build_part_model(scene, name: str, lengths: np.ndarray, material, limit: flo
             cases.setdefault(full, case)
             names.append(full)
         columns[key] = [list(cases).index(n) for n in names]
+    modes = mode_requests(scene, name, groups)
     fields, meta = solve_unit_cases(
         mesh.points,
         mesh.tets,
@@ -126,8 +151,10 @@ def build_part_model(scene, name: str, lengths: np.ndarray, material, limit: flo
         "auto",
         report,
         curved=mesh.curved if scene.mesh.curved else None,
+        modes=modes,
     )
     screens = {key: make_screen(fields.stress, fields.verdict_mask, fields.tip, cols) for key, cols in columns.items()}
+    dynamic = pair_modes(fields, meta, columns, len(cases)) if modes else None
     spec = scene.fatigue
     marin = endurance_limit(material.ultimate_strength, spec.surface, kind.section(geo), spec.load, spec.reliability)
     model = PartModel(
@@ -144,6 +171,9 @@ def build_part_model(scene, name: str, lengths: np.ndarray, material, limit: flo
         scene.check.max_deflection,
         meta.dofs,
         loads,
+        dynamic=dynamic,
+        damping=scene.dynamic.damping,
+        max_amplification=scene.dynamic.max_amplification,
     )
     if name not in scene.check.loads:
         return model
@@ -155,3 +185,31 @@ def build_part_model(scene, name: str, lengths: np.ndarray, material, limit: flo
         float(tip_peak(scr, C)[0]),
     )
     return PartModel(**{**model.__dict__, "constant": constant})
+
+
+def dynamic_in_sweep(scene) -> bool:
+    """Whether a sweep computes the dynamic response: ``dynamic`` listed and some
+    [sweep] speed above zero."""
+    return scene.check is not None and "dynamic" in scene.check.effects and any(w > 0 for w in scene.sweep.speeds)
+
+
+def mode_requests(scene, name: str, groups: dict) -> dict | None:
+    """Hole-pair key -> (modes, pins, carried masses) for
+    :func:`railcheck.fea.unitcases.solve_unit_cases`, or None: without ``dynamic``, and
+    for a part with explicit loads (constant over the cycle: nothing to respond to)."""
+    if not dynamic_in_sweep(scene) or name in scene.check.loads:
+        return None
+    return {key: (scene.dynamic.modes, None, carried_masses(scene, name, holes)) for key, holes in groups.items()}
+
+
+def pair_modes(fields, meta, columns: dict, n_cases: int) -> dict:
+    """Hole-pair key -> :class:`PairModes` from a solve with one mode set per key (the
+    mode columns follow the ``n_cases`` unit cases, key by key)."""
+    out, start = {}, n_cases
+    for key, cols in columns.items():
+        found = meta.mode_sets[key]
+        mode_cols = list(range(start, start + found.hz.size))
+        start += found.hz.size
+        screen = make_screen(fields.stress, fields.verdict_mask, fields.tip, list(cols) + mode_cols)
+        out[key] = PairModes(found.hz, found.modal_loads[:, cols], screen)
+    return out

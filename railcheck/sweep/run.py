@@ -101,11 +101,6 @@ def validate(scene) -> None:
             "check.effects",
             'a sweep needs a load to compare settings by: list "inertia" (with a speed) or "gravity"',
         )
-    if scene.check is not None and "dynamic" in scene.check.effects:
-        raise InputError(
-            "check.effects",
-            '"dynamic" is not in the sweep yet (railcheck check has it): leave it out of a sweep\'s effects',
-        )
     if scene.check is not None and scene.check.support == "free-body":
         raise InputError(
             "check.support",
@@ -140,10 +135,19 @@ def prepare_models(scene, by_kind: dict, progress) -> dict[str, dict]:
         progress.say(
             "solve",
             f"({i}/{len(names)}) {name}: {models[name].dofs} DOFs, "
-            f"{sum(s.stress.shape[2] for s in models[name].screens.values())} unit columns "
+            f"{sum(s.stress.shape[2] for s in models[name].screens.values())} unit columns"
+            f"{_mode_note(models[name])} "
             f"({time.perf_counter() - t:.1f} s)",
         )
     return {kind: {n: m for n, m in models.items() if applicable(scene, n, kind)} for kind in by_kind}
+
+
+def _mode_note(model) -> str:
+    """', the lowest mode H Hz (P hole pairs)' with a dynamic response, else ''."""
+    if model.dynamic is None:
+        return ""
+    lowest = min(float(m.hz[0]) for m in model.dynamic.values())
+    return f", lowest mode {lowest:.3g} Hz ({len(model.dynamic)} mode set(s))"
 
 
 def run_sweep(
