@@ -373,6 +373,37 @@ def test_a_sweep_row_equals_railcheck_check_of_that_setting(fe_sweep):
                 assert row[f"{name}_tip_mm"] / 1e3 == pytest.approx(env.max_tip, rel=1e-9), name
 
 
+def test_motor_sizing_at_every_speed_and_its_curve_from_the_table(kinematic_sweep):
+    """The motor a rig needs: at the listed speed, the largest peak torque, RMS torque and
+    peak power over the settings that pass (from the table's rows, aggregated here
+    independently); along the curve, the largest peak torque of the passing settings grows
+    with the square of the speed (inertia alone: every acceleration scales with omega^2),
+    checked at every curve point against the table's 1 Hz torque x (f / 1 Hz)^2; the console
+    names the figures and motor.png is drawn."""
+    from railcheck.report.text import sweep_report
+    from scene_texts import assert_picture
+
+    rows = _rows(kinematic_sweep)
+    sizing = kinematic_sweep.summary["by_kind"]["four-bar"]["motor_sizing"]
+    passing = rows["verdict"] == "pass"
+    at_1hz = sizing["at_listed_speeds"]["1"]
+    for q in ("torque_peak_Nm", "torque_rms_Nm", "power_peak_W"):
+        assert at_1hz[q]["value"] == pytest.approx(np.max(rows[q][passing]), rel=1e-12), q
+    i = int(np.argmax(np.where(passing, rows["torque_peak_Nm"], -np.inf)))
+    assert at_1hz["torque_peak_Nm"]["lengths_m"]["crank"] == pytest.approx(rows["crank_mm"][i] / 1e3)
+    curve = sizing["curve"]
+    f = np.array(curve["speed_Hz"])
+    assert f[0] == 0 and f[-1] == pytest.approx(3.0) and len(f) > 20
+    expected = np.max(rows["torque_peak_Nm"][rows["checks_passed"]]) * f**2
+    assert np.array(curve["torque_peak_Nm"], float) == pytest.approx(expected, rel=1e-9, abs=1e-9)
+    assert np.array(curve["power_peak_W"], float) == pytest.approx(expected * 2 * np.pi * f, rel=1e-9, abs=1e-9)
+    assert set(curve["settings"]) == {int(np.sum(rows["checks_passed"]))}  # no FE: no speed limit known
+    text = sweep_report(kinematic_sweep)
+    assert f"motor at 1 Hz (every passing setting): peak torque {at_1hz['torque_peak_Nm']['value']:.3g} N·m" in text
+    assert "seed 3.3" not in text and "hypotheses (chapter 3.3)" in text  # the 2013 hypotheses: summary.json only
+    assert_picture(kinematic_sweep.target / "motor.png")
+
+
 @pytest.mark.slow
 def test_checking_at_the_safe_speed_gives_utilisation_one(fe_sweep):
     """The safe speed is closed-form (inertia ~ omega^2): a check at that speed puts the
@@ -387,6 +418,11 @@ def test_checking_at_the_safe_speed_gives_utilisation_one(fe_sweep):
         for p in result.parts.values()
     )
     assert u == pytest.approx(1.0, abs=1e-6)
+    # the motor at that safe speed: the check's own inverse dynamics at that speed
+    assert row["torque_peak_at_safe_Nm"] == pytest.approx(result.kinematics.dynamics.peak_torque()[0], rel=1e-9)
+    assert row["power_peak_at_safe_W"] == pytest.approx(
+        row["torque_peak_at_safe_Nm"] * 2 * np.pi * row["safe_speed_Hz"], rel=1e-12
+    )
 
 
 @pytest.mark.slow

@@ -157,6 +157,45 @@ def motor_and_bearings(ctx: SweepContext, loads: Loads, speed: float) -> dict:
     return out
 
 
+#: points of the motor curve (required torque against crank speed), evenly spaced from
+#: 0 to ``MOTOR_CURVE_SPAN`` x the largest listed speed
+MOTOR_CURVE_POINTS = 61
+MOTOR_CURVE_SPAN = 3.0
+
+
+def motor_curve_speeds(speeds) -> np.ndarray:
+    """(G,) rad/s: the speeds at which the sweep records every setting's motor demand."""
+    return np.linspace(0.0, MOTOR_CURVE_SPAN * max(speeds), MOTOR_CURVE_POINTS)
+
+
+def torque_at(loads: Loads, s: np.ndarray, rows: np.ndarray) -> np.ndarray:
+    """(R, T) N m: the motor torque over the cycle of the revolving settings ``rows`` at
+    their speed ratios squared ``s`` (R,): the gravity part plus ``s`` times the inertial
+    part."""
+    out = np.zeros((rows.size, loads.motion.omega.shape[2]))
+    if loads.constant is not None:
+        out += loads.constant.torque[rows]
+    if loads.inertial is not None:
+        out += s[:, None] * loads.inertial.torque[rows]
+    return out
+
+
+def motor_demand(loads: Loads, speed0: float, speeds: np.ndarray) -> dict:
+    """Per setting (S, G) at each crank speed of ``speeds`` (rad/s): ``torque_peak_Nm``,
+    ``torque_rms_Nm`` and ``power_peak_W`` (peak torque x speed: the speed is constant)."""
+    shape = loads.motion.omega.shape[1:]  # (S, T)
+    Tg = loads.constant.torque if loads.constant is not None else np.zeros(shape)
+    Ti = loads.inertial.torque if loads.inertial is not None else np.zeros(shape)
+    s = (speeds / speed0) ** 2
+    T = Tg[:, None, :] + s[None, :, None] * Ti[:, None, :]  # (S, G, T)
+    peak = np.abs(T).max(axis=-1)
+    return {
+        "torque_peak_Nm": peak,
+        "torque_rms_Nm": np.sqrt(np.mean(T**2, axis=-1)),
+        "power_peak_W": peak * speeds,
+    }
+
+
 def kinematic_columns(ctx: SweepContext) -> list[str]:
     """The columns :func:`motor_and_bearings` gives, in order (NaN where a setting does not revolve)."""
     joints = ("O2", "A", "B", "O4") if ctx.kind == "four-bar" else ("O2", "A", "B", "slider")
@@ -424,6 +463,7 @@ def evaluate_chunk(ctx: SweepContext, lengths: dict, ids: np.ndarray) -> dict:
         if ctx.models and fe_sel.size:
             fe = (idx[fe_sel], fe_results(ctx, loads, fe_sel, sub, s_list))
     rows = []
+    motor = _motor_columns(ctx, n, idx, loads if idx.size else None, fe)
     for j, w in enumerate(ctx.speeds):
         col = {"setting": ids, "kind": np.full(n, ctx.kind, dtype=object)}
         col |= {f"{b}_mm": v * 1e3 for b, v in lengths.items()}
@@ -434,8 +474,38 @@ def evaluate_chunk(ctx: SweepContext, lengths: dict, ids: np.ndarray) -> dict:
         for key, values in kin[j].items():
             col[key] = _scatter(n, idx, values)
         col |= _fe_columns(ctx, n, fe, j, w, passed, checks)
+        col |= motor["columns"]
         rows.append(col)
-    return {k: np.stack([r[k] for r in rows], axis=1).reshape(-1) for k in rows[0]}
+    out = {k: np.stack([r[k] for r in rows], axis=1).reshape(-1) for k in rows[0]}
+    out[MOTOR_CURVE_KEY] = motor["curve"]
+    return out
+
+
+#: the chunk's per-setting motor curve travels with its columns under this key (the
+#: aggregate takes it; it is not a table column)
+MOTOR_CURVE_KEY = "_motor_curve"
+
+
+def _motor_columns(ctx: SweepContext, n: int, idx: np.ndarray, loads, fe) -> dict:
+    """``columns``: the motor's demand at each setting's safe speed (peak and RMS torque
+    N m, peak power W; null without a finite safe speed); ``curve``: quantity -> (n, G)
+    the demand at :func:`motor_curve_speeds` (NaN where a setting does not revolve)."""
+    grid = motor_curve_speeds(ctx.speeds)
+    curve = {k: np.full((n, grid.size), np.nan) for k in ("torque_peak_Nm", "torque_rms_Nm", "power_peak_W")}
+    cols = {k: np.full(n, np.nan) for k in ("torque_peak_at_safe_Nm", "torque_rms_at_safe_Nm", "power_peak_at_safe_W")}
+    if loads is None:
+        return {"columns": cols, "curve": curve}
+    for k, v in motor_demand(loads, ctx.speeds[0], grid).items():
+        curve[k][idx] = v
+    if fe is not None:
+        at, res = fe
+        finite = np.isfinite(res["safe_s"])
+        T = torque_at(loads, res["safe_s"][finite], np.searchsorted(idx, at[finite]))
+        safe_speed = ctx.speeds[0] * np.sqrt(res["safe_s"][finite])
+        cols["torque_peak_at_safe_Nm"][at[finite]] = np.abs(T).max(axis=1)
+        cols["torque_rms_at_safe_Nm"][at[finite]] = np.sqrt(np.mean(T**2, axis=1))
+        cols["power_peak_at_safe_W"][at[finite]] = np.abs(T).max(axis=1) * safe_speed
+    return {"columns": cols, "curve": curve}
 
 
 def _scatter(n: int, idx: np.ndarray, values: np.ndarray, fill=np.nan) -> np.ndarray:

@@ -32,7 +32,7 @@ REASON_ORDER = (
 class Aggregate:
     """Streaming statistics of one kind's rows at the first speed."""
 
-    def __init__(self, scene, kind: str, lengths: dict):
+    def __init__(self, scene, kind: str, lengths: dict, motor_speeds: np.ndarray | None = None):
 
         self.scene, self.kind, self.bars = scene, kind, BARS[kind]
         self.first_speed = scene.sweep.speeds[0] / (2 * math.pi)
@@ -57,8 +57,10 @@ class Aggregate:
         self.torque = np.full(shape, np.nan)  # N m, peak motor torque
         self.reaction = np.full(shape, np.nan)  # N, the largest peak joint reaction
         self.reason = np.full(shape, -1, dtype=np.int8)
+        self.motor_sizing = MotorSizing(scene.sweep.speeds, motor_speeds)
 
-    def add(self, col: dict) -> None:
+    def add(self, col: dict, curve: dict | None = None) -> None:
+        self.motor_sizing.add(col, curve, self._lengths)
         for speed in np.unique(col["speed_Hz"]):
             sel = col["speed_Hz"] == speed
             key = f"{speed:.6g}"
@@ -148,7 +150,72 @@ class Aggregate:
             "motor": self.motor,
             "lowest_safe_speed": self.min_safe,
             "safe_speed_criteria": dict(sorted(self.safe_criteria.items())),
+            "motor_sizing": self.motor_sizing.summary(),
             "shortest_bearing_life": self.min_life,
+        }
+
+
+#: the 2013 design study's motor estimate (its conclusion: at least 200 N·m)
+MOTOR_ESTIMATE_2013_NM = 200.0
+
+
+class MotorSizing:
+    """What a motor must deliver, streamed chunk by chunk: at each listed speed the
+    largest peak torque, RMS torque and peak power over the settings that pass every check
+    there; at each setting's own safe speed the largest of the same; and the curve of
+    required torque against speed (at each curve speed, the largest over the settings that
+    pass the configuration checks and are still safe at that speed). N m, W, Hz."""
+
+    QUANTITIES = ("torque_peak_Nm", "torque_rms_Nm", "power_peak_W")
+
+    def __init__(self, speeds, curve_speeds: np.ndarray | None):
+        self.speeds_hz = [w / (2 * math.pi) for w in speeds]
+        self.curve_hz = np.zeros(0) if curve_speeds is None else curve_speeds / (2 * math.pi)
+        self.by_speed = {f"{v:.6g}": {} for v in self.speeds_hz}
+        self.at_safe: dict = {}
+        self.curve = {q: np.full(self.curve_hz.size, -np.inf) for q in self.QUANTITIES}  # -inf: no setting
+        self.curve_settings = np.zeros(self.curve_hz.size, dtype=np.int64)
+
+    def add(self, col: dict, curve: dict | None, lengths_of) -> None:
+        for v in self.speeds_hz:
+            sel = np.isclose(col["speed_Hz"], v, rtol=1e-12) & (col["verdict"] == "pass")
+            self._keep(self.by_speed[f"{v:.6g}"], col, sel, "", lengths_of)
+        first = np.isclose(col["speed_Hz"], self.speeds_hz[0], rtol=1e-12)
+        c = {k: v[first] for k, v in col.items()}
+        safe_known = c["checks_passed"] & np.isfinite(c["torque_peak_at_safe_Nm"])
+        self._keep(self.at_safe, c, safe_known, "_at_safe", lengths_of, with_safe=True)
+        if curve is None or not self.curve_hz.size:
+            return
+        safe = np.where(np.isnan(c["safe_speed_Hz"]), np.inf, c["safe_speed_Hz"])  # no FE: no speed limit known
+        running = c["checks_passed"][:, None] & (self.curve_hz[None, :] <= safe[:, None])  # (S, G)
+        self.curve_settings += running.sum(axis=0)
+        for q in self.QUANTITIES:
+            values = np.where(running & np.isfinite(curve[q]), curve[q], -np.inf)
+            self.curve[q] = np.maximum(self.curve[q], values.max(axis=0, initial=-np.inf))
+
+    def _keep(self, best: dict, c: dict, sel: np.ndarray, suffix: str, lengths_of, with_safe=False) -> None:
+        """Keep in ``best`` the largest of each quantity over the rows ``sel`` and where it is."""
+        for q in self.QUANTITIES:
+            key = q.replace("_Nm", f"{suffix}_Nm").replace("_W", f"{suffix}_W")
+            values = np.where(sel, c[key], -np.inf)
+            if not values.size or not np.isfinite(values.max()):
+                continue
+            i = int(np.argmax(values))
+            if q not in best or values[i] > best[q]["value"]:
+                best[q] = {"value": float(values[i]), "lengths_m": lengths_of(c, i)}
+                if with_safe:
+                    best[q]["safe_speed_Hz"] = float(c["safe_speed_Hz"][i])
+
+    def summary(self) -> dict:
+        return {
+            "estimate_2013_Nm": MOTOR_ESTIMATE_2013_NM,
+            "at_listed_speeds": {k: {q: v[q] for q in self.QUANTITIES if q in v} for k, v in self.by_speed.items()},
+            "at_safe_speed": {q: self.at_safe[q] for q in self.QUANTITIES if q in self.at_safe},
+            "curve": {
+                "speed_Hz": [float(v) for v in self.curve_hz],
+                "settings": [int(v) for v in self.curve_settings],
+                **{q: [None if not np.isfinite(v) else float(v) for v in self.curve[q]] for q in self.QUANTITIES},
+            },
         }
 
 
@@ -405,6 +472,57 @@ def _mark_dynamic(ax, agg: Aggregate, others: tuple, xs: np.ndarray, ys: np.ndar
     i, j = np.nonzero(marked)
     ax.plot(xs[i], ys[j], "x", color="white", markersize=4, label="safe speed set by dynamics")
     ax.legend(loc="upper right", fontsize=7)
+
+
+def write_motor_plot(aggregates: dict, path: Path) -> None:
+    """``motor.png``: per kind the peak torque a motor must deliver against crank speed
+    (the largest over the settings still safe at that speed), the 2013 estimate of 200 N·m
+    as a line, the listed speeds marked, and how many settings the curve covers."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(8.0, 5.0))
+    drawn = False
+    for kind, agg in aggregates.items():
+        m = agg.motor_sizing
+        finite = lambda v: np.where(np.isfinite(v), v, np.nan)  # noqa: E731
+        torque = finite(m.curve["torque_peak_Nm"])
+        if not np.any(np.isfinite(torque)):
+            continue
+        drawn = True
+        (line,) = ax.plot(m.curve_hz, torque, lw=2, label=f"{kind}: peak torque, settings safe at that speed")
+        rms = finite(m.curve["torque_rms_Nm"])
+        ax.plot(m.curve_hz, rms, lw=1, ls="--", color=line.get_color(), label=f"{kind}: RMS torque")
+        for v, entry in m.by_speed.items():
+            if "torque_peak_Nm" in entry:
+                t = entry["torque_peak_Nm"]["value"]
+                ax.plot([float(v)], [t], "o", color=line.get_color())
+                ax.annotate(f"{t:.0f} N·m at {float(v):g} Hz", (float(v), t), textcoords="offset points", xytext=(6, -12))
+        safe = m.at_safe.get("torque_peak_Nm")
+        if safe:
+            ax.plot([safe["safe_speed_Hz"]], [safe["value"]], "s", color=line.get_color())
+            ax.annotate(
+                f"{safe['value']:.0f} N·m: largest at a setting's safe speed ({safe['safe_speed_Hz']:.2f} Hz)",
+                (safe["safe_speed_Hz"], safe["value"]),
+                textcoords="offset points",
+                xytext=(-10, 8),
+                ha="right",
+            )
+    ax.axhline(MOTOR_ESTIMATE_2013_NM, color="grey", lw=1, ls=":", label="2013 study's estimate, 200 N·m")
+    ax.set_xlabel("crank speed (Hz)")
+    ax.set_ylabel("motor torque (N·m)")
+    ax.set_ylim(bottom=0)
+    ax.set_xlim(left=0)
+    ax.grid(alpha=0.3)
+    ax.set_title("Motor a rig needs: the largest torque over the settings that are safe at each speed", fontsize=10)
+    if drawn:
+        ax.legend(fontsize=8, loc="upper left")
+    fig.tight_layout()
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=110)
+    plt.close(fig)
 
 
 def _extent(xs: np.ndarray, ys: np.ndarray) -> tuple:

@@ -26,9 +26,9 @@ from railcheck.files import Staging, atomic_write_text, reserve_results_dir, to_
 from railcheck.geometry.catalogue import with_overrides
 from railcheck.parts import PARTS
 from railcheck.progress import Progress
-from railcheck.sweep.chunk import SweepContext, evaluate_chunk
+from railcheck.sweep.chunk import MOTOR_CURVE_KEY, SweepContext, evaluate_chunk, motor_curve_speeds
 from railcheck.sweep.grid import narrowed, rig_grid, settings
-from railcheck.sweep.maps import Aggregate, summary_of, write_maps
+from railcheck.sweep.maps import Aggregate, summary_of, write_maps, write_motor_plot
 from railcheck.sweep.parts import applicable, build_part_model
 from railcheck.sweep.table import TableWriter
 
@@ -208,17 +208,19 @@ def _run_into(scene, directory: Path, scheduler, workers, serial, progress, dask
         for kind, lengths in by_kind.items():
             ctx = _context(scene, kind, models[kind])
             path = directory / f"sweep-{kind}.{scene.sweep.format}"
-            aggregates[kind] = Aggregate(scene, kind, lengths)
+            aggregates[kind] = Aggregate(scene, kind, lengths, motor_curve_speeds(scene.sweep.speeds))
             with TableWriter(path, scene.sweep.format) as writer:
                 for columns in executor.map_chunks(ctx, lengths, chunk_size(scene)):
+                    curve = columns.pop(MOTOR_CURVE_KEY)
                     writer.write(columns)
-                    aggregates[kind].add(columns)
+                    aggregates[kind].add(columns, curve)
             tables[kind] = path
     clock.append(time.perf_counter())
     summary = summary_of(scene, aggregates, tables, models)
 
     atomic_write_text(directory / "summary.json", to_json(summary) + "\n")
     write_maps(aggregates, directory)
+    write_motor_plot(aggregates, directory / "motor.png")
     clock.append(time.perf_counter())
     timings = dict(zip(("prepare", "chunks", "report"), np.diff(clock)))
     atomic_write_text(directory / "timings.json", to_json(timings) + "\n")
