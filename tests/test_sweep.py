@@ -404,6 +404,26 @@ def test_motor_sizing_at_every_speed_and_its_curve_from_the_table(kinematic_swee
     assert_picture(kinematic_sweep.target / "motor.png")
 
 
+def test_map_legend_lists_only_the_refusal_reasons_that_occur(tmp_path):
+    """The legend's reasons are the first failing checks of the refused settings, read
+    from the table independently; a narrowed sweep where only some checks fail lists
+    only those."""
+    from railcheck.sweep.maps import REASON_ORDER, Aggregate, occurring_reasons
+    from railcheck.sweep.run import sweep_settings
+
+    text = KINEMATICS_ONLY + 'kind = "four-bar"\ncrank = ["360 mm", "540 mm"]\ncoupler = ["780 mm", "900 mm"]\n'
+    text += 'rocker = ["660 mm", "900 mm"]\nground = ["960 mm", "1080 mm"]\n'
+    run = _sweep(tmp_path, text, serial=True)
+    rows = _rows(run)
+    expected = set()
+    for i in np.flatnonzero(~rows["checks_passed"]):
+        expected.add(next(r for r in REASON_ORDER if f"check_{r}" in rows and not rows[f"check_{r}"][i]))
+    scene = parse_scene(__import__("tomllib").loads(text), "test")
+    agg = Aggregate(scene, "four-bar", sweep_settings(scene)["four-bar"])
+    agg.add({k: v for k, v in rows.items()})
+    assert set(occurring_reasons(agg)) == expected and 0 < len(expected) < len(REASON_ORDER)
+
+
 @pytest.mark.slow
 def test_checking_at_the_safe_speed_gives_utilisation_one(fe_sweep):
     """The safe speed is closed-form (inertia ~ omega^2): a check at that speed puts the

@@ -5,11 +5,14 @@ Axes in degrees, N and N m. matplotlib is imported here only, with the Agg backe
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from railcheck.check.kinematics_stage import KinematicsResult
 from railcheck.files import atomic_path
+
+if TYPE_CHECKING:  # a type only: importing railcheck.check here would be circular
+    from railcheck.check.kinematics_stage import KinematicsResult
 
 
 def _figure():
@@ -78,6 +81,14 @@ def write_kinematics_plots(result: KinematicsResult, directory: str | Path) -> l
     return written
 
 
+def cycle_axis_top(peak: float, seed_peak: float, limit: float) -> float:
+    """The cycle plot's upper stress limit (Pa): scaled to the data (15% above the larger
+    of the curve's and the seed method's peak), reaching up to the limit only when the
+    limit is within twice that, so a 3 MPa cycle is not drawn on a 375 MPa axis."""
+    data = 1.15 * max(peak, seed_peak, 1e-9)
+    return 1.05 * limit if limit <= 2.0 * data else data
+
+
 def write_cycle_plot(name: str, part, path: str | Path) -> Path:
     """The governing node's von Mises over the crank angle, the seed method's instant and
     the limit marked (Pa -> MPa on the axis)."""
@@ -98,13 +109,20 @@ def write_cycle_plot(name: str, part, path: str | Path) -> Path:
         label=f"seed method instant {seed.crank_angle_deg:.1f}° (peak |R_{h.joint}|): "
         f"{seed.max_von_mises / 1e6:.1f} MPa at its own peak node",
     )
-    ax.axhline(limit / 1e6, color="k", lw=0.8, ls=":", label=f"limit {limit / 1e6:.0f} MPa")
+    top = cycle_axis_top(float(np.max(h.von_mises)), seed.max_von_mises, limit)
+    if limit <= top:
+        ax.axhline(limit / 1e6, color="k", lw=0.8, ls=":", label=f"limit {limit / 1e6:.0f} MPa")
     ax.set(
         xlabel="crank angle θ2 (deg)",
         ylabel="von Mises (MPa)",
         xlim=(0, 360),
-        ylim=(0, None),
-        title=f"{name}: von Mises over one crank revolution (joint {h.joint})",
+        ylim=(0, top / 1e6),
+        title=f"{name}: von Mises over one crank revolution (joint {h.joint})"
+        + (
+            ""
+            if limit <= top
+            else f"\nlimit {limit / 1e6:.0f} MPa: {limit / max(part.verdict_stress, 1e-9):.3g}x the peak, off the axis"
+        ),
     )
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)

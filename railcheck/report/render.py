@@ -24,6 +24,46 @@ from railcheck.parts import kind_of
 
 DEFORMATION_FRACTION = 0.05  # of the part's largest dimension
 COLOUR_MAP = "viridis"
+CAPTION_FRACTION = 0.02  # caption font size, of the picture's height (VTK renders a line ~1.6x the size: ~3%)
+CHAR_WIDTH = 0.75  # a caption character's width, of the font size (a first guess; fit_caption measures)
+
+
+def caption_font_size(height: int) -> int:
+    """Caption font size (VTK points: pixels of text height) for a picture ``height`` px high."""
+    return int(np.ceil(CAPTION_FRACTION * height))
+
+
+def fit_caption(plotter, text: str, size: tuple[int, int], font: int) -> int:
+    """Add ``text`` at the upper left, wrapped so that its rendered box fits inside the
+    picture (measured after rendering, rewrapped narrower until it does); returns its
+    number of lines."""
+    per_line = max(20, int(0.96 * size[0] / (CHAR_WIDTH * font)))
+    for _ in range(8):
+        lines = [w for line in text.split("\n") for w in __import__("textwrap").wrap(line, per_line)]
+        actor = plotter.add_text("\n".join(lines), position=(8, size[1] - 8), font_size=font, name="caption")
+        actor.GetTextProperty().SetVerticalJustificationToTop()
+        plotter.render()
+        right = caption_box(plotter, actor)[1]
+        if right <= 0.985 * size[0]:
+            return len(lines)
+        per_line = max(10, int(per_line * 0.97 * size[0] / right))
+    return len(lines)
+
+
+def caption_box(plotter, actor) -> tuple[float, float, float, float]:
+    """(x min, x max, y min, y max) px of a rendered text actor in the picture (VTK gives
+    the box relative to the actor's anchor)."""
+    box = [0.0] * 4
+    actor.GetBoundingBox(plotter.renderer, box)
+    x, y = actor.GetPosition()
+    return (x + box[0], x + box[1], y + box[2], y + box[3])
+
+
+def colour_bar_format(top: float) -> str:
+    """printf format of the colour bar's labels (MPa) so that six labels from 0 to ``top``
+    read distinct values: whole MPa from 25 MPa up, one or more decimals below."""
+    step = max(top, 1e-12) / 5
+    return f"%.{min(max(0, int(np.ceil(-np.log10(step)))), 4)}f"
 
 
 def _pyvista():
@@ -52,7 +92,9 @@ def render_part(path: str | Path, name: str, part) -> Path:
     )
     grid.point_data["von Mises (MPa)"] = sol.von_mises / 1e6
     slender = extent.max() > 6 * np.sort(extent)[1]
-    plotter = pv.Plotter(off_screen=True, window_size=(1600, 560) if slender else (1200, 900))
+    size = (1600, 640) if slender else (1200, 1000)
+    plotter = pv.Plotter(off_screen=True, window_size=size)
+    font = caption_font_size(size[1])
     top = max(part.verdict_stress / 1e6, 1e-9)
     plotter.add_mesh(
         grid.extract_surface(algorithm="dataset_surface"),
@@ -64,35 +106,42 @@ def render_part(path: str | Path, name: str, part) -> Path:
         scalar_bar_args={
             "title": "von Mises (MPa)",
             "vertical": not slender,
-            "fmt": "%.0f",
-            **({"position_x": 0.3, "position_y": 0.04, "width": 0.4, "height": 0.08} if slender else {}),
+            "fmt": colour_bar_format(top),
+            "n_labels": 6,
+            "title_font_size": font,
+            "label_font_size": font,
+            **(
+                {"position_x": 0.25, "position_y": 0.05, "width": 0.5, "height": 0.1}
+                if slender
+                else {"position_x": 0.86, "position_y": 0.08, "width": 0.08, "height": 0.55}
+            ),
         },
     )
     if part.job.free_body is None:
         _support(pv, plotter, mesh, sol, scale, part)
-    _bolt_arrows(pv, plotter, mesh, sol, scale, part, cycle, min(extent.max(), 8 * np.sort(extent)[1]))
-    _peak_marker(pv, plotter, cycle, sol, scale, extent.max(), part)
+    _bolt_arrows(pv, plotter, mesh, sol, scale, part, cycle, min(extent.max(), 8 * np.sort(extent)[1]), font)
+    _peak_marker(pv, plotter, cycle, sol, scale, extent.max(), part, font)
     when = (
         f"at crank {cycle.history.crank_angle_deg:.1f} deg" if cycle.C.shape[0] > 1 else "under its constant explicit loads"
     )
-    plotter.add_text(
-        f"{name}: cycle peak {part.verdict_stress / 1e6:.1f} MPa {when} (limit {part.limit / 1e6:.0f} MPa, FoS "
-        f"{part.limit / max(part.verdict_stress, 1e-9):.3g}); largest "
-        f"{'deflection relative to the joints' if part.job.free_body is not None else 'tip deflection'} "
-        f"{cycle.envelope.max_tip * 1e3:.3g} mm\n"
-        f"deformation x {scale:.3g} (largest displacement = {DEFORMATION_FRACTION:.0%} of the part); "
+    deflection = "deflection relative to the joints" if part.job.free_body is not None else "tip deflection"
+    caption = (
+        f"{name}: cycle peak {part.verdict_stress / 1e6:.1f} MPa {when}\n"
+        f"limit {part.limit / 1e6:.0f} MPa, FoS {part.limit / max(part.verdict_stress, 1e-9):.3g}; "
+        f"largest {deflection} {cycle.envelope.max_tip * 1e3:.3g} mm\n"
+        f"shape x {scale:.3g} (largest displacement 5% of the part); "
         + (
-            "free body (no support: inertia relief); arrows: the joints' forces on the first hole and the bolts"
+            "free body: no support (inertia relief); red: joint forces"
             if part.job.free_body is not None
-            else "magenta: above the verdict peak (the support's singular zone); grey: support; arrows: bolt forces"
-        ),
-        font_size=9,
+            else "black: the clamp; magenta: its singular zone; red: joint force"
+        )
     )
+    lines = fit_caption(plotter, caption, size, font)
 
     plotter.enable_parallel_projection()  # "xy": from above, the plane the mechanism moves in
     plotter.camera.tight(padding=0.05 if slender else 0.12, view=kind_of(name).view, adjust_render_window=False)
-    if slender:
-        plotter.camera.zoom(0.9)  # room for the title above and the colour bar below
+    caption_share = 1.7 * font * (lines + 0.6) / size[1]  # of the height, above the part
+    _leave_room(plotter, caption_share, 0.2 if slender else 0.04, 0.0 if slender else 0.16)
     path = Path(path)
     with atomic_path(path) as tmp:
         plotter.screenshot(str(tmp))
@@ -105,15 +154,39 @@ def _group_points(mesh, sol, scale, groups) -> np.ndarray:
     return mesh.points[idx] + scale * sol.displacement[idx]
 
 
+def _leave_room(plotter, top: float, bottom: float, right: float) -> None:
+    """Shift and shrink the view so the part fills the picture between the caption (the
+    top ``top`` of the height), the colour bar (``bottom`` of the height, or ``right`` of
+    the width) and the edges: a parallel projection's scale is half the visible height."""
+    cam = plotter.camera
+    free_h = max(0.3, 1.0 - top - bottom)
+    free_w = max(0.3, 1.0 - right)
+    scale = cam.parallel_scale / min(free_h, free_w)
+    h = 2.0 * scale
+    w = h * plotter.window_size[0] / plotter.window_size[1]
+    dy = (top - bottom) / 2.0 * h  # move the view up so the part sits below the caption
+    dx = right / 2.0 * w
+    up = np.array(cam.up, float)
+    up /= np.linalg.norm(up)
+    view = np.array(cam.focal_point) - np.array(cam.position)
+    view /= np.linalg.norm(view)
+    side = np.cross(view, up)
+    shift = up * dy + side * dx
+    cam.focal_point = tuple(np.array(cam.focal_point) + shift)
+    cam.position = tuple(np.array(cam.position) + shift)
+    cam.parallel_scale = scale
+
+
 def _support(pv, plotter, mesh, sol, scale, part) -> None:
     pts = _group_points(mesh, sol, scale, [part.load_case.support])
-    plotter.add_points(pv.PolyData(pts), color="grey", point_size=6, render_points_as_spheres=True)
+    plotter.add_points(pv.PolyData(pts), color="black", point_size=9, render_points_as_spheres=True)
 
 
-def _bolt_arrows(pv, plotter, mesh, sol, scale, part, cycle, size) -> None:
+def _bolt_arrows(pv, plotter, mesh, sol, scale, part, cycle, size, font) -> None:
     """An arrow per loaded hole, at its centre, along the joint force of the governing
     instant on it: the bolts' (``bolt_x``, ``bolt_y``) and, on a free body, the first
-    hole's pin (``pin_x``, ``pin_y``)."""
+    hole's pin (``pin_x``, ``pin_y``); drawn over the part and labelled with the joint
+    force's magnitude (N) once per group of holes."""
     c, names = cycle.C[cycle.envelope.step], list(cycle.fields.names)
     loads = [([b.group for b in part.load_case.bolts], "bolt")]
     if "pin_x" in names:
@@ -124,21 +197,33 @@ def _bolt_arrows(pv, plotter, mesh, sol, scale, part, cycle, size) -> None:
         if not np.any(force):
             continue
         direction = force / np.linalg.norm(force)
+        length = 0.18 * size
+        tails = []
         for hole in holes:
             centre = _group_points(mesh, sol, scale, [hole]).mean(axis=0)
             centre[2] = above
-            length = 0.18 * size
-            plotter.add_mesh(pv.Arrow(start=centre - direction * length, direction=direction, scale=length), color="red")
+            tails.append(centre - direction * length)
+            plotter.add_mesh(pv.Arrow(start=tails[-1], direction=direction, scale=length), color="red")
+        shared = f" on {len(holes)} bolts" if case == "bolt" and len(holes) > 1 else ""
+        plotter.add_point_labels(
+            pv.PolyData(np.mean(tails, axis=0)[None, :]),
+            [f"{np.linalg.norm(force):.3g} N{shared}"],
+            font_size=font,
+            text_color="red",
+            point_size=1,
+            shape_opacity=0.6,
+            always_visible=True,
+        )
 
 
-def _peak_marker(pv, plotter, cycle, sol, scale, size, part) -> None:
+def _peak_marker(pv, plotter, cycle, sol, scale, size, part, font) -> None:
     node = cycle.envelope.node
     where = cycle.fields.nodes[node] + scale * sol.node_displacement[node]
     plotter.add_mesh(pv.Sphere(radius=0.012 * size, center=where), color="white")
     plotter.add_point_labels(
         pv.PolyData(where[None, :]),
         [f"peak {part.verdict_stress / 1e6:.1f} MPa"],
-        font_size=14,
+        font_size=font,
         point_color="white",
         point_size=1,
         shape_opacity=0.7,

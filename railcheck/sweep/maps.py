@@ -32,7 +32,7 @@ REASON_ORDER = (
 class Aggregate:
     """Streaming statistics of one kind's rows at the first speed."""
 
-    def __init__(self, scene, kind: str, lengths: dict, motor_speeds: np.ndarray | None = None):
+    def __init__(self, scene, kind: str, lengths: dict, motor_speeds: np.ndarray | None = None, models=None):
 
         self.scene, self.kind, self.bars = scene, kind, BARS[kind]
         self.first_speed = scene.sweep.speeds[0] / (2 * math.pi)
@@ -58,6 +58,10 @@ class Aggregate:
         self.reaction = np.full(shape, np.nan)  # N, the largest peak joint reaction
         self.reason = np.full(shape, -1, dtype=np.int8)
         self.motor_sizing = MotorSizing(scene.sweep.speeds, motor_speeds)
+        models = models or {}
+        #: parts whose loads depend on the setting get a map each; constant-load parts are listed
+        self.constant_parts = [n for n, m in models.items() if m.constant is not None]
+        self.part_util = {n: np.full(shape, np.nan) for n, m in models.items() if m.constant is None}
 
     def add(self, col: dict, curve: dict | None = None) -> None:
         self.motor_sizing.add(col, curve, self._lengths)
@@ -130,6 +134,8 @@ class Aggregate:
         self.util[idx] = np.where(c["checks_passed"][on_grid], c["utilisation"][on_grid], np.nan)
         self.safe[idx] = np.where(c["checks_passed"][on_grid], c["safe_speed_Hz"][on_grid], np.nan)
         self.safe_dynamic[idx] = c["checks_passed"][on_grid] & (c["safe_speed_criterion"][on_grid] == "dynamic")
+        for name, grid in self.part_util.items():
+            grid[idx] = np.where(c["checks_passed"][on_grid], c[f"{name}_utilisation"][on_grid], np.nan)
         ok = c["checks_passed"][on_grid]
         self.torque[idx] = np.where(ok, c["torque_peak_Nm"][on_grid], np.nan)
         peaks = [c[k][on_grid] for k in c if k.startswith("peak_") and k.endswith("_N")]
@@ -386,35 +392,42 @@ def write_maps(aggregates: dict, directory: Path) -> None:
 
 
 def _map_figure(agg: Aggregate, path: Path) -> None:
+    """One row per map (each part whose loads depend on the setting: its utilisation at the
+    first speed; then the lowest safe speed), one column per pair of bars (the worst over
+    the other bars); utilisation on a scale from 0 with the utilisation-1 contour; refused
+    cells coloured by their first failing check, with only the checks that occur in the
+    legend; constant-load parts listed in the title."""
+    import warnings
+
     import matplotlib.pyplot as plt
     from matplotlib.colors import ListedColormap
     from matplotlib.patches import Patch
 
     pairs = [(0, 1), (2, 3)] if len(agg.bars) == 4 else [(0, 1)]
-    fig, axes = plt.subplots(2, len(pairs), figsize=(max(9.0, 6.5 * len(pairs)), 9.5), squeeze=False)
-    reason_colors = ListedColormap(["#d9d9d9", "#fdd0a2", "#c6dbef", "#fcbba1", "#dadaeb", "#c7e9c0", "#f0f0f0"])
+    has_fe = not np.all(np.isnan(agg.util))
+    if has_fe:
+        panels = [(g, np.nanmax, f"{n}: utilisation (1 = limit)", "viridis", True) for n, g in agg.part_util.items()]
+        panels.append((agg.safe, np.nanmin, "lowest safe crank speed (Hz)", "viridis_r", False))
+    else:  # no FE parts: the loads instead
+        panels = [
+            (agg.reaction, np.nanmax, "largest peak joint reaction (N)", "viridis", False),
+            (agg.torque, np.nanmax, "largest peak motor torque (N·m)", "viridis", False),
+        ]
+    fig, axes = plt.subplots(
+        len(panels), len(pairs), figsize=(max(9.0, 6.5 * len(pairs)), 3.6 * len(panels) + 1.6), squeeze=False
+    )
+    colours = ["#bdbdbd", "#fdae6b", "#9ecae1", "#f781bf", "#cab2d6", "#a1d99b", "#ffffb3"]  # one per REASON_ORDER
+    reason_colors = ListedColormap(colours)
     for col, (a, b) in enumerate(pairs):
         others = tuple(i for i in range(len(agg.bars)) if i not in (a, b))
-        panels = (
-            (agg.util, np.nanmax, "worst utilisation (1 = limit)", "viridis"),
-            (agg.safe, np.nanmin, "lowest safe crank speed (Hz)", "viridis_r"),
-        )
-        if np.all(np.isnan(agg.util)):  # no FE parts: the loads instead
-            panels = (
-                (agg.reaction, np.nanmax, "largest peak joint reaction (N)", "viridis"),
-                (agg.torque, np.nanmax, "largest peak motor torque (N·m)", "viridis"),
-            )
-        for row, (data, reduce, label, cmap) in enumerate(panels):
+        reasons = np.max(agg.reason, axis=others) if others else agg.reason
+        xs, ys = agg.grid[agg.bars[a]] * 1e3, agg.grid[agg.bars[b]] * 1e3
+        extent = _extent(xs, ys)
+        for row, (data, reduce, label, cmap, is_util) in enumerate(panels):
             ax = axes[row, col]
-            with np.errstate(all="ignore"):
-                import warnings
-
-                with warnings.catch_warnings():
-                    warnings.simplefilter("ignore", RuntimeWarning)
-                    grid = reduce(data, axis=others) if others else data
-            reasons = np.max(agg.reason, axis=others) if others else agg.reason
-            xs, ys = agg.grid[agg.bars[a]] * 1e3, agg.grid[agg.bars[b]] * 1e3
-            extent = _extent(xs, ys)
+            with np.errstate(all="ignore"), warnings.catch_warnings():
+                warnings.simplefilter("ignore", RuntimeWarning)
+                grid = reduce(data, axis=others) if others else data
             refused = np.ma.masked_where(~np.isnan(grid) | (reasons < 0), reasons)
             ax.imshow(
                 refused.T,
@@ -427,6 +440,7 @@ def _map_figure(agg: Aggregate, path: Path) -> None:
                 interpolation="nearest",
             )
             finite = grid[np.isfinite(grid)]
+            top = max(1.0, float(finite.max())) if is_util and finite.size else (finite.max() if finite.size else 1)
             im = ax.imshow(
                 np.ma.masked_invalid(grid).T,
                 origin="lower",
@@ -434,30 +448,44 @@ def _map_figure(agg: Aggregate, path: Path) -> None:
                 aspect="auto",
                 cmap=cmap,
                 interpolation="nearest",
-                vmin=finite.min() if finite.size else 0,
-                vmax=finite.max() if finite.size else 1,
+                vmin=0,
+                vmax=top,
             )
-            fig.colorbar(im, ax=ax, label=label)
+            fig.colorbar(im, ax=ax, label=label.split(": ")[-1])
+            if is_util and finite.size and finite.min() < 1 < finite.max() and min(grid.shape) > 1:
+                ax.contour(xs, ys, np.where(np.isfinite(grid), grid, 0).T, levels=[1.0], colors="red", linewidths=1.5)
             if data is agg.safe and agg.safe_dynamic.any():
                 _mark_dynamic(ax, agg, others, xs, ys)
-            if data is agg.util and finite.size and finite.min() < 1 < finite.max():
-                ax.contour(xs, ys, grid.T, levels=[1.0], colors="red", linewidths=1.5)
             ax.set_xlabel(f"{agg.bars[a]} (mm)")
             ax.set_ylabel(f"{agg.bars[b]} (mm)")
             over = f", worst over {' and '.join(agg.bars[i] for i in others)}" if others else ""
-            ax.set_title(f"{agg.kind}: {label.split(' (')[0]}{over}", fontsize=9)
-    handles = [Patch(color=reason_colors(i), label=f"refused: {n.replace('_', ' ')}") for i, n in enumerate(REASON_ORDER)]
-    fig.legend(handles=handles, loc="lower center", ncol=4 if len(pairs) > 1 else 3, fontsize=8)
-    note = " (red line: utilisation 1)" if not np.all(np.isnan(agg.util)) else ""
+            ax.set_title(f"{label.split(' (')[0]}{over}", fontsize=9)
+    handles = [
+        Patch(color=colours[REASON_ORDER.index(r)], label=f"refused: {r.replace('_', ' ')}") for r in occurring_reasons(agg)
+    ]
+    if handles:
+        fig.legend(handles=handles, loc="lower center", ncol=min(4, len(handles)), fontsize=8)
+    note = " (red line: utilisation 1)" if has_fe else ""
+    constant = (
+        f"\nconstant loads, the same for every setting (not mapped): {', '.join(agg.constant_parts)}"
+        if agg.constant_parts
+        else ""
+    )
     fig.suptitle(
-        f"railcheck sweep, {agg.kind} at {agg.first_speed:g} Hz\nsettings that pass every configuration "
-        f"check in colour{note}",
+        f"railcheck sweep, {agg.kind} at {agg.first_speed:g} Hz: settings that pass every configuration "
+        f"check in colour{note}{constant}",
         fontsize=10,
     )
-    fig.tight_layout(rect=(0, 0.06, 1, 0.97))
+    fig.tight_layout(rect=(0, 0.04 if handles else 0, 1, 0.96))
     with atomic_path(path) as tmp:
-        fig.savefig(tmp, dpi=110)
+        fig.savefig(tmp, dpi=100)
     plt.close(fig)
+
+
+def occurring_reasons(agg: Aggregate) -> list[str]:
+    """The refusal reasons the map legend lists: each the first failing check (in
+    :data:`REASON_ORDER`) of some refused setting on the grid."""
+    return [REASON_ORDER[int(r)] for r in np.unique(agg.reason) if r >= 0]
 
 
 def _mark_dynamic(ax, agg: Aggregate, others: tuple, xs: np.ndarray, ys: np.ndarray) -> None:
@@ -504,19 +532,23 @@ def write_motor_plot(aggregates: dict, path: Path) -> None:
         if safe:
             ax.plot([safe["safe_speed_Hz"]], [safe["value"]], "s", color=line.get_color())
             ax.annotate(
-                f"{safe['value']:.0f} N·m: largest at a setting's safe speed ({safe['safe_speed_Hz']:.2f} Hz)",
+                f"{safe['value']:.0f} N·m: the largest at a setting's own safe speed ({safe['safe_speed_Hz']:.2f} Hz)",
                 (safe["safe_speed_Hz"], safe["value"]),
                 textcoords="offset points",
-                xytext=(-10, 8),
-                ha="right",
+                xytext=(0, 10),
+                ha="center",
             )
     ax.axhline(MOTOR_ESTIMATE_2013_NM, color="grey", lw=1, ls=":", label="2013 study's estimate, 200 N·m")
     ax.set_xlabel("crank speed (Hz)")
     ax.set_ylabel("motor torque (N·m)")
-    ax.set_ylim(bottom=0)
+    ax.set_ylim(0, 1.2 * max(ax.get_ylim()[1], MOTOR_ESTIMATE_2013_NM))
     ax.set_xlim(left=0)
     ax.grid(alpha=0.3)
-    ax.set_title("Motor a rig needs: the largest torque over the settings that are safe at each speed", fontsize=10)
+    ax.set_title(
+        "The motor a rig needs: at each crank speed, the largest torque over the settings still safe there\n"
+        "(a setting leaves the curve above its safe speed, so the curve drops where the most demanding ones leave)",
+        fontsize=9,
+    )
     if drawn:
         ax.legend(fontsize=8, loc="upper left")
     fig.tight_layout()

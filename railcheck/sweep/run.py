@@ -208,7 +208,7 @@ def _run_into(scene, directory: Path, scheduler, workers, serial, progress, dask
         for kind, lengths in by_kind.items():
             ctx = _context(scene, kind, models[kind])
             path = directory / f"sweep-{kind}.{scene.sweep.format}"
-            aggregates[kind] = Aggregate(scene, kind, lengths, motor_curve_speeds(scene.sweep.speeds))
+            aggregates[kind] = Aggregate(scene, kind, lengths, motor_curve_speeds(scene.sweep.speeds), models[kind])
             with TableWriter(path, scene.sweep.format) as writer:
                 for columns in executor.map_chunks(ctx, lengths, chunk_size(scene)):
                     curve = columns.pop(MOTOR_CURVE_KEY)

@@ -1,0 +1,44 @@
+"""Pictures an engineer reads at a glance: caption text at least 2.5% of the picture's
+height and inside it (measured on the rendered text), colour-bar labels that read distinct
+values, and cycle plots scaled to their data with the limit drawn only when in range."""
+
+import numpy as np
+import pytest
+
+from railcheck.report.plots import cycle_axis_top
+from railcheck.report.render import _pyvista, caption_box, caption_font_size, colour_bar_format, fit_caption
+
+LONG = (
+    "PF_4b_006: cycle peak 2.9 MPa at crank 13.5 deg\nlimit 375 MPa, FoS 131; largest tip deflection 0.000878 mm\n"
+    "shape x 9.71e+03 (largest displacement 5% of the part); black: the clamp; magenta: its singular zone; red: joint force"
+)
+
+
+@pytest.mark.parametrize("size", [(1600, 640), (1200, 1000)])
+def test_caption_is_large_enough_and_inside_the_picture(size):
+    pv = _pyvista()
+    plotter = pv.Plotter(off_screen=True, window_size=size)
+    plotter.add_mesh(pv.Cube())
+    font = caption_font_size(size[1])
+    lines = fit_caption(plotter, LONG, size, font)
+    actor = plotter.actors["caption"]
+    x0, x1, y0, y1 = caption_box(plotter, actor)
+    plotter.close()
+    assert lines >= 3
+    assert (y1 - y0) / lines >= 0.025 * size[1]  # each line at least 2.5% of the height
+    assert 0 <= x0 and x1 <= size[0] and 0 <= y0 and y1 <= size[1]  # nothing clipped
+
+
+@pytest.mark.parametrize("top", [0.05, 0.3, 2.9, 9.9, 24.0, 91.3, 400.0])
+def test_colour_bar_labels_read_distinct_values(top):
+    fmt = colour_bar_format(top)
+    labels = [fmt % (top * i / 5) for i in range(6)]
+    assert len(set(labels)) == 6, labels
+    assert float(labels[-1]) == pytest.approx(top, rel=0.2)
+
+
+def test_cycle_plot_axis_follows_the_data_and_shows_the_limit_only_in_range():
+    assert cycle_axis_top(2.9e6, 2.8e6, 375e6) == pytest.approx(1.15 * 2.9e6)  # a 2.9 MPa cycle on its own scale
+    assert cycle_axis_top(300e6, 250e6, 375e6) == pytest.approx(1.05 * 375e6)  # the limit in range: drawn
+    top = cycle_axis_top(100e6, 120e6, 375e6)
+    assert top >= 1.15 * 120e6 and np.isclose(top, 1.15 * 120e6)  # the seed method's peak is on the axis too
