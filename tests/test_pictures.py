@@ -42,3 +42,20 @@ def test_cycle_plot_axis_follows_the_data_and_shows_the_limit_only_in_range():
     assert cycle_axis_top(300e6, 250e6, 375e6) == pytest.approx(1.05 * 375e6)  # the limit in range: drawn
     top = cycle_axis_top(100e6, 120e6, 375e6)
     assert top >= 1.15 * 120e6 and np.isclose(top, 1.15 * 120e6)  # the seed method's peak is on the axis too
+
+
+def test_help_is_plain_text_without_jargon():
+    """`--help` of every command reads as plain text: no reStructuredText backticks and no
+    "seed" (the code's name for the 2013 study, undefined for a reader of the help)."""
+    import argparse
+
+    from railcheck.cli import build_parser
+
+    parser = build_parser()
+    texts = [parser.format_help()]
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            texts += [sub.format_help() for sub in action.choices.values()]
+    assert len(texts) >= 8
+    for text in texts:
+        assert "`" not in text and "seed" not in text.lower(), text

@@ -402,6 +402,11 @@ def test_motor_sizing_at_every_speed_and_its_curve_from_the_table(kinematic_swee
     assert f"motor at 1 Hz (every passing setting): peak torque {at_1hz['torque_peak_Nm']['value']:.3g} N·m" in text
     assert "seed 3.3" not in text and "hypotheses (chapter 3.3)" in text  # the 2013 hypotheses: summary.json only
     assert_picture(kinematic_sweep.target / "motor.png")
+    page = (kinematic_sweep.target / "report.html").read_text()
+    assert "<script" not in page and "http" not in page  # self-contained, offline
+    assert page.count("data:image/png;base64,") == 3  # the two kinds' maps and the motor plot
+    assert "The motor a rig needs" in page and "The best passing setting per criterion" in page
+    assert f"{at_1hz['torque_peak_Nm']['value']:.3g}" in page
 
 
 def test_map_legend_lists_only_the_refusal_reasons_that_occur(tmp_path):

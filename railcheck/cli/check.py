@@ -21,13 +21,13 @@ PARSER = {
     "and fatigue per part.",
     "epilog": f"parts: {', '.join(PARTS)}\nmaterials: {', '.join(MATERIALS)}\neffects: {', '.join(EFFECTS)}\n"
     f"fatigue criteria: {', '.join(CRITERIA)}; surfaces: {', '.join(SURFACE)}\n"
-    "`railcheck init` writes a commented starter scene.",
+    "railcheck init writes a commented starter scene.",
     "formatter_class": argparse.RawDescriptionHelpFormatter,
 }
 
 
 def add_args(p) -> None:
-    add_results_args(p, "the built-in seed final design", "the scene's output.dir")
+    add_results_args(p, "the built-in scene: the 2013 design study's final rig", "the scene's output.dir")
     p.add_argument(
         "--jobs", type=int, metavar="N", help="parts checked at once in worker processes (default: one per core, at most 2)"
     )

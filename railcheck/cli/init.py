@@ -24,5 +24,5 @@ def run(args) -> int:
     text = resources.files("railcheck").joinpath("scenes", "starter.toml").read_text(encoding="utf-8")
     parse_scene(tomllib.loads(text), "starter.toml")  # the starter is always a valid scene
     atomic_write_text(path, text)
-    print(f"wrote {path}: edit it, then run `railcheck check {path}`")
+    print(f"wrote {path}: edit it, then run: railcheck check {path}")
     return EXIT_PASS

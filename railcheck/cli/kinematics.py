@@ -16,7 +16,9 @@ HELP = "kinematics, joint reactions and motor torque over a crank revolution"
 
 
 def add_args(p) -> None:
-    p.add_argument("scene", nargs="?", help="scene TOML file (default: the built-in seed final design)")
+    p.add_argument(
+        "scene", nargs="?", help="scene TOML file (default: the built-in scene, the 2013 design study's final rig)"
+    )
     p.add_argument("--json", action="store_true", help="print one JSON object to stdout")
     p.add_argument("--plots", metavar="DIR", help="write PNG plots of reactions, torque, angles into DIR")
 

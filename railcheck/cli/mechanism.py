@@ -7,7 +7,7 @@ from railcheck.kinematics.planar.catalogue import CATALOGUE
 from railcheck.report.text import mechanism_report
 from railcheck.studies.mechanism import run_mechanism, write_mechanism_outputs
 
-HELP = "general planar mechanisms of the catalogue (seed 002)"
+HELP = "general planar mechanisms in body coordinates (the catalogue of the mechanisms study)"
 
 
 def add_args(p) -> None:

@@ -62,7 +62,7 @@ def parts_table(result) -> str:
         "part",
         "cycle max vM (MPa)",
         "at crank (deg)",
-        "seed inst. (MPa)",
+        "2013 inst. (MPa)",
         "tip defl. (mm)",
         "limit (MPa)",
         "FoS",
@@ -102,8 +102,8 @@ def parts_table(result) -> str:
         )
     lines = aligned(header, rows, left=frozenset({0, 9, 10, 11}))
     lines.append(
-        "  cycle max vM: the largest von Mises over the whole crank cycle (superposed unit cases); seed inst.: "
-        "at the instant of the peak |reaction| (seed 000's method); FoS = limit / cycle max; fatigue n: "
+        "  cycle max vM: the largest von Mises over the whole crank cycle (superposed unit cases); 2013 inst.: "
+        "at the instant of the peak |reaction| (the 2013 design study's method); FoS = limit / cycle max; fatigue n: "
         "minimum fatigue safety factor (Shigley 6-14 with the [fatigue] criterion); utilisation: the largest "
         "of stress / limit, required / fatigue n, deflection / its limit and (amplification - 1) / (its limit - 1)"
     )
@@ -327,5 +327,5 @@ def sweep_report(run) -> str:
             f"the 2013 design study's hypotheses (chapter 3.3): {held} of {tested} tested hold on this sweep "
             "(summary.json seed_hypotheses)"
         )
-    lines.append(f"results in {run.target}/ ({', '.join(s['tables'].values())}, maps, summary.json), {run.seconds:.1f} s")
+    lines.append(f"results in {run.target}/ ({', '.join(s['tables'].values())}, report.html, maps, motor.png, summary.json), {run.seconds:.1f} s")
     return "\n".join(lines)

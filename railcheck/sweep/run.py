@@ -30,6 +30,7 @@ from railcheck.sweep.chunk import MOTOR_CURVE_KEY, SweepContext, evaluate_chunk,
 from railcheck.sweep.grid import narrowed, rig_grid, settings
 from railcheck.sweep.maps import Aggregate, summary_of, write_maps, write_motor_plot
 from railcheck.sweep.parts import applicable, build_part_model
+from railcheck.sweep.report import write_sweep_report
 from railcheck.sweep.table import TableWriter
 
 #: bytes of working memory per setting and crank step of a chunk (kinematics, reactions
@@ -221,6 +222,7 @@ def _run_into(scene, directory: Path, scheduler, workers, serial, progress, dask
     atomic_write_text(directory / "summary.json", to_json(summary) + "\n")
     write_maps(aggregates, directory)
     write_motor_plot(aggregates, directory / "motor.png")
+    write_sweep_report(directory / "report.html", summary, tables, directory)
     clock.append(time.perf_counter())
     timings = dict(zip(("prepare", "chunks", "report"), np.diff(clock)))
     atomic_write_text(directory / "timings.json", to_json(timings) + "\n")

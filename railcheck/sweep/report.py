@@ -1,0 +1,194 @@
+"""The sweep's ``report.html``: one self-contained page (pictures inline, no script, no
+network) with what a rig engineer asks of a sweep: how many settings pass, the maps, the
+motor a rig needs (the curve and the figures at each speed), the worst settings, the best
+setting per criterion, the safe speeds' criteria and the 2013 study's hypotheses re-stated
+on the table. Units at this edge: mm, Hz, N·m, W, h.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from railcheck.files import atomic_write_text
+from railcheck.report.html import CSS, _e, _img, _table
+from railcheck.sweep.table import read_table
+
+#: how many of the most utilised settings the report lists per kind
+WORST_LISTED = 10
+
+#: (title, column, "min" or "max", format, unit) of the best passing setting per criterion
+BEST = (
+    ("lowest utilisation at the first speed", "utilisation", "min", ".3f", ""),
+    ("highest safe speed", "safe_speed_Hz", "max", ".3g", "Hz"),
+    ("lowest peak motor torque", "torque_peak_Nm", "min", ".3g", "N·m"),
+    ("lowest peak motor power", "power_peak_W", "min", ".3g", "W"),
+    ("longest bearing life (L10)", "bearing_life_h", "max", ".3g", "h"),
+)
+
+
+def write_sweep_report(path: Path, summary: dict, tables: dict, directory: Path) -> None:
+    """Write the sweep's report.html at ``path`` (the maps and motor.png read from
+    ``directory``; ``tables`` kind -> table path)."""
+    speed = summary["speeds_Hz"][0]
+    sections = [
+        "<h1>railcheck sweep</h1>",
+        f'<p class="note">speeds {_e(", ".join(f"{v:g}" for v in summary["speeds_Hz"]))} Hz, '
+        f"{summary['steps']} steps per revolution, {_e(summary['assembly'])} assembly, effects: "
+        f"{_e(', '.join(summary['effects']))}; scene: {_e(summary.get('scene_source', ''))}</p>",
+        _counts(summary),
+    ]
+    for kind, path_k in tables.items():
+        rows = _first_speed_rows(path_k, speed)
+        sections += [
+            f"<h2>{_e(kind)}</h2>",
+            _img(directory / f"map-{kind}.png", f"{kind} maps"),
+            _worst(rows),
+            _best(rows),
+            _safe_criteria(summary["by_kind"][kind]),
+        ]
+    sections += [_motor(summary, directory), _hypotheses(summary)]
+    page = (
+        '<!DOCTYPE html><html lang="en"><head><meta charset="utf-8"><title>railcheck sweep</title>'
+        f"<style>{CSS}</style></head><body>{''.join(s for s in sections if s)}</body></html>\n"
+    )
+    atomic_write_text(path, page)
+
+
+def _first_speed_rows(path: Path, speed_hz: float) -> dict:
+    table = read_table(path, None, speed_hz)
+    return {k: np.asarray(v.to_numpy(zero_copy_only=False)) for k, v in zip(table.column_names, table.columns)}
+
+
+def _lengths(rows: dict, i: int) -> str:
+    bars = [b for b in ("crank", "coupler", "rocker", "ground", "offset") if f"{b}_mm" in rows]
+    return "/".join(f"{rows[f'{b}_mm'][i]:.0f}" for b in bars) + " mm"
+
+
+def _counts(summary: dict) -> str:
+    head = ["kind", "settings", "assemble", "revolve", "pass the configuration checks", "pass every check"]
+    rows = [
+        [
+            _e(kind),
+            f"{k['settings_total']:,}",
+            f"{k['settings_assemblable']:,}",
+            f"{k['settings_revolving']:,}",
+            f"{k['settings_passing_checks']:,}",
+            f"{k['settings_passing']:,} at {summary['speeds_Hz'][0]:g} Hz",
+        ]
+        for kind, k in summary["by_kind"].items()
+    ]
+    return "<h2>Settings</h2>" + _table(head, rows)
+
+
+def _number(value, fmt: str) -> str:
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        return "-"
+    return format(v, fmt) if math.isfinite(v) else "-"
+
+
+def _worst(rows: dict) -> str:
+    if "utilisation" not in rows:
+        return ""
+    u = np.asarray(rows["utilisation"], dtype=float)
+    order = [i for i in np.argsort(-np.where(np.isfinite(u), u, -np.inf)) if np.isfinite(u[i])][:WORST_LISTED]
+    if not order:
+        return ""
+    body = [
+        [
+            _e(_lengths(rows, i)),
+            f"{u[i]:.3f}",
+            _e(f"{rows['governing_part'][i]} {rows['governing_criterion'][i]}"),
+            _number(rows["safe_speed_Hz"][i], ".3g"),
+            _e(f"{rows['safe_speed_part'][i] or '-'} {rows['safe_speed_criterion'][i] or ''}"),
+            _number(rows["torque_peak_Nm"][i], ".3g"),
+            _e(rows["verdict"][i]),
+        ]
+        for i in order
+    ]
+    head = ["setting", "utilisation", "governs", "safe speed (Hz)", "set by", "peak torque (N·m)", "verdict"]
+    return f"<h3>The {len(order)} most utilised settings</h3>" + _table(head, body, left=1)
+
+
+def _best(rows: dict) -> str:
+    passing = np.asarray(rows["verdict"] == "pass")
+    body = []
+    for title, column, sense, fmt, unit in BEST:
+        if column not in rows or not passing.any():
+            continue
+        values = np.asarray(rows[column], dtype=float)
+        if column == "safe_speed_Hz" and "safe_speed_unlimited" in rows:
+            values = np.where(np.asarray(rows["safe_speed_unlimited"], bool), np.inf, values)
+        ok = passing & ~np.isnan(values)
+        if not ok.any():
+            continue
+        pick = np.where(ok, values if sense == "max" else -values, -np.inf)
+        i = int(np.argmax(pick))
+        value = "unlimited" if np.isinf(values[i]) else f"{format(values[i], fmt)} {unit}".strip()
+        body.append([_e(title), _e(_lengths(rows, i)), _e(value)])
+    if not body:
+        return ""
+    return "<h3>The best passing setting per criterion</h3>" + _table(["criterion", "setting", "value"], body)
+
+
+def _safe_criteria(kind: dict) -> str:
+    counts = kind.get("safe_speed_criteria") or {}
+    if not counts:
+        return ""
+    text = ", ".join(f"{c}: {n:,}" for c, n in counts.items())
+    return f"<p>what sets each setting's safe speed (settings per criterion): {_e(text)}</p>"
+
+
+def _motor(summary: dict, directory: Path) -> str:
+    rows = []
+    for kind, k in summary["by_kind"].items():
+        sizing = k.get("motor_sizing") or {}
+        for speed, entry in sizing.get("at_listed_speeds", {}).items():
+            if "torque_peak_Nm" not in entry:
+                continue
+            t, r, p = (entry[q] for q in ("torque_peak_Nm", "torque_rms_Nm", "power_peak_W"))
+            rows.append(
+                [_e(kind), f"{float(speed):g} Hz", f"{t['value']:.3g}", f"{r['value']:.3g}", f"{p['value']:.3g}", _e(_mm(t))]
+            )
+        safe = sizing.get("at_safe_speed", {})
+        if "torque_peak_Nm" in safe:
+            t, r, p = (safe[q] for q in ("torque_peak_Nm", "torque_rms_Nm", "power_peak_W"))
+            rows.append(
+                [
+                    _e(kind),
+                    f"each setting's safe speed (largest at {t['safe_speed_Hz']:.3g} Hz)",
+                    f"{t['value']:.3g}",
+                    f"{r['value']:.3g}",
+                    f"{p['value']:.3g}",
+                    _e(_mm(t)),
+                ]
+            )
+    if not rows:
+        return ""
+    head = ["kind", "to run every passing setting at", "peak torque (N·m)", "RMS torque (N·m)", "peak power (W)", "set by"]
+    return (
+        "<h2>The motor a rig needs</h2><p>The 2013 design study estimated at least 200 N·m. Each row is the largest "
+        "over the settings that pass at that speed; the curve is the largest over the settings still safe at each "
+        "speed.</p>" + _table(head, rows, left=2) + _img(directory / "motor.png", "motor torque against crank speed")
+    )
+
+
+def _mm(entry: dict) -> str:
+    return "/".join(f"{v * 1e3:.0f}" for v in entry["lengths_m"].values()) + " mm"
+
+
+def _hypotheses(summary: dict) -> str:
+    hyps = summary.get("seed_hypotheses") or []
+    if not hyps:
+        return ""
+    mark = {True: "holds", False: "does not hold", None: "not tested here"}
+    rows = [
+        [_e(h["id"]), f'<span class="l">{_e(h["statement"])}</span>', _e(mark[h["holds"]]), _e(h["evidence"])] for h in hyps
+    ]
+    return "<h2>The 2013 study's hypotheses (chapter 3.3), on this sweep</h2>" + _table(
+        ["section", "hypothesis", "on this sweep", "evidence"], rows, left=4
+    )
