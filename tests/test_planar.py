@@ -155,31 +155,75 @@ DRIVER = """<script>
 const before = drawn;
 slider.value = String(Math.floor(D.driver_deg.length / 2));
 slider.dispatchEvent(new Event('input'));
+const after = drawn, readout = document.getElementById('readout').textContent;
+play.click();
+const playing = {label: play.textContent, state: drawn.playing};
+play.click();
+const paused = {label: play.textContent, state: drawn.playing};
 const out = document.createElement('pre');
-out.textContent = 'AUTOTEST' + JSON.stringify({before: before, after: drawn});
+out.textContent = 'AUTOTEST' + JSON.stringify({before: before, after: after, readout: readout, playing: playing,
+  paused: paused, tracer_mm: D.tracer[after.step], pivots: D.pivots, guides: D.guides});
 document.body.appendChild(out);
 </script>"""
 
 
-def test_html_slider_moves_the_drawing(tmp_path):
-
-    html = tmp_path / "m.html"
-    assert main(["mechanism", "a-z-1139", "--steps", "121", "--html", str(html)]) == 0
+def _drive(name, tmp_path, steps="121"):
+    html = tmp_path / f"{name}.html"
+    assert main(["mechanism", name, "--steps", steps, "--html", str(html)]) == 0
     text = html.read_text()
     assert "http://" not in text and "https://" not in text and "<script src" not in text  # self-contained
     assert "autotest" not in text.lower()  # the user's page carries no test hook
-    # the test drives a copy of the page with its own script: move the slider, read the drawing
-    driven = tmp_path / "driven.html"
+    # the test drives a copy of the page with its own script: move the slider, play, pause, read the drawing
+    driven = tmp_path / f"{name}-driven.html"
     driven.write_text(text.replace("</body>", DRIVER + "</body>"))
     proc = browse(driven, tmp_path, "--virtual-time-budget=5000", "--dump-dom")
     marker = proc.stdout.rfind("AUTOTEST{")
     assert marker >= 0, proc.stderr[-2000:]
     raw = proc.stdout[marker + len("AUTOTEST") :]
-    state = json.JSONDecoder().raw_decode(raw.replace("&quot;", '"'))[0]
+    return json.JSONDecoder().raw_decode(raw.replace("&quot;", '"'))[0]
+
+
+def test_html_slider_moves_the_drawing_on_axes_in_mm_with_play_and_pause(tmp_path):
+    """The page draws to scale on axes in mm (ticks on a 1-2-5 step), reads out the
+    driver angle and the traced point in mm, moves with the slider, and plays and pauses."""
+    state = _drive("a-z-1139", tmp_path)
     before, after = state["before"], state["after"]
     assert before["step"] == 0 and after["step"] == 60
     assert before["tracer_px"] != after["tracer_px"]
     assert before["bodies"] != after["bodies"]
+    ticks = before["ticks"]["x"]
+    assert len(ticks) >= 4 and len({round(b - a, 9) for a, b in zip(ticks, ticks[1:])}) == 1
+    step = ticks[1] - ticks[0]
+    assert step / 10 ** math.floor(math.log10(step)) in (1, 2, 5)
+    mech = CATALOGUE["a-z-1139"]()
+    motion = solve(mech, driver_values("a-z-1139", 121))
+    x_mm, y_mm = motion.point(*mech.tracer)[0][60] * 1e3
+    assert state["tracer_mm"] == pytest.approx([x_mm, y_mm], abs=1e-6)
+    assert f"x {x_mm:.2f} mm, y {y_mm:.2f} mm" in state["readout"] and " deg" in state["readout"]
+    assert (state["playing"], state["paused"]) == ({"label": "pause", "state": True}, {"label": "play", "state": False})
+
+
+def test_the_ground_is_drawn_where_it_holds_the_mechanism(tmp_path):
+    """a-4-1553: one pin to the ground (its crank's pivot) and one slider guide, nothing
+    else: no ground symbol at a point that holds nothing."""
+    state = _drive("a-4-1553", tmp_path)
+    assert [p[2] for p in state["pivots"]] == ["1"] and [g[2] for g in state["guides"]] == ["4"]
+    assert state["pivots"][0][:2] == pytest.approx([-4.0, -3.6])  # L13, L12 (mm)
+    assert state["guides"][0][0][1] == pytest.approx(6.0) and state["guides"][0][1][1] == pytest.approx(6.0)  # y = L11
+
+
+def test_the_rig_four_bar_traces_a_coupler_point_not_the_rocker_arc():
+    """The rig's four-bar traces P, the coupler's mid-span: the mid-point of A and B from
+    the closed-form kinematics, and not on a circle about O4 (the rocker's arc B drew)."""
+    from railcheck.kinematics.motion import solve_fourbar
+
+    mech = rig_fourbar()
+    s = np.linspace(0, 2 * math.pi, 181)
+    P = solve(mech, s).point(*mech.tracer)[0]
+    closed = solve_fourbar(FourBar(0.48, 0.84, 0.78, 1.02), 0.0, 181)
+    np.testing.assert_allclose(P, 0.5 * (closed.points["A"] + closed.points["B"]), atol=1e-9)
+    radius = np.hypot(P[:, 0] - 1.02, P[:, 1])
+    assert np.ptp(radius) > 0.1  # far from an arc about O4
 
 
 @pytest.mark.slow

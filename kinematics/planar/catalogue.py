@@ -81,7 +81,7 @@ def a_4_1553() -> Mechanism:
         joints,
         RotationDriver("driver", 1, linear_driver(338.17, 225.0)),
         tracer=(2, "p5"),
-        description="Artobolevsky a-4-1553 (seed 002): crank, L-shaped coupler, slider",
+        description="Artobolevsky a-4-1553 (the mechanisms study): crank, L-shaped coupler, slider",
     )
 
 
@@ -119,7 +119,7 @@ def a_z_1139() -> Mechanism:
         joints,
         RotationDriver("driver", 1, linear_driver(110.71, -220.0)),
         tracer=(7, "p1"),
-        description="Artobolevsky a-z-1139 (seed 002): strophoid tracer",
+        description="Artobolevsky a-z-1139 (the mechanisms study): strophoid tracer",
     )
     mech.curve_parameters = {"a": 2 * L2 * MM}
     return mech
@@ -164,7 +164,7 @@ def a_z_1066() -> Mechanism:
         joints,
         RotationDriver("driver", 7, linear_driver(21.02, -40.0)),
         tracer=(1, "p1"),
-        description="Artobolevsky a-z-1066 (seed 002): hyperbolograph of Inwards",
+        description="Artobolevsky a-z-1066 (the mechanisms study): hyperbolograph of Inwards",
     )
     mech.curve_parameters = {"a": a * MM, "l": L81 * MM}
     return mech
@@ -193,7 +193,7 @@ def rig_fourbar(linkage: FourBar = FourBar(0.48, 0.84, 0.78, 1.02), masses: Mass
         ),
         Body(
             "coupler",
-            {"A": (-coupler.com, 0.0), "B": (b3 - coupler.com, 0.0)},
+            {"A": (-coupler.com, 0.0), "P": (0.5 * b3 - coupler.com, 0.0), "B": (b3 - coupler.com, 0.0)},
             coupler.mass,
             coupler.inertia_com,
             place(m0.points["A"][0], th[1], coupler.com),
@@ -218,8 +218,8 @@ def rig_fourbar(linkage: FourBar = FourBar(0.48, 0.84, 0.78, 1.02), masses: Mass
         bodies,
         joints,
         RotationDriver("driver", 1, linear_driver(0.0, 360.0)),
-        tracer=(2, "B"),
-        description="the rig's four-bar (seed 000) in body coordinates",
+        tracer=(2, "P"),
+        description="the rig's four-bar (the 2013 study) in body coordinates; P: the coupler's mid-span, a coupler point",
     )
 
 

@@ -327,5 +327,8 @@ def sweep_report(run) -> str:
             f"the 2013 design study's hypotheses (chapter 3.3): {held} of {tested} tested hold on this sweep "
             "(summary.json seed_hypotheses)"
         )
-    lines.append(f"results in {run.target}/ ({', '.join(s['tables'].values())}, report.html, maps, motor.png, summary.json), {run.seconds:.1f} s")
+    lines.append(
+        f"results in {run.target}/ (report.html first; {', '.join(s['tables'].values())}, maps, motor.png, "
+        f"summary.json), {run.seconds:.1f} s"
+    )
     return "\n".join(lines)

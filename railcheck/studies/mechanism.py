@@ -19,6 +19,7 @@ import numpy as np
 from railcheck.errors import InputError
 from railcheck.files import atomic_path, atomic_write_text
 from railcheck.kinematics.planar.catalogue import CATALOGUE, SWEEPS, driver_values
+from railcheck.kinematics.planar.model import Prismatic, Revolute
 from railcheck.kinematics.planar.solver import mobility, solve
 
 
@@ -53,23 +54,48 @@ def _segments(mech, motion) -> list:
     return out
 
 
+def ground_features(mech) -> tuple[list, list]:
+    """(pivots, guides) of the ground, in m: each revolute joint's ground point [x, y, name]
+    (where a pin holds a body to the frame), and each prismatic joint's guide line on the
+    ground [[x1, y1], [x2, y2], name] (two points of the line; the page extends it)."""
+    pivots, guides = [], []
+    for joint in mech.joints:
+        if isinstance(joint, Revolute) and 0 in (joint.i, joint.j):
+            point = joint.pi if joint.i == 0 else joint.pj
+            x, y = mech.ground.points[point]
+            pivots.append([float(x), float(y), joint.name])
+        elif isinstance(joint, Prismatic) and 0 in (joint.i, joint.j):
+            ends = (joint.pi, joint.qi) if joint.i == 0 else (joint.pj, joint.qj)
+            a, b = (mech.ground.points[e] for e in ends)
+            guides.append([[float(a[0]), float(a[1])], [float(b[0]), float(b[1])], joint.name])
+    return pivots, guides
+
+
 def write_html(path: Path, mech, motion, table: np.ndarray) -> None:
-    """A self-contained page (inline data and script, no network) with a slider."""
+    """A self-contained page (inline data and script, no network): the mechanism drawn to
+    scale on axes in mm with a grid and a scale bar, bodies and joints labelled, the ground
+    drawn where it holds the mechanism (pivots, slider guides), the traced curve, a slider
+    and a play/pause control over the driver, and a readout in mm and degrees."""
     segs = _segments(mech, motion)
-    ground = [list(map(float, p)) for p in mech.ground.points.values()]
-    all_pts = np.concatenate([p.reshape(-1, 2) for _, _, p in segs] + [np.array(ground), table[:, 1:3]])
+    pivots, guides = ground_features(mech)
+    all_pts = np.concatenate(
+        [p.reshape(-1, 2) for _, _, p in segs] + [np.array([q[:2] for q in pivots]).reshape(-1, 2), table[:, 1:3]]
+    )
     lo, hi = all_pts.min(axis=0), all_pts.max(axis=0)
+    mm = lambda a: np.round(np.asarray(a) * 1e3, 6).tolist()  # noqa: E731
     data = {
         "name": mech.name,
         "description": mech.description,
         "driver_deg": [round(math.degrees(v), 6) for v in table[:, 0]],
-        "bodies": [{"name": n, "points": names, "xy": np.round(p, 9).tolist()} for n, names, p in segs],
-        "ground": ground,
-        "tracer": np.round(table[:, 1:3], 9).tolist(),
-        "bounds": [float(lo[0]), float(lo[1]), float(hi[0]), float(hi[1])],
-        "tracer_body": mech.bodies[mech.tracer[0] - 1].name,
+        "bodies": [{"name": n, "points": names, "xy": mm(p)} for n, names, p in segs],
+        "pivots": [[x * 1e3, y * 1e3, n] for x, y, n in pivots],
+        "guides": [[mm(a), mm(b), n] for a, b, n in guides],
+        "tracer": mm(table[:, 1:3]),
+        "bounds": [float(v) * 1e3 for v in (lo[0], lo[1], hi[0], hi[1])],
+        "tracer_name": f"{mech.bodies[mech.tracer[0] - 1].name}.{mech.tracer[1]}",
     }
-    html = _HTML.replace("__DATA__", json.dumps(data, separators=(",", ":"))).replace("__TITLE__", mech.name)
+    template = (Path(__file__).with_name("mechanism_page.html")).read_text(encoding="utf-8")
+    html = template.replace("__DATA__", json.dumps(data, separators=(",", ":"))).replace("__TITLE__", mech.name)
     atomic_write_text(path, html)
 
 
@@ -142,54 +168,3 @@ def write_mechanism_outputs(run: MechanismRun, csv: str | None, html: str | None
         write_gif(Path(gif), run.mech, run.motion, run.table)
         written.append(gif)
     return written
-
-
-_HTML = r"""<!DOCTYPE html>
-<html lang="en"><head><meta charset="utf-8"><title>__TITLE__ — railcheck</title>
-<style>
-body{font-family:sans-serif;margin:1em;color:#222} canvas{border:1px solid #ccc;background:#fff}
-#controls{margin:.5em 0} input[type=range]{width:600px} pre{font-size:12px;color:#555}
-</style></head><body>
-<h2 id="title"></h2><div id="desc"></div>
-<div id="controls"><label>driver <input id="slider" type="range" min="0" value="0" step="1"></label>
-<span id="angle"></span></div>
-<canvas id="view" width="800" height="600"></canvas>
-<pre id="state"></pre>
-<script>
-const D = __DATA__;
-const canvas = document.getElementById('view'), ctx = canvas.getContext('2d');
-const slider = document.getElementById('slider');
-document.getElementById('title').textContent = D.name;
-document.getElementById('desc').textContent = D.description + ' (tracer on body ' + D.tracer_body + ')';
-slider.max = D.driver_deg.length - 1;
-const [x0, y0, x1, y1] = D.bounds, pad = 30;
-const sc = Math.min((canvas.width - 2 * pad) / (x1 - x0 || 1), (canvas.height - 2 * pad) / (y1 - y0 || 1));
-const px = p => [pad + (p[0] - x0) * sc, canvas.height - pad - (p[1] - y0) * sc];
-const colours = ['#1f77b4', '#2ca02c', '#ff7f0e', '#9467bd', '#8c564b', '#e377c2', '#17becf', '#bcbd22', '#7f7f7f'];
-let drawn = null;
-function draw(k) {
-  ctx.clearRect(0, 0, canvas.width, canvas.height);
-  ctx.strokeStyle = '#d62728'; ctx.lineWidth = 1; ctx.beginPath();
-  D.tracer.forEach((p, i) => { const q = px(p); i ? ctx.lineTo(q[0], q[1]) : ctx.moveTo(q[0], q[1]); });
-  ctx.stroke();
-  ctx.fillStyle = '#000';
-  D.ground.forEach(p => { const q = px(p); ctx.beginPath(); ctx.moveTo(q[0], q[1]); ctx.lineTo(q[0] - 6, q[1] + 10);
-    ctx.lineTo(q[0] + 6, q[1] + 10); ctx.closePath(); ctx.fill(); });
-  const bodies = [];
-  D.bodies.forEach((b, j) => {
-    const pts = b.xy[k].map(px);
-    ctx.strokeStyle = colours[j % colours.length]; ctx.lineWidth = 4; ctx.beginPath();
-    pts.forEach((q, i) => i ? ctx.lineTo(q[0], q[1]) : ctx.moveTo(q[0], q[1])); ctx.stroke();
-    ctx.fillStyle = '#333'; pts.forEach(q => { ctx.beginPath(); ctx.arc(q[0], q[1], 3, 0, 2 * Math.PI); ctx.fill(); });
-    bodies.push(pts.map(q => [Math.round(q[0] * 100) / 100, Math.round(q[1] * 100) / 100]));
-  });
-  const t = px(D.tracer[k]);
-  ctx.fillStyle = '#d62728'; ctx.beginPath(); ctx.arc(t[0], t[1], 5, 0, 2 * Math.PI); ctx.fill();
-  document.getElementById('angle').textContent = D.driver_deg[k].toFixed(2) + ' deg';
-  drawn = {step: k, tracer_px: [Math.round(t[0] * 100) / 100, Math.round(t[1] * 100) / 100], bodies: bodies};
-  document.getElementById('state').textContent = JSON.stringify({step: k, tracer_m: D.tracer[k]});
-}
-slider.addEventListener('input', () => draw(parseInt(slider.value)));
-draw(0);
-</script></body></html>
-"""
