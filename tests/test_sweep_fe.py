@@ -47,6 +47,27 @@ def test_screened_peaks_equal_brute_force(seed, k, criterion, spread):
     np.testing.assert_allclose(tip_peak(screen, C), np.linalg.norm(C @ tip.T, axis=2).max(axis=1), rtol=1e-14)
 
 
+@pytest.mark.parametrize("k", [2, 8])
+def test_a_pass_or_fail_question_gets_the_exact_factor_below_its_threshold(k):
+    """``enough`` (a safe-speed search asks only whether the factor reaches it): below it
+    the factor is exact; at or above it the result says so and is never below the exact
+    one. Thresholds on both sides of every setting's exact factor."""
+    rng = np.random.default_rng(7)
+    n = 3000
+    stress = rng.normal(size=(6, n, k)) * np.exp(2.0 * rng.normal(size=(1, n, 1)))
+    mask = rng.random(n) > 0.1
+    t = np.linspace(0, 2 * np.pi, 97)
+    C = rng.normal(size=(9, 1, k)) + rng.normal(size=(9, 1, k)) * np.cos(t)[None, :, None]
+    screen = make_screen(stress, mask, np.zeros((3, k)), list(range(k)))
+    exact = fatigue_min(screen, C, 200e6, 750e6, "goodman", 400e6)
+    for enough in np.quantile(exact, [0.0, 0.3, 0.7, 1.0]) * np.array([[0.999], [1.001]]):
+        for e in enough:
+            got = fatigue_min(screen, C, 200e6, 750e6, "goodman", 400e6, e)
+            below = exact < e
+            np.testing.assert_allclose(got[below], exact[below], rtol=1e-12)
+            assert np.all(got[~below] >= e * (1 - 1e-9)) and np.all(got >= exact * (1 - 1e-12))
+
+
 def test_unloaded_setting_has_zero_stress_and_infinite_fatigue_factor():
     rng = np.random.default_rng(1)
     stress = rng.normal(size=(6, 500, 2))

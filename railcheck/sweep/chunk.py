@@ -238,14 +238,16 @@ def coefficients(ctx: SweepContext, name: str, loads: Loads, sel: np.ndarray) ->
 
 
 def evaluate_part(
-    model, history: list[tuple], bar_lengths: np.ndarray | None, s, speed0: float = 0.0
+    model, history: list[tuple], bar_lengths: np.ndarray | None, s, speed0: float = 0.0, decide: bool = False
 ) -> tuple[np.ndarray, ...]:
     """(von Mises peak Pa, fatigue factor, tip m, dynamic amplification) of one part for
     every setting of the history at speed ratio squared ``s`` (scalar or (S,)), each (S,).
     With a dynamic response (``model.dynamic``) the peak, factor and tip are those of the
     quasi-static history plus the mode-acceleration correction at crank speed
     ``speed0 sqrt(s)`` rad/s, and the amplification is that peak over the quasi-static
-    one (the largest over the load sources); without, the amplification is 1."""
+    one (the largest over the load sources); without, the amplification is 1. ``decide``:
+    only whether each criterion passes matters beyond its limit (a safe-speed search), so
+    a fatigue factor above the required one is not refined (:func:`fatigue_min` ``enough``)."""
 
     n_set = history[0][1].shape[0]
     s = np.broadcast_to(np.asarray(s, float), (n_set,))
@@ -272,7 +274,16 @@ def evaluate_part(
                 amp[idx] = np.maximum(amp[idx], np.where(quasi > 0, peak / quasi, 1.0))
             vm[idx] = np.maximum(vm[idx], peak)
             fat[idx] = np.minimum(
-                fat[idx], fatigue_min(read, C, model.endurance, model.ultimate, model.criterion, model.yield_strength)
+                fat[idx],
+                fatigue_min(
+                    read,
+                    C,
+                    model.endurance,
+                    model.ultimate,
+                    model.criterion,
+                    model.yield_strength,
+                    model.required if decide else None,
+                ),
             )
             tip[idx] = np.maximum(tip[idx], tip_peak(read, C))
     return vm, fat, tip, amp
@@ -318,14 +329,14 @@ def fe_results(ctx: SweepContext, loads: Loads, sel: np.ndarray, lengths: dict, 
     bar_len = lambda m: lengths[m.bar][sel] if m.bar else None  # noqa: E731
     n_sel = sel.size
 
-    def at(s) -> dict:
+    def at(s, decide: bool = False) -> dict:
         out = {}
         for name, m in ctx.models.items():
             if m.constant is not None:
                 vm, fat, tip = (np.full(n_sel, v) for v in m.constant)
                 amp = np.ones(n_sel)
             else:
-                vm, fat, tip, amp = evaluate_part(m, histories[name], bar_len(m), s, ctx.speeds[0])
+                vm, fat, tip, amp = evaluate_part(m, histories[name], bar_len(m), s, ctx.speeds[0], decide)
             out[name] = (vm, fat, tip, amp, utilisation(m, vm, fat, tip, amp))
         return out
 
@@ -334,7 +345,7 @@ def fe_results(ctx: SweepContext, loads: Loads, sel: np.ndarray, lengths: dict, 
     base = at(1.0)
     per_speed = [base if s == 1.0 else (at(s) if exact else _scaled(ctx, base, s)) for s in speeds_s]
     if exact:
-        safe = _safe_s_bisect(ctx, at, n_sel, scan=SAFE_SPEED_SCAN if dynamic else 0)
+        safe = _safe_s_bisect(ctx, lambda s: at(s, decide=True), n_sel, scan=SAFE_SPEED_SCAN if dynamic else 0)
     else:
         safe = _safe_s_closed(ctx, base, n_sel)
     finite = np.where(np.isfinite(safe), safe, 1.0)  # unlimited: what governs at the reference speed

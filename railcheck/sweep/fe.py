@@ -108,10 +108,21 @@ def von_mises_peak(screen: Screen, C: np.ndarray) -> np.ndarray:
 
 
 def fatigue_min(
-    screen: Screen, C: np.ndarray, endurance: float, ultimate: float, criterion: str, yield_strength: float | None
+    screen: Screen,
+    C: np.ndarray,
+    endurance: float,
+    ultimate: float,
+    criterion: str,
+    yield_strength: float | None,
+    enough: float | None = None,
 ) -> np.ndarray:
     """(S,) the smallest fatigue safety factor over the verdict nodes of each history
-    ``C`` (S, T, k) (component ranges over all steps; :mod:`railcheck.fea.fatigue`)."""
+    ``C`` (S, T, k) (component ranges over all steps; :mod:`railcheck.fea.fatigue`).
+
+    ``enough``: a factor beyond which the exact value does not matter (a search that only
+    asks whether a part passes). Nodes whose bound is above it are not evaluated, so a
+    result below ``enough`` is exact and a result at or above it only says so (it is then
+    an upper estimate of the exact minimum, itself at least ``enough``)."""
 
     factor = lambda sa, sm: safety_factor(sa, sm, endurance, ultimate, criterion, yield_strength)  # noqa: E731
     polygons = [hull_polygon(c) for c in C] if screen.angle is not None else None  # once per history
@@ -121,6 +132,8 @@ def fatigue_min(
     for g in _groups(C.shape[0], 12 * n):
         bound = factor(*_fatigue_bounds(screen.stress, c0[g], E[g]))  # (n, s)
         can = bound <= best[g][None, :] * (1.0 + SLACK)
+        if enough is not None:
+            can &= bound < enough * (1.0 + SLACK)
         for h in _groups(can.shape[1], 6 * max(1, int(can.sum(axis=0).max())) * C.shape[1]):
             nodes = np.flatnonzero(can[:, h].any(axis=1))
             if nodes.size:

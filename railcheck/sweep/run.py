@@ -29,7 +29,7 @@ from railcheck.progress import Progress
 from railcheck.sweep.chunk import MOTOR_CURVE_KEY, SweepContext, evaluate_chunk, motor_curve_speeds
 from railcheck.sweep.grid import narrowed, rig_grid, settings
 from railcheck.sweep.maps import Aggregate, summary_of, write_maps, write_motor_plot
-from railcheck.sweep.parts import applicable, build_part_model
+from railcheck.sweep.parts import applicable, build_part_model, dynamic_in_sweep
 from railcheck.sweep.report import write_sweep_report
 from railcheck.sweep.table import TableWriter
 
@@ -67,9 +67,16 @@ def sweep_settings(scene) -> dict[str, dict[str, np.ndarray]]:
     }
 
 
+#: settings per chunk at most with a dynamic response (each setting's safe-speed search
+#: costs seconds: small chunks keep every worker busy)
+DYNAMIC_CHUNK = 16
+
+
 def chunk_size(scene) -> int:
-    """Settings per chunk, from the working-memory budget."""
-    return int(max(1, min(4096, scene.sweep.memory // (BYTES_PER_SETTING_STEP * scene.sweep.steps))))
+    """Settings per chunk, from the working-memory budget (at most :data:`DYNAMIC_CHUNK`
+    with a dynamic response)."""
+    size = int(max(1, min(4096, scene.sweep.memory // (BYTES_PER_SETTING_STEP * scene.sweep.steps))))
+    return min(size, DYNAMIC_CHUNK) if dynamic_in_sweep(scene) else size
 
 
 #: the address schemes a Dask scheduler listens on
