@@ -333,7 +333,10 @@ size = "12 mm"
 """
 
 
-def _check_scene(row: dict, speed_hz: float):
+def _check_scene(row: dict, speed_hz: float, sweep_text: str = FE_SWEEP, steps: int = 360):
+    """The scene of `railcheck check` of a sweep row's four-bar setting at ``speed_hz``:
+    the sweep's [check] and everything after it, with the bolts at the setting's own
+    holes (as the sweep loads them)."""
     text = f"""
 [mechanism]
 kind = "four-bar"
@@ -342,9 +345,9 @@ coupler = "{row["coupler_mm"]:.6f} mm"
 rocker = "{row["rocker_mm"]:.6f} mm"
 ground = "{row["ground_mm"]:.6f} mm"
 speed = "{speed_hz:.17g} Hz"
-steps = 360
+steps = {steps}
 
-[check]""" + FE_SWEEP.split("[check]")[1].replace("parts = [", 'bolt_position = "actual"\nparts = [')
+[check]""" + sweep_text.split("[check]")[1].replace("parts = [", 'bolt_position = "actual"\nparts = [')
     return parse_scene(__import__("tomllib").loads(text), "check")
 
 

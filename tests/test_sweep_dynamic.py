@@ -5,14 +5,12 @@ the limit. Every figure is compared with ``railcheck check`` of the same setting
 independent path (one hole pair, its own mesh solve, modes and cycle evaluation)."""
 
 import math
-import tomllib
 
 import numpy as np
 import pytest
-from test_sweep import FE_SWEEP, _rows, _sweep
+from test_sweep import FE_SWEEP, _check_scene, _rows, _sweep
 
 from railcheck.check.pipeline import run_pipeline
-from railcheck.scene import parse_scene
 
 ONE_SETTING = (
     FE_SWEEP.replace('crank = ["480 mm", "540 mm"]', 'crank = ["480 mm", "480 mm"]')
@@ -29,18 +27,7 @@ ONE_SETTING = (
 def _check(row: dict, speed_hz: float):
     """`railcheck check` of the row's setting at ``speed_hz``: clamped, bolts at the
     setting's holes, the sweep's mesh, steps, parts and effects."""
-    text = f"""
-[mechanism]
-kind = "four-bar"
-crank = "{row["crank_mm"]:.6f} mm"
-coupler = "{row["coupler_mm"]:.6f} mm"
-rocker = "{row["rocker_mm"]:.6f} mm"
-ground = "{row["ground_mm"]:.6f} mm"
-speed = "{speed_hz:.17g} Hz"
-steps = 360
-
-[check]""" + ONE_SETTING.split("[check]")[1].replace("parts = [", 'bolt_position = "actual"\nparts = [')
-    return run_pipeline(parse_scene(tomllib.loads(text), "check"), jobs=1)
+    return run_pipeline(_check_scene(row, speed_hz, ONE_SETTING), jobs=1)
 
 
 @pytest.fixture(scope="module")

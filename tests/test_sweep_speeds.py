@@ -7,6 +7,7 @@ import tomllib
 
 import numpy as np
 import pytest
+from test_sweep import _check_scene
 
 from railcheck.check.pipeline import run_pipeline
 from railcheck.scene import parse_scene
@@ -39,20 +40,7 @@ parts = ["crank-rail"]
 def _check(row: dict, speed_hz: float):
     """``railcheck check`` of a sweep row's setting at ``speed_hz``: bolts at the
     setting's holes, as the sweep loads them, and the sweep's mesh and steps."""
-    text = f"""
-[mechanism]
-kind = "four-bar"
-crank = "{row["crank_mm"]:.6f} mm"
-coupler = "{row["coupler_mm"]:.6f} mm"
-rocker = "{row["rocker_mm"]:.6f} mm"
-ground = "{row["ground_mm"]:.6f} mm"
-speed = "{speed_hz:.17g} Hz"
-steps = 90
-[check]
-parts = ["crank-rail"]
-bolt_position = "actual"
-"""
-    return run_pipeline(parse_scene(tomllib.loads(text + MESH), "check")).parts["crank-rail"]
+    return run_pipeline(_check_scene(row, speed_hz, SWEEP, steps=90)).parts["crank-rail"]
 
 
 @pytest.fixture(scope="module")
