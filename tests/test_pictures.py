@@ -14,7 +14,7 @@ LONG = (
 )
 
 
-@pytest.mark.parametrize("size", [(1600, 640), (1200, 1000)])
+@pytest.mark.parametrize("size", [(1600, 500), (1200, 1000)])
 def test_caption_is_large_enough_and_inside_the_picture(size):
     pv = _pyvista()
     plotter = pv.Plotter(off_screen=True, window_size=size)

@@ -18,6 +18,7 @@ def _brute(stress, mask, C, se=200e6, sut=750e6, criterion="goodman"):
     return vm, safety_factor(sa, sm, se, sut, criterion, 400e6).min(axis=0)
 
 
+@pytest.mark.slow  # 40 random examples, 6 s: the fast tier keeps the decoy and threshold cases
 @settings(max_examples=40, deadline=None)
 @given(
     seed=st.integers(0, 2**31 - 1),
@@ -42,7 +43,8 @@ def test_screened_peaks_equal_brute_force(seed, k, criterion, spread):
     )
     screen = make_screen(stress, mask, tip, list(range(k)))
     vm, n_min = _brute(stress, mask, C, criterion=criterion)
-    np.testing.assert_allclose(von_mises_peak(screen, C), vm, rtol=1e-12)
+    # vm^2 as a quadratic form c^T Q c sums k^2 terms that can cancel: a few eps of each term's size
+    np.testing.assert_allclose(von_mises_peak(screen, C), vm, rtol=1e-11)
     np.testing.assert_allclose(fatigue_min(screen, C, 200e6, 750e6, criterion, 400e6), n_min, rtol=1e-12)
     np.testing.assert_allclose(tip_peak(screen, C), np.linalg.norm(C @ tip.T, axis=2).max(axis=1), rtol=1e-14)
 

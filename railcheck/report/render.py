@@ -25,12 +25,13 @@ from railcheck.parts import kind_of
 DEFORMATION_FRACTION = 0.05  # of the part's largest dimension
 COLOUR_MAP = "viridis"
 CAPTION_FRACTION = 0.02  # caption font size, of the picture's height (VTK renders a line ~1.6x the size: ~3%)
+MIN_FONT = 14  # the smallest font size of any text on the picture (labels, colour bar)
 CHAR_WIDTH = 0.75  # a caption character's width, of the font size (a first guess; fit_caption measures)
 
 
 def caption_font_size(height: int) -> int:
     """Caption font size (VTK points: pixels of text height) for a picture ``height`` px high."""
-    return int(np.ceil(CAPTION_FRACTION * height))
+    return max(MIN_FONT, int(np.ceil(CAPTION_FRACTION * height)))
 
 
 def fit_caption(plotter, text: str, size: tuple[int, int], font: int) -> int:
@@ -92,7 +93,7 @@ def render_part(path: str | Path, name: str, part) -> Path:
     )
     grid.point_data["von Mises (MPa)"] = sol.von_mises / 1e6
     slender = extent.max() > 6 * np.sort(extent)[1]
-    size = (1600, 640) if slender else (1200, 1000)
+    size = (1600, 500) if slender else (1200, 1000)
     plotter = pv.Plotter(off_screen=True, window_size=size)
     font = caption_font_size(size[1])
     top = max(part.verdict_stress / 1e6, 1e-9)

@@ -177,7 +177,7 @@ def check_report(run) -> str:
             lines.append(
                 f"  rail mass: modelled section {m['model_section']:.2f} kg/m ({m['model_with_holes']:.2f} "
                 f"with its holes; solid rectangle, grooves omitted), HIWIN HGR25 "
-                f"{m['HIWIN HGR25 catalogue']:.2f} kg/m, seed {m['seed 000 (Anexo I)']:.2f} kg/m (used by the "
+                f"{m['HIWIN HGR25 catalogue']:.2f} kg/m, the 2013 study {m['seed 000 (Anexo I)']:.2f} kg/m (used by the "
                 "dynamics)"
             )
         known = (result.kinematics_summary or {}).get("warnings", [])

@@ -143,6 +143,7 @@ def test_toggle_scene_exits_2_naming_the_crank_angle(tmp_path):
     one_line_exit_2(proc, "crank angle 0 deg")
 
 
+@pytest.mark.slow
 def test_two_runs_into_one_out_both_survive(tmp_path):
     scene = tmp_path / "scene.toml"
     scene.write_text(PLATE + "[output]\nvtk = false\npng = false\n")
