@@ -120,7 +120,6 @@ def render_part(path: str | Path, name: str, part) -> Path:
     )
     if part.job.free_body is None:
         _support(pv, plotter, mesh, sol, scale, part)
-    _bolt_arrows(pv, plotter, mesh, sol, scale, part, cycle, min(extent.max(), 8 * np.sort(extent)[1]), font)
     _peak_marker(pv, plotter, cycle, sol, scale, extent.max(), part, font)
     when = (
         f"at crank {cycle.history.crank_angle_deg:.1f} deg" if cycle.C.shape[0] > 1 else "under its constant explicit loads"
@@ -141,6 +140,9 @@ def render_part(path: str | Path, name: str, part) -> Path:
 
     plotter.enable_parallel_projection()  # "xy": from above, the plane the mechanism moves in
     plotter.camera.tight(padding=0.05 if slender else 0.12, view=kind_of(name).view, adjust_render_window=False)
+    toward = np.array(plotter.camera.position) - np.array(plotter.camera.focal_point)
+    arrow_size = min(extent.max(), 8 * np.sort(extent)[1])
+    _bolt_arrows(pv, plotter, mesh, sol, scale, part, cycle, arrow_size, font, toward / np.linalg.norm(toward))
     caption_share = 1.7 * font * (lines + 0.6) / size[1]  # of the height, above the part
     _leave_room(plotter, caption_share, 0.2 if slender else 0.04, 0.0 if slender else 0.16)
     path = Path(path)
@@ -183,16 +185,18 @@ def _support(pv, plotter, mesh, sol, scale, part) -> None:
     plotter.add_points(pv.PolyData(pts), color="black", point_size=9, render_points_as_spheres=True)
 
 
-def _bolt_arrows(pv, plotter, mesh, sol, scale, part, cycle, size, font) -> None:
+def _bolt_arrows(pv, plotter, mesh, sol, scale, part, cycle, size, font, toward) -> None:
     """An arrow per loaded hole, at its centre, along the joint force of the governing
     instant on it: the bolts' (``bolt_x``, ``bolt_y``) and, on a free body, the first
     hole's pin (``pin_x``, ``pin_y``); drawn over the part and labelled with the joint
-    force's magnitude (N) once per group of holes."""
+    force's magnitude (N) once per group of holes; each arrow sits in front of the part
+    (moved toward the camera, ``toward`` a unit vector, beyond the part's nearest point), so
+    no flange hides it."""
     c, names = cycle.C[cycle.envelope.step], list(cycle.fields.names)
     loads = [([b.group for b in part.load_case.bolts], "bolt")]
     if "pin_x" in names:
         loads.append((["hole_0"], "pin"))
-    above = mesh.points[:, 2].max() + 0.02 * size  # drawn over the part, seen from above
+    front = (mesh.points @ toward).max() + 0.02 * size  # the part's nearest point to the camera, and a margin
     for holes, case in loads:
         force = np.array([c[names.index(f"{case}_x")], c[names.index(f"{case}_y")], 0.0])
         if not np.any(force):
@@ -202,13 +206,17 @@ def _bolt_arrows(pv, plotter, mesh, sol, scale, part, cycle, size, font) -> None
         tails = []
         for hole in holes:
             centre = _group_points(mesh, sol, scale, [hole]).mean(axis=0)
-            centre[2] = above
+            centre += (front - centre @ toward) * toward  # in front of the part, on the line of sight
             tails.append(centre - direction * length)
             plotter.add_mesh(pv.Arrow(start=tails[-1], direction=direction, scale=length), color="red")
         shared = f" on {len(holes)} bolts" if case == "bolt" and len(holes) > 1 else ""
         plotter.add_point_labels(
             pv.PolyData(np.mean(tails, axis=0)[None, :]),
-            [f"{np.linalg.norm(force):.3g} N{shared}"],
+            [
+                f"{np.linalg.norm(force):.0f} N{shared}"
+                if np.linalg.norm(force) >= 100
+                else f"{np.linalg.norm(force):.3g} N{shared}"
+            ],
             font_size=font,
             text_color="red",
             point_size=1,
