@@ -52,7 +52,7 @@ class Envelope:
     step: int
     node: int
     location: np.ndarray
-    node_envelope: np.ndarray
+    node_envelope: np.ndarray | None  # None when only the peaks were asked for (node_envelope_of gives it)
     max_tip: float
     tip_step: int
     support_peak: float
@@ -179,24 +179,60 @@ def support(D: np.ndarray, V: np.ndarray, angle: np.ndarray | None = None) -> np
     return best
 
 
-def envelope(fields: UnitFields, C: np.ndarray) -> Envelope:
-    """The von Mises and tip-deflection envelope of the history ``C`` (steps, k)."""
-    steps = candidate_steps(C)
-    best, where = von_mises_max(fields.stress, C[steps])
+def envelope(fields: UnitFields, C: np.ndarray, every_node: bool = True, steps: np.ndarray | None = None) -> Envelope:
+    """The von Mises and tip-deflection envelope of the history ``C`` (steps, k). With
+    ``every_node`` False only the peaks are found (:func:`screened_max`: the same values,
+    steps and nodes, without each node's maximum) and ``node_envelope`` is None.
+    ``steps``: the history's :func:`candidate_steps`, when already known."""
+    steps = candidate_steps(C) if steps is None else steps
     mask = fields.verdict_mask if np.any(fields.verdict_mask) else np.ones_like(fields.verdict_mask)
-    node = int(np.argmax(np.where(mask, best, -np.inf)))
+    if every_node:
+        best, where = von_mises_max(fields.stress, C[steps])
+        node = int(np.argmax(np.where(mask, best, -np.inf)))
+        peak, step, top, node_env = float(best[node]), int(steps[where[node]]), float(best.max()), best
+    else:
+        peak, node, k = screened_max(fields.stress, C[steps], mask)
+        step = int(steps[k])
+        top = screened_max(fields.stress, C[steps], np.ones_like(mask))[0]
+        node_env = None
     tip = np.linalg.norm(C @ fields.tip.T, axis=1)  # every step: (steps,)
     t = int(np.argmax(tip))
-    return Envelope(
-        float(best[node]),
-        int(steps[where[node]]),
-        node,
-        fields.nodes[node].copy(),
-        best,
-        float(tip[t]),
-        t,
-        float(best.max()),
-    )
+    return Envelope(peak, step, node, fields.nodes[node].copy(), node_env, float(tip[t]), t, top)
+
+
+def node_envelope_of(fields: UnitFields, C: np.ndarray) -> np.ndarray:
+    """(nodes,) Pa: each node's largest von Mises over the history ``C``."""
+    return von_mises_max(fields.stress, C[candidate_steps(C)])[0]
+
+
+#: nodes evaluated first for the screen's lower bound
+SCREEN_TOP = 64
+
+
+def screened_max(S: np.ndarray, C: np.ndarray, mask: np.ndarray) -> tuple[float, int, int]:
+    """(largest von Mises Pa, its node, its step) over the nodes ``mask`` and the steps of
+    ``C``, as :func:`von_mises_max` would give (the first node and step of the maximum),
+    evaluating only the nodes that can hold it: a node's von Mises is at most
+    sqrt(largest eigenvalue of its quadratic form) x the history's largest norm; the exact
+    maximum over the nodes of largest eigenvalue is a lower bound, and only nodes whose
+    bound reaches it are evaluated."""
+    idx = np.flatnonzero(mask)
+    k = S.shape[2]
+    Q = np.einsum("cnk,cd,dnl->nkl", S[:, idx], VM_QUADRATIC, S[:, idx], optimize=True)
+    lam = np.linalg.eigvalsh(Q)[:, -1]
+    Q = Q.reshape(idx.size, k * k)
+    CC = np.einsum("tk,tl->klt", C, C).reshape(k * k, -1)
+    R2 = float(np.einsum("tk,tk->t", C, C).max())
+    top = np.argsort(-lam)[:SCREEN_TOP]
+    lower = float((Q[top] @ CC).max())
+    can = np.flatnonzero(lam * R2 * (1.0 + 1e-9) + 1e-300 >= lower)  # ascending: the first maximum stays first
+    best, where = np.empty(can.size), np.empty(can.size, dtype=np.int64)
+    for sl in _node_chunks(can.size, C.shape[0]):
+        vm2 = Q[can[sl]] @ CC
+        where[sl] = np.argmax(vm2, axis=1)
+        best[sl] = np.take_along_axis(vm2, where[sl, None], axis=1)[:, 0]
+    j = int(np.argmax(best))
+    return float(np.sqrt(max(best[j], 0.0))), int(idx[can[j]]), int(where[j])
 
 
 def history_at_node(fields: UnitFields, C: np.ndarray, node: int) -> np.ndarray:

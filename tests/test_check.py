@@ -163,8 +163,10 @@ def test_default_check_end_to_end(tmp_path):
             assert_picture(out / f"{name}-cycle.png")
         assert m.cells[0].type == "tetra10"  # every P2 node
         env, zone = m.point_data["von_mises_envelope"], m.point_data["verdict_zone"] > 0
-        assert env.max() == summary["parts"][name]["support_peak_von_mises_Pa"]
-        assert env[zone].max() == summary["parts"][name]["max_von_mises_Pa"]  # what ParaView shows = the report
+        # what ParaView shows = the report: the check finds the peaks on the nodes that can hold them,
+        # the VTU evaluates every node; the same products, rounded by BLAS on differently shaped blocks
+        assert env.max() == pytest.approx(summary["parts"][name]["support_peak_von_mises_Pa"], rel=1e-13)
+        assert env[zone].max() == pytest.approx(summary["parts"][name]["max_von_mises_Pa"], rel=1e-13)
         vm = m.point_data["von_mises"]
         assert np.isfinite(vm).all() and vm.max() > 0
         assert m.point_data["von_mises_envelope"].max() >= vm.max() * (1 - 1e-12)

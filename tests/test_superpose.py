@@ -185,3 +185,28 @@ def test_the_records_are_frozen():
     for record in (f, envelope(f, C)):
         with pytest.raises(dataclasses.FrozenInstanceError):
             record.stress = None
+
+
+@pytest.mark.parametrize("k", [2, 8])
+def test_the_screened_peak_is_every_nodes_peak_with_its_node_and_step(k):
+    """envelope(every_node=False) evaluates only the nodes that can hold the peak: its
+    peak, node and step equal those of every node x every step, over the verdict nodes and
+    over all (the support peak), on random fields with a few hot nodes and decoys (the
+    nodes of largest eigenvalue that do not hold the peak)."""
+    from railcheck.fea.superpose import UnitFields, envelope
+
+    rng = np.random.default_rng(k)
+    n, T = 4000, 300
+    S = rng.normal(size=(6, n, k)) * np.exp(1.5 * rng.normal(size=(1, n, 1)))
+    # decoys, more than the screen evaluates first: huge along the first coefficient, which stays small
+    S[:, :200] *= 0.0
+    S[0, :200, 0] = 5 * np.abs(S).max()
+    t = np.linspace(0, 2 * np.pi, T)
+    C = np.column_stack([0.01 * np.cos(t)] + [np.cos((j + 1) * t + j) for j in range(1, k)])
+    mask = rng.random(n) > 0.2
+    fields = UnitFields(S, np.zeros((3, k)), np.zeros((n, 3, k)), rng.normal(size=(n, 3)), mask, tuple(map(str, range(k))))
+    full, fast = envelope(fields, C), envelope(fields, C, every_node=False)
+    assert fast.node_envelope is None
+    assert (fast.node, fast.step) == (full.node, full.step)
+    assert fast.max_von_mises == pytest.approx(full.max_von_mises, rel=1e-13)
+    assert fast.support_peak == pytest.approx(full.support_peak, rel=1e-13)

@@ -11,6 +11,7 @@ response, and the result states the amplification over the quasi-static one.
 from __future__ import annotations
 
 import math
+import os
 import time
 from dataclasses import replace
 
@@ -23,6 +24,7 @@ from railcheck.errors import NumericalError
 from railcheck.fea.dynamic import modal_correction
 from railcheck.fea.elasticity import Solution
 from railcheck.fea.fatigue import alternating_and_mean, endurance_limit, safety_factor
+from railcheck.fea.store import UnitRequest, is_stored, solve_stored
 from railcheck.fea.stress import peak, von_mises
 from railcheck.fea.superpose import (
     UnitFields,
@@ -32,7 +34,7 @@ from railcheck.fea.superpose import (
     history_at_node,
     stress_at,
 )
-from railcheck.fea.unitcases import UnitSolve, solve_unit_cases
+from railcheck.fea.unitcases import UnitSolve
 from railcheck.geometry.mesher import mesh_part
 from railcheck.units import for_people
 
@@ -53,25 +55,12 @@ def check_part(job: PartJob, solver: str, report) -> PartResult:
         )
     report(f"{mesh.tets.shape[0]} tetrahedra{' (cached)' if mesh.cached else ''}, min quality {mesh.min_quality:.2f}")
     cases = unit_cases(job.loads, job.geometry, list(job.holes))
-    fields, solve = solve_unit_cases(
-        mesh.points,
-        mesh.tets,
-        mesh.groups,
-        job.material,
-        job.supports,
-        cases,
-        job.mesh.order,
-        job.tip,
-        job.exclusion,
-        solver,
-        report,
-        curved=mesh.curved if job.mesh.curved else None,
-        free_body=job.free_body,
-        modes=(job.dynamic.modes, list(job.dynamic.pins) if job.dynamic.pins else None, job.dynamic.lumped)
-        if job.dynamic
-        else None,
-    )
+    fields, solve, origin = solve_stored(unit_request(job, mesh, cases), solver, report, store=use_store())
     seconds.update(solve.seconds)
+    if origin == "stored":
+        report(f"unit fields from the store ({solve.dofs} DOFs; not assembled or solved)")
+    elif origin != "solved":
+        warnings.append(origin)
     t = time.perf_counter()
     cycle = evaluate_cycle(job, fields, job.histories, solve)
     seconds["cycle"] = time.perf_counter() - t
@@ -104,13 +93,52 @@ def _refuse_non_finite(name: str, cycle: CycleResult) -> None:
         raise NumericalError(f"{name}: the stress or deflection over the cycle is not finite")
 
 
+def _mode_request(job: PartJob):
+    d = job.dynamic
+    return (d.modes, list(d.pins) if d.pins else None, d.lumped) if d else None
+
+
+def use_store() -> bool:
+    """Whether unit fields go through the store (:mod:`railcheck.fea.store`): yes unless
+    ``RAILCHECK_STORE=0``."""
+    return os.environ.get("RAILCHECK_STORE", "1") != "0"
+
+
+def unit_request(job: PartJob, mesh, cases: dict) -> UnitRequest:
+    """What the part's unit solve depends on (:class:`railcheck.fea.store.UnitRequest`)."""
+    return UnitRequest(
+        mesh.points,
+        mesh.tets,
+        mesh.groups,
+        job.material,
+        list(job.supports),
+        cases,
+        job.mesh.order,
+        job.tip,
+        job.exclusion,
+        mesh.curved if job.mesh.curved else None,
+        job.free_body,
+        _mode_request(job),
+    )
+
+
+def in_store(job: PartJob) -> bool:
+    """True when the store holds an entry for the part's unit fields (its mesh read from
+    the mesh cache; the entry itself is verified when it is read)."""
+    if not use_store():
+        return False
+    mesh = mesh_part(job.geometry, job.mesh.size, job.mesh.hole_size, optimize=job.mesh.optimize)
+    return mesh.cached and is_stored(unit_request(job, mesh, unit_cases(job.loads, job.geometry, list(job.holes))))
+
+
 def evaluate_cycle(job: PartJob, fields: UnitFields, histories: tuple[SourceHistory, ...], solve: UnitSolve) -> CycleResult:
     """Envelope, seed method and fatigue over every source; the worse source governs the
     stress verdict, the lower fatigue factor the fatigue verdict."""
     results = []
     histories = tuple(with_dynamics(job, solve, h) for h in histories)
     for h in histories:
-        env = envelope(fields, h.C)
+        steps = candidate_steps(h.C)
+        env = envelope(fields, h.C, every_node=False, steps=steps)  # each node's maximum only for the VTU
         vm_seed = von_mises(stress_at(fields.stress, h.C[h.seed_step]))
         k = int(np.argmax(np.where(_verdict_mask(fields), vm_seed, -np.inf)))
         seed = SeedMethod(
@@ -119,7 +147,7 @@ def evaluate_cycle(job: PartJob, fields: UnitFields, histories: tuple[SourceHist
             location=tuple(float(x) for x in fields.nodes[k]),
             joint=h.joint,
         )
-        results.append((h, env, seed, fatigue_of(job, fields, h.C)))
+        results.append((h, env, seed, fatigue_of(job, fields, h.C, steps)))
     h, env, _, _ = max(results, key=lambda r: r[1].max_von_mises)
     seed = max((r[2] for r in results), key=lambda s: s.max_von_mises)
     fat = min((r[3] for r in results), key=lambda f: f.min_safety_factor)
@@ -167,8 +195,8 @@ def dynamic_result(job: PartJob, fields: UnitFields, solve: UnitSolve, histories
     for h in histories:
         quasi = h.C.copy()
         quasi[:, -m:] = 0.0
-        qs = envelope(fields, quasi).max_von_mises
-        dyn = envelope(fields, h.C).max_von_mises
+        qs = envelope(fields, quasi, every_node=False).max_von_mises
+        dyn = envelope(fields, h.C, every_node=False).max_von_mises
         ratios.append((dyn / qs if qs > 0 else 1.0, qs, dyn))
     amplification, qs, dyn = max(ratios)
     crank_hz = d.speed / (2 * math.pi)
@@ -194,13 +222,13 @@ def _verdict_mask(fields: UnitFields) -> np.ndarray:
     return fields.verdict_mask if np.any(fields.verdict_mask) else np.ones_like(fields.verdict_mask)
 
 
-def fatigue_of(job: PartJob, fields: UnitFields, C: np.ndarray) -> FatigueResult:
+def fatigue_of(job: PartJob, fields: UnitFields, C: np.ndarray, steps: np.ndarray | None = None) -> FatigueResult:
     """The minimum fatigue safety factor over the verdict nodes of one history, where,
     its sigma_a / sigma_m (Pa), the endurance limit and Marin factors, and the factor at
     every node (for the VTU)."""
     spec, material = job.fatigue, job.material
     marin = endurance_limit(material.ultimate_strength, spec.surface, job.section, spec.load, spec.reliability)
-    hi, lo = component_range(fields.stress, C[candidate_steps(C)])
+    hi, lo = component_range(fields.stress, C[candidate_steps(C) if steps is None else steps])
     sa, sm = alternating_and_mean(hi, lo)
     n = safety_factor(sa, sm, marin.endurance_limit, material.ultimate_strength, spec.criterion, material.yield_strength)
     k = int(np.argmin(np.where(_verdict_mask(fields), n, np.inf)))

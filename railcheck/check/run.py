@@ -23,6 +23,7 @@ from railcheck.check.records import PartResult, PipelineResult
 from railcheck.check.summary import summary_of
 from railcheck.errors import EXIT_FAIL, EXIT_PASS, InputError
 from railcheck.fea.stress import von_mises
+from railcheck.fea.superpose import node_envelope_of
 from railcheck.fea.vtk import pvd_text, write_vtu
 from railcheck.files import Staging, atomic_path, atomic_write_text, reserve_results_dir, to_json
 from railcheck.progress import Progress
@@ -124,6 +125,13 @@ def mode_shapes(p: PartResult) -> dict[str, np.ndarray]:
     return {f"mode_{i + 1}_{hz:.1f}Hz": p.cycle.fields.displacement[:, :, k + i] for i, hz in enumerate(d.hz)}
 
 
+def node_envelope(p: PartResult) -> np.ndarray:
+    """(nodes,) Pa: each node's largest von Mises over the governing history (computed
+    here: the check itself needs only the peaks)."""
+    env = p.cycle.envelope
+    return env.node_envelope if env.node_envelope is not None else node_envelope_of(p.cycle.fields, p.cycle.C)
+
+
 def write_part_vtu(path: Path, p: PartResult) -> None:
     """The part's VTU on every node of its order: the governing instant's displacement,
     stress and von Mises, the cycle envelope, the fatigue factor, and 0/1 masks of the
@@ -143,7 +151,7 @@ def write_part_vtu(path: Path, p: PartResult) -> None:
             von_mises(s.stress),
             {
                 "stress": s.stress.T,
-                "von_mises_envelope": p.cycle.envelope.node_envelope,
+                "von_mises_envelope": node_envelope(p),
                 "fatigue_safety_factor": p.cycle.fatigue.node_factor,
                 "verdict_zone": f.verdict_mask.astype(float),
                 **masks,

@@ -19,7 +19,7 @@ import threading
 import time
 from concurrent.futures import ProcessPoolExecutor
 
-from railcheck.check.cycle import check_part
+from railcheck.check.cycle import check_part, in_store
 from railcheck.check.jobs import PartJob
 from railcheck.check.records import PartResult
 from railcheck.geometry.mesher import estimate_elements
@@ -40,6 +40,8 @@ def check_parts(
     """{name: PartResult} in the jobs' order; ``part_done(name, part)``, a picklable
     callable, runs as each part finishes, in the process that checked it."""
     n = len(part_jobs)
+    if jobs is None and all(in_store(job) for job in part_jobs.values()):
+        jobs = 1  # every part's unit fields are stored: no solve to share out, no workers to start
     jobs = default_jobs(n) if jobs is None else max(1, min(jobs, n))
     label = {name: f"({i}/{n}) {name}" for i, name in enumerate(part_jobs, 1)}
     if jobs == 1:

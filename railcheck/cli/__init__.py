@@ -16,7 +16,7 @@ import signal
 import sys
 from importlib.metadata import PackageNotFoundError, version
 
-from railcheck.cli import bench, check, convergence, init, kinematics, mechanism, sweep
+from railcheck.cli import bench, cache, check, convergence, init, kinematics, mechanism, sweep
 from railcheck.errors import EXIT_INPUT, EXIT_PASS, RailcheckError
 from railcheck.files import writable_dir, writable_file
 
@@ -34,6 +34,7 @@ COMMANDS = {
     "bench": bench,
     "convergence": convergence,
     "mechanism": mechanism,
+    "cache": cache,
 }
 
 #: output options: attribute -> (option, directory?)

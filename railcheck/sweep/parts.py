@@ -15,10 +15,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from railcheck.check.cycle import use_store
 from railcheck.check.jobs import carried_masses, mesh_sizes
 from railcheck.check.loading import LoadModel, load_model, source_histories, unit_cases
 from railcheck.fea.fatigue import endurance_limit
-from railcheck.fea.unitcases import solve_unit_cases
+from railcheck.fea.store import UnitRequest, solve_stored
 from railcheck.geometry.mesher import mesh_part
 from railcheck.loads.cases import rail_bolt_holes
 from railcheck.parts import PARTS, geometry_of, kind_of
@@ -138,7 +139,7 @@ def build_part_model(scene, name: str, lengths: np.ndarray, material, limit: flo
             names.append(full)
         columns[key] = [list(cases).index(n) for n in names]
     modes = mode_requests(scene, name, groups)
-    fields, meta = solve_unit_cases(
+    request = UnitRequest(
         mesh.points,
         mesh.tets,
         mesh.groups,
@@ -148,11 +149,13 @@ def build_part_model(scene, name: str, lengths: np.ndarray, material, limit: flo
         scene.mesh.order,
         kind.tip,
         kind.exclusion(geo),
-        "auto",
-        report,
-        curved=mesh.curved if scene.mesh.curved else None,
-        modes=modes,
+        mesh.curved if scene.mesh.curved else None,
+        None,
+        modes,
     )
+    fields, meta, origin = solve_stored(request, "auto", report, store=use_store())
+    if origin != "solved":
+        report(f"unit fields: {origin}")
     screens = {key: make_screen(fields.stress, fields.verdict_mask, fields.tip, cols) for key, cols in columns.items()}
     dynamic = pair_modes(fields, meta, columns, len(cases)) if modes else None
     spec = scene.fatigue

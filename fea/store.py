@@ -1,0 +1,341 @@
+"""The unit-field store: a part's solved unit cases (:func:`railcheck.fea.unitcases.solve_unit_cases`)
+kept on disk, so a part whose mesh, material, supports and cases are unchanged is not
+assembled or solved again: a new setting only changes the coefficients of fields already
+solved.
+
+An entry is keyed by a SHA-256 of everything the fields depend on: the mesh's arrays
+(points, elements, groups, curved edges), the material, the supports, every unit case
+(its dataclass representation: holes, direction, shares, pivots), the element order, the
+tip group, the support's exclusion distance, the free-body and mode requests, and the
+versions of this store's format, railcheck and scikit-fem. The entry also stores that
+payload and a SHA-256 of its arrays, both checked on every read: a swapped, truncated or
+bit-flipped entry is reported and solved again (and rewritten). Writes go to a
+per-process temporary name and are renamed into place, so two runs filling the same entry
+both read whole files (the last rename wins; both wrote the same fields). A read touches
+the entry; after a write the least recently used entries beyond the size cap are removed.
+
+The directory is ``$RAILCHECK_CACHE/unit-fields`` (``~/.cache/railcheck/unit-fields``);
+the cap ``$RAILCHECK_STORE_MB`` MB (default 2048). ``railcheck cache`` shows and clears it.
+Units: the fields' own (Pa, m, N).
+"""
+
+from __future__ import annotations
+
+import functools
+import hashlib
+import json
+import os
+import stat
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["StoreInfo", "UnitRequest", "clear_store", "is_stored", "solve_stored", "store_dir", "store_info"]
+
+#: the entry format; bump it when what an entry holds or means changes
+FORMAT = "1"
+DEFAULT_CAP_MB = 2048
+
+
+def store_dir() -> Path:
+    """The store's directory (created on first write)."""
+    root = Path(os.environ.get("RAILCHECK_CACHE", Path.home() / ".cache" / "railcheck"))
+    return root / "unit-fields"
+
+
+def _cap_bytes() -> int:
+    try:
+        return int(float(os.environ.get("RAILCHECK_STORE_MB", DEFAULT_CAP_MB)) * 1e6)
+    except ValueError:
+        return int(DEFAULT_CAP_MB * 1e6)
+
+
+@functools.lru_cache(maxsize=1)
+def _versions() -> str:
+    from importlib.metadata import PackageNotFoundError, version
+
+    out = []
+    for package in ("railcheck", "scikit-fem"):
+        try:
+            out.append(f"{package}={version(package)}")
+        except PackageNotFoundError:
+            out.append(f"{package}=?")
+    return ",".join(out)
+
+
+@dataclass(frozen=True, eq=False)
+class UnitRequest:
+    """Everything a part's unit solve depends on (the arguments of
+    :func:`railcheck.fea.unitcases.solve_unit_cases` but the solver and the progress)."""
+
+    points: np.ndarray
+    tets: np.ndarray
+    groups: dict
+    material: object
+    supports: list
+    cases: dict
+    order: int = 2
+    tip_group: str | None = None
+    exclude: float = 0.0
+    curved: tuple | None = None
+    free_body: object = None
+    modes: object = None
+
+    def payload(self) -> str:
+        """The text every input is reduced to (arrays by their SHA-256)."""
+        h = hashlib.sha256()
+        for a in (self.points, self.tets, *(self.curved or ())):
+            h.update(np.ascontiguousarray(a).tobytes())
+        for name in sorted(self.groups):
+            h.update(name.encode())
+            h.update(np.ascontiguousarray(self.groups[name]).tobytes())
+        return repr(
+            (
+                FORMAT,
+                _versions(),
+                h.hexdigest(),
+                repr(self.material),
+                tuple(self.supports),
+                tuple((name, repr(case)) for name, case in self.cases.items()),
+                int(self.order),
+                self.tip_group,
+                float(self.exclude),
+                self.curved is not None,
+                repr(self.free_body),
+                repr(self.modes),
+            )
+        )
+
+    def path(self, payload: str | None = None) -> Path:
+        """The entry's file."""
+        return store_dir() / f"{_key(payload or self.payload())}.npz"
+
+
+def _key(payload: str) -> str:
+    return hashlib.sha256(payload.encode()).hexdigest()[:40]
+
+
+def _arrays(fields, solve) -> dict[str, np.ndarray]:
+    """Everything an entry gives back, as named arrays."""
+    out = {
+        "stress": fields.stress,
+        "tip": fields.tip,
+        "displacement": fields.displacement,
+        "nodes": fields.nodes,
+        "verdict_mask": fields.verdict_mask,
+        "names": np.array(fields.names, dtype=str),
+        "resultants": solve.resultants,
+        "support_reactions": solve.support_reactions,
+    }
+    for name in ("cells", "support", "loaded"):
+        value = getattr(fields, name)
+        if value is not None:
+            out[name] = value
+    if solve.imbalance is not None:
+        out["imbalance"] = solve.imbalance
+    if solve.modes is not None:
+        out["modes_hz"], out["modes_loads"] = solve.modes.hz, solve.modes.modal_loads
+    for i, (key, found) in enumerate((solve.mode_sets or {}).items()):
+        out[f"set{i}_key"] = np.array(repr(key))
+        out[f"set{i}_hz"], out[f"set{i}_loads"] = found.hz, found.modal_loads
+    return out
+
+
+def _digest(arrays: dict[str, np.ndarray], meta: str) -> str:
+    h = hashlib.sha256(meta.encode())
+    for name in sorted(arrays):
+        h.update(name.encode())
+        a = np.ascontiguousarray(arrays[name])
+        h.update(str(a.dtype).encode())
+        h.update(repr(a.shape).encode())
+        h.update(a.tobytes())
+    return h.hexdigest()
+
+
+def _meta(solve) -> str:
+    return json.dumps(
+        {
+            "dofs": solve.dofs,
+            "elements": solve.elements,
+            "vertices": solve.vertices,
+            "solver": solve.solver,
+            "mode_sets": solve.mode_sets is not None,
+        },
+        sort_keys=True,
+        default=str,
+    )
+
+
+def write_entry(path: Path, payload: str, fields, solve) -> None:
+    """Write an entry atomically (per-process temporary name, then a rename); a store that
+    cannot be written only costs time."""
+    arrays = _arrays(fields, solve)
+    meta = _meta(solve)
+    tmp = path.with_name(f".{path.stem}.{os.getpid()}.tmp.npz")
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        np.savez(tmp, payload=np.array(payload), meta=np.array(meta), digest=np.array(_digest(arrays, meta)), **arrays)
+        os.replace(tmp, path)
+    except OSError:  # a full disk or a read-only store: nothing half-written is left
+        tmp.unlink(missing_ok=True)
+        return
+    _evict(path.parent, _cap_bytes(), keep=path)
+
+
+def read_entry(path: Path, payload: str):
+    """((UnitFields, UnitSolve), None) for a sound entry made for ``payload``; (None, why)
+    for a damaged, swapped or stale one; (None, None) when there is none."""
+    from .dynamic import DynamicModel
+    from .superpose import UnitFields
+    from .unitcases import UnitSolve
+
+    if not path.exists():
+        return None, None
+    try:
+        if not stat.S_ISREG(os.stat(path).st_mode):
+            return None, "not a regular file"
+        with np.load(path, allow_pickle=False) as z:
+            stored_payload, meta, digest = str(z["payload"]), str(z["meta"]), str(z["digest"])
+            arrays = {k: z[k] for k in z.files if k not in ("payload", "meta", "digest")}
+    except Exception as exc:  # noqa: BLE001 - any unreadable file is a damaged entry
+        return None, f"unreadable ({type(exc).__name__})"
+    if stored_payload != payload:
+        return None, "made for other inputs"
+    if digest != _digest(arrays, meta):
+        return None, "content does not match its hash"
+    m = json.loads(meta)
+    fields = UnitFields(
+        arrays["stress"],
+        arrays["tip"],
+        arrays["displacement"],
+        arrays["nodes"],
+        arrays["verdict_mask"],
+        tuple(str(n) for n in arrays["names"]),
+        arrays.get("cells"),
+        arrays.get("support"),
+        arrays.get("loaded"),
+    )
+    modes = None
+    if "modes_hz" in arrays:
+        count = arrays["modes_hz"].size
+        modes = DynamicModel(hz=arrays["modes_hz"], shapes=np.zeros((0, count)), modal_loads=arrays["modes_loads"])
+    sets = None
+    if m["mode_sets"]:
+        sets = {}
+        i = 0
+        while f"set{i}_key" in arrays:
+            key = _literal(str(arrays[f"set{i}_key"]))
+            hz = arrays[f"set{i}_hz"]
+            sets[key] = DynamicModel(hz=hz, shapes=np.zeros((0, hz.size)), modal_loads=arrays[f"set{i}_loads"])
+            i += 1
+    solve = UnitSolve(
+        dofs=m["dofs"],
+        elements=m["elements"],
+        vertices=m["vertices"],
+        solver=m["solver"],
+        seconds={},
+        resultants=arrays["resultants"],
+        support_reactions=arrays["support_reactions"],
+        imbalance=arrays.get("imbalance"),
+        modes=modes,
+        mode_sets=sets,
+    )
+    try:
+        os.utime(path)  # recently used: evicted last
+    except OSError:
+        pass
+    return (fields, solve), None
+
+
+def _literal(text: str):
+    import ast
+
+    return ast.literal_eval(text)
+
+
+def _entries(directory: Path) -> list[Path]:
+    return [p for p in directory.glob("*.npz") if not p.name.startswith(".")] if directory.is_dir() else []
+
+
+def _evict(directory: Path, cap: int, keep: Path | None = None) -> None:
+    """Remove the least recently used entries until the store holds at most ``cap`` bytes
+    (never ``keep``, the entry just written)."""
+    try:
+        entries = sorted(_entries(directory), key=lambda p: p.stat().st_mtime)
+        total = sum(p.stat().st_size for p in entries)
+    except OSError:
+        return
+    for p in entries:
+        if total <= cap:
+            return
+        if keep is not None and p == keep:
+            continue
+        try:
+            size = p.stat().st_size
+            p.unlink()
+            total -= size
+        except OSError:
+            continue
+
+
+def solve_stored(request: UnitRequest, solver: str = "auto", report=None, store: bool = True):
+    """:func:`railcheck.fea.unitcases.solve_unit_cases` through the store: the stored
+    fields when an entry for ``request`` is sound, else solved and stored. Returns
+    (fields, solve, origin): ``origin`` says where the fields came from ("stored",
+    "solved", or why a stored entry was solved again)."""
+    from dataclasses import replace
+
+    from .unitcases import solve_unit_cases
+
+    r = request
+    args = (r.points, r.tets, r.groups, r.material, r.supports, r.cases, r.order, r.tip_group, r.exclude, solver, report)
+    kw = {"curved": r.curved, "free_body": r.free_body, "modes": r.modes}
+    if not store:
+        return (*solve_unit_cases(*args, **kw), "solved")
+    t = time.perf_counter()
+    payload = r.payload()
+    path = r.path(payload)
+    found, why = read_entry(path, payload)
+    if found is not None:
+        fields, solve = found
+        return fields, replace(solve, seconds={"store": time.perf_counter() - t}), "stored"
+    fields, solve = solve_unit_cases(*args, **kw)
+    write_entry(path, payload, fields, solve)
+    return fields, solve, (f"stored unit fields {why}: solved again" if why else "solved")
+
+
+def is_stored(request: UnitRequest) -> bool:
+    """Whether an entry for ``request`` is on disk (not yet verified: reading verifies)."""
+    return request.path().is_file()
+
+
+@dataclass(frozen=True)
+class StoreInfo:
+    """The store's directory, entry count, bytes and cap."""
+
+    directory: Path
+    entries: int
+    bytes: int
+    cap: int
+
+
+def store_info() -> StoreInfo:
+    directory = store_dir()
+    entries = _entries(directory)
+    return StoreInfo(directory, len(entries), sum(p.stat().st_size for p in entries), _cap_bytes())
+
+
+def clear_store() -> int:
+    """Remove every entry (and leftover temporary file); returns how many entries."""
+    directory = store_dir()
+    count = 0
+    if directory.is_dir():
+        for p in directory.glob("*.npz"):
+            try:
+                p.unlink()
+                count += 0 if p.name.startswith(".") else 1
+            except OSError:
+                pass
+    return count

@@ -1,0 +1,59 @@
+"""``railcheck cache [--clear]``: what the on-disk caches hold (the mesh cache and the
+unit-field store, :mod:`railcheck.fea.store`), and clearing them."""
+
+from __future__ import annotations
+
+from railcheck.errors import EXIT_PASS
+from railcheck.files import to_json
+
+HELP = "show or clear the mesh cache and the unit-field store"
+
+
+def add_args(p) -> None:
+    p.add_argument("--clear", action="store_true", help="remove every mesh and unit-field entry")
+    p.add_argument("--json", action="store_true", help="print one JSON object to stdout")
+
+
+def _mesh_entries():
+    from railcheck.geometry.cache import default_cache_dir
+
+    root = default_cache_dir()
+    return root, ([p for p in root.glob("*.npz") if not p.name.startswith(".")] if root.is_dir() else [])
+
+
+def run(args) -> int:
+    from railcheck.fea.store import clear_store, store_info
+
+    root, meshes = _mesh_entries()
+    if args.clear:
+        removed_meshes = 0
+        for p in meshes:
+            try:
+                p.unlink()
+                removed_meshes += 1
+            except OSError:
+                pass
+        removed_fields = clear_store()
+        print(f"removed {removed_meshes} mesh entries and {removed_fields} unit-field entries from {root}")
+        return EXIT_PASS
+    info = store_info()
+    out = {
+        "mesh_cache": {"directory": str(root), "entries": len(meshes), "bytes": sum(p.stat().st_size for p in meshes)},
+        "unit_field_store": {
+            "directory": str(info.directory),
+            "entries": info.entries,
+            "bytes": info.bytes,
+            "cap_bytes": info.cap,
+        },
+    }
+    if args.json:
+        print(to_json(out))
+        return EXIT_PASS
+    m, u = out["mesh_cache"], out["unit_field_store"]
+    print(f"mesh cache:       {m['entries']} entries, {m['bytes'] / 1e6:.1f} MB in {m['directory']}")
+    print(
+        f"unit-field store: {u['entries']} entries, {u['bytes'] / 1e6:.1f} MB of {u['cap_bytes'] / 1e6:.0f} MB "
+        f"(RAILCHECK_STORE_MB) in {u['directory']}"
+    )
+    print("railcheck cache --clear removes both; RAILCHECK_CACHE moves them; RAILCHECK_STORE=0 bypasses the store")
+    return EXIT_PASS

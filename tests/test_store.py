@@ -1,0 +1,159 @@
+"""The unit-field store (railcheck.fea.store): a stored entry gives back the solved fields
+bit for bit; a truncated, bit-flipped or swapped entry is detected and solved again; two
+processes filling one entry both get correct fields; the size cap evicts the least
+recently used entry; `railcheck cache` shows and clears it; and a warm `railcheck check`
+equals a cold one byte for byte."""
+
+import os
+import subprocess
+import sys
+import textwrap
+
+import numpy as np
+import pytest
+
+from railcheck.fea import MATERIALS
+from railcheck.fea.store import UnitRequest, is_stored, solve_stored, store_info
+from railcheck.fea.unitcases import TractionCase
+from railcheck.geometry import bar, mesh_part
+
+
+@pytest.fixture
+def store(tmp_path, monkeypatch):
+    monkeypatch.setenv("RAILCHECK_CACHE", str(tmp_path / "cache"))
+    return tmp_path / "cache" / "unit-fields"
+
+
+def _request(length=0.1, force_dir=1):
+    mesh = mesh_part(bar(length, 0.02, 0.02), 10e-3, 10e-3)
+    cases = {"tip_x": TractionCase(("tip",), 0), "tip_y": TractionCase(("tip",), force_dir)}
+    return UnitRequest(mesh.points, mesh.tets, mesh.groups, MATERIALS["steel"], ["clamp"], cases, 2, "tip", 0.0, mesh.curved)
+
+
+def _same(a, b):
+    for name in ("stress", "tip", "displacement", "nodes", "verdict_mask", "cells", "support", "loaded"):
+        np.testing.assert_array_equal(getattr(a, name), getattr(b, name), err_msg=name)
+    assert a.names == b.names
+
+
+def test_a_stored_entry_gives_back_the_solved_fields_bit_for_bit(store):
+    request = _request()
+    assert not is_stored(request)
+    fields, solve, origin = solve_stored(request)
+    assert origin == "solved" and is_stored(request)
+    again, solve2, origin2 = solve_stored(request)
+    assert origin2 == "stored" and set(solve2.seconds) == {"store"}
+    _same(fields, again)
+    np.testing.assert_array_equal(solve.resultants, solve2.resultants)
+    assert (solve.dofs, solve.elements, solve.solver) == (solve2.dofs, solve2.elements, solve2.solver)
+    other, _, origin3 = solve_stored(_request(force_dir=2))  # another case: another entry
+    assert origin3 == "solved" and store_info().entries == 2
+    assert not np.array_equal(other.stress, fields.stress)
+
+
+@pytest.mark.parametrize("damage", ["truncate", "flip", "swap"])
+def test_a_damaged_entry_is_detected_and_solved_again(store, damage):
+    request = _request()
+    fields, _, _ = solve_stored(request)
+    path = request.path()
+    data = bytearray(path.read_bytes())
+    if damage == "truncate":
+        path.write_bytes(bytes(data[: len(data) // 2]))
+    elif damage == "flip":  # one bit deep inside the stress array
+        data[len(data) // 3] ^= 0x04
+        path.write_bytes(bytes(data))
+    else:  # another request's entry under this name
+        other = _request(force_dir=2)
+        solve_stored(other)
+        os.replace(other.path(), path)
+    again, _, origin = solve_stored(request)
+    assert origin.startswith("stored unit fields") and origin.endswith("solved again"), origin
+    _same(fields, again)
+    assert solve_stored(request)[2] == "stored"  # rewritten whole
+
+
+@pytest.mark.slow
+def test_two_processes_filling_one_entry_both_get_correct_fields(store, tmp_path):
+    script = textwrap.dedent(
+        """
+        import sys, numpy as np
+        sys.path.insert(0, %r)
+        from test_store import _request
+        from railcheck.fea.store import solve_stored
+        fields, _, origin = solve_stored(_request())
+        np.save(sys.argv[1], fields.stress)
+        """
+        % os.path.dirname(__file__)
+    )
+    env = {**os.environ, "RAILCHECK_CACHE": str(store.parent)}
+    procs = [subprocess.Popen([sys.executable, "-P", "-c", script, str(tmp_path / f"s{i}.npy")], env=env) for i in range(2)]
+    assert [p.wait(timeout=300) for p in procs] == [0, 0]
+    reference, _, origin = solve_stored(_request())
+    assert origin == "stored"  # whichever rename won, the entry is whole
+    for i in range(2):
+        np.testing.assert_array_equal(np.load(tmp_path / f"s{i}.npy"), reference.stress)
+    assert not [p for p in store.iterdir() if p.name.startswith(".")]  # no temporary left
+
+
+def test_the_size_cap_evicts_the_least_recently_used_entry(store, monkeypatch):
+    first, second = _request(), _request(force_dir=2)
+    solve_stored(first)
+    size = first.path().stat().st_size
+    os.utime(first.path(), (1, 1))  # long unused
+    monkeypatch.setenv("RAILCHECK_STORE_MB", str(1.5 * size / 1e6))
+    solve_stored(second)
+    assert is_stored(second) and not is_stored(first)
+
+
+def test_a_store_that_cannot_be_written_only_costs_time(store, monkeypatch):
+    """A full disk (every write raises ENOSPC): the fields are solved and returned, nothing
+    half-written is left, and the next run solves again."""
+    import errno
+
+    def full(*args, **kwargs):
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(np, "savez", full)
+    request = _request()
+    fields, _, origin = solve_stored(request)
+    assert origin == "solved" and fields.stress.size
+    assert not store.exists() or not list(store.iterdir())
+
+
+def test_railcheck_cache_shows_and_clears(store, capsys):
+    from railcheck.cli import main
+
+    solve_stored(_request())
+    assert main(["cache"]) == 0
+    assert "unit-field store: 1 entries" in capsys.readouterr().out
+    assert main(["cache", "--clear"]) == 0
+    assert "1 unit-field entries" in capsys.readouterr().out
+    assert store_info().entries == 0
+
+
+@pytest.mark.slow
+def test_a_warm_check_equals_a_cold_one_byte_for_byte(tmp_path):
+    """The crank rail at 20 mm: a cold check fills the store, a warm one reads it (no
+    assembly, no solve) and writes the same summary.json; with RAILCHECK_STORE=0 the
+    store is bypassed and the summary is the same again."""
+    from scene_texts import FINAL_DESIGN
+
+    scene = tmp_path / "s.toml"
+    scene.write_text(
+        FINAL_DESIGN + 'speed = "1 Hz"\nsteps = 720\n[check]\nparts = ["crank-rail", "PF_4b_006"]\n'
+        '[mesh]\nsize = "20 mm"\nhole_size = "6 mm"\n[output]\nvtk = false\npng = false\nplots = false\n'
+    )
+    env = {**os.environ, "RAILCHECK_CACHE": str(tmp_path / "cache")}
+    runs = {}
+    for label, extra in (("cold", {}), ("warm", {}), ("bypass", {"RAILCHECK_STORE": "0"})):
+        proc = subprocess.run(
+            [sys.executable, "-P", "-m", "railcheck.cli", "check", str(scene), "--out", str(tmp_path / label)],
+            capture_output=True,
+            text=True,
+            env={**env, **extra},
+        )
+        assert proc.returncode == 0, proc.stderr
+        runs[label] = ((tmp_path / label / "summary.json").read_bytes(), proc.stderr)
+    assert runs["warm"][0] == runs["cold"][0] == runs["bypass"][0]
+    assert "from the store" in runs["warm"][1] and "from the store" not in runs["cold"][1]
+    assert "from the store" not in runs["bypass"][1]
