@@ -5,109 +5,98 @@ One flat public namespace, as scikit-fem's own: the mesh adaptor (:mod:`.mesh`),
 position, body force fields), the constrained solve (:mod:`.system`, solvers as callables
 in :mod:`.solvers`), stress recovery (:mod:`.stress`), :func:`solve_elasticity` composing
 them (:mod:`.elasticity`), unit load cases and their superposition over a cycle, fatigue,
-materials and VTK output. scikit-fem is imported inside the functions that need it, so
-importing this package is light. Units SI: m, N, Pa.
+materials and VTK output. Each name is imported from its module on first use (PEP 562),
+and scikit-fem inside the functions that need it, so importing this package, or one
+of its modules, costs only what is used. Units SI: m, N, Pa.
 """
 
-from .assembly import assemble, mass_matrix, stiffness_matrix
-from .cantilever import CantileverResult, run_cantilever, timoshenko_tip
-from .elasticity import Solution, check_rigid_modes, solve_elasticity
-from .errors import ModelError, NumericalError
-from .fatigue import CRITERIA, SURFACE, Marin, alternating_and_mean, endurance_limit, safety_factor
-from .loading import (
-    HoleLoad,
-    Support,
-    SurfaceDofs,
-    body_force_vector,
-    body_force_vectors,
-    group_area,
-    load_vector,
-    resultant,
-    surface_dofs,
-    surface_node_weights,
-    traction_vector,
-    unit_traction_vectors,
-)
-from .materials import MATERIALS, Material, limit_warning
-from .mesh import dof_components, estimate_dofs, group_nodes, stress_nodes, vector_dof_map
-from .modes import Modes, natural_modes, vector_mass_matrix
-from .relief import FreeBodySolve, RigidModes, relieve, rigid_modes, solve_free_body, three_two_one
-from .solvers import SOLVERS, Solver, available_memory, factorise, solve_reduced, solver_of
-from .stress import away_from, mean_over, peak, recover_stress, von_mises
-from .superpose import Envelope, UnitFields, envelope, stress_at
-from .system import free_submatrix, solve, supports
-from .unitcases import BodyCase, TractionCase, UnitSolve, solve_unit_cases
-from .vtk import pvd_text, write_vtu
+from importlib import import_module
 
-__all__ = [
-    "CRITERIA",
-    "MATERIALS",
-    "SOLVERS",
-    "SURFACE",
-    "BodyCase",
-    "CantileverResult",
-    "Envelope",
-    "FreeBodySolve",
-    "RigidModes",
-    "relieve",
-    "rigid_modes",
-    "solve_free_body",
-    "three_two_one",
-    "HoleLoad",
-    "Marin",
-    "Modes",
-    "natural_modes",
-    "vector_mass_matrix",
-    "Material",
-    "ModelError",
-    "NumericalError",
-    "Solution",
-    "Solver",
-    "Support",
-    "TractionCase",
-    "UnitFields",
-    "UnitSolve",
-    "alternating_and_mean",
-    "assemble",
-    "available_memory",
-    "away_from",
-    "body_force_vector",
-    "body_force_vectors",
-    "check_rigid_modes",
-    "dof_components",
-    "endurance_limit",
-    "envelope",
-    "estimate_dofs",
-    "factorise",
-    "free_submatrix",
-    "group_area",
-    "group_nodes",
-    "limit_warning",
-    "load_vector",
-    "mass_matrix",
-    "mean_over",
-    "peak",
-    "pvd_text",
-    "recover_stress",
-    "resultant",
-    "run_cantilever",
-    "safety_factor",
-    "solve",
-    "solve_elasticity",
-    "solve_reduced",
-    "solve_unit_cases",
-    "solver_of",
-    "stiffness_matrix",
-    "stress_at",
-    "stress_nodes",
-    "supports",
-    "SurfaceDofs",
-    "surface_dofs",
-    "surface_node_weights",
-    "timoshenko_tip",
-    "traction_vector",
-    "unit_traction_vectors",
-    "vector_dof_map",
-    "von_mises",
-    "write_vtu",
-]
+#: public name -> the module that defines it
+_WHERE = {
+    "assemble": "assembly",
+    "mass_matrix": "assembly",
+    "stiffness_matrix": "assembly",
+    "CantileverResult": "cantilever",
+    "run_cantilever": "cantilever",
+    "timoshenko_tip": "cantilever",
+    "Solution": "elasticity",
+    "check_rigid_modes": "elasticity",
+    "solve_elasticity": "elasticity",
+    "ModelError": "errors",
+    "NumericalError": "errors",
+    "CRITERIA": "fatigue",
+    "SURFACE": "fatigue",
+    "Marin": "fatigue",
+    "alternating_and_mean": "fatigue",
+    "endurance_limit": "fatigue",
+    "safety_factor": "fatigue",
+    "HoleLoad": "loading",
+    "Support": "loading",
+    "SurfaceDofs": "loading",
+    "body_force_vector": "loading",
+    "body_force_vectors": "loading",
+    "group_area": "loading",
+    "load_vector": "loading",
+    "resultant": "loading",
+    "surface_dofs": "loading",
+    "surface_node_weights": "loading",
+    "traction_vector": "loading",
+    "unit_traction_vectors": "loading",
+    "MATERIALS": "materials",
+    "Material": "materials",
+    "limit_warning": "materials",
+    "dof_components": "mesh",
+    "estimate_dofs": "mesh",
+    "group_nodes": "mesh",
+    "stress_nodes": "mesh",
+    "vector_dof_map": "mesh",
+    "Modes": "modes",
+    "natural_modes": "modes",
+    "vector_mass_matrix": "modes",
+    "FreeBodySolve": "relief",
+    "RigidModes": "relief",
+    "relieve": "relief",
+    "rigid_modes": "relief",
+    "solve_free_body": "relief",
+    "three_two_one": "relief",
+    "SOLVERS": "solvers",
+    "Solver": "solvers",
+    "available_memory": "solvers",
+    "factorise": "solvers",
+    "solve_reduced": "solvers",
+    "solver_of": "solvers",
+    "away_from": "stress",
+    "mean_over": "stress",
+    "peak": "stress",
+    "recover_stress": "stress",
+    "von_mises": "stress",
+    "Envelope": "superpose",
+    "UnitFields": "superpose",
+    "envelope": "superpose",
+    "stress_at": "superpose",
+    "free_submatrix": "system",
+    "solve": "system",
+    "supports": "system",
+    "BodyCase": "unitcases",
+    "TractionCase": "unitcases",
+    "UnitSolve": "unitcases",
+    "solve_unit_cases": "unitcases",
+    "pvd_text": "vtk",
+    "write_vtu": "vtk",
+}
+
+__all__ = sorted(_WHERE)
+
+
+def __getattr__(name: str):
+    """The public name from its module, imported on first use."""
+    if name not in _WHERE:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(import_module(f".{_WHERE[name]}", __name__), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_WHERE))

@@ -27,10 +27,14 @@ import json
 import os
 import stat
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
+
+from .dynamic import DynamicModel
+from .superpose import UnitFields
+from .unitcases import UnitSolve, solve_unit_cases
 
 __all__ = ["StoreInfo", "UnitRequest", "clear_store", "is_stored", "solve_stored", "store_dir", "store_info"]
 
@@ -187,10 +191,6 @@ def write_entry(path: Path, payload: str, fields, solve) -> None:
 def read_entry(path: Path, payload: str):
     """((UnitFields, UnitSolve), None) for a sound entry made for ``payload``; (None, why)
     for a damaged, swapped or stale one; (None, None) when there is none."""
-    from .dynamic import DynamicModel
-    from .superpose import UnitFields
-    from .unitcases import UnitSolve
-
     if not path.exists():
         return None, None
     try:
@@ -285,10 +285,6 @@ def solve_stored(request: UnitRequest, solver: str = "auto", report=None, store:
     fields when an entry for ``request`` is sound, else solved and stored. Returns
     (fields, solve, origin): ``origin`` says where the fields came from ("stored",
     "solved", or why a stored entry was solved again)."""
-    from dataclasses import replace
-
-    from .unitcases import solve_unit_cases
-
     r = request
     args = (r.points, r.tets, r.groups, r.material, r.supports, r.cases, r.order, r.tip_group, r.exclude, solver, report)
     kw = {"curved": r.curved, "free_body": r.free_body, "modes": r.modes}

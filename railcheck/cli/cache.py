@@ -4,7 +4,9 @@ unit-field store, :mod:`railcheck.fea.store`), and clearing them."""
 from __future__ import annotations
 
 from railcheck.errors import EXIT_PASS
+from railcheck.fea.store import clear_store, store_info
 from railcheck.files import to_json
+from railcheck.geometry.cache import default_cache_dir
 
 HELP = "show or clear the mesh cache and the unit-field store"
 
@@ -15,15 +17,11 @@ def add_args(p) -> None:
 
 
 def _mesh_entries():
-    from railcheck.geometry.cache import default_cache_dir
-
     root = default_cache_dir()
     return root, ([p for p in root.glob("*.npz") if not p.name.startswith(".")] if root.is_dir() else [])
 
 
 def run(args) -> int:
-    from railcheck.fea.store import clear_store, store_info
-
     root, meshes = _mesh_entries()
     if args.clear:
         removed_meshes = 0
