@@ -182,18 +182,20 @@ def torque_at(loads: Loads, s: np.ndarray, rows: np.ndarray) -> np.ndarray:
 
 def motor_demand(loads: Loads, speed0: float, speeds: np.ndarray) -> dict:
     """Per setting (S, G) at each crank speed of ``speeds`` (rad/s): ``torque_peak_Nm``,
-    ``torque_rms_Nm`` and ``power_peak_W`` (peak torque x speed: the speed is constant)."""
-    shape = loads.motion.omega.shape[1:]  # (S, T)
-    Tg = loads.constant.torque if loads.constant is not None else np.zeros(shape)
-    Ti = loads.inertial.torque if loads.inertial is not None else np.zeros(shape)
+    ``torque_rms_Nm`` and ``power_peak_W`` (peak torque x speed: the speed is constant).
+    Without gravity the torque is ``s`` times the first speed's (every acceleration scales
+    with omega^2), so its peak and RMS scale too; with gravity each speed is evaluated."""
     s = (speeds / speed0) ** 2
-    T = Tg[:, None, :] + s[None, :, None] * Ti[:, None, :]  # (S, G, T)
-    peak = np.abs(T).max(axis=-1)
-    return {
-        "torque_peak_Nm": peak,
-        "torque_rms_Nm": np.sqrt(np.mean(T**2, axis=-1)),
-        "power_peak_W": peak * speeds,
-    }
+    if loads.constant is None:
+        Ti = loads.inertial.torque  # (S, T)
+        peak = np.abs(Ti).max(axis=1)[:, None] * s[None, :]
+        rms = np.sqrt(np.mean(Ti**2, axis=1))[:, None] * s[None, :]
+    else:
+        Tg = loads.constant.torque
+        Ti = loads.inertial.torque if loads.inertial is not None else np.zeros_like(Tg)
+        T = Tg[:, None, :] + s[None, :, None] * Ti[:, None, :]  # (S, G, T)
+        peak, rms = np.abs(T).max(axis=-1), np.sqrt(np.mean(T**2, axis=-1))
+    return {"torque_peak_Nm": peak, "torque_rms_Nm": rms, "power_peak_W": peak * speeds}
 
 
 def kinematic_columns(ctx: SweepContext) -> list[str]:
