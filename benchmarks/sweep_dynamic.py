@@ -8,7 +8,7 @@ runs' times, and per setting that gets the FE verdict how the safe speed changes
 settings whose safe speed moves by more than 0.1%, the smallest, median and largest ratio
 dynamic / quasi-static) and which criterion sets it.
 
-    python benchmarks/sweep_dynamic.py [--workers N]
+    python benchmarks/sweep_dynamic.py [--workers N] [--support clamped|free-body]
 """
 
 from __future__ import annotations
@@ -39,6 +39,7 @@ ground = ["960 mm", "1080 mm"]
 [check]
 parts = ["crank-rail", "coupler-rail", "rocker-rail", "PF_4b_006", "PF_4b_003_v2"]
 effects = EFFECTS
+support = "SUPPORT"
 
 [loads.PF_4b_003_v2]
 longitudinal = "250 N"
@@ -46,10 +47,10 @@ transverse = "250 N"
 """
 
 
-def one(effects: str, workers: int, tmp: str) -> tuple[dict, float, dict]:
+def one(effects: str, workers: int, tmp: str, support: str) -> tuple[dict, float, dict]:
     path = os.path.join(tmp, f"scene{len(effects)}.toml")
     with open(path, "w") as f:
-        f.write(SCENE.replace("EFFECTS", effects))
+        f.write(SCENE.replace("EFFECTS", effects).replace("SUPPORT", support))
     scene = load_scene(path)
     t = time.perf_counter()
     run = run_sweep(
@@ -64,12 +65,15 @@ def one(effects: str, workers: int, tmp: str) -> tuple[dict, float, dict]:
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--workers", type=int, default=os.cpu_count())
+    parser.add_argument("--support", default="clamped", choices=["clamped", "free-body"])
     args = parser.parse_args()
     with tempfile.TemporaryDirectory() as tmp:
-        qs, t_qs, tim_qs = one('["inertia"]', args.workers, tmp)
-        dyn, t_dyn, tim_dyn = one('["inertia", "dynamic"]', args.workers, tmp)
+        qs, t_qs, tim_qs = one('["inertia"]', args.workers, tmp, args.support)
+        dyn, t_dyn, tim_dyn = one('["inertia", "dynamic"]', args.workers, tmp, args.support)
     fe = qs["checks_passed"].astype(bool)
-    print(f"81 settings, {fe.sum()} with the FE verdict, {args.workers} workers, {os.cpu_count()} cores")
+    print(
+        f"81 settings, {fe.sum()} with the FE verdict, support {args.support}, {args.workers} workers, {os.cpu_count()} cores"
+    )
     for label, wall, tim in (("quasi-static", t_qs, tim_qs), ("dynamic", t_dyn, tim_dyn)):
         print(
             f"{label:<13} wall {wall:6.1f} s = unit cases (and modes) {tim['prepare']:6.1f} s + settings "

@@ -39,7 +39,7 @@ from .unitcases import UnitSolve, solve_unit_cases
 __all__ = ["StoreInfo", "UnitRequest", "clear_store", "is_stored", "solve_stored", "store_dir", "store_info"]
 
 #: the entry format; bump it when what an entry holds or means changes
-FORMAT = "1"
+FORMAT = "2"
 DEFAULT_CAP_MB = 2048
 
 
@@ -141,6 +141,8 @@ def _arrays(fields, solve) -> dict[str, np.ndarray]:
         out["imbalance"] = solve.imbalance
     if solve.modes is not None:
         out["modes_hz"], out["modes_loads"] = solve.modes.hz, solve.modes.modal_loads
+    for i, (key, tip) in enumerate((fields.tips or {}).items()):
+        out[f"tip{i}_key"], out[f"tip{i}"] = np.array(repr(key)), tip
     for i, (key, found) in enumerate((solve.mode_sets or {}).items()):
         out[f"set{i}_key"] = np.array(repr(key))
         out[f"set{i}_hz"], out[f"set{i}_loads"] = found.hz, found.modal_loads
@@ -217,6 +219,9 @@ def read_entry(path: Path, payload: str):
         arrays.get("support"),
         arrays.get("loaded"),
     )
+    tips = {_literal(str(arrays[f"tip{i}_key"])): arrays[f"tip{i}"] for i in range(len(arrays)) if f"tip{i}" in arrays}
+    if tips:
+        fields = replace(fields, tips=tips)
     modes = None
     if "modes_hz" in arrays:
         count = arrays["modes_hz"].size

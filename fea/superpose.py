@@ -39,6 +39,7 @@ class UnitFields:
     cells: np.ndarray | None = None
     support: np.ndarray | None = None
     loaded: np.ndarray | None = None
+    tips: dict | None = None  # key -> (3, k) m: one deflection per key (FreeBodyCases.deflection a dict)
 
 
 @dataclass(frozen=True)

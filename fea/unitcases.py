@@ -61,10 +61,12 @@ class FreeBodyCases:
     """How a free body's unit cases are solved: its body cases carry ``mass`` kg (the
     dynamics' mass of the part, spread uniformly over the mesh) and its deflection is
     ``deflection`` = (reference groups A, reference groups B, measured groups or the x (m)
-    of a section): the displacement there less the rigid line through A and B."""
+    of a section): the displacement there less the rigid line through A and B; or a dict
+    key -> such a tuple, one deflection per key (a sweep's hole groups), given back as
+    ``UnitFields.tips``."""
 
     mass: float
-    deflection: tuple
+    deflection: tuple | dict
 
 
 @dataclass(frozen=True)
@@ -155,7 +157,8 @@ def solve_unit_cases(
         U, info, fixed, imbalance = relieved.U, relieved.info, np.zeros(0, dtype=np.int64), relieved.imbalance
         reactions = -imbalance[:3]
         mask = np.ones(nodes.shape[0], dtype=bool)
-        tip_op = relative_deflection(basis, groups, *free_body.deflection)
+        per_key = free_body.deflection if isinstance(free_body.deflection, dict) else None
+        tip_op = None if per_key else relative_deflection(basis, groups, *free_body.deflection)
     else:
         fixed = supports(basis, groups, support_groups)
         t.append(time.perf_counter())
@@ -192,6 +195,9 @@ def solve_unit_cases(
             sets[key] = DynamicModel(hz=found.hz, shapes=np.zeros((0, count)), modal_loads=found.modal_loads)
         model = sets[None] if not isinstance(modes, dict) else None
     tip = tip_op @ U if tip_op is not None else np.zeros((3, U.shape[1]))
+    tips = None
+    if free_body is not None and isinstance(free_body.deflection, dict):
+        tips = {key: relative_deflection(basis, groups, *d) @ U for key, d in free_body.deflection.items()}
     t.append(time.perf_counter())
     S = recover_stress(basis, U, material)
     loaded = sorted({g for c in cases.values() if isinstance(c, TractionCase) for g in c.groups})
@@ -215,7 +221,7 @@ def solve_unit_cases(
         modes=model,
         mode_sets=sets if isinstance(modes, dict) else None,
     )
-    return UnitFields(S, tip, node_displacement(basis, U), nodes, mask, names, **extras), meta
+    return UnitFields(S, tip, node_displacement(basis, U), nodes, mask, names, **extras, tips=tips), meta
 
 
 def _support_reactions(basis, K, U: np.ndarray, F: np.ndarray, fixed: np.ndarray) -> np.ndarray:

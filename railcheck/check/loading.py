@@ -79,8 +79,12 @@ class SourceHistory:
     seed_step: int
 
 
-def load_model(scene: Scene, name: str, density: float) -> LoadModel:
-    """The part's :class:`LoadModel` from the scene's [check] (density kg/m^3)."""
+def load_model(
+    scene: Scene, name: str, density: float, bar_length: float | None = None, inertia: bool | None = None
+) -> LoadModel:
+    """The part's :class:`LoadModel` from the scene's [check] (density kg/m^3). A free
+    rail's bar length (m) and whether inertia acts come from the scene's [mechanism]
+    unless given (a sweep gives each setting's)."""
     effects, explicit = scene.check.effects, scene.check.loads.get(name)
     part = PARTS[name]
     bar = part.bar
@@ -96,17 +100,19 @@ def load_model(scene: Scene, name: str, density: float) -> LoadModel:
     )
     if not (scene.check.support == "free-body" and part.free_body is not None and explicit is None):
         return model
-    if not isinstance(scene.mechanism.linkage, FourBar):
-        raise InputError("check.support", '"free-body" is modelled for the four-bar so far: use "clamped"')
+    if bar_length is None:
+        if not isinstance(scene.mechanism.linkage, FourBar):
+            raise InputError("check.support", '"free-body" is modelled for the four-bar so far: use "clamped"')
+        bar_length = scene.mechanism.linkage.lengths[bar]
     masses, fb = mass_model(scene.check.support, scene.geometry), part.free_body
     return dataclasses.replace(
         model,
         rail_inertia=False,
         free_body=fb,
-        inertia="inertia" in effects_for(scene),
+        inertia="inertia" in effects_for(scene) if inertia is None else inertia,
         joint_masses=tuple(sum(getattr(masses, m) for m in j.masses) for j in (fb.near, fb.far)),
         rail_mass=masses.rail_mass_per_m * rail_length(bar),
-        bar_length=scene.mechanism.linkage.lengths[bar],
+        bar_length=bar_length,
     )
 
 

@@ -25,14 +25,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from railcheck.check.kinematics_stage import joints_on_rails_flags
-from railcheck.check.loading import source_coefficients
+from railcheck.check.loading import free_body_coefficients, source_coefficients
 from railcheck.fea.dynamic import modal_correction
 from railcheck.kinematics import batch
 from railcheck.kinematics.checks import fourbar_checks_batch, slidercrank_checks_batch
 from railcheck.kinematics.dynamics import STANDARD_GRAVITY
 from railcheck.kinematics.motion import crank_angles
 from railcheck.loads.bearings import bearing_life
-from railcheck.parts import BAR_INDEX
+from railcheck.parts import BAR_INDEX, mass_model
 from railcheck.sweep.fe import fatigue_min, hull_steps, tip_peak, von_mises_peak
 
 REVOLVE_MARGIN = 1e-7  # rad: closer to a toggle is singular (kinematics.motion)
@@ -92,10 +92,12 @@ def motion_of(ctx: SweepContext, lengths: dict, speed: float):
 
 
 def dynamics_of(ctx: SweepContext, motion, gravity: float):
-
+    """The settings' inverse dynamics with the check's one mass model (a free-body check
+    places the rails as they are meshed: :func:`railcheck.parts.mass_model`)."""
+    masses = mass_model(ctx.scene.check.support if ctx.scene.check else "clamped", ctx.scene.geometry)
     if ctx.scene.formulation == "seed-2013":
-        return batch.seed_2013(motion)
-    return batch.newton_euler(motion, gravity=gravity)
+        return batch.seed_2013(motion, masses)
+    return batch.newton_euler(motion, masses, gravity=gravity)
 
 
 @dataclass(frozen=True)
@@ -228,7 +230,13 @@ def coefficients(ctx: SweepContext, name: str, loads: Loads, sel: np.ndarray) ->
         )
 
     loads_model = ctx.models[name].loads
-    total, _ = reactions_at(loads, 1.0)
+    total, torque = reactions_at(loads, 1.0)
+    if loads_model.is_free_body:  # one history: both joints' forces, the motor's torque, the rail's own inertia
+        Ct = free_coeffs(loads_model, total, torque, loads.motion, sel)
+        if loads.constant is None:
+            return [(None, Ct)]
+        Cg = free_coeffs(loads_model, loads.constant.reactions, loads.constant.torque, loads.static, sel)
+        return [(Cg, Ct - Cg)]
     out = []
     for src in loads_model.sources:
         if src.joint not in total:
@@ -237,6 +245,21 @@ def coefficients(ctx: SweepContext, name: str, loads: Loads, sel: np.ndarray) ->
         Cg = coeffs(src, loads.constant.reactions, loads.static) if loads.constant is not None else None
         out.append((Cg, Ct if Cg is None else Ct - Cg))
     return out
+
+
+def free_coeffs(model, reactions: dict, torque: np.ndarray, motion, sel: np.ndarray) -> np.ndarray:
+    """(S_sel, T, k): a free rail's coefficients (:func:`railcheck.check.loading.free_body_coefficients`)
+    for the settings ``sel`` from reactions (N), torque (N m) and the motion they come from."""
+    by_bar = lambda a: {bar: a[i][sel] for bar, i in BAR_INDEX.items()}  # noqa: E731
+    return free_body_coefficients(
+        model,
+        {j: r[sel] for j, r in reactions.items()},
+        torque[sel],
+        by_bar(motion.theta),
+        {j: a[sel] for j, a in motion.accelerations.items()},
+        by_bar(motion.omega),
+        by_bar(motion.alpha),
+    )
 
 
 def evaluate_part(

@@ -10,16 +10,18 @@ with ``bolt_position = "actual"`` and the same mesh.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from railcheck.check.cycle import use_store
-from railcheck.check.jobs import carried_masses, mesh_sizes
+from railcheck.check.jobs import carried_masses, free_body_cases, mesh_sizes
 from railcheck.check.loading import LoadModel, load_model, source_histories, unit_cases
 from railcheck.fea.fatigue import endurance_limit
 from railcheck.fea.store import UnitRequest, solve_stored
+from railcheck.fea.unitcases import FreeBodyCases
 from railcheck.geometry.mesher import mesh_part
 from railcheck.loads.cases import rail_bolt_holes
 from railcheck.parts import PARTS, geometry_of, kind_of
@@ -94,10 +96,18 @@ def applicable(scene, name: str, kind: str) -> bool:
     return bool(srcs) and (PARTS[name].bar is None or PARTS[name].bar in bars)
 
 
+def is_free_rail(scene, name: str) -> bool:
+    """Whether the part is checked as a free body (``support = "free-body"``, a rail of
+    the registry's free-body model, no explicit loads)."""
+    return scene.check.support == "free-body" and PARTS[name].free_body is not None and name not in scene.check.loads
+
+
 def hole_groups(scene, name: str, geo, lengths: np.ndarray) -> tuple[dict, dict]:
-    """(key -> bolt-hole groups, length um -> key): a rail's pair for every bar length in
-    ``lengths`` (m; lengths off the rail are left out: their settings fail
-    ``joints_on_rails``); one key None with every hole for other parts."""
+    """(key -> bolt-hole groups, length um -> key): a rail's pair ``(i, j)`` for every bar
+    length in ``lengths`` (m; lengths off the rail are left out: their settings fail
+    ``joints_on_rails``), and for a free rail ``(i, j, length um)`` (its plate's bolts share
+    the joint force by the lever rule about the joint, which sits at the bar length); one
+    key None with every hole for other parts."""
 
     kind = kind_of(name)
     if name in scene.check.loads:
@@ -116,8 +126,9 @@ def hole_groups(scene, name: str, geo, lengths: np.ndarray) -> tuple[dict, dict]
             pair = tuple(rail_bolt_holes(xs, xs[0], float(length), "actual"))
         except ValueError:
             continue
-        groups[pair] = [f"hole_{k}" for k in pair]
-        pair_of[_um(length)] = pair
+        key = (*pair, _um(length)) if is_free_rail(scene, name) else pair
+        groups[key] = [f"hole_{k}" for k in pair]
+        pair_of[_um(length)] = key
     return groups, pair_of
 
 
@@ -128,35 +139,43 @@ def build_part_model(scene, name: str, lengths: np.ndarray, material, limit: flo
     kind = kind_of(name)
     geo = geometry_of(name, scene.geometry)
     mesh = mesh_part(geo, *mesh_sizes(scene.mesh, geo.kind), optimize=scene.mesh.optimize)
-    loads = load_model(scene, name, material.density)
+    free = is_free_rail(scene, name)
+    loads = load_model(scene, name, material.density, *((0.0, "inertia" in scene.check.effects) if free else ()))
     groups, pair_of = hole_groups(scene, name, geo, lengths)
-    cases, columns = {}, {}
+    cases, columns, deflections = {}, {}, {}
     for key, holes in groups.items():
         names = []
-        for case_name, case in unit_cases(loads, geo, holes).items():
-            full = f"{case_name}@{key[0]}-{key[1]}" if key is not None and case_name.startswith("bolt") else case_name
+        loads_key = dataclasses.replace(loads, bar_length=key[2] / 1e6) if free else loads
+        for case_name, case in unit_cases(loads_key, geo, holes).items():
+            full = (
+                f"{case_name}@{'-'.join(map(str, key))}" if key is not None and case_name.startswith("bolt") else case_name
+            )
             cases.setdefault(full, case)
             names.append(full)
         columns[key] = [list(cases).index(n) for n in names]
-    modes = mode_requests(scene, name, groups)
+        if free:
+            deflections[key] = free_body_cases(loads_key, geo, holes).deflection
+    modes = mode_requests(scene, name, groups, deflections)
     request = UnitRequest(
         mesh.points,
         mesh.tets,
         mesh.groups,
         material,
-        [kind.support],
+        [] if free else [kind.support],
         cases,
         scene.mesh.order,
         kind.tip,
-        kind.exclusion(geo),
+        0.0 if free else kind.exclusion(geo),
         mesh.curved if scene.mesh.curved else None,
-        None,
+        FreeBodyCases(mass=loads.rail_mass, deflection=deflections) if free else None,
         modes,
     )
     fields, meta, origin = solve_stored(request, "auto", report, store=use_store())
     if origin != "solved":
         report(f"unit fields: {origin}")
-    screens = {key: make_screen(fields.stress, fields.verdict_mask, fields.tip, cols) for key, cols in columns.items()}
+    screens = {
+        key: make_screen(fields.stress, fields.verdict_mask, tip_of(fields, key), cols) for key, cols in columns.items()
+    }
     dynamic = pair_modes(fields, meta, columns, len(cases)) if modes else None
     spec = scene.fatigue
     marin = endurance_limit(material.ultimate_strength, spec.surface, kind.section(geo), spec.load, spec.reliability)
@@ -196,13 +215,19 @@ def dynamic_in_sweep(scene) -> bool:
     return scene.check is not None and "dynamic" in scene.check.effects and any(w > 0 for w in scene.sweep.speeds)
 
 
-def mode_requests(scene, name: str, groups: dict) -> dict | None:
+def tip_of(fields, key):
+    """(3, k) m: the deflection operator's columns of a key (a free rail has one per key)."""
+    return fields.tips[key] if fields.tips else fields.tip
+
+
+def mode_requests(scene, name: str, groups: dict, deflections: dict | None = None) -> dict | None:
     """Hole-pair key -> (modes, pins, carried masses) for
     :func:`railcheck.fea.unitcases.solve_unit_cases`, or None: without ``dynamic``, and
     for a part with explicit loads (constant over the cycle: nothing to respond to)."""
     if not dynamic_in_sweep(scene) or name in scene.check.loads:
         return None
-    return {key: (scene.dynamic.modes, None, carried_masses(scene, name, holes)) for key, holes in groups.items()}
+    pins = {key: (tuple(d[0]), tuple(d[1])) for key, d in (deflections or {}).items()}  # a free rail: its joints
+    return {key: (scene.dynamic.modes, pins.get(key), carried_masses(scene, name, holes)) for key, holes in groups.items()}
 
 
 def pair_modes(fields, meta, columns: dict, n_cases: int) -> dict:
@@ -213,6 +238,6 @@ def pair_modes(fields, meta, columns: dict, n_cases: int) -> dict:
         found = meta.mode_sets[key]
         mode_cols = list(range(start, start + found.hz.size))
         start += found.hz.size
-        screen = make_screen(fields.stress, fields.verdict_mask, fields.tip, list(cols) + mode_cols)
+        screen = make_screen(fields.stress, fields.verdict_mask, tip_of(fields, key), list(cols) + mode_cols)
         out[key] = PairModes(found.hz, found.modal_loads[:, cols], screen)
     return out

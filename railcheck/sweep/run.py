@@ -109,10 +109,10 @@ def validate(scene) -> None:
             "check.effects",
             'a sweep needs a load to compare settings by: list "inertia" (with a speed) or "gravity"',
         )
-    if scene.check is not None and scene.check.support == "free-body":
+    if scene.check is not None and scene.check.support == "free-body" and "slider-crank" in scene.sweep.kinds:
         raise InputError(
             "check.support",
-            '"free-body" is not in the sweep yet (railcheck check has it): use support = "clamped" for a sweep',
+            '"free-body" is modelled for the four-bar so far: sweep kind = "four-bar", or support = "clamped"',
         )
     if scene.formulation == "seed-2013" and "slider-crank" in scene.sweep.kinds:
         raise InputError(
