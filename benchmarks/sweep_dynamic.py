@@ -71,9 +71,8 @@ def main():
         qs, t_qs, tim_qs = one('["inertia"]', args.workers, tmp, args.support)
         dyn, t_dyn, tim_dyn = one('["inertia", "dynamic"]', args.workers, tmp, args.support)
     fe = qs["checks_passed"].astype(bool)
-    print(
-        f"81 settings, {fe.sum()} with the FE verdict, support {args.support}, {args.workers} workers, {os.cpu_count()} cores"
-    )
+    cores = os.cpu_count()
+    print(f"81 settings, {fe.sum()} with the FE verdict, support {args.support}, {args.workers} workers, {cores} cores")
     for label, wall, tim in (("quasi-static", t_qs, tim_qs), ("dynamic", t_dyn, tim_dyn)):
         print(
             f"{label:<13} wall {wall:6.1f} s = unit cases (and modes) {tim['prepare']:6.1f} s + settings "
