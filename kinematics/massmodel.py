@@ -67,27 +67,53 @@ def rail_body(masses: MassModel, bar: str, point_masses: list[tuple[float, float
     return bar_from_parts(masses.rail_mass_per_m * length, length, point_masses, masses.rail_overhang)
 
 
+#: The point masses each bar's rail carries at its joints, by linkage kind: bar -> joint ->
+#: :class:`MassModel` attribute names (seed 000, Anexo I; the slider-crank's assumed, the
+#: seed left it undone). The one place the dynamics' rigid bodies and the FE's joint loads
+#: and lumped masses read them from. Each bar's first joint (O2, A, O4) is at s = 0, its
+#: second at s = its length.
+CARRIED: dict[str, dict[str, dict[str, tuple[str, ...]]]] = {
+    "four-bar": {
+        "crank": {"A": ("plate", "carriage")},
+        "coupler": {"A": ("coupling",), "B": ("plate", "carriage")},
+        "rocker": {"B": ("coupling",)},
+    },
+    "slider-crank": {
+        "crank": {"A": ("plate", "carriage")},
+        "coupler": {"A": ("coupling",), "B": ("coupling",)},
+    },
+}
+FIRST_JOINT = {"crank": "O2", "coupler": "A", "rocker": "O4"}
+
+
+def carried_mass(masses: MassModel, kind: str, bar: str, joint: str) -> float:
+    """kg: the point masses ``bar``'s rail carries at ``joint`` in a ``kind`` linkage."""
+    return sum(getattr(masses, name) for name in CARRIED[kind].get(bar, {}).get(joint, ()))
+
+
+def _carrying_rail(masses: MassModel, kind: str, bar: str, length) -> RigidBar:
+    """A bar's rail with the point masses :data:`CARRIED` puts at its two joints."""
+    joints = CARRIED[kind][bar]
+    points = [(carried_mass(masses, kind, bar, j), 0.0 if j == FIRST_JOINT[bar] else length) for j in joints]
+    return rail_body(masses, bar, points)
+
+
 def fourbar_bodies(linkage: FourBar, masses: MassModel) -> tuple[RigidBar, RigidBar, RigidBar]:
     """Crank, coupler and rocker as rigid bodies (seed 000, Anexo I mass model).
 
     Crank: rail + plate and carriage at A. Coupler: rail from A + coupling at A + plate
-    and carriage at B. Rocker: rail from O4 + coupling at B.
+    and carriage at B. Rocker: rail from O4 + coupling at B (:data:`CARRIED`).
     """
-    mpc = masses.plate_and_carriage
-    crank = rail_body(masses, "crank", [(mpc, linkage.crank)])
-    coupler = rail_body(masses, "coupler", [(masses.coupling, 0.0), (mpc, linkage.coupler)])
-    rocker = rail_body(masses, "rocker", [(masses.coupling, linkage.rocker)])
-    return crank, coupler, rocker
+    return tuple(_carrying_rail(masses, "four-bar", bar, getattr(linkage, bar)) for bar in ("crank", "coupler", "rocker"))  # type: ignore[return-value]
 
 
 def slidercrank_bodies(linkage: SliderCrank, masses: MassModel) -> tuple[RigidBar, RigidBar, RigidBar]:
     """Crank, coupler and slider (assumed: the seed left the slider-crank undone).
 
-    Crank: as in the four-bar. Coupler: rail from A + coupling at A + coupling at B.
-    Slider: a carriage with its plate on the ground rail (a particle, no rotation).
+    Crank: as in the four-bar. Coupler: rail from A + coupling at A + coupling at B
+    (:data:`CARRIED`). Slider: a carriage with its plate on the ground rail (a particle,
+    no rotation).
     """
-    mpc = masses.plate_and_carriage
-    crank = rail_body(masses, "crank", [(mpc, linkage.crank)])
-    coupler = rail_body(masses, "coupler", [(masses.coupling, 0.0), (masses.coupling, linkage.coupler)])
-    slider = RigidBar(mass=mpc, com=0.0, inertia_com=0.0)
+    crank, coupler = (_carrying_rail(masses, "slider-crank", bar, getattr(linkage, bar)) for bar in ("crank", "coupler"))
+    slider = RigidBar(mass=masses.plate_and_carriage, com=0.0, inertia_com=0.0)
     return crank, coupler, slider

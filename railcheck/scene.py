@@ -87,7 +87,7 @@ class CheckSpec:
     effects: tuple[str, ...] = ("inertia",)
     loads: dict[str, ExplicitLoad] = field(default_factory=dict)
     max_deflection: float | None = None  # m; a part whose tip deflects more fails
-    support: str = "clamped"  # "clamped" (the 2013 cantilever) or "free-body" (inertia relief, rails)
+    support: str = "free-body"  # "free-body" (inertia relief, rails) or "clamped" (the 2013 cantilever)
 
 
 @dataclass(frozen=True)
@@ -255,7 +255,7 @@ def _mechanism(table: dict) -> MechanismSpec:
     return MechanismSpec(linkage, speed, steps)
 
 
-def _check(table: dict, loads_table: dict) -> CheckSpec:
+def _check(table: dict, loads_table: dict, formulation: str = "newton-euler") -> CheckSpec:
     p = "check."
     _unknown(table, _ALLOWED["check"], p)
     known = tuple(registry.PARTS)
@@ -311,7 +311,8 @@ def _check(table: dict, loads_table: dict) -> CheckSpec:
             "deflection",
             p + "max_deflection",
         )
-    support = _string_choice(table.get("support", "clamped"), SUPPORTS, p + "support")
+    default_support = "clamped" if formulation == "seed-2013" else "free-body"  # seed-2013: the 2013 study's model
+    support = _string_choice(table.get("support", default_support), SUPPORTS, p + "support")
     return CheckSpec(tuple(parts), float(factor), bolt, material, limit, tuple(effects), loads, max_deflection, support)
 
 
@@ -471,7 +472,7 @@ def parse_scene(data: dict[str, Any], source: str = "<scene>") -> Scene:
     formulation = _string_choice(dyn.get("formulation", "newton-euler"), FORMULATIONS, "dynamics.formulation")
     check = None
     if "check" in data:
-        check = _check(data["check"], data.get("loads", {}))
+        check = _check(data["check"], data.get("loads", {}), formulation)
     elif "loads" in data:
         raise InputError("loads", "explicit loads need a [check] table that lists their parts")
     if check is None and mechanism is None and "sweep" not in data:

@@ -62,7 +62,9 @@ def test_rotation_preserves_magnitude(fx, fy, theta):
 
 
 def test_load_cases_sum_to_factor_times_peak_reaction():
+    """The clamped (2013) model's load case: the factored peak reaction at the worst bolts."""
     scene = load_scene(None)
+    scene = replace(scene, check=replace(scene.check, support="clamped"))
     kin = run_kinematics(scene)
     cases = build_load_cases(scene, kin, part_geometries(scene))
     dyn, th = kin.dynamics, kin.motion.theta
@@ -271,5 +273,7 @@ def test_each_part_is_resolved_once_into_a_picklable_job_without_the_scene():
             np.testing.assert_array_equal(h.C, g.C)
     crank = jobs["crank-rail"]
     assert (crank.mesh.size, crank.mesh.hole_size, crank.mesh.order) == (20e-3, 6e-3, 2)
-    assert crank.limit == 375e6 and crank.loads.factor == 1.4 and crank.histories[0].C.shape == (5000, 2)
+    # the default free body: pin x/y, motor torque, bolts x/y, body x/y, rotational, radial
+    assert crank.limit == 375e6 and crank.loads.factor == 1.4 and crank.histories[0].C.shape == (5000, 9)
+    assert crank.free_body is not None and crank.loads.is_free_body
     assert jobs["PF_4b_006"].mesh.size == 6e-3 and len(jobs["PF_4b_006"].histories) == 2

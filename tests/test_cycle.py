@@ -27,7 +27,8 @@ STEEL = MATERIALS["steel"]
 
 
 def crank_scene(extra: str = "", lengths: str = FINAL_DESIGN):
-    text = lengths + 'speed = "1 Hz"\nsteps = 720\n[check]\nparts = ["crank-rail"]\n' + extra
+    """The crank rail clamped at its first hole (the 2013 model; free bodies: test_freebody.py)."""
+    text = lengths + 'speed = "1 Hz"\nsteps = 720\n[check]\nparts = ["crank-rail"]\nsupport = "clamped"\n' + extra
     return parse_scene(tomllib.loads(text))
 
 

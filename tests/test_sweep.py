@@ -334,16 +334,15 @@ size = "12 mm"
 
 
 def _check_scene(row: dict, speed_hz: float, sweep_text: str = FE_SWEEP, steps: int = 360):
-    """The scene of `railcheck check` of a sweep row's four-bar setting at ``speed_hz``:
-    the sweep's [check] and everything after it, with the bolts at the setting's own
-    holes (as the sweep loads them)."""
+    """The scene of `railcheck check` of a sweep row's setting (four-bar or slider-crank)
+    at ``speed_hz``: the sweep's [check] and everything after it, with the bolts at the
+    setting's own holes (as the sweep loads them)."""
+    bars = ("crank", "coupler", "offset") if row.get("kind") == "slider-crank" else ("crank", "coupler", "rocker", "ground")
+    lengths = "\n".join(f'{"ground" if b == "offset" else b} = "{row[f"{b}_mm"]:.6f} mm"' for b in bars)
     text = f"""
 [mechanism]
-kind = "four-bar"
-crank = "{row["crank_mm"]:.6f} mm"
-coupler = "{row["coupler_mm"]:.6f} mm"
-rocker = "{row["rocker_mm"]:.6f} mm"
-ground = "{row["ground_mm"]:.6f} mm"
+kind = "{row.get("kind", "four-bar")}"
+{lengths}
 speed = "{speed_hz:.17g} Hz"
 steps = {steps}
 

@@ -10,8 +10,6 @@ import pytest
 from test_sweep import FE_SWEEP, _check_scene, _rows, _sweep
 
 from railcheck.check.pipeline import run_pipeline
-from railcheck.errors import InputError
-from railcheck.scene import parse_scene
 
 
 def _text(effects: str) -> str:
@@ -41,10 +39,50 @@ def test_a_free_body_sweep_row_equals_the_free_body_check_of_that_setting(tmp_pa
                 assert row[f"{name}_amplification"] == pytest.approx(amp, rel=1e-9), name
 
 
-def test_the_free_body_sweep_is_for_the_four_bar():
-    text = _text('["inertia"]').replace('kind = "four-bar"', 'kind = "both"')
-    with pytest.raises(InputError) as info:
-        from railcheck.sweep.run import validate
+SLIDER_CRANK = """
+[sweep]
+kind = "both"
+speeds = ["1 Hz"]
+steps = 360
+crank = ["480 mm", "540 mm"]
+coupler = ["840 mm", "840 mm"]
+rocker = ["780 mm", "780 mm"]
+ground = ["1020 mm", "1020 mm"]
+offset = ["0 mm", "0 mm"]
 
-        validate(parse_scene(__import__("tomllib").loads(text), "test"))
-    assert info.value.field == "check.support" and "four-bar" in str(info.value)
+[check]
+support = "free-body"
+effects = EFFECTS
+parts = ["crank-rail", "coupler-rail"]
+
+[mesh]
+size = "20 mm"
+hole_size = "6 mm"
+"""
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("effects", ['["inertia"]', '["inertia", "dynamic"]'])
+def test_a_both_kinds_free_body_sweep_equals_the_check_of_each_kind(tmp_path, effects):
+    """kind = "both": the coupler carries a plate and a carriage at B in the four-bar, a
+    coupling in the slider-crank (the mass model's CARRIED), so each kind has its own free
+    coupler (its joint loads and, with dynamic, its modes): a row of either kind equals
+    the free-body check of its setting."""
+    text = SLIDER_CRANK.replace("EFFECTS", effects)
+    run = _sweep(tmp_path, text, serial=True)
+    for kind in ("four-bar", "slider-crank"):
+        rows = _rows(run, kind)
+        passing = np.flatnonzero(rows["checks_passed"])
+        assert passing.size >= 1, kind
+        row = {k: v[passing[-1]] for k, v in rows.items()}
+        result = run_pipeline(_check_scene(row, 1.0, text), jobs=1)
+        assert result.scene.mechanism.linkage.kind == kind
+        for name, part in result.parts.items():
+            assert part.job.free_body is not None
+            env = part.cycle.envelope
+            assert row[f"{name}_stress_MPa"] * 1e6 == pytest.approx(env.max_von_mises, rel=1e-9), (kind, name)
+            assert row[f"{name}_fatigue"] == pytest.approx(part.cycle.fatigue.min_safety_factor, rel=1e-9), (kind, name)
+            assert row[f"{name}_tip_mm"] / 1e3 == pytest.approx(env.max_tip, rel=1e-9, abs=1e-15), (kind, name)
+            if part.cycle.dynamic is not None:
+                amp = part.cycle.dynamic.amplification
+                assert row[f"{name}_amplification"] == pytest.approx(amp, rel=1e-9), (kind, name)

@@ -23,6 +23,7 @@ from railcheck.fea.mesh import estimate_dofs
 from railcheck.fea.unitcases import FreeBodyCases
 from railcheck.geometry.mesher import estimate_elements
 from railcheck.geometry.models import PartGeometry
+from railcheck.kinematics.massmodel import carried_mass
 from railcheck.loads.cases import LoadCase, explicit_load_case, rail_bolt_holes, reaction_load_case
 from railcheck.parts import BAR_INDEX, KINDS, PARTS, geometry_of, kind_of, mass_model
 from railcheck.scene import FatigueSpec, MeshSpec, Scene
@@ -204,15 +205,18 @@ def dynamic_job(
     return DynamicJob(scene.mechanism.speed, d.damping, d.max_amplification, d.modes, pins, lumped)
 
 
-def carried_masses(scene: Scene, name: str, holes: list[str] | tuple) -> tuple:
+def carried_masses(scene: Scene, name: str, holes: list[str] | tuple, kind: str | None = None) -> tuple:
     """((hole surfaces, kg), ...): the point masses a rail carries at its joints in the
-    mass model (plates, carriages, coupling): the near joint's on its first hole, the far
-    joint's on the bolt holes ``holes``; () for a plate or a part with explicit loads."""
-    fb = PARTS[name].free_body if name in PARTS else None
+    mass model (plates, carriages, coupling) of the linkage ``kind`` (default: the
+    scene's): the near joint's on its first hole, the far joint's on the bolt holes
+    ``holes``; () for a plate or a part with explicit loads."""
+    part = PARTS.get(name)
+    fb = part.free_body if part is not None else None
     if fb is None or not holes or name in scene.check.loads:
         return ()
-    masses = mass_model(scene.check.support, scene.geometry)
-    kg = [sum(getattr(masses, m) for m in joint.masses) for joint in (fb.near, fb.far)]
+    masses = mass_model(scene.formulation, scene.geometry)
+    kind = kind or scene.mechanism.linkage.kind
+    kg = [carried_mass(masses, kind, part.bar, joint.joint) for joint in (fb.near, fb.far)]
     return tuple((g, m) for g, m in ((("hole_0",), kg[0]), (tuple(holes), kg[1])) if m > 0)
 
 

@@ -59,8 +59,7 @@ def run_kinematics(scene: Scene) -> KinematicsResult:
     motion = solve_motion(spec.linkage, spec.speed, spec.steps)
     dyn_motion = motion if "inertia" in effects else solve_motion(spec.linkage, 0.0, spec.steps)
     gravity = STANDARD_GRAVITY if "gravity" in effects else 0.0
-    support = scene.check.support if scene.check else "clamped"
-    masses = mass_model(support, scene.geometry)
+    masses = mass_model(scene.formulation, scene.geometry)
     dynamics = inverse_dynamics(dyn_motion, scene.formulation, masses, gravity=gravity)
     mu_min, mu_max = transmission_extremes(spec.linkage)
     return KinematicsResult(motion, dynamics, all_checks(scene), effects, (math.degrees(mu_min), math.degrees(mu_max)))

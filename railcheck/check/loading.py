@@ -29,9 +29,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from railcheck.check.kinematics_stage import KinematicsResult, effects_for
-from railcheck.errors import InputError
 from railcheck.fea.unitcases import BodyCase, CoupleCase, TractionCase
-from railcheck.kinematics.linkage import FourBar
+from railcheck.kinematics.massmodel import carried_mass
 from railcheck.loads.histories import bolt_history, gravity_history, rail_inertia_history
 from railcheck.loads.rotation import to_rail_axes
 from railcheck.parts import BAR_INDEX, PARTS, FreeBody, LoadSource, mass_model, rail_length
@@ -80,11 +79,17 @@ class SourceHistory:
 
 
 def load_model(
-    scene: Scene, name: str, density: float, bar_length: float | None = None, inertia: bool | None = None
+    scene: Scene,
+    name: str,
+    density: float,
+    bar_length: float | None = None,
+    inertia: bool | None = None,
+    kind: str | None = None,
 ) -> LoadModel:
     """The part's :class:`LoadModel` from the scene's [check] (density kg/m^3). A free
-    rail's bar length (m) and whether inertia acts come from the scene's [mechanism]
-    unless given (a sweep gives each setting's)."""
+    rail's bar length (m), whether inertia acts and the linkage ``kind`` (which sets the
+    masses its joints carry) come from the scene's [mechanism] unless given (a sweep
+    gives each setting's)."""
     effects, explicit = scene.check.effects, scene.check.loads.get(name)
     part = PARTS[name]
     bar = part.bar
@@ -101,16 +106,15 @@ def load_model(
     if not (scene.check.support == "free-body" and part.free_body is not None and explicit is None):
         return model
     if bar_length is None:
-        if not isinstance(scene.mechanism.linkage, FourBar):
-            raise InputError("check.support", '"free-body" is modelled for the four-bar so far: use "clamped"')
         bar_length = scene.mechanism.linkage.lengths[bar]
-    masses, fb = mass_model(scene.check.support, scene.geometry), part.free_body
+    kind = kind or scene.mechanism.linkage.kind
+    masses, fb = mass_model(scene.formulation, scene.geometry), part.free_body
     return dataclasses.replace(
         model,
         rail_inertia=False,
         free_body=fb,
         inertia="inertia" in effects_for(scene) if inertia is None else inertia,
-        joint_masses=tuple(sum(getattr(masses, m) for m in j.masses) for j in (fb.near, fb.far)),
+        joint_masses=tuple(carried_mass(masses, kind, bar, j.joint) for j in (fb.near, fb.far)),
         rail_mass=masses.rail_mass_per_m * rail_length(bar),
         bar_length=bar_length,
     )

@@ -94,7 +94,7 @@ def motion_of(ctx: SweepContext, lengths: dict, speed: float):
 def dynamics_of(ctx: SweepContext, motion, gravity: float):
     """The settings' inverse dynamics with the check's one mass model (a free-body check
     places the rails as they are meshed: :func:`railcheck.parts.mass_model`)."""
-    masses = mass_model(ctx.scene.check.support if ctx.scene.check else "clamped", ctx.scene.geometry)
+    masses = mass_model(ctx.scene.formulation, ctx.scene.geometry)
     if ctx.scene.formulation == "seed-2013":
         return batch.seed_2013(motion, masses)
     return batch.newton_euler(motion, masses, gravity=gravity)

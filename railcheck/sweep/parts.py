@@ -132,15 +132,18 @@ def hole_groups(scene, name: str, geo, lengths: np.ndarray) -> tuple[dict, dict]
     return groups, pair_of
 
 
-def build_part_model(scene, name: str, lengths: np.ndarray, material, limit: float, report) -> PartModel:
+def build_part_model(
+    scene, name: str, lengths: np.ndarray, material, limit: float, report, linkage: str = "four-bar"
+) -> PartModel:
     """Mesh, factorise and solve the unit cases of every hole pair of one part; screen
-    them (``lengths``: the bar lengths, m, the sweep's settings give this part's bar)."""
+    them (``lengths``: the bar lengths, m, the sweep's settings give this part's bar;
+    ``linkage``: its kind, which sets the point masses a rail's joints carry)."""
 
     kind = kind_of(name)
     geo = geometry_of(name, scene.geometry)
     mesh = mesh_part(geo, *mesh_sizes(scene.mesh, geo.kind), optimize=scene.mesh.optimize)
     free = is_free_rail(scene, name)
-    loads = load_model(scene, name, material.density, *((0.0, "inertia" in scene.check.effects) if free else ()))
+    loads = load_model(scene, name, material.density, *((0.0, "inertia" in scene.check.effects, linkage) if free else ()))
     groups, pair_of = hole_groups(scene, name, geo, lengths)
     cases, columns, deflections = {}, {}, {}
     for key, holes in groups.items():
@@ -155,7 +158,7 @@ def build_part_model(scene, name: str, lengths: np.ndarray, material, limit: flo
         columns[key] = [list(cases).index(n) for n in names]
         if free:
             deflections[key] = free_body_cases(loads_key, geo, holes).deflection
-    modes = mode_requests(scene, name, groups, deflections)
+    modes = mode_requests(scene, name, groups, deflections, linkage)
     request = UnitRequest(
         mesh.points,
         mesh.tets,
@@ -220,14 +223,16 @@ def tip_of(fields, key):
     return fields.tips[key] if fields.tips else fields.tip
 
 
-def mode_requests(scene, name: str, groups: dict, deflections: dict | None = None) -> dict | None:
+def mode_requests(scene, name: str, groups: dict, deflections: dict | None = None, kind: str = "four-bar") -> dict | None:
     """Hole-pair key -> (modes, pins, carried masses) for
     :func:`railcheck.fea.unitcases.solve_unit_cases`, or None: without ``dynamic``, and
     for a part with explicit loads (constant over the cycle: nothing to respond to)."""
     if not dynamic_in_sweep(scene) or name in scene.check.loads:
         return None
     pins = {key: (tuple(d[0]), tuple(d[1])) for key, d in (deflections or {}).items()}  # a free rail: its joints
-    return {key: (scene.dynamic.modes, pins.get(key), carried_masses(scene, name, holes)) for key, holes in groups.items()}
+    return {
+        key: (scene.dynamic.modes, pins.get(key), carried_masses(scene, name, holes, kind)) for key, holes in groups.items()
+    }
 
 
 def pair_modes(fields, meta, columns: dict, n_cases: int) -> dict:

@@ -29,7 +29,7 @@ from railcheck.progress import Progress
 from railcheck.sweep.chunk import MOTOR_CURVE_KEY, SweepContext, evaluate_chunk, motor_curve_speeds
 from railcheck.sweep.grid import narrowed, rig_grid, settings
 from railcheck.sweep.maps import Aggregate, summary_of, write_maps, write_motor_plot
-from railcheck.sweep.parts import applicable, build_part_model, dynamic_in_sweep
+from railcheck.sweep.parts import applicable, build_part_model, dynamic_in_sweep, is_free_rail
 from railcheck.sweep.report import write_sweep_report
 from railcheck.sweep.table import TableWriter
 
@@ -109,11 +109,6 @@ def validate(scene) -> None:
             "check.effects",
             'a sweep needs a load to compare settings by: list "inertia" (with a speed) or "gravity"',
         )
-    if scene.check is not None and scene.check.support == "free-body" and "slider-crank" in scene.sweep.kinds:
-        raise InputError(
-            "check.support",
-            '"free-body" is modelled for the four-bar so far: sweep kind = "four-bar", or support = "clamped"',
-        )
     if scene.formulation == "seed-2013" and "slider-crank" in scene.sweep.kinds:
         raise InputError(
             "sweep.kind",
@@ -132,22 +127,37 @@ def prepare_models(scene, by_kind: dict, progress) -> dict[str, dict]:
     material = MATERIALS[scene.check.material]
     limit = scene.check.limit or material.fatigue_limit
     refuse_huge(scene, part_geometries(scene))
-    models = {}
+    models: dict[str, dict] = {kind: {} for kind in by_kind}
     names = [n for n in scene.check.parts if any(applicable(scene, n, k) for k in by_kind)]
     for i, name in enumerate(names, 1):
         bar = PARTS[name].bar
-        lengths = np.concatenate([s[bar] for s in by_kind.values() if bar in s]) if bar else np.zeros(0)
-        t = time.perf_counter()
-        say = lambda msg, i=i, name=name: progress.say("solve", f"({i}/{len(names)}) {name}: {msg}")  # noqa: E731
-        models[name] = build_part_model(scene, name, lengths, material, limit, say)
-        progress.say(
-            "solve",
-            f"({i}/{len(names)}) {name}: {models[name].dofs} DOFs, "
-            f"{sum(s.stress.shape[2] for s in models[name].screens.values())} unit columns"
-            f"{_mode_note(models[name])} "
-            f"({time.perf_counter() - t:.1f} s)",
-        )
-    return {kind: {n: m for n, m in models.items() if applicable(scene, n, kind)} for kind in by_kind}
+        for kinds in kind_groups(scene, name, [k for k in by_kind if applicable(scene, name, k)]):
+            lengths = np.concatenate([by_kind[k][bar] for k in kinds if bar in by_kind[k]]) if bar else np.zeros(0)
+            t = time.perf_counter()
+            label = f"({i}/{len(names)}) {name}" + (f" ({kinds[0]})" if len(kinds) < len(by_kind) > 1 else "")
+            say = lambda msg, label=label: progress.say("solve", f"{label}: {msg}")  # noqa: E731
+            model = build_part_model(scene, name, lengths, material, limit, say, linkage=kinds[0])
+            progress.say(
+                "solve",
+                f"{label}: {model.dofs} DOFs, "
+                f"{sum(s.stress.shape[2] for s in model.screens.values())} unit columns"
+                f"{_mode_note(model)} "
+                f"({time.perf_counter() - t:.1f} s)",
+            )
+            for k in kinds:
+                models[k][name] = model
+    return models
+
+
+def kind_groups(scene, name: str, kinds: list[str]) -> list[list[str]]:
+    """The linkage kinds that can share one model of a part: all of them, unless the part
+    carries the joints' point masses, which differ between the four-bar and the
+    slider-crank (a free rail's joint loads, any rail's modes): then one per kind (the
+    unit fields they share come from the store, so the second costs the screening)."""
+    carries = name not in scene.check.loads and PARTS[name].bar is not None
+    if carries and (is_free_rail(scene, name) or dynamic_in_sweep(scene)):
+        return [[k] for k in kinds]
+    return [kinds] if kinds else []
 
 
 def _mode_note(model) -> str:
