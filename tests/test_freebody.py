@@ -160,6 +160,34 @@ def test_free_rails_have_no_support_zone_and_their_loads_nearly_balance(free_run
         assert imbalance["moment_out_of_plane_fraction"] < 2e-3, (name, imbalance)
 
 
+def test_the_2013_clamped_model_beside_the_verdict_equals_a_clamped_check(free_run):
+    """Each free rail also reports the 2013 model (clamped at its first hole): its figures
+    equal an independent `support = "clamped"` check of the same scene, and they stay out
+    of the verdict (a limit between the two peaks passes the free body)."""
+    import tomllib
+
+    from railcheck.check.pipeline import run_pipeline
+    from railcheck.check.summary import summary_of
+    from railcheck.scene import parse_scene
+
+    free, clamped = free_run
+    for name, part in free.parts.items():
+        k, ref = part.clamped, clamped.parts[name]
+        assert ref.clamped is None and ref.job.free_body is None
+        assert k.max_von_mises == pytest.approx(ref.verdict_stress, rel=1e-12), name
+        assert k.support_peak == pytest.approx(ref.cycle.envelope.support_peak, rel=1e-12), name
+        assert k.fatigue_factor == pytest.approx(ref.cycle.fatigue.min_safety_factor, rel=1e-12), name
+        assert k.max_tip == pytest.approx(ref.cycle.envelope.max_tip, rel=1e-12), name
+        entry = summary_of(free)["parts"][name]["clamped_2013"]
+        assert entry["max_von_mises_Pa"] == k.max_von_mises and "not part of the verdict" in entry["note"]
+    crank = free.parts["crank-rail"]
+    between = 0.5 * (crank.verdict_stress + crank.clamped.max_von_mises)
+    text = FREE_BODY_SCENE.replace('parts = ["crank-rail", "coupler-rail", "rocker-rail"]', 'parts = ["crank-rail"]')
+    text += f'limit = "{between / 1e6:.3f} MPa"\n'
+    part = run_pipeline(parse_scene(tomllib.loads(text), "between"), jobs=1).parts["crank-rail"]
+    assert part.clamped.max_von_mises > part.limit > part.verdict_stress and part.stress_passed
+
+
 def test_free_links_bend_a_tenth_of_what_the_clamp_says(free_run):
     free, clamped = free_run
     for name in ("coupler-rail", "rocker-rail"):

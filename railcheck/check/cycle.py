@@ -19,7 +19,15 @@ import numpy as np
 
 from railcheck.check.jobs import PartJob
 from railcheck.check.loading import SourceHistory, unit_cases
-from railcheck.check.records import CycleHistory, CycleResult, DynamicResult, FatigueResult, PartResult, SeedMethod
+from railcheck.check.records import (
+    ClampedComparison,
+    CycleHistory,
+    CycleResult,
+    DynamicResult,
+    FatigueResult,
+    PartResult,
+    SeedMethod,
+)
 from railcheck.errors import NumericalError
 from railcheck.fea.dynamic import modal_correction
 from railcheck.fea.elasticity import Solution
@@ -75,7 +83,35 @@ def check_part(job: PartJob, solver: str, report) -> PartResult:
         f"{for_people(cycle.fatigue.min_safety_factor)}"
     )
     solution = solution_at(fields, cycle.C[cycle.envelope.step], solve, job.mesh.order, job.exclusion)
-    return PartResult(job=job, mesh=mesh, solution=solution, cycle=cycle, seconds=seconds, warnings=tuple(warnings))
+    clamped = None
+    if job.clamped is not None:
+        t = time.perf_counter()
+        clamped = clamped_comparison(job.clamped, mesh, solver, report)
+        seconds["clamped (2013)"] = time.perf_counter() - t
+    return PartResult(
+        job=job, mesh=mesh, solution=solution, cycle=cycle, seconds=seconds, warnings=tuple(warnings), clamped=clamped
+    )
+
+
+def clamped_comparison(job: PartJob, mesh, solver: str, report) -> ClampedComparison:
+    """The cycle peaks of a free rail's clamped (2013) model ``job`` on the same mesh, its
+    unit fields through the store like any part's."""
+    cases = unit_cases(job.loads, job.geometry, list(job.holes))
+    fields, solve, _ = solve_stored(unit_request(job, mesh, cases), solver, lambda msg: None, store=use_store())
+    cycle = evaluate_cycle(job, fields, job.histories, solve)
+    _refuse_non_finite(job.name, cycle)
+    env = cycle.envelope
+    report(
+        f"clamped as in 2013 (for comparison): cycle peak {env.max_von_mises / 1e6:.1f} MPa, "
+        f"{env.support_peak / 1e6:.1f} MPa at the clamp"
+    )
+    return ClampedComparison(
+        max_von_mises=env.max_von_mises,
+        support_peak=env.support_peak,
+        crank_angle_deg=cycle.history.crank_angle_deg,
+        fatigue_factor=cycle.fatigue.min_safety_factor,
+        max_tip=env.max_tip,
+    )
 
 
 def _refuse_non_finite(name: str, cycle: CycleResult) -> None:
@@ -128,7 +164,10 @@ def in_store(job: PartJob) -> bool:
     if not use_store():
         return False
     mesh = mesh_part(job.geometry, job.mesh.size, job.mesh.hole_size, optimize=job.mesh.optimize)
-    return mesh.cached and is_stored(unit_request(job, mesh, unit_cases(job.loads, job.geometry, list(job.holes))))
+    jobs = [job] + ([job.clamped] if job.clamped is not None else [])
+    return mesh.cached and all(
+        is_stored(unit_request(j, mesh, unit_cases(j.loads, j.geometry, list(j.holes)))) for j in jobs
+    )
 
 
 def evaluate_cycle(job: PartJob, fields: UnitFields, histories: tuple[SourceHistory, ...], solve: UnitSolve) -> CycleResult:

@@ -87,6 +87,7 @@ class PartJob:
     max_deflection: float | None
     free_body: FreeBodyCases | None = None
     dynamic: DynamicJob | None = None
+    clamped: PartJob | None = None  # a free rail's 2013 clamped model, checked beside it
 
     @property
     def supports(self) -> list[str]:
@@ -169,6 +170,7 @@ def part_jobs(
         loads = load_model(scene, name, material.density)
         free = free_body_cases(loads, geo, holes) if loads.is_free_body else None
         jobs[name] = PartJob(
+            clamped=clamped_job(scene, kin, name, geo, cases, material, limit) if free is not None else None,
             name=name,
             geometry=geo,
             support=kind.support,
@@ -188,6 +190,20 @@ def part_jobs(
             dynamic=dynamic_job(scene, free, name, holes),
         )
     return jobs
+
+
+def clamped_job(
+    scene: Scene, kin: KinematicsResult | None, name: str, geo: PartGeometry, cases: dict, material: Material, limit: float
+) -> PartJob:
+    """The free rail ``name`` as the 2013 study checked it (``support = "clamped"``: clamped
+    at its first hole, the far joint's reaction at the bolts ``bolt_position`` picks),
+    quasi-static; the report shows its peak beside the free body's verdict."""
+    import dataclasses
+
+    clamped = dataclasses.replace(scene, check=dataclasses.replace(scene.check, support="clamped"))
+    clamped = dataclasses.replace(clamped, check=dataclasses.replace(clamped.check, parts=(name,)))
+    job = part_jobs(clamped, kin, {name: geo}, cases, material, limit)[name]
+    return dataclasses.replace(job, dynamic=None)
 
 
 def dynamic_job(

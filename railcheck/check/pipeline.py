@@ -72,7 +72,7 @@ def run_pipeline(
         geometries = part_geometries(scene)
         cases = build_load_cases(scene, kin, geometries)
         stages.append("loads")
-        progress.say("loads", f"{len(cases)} load cases, factor {scene.check.factor:g}, bolts {scene.check.bolt_position}")
+        progress.say("loads", f"{len(cases)} load cases, factor {scene.check.factor:g}, support {scene.check.support}")
         refuse_huge(scene, geometries)
         stages.append("geometry")
         all_jobs = part_jobs(scene, kin, geometries, cases, material, limit)

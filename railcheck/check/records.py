@@ -118,6 +118,21 @@ class CycleResult:
 
 
 @dataclass(frozen=True)
+class ClampedComparison:
+    """A free rail checked once more as the 2013 study did, clamped at its first hole with
+    the far joint's reaction at its bolts (``[check] support = "clamped"``), beside the
+    verdict and never part of it: the cycle's von Mises peak away from the clamp's
+    singular zone and at the clamp (Pa), the crank angle of the peak (deg), the fatigue
+    factor and the free end's largest deflection (m)."""
+
+    max_von_mises: float
+    support_peak: float
+    crank_angle_deg: float
+    fatigue_factor: float
+    max_tip: float
+
+
+@dataclass(frozen=True)
 class PartResult:
     """One part's check. ``solution``: the field at the governing instant (for the VTU and
     the picture); ``seconds`` per stage; ``warnings`` about its mesh or loads."""
@@ -128,6 +143,7 @@ class PartResult:
     cycle: CycleResult
     seconds: dict[str, float] = field(default_factory=dict)
     warnings: tuple[str, ...] = ()
+    clamped: ClampedComparison | None = None  # a free rail's 2013 clamped model, for comparison
 
     @property
     def name(self) -> str:

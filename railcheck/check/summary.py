@@ -100,6 +100,17 @@ def part_summary(p: PartResult) -> dict:
     }
     if cyc.dynamic is not None:
         out["dynamic"] = dynamic_summary(cyc.dynamic)
+    if p.clamped is not None:
+        k = p.clamped
+        out["clamped_2013"] = {
+            "note": "the 2013 study's model (clamped at the first hole, the far joint's reaction at the bolts), "
+            "for comparison: not part of the verdict",
+            "max_von_mises_Pa": k.max_von_mises,
+            "support_peak_von_mises_Pa": k.support_peak,
+            "crank_angle_deg": k.crank_angle_deg,
+            "fatigue_factor": k.fatigue_factor,
+            "max_tip_deflection_m": k.max_tip,
+        }
     if job.free_body is not None:
         out["support"] = {
             "model": "free-body",

@@ -117,11 +117,17 @@ def _kinematics(result, directory: Path) -> str:
     )
 
 
+def _clamped_cell(k) -> str:
+    """A free rail's 2013 clamped model: its cycle peak and the peak at the clamp (MPa)."""
+    return "—" if k is None else f"{k.max_von_mises / 1e6:.1f} ({k.support_peak / 1e6:.1f})"
+
+
 def _parts(result) -> str:
     if not result.parts:
         return ""
     rows = []
     dynamic = any(p.cycle.dynamic is not None for p in result.parts.values())
+    compared = any(p.clamped is not None for p in result.parts.values())
     for name, p in result.parts.items():
         c = p.cycle
         angle = f"{c.history.crank_angle_deg:.1f}" if c.C.shape[0] > 1 else "constant"
@@ -133,6 +139,7 @@ def _parts(result) -> str:
                 f"{p.verdict_stress / 1e6:.1f}",
                 angle,
                 f"{c.seed_method.max_von_mises / 1e6:.1f}",
+                *([_clamped_cell(p.clamped)] if compared else []),
                 f"{p.limit / 1e6:.0f}",
                 f"{fos:.2f}",
                 f"{p.utilisation:.0%} ({_e(p.governing_criterion)})",
@@ -149,6 +156,7 @@ def _parts(result) -> str:
         "cycle max von Mises (MPa)",
         "at crank (deg)",
         "seed method (MPa)",
+        *(["2013 clamp: peak (at the clamp) MPa, not the verdict"] if compared else []),
         "limit (MPa)",
         "factor of safety",
         "utilisation (governs)",

@@ -122,6 +122,16 @@ def parts_table(result) -> str:
             "the crank's deflection at A relative to its shaft and pin, a link's mid-span sag relative to its "
             "joints"
         )
+    compared = {n: p.clamped for n, p in result.parts.items() if p.clamped is not None}
+    if compared:
+        lines.append(
+            "  the 2013 model (each rail clamped at its first hole; for comparison, not the verdict): "
+            + "; ".join(
+                f"{n} {k.max_von_mises / 1e6:.1f} MPa ({k.support_peak / 1e6:.1f} at the clamp), "
+                f"fatigue n {_factor(k.fatigue_factor)}, tip {k.max_tip * 1e3:.2f} mm"
+                for n, k in compared.items()
+            )
+        )
     return "\n".join(lines)
 
 
@@ -162,7 +172,7 @@ def check_report(run) -> str:
         sizes = sorted({(p.job.mesh.size, p.job.mesh.hole_size) for p in result.parts.values()}, reverse=True)
         sizes = ", ".join(f"{a * 1e3:g} mm (holes {b * 1e3:.3g} mm)" for a, b in sizes)
         lines.append(
-            f"FE check: material {c.material}, factor {c.factor:g}, bolts {c.bolt_position}, "
+            f"FE check: material {c.material}, factor {c.factor:g}, {support_words(result)}, "
             f"P{scene.mesh.order} tetrahedra, size {sizes}"
         )
         lines.append(parts_table(result))
@@ -332,3 +342,17 @@ def sweep_report(run) -> str:
         f"summary.json), {run.seconds:.1f} s"
     )
     return "\n".join(lines)
+
+
+def support_words(result) -> str:
+    """How the checked rails are held and where their far joint's bolts are, in words."""
+    rails = [p for p in result.parts.values() if p.job.geometry.kind == "rail" and p.job.loads.explicit is None]
+    free = [p for p in rails if p.job.free_body is not None]
+    words = []
+    if free:
+        words.append("rails as free bodies (bolts at the bar length)")
+    if len(free) < len(rails):
+        words.append(f"rails clamped (bolts {result.scene.check.bolt_position})")
+    if len(rails) < len(result.parts):
+        words.append("plates clamped at their seat")
+    return ", ".join(words)

@@ -94,8 +94,8 @@ def solve_row(target: str, element: str, size: float) -> dict:
     else:
         from dataclasses import replace
 
-        scene = load_scene(None)
-        scene = replace(scene, check=replace(scene.check, parts=(target,)))
+        scene = load_scene(None)  # the 2013 load case: clamped, the peak reaction at the worst bolts
+        scene = replace(scene, check=replace(scene.check, parts=(target,), support="clamped"))
         geos = part_geometries(scene)
         kin = run_kinematics(scene) if target not in scene.check.loads else None
         case = build_load_cases(scene, kin, geos)[target]
