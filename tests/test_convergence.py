@@ -70,11 +70,13 @@ def test_unknown_target_exits_2(capsys):
 #: --sizes 20,14,10,7` (rails), `12,8.5,6,4.2` (PF_4b_006), `12,8.5,6,4.2,3` (PF_4b_003_v2);
 #: the rocker rail's stress oscillates, so its finest mesh (7 mm) is the reference.
 #: (tip deflection m, peak von Mises away from the support Pa)
+#: Rerun when the mass model placed each rail as it is meshed (20 mm behind its pivot), which
+#: lowered the reactions about 3%: the same observed orders and the same errors of the defaults.
 CONVERGED = {
-    "crank-rail": (6.768301e-3, 110.58099e6),
-    "coupler-rail": (9.810567e-3, 78.897083e6),
-    "rocker-rail": (9.675823e-3, 76.445442e6),
-    "PF_4b_006": (7.077946e-7, 2.8465746e6),
+    "crank-rail": (6.5626425e-3, 107.22208e6),
+    "coupler-rail": (9.5915167e-3, 77.124940e6),
+    "rocker-rail": (9.2665894e-3, 73.221684e6),
+    "PF_4b_006": (6.8643871e-7, 2.7750672e6),
     "PF_4b_003_v2": (1.0538050e-4, 92.856826e6),
 }
 
