@@ -107,6 +107,21 @@ def rail_mass_per_metre_with_holes(spec: RailSpec = RAIL, density: float = STEEL
 CATALOGUE_RAIL_MASS = {"HIWIN HGR25 catalogue": 3.21, "seed 000 (Anexo I)": 2.7}
 
 
+def plate_planar_inertia(spec: JointPlateSpec = JOINT_PLATE) -> tuple[float, float]:
+    """(x of the centroid m, polar second moment of area about the seat's centre per unit
+    area m^2) of the plate's outline with its seat and bolt holes cut through: a plate of
+    mass m has its centre of mass at that x and I_seat = m x that second moment."""
+    import math
+
+    regions = [(spec.length * spec.width, spec.length / 2, (spec.length**2 + spec.width**2) / 12)]
+    for x, d in [(spec.seat_x, spec.seat_diameter)] + [(x, spec.bolt_diameter) for x in spec.bolt_x]:
+        regions.append((-math.pi * d**2 / 4, x, d**2 / 8))  # a hole: negative area, r^2 / 2 about its centre
+    area = sum(a for a, _, _ in regions)
+    centroid = sum(a * x for a, x, _ in regions) / area
+    polar = sum(a * (j + (x - spec.seat_x) ** 2) for a, x, j in regions) / area
+    return centroid, polar
+
+
 def validate(overrides: dict[str, float]) -> tuple[str, str] | None:
     """(field, message) for overrides that cannot make a valid part, else None: holes
     wider than the section, counterbores not around their hole or deeper than the rail,

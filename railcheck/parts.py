@@ -53,6 +53,18 @@ class FreeBody:
 
 
 @dataclass(frozen=True)
+class FreePlate:
+    """A joint plate as a free body (``[check] support = "free-body"``): the joint's pin
+    force enters at its ``seat`` (the bearing's outer ring) and leaves through its two
+    bolts to the rail, less the plate's own d'Alembert force and weight (``mass``: the
+    :class:`~railcheck.kinematics.massmodel.MassModel` attribute of its mass); the plate
+    moves with the bar it is bolted to (its load source's ``axes_bar``)."""
+
+    seat: str = "bearing_seat"
+    mass: str = "plate"
+
+
+@dataclass(frozen=True)
 class PartKind:
     """``build(overrides, rail_length_m or None)`` -> geometry.models.PartGeometry; ``support`` and
     ``tip`` are mesh groups; ``exclusion(geometry)`` the distance (m) from the support
@@ -90,6 +102,7 @@ class Part:
     sources: tuple[LoadSource, ...]
     bar: str | None = None
     free_body: FreeBody | None = None
+    free_plate: FreePlate | None = None
 
 
 def _rail(overrides: dict, length: float):
@@ -163,7 +176,12 @@ PARTS: dict[str, Part] = {
             "rocker",
             FreeBody(JointLoad("O4", +1.0), JointLoad("B", +1.0)),
         ),
-        Part("PF_4b_006", "joint_plate", (LoadSource("A", -1.0, "crank"), LoadSource("B", -1.0, "coupler"))),
+        Part(
+            "PF_4b_006",
+            "joint_plate",
+            (LoadSource("A", -1.0, "crank"), LoadSource("B", -1.0, "coupler")),
+            free_plate=FreePlate(),
+        ),
         Part("PF_4b_003_v2", "i_profile", (LoadSource("O4", +1.0, None),)),
     )
 }

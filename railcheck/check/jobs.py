@@ -168,7 +168,7 @@ def part_jobs(
         kind = kind_of(name)
         holes = bolt_holes(scene, name, geo)
         loads = load_model(scene, name, material.density)
-        free = free_body_cases(loads, geo, holes) if loads.is_free_body else None
+        free = free_body_cases(loads, geo, holes) if loads.is_free_body or loads.is_free_plate else None
         jobs[name] = PartJob(
             clamped=clamped_job(scene, kin, name, geo, cases, material, limit) if free is not None else None,
             name=name,
@@ -240,7 +240,10 @@ def free_body_cases(loads: LoadModel, geo: PartGeometry, holes: list[str]) -> Fr
     """How a free rail is solved: its body cases carry the dynamics' rail mass; its
     deflection is, for the crank, the displacement at A's bolts relative to the line
     through the shaft and the driving pin, for a link the sag at mid-span relative to the
-    line through its two joints."""
+    line through its two joints. A free plate's body cases carry its mass; its deflection
+    is the seat's displacement relative to the line through its two bolts."""
+    if loads.is_free_plate:
+        return FreeBodyCases(mass=loads.plate[0], deflection=(["hole_0"], ["hole_1"], [loads.free_plate.seat]))
     xs = geo.get("hole_x")
     far_x = float(np.mean([xs[int(h.split("_")[1])] for h in holes]))
     if loads.free_body.motor:

@@ -30,10 +30,11 @@ import numpy as np
 
 from railcheck.check.kinematics_stage import KinematicsResult, effects_for
 from railcheck.fea.unitcases import BodyCase, CoupleCase, TractionCase
+from railcheck.geometry.catalogue import plate_planar_inertia, with_overrides
 from railcheck.kinematics.massmodel import carried_mass
 from railcheck.loads.histories import bolt_history, gravity_history, rail_inertia_history
 from railcheck.loads.rotation import to_rail_axes
-from railcheck.parts import BAR_INDEX, PARTS, FreeBody, LoadSource, mass_model, rail_length
+from railcheck.parts import BAR_INDEX, PARTS, FreeBody, FreePlate, LoadSource, mass_model, rail_length
 from railcheck.scene import ExplicitLoad, Scene
 
 GRAVITY = 9.80665  # m/s^2
@@ -61,10 +62,18 @@ class LoadModel:
     joint_masses: tuple[float, float] = (0.0, 0.0)
     rail_mass: float = 0.0
     bar_length: float = 0.0
+    free_plate: FreePlate | None = None
+    plate: tuple[float, float, float] = (0.0, 0.0, 0.0)  # (kg, centroid - seat m, polar moment about the seat kg m^2)
 
     @property
     def is_free_body(self) -> bool:
+        """A rail as a free body (joint forces at both ends, its own inertia)."""
         return self.free_body is not None
+
+    @property
+    def is_free_plate(self) -> bool:
+        """A joint plate as a free body (pin force at its seat, bolts to the rail)."""
+        return self.free_plate is not None
 
 
 @dataclass(frozen=True)
@@ -103,6 +112,8 @@ def load_model(
         explicit=explicit,
         density=density,
     )
+    if scene.check.support == "free-body" and part.free_plate is not None and explicit is None:
+        return free_plate_model(scene, model, part.free_plate, inertia)
     if not (scene.check.support == "free-body" and part.free_body is not None and explicit is None):
         return model
     if bar_length is None:
@@ -120,10 +131,27 @@ def load_model(
     )
 
 
+def free_plate_model(scene: Scene, model: LoadModel, plate: FreePlate, inertia: bool | None) -> LoadModel:
+    """A joint plate's free-body load model: its mass from the mass model, its centre of
+    mass and polar moment about the seat from its outline (holes cut through)."""
+    mass = getattr(mass_model(scene.formulation, scene.geometry), plate.mass)
+    spec = with_overrides(scene.geometry)[1]
+    centroid, polar = plate_planar_inertia(spec)
+    return dataclasses.replace(
+        model,
+        rail_inertia=False,
+        free_plate=plate,
+        inertia="inertia" in effects_for(scene) if inertia is None else inertia,
+        plate=(mass, centroid - spec.seat_x, mass * polar),
+    )
+
+
 def unit_cases(model: LoadModel, geo, holes: list[str]) -> dict:
     """The part's unit load cases, named (see the module doc)."""
     if model.is_free_body:
         return free_body_cases(model, geo, holes)
+    if model.is_free_plate:
+        return free_plate_cases(model, geo, holes)
     cases = {"bolt_x": TractionCase(tuple(holes), 0), "bolt_y": TractionCase(tuple(holes), 1)}
     if model.gravity or model.rail_inertia:
         cases.update(body_x=BodyCase("uniform", 0), body_y=BodyCase("uniform", 1))
@@ -146,6 +174,59 @@ def free_body_cases(model: LoadModel, geo, holes: list[str]) -> dict:
         pivot = (float(xs[0]), 0.0)
         cases.update(body_rot=BodyCase("rotational", pivot=pivot), body_rad=BodyCase("radial", pivot=pivot))
     return cases
+
+
+def free_plate_cases(model: LoadModel, geo, holes: list[str]) -> dict:
+    """A free joint plate's unit cases: the pin's force on the seat (``seat_x``,
+    ``seat_y``); the bolts' force, transverse shared so it acts at the seat (``bolt_x``,
+    ``bolt_y``) plus a couple over the two bolts (``bolt_couple``, 1 N m) carrying the
+    moment of the plate's own inertia about the seat; its body cases about the seat."""
+    seat = float(geo.get("seat_x"))
+    x1, x2 = (float(x) for x in geo.get("bolt_x"))
+    seat_group = model.free_plate.seat
+    cases: dict = {"seat_x": TractionCase((seat_group,), 0), "seat_y": TractionCase((seat_group,), 1)}
+    shares = ((x2 - seat) / (x2 - x1), (seat - x1) / (x2 - x1))
+    cases.update(
+        bolt_x=TractionCase(tuple(holes), 0),
+        bolt_y=TractionCase(tuple(holes), 1, shares),
+        bolt_couple=CoupleCase((holes[0], holes[1]), x2 - x1),
+    )
+    if model.gravity or model.inertia:
+        cases.update(body_x=BodyCase("uniform", 0), body_y=BodyCase("uniform", 1))
+    if model.inertia:
+        cases.update(body_rot=BodyCase("rotational", pivot=(seat, 0.0)), body_rad=BodyCase("radial", pivot=(seat, 0.0)))
+    return cases
+
+
+def free_plate_coefficients(
+    model: LoadModel, src: LoadSource, reactions: dict, angles: dict, accelerations: dict, omega: dict, alpha: dict
+) -> np.ndarray:
+    """(..., k): a free plate's coefficients at one joint, in the order of
+    :func:`free_plate_cases` (arrays as :func:`source_coefficients`). The pin's force
+    ``sign`` x the reaction on the seat; the plate moves with ``src.axes_bar`` (its
+    acceleration field about the seat: the joint's acceleration, the bar's omega and
+    alpha); the bolts carry what balances the pin force and the plate's d'Alembert force
+    and weight W (force -(P + W), moment -M_W about the seat): one load factor on all."""
+    f, bar = model.factor, src.axes_bar
+    angle = angles[bar]
+    pin = f * to_rail_axes(src.sign * reactions[src.joint], angle)
+    zero = np.zeros(pin.shape[:-1])
+    bx = by = rot = rad = zero
+    if model.gravity:
+        g = gravity_history(angle, 1.0, GRAVITY)
+        bx, by = f * g[..., 0], f * g[..., 1]
+    if model.inertia:
+        rigid = f * rail_inertia_history(accelerations[src.joint], angle, omega[bar], alpha[bar], 1.0)
+        bx, by, rot, rad = bx + rigid[..., 0], by + rigid[..., 1], rigid[..., 2], rigid[..., 3]
+    mass, d, polar = model.plate
+    w_x, w_y = mass * (bx + rad * d), mass * (by + rot * d)
+    moment = mass * d * by + rot * polar
+    cols = [pin[..., 0], pin[..., 1], -(pin[..., 0] + w_x), -(pin[..., 1] + w_y), -moment]
+    if model.gravity or model.inertia:
+        cols += [bx, by]
+    if model.inertia:
+        cols += [rot, rad]
+    return np.stack(np.broadcast_arrays(*cols), axis=-1)
 
 
 def lever_rule(geo, holes: list[str], model: LoadModel) -> tuple[float, ...]:
@@ -193,6 +274,8 @@ def source_coefficients(
     arrays with any leading dimensions (one setting's steps, or settings x steps):
     ``reactions`` and ``accelerations`` joint -> (..., 2) ground frame (N, m/s^2);
     ``angles``, ``omega``, ``alpha`` bar -> (...) (rad, rad/s, rad/s^2)."""
+    if model.is_free_plate:
+        return free_plate_coefficients(model, src, reactions, angles, accelerations, omega, alpha)
     force = src.sign * reactions[src.joint]
     angle = angles[src.axes_bar] if src.axes_bar else np.zeros(force.shape[:-1])
     cols = [bolt_history(force, angle, model.factor)]

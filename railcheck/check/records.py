@@ -119,8 +119,9 @@ class CycleResult:
 
 @dataclass(frozen=True)
 class ClampedComparison:
-    """A free rail checked once more as the 2013 study did, clamped at its first hole with
-    the far joint's reaction at its bolts (``[check] support = "clamped"``), beside the
+    """A free part checked once more as the 2013 study did, clamped (a rail at its first
+    hole, a plate at its seat) with the joint's reaction at its bolts
+    (``[check] support = "clamped"``), beside the
     verdict and never part of it: the cycle's von Mises peak away from the clamp's
     singular zone and at the clamp (Pa), the crank angle of the peak (deg), the fatigue
     factor and the free end's largest deflection (m)."""

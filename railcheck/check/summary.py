@@ -103,8 +103,8 @@ def part_summary(p: PartResult) -> dict:
     if p.clamped is not None:
         k = p.clamped
         out["clamped_2013"] = {
-            "note": "the 2013 study's model (clamped at the first hole, the far joint's reaction at the bolts), "
-            "for comparison: not part of the verdict",
+            "note": "the 2013 study's model (a rail clamped at its first hole, a plate at its seat, the joint's "
+            "reaction at the bolts), for comparison: not part of the verdict",
             "max_von_mises_Pa": k.max_von_mises,
             "support_peak_von_mises_Pa": k.support_peak,
             "crank_angle_deg": k.crank_angle_deg,
@@ -114,12 +114,19 @@ def part_summary(p: PartResult) -> dict:
     if job.free_body is not None:
         out["support"] = {
             "model": "free-body",
-            "deflection": "at A's bolts relative to the line through the shaft and the driving pin"
-            if job.loads.free_body.motor
-            else "sag at mid-span relative to the line through the two joints",
+            "deflection": free_deflection_words(job),
             "imbalance": imbalance_summary(p),
         }
     return out
+
+
+def free_deflection_words(job) -> str:
+    """What a free body's deflection measures, in words."""
+    if job.loads.is_free_plate:
+        return "the seat's displacement relative to the line through the two bolts"
+    if job.loads.free_body.motor:
+        return "at A's bolts relative to the line through the shaft and the driving pin"
+    return "sag at mid-span relative to the line through the two joints"
 
 
 def dynamic_summary(d: DynamicResult) -> dict:

@@ -177,7 +177,8 @@ def _parts(result) -> str:
         else ""
     ) + (
         f"free bodies ({_e(', '.join(free))}): no support, every node in the verdict, the crank's deflection "
-        "at A relative to its shaft and pin, a link's mid-span sag relative to its joints; "
+        "at A relative to its shaft and pin, a link's mid-span sag relative to its joints, a plate's seat "
+        "relative to its bolts; "
         if free
         else ""
     )

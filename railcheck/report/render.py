@@ -196,6 +196,8 @@ def _bolt_arrows(pv, plotter, mesh, sol, scale, part, cycle, size, font, toward)
     loads = [([b.group for b in part.load_case.bolts], "bolt")]
     if "pin_x" in names:
         loads.append((["hole_0"], "pin"))
+    if "seat_x" in names:
+        loads.append((["bearing_seat"], "seat"))
     front = (mesh.points @ toward).max() + 0.02 * size  # the part's nearest point to the camera, and a margin
     for holes, case in loads:
         force = np.array([c[names.index(f"{case}_x")], c[names.index(f"{case}_y")], 0.0])

@@ -117,15 +117,16 @@ def parts_table(result) -> str:
         )
     if free:
         lines.append(
-            f"  {', '.join(free)}: free bodies (joint forces at their holes, the point masses' and the rail's own "
-            "inertia, one load factor; inertia relief, no support): the verdict reads every node; tip defl. is "
-            "the crank's deflection at A relative to its shaft and pin, a link's mid-span sag relative to its "
-            "joints"
+            f"  {', '.join(free)}: free bodies (joint forces at their holes or bearing seat, their own and the "
+            "point masses' inertia, one load factor; inertia relief, no support): the verdict reads every node; "
+            "tip defl. is the crank's deflection at A relative to its shaft and pin, a link's mid-span sag "
+            "relative to its joints, a plate's seat relative to its bolts"
         )
     compared = {n: p.clamped for n, p in result.parts.items() if p.clamped is not None}
     if compared:
         lines.append(
-            "  the 2013 model (each rail clamped at its first hole; for comparison, not the verdict): "
+            "  the 2013 model (each rail clamped at its first hole, each plate at its seat; for comparison, not the "
+            "verdict): "
             + "; ".join(
                 f"{n} {k.max_von_mises / 1e6:.1f} MPa ({k.support_peak / 1e6:.1f} at the clamp), "
                 f"fatigue n {_factor(k.fatigue_factor)}, tip {k.max_tip * 1e3:.2f} mm"
@@ -347,12 +348,14 @@ def sweep_report(run) -> str:
 def support_words(result) -> str:
     """How the checked rails are held and where their far joint's bolts are, in words."""
     rails = [p for p in result.parts.values() if p.job.geometry.kind == "rail" and p.job.loads.explicit is None]
-    free = [p for p in rails if p.job.free_body is not None]
+    plates = [p for p in result.parts.values() if p.job.geometry.kind != "rail"]
     words = []
-    if free:
+    if any(p.job.free_body is not None for p in rails):
         words.append("rails as free bodies (bolts at the bar length)")
-    if len(free) < len(rails):
+    if any(p.job.free_body is None for p in rails):
         words.append(f"rails clamped (bolts {result.scene.check.bolt_position})")
-    if len(rails) < len(result.parts):
-        words.append("plates clamped at their seat")
+    if any(p.job.free_body is not None for p in plates):
+        words.append("joint plates as free bodies")
+    if any(p.job.free_body is None for p in plates):
+        words.append("plates clamped at their support")
     return ", ".join(words)

@@ -96,6 +96,12 @@ def applicable(scene, name: str, kind: str) -> bool:
     return bool(srcs) and (PARTS[name].bar is None or PARTS[name].bar in bars)
 
 
+def is_free_plate(scene, name: str) -> bool:
+    """Whether the part is a joint plate checked as a free body (``support = "free-body"``,
+    no explicit loads)."""
+    return scene.check.support == "free-body" and PARTS[name].free_plate is not None and name not in scene.check.loads
+
+
 def is_free_rail(scene, name: str) -> bool:
     """Whether the part is checked as a free body (``support = "free-body"``, a rail of
     the registry's free-body model, no explicit loads)."""
@@ -142,8 +148,11 @@ def build_part_model(
     kind = kind_of(name)
     geo = geometry_of(name, scene.geometry)
     mesh = mesh_part(geo, *mesh_sizes(scene.mesh, geo.kind), optimize=scene.mesh.optimize)
-    free = is_free_rail(scene, name)
-    loads = load_model(scene, name, material.density, *((0.0, "inertia" in scene.check.effects, linkage) if free else ()))
+    free, plate = is_free_rail(scene, name), is_free_plate(scene, name)
+    inertia = "inertia" in scene.check.effects
+    loads = load_model(scene, name, material.density, *((0.0, inertia, linkage) if free else ()))
+    if plate:
+        loads = load_model(scene, name, material.density, inertia=inertia)
     groups, pair_of = hole_groups(scene, name, geo, lengths)
     cases, columns, deflections = {}, {}, {}
     for key, holes in groups.items():
@@ -156,7 +165,7 @@ def build_part_model(
             cases.setdefault(full, case)
             names.append(full)
         columns[key] = [list(cases).index(n) for n in names]
-        if free:
+        if free or plate:
             deflections[key] = free_body_cases(loads_key, geo, holes).deflection
     modes = mode_requests(scene, name, groups, deflections, linkage)
     request = UnitRequest(
@@ -164,13 +173,13 @@ def build_part_model(
         mesh.tets,
         mesh.groups,
         material,
-        [] if free else [kind.support],
+        [] if free or plate else [kind.support],
         cases,
         scene.mesh.order,
         kind.tip,
-        0.0 if free else kind.exclusion(geo),
+        0.0 if free or plate else kind.exclusion(geo),
         mesh.curved if scene.mesh.curved else None,
-        FreeBodyCases(mass=loads.rail_mass, deflection=deflections) if free else None,
+        FreeBodyCases(mass=loads.plate[0] if plate else loads.rail_mass, deflection=deflections) if free or plate else None,
         modes,
     )
     fields, meta, origin = solve_stored(request, "auto", report, store=use_store())
