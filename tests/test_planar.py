@@ -25,6 +25,7 @@ def tracer_polar(mech, steps=721):
     return np.hypot(P[:, 0], P[:, 1]), np.arctan2(P[:, 1], P[:, 0]), P
 
 
+@pytest.mark.slow  # 1.5 s of body-coordinate solves
 def test_a_z_1139_traces_the_strophoid():
     mech = a_z_1139()
     rho, phi, P = tracer_polar(mech)
@@ -35,6 +36,7 @@ def test_a_z_1139_traces_the_strophoid():
     assert np.ptp(phi) > math.radians(90)  # the whole loop and both branches are traced
 
 
+@pytest.mark.slow  # 2 s of body-coordinate solves
 def test_a_z_1066_traces_the_hyperbola():
     mech = a_z_1066()
     rho, phi, P = tracer_polar(mech)

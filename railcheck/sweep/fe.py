@@ -38,9 +38,10 @@ SLACK = 1e-9  # relative margin on the bounds (rounding)
 @dataclass(frozen=True)
 class Screen:
     """One column set of a part's unit fields, at its verdict nodes: ``stress`` (6, n, k)
-    Pa per unit coefficient; ``Q`` (n, k*k) the von Mises quadratic forms; ``lam`` (n,)
-    their largest eigenvalues; ``G`` and ``Ga`` (n,) the midrange and alternating bound
-    factors of the fatigue screen; ``tip`` (3, k) m."""
+    Pa per unit coefficient; ``Q`` (n, k*k) the von Mises quadratic forms in the scaled
+    coefficients ``c * scale`` (Pa^2); ``lam`` (n,) their largest eigenvalues; ``G`` and
+    ``Ga`` (n,) the midrange and alternating bound factors of the fatigue screen; ``tip``
+    (3, k) m."""
 
     stress: np.ndarray
     Q: np.ndarray
@@ -51,6 +52,7 @@ class Screen:
     by_lam: np.ndarray = field(repr=False, default=None)
     by_G: np.ndarray = field(repr=False, default=None)
     angle: np.ndarray | None = field(repr=False, default=None)  # (6, n) arctan2 of each component (k = 2)
+    scale: np.ndarray | None = field(repr=False, default=None)  # (k,) the coefficients' scale w of Q and lam
 
 
 def make_screen(stress: np.ndarray, verdict_mask: np.ndarray, tip: np.ndarray, cols: list[int]) -> Screen:
@@ -59,14 +61,19 @@ def make_screen(stress: np.ndarray, verdict_mask: np.ndarray, tip: np.ndarray, c
     mask = verdict_mask if np.any(verdict_mask) else np.ones_like(verdict_mask)
     S = np.ascontiguousarray(stress[:, mask][:, :, cols])
     k = S.shape[2]
-    Q = np.einsum("cnk,cd,dnl->nkl", S, VM_QUADRATIC, S, optimize=True)
+    # the quadratic forms in scaled coefficients c w (w: each coefficient's largest stress
+    # per unit), so the bound sqrt(lam) |c w| is not set by mixing forces, torques and
+    # accelerations of very different stress per unit
+    w = np.linalg.norm(S, axis=0).max(axis=0) + 1e-300
+    Sw = S / w
+    Q = np.einsum("cnk,cd,dnl->nkl", Sw, VM_QUADRATIC, Sw, optimize=True)
     lam = np.linalg.eigvalsh(Q)[:, -1]
     norms = np.linalg.norm(S, axis=2)  # (6, n)
     shear = 3.0 * (norms[3] ** 2 + norms[4] ** 2 + norms[5] ** 2)
     G = np.sqrt(0.5 * ((norms[0] + norms[1]) ** 2 + (norms[1] + norms[2]) ** 2 + (norms[2] + norms[0]) ** 2) + shear)
     Ga = np.sqrt(norms[0] ** 2 + norms[1] ** 2 + norms[2] ** 2 + shear)
     angle = np.arctan2(S[..., 1], S[..., 0]) if k == 2 else None
-    return Screen(S, Q.reshape(-1, k * k), lam, G, Ga, tip[:, cols], np.argsort(-lam), np.argsort(-Ga), angle)
+    return Screen(S, Q.reshape(-1, k * k), lam, G, Ga, tip[:, cols], np.argsort(-lam), np.argsort(-Ga), angle, w)
 
 
 def hull_steps(C: np.ndarray) -> np.ndarray:
@@ -90,6 +97,7 @@ def von_mises_peak(screen: Screen, C: np.ndarray) -> np.ndarray:
     """(S,) Pa: the largest von Mises over the verdict nodes and steps of each setting's
     history ``C`` (S, T, k)."""
     S_, T, k = C.shape
+    C = C * screen.scale if screen.scale is not None else C  # the coefficients of Q
     CC = (C[..., :, None] * C[..., None, :]).reshape(S_, T, k * k)
     R2 = np.einsum("stk,stk->st", C, C).max(axis=1)
     top = screen.by_lam[:TOP_NODES]
@@ -138,9 +146,58 @@ def fatigue_min(
             nodes = np.flatnonzero(can[:, h].any(axis=1))
             if nodes.size:
                 sub = np.arange(C.shape[0])[g][h]
-                some = [polygons[i] for i in sub] if polygons is not None else None
-                best[sub] = np.minimum(best[sub], _fatigue_exact(screen, nodes, C[sub], factor, some))
+                if polygons is not None:
+                    some = [polygons[i] for i in sub]
+                    best[sub] = np.minimum(best[sub], _fatigue_exact(screen, nodes, C[sub], factor, some))
+                else:
+                    best[sub] = np.minimum(best[sub], _fatigue_two_level(screen, nodes, C[sub], factor, best[sub]))
     return best
+
+
+#: every STRIDE-th step of a history first (:func:`_fatigue_two_level`)
+STRIDE = 8
+#: nodes of smallest sampled factor evaluated exactly first, for a threshold near the minimum
+FIRST_NODES = 16
+
+
+def _fatigue_two_level(screen: Screen, nodes: np.ndarray, C: np.ndarray, factor, best: np.ndarray) -> np.ndarray:
+    """(S,) the smallest fatigue factor over ``nodes`` where it can beat ``best`` (S,), else
+    inf. First every STRIDE-th step: each step's coefficients are a sampled step's plus a
+    difference ``d`` that an ellipse E holds (as :func:`_enclosing_ellipse`), so a
+    component ``s . c`` lies within ``sqrt(s^T E s)`` of its sampled range, which bounds
+    the node's factor from below. The few nodes of smallest sampled factor are evaluated at
+    every step first (a threshold near the minimum), then every node whose bound can still
+    beat it. Exact: the nodes left out cannot hold the minimum."""
+    S_, T, k = C.shape
+    if T <= 4 * STRIDE:
+        return _fatigue_exact(screen, nodes, C, factor)
+    sampled = np.arange(0, T, STRIDE)
+    d = C - C[:, (np.arange(T) // STRIDE) * STRIDE]  # (S, T, k): from the sampled step before
+    M = np.einsum("stk,stl->skl", d, d) / T
+    M = M + (1e-12 * np.trace(M, axis1=1, axis2=2)[:, None, None] + 1e-300) * np.eye(k)
+    reach = np.einsum("stk,skl,stl->st", d, np.linalg.inv(M), d).max(axis=1)
+    E = M * (reach * (1.0 + 1e-9) + 1e-300)[:, None, None]
+    out = np.full(S_, np.inf)
+    stress = screen.stress[:, nodes, :]
+    for g in _groups(S_, 6 * nodes.size * max(sampled.size, k)):
+        X = np.tensordot(stress, C[g][:, sampled], axes=([2], [2]))  # (6, u, s, T/STRIDE)
+        hi, lo = X.max(axis=3), X.min(axis=3)
+        e = np.sqrt(np.maximum(np.einsum("jnk,skl,jnl->jns", stress, E[g], stress, optimize=True), 0.0))
+        h = 0.5 * (hi - lo) + e  # half-ranges (non-negative) and midranges' magnitudes, bounded
+        B = np.abs(0.5 * (hi + lo)) + 0.5 * e
+        sa = np.sqrt(h[0] ** 2 + h[1] ** 2 + h[2] ** 2 + 3.0 * (h[3] ** 2 + h[4] ** 2 + h[5] ** 2))
+        sm = np.sqrt(
+            0.5 * ((B[0] + B[1]) ** 2 + (B[1] + B[2]) ** 2 + (B[2] + B[0]) ** 2) + 3.0 * (B[3] ** 2 + B[4] ** 2 + B[5] ** 2)
+        )
+        bound = factor(sa, sm)  # (u, s)
+        guess = factor(*alternating_and_mean(hi, lo))  # the sampled steps' factor, an estimate
+        for i, setting in enumerate(np.arange(S_)[g]):  # each setting at its own nodes (few)
+            c = C[setting : setting + 1]
+            first = np.argsort(guess[:, i])[:FIRST_NODES]
+            top = min(best[setting], _fatigue_exact(screen, nodes[first], c, factor)[0])
+            keep = nodes[bound[:, i] <= top * (1.0 + SLACK)]
+            out[setting] = min(top, _fatigue_exact(screen, keep, c, factor)[0]) if keep.size else top
+    return out
 
 
 def _enclosing_ellipse(C: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -159,6 +159,7 @@ def test_two_runs_into_one_out_both_survive(tmp_path):
         assert json.loads((tmp_path / d / "summary.json").read_text())["verdict"] == "PASS"
 
 
+@pytest.mark.slow  # two subprocess runs, 2 s: the fast tier keeps the other interruption cases
 def test_sigterm_cleans_up_and_the_next_run_removes_dead_staging(tmp_path):
     import os
     import signal
@@ -220,6 +221,7 @@ def test_full_disk_gives_one_line_and_leaves_nothing(tmp_path):
         subprocess.run(["umount", str(disk)], capture_output=True)
 
 
+@pytest.mark.slow  # two sweeps in subprocesses, 3 s
 def test_a_sweep_killed_with_sigkill_leaves_nothing_after_the_next_run(tmp_path):
     """SIGKILL gives no chance to clean up: the killed sweep leaves its reservation and its
     staging directory. The next run reclaims the reservation (it writes ``res``, not
