@@ -12,14 +12,14 @@ vectorised over nodes and steps, in memory-bounded chunks of nodes.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from .elasticity import von_mises
 
 CHUNK_VALUES = 20_000_000  # floats per chunk of (6, nodes, steps)
-HULL_MAX_DIM = 6  # above it, every step is evaluated (qhull grows fast with dimension)
+HULL_MAX_DIM = 3  # above it, every step is evaluated (qhull on a closed curve in 5 dimensions took minutes)
 
 
 @dataclass(frozen=True)
@@ -59,6 +59,43 @@ class Envelope:
     support_peak: float
 
 
+def reduced(fields: UnitFields, C: np.ndarray, rtol: float = 1e-12) -> tuple[UnitFields, np.ndarray]:
+    """The same history in the fewest coefficients, exactly: ``C = A B^T`` with the first
+    column of ``A`` all ones (B's first column the history's mean) and the others its
+    principal coordinates (an SVD of the centred history, keeping the singular values above
+    ``rtol`` of the largest); the fields' ``stress`` and ``tip`` become ``S B`` and
+    ``tip B`` (displacements are left out: use the full fields for them). A free body's
+    8-9 coefficients span an affine plane (the crank) or a 3-5 dimensional one; the planar
+    case then takes the convex polygon's fast paths. Returns the inputs when nothing is
+    gained."""
+    T, k = C.shape
+    if T < 2 or k < 3:
+        return fields, C
+    # in stress units (each coefficient times its largest stress per unit), so what the
+    # truncation drops is small in stress, not only in coefficients (a mode's unit stress
+    # is huge beside a force's)
+    w = np.sqrt((fields.stress**2).sum(axis=0).max(axis=0)) + 1e-300  # (k,)
+    Cw = C * w
+    mean = Cw.mean(axis=0)
+    U, s, Vt = np.linalg.svd(Cw - mean, full_matrices=False)
+    scale = max(float(s[0]) if s.size else 0.0, float(np.abs(mean).max()) * np.sqrt(T))
+    r = int(np.count_nonzero(s > rtol * scale)) if scale > 0 else 0
+    if r + 1 >= k:
+        return fields, C
+    B = np.column_stack([mean, Vt[:r].T]) / w[:, None]  # (k, r + 1)
+    A = np.column_stack([np.ones(T), U[:, :r] * s[:r]])  # (T, r + 1)
+    names = ("mean",) + tuple(f"principal {i + 1}" for i in range(r))
+    out = replace(
+        fields,
+        stress=np.tensordot(fields.stress, B, axes=([2], [0])),
+        tip=fields.tip @ B,
+        displacement=fields.displacement[..., :0],
+        names=names,
+        tips=None,
+    )
+    return out, A
+
+
 def candidate_steps(C: np.ndarray) -> np.ndarray:
     """Indices of the steps that can hold the maximum of any convex function of the
     coefficients (the convex hull's vertices), or every step where qhull cannot help
@@ -70,7 +107,7 @@ def candidate_steps(C: np.ndarray) -> np.ndarray:
     from scipy.spatial import ConvexHull, QhullError
 
     scale = np.abs(C).max(axis=0)
-    live = scale > 0
+    live = (scale > 0) & (np.ptp(C, axis=0) > 0)  # a constant column cannot move the maximum
     X = C[:, live] / scale[live]
     if X.shape[1] < 2:
         return np.unique(np.r_[np.argmax(X[:, 0]) if X.size else 0, np.argmin(X[:, 0]) if X.size else 0])
@@ -137,6 +174,13 @@ def component_range(S: np.ndarray, C: np.ndarray) -> tuple[np.ndarray, np.ndarra
             hi = support(D, polygon)
             lo = -support(-D, polygon)
             return hi.reshape(S.shape[:2]), lo.reshape(S.shape[:2])
+    if C.shape[1] == 3 and np.all(C[:, 0] == 1.0):  # an affine plane (:func:`reduced`)
+        polygon = hull_polygon(C[:, 1:])
+        if polygon is not None:
+            D = np.ascontiguousarray(S[:, :, 1:]).reshape(-1, 2)
+            hi = support(D, polygon).reshape(S.shape[:2])
+            lo = -support(-D, polygon).reshape(S.shape[:2])
+            return S[:, :, 0] + hi, S[:, :, 0] + lo
     nodes = S.shape[1]
     hi, lo = np.empty((6, nodes)), np.empty((6, nodes))
     for sl in _node_chunks(nodes, C.shape[0]):
@@ -203,6 +247,7 @@ def envelope(fields: UnitFields, C: np.ndarray, every_node: bool = True, steps: 
 
 def node_envelope_of(fields: UnitFields, C: np.ndarray) -> np.ndarray:
     """(nodes,) Pa: each node's largest von Mises over the history ``C``."""
+    fields, C = reduced(fields, C)
     return von_mises_max(fields.stress, C[candidate_steps(C)])[0]
 
 

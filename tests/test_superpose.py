@@ -210,3 +210,43 @@ def test_the_screened_peak_is_every_nodes_peak_with_its_node_and_step(k):
     assert (fast.node, fast.step) == (full.node, full.step)
     assert fast.max_von_mises == pytest.approx(full.max_von_mises, rel=1e-13)
     assert fast.support_peak == pytest.approx(full.support_peak, rel=1e-13)
+
+
+def test_reduced_histories_give_the_same_stresses_in_fewer_coefficients():
+    """A free body's history spans a low-dimensional affine space (the crank's a plane):
+    :func:`reduced` rewrites it exactly in its mean and principal coordinates. Every
+    node's stress at every step, the envelope and the component ranges equal the full
+    fields' to 1e-12, also when one coefficient barely moves but carries a huge stress per
+    unit (a mode's): the truncation is judged in stress, not in coefficients."""
+    from dataclasses import replace as _replace
+
+    from railcheck.fea.superpose import UnitFields, component_range, reduced, stress_at
+
+    rng = np.random.default_rng(5)
+    n, T = 400, 720
+    t = np.linspace(0, 2 * np.pi, T, endpoint=False)
+    basis = np.column_stack([np.ones(T), np.cos(t), np.sin(t)])  # an affine plane
+    mix = rng.normal(size=(3, 8))
+    C = basis @ mix
+    C[:, 7] = 1e-13 * np.sin(5 * t)  # barely moves...
+    S = rng.normal(size=(6, n, 8))
+    S[:, :, 7] *= 1e12  # ...but each unit of it is a huge stress
+    fields = UnitFields(
+        S, rng.normal(size=(3, 8)), np.zeros((n, 3, 8)), rng.normal(size=(n, 3)), np.ones(n, bool), tuple("abcdefgh")
+    )
+    few, A = reduced(fields, C)
+    assert A.shape[1] == 4 and np.all(A[:, 0] == 1.0)  # the mean, the plane's two, the small one
+    full = stress_at(S, C)
+    np.testing.assert_allclose(stress_at(few.stress, A), full, rtol=0, atol=1e-12 * np.abs(full).max())
+    hi, lo = component_range(S, C)
+    hi_r, lo_r = component_range(few.stress, A)
+    np.testing.assert_allclose(hi_r, hi, rtol=0, atol=1e-12 * np.abs(full).max())
+    np.testing.assert_allclose(lo_r, lo, rtol=0, atol=1e-12 * np.abs(full).max())
+    # the plane alone: the affine planar fast path (support functions) gives the ranges
+    plane = _replace(fields, stress=S[:, :, :7], tip=fields.tip[:, :7], displacement=fields.displacement[..., :7])
+    few, A = reduced(plane, C[:, :7])
+    assert A.shape[1] == 3
+    hi, lo = component_range(S[:, :, :7], C[:, :7])
+    hi_r, lo_r = component_range(few.stress, A)
+    np.testing.assert_allclose(hi_r, hi, rtol=0, atol=1e-12 * np.abs(hi).max())
+    np.testing.assert_allclose(lo_r, lo, rtol=0, atol=1e-12 * np.abs(hi).max())

@@ -40,6 +40,7 @@ from railcheck.fea.superpose import (
     component_range,
     envelope,
     history_at_node,
+    reduced,
     stress_at,
 )
 from railcheck.fea.unitcases import UnitSolve
@@ -176,8 +177,9 @@ def evaluate_cycle(job: PartJob, fields: UnitFields, histories: tuple[SourceHist
     results = []
     histories = tuple(with_dynamics(job, solve, h) for h in histories)
     for h in histories:
-        steps = candidate_steps(h.C)
-        env = envelope(fields, h.C, every_node=False, steps=steps)  # each node's maximum only for the VTU
+        few, C = reduced(fields, h.C)  # the same stresses in the fewest coefficients (exact)
+        steps = candidate_steps(C)
+        env = envelope(few, C, every_node=False, steps=steps)  # each node's maximum only for the VTU
         vm_seed = von_mises(stress_at(fields.stress, h.C[h.seed_step]))
         k = int(np.argmax(np.where(_verdict_mask(fields), vm_seed, -np.inf)))
         seed = SeedMethod(
@@ -186,7 +188,7 @@ def evaluate_cycle(job: PartJob, fields: UnitFields, histories: tuple[SourceHist
             location=tuple(float(x) for x in fields.nodes[k]),
             joint=h.joint,
         )
-        results.append((h, env, seed, fatigue_of(job, fields, h.C, steps)))
+        results.append((h, env, seed, fatigue_of(job, few, C, steps)))
     h, env, _, _ = max(results, key=lambda r: r[1].max_von_mises)
     seed = max((r[2] for r in results), key=lambda s: s.max_von_mises)
     fat = min((r[3] for r in results), key=lambda f: f.min_safety_factor)
