@@ -124,7 +124,13 @@ def render_part(path: str | Path, name: str, part) -> Path:
     when = (
         f"at crank {cycle.history.crank_angle_deg:.1f} deg" if cycle.C.shape[0] > 1 else "under its constant explicit loads"
     )
-    deflection = "deflection relative to the joints" if part.job.free_body is not None else "tip deflection"
+    deflection = (
+        "tip deflection"
+        if part.job.free_body is None
+        else "seat deflection relative to the bolts"
+        if part.job.loads.is_free_plate
+        else "deflection relative to the joints"
+    )
     caption = (
         f"{name}: cycle peak {part.verdict_stress / 1e6:.1f} MPa {when}\n"
         f"limit {part.limit / 1e6:.0f} MPa, FoS {part.limit / max(part.verdict_stress, 1e-9):.3g}; "

@@ -3,6 +3,7 @@ always exits 0, 1, 2 or 3 (hypothesis)."""
 
 import json
 import math
+import os
 import re
 
 import pytest
@@ -190,10 +191,14 @@ def test_generated_sweep_scenes_and_arguments_never_crash(tmp_path, capsys, swee
     path = tmp_path / "scene.toml"
     path.write_text(toml({"sweep": sweep, "dynamics": {"formulation": formulation}}))
     before = {p.name for p in tmp_path.iterdir()}
+    here = os.getcwd()
+    os.chdir(tmp_path)  # a relative or empty --out lands here, not in the checkout
     try:
         code = main([args[0], str(path), *args[1:]])
     except SystemExit as exc:  # argparse
         code = exc.code
+    finally:
+        os.chdir(here)
     out, err = capsys.readouterr()
     assert code in (0, 1, 2, 3), (code, err)
     event(f"exit {code}")
