@@ -274,6 +274,7 @@ hole_size = "6 mm"
 """
 
 
+@pytest.mark.slow  # two rails meshed and solved twice (free, clamped) when the caches are cold: 5 s
 def test_slider_crank_rails_as_free_bodies_balance_with_their_own_carried_masses():
     """The slider-crank's coupler carries a coupling at B (the four-bar's a plate and a
     carriage): the FE's joint loads read the same mass model as the dynamics, so the loads
@@ -301,6 +302,9 @@ steps = 360
 [check]
 parts = ["PF_4b_006"]
 effects = ["inertia", "gravity"]
+[mesh]
+size = "12 mm"
+hole_size = "4 mm"
 """
 )
 
@@ -310,9 +314,11 @@ def test_a_free_joint_plate_balances_its_pin_force_bolts_and_own_inertia():
     its bearing seat, the bolts carrying the balance (force through the seat plus a couple
     for the moment of the plate's own inertia about it), the plate's d'Alembert field and
     weight. The assembled loads' resultants (independent of the coefficient algebra)
-    balance before relief to 1e-8 in force and 1e-6 in moment of the largest joint force
-    (the rest: the mesh's mass distribution against the outline's analytic one); the seat
-    is in the verdict and the clamped model is reported beside it."""
+    balance before relief to 1e-6 in force and 2e-4 in moment of the largest joint force
+    on this coarse mesh (the rest: the mesh's centroid and polar moment against the
+    outline's: 2e-7 and 5e-5 here, 2e-9 and 2e-7 on the default mesh; without the bolts'
+    couple the moment is off by 1.4e-3); the seat is in the verdict and the clamped model is reported
+    beside it."""
     import tomllib
 
     from railcheck.check.pipeline import run_pipeline
@@ -324,8 +330,8 @@ def test_a_free_joint_plate_balances_its_pin_force_bolts_and_own_inertia():
     assert part.job.free_body is not None and part.job.exclusion == 0.0 and part.job.supports == []
     assert {h.joint for h in part.job.histories} == {"A", "B"}
     imbalance = imbalance_summary(part)
-    assert imbalance["force_fraction"] < 1e-8, imbalance
-    assert imbalance["moment_in_plane_fraction"] < 1e-6 and imbalance["moment_out_of_plane_fraction"] < 1e-6, imbalance
+    assert imbalance["force_fraction"] < 1e-6, imbalance
+    assert imbalance["moment_in_plane_fraction"] < 2e-4 and imbalance["moment_out_of_plane_fraction"] < 2e-4, imbalance
     assert part.clamped is not None and part.clamped.max_von_mises > 0
     entry = summary_of(result)["parts"]["PF_4b_006"]["support"]
     assert "seat" in entry["deflection"]
