@@ -10,7 +10,7 @@ mesh too coarse for a part or too large for this machine's memory.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -198,12 +198,8 @@ def clamped_job(
     """The free rail ``name`` as the 2013 study checked it (``support = "clamped"``: clamped
     at its first hole, the far joint's reaction at the bolts ``bolt_position`` picks),
     quasi-static; the report shows its peak beside the free body's verdict."""
-    import dataclasses
-
-    clamped = dataclasses.replace(scene, check=dataclasses.replace(scene.check, support="clamped"))
-    clamped = dataclasses.replace(clamped, check=dataclasses.replace(clamped.check, parts=(name,)))
-    job = part_jobs(clamped, kin, {name: geo}, cases, material, limit)[name]
-    return dataclasses.replace(job, dynamic=None)
+    clamped = replace(scene, check=replace(scene.check, support="clamped", parts=(name,)))
+    return replace(part_jobs(clamped, kin, {name: geo}, cases, material, limit)[name], dynamic=None)
 
 
 def dynamic_job(
