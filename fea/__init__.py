@@ -80,6 +80,8 @@ _WHERE = {
     "supports": "system",
     "BodyCase": "unitcases",
     "TractionCase": "unitcases",
+    "PressureCase": "unitcases",
+    "bearing_vectors": "pin_pressure",
     "UnitSolve": "unitcases",
     "solve_unit_cases": "unitcases",
     "pvd_text": "vtk",

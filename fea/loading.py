@@ -25,6 +25,7 @@ __all__ = [
     "Support",
     "HoleLoad",
     "surface_node_weights",
+    "surface_node_integrals",
     "group_area",
     "unit_traction_vectors",
     "body_force_vectors",
@@ -44,6 +45,15 @@ def surface_node_weights(basis, groups: dict, name: str) -> tuple[np.ndarray, np
     surface's area. A face's trace of the tetrahedral basis is the triangle's: 3 nodes (P1),
     or 6 (P2: vertices, then the mid nodes of edges 01, 12, 02), and a curved face's area
     element comes from its quadratic map, integrated by a degree-6 triangle rule."""
+    nodes, weights = surface_node_integrals(basis, groups, name)
+    return nodes, weights[:, 0]
+
+
+def surface_node_integrals(basis, groups: dict, name: str, functions=()) -> tuple[np.ndarray, np.ndarray]:
+    """(nodes, integrals (n, 1 + m)): over ``name``'s surface, the integral of each scalar
+    shape function (column 0, m^2, as :func:`surface_node_weights`) and of it times each of
+    the ``functions`` of position (each takes points (..., 3) m and returns values (...)),
+    by the same degree-6 rule on the element's own faces."""
     group_facets(basis, groups, name)  # refuses unknown groups / foreign faces
     sb = scalar_basis(basis)
     mesh = basis.mesh
@@ -58,10 +68,10 @@ def surface_node_weights(basis, groups: dict, name: str) -> tuple[np.ndarray, np
         nodes = np.concatenate([vertex_dof, sb.edge_dofs[0][edge]], axis=1)  # (f, 6)
         lam_shape = _tri_p2
         x = sb.doflocs.T[nodes]  # (f, 6, 3): the face's own nodes
-    w = _face_integrals(x, lam_shape)  # (f, nodes per face)
-    weights = np.bincount(nodes.ravel(), weights=w.ravel(), minlength=sb.N)
+    w = _face_integrals(x, lam_shape, functions)  # (f, nodes per face, 1 + m)
     used = np.flatnonzero(np.bincount(nodes.ravel(), minlength=sb.N))
-    return used, weights[used]
+    columns = [np.bincount(nodes.ravel(), weights=w[..., j].ravel(), minlength=sb.N)[used] for j in range(w.shape[-1])]
+    return used, np.stack(columns, axis=1)
 
 
 def _tri_p1(lam: np.ndarray):
@@ -89,8 +99,9 @@ def _tri_p2(lam: np.ndarray):
     return N, dN
 
 
-def _face_integrals(x: np.ndarray, shape) -> np.ndarray:
-    """(f, n): integral of each face shape function over faces with nodes ``x`` (f, n, 3)."""
+def _face_integrals(x: np.ndarray, shape, functions=()) -> np.ndarray:
+    """(f, n, 1 + m): integral of each face shape function over faces with nodes ``x``
+    (f, n, 3), alone and times each of the ``functions`` of position."""
     from skfem.quadrature import get_quadrature
     from skfem.refdom import RefTri
 
@@ -102,7 +113,9 @@ def _face_integrals(x: np.ndarray, shape) -> np.ndarray:
     a = np.einsum("qn,fnk->fqk", ds, x)
     b = np.einsum("qn,fnk->fqk", dt, x)
     jac = np.linalg.norm(np.cross(a, b), axis=-1)  # (f, q) area element
-    return np.einsum("qn,fq,q->fn", N, jac, W)
+    points = np.einsum("qn,fnk->fqk", N, x)  # (f, q, 3) the quadrature points
+    values = [np.ones(jac.shape)] + [np.asarray(g(points), float) for g in functions]
+    return np.stack([np.einsum("qn,fq,q->fn", N, jac * v, W) for v in values], axis=-1)
 
 
 def surface_vectors(basis, groups: dict, group: str) -> np.ndarray:

@@ -32,7 +32,8 @@ from .elasticity import (
     unit_traction_vectors,
 )
 from .materials import Material
-from .mesh import node_cells
+from .mesh import cached_on, node_cells
+from .pin_pressure import bearing_vectors, harmonic_names
 from .relief import solve_free_body
 from .stress import relative_deflection
 from .superpose import UnitFields
@@ -72,20 +73,36 @@ class FreeBodyCases:
 @dataclass(frozen=True)
 class TractionCase:
     """A unit force (1 N) along ``direction`` (0 x, 1 y, 2 z, part frame) shared by the
-    ``groups``: equally, or in the proportions ``weights`` (summing to 1)."""
+    ``groups``: equally, or in the proportions ``weights`` (summing to 1). Spread over each
+    hole as a uniform traction, or with ``pressure`` (x or y only) as the radial pressure
+    ``cos phi`` / ``sin phi`` of a pin (:func:`railcheck.fea.pin_pressure.bearing_vectors`)."""
 
     groups: tuple[str, ...]
     direction: int
     weights: tuple[float, ...] = ()
+    pressure: bool = False
 
 
 @dataclass(frozen=True)
 class CoupleCase:
     """A unit couple (1 N m about +z) carried by two holes ``arm`` m apart along x: -1/arm N
-    along y on ``groups[0]``, +1/arm N on ``groups[1]`` (a shaft and a driving pin)."""
+    along y on ``groups[0]``, +1/arm N on ``groups[1]`` (a shaft and a driving pin); each
+    hole's force spread as :class:`TractionCase` spreads it (``pressure``)."""
 
     groups: tuple[str, str]
     arm: float
+    pressure: bool = False
+
+
+@dataclass(frozen=True)
+class PressureCase:
+    """A self-equilibrated radial pressure on the bore of ``group``: the field ``field``
+    (``"0"``, ``"2c"``, ...) of :func:`railcheck.fea.pin_pressure.bearing_vectors` with
+    ``harmonics``; its coefficient is a pin force's ``|F| a_k cos k theta`` (N)."""
+
+    group: str
+    field: str
+    harmonics: tuple[int, ...]
 
 
 @dataclass(frozen=True)
@@ -101,10 +118,15 @@ def case_vector(basis, groups: dict, case) -> np.ndarray:
 
     if isinstance(case, TractionCase):
         weights = case.weights or (1.0 / len(case.groups),) * len(case.groups)
-        return sum(w * unit_traction_vectors(basis, groups, g)[:, case.direction] for g, w in zip(case.groups, weights))
+        spread = _pressure_vectors if case.pressure else unit_traction_vectors
+        return sum(w * spread(basis, groups, g)[:, case.direction] for g, w in zip(case.groups, weights))
     if isinstance(case, CoupleCase):
-        first, second = (unit_traction_vectors(basis, groups, g)[:, 1] for g in case.groups)
+        spread = _pressure_vectors if case.pressure else unit_traction_vectors
+        first, second = (spread(basis, groups, g)[:, 1] for g in case.groups)
         return (second - first) / case.arm
+    if isinstance(case, PressureCase):
+        fields = _pressure_vectors(basis, groups, case.group, case.harmonics)
+        return fields[:, 2 + harmonic_names(case.harmonics).index(case.field)]
     if case.field == "uniform":
         return body_force_vectors(basis)[:, case.direction]
     x0, y0 = case.pivot
@@ -115,6 +137,12 @@ def case_vector(basis, groups: dict, case) -> np.ndarray:
     else:
         raise ValueError(f"unknown body force field {case.field!r}")
     return asm(form, integration_basis(basis))
+
+
+def _pressure_vectors(basis, groups: dict, group: str, harmonics: tuple[int, ...] = ()) -> np.ndarray:
+    """:func:`railcheck.fea.pin_pressure.bearing_vectors` of a group, once per basis."""
+    key = f"pin_pressure:{group}:{harmonics}"
+    return cached_on(basis, key, lambda: bearing_vectors(basis, groups, group, harmonics))
 
 
 def solve_unit_cases(
@@ -200,7 +228,7 @@ def solve_unit_cases(
         tips = {key: relative_deflection(basis, groups, *d) @ U for key, d in free_body.deflection.items()}
     t.append(time.perf_counter())
     S = recover_stress(basis, U, material)
-    loaded = sorted({g for c in cases.values() if isinstance(c, TractionCase) for g in c.groups})
+    loaded = sorted({g for c in cases.values() if isinstance(c, (TractionCase, CoupleCase)) for g in c.groups})
     extras = {
         "cells": node_cells(basis),
         "support": group_nodes(basis, groups, support_groups) if support_groups else np.zeros(0, dtype=np.int64),

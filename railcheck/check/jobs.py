@@ -16,7 +16,14 @@ import numpy as np
 
 from railcheck import machine
 from railcheck.check.kinematics_stage import KinematicsResult
-from railcheck.check.loading import LoadModel, SourceHistory, load_model, source_histories
+from railcheck.check.loading import (
+    LoadModel,
+    SourceHistory,
+    load_model,
+    source_histories,
+    unit_cases,
+    with_pressure_histories,
+)
 from railcheck.errors import InputError
 from railcheck.fea.materials import Material
 from railcheck.fea.mesh import estimate_dofs
@@ -180,7 +187,7 @@ def part_jobs(
             mesh=MeshJob(*mesh_sizes(scene.mesh, geo.kind), scene.mesh.order, scene.mesh.curved, scene.mesh.optimize),
             holes=tuple(holes),
             loads=loads,
-            histories=source_histories(loads, kin, holes),
+            histories=with_pressure_histories(unit_cases(loads, geo, holes), source_histories(loads, kin, holes)),
             load_case=cases[name],
             material=material,
             limit=limit,

@@ -29,10 +29,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from railcheck.check.kinematics_stage import KinematicsResult, effects_for
-from railcheck.fea.unitcases import BodyCase, CoupleCase, TractionCase
+from railcheck.fea.pin_pressure import harmonic_names
+from railcheck.fea.unitcases import BodyCase, CoupleCase, PressureCase, TractionCase
 from railcheck.geometry.catalogue import plate_planar_inertia, with_overrides
 from railcheck.kinematics.massmodel import carried_mass
 from railcheck.loads.histories import bolt_history, gravity_history, rail_inertia_history
+from railcheck.loads.pin_pressure import HARMONICS, harmonic_coefficients
 from railcheck.loads.rotation import to_rail_axes
 from railcheck.parts import BAR_INDEX, PARTS, FreeBody, FreePlate, LoadSource, mass_model, rail_length
 from railcheck.scene import ExplicitLoad, Scene
@@ -147,11 +149,12 @@ def free_plate_model(scene: Scene, model: LoadModel, plate: FreePlate, inertia: 
 
 
 def unit_cases(model: LoadModel, geo, holes: list[str]) -> dict:
-    """The part's unit load cases, named (see the module doc)."""
+    """The part's unit load cases, named (see the module doc); a free body's joint forces
+    as pins' bearing pressures (:func:`with_pin_pressure`)."""
     if model.is_free_body:
-        return free_body_cases(model, geo, holes)
+        return with_pin_pressure(free_body_cases(model, geo, holes))
     if model.is_free_plate:
-        return free_plate_cases(model, geo, holes)
+        return with_pin_pressure(free_plate_cases(model, geo, holes))
     cases = {"bolt_x": TractionCase(tuple(holes), 0), "bolt_y": TractionCase(tuple(holes), 1)}
     if model.gravity or model.rail_inertia:
         cases.update(body_x=BodyCase("uniform", 0), body_y=BodyCase("uniform", 1))
@@ -159,6 +162,81 @@ def unit_cases(model: LoadModel, geo, holes: list[str]) -> dict:
         pivot = (float(geo.get("hole_x")[0]), 0.0)
         cases.update(body_rot=BodyCase("rotational", pivot=pivot), body_rad=BodyCase("radial", pivot=pivot))
     return cases
+
+
+def with_pin_pressure(cases: dict, harmonics: tuple[int, ...] = HARMONICS) -> dict:
+    """The cases with every in-plane joint force carried as a pin bears on its hole (a
+    cosine pressure over the loaded half of the bore, :mod:`railcheck.fea.pin_pressure`):
+    the force cases spread as the k = 1 radial pressure, then per loaded hole its
+    self-equilibrated harmonics ``pressure_<field>:<hole>`` (coefficients from
+    :func:`pin_pressure_columns`)."""
+    out = {n: dataclasses.replace(c, pressure=True) if _in_plane_force(c) else c for n, c in cases.items()}
+    for hole in _loaded_holes(out):
+        out.update({f"pressure_{f}:{hole}": PressureCase(hole, f, harmonics) for f in harmonic_names(harmonics)})
+    return out
+
+
+def _in_plane_force(case) -> bool:
+    return isinstance(case, CoupleCase) or (isinstance(case, TractionCase) and case.direction in (0, 1))
+
+
+def _loaded_holes(cases: dict) -> list[str]:
+    """The holes the cases' pin pressures load, in the order they first appear."""
+    seen: dict[str, None] = {}
+    for c in cases.values():
+        if isinstance(c, (TractionCase, CoupleCase)) and c.pressure:
+            seen.update(dict.fromkeys(c.groups))
+    return list(seen)
+
+
+@dataclass(frozen=True)
+class PinPressureMap:
+    """How a case list's pin-pressure coefficients follow from its force coefficients:
+    the first ``linear`` columns are the force cases' (and the body cases'); ``holes``
+    (h, linear, 2) N per unit coefficient: each loaded hole's in-plane force; the
+    ``harmonics`` of every hole's pressure columns, which follow hole by hole."""
+
+    linear: int
+    holes: np.ndarray
+    harmonics: tuple[int, ...]
+
+    def extend(self, C: np.ndarray) -> np.ndarray:
+        """(..., linear + h m): the coefficients ``C`` (..., linear) with every hole's
+        pressure harmonics appended (:func:`railcheck.loads.pin_pressure.harmonic_coefficients`)."""
+        if self.holes.shape[0] == 0:
+            return C
+        forces = np.einsum("...k,hkc->...hc", C, self.holes)
+        extra = harmonic_coefficients(forces, self.harmonics)  # (..., h, m)
+        return np.concatenate([C, extra.reshape(extra.shape[:-2] + (-1,))], axis=-1)
+
+
+def pin_pressure_map(cases: dict) -> PinPressureMap:
+    """The :class:`PinPressureMap` of a case list (:func:`with_pin_pressure`'s order)."""
+    linear = [c for c in cases.values() if not isinstance(c, PressureCase)]
+    pressure = [c for c in cases.values() if isinstance(c, PressureCase)]
+    holes = list(dict.fromkeys(c.group for c in pressure))
+    H = np.zeros((len(holes), len(linear), 2))
+    for j, c in enumerate(linear):
+        if isinstance(c, TractionCase) and c.pressure:
+            weights = c.weights or (1.0 / len(c.groups),) * len(c.groups)
+            for g, w in zip(c.groups, weights):
+                H[holes.index(g), j, c.direction] += w
+        elif isinstance(c, CoupleCase) and c.pressure:
+            H[holes.index(c.groups[0]), j, 1] -= 1.0 / c.arm
+            H[holes.index(c.groups[1]), j, 1] += 1.0 / c.arm
+    return PinPressureMap(len(linear), H, pressure[0].harmonics if pressure else ())
+
+
+def pin_pressure_columns(cases: dict, C: np.ndarray) -> np.ndarray:
+    """(..., len(cases)): force coefficients ``C`` (..., linear) completed with the pin
+    pressures' harmonic coefficients (:class:`PinPressureMap`); unchanged without them."""
+    return pin_pressure_map(cases).extend(C)
+
+
+def with_pressure_histories(cases: dict, histories: tuple[SourceHistory, ...]) -> tuple[SourceHistory, ...]:
+    """The histories with the pin pressures' harmonic coefficients appended (one column
+    per unit case of ``cases``, :func:`pin_pressure_columns`)."""
+    return tuple(dataclasses.replace(h, C=pin_pressure_columns(cases, h.C)) for h in histories)
 
 
 def free_body_cases(model: LoadModel, geo, holes: list[str]) -> dict:

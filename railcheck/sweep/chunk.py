@@ -286,8 +286,9 @@ def evaluate_part(
             for i, key in enumerate(keys)
         ]
     for idx, screen, modes in groups:
+        length = None if bar_lengths is None else bar_lengths[idx[0]]
         for Cg, Ci in history:
-            C = s[idx, None, None] * Ci[idx] + (Cg[idx] if Cg is not None else 0.0)
+            C = model.with_pin_pressure(length, s[idx, None, None] * Ci[idx] + (Cg[idx] if Cg is not None else 0.0))
             quasi = von_mises_peak(screen, hull_steps(C))
             read = screen
             if modes is not None:

@@ -18,7 +18,7 @@ import numpy as np
 
 from railcheck.check.cycle import use_store
 from railcheck.check.jobs import carried_masses, free_body_cases, mesh_sizes
-from railcheck.check.loading import LoadModel, load_model, source_histories, unit_cases
+from railcheck.check.loading import LoadModel, load_model, pin_pressure_map, source_histories, unit_cases
 from railcheck.fea.fatigue import endurance_limit
 from railcheck.fea.store import UnitRequest, solve_stored
 from railcheck.fea.unitcases import FreeBodyCases
@@ -53,6 +53,14 @@ class PartModel:
     dynamic: dict | None = None  # hole-pair key -> PairModes (effect ``dynamic``)
     damping: float = 0.0
     max_amplification: float = math.inf
+    pressure: dict | None = None  # hole-pair key -> PinPressureMap (free bodies: pins bear on their holes)
+
+    def with_pin_pressure(self, length: float | None, C: np.ndarray) -> np.ndarray:
+        """Force coefficients ``C`` (..., k) completed with the pin pressures' harmonics of
+        the hole pair a bar of ``length`` m uses (:class:`~railcheck.check.loading.PinPressureMap`)."""
+        if self.pressure is None:
+            return C
+        return self.pressure[None if self.bar is None else self.pair_of[_um(length)]].extend(C)
 
     def modes_for(self, length: float):
         """The :class:`PairModes` of the hole pair a bar of ``length`` m uses (like
@@ -154,11 +162,13 @@ def build_part_model(
     if plate:
         loads = load_model(scene, name, material.density, inertia=inertia)
     groups, pair_of = hole_groups(scene, name, geo, lengths)
-    cases, columns, deflections = {}, {}, {}
+    cases, columns, deflections, pressure = {}, {}, {}, {}
     for key, holes in groups.items():
         names = []
         loads_key = dataclasses.replace(loads, bar_length=key[2] / 1e6) if free else loads
-        for case_name, case in unit_cases(loads_key, geo, holes).items():
+        key_cases = unit_cases(loads_key, geo, holes)
+        pressure[key] = pin_pressure_map(key_cases)
+        for case_name, case in key_cases.items():
             full = (
                 f"{case_name}@{'-'.join(map(str, key))}" if key is not None and case_name.startswith("bolt") else case_name
             )
@@ -208,6 +218,7 @@ def build_part_model(
         dynamic=dynamic,
         damping=scene.dynamic.damping,
         max_amplification=scene.dynamic.max_amplification,
+        pressure=pressure if free or plate else None,
     )
     if name not in scene.check.loads:
         return model

@@ -1,0 +1,144 @@
+"""A pin bearing on its hole (railcheck.fea.pin_pressure, railcheck.loads.pin_pressure):
+the cosine over the loaded half of the bore as a unit force plus self-equilibrated
+harmonics, checked against its Fourier series, statics, a direct solve, and (slow) a
+frictionless contact solution of a rigid pin."""
+
+import math
+
+import numpy as np
+import pytest
+
+from railcheck.check.loading import pin_pressure_map, with_pin_pressure
+from railcheck.fea import MATERIALS, assemble, recover_stress, resultant, solve_free_body, stress_nodes
+from railcheck.fea.mesh import scalar_basis, vector_dof_map
+from railcheck.fea.pin_pressure import bearing_vectors, bore_of, harmonic_names
+from railcheck.fea.unitcases import CoupleCase, PressureCase, TractionCase, case_vector
+from railcheck.geometry import mesh_part, rail
+from railcheck.loads.pin_pressure import HARMONICS, half_cosine_coefficient, harmonic_coefficients
+
+STEEL = MATERIALS["steel"]
+
+
+@pytest.fixture(scope="module")
+def bar():
+    """A 260 mm rail, 2 mm at the holes, P2, assembled once."""
+    geo = rail(0.26)
+    mesh = mesh_part(geo, 8e-3, 2e-3)
+    K, basis = assemble(mesh.points, mesh.tets, STEEL, 2, mesh.curved)
+    return geo, mesh, K, basis
+
+
+def pressure_at(angle: np.ndarray, force: np.ndarray, harmonics=HARMONICS) -> np.ndarray:
+    """The model's pressure (per unit of 2 |F| / R) at bore angles, from the coefficients."""
+    theta = math.atan2(force[1], force[0])
+    size = np.hypot(*force)
+    p = 0.5 * np.cos(angle - theta) * size
+    c = harmonic_coefficients(force, harmonics)
+    for name, value in zip(harmonic_names(harmonics), c):
+        k = int(name.rstrip("cs"))
+        p = p + value * (np.sin(k * angle) if name.endswith("s") else np.cos(k * angle))
+    return p / size
+
+
+def test_the_fourier_series_is_the_loaded_half_cosine():
+    psi = np.linspace(-math.pi, math.pi, 2001)
+    exact = np.maximum(np.cos(psi), 0.0)
+    many = sum(half_cosine_coefficient(k) * np.cos(k * psi) for k in range(400))
+    assert np.abs(many - exact).max() < 2e-3
+    kept = pressure_at(psi, np.array([1.0, 0.0]))
+    assert kept.max() == pytest.approx(1.0, abs=0.012)  # the peak pressure with the kept harmonics
+    assert np.abs(kept - exact).max() < 0.065
+    turned = pressure_at(psi, np.array([-3.0, 4.0]))  # the same shape about the force's angle, any size
+    np.testing.assert_allclose(turned, pressure_at(psi - math.atan2(4.0, -3.0), np.array([1.0, 0.0])), atol=1e-12)
+
+
+def test_harmonic_coefficients_scale_with_the_force_and_vanish_without_it():
+    F = np.array([[300.0, -400.0], [0.0, 0.0]])
+    c = harmonic_coefficients(F)
+    np.testing.assert_allclose(harmonic_coefficients(2.5 * F), 2.5 * c, rtol=1e-14)
+    assert np.all(c[1] == 0.0) and np.all(np.isfinite(c))
+    assert c[0, 0] == pytest.approx(500.0 / math.pi)  # k = 0: |F| / pi
+
+
+def test_the_force_fields_carry_exactly_the_force_and_the_harmonics_nothing(bar):
+    geo, mesh, K, basis = bar
+    V = bearing_vectors(basis, mesh.groups, "hole_1", HARMONICS)
+    expected = np.zeros((3, V.shape[1]))
+    expected[0, 0] = expected[1, 1] = 1.0
+    np.testing.assert_allclose(resultant(basis, V), expected, atol=1e-12)
+    b = bore_of(basis, mesh.groups, "hole_1")
+    assert b.centre == pytest.approx([geo.get("hole_x")[1], 0.0], abs=2e-5)
+    vmap = vector_dof_map(basis, scalar_basis(basis))
+    x = scalar_basis(basis).doflocs.T - [*b.centre, 0.0]
+    moment = x[:, 0, None] * V[vmap[:, 1]] - x[:, 1, None] * V[vmap[:, 0]]
+    assert np.abs(moment.sum(axis=0)).max() < 1e-14  # every nodal force is radial through the axis
+
+
+def test_the_pressure_pushes_on_the_loaded_half_only(bar):
+    """With the harmonics, 1.3% of the nodal force magnitude falls where the cosine is
+    below -0.3 (the unloaded half's middle); a uniform traction puts 30% there."""
+    geo, mesh, K, basis = bar
+    V = bearing_vectors(basis, mesh.groups, "hole_1", HARMONICS)
+    force = np.array([-600.0, 800.0])
+    f = V @ np.concatenate([force, harmonic_coefficients(force)])
+    vmap = vector_dof_map(basis, scalar_basis(basis))
+    b = bore_of(basis, mesh.groups, "hole_1")
+    nodal = f[vmap[b.nodes, :2]]  # (n, 2)
+    radial = np.stack([np.cos(b.angle), np.sin(b.angle)], 1)
+    push = np.einsum("nc,nc->n", nodal, radial)
+    away = np.cos(b.angle - math.atan2(force[1], force[0])) < -0.3
+    size = np.linalg.norm(nodal, axis=1)
+    assert size[away].sum() < 0.02 * size.sum()
+    toward = np.cos(b.angle - math.atan2(force[1], force[0])) > 0.3
+    # compression: the pin pushes the material outward (P2's consistent loads dip below 0 at vertices)
+    assert push[toward].sum() > 0 and -push[toward][push[toward] < 0].sum() < 0.05 * push[toward].sum()
+    only_x = V[:, :2] @ force  # without the harmonics: cos phi over the whole bore, half of it pulling
+    assert np.linalg.norm(only_x[vmap[b.nodes[away], :2]], axis=1).sum() > 0.2 * np.abs(only_x).sum() / 2
+
+
+def test_each_hole_of_a_case_list_gets_its_own_force(bar):
+    """Shared, weighted and couple forces resolve into each hole's force; the harmonics
+    follow it (a wrong couple sign or weight would change them)."""
+    cases = with_pin_pressure(
+        {
+            "pin_x": TractionCase(("hole_0",), 0),
+            "pin_y": TractionCase(("hole_0",), 1),
+            "torque": CoupleCase(("hole_0", "hole_1"), 0.06),
+            "bolt_y": TractionCase(("hole_2", "hole_3"), 1, (0.25, 0.75)),
+        }
+    )
+    assert [c.pressure for c in list(cases.values())[:4]] == [True] * 4
+    assert sum(isinstance(c, PressureCase) for c in cases.values()) == 4 * len(harmonic_names(HARMONICS))
+    C = np.array([[100.0, -50.0, 6.0, 40.0]])
+    full = pin_pressure_map(cases).extend(C)
+    hole_forces = [(100.0, -50.0 - 100.0), (0.0, 100.0), (0.0, 10.0), (0.0, 30.0)]
+    expected = np.concatenate([C[0]] + [harmonic_coefficients(np.array(f)) for f in hole_forces])
+    np.testing.assert_allclose(full[0], expected, rtol=1e-13)
+
+
+def test_pin_pressures_superpose_as_a_direct_solve_and_pull_as_f_over_a(bar):
+    """Two equal and opposite pin pressures on a free rail: the relieved unit fields
+    combined equal the combined load solved directly (1e-9), and the stress between the
+    holes is F/A (1%) with no in-plane bending."""
+    geo, mesh, K, basis = bar
+    force = 1000.0
+    cases = with_pin_pressure({"near": TractionCase(("hole_0",), 0), "far": TractionCase(("hole_3",), 0)})
+    F = np.column_stack([case_vector(basis, mesh.groups, c) for c in cases.values()])
+    c = pin_pressure_map(cases).extend(np.array([-force, force]))
+    units = solve_free_body(K, F, basis, STEEL.density, "direct")
+    direct = solve_free_body(K, F @ c, basis, STEEL.density, "direct")
+    S_units = np.einsum("snk,k->sn", recover_stress(basis, units.U, STEEL), c)
+    S_direct = recover_stress(basis, direct.U, STEEL)
+    assert np.abs(S_units - S_direct).max() <= 1e-9 * np.abs(S_direct).max()
+    np.testing.assert_allclose(direct.imbalance[:3], 0.0, atol=1e-9 * force)
+    xs = geo.get("hole_x")
+    nodes = stress_nodes(basis)
+    mid = np.abs(nodes[:, 0] - 0.5 * (xs[1] + xs[2])) < 3e-3
+    fit = np.linalg.lstsq(
+        np.column_stack([np.ones(mid.sum()), nodes[mid, 1], nodes[mid, 2] - geo.get("height") / 2]),
+        S_direct[0, mid],
+        rcond=None,
+    )[0]
+    axial = force / (geo.get("width") * geo.get("height"))
+    assert fit[0] == pytest.approx(axial, rel=0.01)
+    assert abs(fit[1]) * geo.get("width") / 2 < 0.01 * axial
