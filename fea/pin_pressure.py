@@ -41,8 +41,8 @@ __all__ = ["Bore", "bore_of", "bearing_vectors", "harmonic_names"]
 @dataclass(frozen=True)
 class Bore:
     """A hole's bore on the mesh: its scalar ``nodes``, their ``weights`` m^2 (integral of
-    each shape function over the bore), ``points`` (n, 3) m, the axis ``centre`` (2,) m (the
-    bore's area centroid in x, y) and each node's ``angle`` (n,) rad about it."""
+    each shape function over the bore), ``points`` (n, 3) m, the axis ``centre`` (2,) m
+    (through the circle of its vertices) and each node's ``angle`` (n,) rad about it."""
 
     nodes: np.ndarray
     weights: np.ndarray
@@ -56,12 +56,21 @@ def bore_of(basis, groups: dict, group: str) -> Bore:
     nodes, w = surface_node_integrals(basis, groups, group)
     points = scalar_basis(basis).doflocs.T[nodes]
     weights = w[:, 0]
-    centre = weights @ points[:, :2] / weights.sum()
+    centre = circle_centre(points[nodes < basis.mesh.nvertices, :2])
     d = points[:, :2] - centre
     radius = np.hypot(d[:, 0], d[:, 1])
     if radius.min() < 0.2 * radius.max():  # a coarse mesh makes a polygon of the bore; a face is no bore
         raise ModelError(group, "is not a bore (a cylinder about an axis along z): cannot carry a bearing pressure")
     return Bore(nodes, weights, points, centre, np.arctan2(d[:, 1], d[:, 0]))
+
+
+def circle_centre(xy: np.ndarray) -> np.ndarray:
+    """(2,) the centre of the circle through points ``xy`` (n, 2) (algebraic least squares,
+    exact when they lie on one): a bore's vertices lie on its circle however coarse the
+    mesh, its area centroid does not."""
+    A = np.column_stack([2 * xy, np.ones(len(xy))])
+    solution, *_ = np.linalg.lstsq(A, (xy**2).sum(axis=1), rcond=None)
+    return solution[:2]
 
 
 def harmonic_names(harmonics: tuple[int, ...]) -> tuple[str, ...]:

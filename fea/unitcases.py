@@ -31,6 +31,7 @@ from .elasticity import (
     supports,
     unit_traction_vectors,
 )
+from .errors import ModelError
 from .materials import Material
 from .mesh import cached_on, node_cells
 from .pin_pressure import bearing_vectors, harmonic_names
@@ -60,14 +61,20 @@ class UnitSolve:
 @dataclass(frozen=True)
 class FreeBodyCases:
     """How a free body's unit cases are solved: its body cases carry ``mass`` kg (the
-    dynamics' mass of the part, spread uniformly over the mesh) and its deflection is
-    ``deflection`` = (reference groups A, reference groups B, measured groups or the x (m)
-    of a section): the displacement there less the rigid line through A and B; or a dict
-    key -> such a tuple, one deflection per key (a sweep's hole groups), given back as
-    ``UnitFields.tips``."""
+    dynamics' mass of the part) and its deflection is ``deflection`` = (reference groups
+    A, reference groups B, measured groups or the x (m) of a section): the displacement
+    there less the rigid line through A and B; or a dict key -> such a tuple, one
+    deflection per key (a sweep's hole groups), given back as ``UnitFields.tips``.
+
+    With ``centre`` (x, y) m (part frame) and ``inertia`` kg m^2 about it (the dynamics'
+    centre of mass and moment of inertia of the part) the mass is spread by a density
+    graded to have exactly those (:func:`graded_density`), so the body forces balance the
+    joint forces to rounding; without them, uniformly."""
 
     mass: float
     deflection: tuple | dict
+    centre: tuple[float, float] | None = None
+    inertia: float | None = None
 
 
 @dataclass(frozen=True)
@@ -112,9 +119,50 @@ class BodyCase:
     pivot: tuple[float, float] = (0.0, 0.0)  # m, part frame
 
 
-def case_vector(basis, groups: dict, case) -> np.ndarray:
-    """(N,) the load vector of one unit case."""
+def graded_density(basis, mass: float, centre: tuple[float, float], inertia: float):
+    """rho(x) kg/m^3, a callable of points (3, ...) m: the density c0 + c1 xi + c2 xi^2 +
+    c3 eta (xi, eta the offsets from ``centre`` over the radius of gyration) with which
+    the meshed part has exactly ``mass`` kg, its centre of mass at ``centre`` (x, y) m and
+    the polar moment ``inertia`` kg m^2 about it (z axis), integrated by the rule of the
+    load vectors, so the body cases' resultants are the dynamics' rigid body's to
+    rounding. Refuses a density that is not positive everywhere (a mass model the part's
+    shape cannot carry)."""
+    ib = integration_basis(basis)
+    x = ib.global_coordinates().value  # (3, elements, points)
+    dx = ib.dx
+    scale = np.sqrt(inertia / mass)
+    terms = _density_terms(x, centre, scale)
+    cx, cy = x[0] - centre[0], x[1] - centre[1]
+    tests = [np.ones_like(cx), cx, cy, cx**2 + cy**2]
+    A = np.array([[np.sum(t * g * dx) for g in terms] for t in tests])
+    c = np.linalg.solve(A, [mass, 0.0, 0.0, inertia])
+    rho = lambda p: np.tensordot(c, _density_terms(p, centre, scale), axes=1)  # noqa: E731
+    if rho(x).min() <= 0:
+        raise ModelError("mass model", "the part's shape cannot carry the dynamics' mass distribution (density <= 0)")
+    return rho
+
+
+def _density_terms(x, centre, scale) -> np.ndarray:
+    xi, eta = (x[0] - centre[0]) / scale, (x[1] - centre[1]) / scale
+    return np.stack([np.ones_like(xi), xi, xi**2, eta])
+
+
+def case_vector(basis, groups: dict, case, density=None) -> np.ndarray:
+    """(N,) the load vector of one unit case; a body case's field times ``density(x)``
+    (a callable of points (3, ...) m) when given."""
     from skfem import LinearForm, asm
+
+    if density is not None and isinstance(case, BodyCase):
+        rho = density
+        if case.field == "uniform":
+            form = LinearForm(lambda v, w: rho(w.x) * v[case.direction])
+        else:
+            x0, y0 = case.pivot
+            if case.field == "rotational":
+                form = LinearForm(lambda v, w: rho(w.x) * (-(w.x[1] - y0) * v[0] + (w.x[0] - x0) * v[1]))
+            else:
+                form = LinearForm(lambda v, w: rho(w.x) * ((w.x[0] - x0) * v[0] + (w.x[1] - y0) * v[1]))
+        return asm(form, integration_basis(basis))
 
     if isinstance(case, TractionCase):
         weights = case.weights or (1.0 / len(case.groups),) * len(case.groups)
@@ -179,7 +227,13 @@ def solve_unit_cases(
     nodes = stress_nodes(basis)
     if free_body is not None:
         body = np.array([isinstance(c, BodyCase) for c in cases.values()])
-        F[:, body] *= free_body.mass / body_force_vectors(basis)[:, 0].sum()  # kg / m^3: the FE body weighs mass
+        if free_body.inertia is None:
+            F[:, body] *= free_body.mass / body_force_vectors(basis)[:, 0].sum()  # kg / m^3: the FE body weighs mass
+        elif body.any():
+            rho = graded_density(basis, free_body.mass, free_body.centre, free_body.inertia)
+            F[:, body] = np.column_stack(
+                [case_vector(basis, groups, c, rho) for c in cases.values() if isinstance(c, BodyCase)]
+            )
         t.append(time.perf_counter())
         relieved = solve_free_body(K, F, basis, material.density, solver, report)
         U, info, fixed, imbalance = relieved.U, relieved.info, np.zeros(0, dtype=np.int64), relieved.imbalance

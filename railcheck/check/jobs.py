@@ -246,14 +246,22 @@ def free_body_cases(loads: LoadModel, geo: PartGeometry, holes: list[str]) -> Fr
     line through its two joints. A free plate's body cases carry its mass; its deflection
     is the seat's displacement relative to the line through its two bolts."""
     if loads.is_free_plate:
-        return FreeBodyCases(mass=loads.plate[0], deflection=(["hole_0"], ["hole_1"], [loads.free_plate.seat]))
+        mass, offset, polar = loads.plate  # about the seat
+        return FreeBodyCases(
+            mass=mass,
+            deflection=(["hole_0"], ["hole_1"], [loads.free_plate.seat]),
+            centre=(float(geo.get("seat_x")) + offset, 0.0),
+            inertia=polar - mass * offset**2,
+        )
     xs = geo.get("hole_x")
     far_x = float(np.mean([xs[int(h.split("_")[1])] for h in holes]))
     if loads.free_body.motor:
         deflection = (["hole_0"], ["hole_1"], list(holes))
     else:
         deflection = (["hole_0"], list(holes), 0.5 * (xs[0] + far_x))
-    return FreeBodyCases(mass=loads.rail_mass, deflection=deflection)
+    return FreeBodyCases(
+        mass=loads.rail_mass, deflection=deflection, centre=(loads.rail_body[0], 0.0), inertia=loads.rail_body[1]
+    )
 
 
 def refuse_huge(scene: Scene, geometries: dict) -> None:

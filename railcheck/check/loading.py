@@ -32,6 +32,7 @@ from railcheck.check.kinematics_stage import KinematicsResult, effects_for
 from railcheck.fea.pin_pressure import harmonic_names
 from railcheck.fea.unitcases import BodyCase, CoupleCase, PressureCase, TractionCase
 from railcheck.geometry.catalogue import plate_planar_inertia, with_overrides
+from railcheck.kinematics import massmodel
 from railcheck.kinematics.massmodel import carried_mass
 from railcheck.loads.histories import bolt_history, gravity_history, rail_inertia_history
 from railcheck.loads.pin_pressure import HARMONICS, harmonic_coefficients
@@ -66,6 +67,7 @@ class LoadModel:
     bar_length: float = 0.0
     free_plate: FreePlate | None = None
     plate: tuple[float, float, float] = (0.0, 0.0, 0.0)  # (kg, centroid - seat m, polar moment about the seat kg m^2)
+    rail_body: tuple[float, float] = (0.0, 0.0)  # the dynamics' rail: centre of mass x (m, part frame), inertia (kg m^2)
 
     @property
     def is_free_body(self) -> bool:
@@ -130,7 +132,21 @@ def load_model(
         joint_masses=tuple(carried_mass(masses, kind, bar, j.joint) for j in (fb.near, fb.far)),
         rail_mass=masses.rail_mass_per_m * rail_length(bar),
         bar_length=bar_length,
+        rail_body=rail_body(masses, bar, geo_first_hole(scene)),
     )
+
+
+def geo_first_hole(scene: Scene) -> float:
+    """x (m, part frame) of a rail's first hole, where its bar's first joint sits."""
+    return float(with_overrides(scene.geometry)[0].end_distance)
+
+
+def rail_body(masses, bar: str, first_hole: float) -> tuple[float, float]:
+    """The dynamics' rail of ``bar`` (:func:`railcheck.kinematics.massmodel.rail_body`, no
+    point masses) in the part frame: (x of its centre of mass m, its moment of inertia
+    about it kg m^2); its first joint sits at the first hole, ``first_hole`` m."""
+    rod = massmodel.rail_body(masses, bar, [])
+    return first_hole + rod.com, rod.inertia_com
 
 
 def free_plate_model(scene: Scene, model: LoadModel, plate: FreePlate, inertia: bool | None) -> LoadModel:

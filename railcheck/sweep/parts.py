@@ -21,7 +21,6 @@ from railcheck.check.jobs import carried_masses, free_body_cases, mesh_sizes
 from railcheck.check.loading import LoadModel, load_model, pin_pressure_map, source_histories, unit_cases
 from railcheck.fea.fatigue import endurance_limit
 from railcheck.fea.store import UnitRequest, solve_stored
-from railcheck.fea.unitcases import FreeBodyCases
 from railcheck.geometry.mesher import mesh_part
 from railcheck.loads.cases import rail_bolt_holes
 from railcheck.parts import PARTS, geometry_of, kind_of
@@ -189,7 +188,9 @@ def build_part_model(
         kind.tip,
         0.0 if free or plate else kind.exclusion(geo),
         mesh.curved if scene.mesh.curved else None,
-        FreeBodyCases(mass=loads.plate[0] if plate else loads.rail_mass, deflection=deflections) if free or plate else None,
+        dataclasses.replace(free_body_cases(loads, geo, next(iter(groups.values()))), deflection=deflections)
+        if free or plate
+        else None,
         modes,
     )
     fields, meta, origin = solve_stored(request, "auto", report, store=use_store())
