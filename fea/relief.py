@@ -32,6 +32,7 @@ from .system import solve
 
 __all__ = [
     "FreeBodySolve",
+    "foundation_reaction",
     "RigidModes",
     "imbalance",
     "relieve",
@@ -106,6 +107,30 @@ def relieve(modes: RigidModes, F: np.ndarray) -> np.ndarray:
     would give the free body); balanced to rounding."""
     acceleration = np.linalg.solve(modes.mass_matrix, imbalance(modes, F))
     return F - modes.MPhi @ acceleration
+
+
+def foundation_reaction(basis, groups: dict, group: str, F: np.ndarray) -> np.ndarray:
+    """(N[, k]): the reaction of a rigid foundation the part is bolted down to by the face
+    ``group``, balancing the loads ``F`` (N[, k]): a traction linear in position,
+    t(x) = a + w x (x - c) (c the face's area centroid: the bolted-flange idealisation of
+    a rigid base, pressure and shear varying linearly over the face), its six
+    coefficients set so that force and moment vanish, integrated exactly on the face."""
+    from .loading import surface_dofs, traction_vector
+
+    face = surface_dofs(basis, groups, group)
+    c = face.weights @ face.points / face.weights.sum()
+    units = np.eye(3)
+
+    def uniform(k):
+        return lambda x: np.broadcast_to(units[k].reshape((3,) + (1,) * (x.ndim - 1)), x.shape) + 0.0 * x
+
+    def turning(k):
+        return lambda x: np.cross(units[k], x - c.reshape((3,) + (1,) * (x.ndim - 1)), axis=0)
+
+    T = traction_vector(basis, groups, group, [uniform(k) for k in range(3)] + [turning(k) for k in range(3)])
+    modes = rigid_modes(basis, 1.0)
+    coefficients = np.linalg.solve(imbalance(modes, T), -imbalance(modes, F))
+    return T @ coefficients
 
 
 def three_two_one(basis) -> np.ndarray:

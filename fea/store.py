@@ -39,7 +39,7 @@ from .unitcases import UnitSolve, solve_unit_cases
 __all__ = ["StoreInfo", "UnitRequest", "clear_store", "is_stored", "solve_stored", "store_dir", "store_info"]
 
 #: the entry format; bump it when what an entry holds or means changes
-FORMAT = "2"
+FORMAT = "3"  # 3: pin pressures, graded density, deflection relative to a face's rigid motion
 DEFAULT_CAP_MB = 2048
 
 

@@ -178,6 +178,43 @@ def group_mean_operator(basis, groups: dict, names: list[str]) -> tuple[np.ndarr
     return op, float(np.mean(xs))
 
 
+def relative_to_face(basis, groups: dict, face: str, measure: list[str]) -> np.ndarray:
+    """(3, N): the mean displacement of the surfaces ``measure`` less the rigid motion of
+    the plane face ``face`` (normal z) carried to their centroid: its mean translation t
+    and its rotation theta (about x and y from the least-squares plane of its u_z, about z
+    from its in-plane displacements), t + theta x (m - c)."""
+    sb = scalar_basis(basis)
+    vector_of = vector_dof_map(basis, sb)
+    nodes, weights = surface_node_weights(basis, groups, face)
+    w = weights / weights.sum()
+    p = sb.doflocs[:, nodes].T
+    c = w @ p
+    d = p - c
+    dofs = vector_of[nodes]
+    translation = np.zeros((3, basis.N))
+    for k in range(3):
+        translation[k, dofs[:, k]] = w
+    design = np.column_stack([np.ones(len(w)), d[:, 0], d[:, 1]])
+    fit = np.linalg.solve(design.T @ (w[:, None] * design), (design * w[:, None]).T)  # (3, n): a, b, c of u_z
+    rotation = np.zeros((3, basis.N))
+    rotation[0, dofs[:, 2]] = fit[2]  # u_z = theta_x y - theta_y x
+    rotation[1, dofs[:, 2]] = -fit[1]
+    r2 = w @ (d[:, 0] ** 2 + d[:, 1] ** 2)
+    rotation[2, dofs[:, 1]] += w * d[:, 0] / r2  # theta_z = mean(x u_y - y u_x) / mean(r^2)
+    rotation[2, dofs[:, 0]] -= w * d[:, 1] / r2
+    M, _ = group_mean_operator(basis, groups, measure)
+    measured = [group_centroid(basis, groups, g) for g in measure]
+    arm = np.mean(measured, axis=0) - c
+    carried = translation + np.cross(rotation.T, arm).T  # theta x arm, row by row
+    return M - carried
+
+
+def group_centroid(basis, groups: dict, name: str) -> np.ndarray:
+    """(3,) m: the area centroid of a named surface."""
+    nodes, weights = surface_node_weights(basis, groups, name)
+    return weights @ scalar_basis(basis).doflocs[:, nodes].T / weights.sum()
+
+
 def section_mean_operator(basis, x0: float, half: float) -> np.ndarray:
     """(3, N): the mean displacement of the nodes within ``half`` (m) of the section x = x0."""
     sb = scalar_basis(basis)
@@ -195,8 +232,12 @@ def relative_deflection(basis, groups: dict, ref_a: list[str], ref_b: list[str],
     """(3, N): the displacement at ``measure`` (a list of surfaces, or the x in m of a
     section) less the rigid line through the mean displacements of the surfaces ``ref_a``
     and ``ref_b`` (interpolated, or extrapolated, along x): a pinned link's sag relative
-    to the line through its pins, or a crank's deflection at A relative to its shaft."""
+    to the line through its pins, or a crank's deflection at A relative to its shaft. With
+    ``ref_b`` equal to ``ref_a``: :func:`relative_to_face` (a bracket's top relative to its
+    base)."""
     A, xa = group_mean_operator(basis, groups, ref_a)
+    if list(ref_b) == list(ref_a):  # one reference face: relative to its rigid motion
+        return relative_to_face(basis, groups, ref_a[0], list(measure))
     B, xb = group_mean_operator(basis, groups, ref_b)
     if isinstance(measure, (int, float)):
         M, xm = section_mean_operator(basis, float(measure), 0.5 * abs(xb - xa) / 20), float(measure)

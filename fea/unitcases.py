@@ -35,7 +35,7 @@ from .errors import ModelError
 from .materials import Material
 from .mesh import cached_on, node_cells
 from .pin_pressure import bearing_vectors, harmonic_names
-from .relief import solve_free_body
+from .relief import foundation_reaction, solve_free_body
 from .stress import relative_deflection
 from .superpose import UnitFields
 
@@ -69,9 +69,10 @@ class FreeBodyCases:
     With ``centre`` (x, y) m (part frame) and ``inertia`` kg m^2 about it (the dynamics'
     centre of mass and moment of inertia of the part) the mass is spread by a density
     graded to have exactly those (:func:`graded_density`), so the body forces balance the
-    joint forces to rounding; without them, uniformly."""
+    joint forces to rounding; without them, uniformly; with ``mass`` None the body cases
+    keep their unit density (their coefficients carry the material's)."""
 
-    mass: float
+    mass: float | None
     deflection: tuple | dict
     centre: tuple[float, float] | None = None
     inertia: float | None = None
@@ -110,6 +111,16 @@ class PressureCase:
     group: str
     field: str
     harmonics: tuple[int, ...]
+
+
+@dataclass(frozen=True)
+class FoundationCase:
+    """A unit case ``case`` together with the reaction of a rigid foundation on the face
+    ``group`` that balances it (:func:`railcheck.fea.relief.foundation_reaction`): a part
+    bolted down by that face, as a free body with no clamp."""
+
+    case: object
+    group: str
 
 
 @dataclass(frozen=True)
@@ -152,6 +163,9 @@ def case_vector(basis, groups: dict, case, density=None) -> np.ndarray:
     (a callable of points (3, ...) m) when given."""
     from skfem import LinearForm, asm
 
+    if isinstance(case, FoundationCase):
+        load = case_vector(basis, groups, case.case, density)
+        return load + foundation_reaction(basis, groups, case.group, load)
     if density is not None and isinstance(case, BodyCase):
         rho = density
         if case.field == "uniform":
@@ -227,7 +241,9 @@ def solve_unit_cases(
     nodes = stress_nodes(basis)
     if free_body is not None:
         body = np.array([isinstance(c, BodyCase) for c in cases.values()])
-        if free_body.inertia is None:
+        if free_body.mass is None:  # the body cases' coefficients carry the material's density
+            pass
+        elif free_body.inertia is None:
             F[:, body] *= free_body.mass / body_force_vectors(basis)[:, 0].sum()  # kg / m^3: the FE body weighs mass
         elif body.any():
             rho = graded_density(basis, free_body.mass, free_body.centre, free_body.inertia)
@@ -282,7 +298,8 @@ def solve_unit_cases(
         tips = {key: relative_deflection(basis, groups, *d) @ U for key, d in free_body.deflection.items()}
     t.append(time.perf_counter())
     S = recover_stress(basis, U, material)
-    loaded = sorted({g for c in cases.values() if isinstance(c, (TractionCase, CoupleCase)) for g in c.groups})
+    inner = [c.case if isinstance(c, FoundationCase) else c for c in cases.values()]
+    loaded = sorted({g for c in inner if isinstance(c, (TractionCase, CoupleCase)) for g in c.groups})
     extras = {
         "cells": node_cells(basis),
         "support": group_nodes(basis, groups, support_groups) if support_groups else np.zeros(0, dtype=np.int64),

@@ -103,6 +103,7 @@ class Part:
     bar: str | None = None
     free_body: FreeBody | None = None
     free_plate: FreePlate | None = None
+    foundation: str | None = None  # a face the part is bolted down by: as a free body, a rigid foundation's reaction there
 
 
 def _rail(overrides: dict, length: float):
@@ -182,7 +183,7 @@ PARTS: dict[str, Part] = {
             (LoadSource("A", -1.0, "crank"), LoadSource("B", -1.0, "coupler")),
             free_plate=FreePlate(),
         ),
-        Part("PF_4b_003_v2", "i_profile", (LoadSource("O4", +1.0, None),)),
+        Part("PF_4b_003_v2", "i_profile", (LoadSource("O4", +1.0, None),), foundation="base"),
     )
 }
 

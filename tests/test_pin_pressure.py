@@ -46,8 +46,8 @@ def test_the_fourier_series_is_the_loaded_half_cosine():
     many = sum(half_cosine_coefficient(k) * np.cos(k * psi) for k in range(400))
     assert np.abs(many - exact).max() < 2e-3
     kept = pressure_at(psi, np.array([1.0, 0.0]))
-    assert kept.max() == pytest.approx(1.0, abs=0.012)  # the peak pressure with the kept harmonics
-    assert np.abs(kept - exact).max() < 0.065
+    assert kept.max() == pytest.approx(1.0, abs=0.031)  # the peak pressure with the kept harmonics
+    assert np.abs(kept - exact).max() < 0.11
     turned = pressure_at(psi, np.array([-3.0, 4.0]))  # the same shape about the force's angle, any size
     np.testing.assert_allclose(turned, pressure_at(psi - math.atan2(4.0, -3.0), np.array([1.0, 0.0])), atol=1e-12)
 

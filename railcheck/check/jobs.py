@@ -175,7 +175,7 @@ def part_jobs(
         kind = kind_of(name)
         holes = bolt_holes(scene, name, geo)
         loads = load_model(scene, name, material.density)
-        free = free_body_cases(loads, geo, holes) if loads.is_free_body or loads.is_free_plate else None
+        free = free_body_cases(loads, geo, holes) if is_free(loads) else None
         jobs[name] = PartJob(
             clamped=clamped_job(scene, kin, name, geo, cases, material, limit) if free is not None else None,
             name=name,
@@ -239,12 +239,19 @@ def carried_masses(scene: Scene, name: str, holes: list[str] | tuple, kind: str 
     return tuple((g, m) for g, m in ((("hole_0",), kg[0]), (tuple(holes), kg[1])) if m > 0)
 
 
+def is_free(loads: LoadModel) -> bool:
+    """Whether the part is solved as a free body (a rail, a joint plate, a bolted-down part)."""
+    return loads.is_free_body or loads.is_free_plate or loads.is_on_foundation
+
+
 def free_body_cases(loads: LoadModel, geo: PartGeometry, holes: list[str]) -> FreeBodyCases:
     """How a free rail is solved: its body cases carry the dynamics' rail mass; its
     deflection is, for the crank, the displacement at A's bolts relative to the line
     through the shaft and the driving pin, for a link the sag at mid-span relative to the
     line through its two joints. A free plate's body cases carry its mass; its deflection
     is the seat's displacement relative to the line through its two bolts."""
+    if loads.is_on_foundation:  # its top's displacement relative to its base; body cases at the material's density
+        return FreeBodyCases(mass=None, deflection=([loads.foundation], [loads.foundation], ["end_free"]))
     if loads.is_free_plate:
         mass, offset, polar = loads.plate  # about the seat
         return FreeBodyCases(

@@ -30,7 +30,7 @@ import numpy as np
 
 from railcheck.check.kinematics_stage import KinematicsResult, effects_for
 from railcheck.fea.pin_pressure import harmonic_names
-from railcheck.fea.unitcases import BodyCase, CoupleCase, PressureCase, TractionCase
+from railcheck.fea.unitcases import BodyCase, CoupleCase, FoundationCase, PressureCase, TractionCase
 from railcheck.geometry.catalogue import plate_planar_inertia, with_overrides
 from railcheck.kinematics import massmodel
 from railcheck.kinematics.massmodel import carried_mass
@@ -68,11 +68,18 @@ class LoadModel:
     free_plate: FreePlate | None = None
     plate: tuple[float, float, float] = (0.0, 0.0, 0.0)  # (kg, centroid - seat m, polar moment about the seat kg m^2)
     rail_body: tuple[float, float] = (0.0, 0.0)  # the dynamics' rail: centre of mass x (m, part frame), inertia (kg m^2)
+    foundation: str | None = None  # a bolted-down part as a free body: the face a rigid foundation's reaction acts on
 
     @property
     def is_free_body(self) -> bool:
         """A rail as a free body (joint forces at both ends, its own inertia)."""
         return self.free_body is not None
+
+    @property
+    def is_on_foundation(self) -> bool:
+        """A part bolted down by a face, as a free body: its loads balanced there by a
+        rigid foundation's linear reaction (no clamp)."""
+        return self.foundation is not None
 
     @property
     def is_free_plate(self) -> bool:
@@ -118,6 +125,8 @@ def load_model(
     )
     if scene.check.support == "free-body" and part.free_plate is not None and explicit is None:
         return free_plate_model(scene, model, part.free_plate, inertia)
+    if scene.check.support == "free-body" and part.foundation is not None:
+        return dataclasses.replace(model, foundation=part.foundation)
     if not (scene.check.support == "free-body" and part.free_body is not None and explicit is None):
         return model
     if bar_length is None:
@@ -171,6 +180,9 @@ def unit_cases(model: LoadModel, geo, holes: list[str]) -> dict:
         return with_pin_pressure(free_body_cases(model, geo, holes))
     if model.is_free_plate:
         return with_pin_pressure(free_plate_cases(model, geo, holes))
+    if model.is_on_foundation:
+        clamped = unit_cases(dataclasses.replace(model, foundation=None), geo, holes)
+        return {n: FoundationCase(c, model.foundation) for n, c in with_pin_pressure(clamped).items()}
     cases = {"bolt_x": TractionCase(tuple(holes), 0), "bolt_y": TractionCase(tuple(holes), 1)}
     if model.gravity or model.rail_inertia:
         cases.update(body_x=BodyCase("uniform", 0), body_y=BodyCase("uniform", 1))
@@ -228,8 +240,9 @@ class PinPressureMap:
 
 def pin_pressure_map(cases: dict) -> PinPressureMap:
     """The :class:`PinPressureMap` of a case list (:func:`with_pin_pressure`'s order)."""
-    linear = [c for c in cases.values() if not isinstance(c, PressureCase)]
-    pressure = [c for c in cases.values() if isinstance(c, PressureCase)]
+    unwrapped = [c.case if isinstance(c, FoundationCase) else c for c in cases.values()]
+    linear = [c for c in unwrapped if not isinstance(c, PressureCase)]
+    pressure = [c for c in unwrapped if isinstance(c, PressureCase)]
     holes = list(dict.fromkeys(c.group for c in pressure))
     H = np.zeros((len(holes), len(linear), 2))
     for j, c in enumerate(linear):

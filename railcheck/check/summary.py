@@ -122,6 +122,8 @@ def part_summary(p: PartResult) -> dict:
 
 def free_deflection_words(job) -> str:
     """What a free body's deflection measures, in words."""
+    if job.loads.is_on_foundation:
+        return "the top face's displacement relative to the base's"
     if job.loads.is_free_plate:
         return "the seat's displacement relative to the line through the two bolts"
     if job.loads.free_body.motor:

@@ -129,6 +129,8 @@ def render_part(path: str | Path, name: str, part) -> Path:
         if part.job.free_body is None
         else "seat deflection relative to the bolts"
         if part.job.loads.is_free_plate
+        else "top deflection relative to the base"
+        if part.job.loads.is_on_foundation
         else "deflection relative to the joints"
     )
     caption = (

@@ -109,6 +109,12 @@ def is_free_plate(scene, name: str) -> bool:
     return scene.check.support == "free-body" and PARTS[name].free_plate is not None and name not in scene.check.loads
 
 
+def is_on_foundation(scene, name: str) -> bool:
+    """Whether the part is a bolted-down part checked as a free body (``support =
+    "free-body"``): its loads balanced by a rigid foundation's reaction on its base."""
+    return scene.check.support == "free-body" and PARTS[name].foundation is not None
+
+
 def is_free_rail(scene, name: str) -> bool:
     """Whether the part is checked as a free body (``support = "free-body"``, a rail of
     the registry's free-body model, no explicit loads)."""
@@ -155,7 +161,7 @@ def build_part_model(
     kind = kind_of(name)
     geo = geometry_of(name, scene.geometry)
     mesh = mesh_part(geo, *mesh_sizes(scene.mesh, geo.kind), optimize=scene.mesh.optimize)
-    free, plate = is_free_rail(scene, name), is_free_plate(scene, name)
+    free, plate = is_free_rail(scene, name), is_free_plate(scene, name) or is_on_foundation(scene, name)
     inertia = "inertia" in scene.check.effects
     loads = load_model(scene, name, material.density, *((0.0, inertia, linkage) if free else ()))
     if plate:
@@ -223,7 +229,7 @@ def build_part_model(
     )
     if name not in scene.check.loads:
         return model
-    C = source_histories(loads, None, groups[None])[0].C[None]
+    C = model.with_pin_pressure(None, source_histories(loads, None, groups[None])[0].C[None])
     scr = screens[None]
     constant = (
         float(von_mises_peak(scr, C)[0]),
