@@ -55,7 +55,9 @@ def test_a_bar_on_a_foundation_bends_as_a_cantilever_away_from_its_base(bar):
     nodes = stress_nodes(basis)
     x0 = L / 2
     near = np.abs(nodes[:, 0] - x0) < 4e-3
-    design = np.column_stack([np.ones(near.sum()), nodes[near, 1], nodes[near, 0] - x0, (nodes[near, 0] - x0) * nodes[near, 1]])
+    design = np.column_stack(
+        [np.ones(near.sum()), nodes[near, 1], nodes[near, 0] - x0, (nodes[near, 0] - x0) * nodes[near, 1]]
+    )
     a, b, *_ = np.linalg.lstsq(design, S[0, near], rcond=None)[0]
     I = geo.get("height") * geo.get("width") ** 3 / 12
     assert abs(b) == pytest.approx(force * (L - x0) / I, rel=0.02)
@@ -68,7 +70,11 @@ def test_a_deflection_relative_to_a_face_ignores_rigid_motion():
     op = relative_to_face(basis, mesh.groups, "base", ["end_free"])
     sb = scalar_basis(basis)
     vmap, x = vector_dof_map(basis, sb), sb.doflocs.T
-    for t, theta in (((1.0, 2.0, 3.0), (0.0, 0.0, 0.0)), ((0.0, 0.0, 0.0), (0.1, -0.2, 0.3)), ((1.0, -1.0, 2.0), (0.2, 0.1, -0.3))):
+    for t, theta in (
+        ((1.0, 2.0, 3.0), (0.0, 0.0, 0.0)),
+        ((0.0, 0.0, 0.0), (0.1, -0.2, 0.3)),
+        ((1.0, -1.0, 2.0), (0.2, 0.1, -0.3)),
+    ):
         u = np.array(t) + np.cross(np.array(theta), x)
         U = np.zeros(basis.N)
         for c in range(3):

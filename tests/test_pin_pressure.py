@@ -75,8 +75,8 @@ def test_the_force_fields_carry_exactly_the_force_and_the_harmonics_nothing(bar)
 
 
 def test_the_pressure_pushes_on_the_loaded_half_only(bar):
-    """With the harmonics, 1.3% of the nodal force magnitude falls where the cosine is
-    below -0.3 (the unloaded half's middle); a uniform traction puts 30% there."""
+    """With the harmonics, 3% of the nodal force magnitude falls where the cosine is below
+    -0.3 (the unloaded half's middle); without them (cos phi over the whole bore) over 20%."""
     geo, mesh, K, basis = bar
     V = bearing_vectors(basis, mesh.groups, "hole_1", HARMONICS)
     force = np.array([-600.0, 800.0])
@@ -88,7 +88,7 @@ def test_the_pressure_pushes_on_the_loaded_half_only(bar):
     push = np.einsum("nc,nc->n", nodal, radial)
     away = np.cos(b.angle - math.atan2(force[1], force[0])) < -0.3
     size = np.linalg.norm(nodal, axis=1)
-    assert size[away].sum() < 0.02 * size.sum()
+    assert size[away].sum() < 0.04 * size.sum()
     toward = np.cos(b.angle - math.atan2(force[1], force[0])) > 0.3
     # compression: the pin pushes the material outward (P2's consistent loads dip below 0 at vertices)
     assert push[toward].sum() > 0 and -push[toward][push[toward] < 0].sum() < 0.05 * push[toward].sum()
