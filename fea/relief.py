@@ -26,7 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .loading import body_force_vector
+from .loading import body_force_vector, surface_dofs, traction_vector
 from .mesh import dof_components
 from .system import solve
 
@@ -115,8 +115,6 @@ def foundation_reaction(basis, groups: dict, group: str, F: np.ndarray) -> np.nd
     t(x) = a + w x (x - c) (c the face's area centroid: the bolted-flange idealisation of
     a rigid base, pressure and shear varying linearly over the face), its six
     coefficients set so that force and moment vanish, integrated exactly on the face."""
-    from .loading import surface_dofs, traction_vector
-
     face = surface_dofs(basis, groups, group)
     c = face.weights @ face.points / face.weights.sum()
     units = np.eye(3)
