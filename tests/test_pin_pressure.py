@@ -21,9 +21,9 @@ STEEL = MATERIALS["steel"]
 
 @pytest.fixture(scope="module")
 def bar():
-    """A 260 mm rail, 2 mm at the holes, P2, assembled once."""
+    """A 260 mm rail, 3 mm at the holes, P2, assembled once."""
     geo = rail(0.26)
-    mesh = mesh_part(geo, 8e-3, 2e-3)
+    mesh = mesh_part(geo, 8e-3, 3e-3)
     K, basis = assemble(mesh.points, mesh.tets, STEEL, 2, mesh.curved)
     return geo, mesh, K, basis
 
