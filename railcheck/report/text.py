@@ -117,15 +117,18 @@ def parts_table(result) -> str:
         )
     if free:
         lines.append(
-            f"  {', '.join(free)}: free bodies (joint forces at their holes or bearing seat, their own and the "
-            "point masses' inertia, one load factor; inertia relief, no support): the verdict reads every node; "
-            "tip defl. is the crank's deflection at A relative to its shaft and pin, a link's mid-span sag "
-            "relative to its joints, a plate's seat relative to its bolts"
+            f"  {', '.join(free)}: free bodies (joint forces bearing on their holes or bearing seat as a cosine "
+            "over the loaded half, their own and the point masses' inertia, one load factor; a bolted-down part's "
+            "loads balanced by a rigid foundation's linear reaction on its base; inertia relief, no support): the "
+            "verdict reads every node; tip defl. is the crank's deflection at A relative to its shaft and pin, a "
+            "link's mid-span sag relative to its joints, a plate's seat relative to its bolts, a bracket's top "
+            "relative to its base"
         )
     compared = {n: p.clamped for n, p in result.parts.items() if p.clamped is not None}
     if compared:
         lines.append(
-            "  the 2013 model (each rail clamped at its first hole, each plate at its seat; for comparison, not the "
+            "  the 2013 model (each rail clamped at its first hole, each plate at its seat or base, the joint forces "
+            "as uniform tractions; for comparison, not the "
             "verdict): "
             + "; ".join(
                 f"{n} {k.max_von_mises / 1e6:.1f} MPa ({k.support_peak / 1e6:.1f} at the clamp), "
