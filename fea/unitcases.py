@@ -76,6 +76,7 @@ class FreeBodyCases:
     deflection: tuple | dict
     centre: tuple[float, float] | None = None
     inertia: float | None = None
+    held: tuple[str, ...] = ()  # groups held for its modes (a bolted-down part's base), instead of pins
 
 
 @dataclass(frozen=True)
@@ -271,8 +272,9 @@ def solve_unit_cases(
     sets = None
     if modes is not None:
         requests = modes if isinstance(modes, dict) else {None: modes}
+        held_modes = free_body is not None and bool(free_body.held)
         density = material.density
-        if free_body is not None:  # the FE body carries the dynamics' mass, as its body cases do
+        if free_body is not None and free_body.mass is not None:  # the FE body carries the dynamics' mass
             density = free_body.mass / body_force_vectors(basis)[:, 0].sum()
         sets, shared = {}, {}
         for key, (count, pins, lumped) in requests.items():
@@ -282,7 +284,7 @@ def solve_unit_cases(
                 density,
                 F,
                 count,
-                fixed=None if pins else fixed,
+                fixed=None if pins else (supports(basis, groups, list(free_body.held)) if held_modes else fixed),
                 pins=pins,
                 groups=groups,
                 lumped=lumped,

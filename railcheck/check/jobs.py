@@ -213,13 +213,14 @@ def dynamic_job(
     scene: Scene, free: FreeBodyCases | None, name: str = "", holes: list[str] | tuple = ()
 ) -> DynamicJob | None:
     """The part's dynamic request when ``dynamic`` is listed and the crank turns (a still
-    rig has no cycle to respond to); a free body is pinned at its two joints. A rail's
+    rig has no cycle to respond to); a free body is pinned at its two joints (a bolted-down
+    part held at its base). A rail's
     joints carry the mass model's point masses (plates, carriages, coupling), lumped on
     their holes: the near joint's on its first hole, the far joint's on its bolt holes."""
     if "dynamic" not in scene.check.effects or scene.mechanism is None or scene.mechanism.speed <= 0:
         return None
     d = scene.dynamic
-    pins = (tuple(free.deflection[0]), tuple(free.deflection[1])) if free is not None else None
+    pins = (tuple(free.deflection[0]), tuple(free.deflection[1])) if free is not None and not free.held else None
     lumped = carried_masses(scene, name, holes)
     return DynamicJob(scene.mechanism.speed, d.damping, d.max_amplification, d.modes, pins, lumped)
 
@@ -251,7 +252,9 @@ def free_body_cases(loads: LoadModel, geo: PartGeometry, holes: list[str]) -> Fr
     line through its two joints. A free plate's body cases carry its mass; its deflection
     is the seat's displacement relative to the line through its two bolts."""
     if loads.is_on_foundation:  # its top's displacement relative to its base; body cases at the material's density
-        return FreeBodyCases(mass=None, deflection=([loads.foundation], [loads.foundation], ["end_free"]))
+        return FreeBodyCases(
+            mass=None, deflection=([loads.foundation], [loads.foundation], ["end_free"]), held=(loads.foundation,)
+        )
     if loads.is_free_plate:
         mass, offset, polar = loads.plate  # about the seat
         return FreeBodyCases(

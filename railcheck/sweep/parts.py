@@ -256,7 +256,10 @@ def mode_requests(scene, name: str, groups: dict, deflections: dict | None = Non
     for a part with explicit loads (constant over the cycle: nothing to respond to)."""
     if not dynamic_in_sweep(scene) or name in scene.check.loads:
         return None
-    pins = {key: (tuple(d[0]), tuple(d[1])) for key, d in (deflections or {}).items()}  # a free rail: its joints
+    held = PARTS[name].foundation is not None  # a bolted-down part: its modes held at its base
+    pins = (
+        {} if held else {key: (tuple(d[0]), tuple(d[1])) for key, d in (deflections or {}).items()}
+    )  # a free rail's joints
     return {
         key: (scene.dynamic.modes, pins.get(key), carried_masses(scene, name, holes, kind)) for key, holes in groups.items()
     }
