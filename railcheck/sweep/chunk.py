@@ -276,7 +276,8 @@ def evaluate_part(
 
     n_set = history[0][1].shape[0]
     s = np.broadcast_to(np.asarray(s, float), (n_set,))
-    vm, fat, tip, amp = np.zeros(n_set), np.full(n_set, np.inf), np.zeros(n_set), np.ones(n_set)
+    # amplification: the largest over the load sources, as the check's (below 1 where the modes lower the peak)
+    vm, fat, tip, amp = np.zeros(n_set), np.full(n_set, np.inf), np.zeros(n_set), np.full(n_set, -np.inf)
     if model.bar is None:
         groups = [(np.arange(n_set), model.screens[None], model.modes_for(0.0))]
     else:
@@ -312,7 +313,7 @@ def evaluate_part(
                 ),
             )
             tip[idx] = np.maximum(tip[idx], tip_peak(read, C))
-    return vm, fat, tip, amp
+    return vm, fat, tip, np.where(np.isfinite(amp), amp, 1.0)
 
 
 def criterion_utilisations(model, vm, fat, tip, amp=None) -> dict[str, np.ndarray]:
