@@ -44,6 +44,7 @@ def one_hz():
         return _crank()
 
 
+@pytest.mark.slow  # pin pressures doubled its cost (cold: 6.8 s): out of the fast tier
 def test_the_dynamic_response_is_reported_and_quasi_static_holds_at_1_hz(one_hz):
     part = one_hz.parts["crank-rail"]
     d = part.cycle.dynamic
@@ -102,6 +103,7 @@ def test_a_part_above_its_amplification_limit_fails_naming_dynamic(one_hz):
     assert (job.max_amplification, job.damping, job.modes, job.speed) == (1.0, 0.05, 3, pytest.approx(2 * math.pi))
 
 
+@pytest.mark.slow  # pin pressures doubled its cost (cold: 3.4 s): out of the fast tier
 def test_without_the_effect_no_mode_is_computed():
     part = _crank(effects='["inertia"]').parts["crank-rail"]
     assert part.cycle.dynamic is None and part.cycle.solve.modes is None

@@ -142,6 +142,7 @@ def free_run():
     return run_pipeline(scene, jobs=1), run_pipeline(clamped, jobs=1)
 
 
+@pytest.mark.slow  # pin pressures doubled its cost (cold: the fixture's two checks 9 s): out of the fast tier
 def test_free_rails_have_no_support_zone_and_their_loads_balance(free_run):
     """Pin and bolt forces (reactions plus the point masses' d'Alembert forces) and the
     rail's own inertia balance before relief: the force and the in-plane moment to 1e-9 of
@@ -163,6 +164,7 @@ def test_free_rails_have_no_support_zone_and_their_loads_balance(free_run):
         assert imbalance["moment_out_of_plane_fraction"] < 2e-3, (name, imbalance)
 
 
+@pytest.mark.slow  # pin pressures doubled its cost (cold: the shared fixture): out of the fast tier
 def test_the_2013_clamped_model_beside_the_verdict_equals_a_clamped_check(free_run):
     """Each free rail also reports the 2013 model (clamped at its first hole): its figures
     equal an independent `support = "clamped"` check of the same scene, and they stay out
@@ -191,6 +193,7 @@ def test_the_2013_clamped_model_beside_the_verdict_equals_a_clamped_check(free_r
     assert part.clamped.max_von_mises > part.limit > part.verdict_stress and part.stress_passed
 
 
+@pytest.mark.slow  # pin pressures doubled its cost (cold: the shared fixture): out of the fast tier
 def test_free_links_bend_a_tenth_of_what_the_clamp_says(free_run):
     free, clamped = free_run
     for name in ("coupler-rail", "rocker-rail"):
@@ -198,6 +201,7 @@ def test_free_links_bend_a_tenth_of_what_the_clamp_says(free_run):
     assert free.parts["crank-rail"].verdict_stress < clamped.parts["crank-rail"].verdict_stress
 
 
+@pytest.mark.slow  # pin pressures doubled its cost (cold: the shared fixture): out of the fast tier
 def test_a_free_coupler_bends_as_the_statics_of_its_loads_say(free_run):
     """At the governing instant, the in-plane bending moment at a section between holes,
     from the statics of the loads left of it (the pin force at the first hole, the rail's

@@ -139,6 +139,7 @@ effects = ["inertia", "gravity"]
     assert row["crank-rail_fatigue"] == pytest.approx(part.cycle.fatigue.min_safety_factor, rel=1e-9)
 
 
+@pytest.mark.slow  # pin pressures doubled its cost (cold: 6.0 s): out of the fast tier
 def test_the_safe_speed_names_the_part_and_criterion_that_reach_their_limit(tmp_path):
     """At 0.5 Hz the constant-load plate governs the utilisation; the safe speed is set by
     the crank rail (whose loads grow with the speed), and the row says so (#24): a check at
