@@ -77,6 +77,7 @@ def test_the_amplification_grows_with_the_speed_squared_below_resonance(one_hz):
     assert a_half / a_quarter == pytest.approx(4.0, rel=0.05)
 
 
+@pytest.mark.slow  # its fixture (the default crank with dynamic, 4.8 s) is the slow tier's since the pin pressures
 def test_a_part_above_its_amplification_limit_fails_naming_dynamic(one_hz):
     from dataclasses import replace
 

@@ -177,6 +177,7 @@ SWEEP_ARGS = st.lists(
 )
 
 
+@pytest.mark.slow  # 2-8 s as the examples fall (some sweep with FE): out of the fast tier
 @settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
 @given(sweep=SWEEP, argv=SWEEP_ARGS, formulation=st.sampled_from(["newton-euler", "seed-2013"]))
 def test_generated_sweep_scenes_and_arguments_never_crash(tmp_path, capsys, sweep, argv, formulation):
