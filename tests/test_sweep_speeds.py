@@ -53,6 +53,7 @@ def rows(tmp_path_factory):
     return out
 
 
+@pytest.mark.slow  # its fixture's free-body sweep, 5.5 s cold since the pin pressures: out of the fast tier
 def test_the_second_speed_is_the_first_scaled_by_the_speed_squared(rows):
     one, two = (np.flatnonzero(rows["speed_Hz"] == hz) for hz in (1.0, 2.0))
     np.testing.assert_allclose(rows["crank-rail_stress_MPa"][two], 4 * rows["crank-rail_stress_MPa"][one], rtol=1e-12)
@@ -63,6 +64,7 @@ def test_the_second_speed_is_the_first_scaled_by_the_speed_squared(rows):
     np.testing.assert_array_equal(rows["safe_speed_Hz"][two], rows["safe_speed_Hz"][one])
 
 
+@pytest.mark.slow  # the same fixture, and a check: out of the fast tier
 def test_a_second_speed_row_equals_check_at_that_speed(rows):
     i = int(np.flatnonzero(rows["speed_Hz"] == 2.0)[-1])
     row = {k: v[i] for k, v in rows.items()}
