@@ -22,7 +22,7 @@ middle, 2 mm from its ends), per model and direction (the axial push toward the 
 end, the axial push toward the clamp, the transverse push), and the ratios to contact.
 Run by hand:
 
-    python benchmarks/pin_contact.py [--size-hole MM] [--penalty FACTOR]
+    python benchmarks/pin_contact.py [--size-hole MM] [--penalty FACTOR] [--harmonics 0,2]
 """
 
 from __future__ import annotations
@@ -114,7 +114,11 @@ def main() -> None:
     parser = argparse.ArgumentParser()
     parser.add_argument("--size-hole", type=float, default=0.6, help="mesh size at the holes, mm")
     parser.add_argument("--penalty", type=float, default=1e3, help="penalty as a multiple of E / hole radius")
+    parser.add_argument(
+        "--harmonics", default=",".join(map(str, HARMONICS)), help="the pin pressure's harmonics beyond k = 1 (0 and even k)"
+    )
     args = parser.parse_args()
+    harmonics = tuple(int(k) for k in args.harmonics.split(","))
     geo = rail(0.2)
     mesh = mesh_part(geo, 4e-3, args.size_hole * 1e-3)
     K, basis = assemble(mesh.points, mesh.tets, STEEL, 2, mesh.curved)
@@ -126,13 +130,13 @@ def main() -> None:
     penalty = args.penalty * STEEL.youngs_modulus / r
     bore_top = geo.get("height") - geo.get("counterbore_depth")
     print(f"rail 200 mm, P2, size 4 mm, {args.size_hole} mm at the holes: {basis.N} DOFs; penalty {args.penalty:g} E/r")
-    print(f"pin pressure: k = 1 and the harmonics {HARMONICS} of the loaded-half cosine")
+    print(f"pin pressure: k = 1 and the harmonics {harmonics} of the loaded-half cosine")
     print("peak von Mises within 3 r of the hole, MPa (in brackets: over the bore's middle, 2 mm from its ends)")
     models = ("uniform", "pin pressure", "cosine", "contact", "contact, no tilt")
     print(
         f"{'pin force':<22}" + "".join(f"{m:>18}" for m in models) + "   ratios to contact (uniform, pin pressure, cosine)"
     )
-    pressure = bearing_vectors(basis, mesh.groups, "hole_0", HARMONICS)
+    pressure = bearing_vectors(basis, mesh.groups, "hole_0", harmonics)
     directions = (
         ("axial, toward the end", np.array([-1.0, 0.0])),
         ("axial, toward clamp", np.array([1.0, 0.0])),
@@ -147,7 +151,7 @@ def main() -> None:
 
         force = FORCE * direction
         uniform = solved(unit_traction_vectors(basis, mesh.groups, "hole_0")[:, :2] @ force)
-        pin = solved(pressure @ np.concatenate([force, harmonic_coefficients(force)]))
+        pin = solved(pressure @ np.concatenate([force, harmonic_coefficients(force, harmonics)]))
         d3 = np.array([*direction, 0.0])
 
         def cosine(x, d=d3):
