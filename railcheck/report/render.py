@@ -139,7 +139,9 @@ def render_part(path: str | Path, name: str, part) -> Path:
         f"largest {deflection} {cycle.envelope.max_tip * 1e3:.3g} mm\n"
         f"shape x {scale:.3g} (largest displacement 5% of the part); "
         + (
-            "free body: no support (inertia relief); red: joint forces"
+            "on a rigid foundation: its base carries the loads' linear reaction (not drawn); red: loads"
+            if part.job.loads.is_on_foundation
+            else "free body: no support (inertia relief); red: joint forces"
             if part.job.free_body is not None
             else "black: the clamp; magenta: its singular zone; red: joint force"
         )
