@@ -22,7 +22,7 @@ def _brute(stress, mask, C, se=200e6, sut=750e6, criterion="goodman"):
 @settings(max_examples=40, deadline=None)
 @given(
     seed=st.integers(0, 2**31 - 1),
-    k=st.sampled_from([2, 3, 4]),
+    k=st.sampled_from([2, 3, 4, 6, 12]),
     criterion=st.sampled_from(["goodman", "gerber", "asme-elliptic"]),
     spread=st.floats(0.0, 3.0),
 )
@@ -154,8 +154,8 @@ def test_hull_steps_keep_every_result():
 
 
 def test_a_spike_between_sampled_steps_is_not_lost():
-    """The fatigue screen with three or more coefficients first reads every 8th step and
-    bounds the steps between (their coefficients within an ellipse of a sampled step's).
+    """The screens of three or more coefficients first read every 8th step in the history's
+    principal subspace and bound the steps between (their distance from a sampled step's).
     Here a one-step spike on the third coefficient falls between sampled steps, and the
     nodes it loads most hold the true minimum only because of it; decoys (huge stress on a
     coefficient the history barely uses) take the screen's first exact evaluations. The
@@ -180,3 +180,35 @@ def test_a_spike_between_sampled_steps_is_not_lost():
     assert np.all(_brute(stress, mask, C[:, ::8])[1] > n_min * 1.05)  # the spike sets the minimum
     np.testing.assert_allclose(fatigue_min(screen, C, 200e6, 750e6, "goodman", 400e6), n_min, rtol=1e-12)
     np.testing.assert_allclose(von_mises_peak(screen, C), vm, rtol=1e-12)
+
+
+def test_stress_outside_the_history_s_principal_subspace_is_not_lost():
+    """A history of twelve coefficients that moves in four of them, with a one-step kick
+    in the other eight (too little of the history's energy to be a principal direction):
+    the screens read the nodes in the four-dimensional principal subspace and bound the
+    rest by the residual's size. Here the nodes that hold the true peak and the true lowest
+    factor carry stress only on the eight kicked coefficients, so their values in the
+    subspace are nearly zero and only the residual's bound keeps them: the results still
+    equal every node x every step."""
+    rng = np.random.default_rng(12)
+    n, T, k = 2000, 240, 12
+    t = np.linspace(0, 2 * np.pi, T, endpoint=False)
+    C = np.zeros((2, T, k))
+    for j in range(4):
+        C[..., j] = 100 * np.cos((j + 1) * t + j)[None] + np.array([[0.0], [30.0 * j]])
+    C[:, 101, 4:] = rng.normal(size=(2, k - 4)) * 0.1  # the kick, between sampled steps
+    stress = rng.normal(size=(6, n, k))
+    stress[:, :, 4:] *= 1e-3
+    hidden = rng.choice(n, 30, replace=False)
+    stress[:, hidden, :4] *= 1e-3
+    stress[:, hidden, 4:] = rng.normal(size=(6, 30, k - 4)) * 3e3
+    mask = np.ones(n, bool)
+    screen = make_screen(stress, mask, rng.normal(size=(3, k)), list(range(k)))
+    vm, n_min = _brute(stress, mask, C)
+    for c in C:  # the hidden nodes govern both
+        X = np.tensordot(stress, c, axes=([2], [1]))
+        assert np.argmax(von_mises(X).max(axis=1)) in hidden
+        sa, sm = alternating_and_mean(X.max(axis=2), X.min(axis=2))
+        assert np.argmin(safety_factor(sa, sm, 200e6, 750e6, "goodman")) in hidden
+    np.testing.assert_allclose(von_mises_peak(screen, C), vm, rtol=1e-12)
+    np.testing.assert_allclose(fatigue_min(screen, C, 200e6, 750e6, "goodman", None), n_min, rtol=1e-12)

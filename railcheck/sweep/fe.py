@@ -4,17 +4,21 @@ von Mises peak, fatigue factor and tip deflection of many settings at once.
 
 Exact screening. For a setting with coefficient history ``c(t)`` (steps, k):
 
-* von Mises at node n is ``sqrt(c^T Q_n c) <= sqrt(lam_n) |c|`` (``lam_n`` the largest
-  eigenvalue of ``Q_n``). The exact maximum over a few nodes of largest ``lam_n`` gives a
-  lower bound ``L`` of the peak; only nodes with ``sqrt(lam_n) max|c| >= L`` can hold it,
-  and the peak is evaluated exactly on them.
-* fatigue: an ellipse ``(c - c0)^T E^-1 (c - c0) <= 1`` holds the whole history, so
-  each stress component ``s_j . c`` (``s_j`` its k coefficients at the node) has a
-  half-range of at most ``h_j = sqrt(s_j^T E s_j)`` and a midrange within
-  ``s_j . c0 +- h_j``; from these, upper bounds of the node's alternating and midrange
-  von Mises. A fatigue factor falls with both, so the bounds' factor is a lower bound
-  of the node's, and only nodes whose bound is below the best exact factor so far (a
-  few nodes of largest stress first) are evaluated exactly.
+* Two coefficients (the clamped rails): von Mises at node n is ``sqrt(c^T Q_n c) <=
+  sqrt(lam_n) |c|`` (``lam_n`` the largest eigenvalue of ``Q_n``); a few nodes of largest
+  ``lam_n`` give a lower bound ``L`` of the peak and only nodes with ``sqrt(lam_n) max|c|
+  >= L`` are evaluated. Fatigue: an ellipse holds the history, which bounds each
+  component's half-range and midrange; the ranges are the cycle polygon's support function.
+* More coefficients (free bodies: pins, pin pressures, inertia fields, modes): each history
+  is split into its principal subspace of rank :data:`REDUCED_RANK` and a residual
+  (``c_t = P a_t + e_t``), and every STRIDE-th step is read at every node in the subspace.
+  A step between lies within ``|a_t - a_s|`` of a sampled one and within ``|e_t|`` of the
+  subspace, which bounds every node's von Mises and component ranges over all steps
+  (:func:`_reduced_von_mises_peak`, :func:`_reduced_fatigue_min`). The nodes of best
+  sampled value are evaluated exactly first (a threshold), then only the nodes whose bound
+  can beat it. A many-coefficient history of a real setting lies close to a few
+  directions (singular values falling to a few % by the fourth), so a few hundred of
+  10,000-30,000 nodes are evaluated at every step.
 
 The results equal evaluating every verdict node (:func:`railcheck.check.cycle.evaluate_cycle`)
 to rounding. All arrays SI (Pa, m); vectorised over settings, steps and nodes, in chunks
@@ -41,7 +45,8 @@ class Screen:
     Pa per unit coefficient; ``Q`` (n, k*k) the von Mises quadratic forms in the scaled
     coefficients ``c * scale`` (Pa^2); ``lam`` (n,) their largest eigenvalues; ``G`` and
     ``Ga`` (n,) the midrange and alternating bound factors of the fatigue screen; ``tip``
-    (3, k) m."""
+    (3, k) m; ``unit_rows`` (6, n) each component's stress per unit scaled coefficient
+    (the norm of its k values over ``scale``)."""
 
     stress: np.ndarray
     Q: np.ndarray
@@ -49,6 +54,7 @@ class Screen:
     G: np.ndarray
     Ga: np.ndarray
     tip: np.ndarray
+    unit_rows: np.ndarray
     by_lam: np.ndarray = field(repr=False, default=None)
     by_G: np.ndarray = field(repr=False, default=None)
     angle: np.ndarray | None = field(repr=False, default=None)  # (6, n) arctan2 of each component (k = 2)
@@ -73,7 +79,8 @@ def make_screen(stress: np.ndarray, verdict_mask: np.ndarray, tip: np.ndarray, c
     G = np.sqrt(0.5 * ((norms[0] + norms[1]) ** 2 + (norms[1] + norms[2]) ** 2 + (norms[2] + norms[0]) ** 2) + shear)
     Ga = np.sqrt(norms[0] ** 2 + norms[1] ** 2 + norms[2] ** 2 + shear)
     angle = np.arctan2(S[..., 1], S[..., 0]) if k == 2 else None
-    return Screen(S, Q.reshape(-1, k * k), lam, G, Ga, tip[:, cols], np.argsort(-lam), np.argsort(-Ga), angle, w)
+    unit_rows = np.linalg.norm(Sw, axis=2)  # (6, n): each component's stress per unit scaled coefficient
+    return Screen(S, Q.reshape(-1, k * k), lam, G, Ga, tip[:, cols], unit_rows, np.argsort(-lam), np.argsort(-Ga), angle, w)
 
 
 def hull_steps(C: np.ndarray) -> np.ndarray:
@@ -95,8 +102,11 @@ def _groups(settings: int, per_setting: int) -> list[slice]:
 
 def von_mises_peak(screen: Screen, C: np.ndarray) -> np.ndarray:
     """(S,) Pa: the largest von Mises over the verdict nodes and steps of each setting's
-    history ``C`` (S, T, k)."""
+    history ``C`` (S, T, k): histories of more than two coefficients in their own principal
+    subspace (:func:`_reduced_von_mises_peak`), two by the nodes' eigenvalue bound."""
     S_, T, k = C.shape
+    if k > 2 and T > 4 * STRIDE:
+        return np.array([_reduced_von_mises_peak(screen, c) for c in C])
     C = C * screen.scale if screen.scale is not None else C  # the coefficients of Q
     CC = (C[..., :, None] * C[..., None, :]).reshape(S_, T, k * k)
     R2 = np.einsum("stk,stk->st", C, C).max(axis=1)
@@ -113,6 +123,77 @@ def von_mises_peak(screen: Screen, C: np.ndarray) -> np.ndarray:
             vm2 = screen.Q[nodes] @ CC[g].reshape(-1, k * k).T
             best[g] = np.maximum(best[g], vm2.reshape(nodes.size, -1, T).max(axis=(0, 2)))
     return np.sqrt(np.maximum(best, 0.0))
+
+
+#: the rank of the principal subspace a many-coefficient history is screened in
+REDUCED_RANK = 4
+#: every STRIDE-th step of a history is read at every node; the steps between are bounded
+STRIDE = 8
+#: nodes of largest sampled value evaluated exactly first, for a threshold near the optimum
+FIRST_NODES = 16
+
+
+@dataclass(frozen=True)
+class _Reduced:
+    """One history ``c`` (T, k) in scaled coefficients, split as ``c_t = P a_t + e_t``: ``P``
+    (k, r) its principal directions, ``a`` (T, r) the steps' coordinates, ``eps`` the largest
+    ``|e_t|``; ``sampled`` the indices of every STRIDE-th step and ``delta`` the largest
+    distance ``|a_t - a_s|`` of any step from its nearer sampled neighbour."""
+
+    c: np.ndarray
+    P: np.ndarray
+    a: np.ndarray
+    eps: float
+    sampled: np.ndarray
+    delta: float
+
+
+def _reduce(screen: Screen, c: np.ndarray) -> _Reduced:
+    """The history ``c`` (T, k) (unscaled coefficients) in its principal subspace."""
+    c = c * screen.scale
+    T, k = c.shape
+    r = min(REDUCED_RANK, k)
+    _, _, Vt = np.linalg.svd(c, full_matrices=False)
+    P = Vt[:r].T
+    a = c @ P
+    eps = float(np.linalg.norm(c - a @ P.T, axis=1).max())
+    sampled = np.arange(0, T, STRIDE)
+    before = (np.arange(T) // STRIDE) * STRIDE
+    after = np.minimum(before + STRIDE, sampled[-1])
+    gap = np.minimum(np.linalg.norm(a - a[before], axis=1), np.linalg.norm(a - a[after], axis=1))
+    return _Reduced(c, P, a, eps, sampled, float(gap.max()))
+
+
+def _reduced_von_mises_peak(screen: Screen, c: np.ndarray) -> float:
+    """Pa: the exact largest von Mises over the nodes and steps of one history ``c`` (T, k).
+
+    With ``Q_n`` the node's quadratic form (von Mises^2 = c^T Q_n c), ``L_n`` a factor
+    (``Q_n = L_n^T L_n``) and ``c_t = P a_t + e_t``: ``|L_n c_t| <= |L_n P a_s| +
+    ||L_n P||_F |a_t - a_s| + sqrt(lam_n) |e_t|`` for the sampled step ``s`` nearer ``t``.
+    The sampled steps are read at every node in the r-dimensional subspace (r^2 terms per
+    node and step instead of k^2); the nodes of largest sampled value give an exact lower
+    bound, and only nodes whose upper bound reaches it are evaluated at every step."""
+    red = _reduce(screen, c)
+    n, r = screen.Q.shape[0], red.P.shape[1]
+    k = red.P.shape[0]
+    QP = np.einsum("kr,nks->nrs", red.P, (screen.Q.reshape(n * k, k) @ red.P).reshape(n, k, r)).reshape(n, r * r)
+    frob = np.sqrt(np.maximum(QP[:, :: r + 1].sum(axis=1), 0.0))
+    a = red.a[red.sampled]
+    sampled = np.sqrt(np.maximum(QP @ (a[:, :, None] * a[:, None, :]).reshape(-1, r * r).T, 0.0).max(axis=1))
+    upper = sampled + frob * red.delta + np.sqrt(np.maximum(screen.lam, 0.0)) * red.eps
+    first = np.argsort(-sampled)[:FIRST_NODES]
+    low = _exact_von_mises2(screen, first, red.c)
+    nodes = np.flatnonzero(upper**2 >= low * (1.0 - SLACK))
+    return float(np.sqrt(max(low, _exact_von_mises2(screen, nodes, red.c))))
+
+
+def _exact_von_mises2(screen: Screen, nodes: np.ndarray, c: np.ndarray) -> float:
+    """Pa^2: the largest von Mises squared over ``nodes`` and every step of ``c`` (T, k), scaled."""
+    cc = (c[:, :, None] * c[:, None, :]).reshape(c.shape[0], -1).T
+    best = 0.0
+    for g in _groups(nodes.size, c.shape[0]):
+        best = max(best, float((screen.Q[nodes[g]] @ cc).max()))
+    return best
 
 
 def fatigue_min(
@@ -133,71 +214,61 @@ def fatigue_min(
     an upper estimate of the exact minimum, itself at least ``enough``)."""
 
     factor = lambda sa, sm: safety_factor(sa, sm, endurance, ultimate, criterion, yield_strength)  # noqa: E731
+    S_, T, k = C.shape
+    if k > 2 and T > 4 * STRIDE:
+        return np.array([_reduced_fatigue_min(screen, c, factor, enough) for c in C])
     polygons = [hull_polygon(c) for c in C] if screen.angle is not None else None  # once per history
     best = _fatigue_exact(screen, screen.by_G[:TOP_NODES], C, factor, polygons)
     c0, E = _enclosing_ellipse(C)
     n = screen.stress.shape[1]
-    for g in _groups(C.shape[0], 12 * n):
+    for g in _groups(S_, 12 * n):
         bound = factor(*_fatigue_bounds(screen.stress, c0[g], E[g]))  # (n, s)
         can = bound <= best[g][None, :] * (1.0 + SLACK)
         if enough is not None:
             can &= bound < enough * (1.0 + SLACK)
-        for h in _groups(can.shape[1], 6 * max(1, int(can.sum(axis=0).max())) * C.shape[1]):
+        for h in _groups(can.shape[1], 6 * max(1, int(can.sum(axis=0).max())) * T):
             nodes = np.flatnonzero(can[:, h].any(axis=1))
             if nodes.size:
-                sub = np.arange(C.shape[0])[g][h]
-                if polygons is not None:
-                    some = [polygons[i] for i in sub]
-                    best[sub] = np.minimum(best[sub], _fatigue_exact(screen, nodes, C[sub], factor, some))
-                else:
-                    best[sub] = np.minimum(best[sub], _fatigue_two_level(screen, nodes, C[sub], factor, best[sub]))
+                sub = np.arange(S_)[g][h]
+                some = [polygons[i] for i in sub] if polygons is not None else None
+                best[sub] = np.minimum(best[sub], _fatigue_exact(screen, nodes, C[sub], factor, some))
     return best
 
 
-#: every STRIDE-th step of a history first (:func:`_fatigue_two_level`)
-STRIDE = 8
-#: nodes of smallest sampled factor evaluated exactly first, for a threshold near the minimum
-FIRST_NODES = 16
+def _reduced_fatigue_min(screen: Screen, c: np.ndarray, factor, enough: float | None) -> float:
+    """The exact smallest fatigue factor over the nodes of one history ``c`` (T, k).
 
-
-def _fatigue_two_level(screen: Screen, nodes: np.ndarray, C: np.ndarray, factor, best: np.ndarray) -> np.ndarray:
-    """(S,) the smallest fatigue factor over ``nodes`` where it can beat ``best`` (S,), else
-    inf. First every STRIDE-th step: each step's coefficients are a sampled step's plus a
-    difference ``d`` that an ellipse E holds (as :func:`_enclosing_ellipse`), so a
-    component ``s . c`` lies within ``sqrt(s^T E s)`` of its sampled range, which bounds
-    the node's factor from below. The few nodes of smallest sampled factor are evaluated at
-    every step first (a threshold near the minimum), then every node whose bound can still
-    beat it. Exact: the nodes left out cannot hold the minimum."""
-    S_, T, k = C.shape
-    if T <= 4 * STRIDE:
-        return _fatigue_exact(screen, nodes, C, factor)
-    sampled = np.arange(0, T, STRIDE)
-    d = C - C[:, (np.arange(T) // STRIDE) * STRIDE]  # (S, T, k): from the sampled step before
-    M = np.einsum("stk,stl->skl", d, d) / T
-    M = M + (1e-12 * np.trace(M, axis1=1, axis2=2)[:, None, None] + 1e-300) * np.eye(k)
-    reach = np.einsum("stk,skl,stl->st", d, np.linalg.inv(M), d).max(axis=1)
-    E = M * (reach * (1.0 + 1e-9) + 1e-300)[:, None, None]
-    out = np.full(S_, np.inf)
-    stress = screen.stress[:, nodes, :]
-    for g in _groups(S_, 6 * nodes.size * max(sampled.size, k)):
-        X = np.tensordot(stress, C[g][:, sampled], axes=([2], [2]))  # (6, u, s, T/STRIDE)
-        hi, lo = X.max(axis=3), X.min(axis=3)
-        e = np.sqrt(np.maximum(np.einsum("jnk,skl,jnl->jns", stress, E[g], stress, optimize=True), 0.0))
-        h = 0.5 * (hi - lo) + e  # half-ranges (non-negative) and midranges' magnitudes, bounded
-        B = np.abs(0.5 * (hi + lo)) + 0.5 * e
-        sa = np.sqrt(h[0] ** 2 + h[1] ** 2 + h[2] ** 2 + 3.0 * (h[3] ** 2 + h[4] ** 2 + h[5] ** 2))
-        sm = np.sqrt(
-            0.5 * ((B[0] + B[1]) ** 2 + (B[1] + B[2]) ** 2 + (B[2] + B[0]) ** 2) + 3.0 * (B[3] ** 2 + B[4] ** 2 + B[5] ** 2)
-        )
-        bound = factor(sa, sm)  # (u, s)
-        guess = factor(*alternating_and_mean(hi, lo))  # the sampled steps' factor, an estimate
-        for i, setting in enumerate(np.arange(S_)[g]):  # each setting at its own nodes (few)
-            c = C[setting : setting + 1]
-            first = np.argsort(guess[:, i])[:FIRST_NODES]
-            top = min(best[setting], _fatigue_exact(screen, nodes[first], c, factor)[0])
-            keep = nodes[bound[:, i] <= top * (1.0 + SLACK)]
-            out[setting] = min(top, _fatigue_exact(screen, keep, c, factor)[0]) if keep.size else top
-    return out
+    Each stress component ``s . c_t = (s/w) P a_t + (s/w) e_t`` lies within ``g = |(s/w) P|
+    |a_t - a_s| + |s/w| |e_t|`` of its value at the sampled step ``s`` nearer ``t`` in the
+    subspace, so its maximum and minimum over all steps lie within ``g`` outside the
+    sampled ones: bounds of the half-range and the midrange's magnitude, hence upper bounds
+    of the alternating and midrange von Mises (no cross terms) and a lower bound of the
+    node's factor. The nodes of smallest sampled factor are evaluated exactly first (a
+    threshold), then every node whose bound can beat it."""
+    red = _reduce(screen, c)
+    SP = screen.stress @ (red.P / screen.scale[:, None])  # (6, n, r): stress per unit of a
+    a = red.a[red.sampled]
+    hi, lo = np.empty(SP.shape[:2]), np.empty(SP.shape[:2])
+    for j in range(6):
+        X = SP[j] @ a.T  # (n, sampled)
+        hi[j], lo[j] = X.max(axis=1), X.min(axis=1)
+    g = np.linalg.norm(SP, axis=2) * red.delta + screen.unit_rows * red.eps
+    half, mid = 0.5 * (hi - lo) + g, np.abs(0.5 * (hi + lo)) + g
+    sa = np.sqrt(half[0] ** 2 + half[1] ** 2 + half[2] ** 2 + 3.0 * (half[3] ** 2 + half[4] ** 2 + half[5] ** 2))
+    sm = np.sqrt(
+        0.5 * ((mid[0] + mid[1]) ** 2 + (mid[1] + mid[2]) ** 2 + (mid[2] + mid[0]) ** 2)
+        + 3.0 * (mid[3] ** 2 + mid[4] ** 2 + mid[5] ** 2)
+    )
+    bound = factor(sa, sm)  # (n,)
+    guess = factor(*alternating_and_mean(hi, lo))  # the sampled steps' factor, an estimate
+    history = (red.c / screen.scale)[None]
+    first = np.argsort(guess)[:FIRST_NODES]
+    top = float(_fatigue_exact(screen, first, history, factor)[0])
+    keep = bound <= top * (1.0 + SLACK)
+    if enough is not None:
+        keep &= bound < enough * (1.0 + SLACK)
+    nodes = np.flatnonzero(keep)
+    return min(top, float(_fatigue_exact(screen, nodes, history, factor)[0])) if nodes.size else top
 
 
 def _enclosing_ellipse(C: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
