@@ -131,6 +131,19 @@ def _sum_onto_nodes(sdofs: np.ndarray, n: int, values: np.ndarray) -> np.ndarray
     return np.asarray(scatter @ values.reshape(e * nb, -1))
 
 
+#: von Mises squared as a quadratic form of the six stress components (xx, yy, zz, xy, yz, xz)
+VM_QUADRATIC = np.array(
+    [
+        [1.0, -0.5, -0.5, 0, 0, 0],
+        [-0.5, 1.0, -0.5, 0, 0, 0],
+        [-0.5, -0.5, 1.0, 0, 0, 0],
+        [0, 0, 0, 3.0, 0, 0],
+        [0, 0, 0, 0, 3.0, 0],
+        [0, 0, 0, 0, 0, 3.0],
+    ]
+)
+
+
 def von_mises(s: np.ndarray) -> np.ndarray:
     """Von Mises stress (Pa) of stress components (6, ...) Pa (xx, yy, zz, xy, yz, xz)."""
     sxx, syy, szz, sxy, syz, sxz = s

@@ -16,7 +16,9 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from . import screen
 from .elasticity import von_mises
+from .stress import VM_QUADRATIC  # von Mises squared as s^T P s (re-exported)
 
 CHUNK_VALUES = 20_000_000  # floats per chunk of (6, nodes, steps)
 HULL_MAX_DIM = 3  # above it, every step is evaluated (qhull on a closed curve in 5 dimensions took minutes)
@@ -129,19 +131,6 @@ def _node_chunks(nodes: int, steps: int):
     size = max(1, CHUNK_VALUES // (6 * max(steps, 1)))
     for start in range(0, nodes, size):
         yield slice(start, min(start + size, nodes))
-
-
-#: von Mises squared is s^T P s for Voigt components s = (xx, yy, zz, xy, yz, xz)
-VM_QUADRATIC = np.array(
-    [
-        [1.0, -0.5, -0.5, 0, 0, 0],
-        [-0.5, 1.0, -0.5, 0, 0, 0],
-        [-0.5, -0.5, 1.0, 0, 0, 0],
-        [0, 0, 0, 3.0, 0, 0],
-        [0, 0, 0, 0, 3.0, 0],
-        [0, 0, 0, 0, 0, 3.0],
-    ]
-)
 
 
 def von_mises_max(S: np.ndarray, C: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -264,6 +253,8 @@ def screened_max(S: np.ndarray, C: np.ndarray, mask: np.ndarray) -> tuple[float,
     bound reaches it are evaluated."""
     idx = np.flatnonzero(mask)
     k = S.shape[2]
+    if screen.applies(C.shape[0], k):  # many coefficients: the history's own subspace screens the nodes
+        return _exact_max(S, C, idx[_subspace_candidates(S[:, idx], C)])
     Q = np.einsum("cnk,cd,dnl->nkl", S[:, idx], VM_QUADRATIC, S[:, idx], optimize=True)
     lam = np.linalg.eigvalsh(Q)[:, -1]
     Q = Q.reshape(idx.size, k * k)
@@ -279,6 +270,24 @@ def screened_max(S: np.ndarray, C: np.ndarray, mask: np.ndarray) -> tuple[float,
         best[sl] = np.take_along_axis(vm2, where[sl, None], axis=1)[:, 0]
     j = int(np.argmax(best))
     return float(np.sqrt(max(best[j], 0.0))), int(idx[can[j]]), int(where[j])
+
+
+def _subspace_candidates(S: np.ndarray, C: np.ndarray) -> np.ndarray:
+    """Indices (ascending) of the nodes of ``S`` (6, n, k) that can hold the largest von
+    Mises of the history ``C`` (steps, k): bounds from its principal subspace
+    (:mod:`fea.screen`), a lower bound from the nodes of largest sampled value."""
+    b = screen.history_bounds(S, C)
+    first = screen.first_nodes(b.von_mises)
+    lower = float(von_mises(stress_at(S[:, first], C)).max())
+    return screen.peak_candidates(b, lower)
+
+
+def _exact_max(S: np.ndarray, C: np.ndarray, nodes: np.ndarray) -> tuple[float, int, int]:
+    """(largest von Mises Pa, its node, its step) over ``nodes`` (ascending) and every step
+    of ``C``, as :func:`von_mises_max` evaluates them (the first node and step of the maximum)."""
+    best, where = von_mises_max(S[:, nodes], C)
+    j = int(np.argmax(best))
+    return float(best[j]), int(nodes[j]), int(where[j])
 
 
 def history_at_node(fields: UnitFields, C: np.ndarray, node: int) -> np.ndarray:

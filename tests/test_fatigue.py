@@ -221,3 +221,36 @@ def test_the_fatigue_verdict_compares_with_the_required_factor():
         replace(job, fatigue=replace(job.fatigue, min_safety=result.min_safety_factor)), _one_node_fields(), C
     )
     assert lower.passed  # at exactly the required factor: passes
+
+
+@pytest.mark.parametrize("criterion", ["goodman", "gerber", "asme-elliptic"])
+def test_without_node_fields_the_screened_minimum_is_every_nodes(criterion):
+    """A check that writes no VTU needs only the minimum: a many-coefficient history's
+    nodes are screened in its principal subspace and only the few that can hold the
+    minimum are evaluated. Minimum, node, sigma_a and sigma_m equal every node x every
+    step's, on random fields with hot nodes, decoys (huge stress on a barely used
+    coefficient) and a history with a mean and a kick between sampled steps; and the
+    verdict mask is honoured."""
+    job = _crank_job(f'[fatigue]\ncriterion = "{criterion}"\n')
+    rng = np.random.default_rng(21)
+    n, T, k = 3000, 400, 9
+    S = rng.normal(size=(6, n, k)) * np.exp(1.2 * rng.normal(size=(1, n, 1))) * 1e3
+    S[:, :150, :] *= 1e-3
+    S[:, :150, k - 1] = rng.normal(size=(6, 150)) * 1e8  # decoys
+    t = np.linspace(0, 2 * np.pi, T, endpoint=False)
+    C = np.column_stack([1e4 * np.cos((j + 1) * t + j) + 3e3 * j for j in range(k - 1)] + [1e-6 * np.sin(t)])
+    C[203, : k - 1] *= 1.8  # a kick between sampled steps
+
+    def fields_with(mask):
+        return UnitFields(S, np.zeros((3, k)), np.zeros((n, 3, k)), rng.normal(size=(n, 3)), mask, tuple(map(str, range(k))))
+
+    mask = rng.random(n) > 0.2
+    mask[np.argmin(fatigue_of(job, fields_with(np.ones(n, bool)), C).node_factor)] = False  # the mask matters
+    fields = fields_with(mask)
+    full = fatigue_of(job, fields, C)
+    fast = fatigue_of(replace(job, node_fields=False), fields, C)
+    assert full.node_factor is not None and fast.node_factor is None
+    assert fast.location == full.location
+    assert fast.min_safety_factor == pytest.approx(full.min_safety_factor, rel=1e-12)
+    assert (fast.sigma_a, fast.sigma_m) == pytest.approx((full.sigma_a, full.sigma_m), rel=1e-12)
+    assert full.node_factor.min() < full.min_safety_factor  # the minimum over all nodes is left out

@@ -7,7 +7,7 @@ from hypothesis import strategies as st
 
 from railcheck.fea.elasticity import von_mises
 from railcheck.fea.fatigue import alternating_and_mean, safety_factor
-from railcheck.sweep.fe import fatigue_min, make_screen, tip_peak, von_mises_peak
+from railcheck.sweep.fe import fatigue_min, make_screen, peak_and_fatigue, tip_peak, von_mises_peak
 
 
 def _brute(stress, mask, C, se=200e6, sut=750e6, criterion="goodman"):
@@ -212,3 +212,6 @@ def test_stress_outside_the_history_s_principal_subspace_is_not_lost():
         assert np.argmin(safety_factor(sa, sm, 200e6, 750e6, "goodman")) in hidden
     np.testing.assert_allclose(von_mises_peak(screen, C), vm, rtol=1e-12)
     np.testing.assert_allclose(fatigue_min(screen, C, 200e6, 750e6, "goodman", None), n_min, rtol=1e-12)
+    both = peak_and_fatigue(screen, C, 200e6, 750e6, "goodman", None)  # the bounds computed once for both
+    np.testing.assert_allclose(both[0], vm, rtol=1e-12)
+    np.testing.assert_allclose(both[1], n_min, rtol=1e-12)

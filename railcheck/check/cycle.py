@@ -29,6 +29,7 @@ from railcheck.check.records import (
     SeedMethod,
 )
 from railcheck.errors import NumericalError
+from railcheck.fea import screen
 from railcheck.fea.dynamic import modal_correction
 from railcheck.fea.elasticity import Solution
 from railcheck.fea.fatigue import alternating_and_mean, endurance_limit, safety_factor
@@ -265,26 +266,53 @@ def _verdict_mask(fields: UnitFields) -> np.ndarray:
 
 def fatigue_of(job: PartJob, fields: UnitFields, C: np.ndarray, steps: np.ndarray | None = None) -> FatigueResult:
     """The minimum fatigue safety factor over the verdict nodes of one history, where,
-    its sigma_a / sigma_m (Pa), the endurance limit and Marin factors, and the factor at
-    every node (for the VTU)."""
+    its sigma_a / sigma_m (Pa), the endurance limit and Marin factors, and, when the job
+    writes node fields (the VTU), the factor at every node. Without, a many-coefficient
+    history's nodes are screened (:mod:`fea.screen`) and only those that can hold the
+    minimum are evaluated: the same minimum, node and stresses."""
     spec, material = job.fatigue, job.material
     marin = endurance_limit(material.ultimate_strength, spec.surface, job.section, spec.load, spec.reliability)
-    hi, lo = component_range(fields.stress, C[candidate_steps(C) if steps is None else steps])
-    sa, sm = alternating_and_mean(hi, lo)
-    n = safety_factor(sa, sm, marin.endurance_limit, material.ultimate_strength, spec.criterion, material.yield_strength)
-    k = int(np.argmin(np.where(_verdict_mask(fields), n, np.inf)))
+    C = C[candidate_steps(C) if steps is None else steps]
+    factor = lambda sa, sm: safety_factor(  # noqa: E731
+        sa, sm, marin.endurance_limit, material.ultimate_strength, spec.criterion, material.yield_strength
+    )
+    mask = _verdict_mask(fields)
+    if job.node_fields or not screen.applies(*C.shape):
+        sa, sm = alternating_and_mean(*component_range(fields.stress, C))
+        n = factor(sa, sm)
+        k = int(np.argmin(np.where(mask, n, np.inf)))
+        node_factor, n_k, sa_k, sm_k = n, n[k], sa[k], sm[k]
+    else:
+        nodes = _fatigue_candidates(fields.stress[:, mask], C, factor)
+        sa, sm = alternating_and_mean(*component_range(fields.stress[:, np.flatnonzero(mask)[nodes]], C))
+        n = factor(sa, sm)
+        j = int(np.argmin(n))
+        k = int(np.flatnonzero(mask)[nodes[j]])
+        node_factor, n_k, sa_k, sm_k = None, n[j], sa[j], sm[j]
     return FatigueResult(
         criterion=spec.criterion,
         marin=marin,
         surface=spec.surface,
         reliability=spec.reliability,
-        min_safety_factor=float(n[k]),
+        min_safety_factor=float(n_k),
         location=tuple(float(x) for x in fields.nodes[k]),
-        sigma_a=float(sa[k]),
-        sigma_m=float(sm[k]),
+        sigma_a=float(sa_k),
+        sigma_m=float(sm_k),
         required=spec.min_safety,
-        node_factor=n,
+        node_factor=node_factor,
     )
+
+
+def _fatigue_candidates(S: np.ndarray, C: np.ndarray, factor) -> np.ndarray:
+    """Indices (ascending) of the nodes of ``S`` (6, n, k) that can hold the smallest
+    fatigue factor of the history ``C`` (steps, k): a lower bound of each node's factor from
+    its sampled subspace bounds (:func:`fea.screen.fatigue_bounds`), a threshold from the
+    nodes of smallest sampled factor evaluated exactly."""
+    b = screen.history_bounds(S, C)
+    sa, sm, sa_sampled, sm_sampled = screen.fatigue_bounds(b)
+    first = screen.first_nodes(factor(sa_sampled, sm_sampled), largest=False)
+    top = float(factor(*alternating_and_mean(*component_range(S[:, first], C))).min())
+    return np.flatnonzero(factor(sa, sm) <= top * (1.0 + screen.SLACK))
 
 
 def solution_at(fields: UnitFields, c: np.ndarray, solve: UnitSolve, order: int, exclude: float) -> Solution:

@@ -95,6 +95,7 @@ class PartJob:
     free_body: FreeBodyCases | None = None
     dynamic: DynamicJob | None = None
     clamped: PartJob | None = None  # a free rail's 2013 clamped model, checked beside it
+    node_fields: bool = True  # each node's envelope and fatigue factor are wanted (the VTU)
 
     @property
     def supports(self) -> list[str]:
@@ -195,6 +196,7 @@ def part_jobs(
             max_deflection=scene.check.max_deflection,
             free_body=free,
             dynamic=dynamic_job(scene, free, name, holes),
+            node_fields=scene.output.vtk,
         )
     return jobs
 

@@ -52,7 +52,7 @@ class FatigueResult:
     sigma_a: float
     sigma_m: float
     required: float
-    node_factor: np.ndarray
+    node_factor: np.ndarray | None  # None when no node fields are written (no VTU)
 
     @property
     def passed(self) -> bool:

@@ -33,7 +33,7 @@ from railcheck.kinematics.dynamics import STANDARD_GRAVITY
 from railcheck.kinematics.motion import crank_angles
 from railcheck.loads.bearings import bearing_life
 from railcheck.parts import BAR_INDEX, mass_model
-from railcheck.sweep.fe import fatigue_min, hull_steps, tip_peak, von_mises_peak
+from railcheck.sweep.fe import hull_steps, peak_and_fatigue, tip_peak, von_mises_peak
 
 REVOLVE_MARGIN = 1e-7  # rad: closer to a toggle is singular (kinematics.motion)
 
@@ -290,28 +290,27 @@ def evaluate_part(
         length = None if bar_lengths is None else bar_lengths[idx[0]]
         for Cg, Ci in history:
             C = model.with_pin_pressure(length, s[idx, None, None] * Ci[idx] + (Cg[idx] if Cg is not None else 0.0))
-            quasi = von_mises_peak(screen, hull_steps(C))
             read = screen
+            quasi = None
             if modes is not None:
+                quasi = von_mises_peak(screen, hull_steps(C))
                 dq = modal_correction(modes.modal_loads, modes.hz, C, speed0 * np.sqrt(s[idx]), model.damping)
                 C, read = np.concatenate([C, dq], axis=2), modes.screen
             C = hull_steps(C)
-            peak = von_mises_peak(read, C) if modes is not None else quasi
+            peak, factor = peak_and_fatigue(
+                read,
+                C,
+                model.endurance,
+                model.ultimate,
+                model.criterion,
+                model.yield_strength,
+                model.required if decide else None,
+            )
+            quasi = peak if quasi is None else quasi
             with np.errstate(invalid="ignore", divide="ignore"):
                 amp[idx] = np.maximum(amp[idx], np.where(quasi > 0, peak / quasi, 1.0))
             vm[idx] = np.maximum(vm[idx], peak)
-            fat[idx] = np.minimum(
-                fat[idx],
-                fatigue_min(
-                    read,
-                    C,
-                    model.endurance,
-                    model.ultimate,
-                    model.criterion,
-                    model.yield_strength,
-                    model.required if decide else None,
-                ),
-            )
+            fat[idx] = np.minimum(fat[idx], factor)
             tip[idx] = np.maximum(tip[idx], tip_peak(read, C))
     return vm, fat, tip, np.where(np.isfinite(amp), amp, 1.0)
 

@@ -31,6 +31,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from railcheck.fea import screen as screen_
 from railcheck.fea.fatigue import alternating_and_mean, safety_factor
 from railcheck.fea.superpose import VM_QUADRATIC, candidate_steps, hull_polygon, support
 
@@ -105,7 +106,7 @@ def von_mises_peak(screen: Screen, C: np.ndarray) -> np.ndarray:
     history ``C`` (S, T, k): histories of more than two coefficients in their own principal
     subspace (:func:`_reduced_von_mises_peak`), two by the nodes' eigenvalue bound."""
     S_, T, k = C.shape
-    if k > 2 and T > 4 * STRIDE:
+    if screen_.applies(T, k):
         return np.array([_reduced_von_mises_peak(screen, c) for c in C])
     C = C * screen.scale if screen.scale is not None else C  # the coefficients of Q
     CC = (C[..., :, None] * C[..., None, :]).reshape(S_, T, k * k)
@@ -125,66 +126,46 @@ def von_mises_peak(screen: Screen, C: np.ndarray) -> np.ndarray:
     return np.sqrt(np.maximum(best, 0.0))
 
 
-#: the rank of the principal subspace a many-coefficient history is screened in
-REDUCED_RANK = 4
-#: every STRIDE-th step of a history is read at every node; the steps between are bounded
-STRIDE = 8
-#: nodes of largest sampled value evaluated exactly first, for a threshold near the optimum
-FIRST_NODES = 16
+def peak_and_fatigue(
+    screen: Screen,
+    C: np.ndarray,
+    endurance: float,
+    ultimate: float,
+    criterion: str,
+    yield_strength: float | None,
+    enough: float | None = None,
+) -> tuple[np.ndarray, np.ndarray]:
+    """(:func:`von_mises_peak`, :func:`fatigue_min`) of the histories ``C`` (S, T, k), each
+    (S,); a many-coefficient history's sampled bounds computed once for both."""
+    S_, T, k = C.shape
+    if not screen_.applies(T, k):
+        return von_mises_peak(screen, C), fatigue_min(screen, C, endurance, ultimate, criterion, yield_strength, enough)
+    factor = lambda sa, sm: safety_factor(sa, sm, endurance, ultimate, criterion, yield_strength)  # noqa: E731
+    vm, fat = np.empty(S_), np.empty(S_)
+    for i, c in enumerate(C):
+        b = _sampled(screen, c * screen.scale)
+        vm[i] = _reduced_von_mises_peak(screen, c, b)
+        fat[i] = _reduced_fatigue_min(screen, c, factor, enough, b)
+    return vm, fat
 
 
-@dataclass(frozen=True)
-class _Reduced:
-    """One history ``c`` (T, k) in scaled coefficients, split as ``c_t = P a_t + e_t``: ``P``
-    (k, r) its principal directions, ``a`` (T, r) the steps' coordinates, ``eps`` the largest
-    ``|e_t|``; ``sampled`` the indices of every STRIDE-th step and ``delta`` the largest
-    distance ``|a_t - a_s|`` of any step from its nearer sampled neighbour."""
-
-    c: np.ndarray
-    P: np.ndarray
-    a: np.ndarray
-    eps: float
-    sampled: np.ndarray
-    delta: float
-
-
-def _reduce(screen: Screen, c: np.ndarray) -> _Reduced:
-    """The history ``c`` (T, k) (unscaled coefficients) in its principal subspace."""
+def _reduced_von_mises_peak(screen: Screen, c: np.ndarray, b: screen_.SampledBounds | None = None) -> float:
+    """Pa: the exact largest von Mises over the nodes and steps of one history ``c`` (T, k)
+    (unscaled coefficients): the nodes' sampled values and bounds in the history's
+    principal subspace (:mod:`railcheck.fea.screen`); the nodes of largest sampled value
+    give an exact lower bound, and only nodes whose bound reaches it are evaluated at
+    every step."""
     c = c * screen.scale
-    T, k = c.shape
-    r = min(REDUCED_RANK, k)
-    _, _, Vt = np.linalg.svd(c, full_matrices=False)
-    P = Vt[:r].T
-    a = c @ P
-    eps = float(np.linalg.norm(c - a @ P.T, axis=1).max())
-    sampled = np.arange(0, T, STRIDE)
-    before = (np.arange(T) // STRIDE) * STRIDE
-    after = np.minimum(before + STRIDE, sampled[-1])
-    gap = np.minimum(np.linalg.norm(a - a[before], axis=1), np.linalg.norm(a - a[after], axis=1))
-    return _Reduced(c, P, a, eps, sampled, float(gap.max()))
+    b = _sampled(screen, c) if b is None else b
+    low = _exact_von_mises2(screen, screen_.first_nodes(b.von_mises), c)
+    nodes = screen_.peak_candidates(b, np.sqrt(low))
+    return float(np.sqrt(max(low, _exact_von_mises2(screen, nodes, c))))
 
 
-def _reduced_von_mises_peak(screen: Screen, c: np.ndarray) -> float:
-    """Pa: the exact largest von Mises over the nodes and steps of one history ``c`` (T, k).
-
-    With ``Q_n`` the node's quadratic form (von Mises^2 = c^T Q_n c), ``L_n`` a factor
-    (``Q_n = L_n^T L_n``) and ``c_t = P a_t + e_t``: ``|L_n c_t| <= |L_n P a_s| +
-    ||L_n P||_F |a_t - a_s| + sqrt(lam_n) |e_t|`` for the sampled step ``s`` nearer ``t``.
-    The sampled steps are read at every node in the r-dimensional subspace (r^2 terms per
-    node and step instead of k^2); the nodes of largest sampled value give an exact lower
-    bound, and only nodes whose upper bound reaches it are evaluated at every step."""
-    red = _reduce(screen, c)
-    n, r = screen.Q.shape[0], red.P.shape[1]
-    k = red.P.shape[0]
-    QP = np.einsum("kr,nks->nrs", red.P, (screen.Q.reshape(n * k, k) @ red.P).reshape(n, k, r)).reshape(n, r * r)
-    frob = np.sqrt(np.maximum(QP[:, :: r + 1].sum(axis=1), 0.0))
-    a = red.a[red.sampled]
-    sampled = np.sqrt(np.maximum(QP @ (a[:, :, None] * a[:, None, :]).reshape(-1, r * r).T, 0.0).max(axis=1))
-    upper = sampled + frob * red.delta + np.sqrt(np.maximum(screen.lam, 0.0)) * red.eps
-    first = np.argsort(-sampled)[:FIRST_NODES]
-    low = _exact_von_mises2(screen, first, red.c)
-    nodes = np.flatnonzero(upper**2 >= low * (1.0 - SLACK))
-    return float(np.sqrt(max(low, _exact_von_mises2(screen, nodes, red.c))))
+def _sampled(screen: Screen, c: np.ndarray) -> screen_.SampledBounds:
+    """The screen's nodes' sampled values and bounds for the scaled history ``c``."""
+    sub = screen_.principal_subspace(c)
+    return screen_.sampled_bounds(screen.stress, screen.scale, screen.unit_rows, np.sqrt(np.maximum(screen.lam, 0.0)), sub)
 
 
 def _exact_von_mises2(screen: Screen, nodes: np.ndarray, c: np.ndarray) -> float:
@@ -215,7 +196,7 @@ def fatigue_min(
 
     factor = lambda sa, sm: safety_factor(sa, sm, endurance, ultimate, criterion, yield_strength)  # noqa: E731
     S_, T, k = C.shape
-    if k > 2 and T > 4 * STRIDE:
+    if screen_.applies(T, k):
         return np.array([_reduced_fatigue_min(screen, c, factor, enough) for c in C])
     polygons = [hull_polygon(c) for c in C] if screen.angle is not None else None  # once per history
     best = _fatigue_exact(screen, screen.by_G[:TOP_NODES], C, factor, polygons)
@@ -235,35 +216,21 @@ def fatigue_min(
     return best
 
 
-def _reduced_fatigue_min(screen: Screen, c: np.ndarray, factor, enough: float | None) -> float:
-    """The exact smallest fatigue factor over the nodes of one history ``c`` (T, k).
-
-    Each stress component ``s . c_t = (s/w) P a_t + (s/w) e_t`` lies within ``g = |(s/w) P|
-    |a_t - a_s| + |s/w| |e_t|`` of its value at the sampled step ``s`` nearer ``t`` in the
-    subspace, so its maximum and minimum over all steps lie within ``g`` outside the
-    sampled ones: bounds of the half-range and the midrange's magnitude, hence upper bounds
-    of the alternating and midrange von Mises (no cross terms) and a lower bound of the
-    node's factor. The nodes of smallest sampled factor are evaluated exactly first (a
-    threshold), then every node whose bound can beat it."""
-    red = _reduce(screen, c)
-    SP = screen.stress @ (red.P / screen.scale[:, None])  # (6, n, r): stress per unit of a
-    a = red.a[red.sampled]
-    hi, lo = np.empty(SP.shape[:2]), np.empty(SP.shape[:2])
-    for j in range(6):
-        X = SP[j] @ a.T  # (n, sampled)
-        hi[j], lo[j] = X.max(axis=1), X.min(axis=1)
-    g = np.linalg.norm(SP, axis=2) * red.delta + screen.unit_rows * red.eps
-    half, mid = 0.5 * (hi - lo) + g, np.abs(0.5 * (hi + lo)) + g
-    sa = np.sqrt(half[0] ** 2 + half[1] ** 2 + half[2] ** 2 + 3.0 * (half[3] ** 2 + half[4] ** 2 + half[5] ** 2))
-    sm = np.sqrt(
-        0.5 * ((mid[0] + mid[1]) ** 2 + (mid[1] + mid[2]) ** 2 + (mid[2] + mid[0]) ** 2)
-        + 3.0 * (mid[3] ** 2 + mid[4] ** 2 + mid[5] ** 2)
-    )
+def _reduced_fatigue_min(
+    screen: Screen, c: np.ndarray, factor, enough: float | None, b: screen_.SampledBounds | None = None
+) -> float:
+    """The exact smallest fatigue factor over the nodes of one history ``c`` (T, k): the
+    bounds of each node's alternating and midrange von Mises over every step
+    (:func:`railcheck.fea.screen.fatigue_bounds`) bound its factor from below; the nodes of
+    smallest sampled factor are evaluated exactly first (a threshold), then every node
+    whose bound can beat it."""
+    b = _sampled(screen, c * screen.scale) if b is None else b
+    sa, sm, sa_sampled, sm_sampled = screen_.fatigue_bounds(b)
     bound = factor(sa, sm)  # (n,)
-    guess = factor(*alternating_and_mean(hi, lo))  # the sampled steps' factor, an estimate
-    history = (red.c / screen.scale)[None]
-    first = np.argsort(guess)[:FIRST_NODES]
-    top = float(_fatigue_exact(screen, first, history, factor)[0])
+    history = c[None]
+    top = float(
+        _fatigue_exact(screen, screen_.first_nodes(factor(sa_sampled, sm_sampled), largest=False), history, factor)[0]
+    )
     keep = bound <= top * (1.0 + SLACK)
     if enough is not None:
         keep &= bound < enough * (1.0 + SLACK)
