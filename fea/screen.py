@@ -28,12 +28,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .stress import VM_QUADRATIC, von_mises
+from .stress import VM_QUADRATIC, von_mises, von_mises_squared
 
 #: the rank of the principal subspace a history is screened in
 REDUCED_RANK = 4
-#: every STRIDE-th step is read at every node; the steps between are bounded
+#: every STRIDE-th step (at least) is read at every node; the steps between are bounded
 STRIDE = 8
+#: a longer history is read at about this many steps (a stride of T / SAMPLES): the gap
+#: between read steps, which sets the bounds, is then that of 720 steps at STRIDE
+SAMPLES = 90
 #: nodes of best sampled value evaluated exactly first, for a threshold near the optimum
 FIRST_NODES = 16
 #: relative margin on the bounds (rounding)
@@ -58,7 +61,8 @@ def column_scale(S: np.ndarray) -> np.ndarray:
 class Subspace:
     """One scaled history ``c`` (T, k) as ``c_t = P a_t + e_t``: ``P`` (k, r) its principal
     directions, ``a`` (T, r) the steps' coordinates, ``eps`` the largest ``|e_t|``;
-    ``sampled`` the indices of every STRIDE-th step and ``delta`` the largest distance
+    ``sampled`` the indices of the steps read (every STRIDE-th, or about SAMPLES of a long
+    history) and ``delta`` the largest distance
     ``|a_t - a_s|`` of any step from its nearer sampled neighbour."""
 
     P: np.ndarray
@@ -75,9 +79,10 @@ def principal_subspace(c: np.ndarray) -> Subspace:
     P = Vt[: min(REDUCED_RANK, k)].T
     a = c @ P
     eps = float(np.linalg.norm(c - a @ P.T, axis=1).max())
-    sampled = np.arange(0, T, STRIDE)
-    before = (np.arange(T) // STRIDE) * STRIDE
-    after = np.minimum(before + STRIDE, sampled[-1])
+    stride = max(STRIDE, -(-T // SAMPLES))
+    sampled = np.arange(0, T, stride)
+    before = (np.arange(T) // stride) * stride
+    after = np.minimum(before + stride, sampled[-1])
     gap = np.minimum(np.linalg.norm(a - a[before], axis=1), np.linalg.norm(a - a[after], axis=1))
     return Subspace(P, a, eps, sampled, float(gap.max()))
 
@@ -123,7 +128,7 @@ def sampled_bounds(S: np.ndarray, scale: np.ndarray, norms: np.ndarray, vm_norm:
         sl = slice(start, min(start + size, n))
         X = SP[:, sl] @ a.T  # (6, m, s)
         high[:, sl], low[:, sl] = X.max(axis=2), X.min(axis=2)
-        vm[sl] = von_mises(X).max(axis=1)
+        vm[sl] = np.sqrt(von_mises_squared(X).max(axis=1))
     vm_P = np.sqrt(np.maximum(np.einsum("cnr,cd,dnr->n", SP, VM_QUADRATIC, SP, optimize=True), 0.0))
     upper = vm + vm_P * sub.delta + vm_norm * sub.eps
     slack = np.linalg.norm(SP, axis=2) * sub.delta + norms * sub.eps

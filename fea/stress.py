@@ -146,8 +146,14 @@ VM_QUADRATIC = np.array(
 
 def von_mises(s: np.ndarray) -> np.ndarray:
     """Von Mises stress (Pa) of stress components (6, ...) Pa (xx, yy, zz, xy, yz, xz)."""
+    return np.sqrt(von_mises_squared(s))
+
+
+def von_mises_squared(s: np.ndarray) -> np.ndarray:
+    """Von Mises stress squared (Pa^2) of stress components (6, ...) Pa: a maximum needs
+    one square root, not one per entry."""
     sxx, syy, szz, sxy, syz, sxz = s
-    return np.sqrt(0.5 * ((sxx - syy) ** 2 + (syy - szz) ** 2 + (szz - sxx) ** 2) + 3.0 * (sxy**2 + syz**2 + sxz**2))
+    return 0.5 * ((sxx - syy) ** 2 + (syy - szz) ** 2 + (szz - sxx) ** 2) + 3.0 * (sxy**2 + syz**2 + sxz**2)
 
 
 def away_from(locations: np.ndarray, support_points: np.ndarray, distance: float) -> np.ndarray:

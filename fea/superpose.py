@@ -213,21 +213,30 @@ def support(D: np.ndarray, V: np.ndarray, angle: np.ndarray | None = None) -> np
     return best
 
 
-def envelope(fields: UnitFields, C: np.ndarray, every_node: bool = True, steps: np.ndarray | None = None) -> Envelope:
+def envelope(
+    fields: UnitFields,
+    C: np.ndarray,
+    every_node: bool = True,
+    steps: np.ndarray | None = None,
+    bounds: screen.SampledBounds | None = None,
+) -> Envelope:
     """The von Mises and tip-deflection envelope of the history ``C`` (steps, k). With
     ``every_node`` False only the peaks are found (:func:`screened_max`: the same values,
     steps and nodes, without each node's maximum) and ``node_envelope`` is None.
-    ``steps``: the history's :func:`candidate_steps`, when already known."""
+    ``steps``: the history's :func:`candidate_steps`, when already known; ``bounds``: the
+    nodes' :func:`fea.screen.history_bounds` for ``C[steps]``, when already known."""
     steps = candidate_steps(C) if steps is None else steps
+    if bounds is None and not every_node and screen.applies(steps.size, C.shape[1]):
+        bounds = screen.history_bounds(fields.stress, C[steps])  # once for the verdict's and the support's peak
     mask = fields.verdict_mask if np.any(fields.verdict_mask) else np.ones_like(fields.verdict_mask)
     if every_node:
         best, where = von_mises_max(fields.stress, C[steps])
         node = int(np.argmax(np.where(mask, best, -np.inf)))
         peak, step, top, node_env = float(best[node]), int(steps[where[node]]), float(best.max()), best
     else:
-        peak, node, k = screened_max(fields.stress, C[steps], mask)
+        peak, node, k = screened_max(fields.stress, C[steps], mask, bounds)
         step = int(steps[k])
-        top = screened_max(fields.stress, C[steps], np.ones_like(mask))[0]
+        top = screened_max(fields.stress, C[steps], np.ones_like(mask), bounds)[0]
         node_env = None
     tip = np.linalg.norm(C @ fields.tip.T, axis=1)  # every step: (steps,)
     t = int(np.argmax(tip))
@@ -244,17 +253,28 @@ def node_envelope_of(fields: UnitFields, C: np.ndarray) -> np.ndarray:
 SCREEN_TOP = 64
 
 
-def screened_max(S: np.ndarray, C: np.ndarray, mask: np.ndarray) -> tuple[float, int, int]:
+def screened_max(
+    S: np.ndarray, C: np.ndarray, mask: np.ndarray, bounds: screen.SampledBounds | None = None
+) -> tuple[float, int, int]:
     """(largest von Mises Pa, its node, its step) over the nodes ``mask`` and the steps of
     ``C``, as :func:`von_mises_max` would give (the first node and step of the maximum),
     evaluating only the nodes that can hold it: a node's von Mises is at most
     sqrt(largest eigenvalue of its quadratic form) x the history's largest norm; the exact
     maximum over the nodes of largest eigenvalue is a lower bound, and only nodes whose
-    bound reaches it are evaluated."""
+    bound reaches it are evaluated. A history of more than two coefficients is screened in
+    its principal subspace instead (:mod:`fea.screen`; ``bounds``: its
+    :func:`fea.screen.history_bounds` over every node of ``S``, when already known)."""
     idx = np.flatnonzero(mask)
     k = S.shape[2]
     if screen.applies(C.shape[0], k):  # many coefficients: the history's own subspace screens the nodes
-        return _exact_max(S, C, idx[_subspace_candidates(S[:, idx], C)])
+        b = screen.history_bounds(S, C) if bounds is None else bounds
+        return _exact_max(S, C, _subspace_candidates(S, C, b, mask))
+    if k > 2:  # a few steps (a constant load: one): every node, directly (no k x k forms)
+        vm = von_mises(stress_at(S[:, idx], C))  # (nodes, steps)
+        where = np.argmax(vm, axis=1)
+        best = np.take_along_axis(vm, where[:, None], axis=1)[:, 0]
+        j = int(np.argmax(best))
+        return float(best[j]), int(idx[j]), int(where[j])
     Q = np.einsum("cnk,cd,dnl->nkl", S[:, idx], VM_QUADRATIC, S[:, idx], optimize=True)
     lam = np.linalg.eigvalsh(Q)[:, -1]
     Q = Q.reshape(idx.size, k * k)
@@ -272,14 +292,14 @@ def screened_max(S: np.ndarray, C: np.ndarray, mask: np.ndarray) -> tuple[float,
     return float(np.sqrt(max(best[j], 0.0))), int(idx[can[j]]), int(where[j])
 
 
-def _subspace_candidates(S: np.ndarray, C: np.ndarray) -> np.ndarray:
-    """Indices (ascending) of the nodes of ``S`` (6, n, k) that can hold the largest von
-    Mises of the history ``C`` (steps, k): bounds from its principal subspace
-    (:mod:`fea.screen`), a lower bound from the nodes of largest sampled value."""
-    b = screen.history_bounds(S, C)
-    first = screen.first_nodes(b.von_mises)
+def _subspace_candidates(S: np.ndarray, C: np.ndarray, b: screen.SampledBounds, mask: np.ndarray) -> np.ndarray:
+    """Indices (ascending) of the nodes in ``mask`` of ``S`` (6, n, k) that can hold their
+    largest von Mises over the history ``C`` (steps, k): the bounds ``b`` from its principal
+    subspace (:mod:`fea.screen`), a lower bound from the nodes of largest sampled value."""
+    first = screen.first_nodes(np.where(mask, b.von_mises, -np.inf))
+    first = first[mask[first]]
     lower = float(von_mises(stress_at(S[:, first], C)).max())
-    return screen.peak_candidates(b, lower)
+    return np.intersect1d(screen.peak_candidates(b, lower), np.flatnonzero(mask))
 
 
 def _exact_max(S: np.ndarray, C: np.ndarray, nodes: np.ndarray) -> tuple[float, int, int]:

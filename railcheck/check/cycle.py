@@ -180,7 +180,9 @@ def evaluate_cycle(job: PartJob, fields: UnitFields, histories: tuple[SourceHist
     for h in histories:
         few, C = reduced(fields, h.C)  # the same stresses in the fewest coefficients (exact)
         steps = candidate_steps(C)
-        env = envelope(few, C, every_node=False, steps=steps)  # each node's maximum only for the VTU
+        # the nodes' subspace bounds, once for the peaks and the fatigue minimum
+        bounds = screen.history_bounds(few.stress, C[steps]) if screen.applies(steps.size, C.shape[1]) else None
+        env = envelope(few, C, every_node=False, steps=steps, bounds=bounds)  # each node's maximum only for the VTU
         vm_seed = von_mises(stress_at(fields.stress, h.C[h.seed_step]))
         k = int(np.argmax(np.where(_verdict_mask(fields), vm_seed, -np.inf)))
         seed = SeedMethod(
@@ -189,7 +191,7 @@ def evaluate_cycle(job: PartJob, fields: UnitFields, histories: tuple[SourceHist
             location=tuple(float(x) for x in fields.nodes[k]),
             joint=h.joint,
         )
-        results.append((h, env, seed, fatigue_of(job, few, C, steps)))
+        results.append((h, env, seed, fatigue_of(job, few, C, steps, bounds)))
     h, env, _, _ = max(results, key=lambda r: r[1].max_von_mises)
     seed = max((r[2] for r in results), key=lambda s: s.max_von_mises)
     fat = min((r[3] for r in results), key=lambda f: f.min_safety_factor)
@@ -264,12 +266,19 @@ def _verdict_mask(fields: UnitFields) -> np.ndarray:
     return fields.verdict_mask if np.any(fields.verdict_mask) else np.ones_like(fields.verdict_mask)
 
 
-def fatigue_of(job: PartJob, fields: UnitFields, C: np.ndarray, steps: np.ndarray | None = None) -> FatigueResult:
+def fatigue_of(
+    job: PartJob,
+    fields: UnitFields,
+    C: np.ndarray,
+    steps: np.ndarray | None = None,
+    bounds: screen.SampledBounds | None = None,
+) -> FatigueResult:
     """The minimum fatigue safety factor over the verdict nodes of one history, where,
     its sigma_a / sigma_m (Pa), the endurance limit and Marin factors, and, when the job
     writes node fields (the VTU), the factor at every node. Without, a many-coefficient
     history's nodes are screened (:mod:`fea.screen`) and only those that can hold the
-    minimum are evaluated: the same minimum, node and stresses."""
+    minimum are evaluated: the same minimum, node and stresses (``bounds``: the nodes'
+    :func:`fea.screen.history_bounds` for ``C[steps]``, when already known)."""
     spec, material = job.fatigue, job.material
     marin = endurance_limit(material.ultimate_strength, spec.surface, job.section, spec.load, spec.reliability)
     C = C[candidate_steps(C) if steps is None else steps]
@@ -283,11 +292,12 @@ def fatigue_of(job: PartJob, fields: UnitFields, C: np.ndarray, steps: np.ndarra
         k = int(np.argmin(np.where(mask, n, np.inf)))
         node_factor, n_k, sa_k, sm_k = n, n[k], sa[k], sm[k]
     else:
-        nodes = _fatigue_candidates(fields.stress[:, mask], C, factor)
-        sa, sm = alternating_and_mean(*component_range(fields.stress[:, np.flatnonzero(mask)[nodes]], C))
+        b = screen.history_bounds(fields.stress, C) if bounds is None else bounds
+        nodes = _fatigue_candidates(fields.stress, C, factor, b, mask)
+        sa, sm = alternating_and_mean(*component_range(fields.stress[:, nodes], C))
         n = factor(sa, sm)
         j = int(np.argmin(n))
-        k = int(np.flatnonzero(mask)[nodes[j]])
+        k = int(nodes[j])
         node_factor, n_k, sa_k, sm_k = None, n[j], sa[j], sm[j]
     return FatigueResult(
         criterion=spec.criterion,
@@ -303,16 +313,16 @@ def fatigue_of(job: PartJob, fields: UnitFields, C: np.ndarray, steps: np.ndarra
     )
 
 
-def _fatigue_candidates(S: np.ndarray, C: np.ndarray, factor) -> np.ndarray:
-    """Indices (ascending) of the nodes of ``S`` (6, n, k) that can hold the smallest
-    fatigue factor of the history ``C`` (steps, k): a lower bound of each node's factor from
-    its sampled subspace bounds (:func:`fea.screen.fatigue_bounds`), a threshold from the
-    nodes of smallest sampled factor evaluated exactly."""
-    b = screen.history_bounds(S, C)
+def _fatigue_candidates(S: np.ndarray, C: np.ndarray, factor, b: screen.SampledBounds, mask: np.ndarray) -> np.ndarray:
+    """Indices (ascending) of the nodes in ``mask`` of ``S`` (6, n, k) that can hold their
+    smallest fatigue factor over the history ``C`` (steps, k): a lower bound of each node's
+    factor from its sampled subspace bounds ``b`` (:func:`fea.screen.fatigue_bounds`), a
+    threshold from the nodes of smallest sampled factor evaluated exactly."""
     sa, sm, sa_sampled, sm_sampled = screen.fatigue_bounds(b)
-    first = screen.first_nodes(factor(sa_sampled, sm_sampled), largest=False)
+    first = screen.first_nodes(np.where(mask, factor(sa_sampled, sm_sampled), np.inf), largest=False)
+    first = first[mask[first]]
     top = float(factor(*alternating_and_mean(*component_range(S[:, first], C))).min())
-    return np.flatnonzero(factor(sa, sm) <= top * (1.0 + screen.SLACK))
+    return np.flatnonzero(mask & (factor(sa, sm) <= top * (1.0 + screen.SLACK)))
 
 
 def solution_at(fields: UnitFields, c: np.ndarray, solve: UnitSolve, order: int, exclude: float) -> Solution:
