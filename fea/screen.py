@@ -28,7 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .stress import VM_QUADRATIC, von_mises, von_mises_squared
+from .stress import VM_QUADRATIC, von_mises
 
 #: the rank of the principal subspace a history is screened in
 REDUCED_RANK = 4
@@ -43,6 +43,10 @@ FIRST_NODES = 16
 SLACK = 1e-9
 #: floats per temporary (nodes x sampled steps x 6)
 CHUNK_VALUES = 8_000_000
+
+_w, _V = np.linalg.eigh(VM_QUADRATIC)
+#: the symmetric square root of VM_QUADRATIC: von Mises = |VM_FACTOR s|
+VM_FACTOR = (_V * np.sqrt(np.maximum(_w, 0.0))) @ _V.T
 
 
 def applies(steps: int, k: int) -> bool:
@@ -121,15 +125,19 @@ def sampled_bounds(S: np.ndarray, scale: np.ndarray, norms: np.ndarray, vm_norm:
     eigenvalue)."""
     SP = S @ (sub.P / scale[:, None])  # (6, n, r): stress per unit of the subspace's coordinates
     a = sub.a[sub.sampled]  # (s, r)
-    n = SP.shape[1]
+    n, r = SP.shape[1], SP.shape[2]
+    # von Mises squared as an r x r form per node (r^2 terms per node and step, one matrix product)
+    L = np.tensordot(VM_FACTOR, SP, axes=([1], [0]))  # (6, n, r)
+    QP = np.einsum("cnr,cns->nrs", L, L).reshape(n, r * r)
+    aa = (a[:, :, None] * a[:, None, :]).reshape(-1, r * r)
     vm, high, low = np.empty(n), np.empty((6, n)), np.empty((6, n))
     size = max(1, CHUNK_VALUES // (6 * a.shape[0]))
     for start in range(0, n, size):
         sl = slice(start, min(start + size, n))
         X = SP[:, sl] @ a.T  # (6, m, s)
         high[:, sl], low[:, sl] = X.max(axis=2), X.min(axis=2)
-        vm[sl] = np.sqrt(von_mises_squared(X).max(axis=1))
-    vm_P = np.sqrt(np.maximum(np.einsum("cnr,cd,dnr->n", SP, VM_QUADRATIC, SP, optimize=True), 0.0))
+        vm[sl] = np.sqrt(np.maximum((QP[sl] @ aa.T).max(axis=1), 0.0))
+    vm_P = np.sqrt(np.maximum(QP[:, :: r + 1].sum(axis=1), 0.0))  # the form's trace: ||L SP||_F
     upper = vm + vm_P * sub.delta + vm_norm * sub.eps
     slack = np.linalg.norm(SP, axis=2) * sub.delta + norms * sub.eps
     return SampledBounds(vm, upper, high, low, slack)
