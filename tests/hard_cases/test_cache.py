@@ -93,3 +93,41 @@ def test_an_entry_gives_back_the_meshers_warning_and_quality(cache):
     assert (back.warning, back.min_quality, back.slivers) == (data.warning, data.min_quality, data.slivers)
     quiet, _ = read_cached(cache / "entry.npz", "other parameters")
     assert quiet is None
+
+
+def test_a_caller_that_handles_sigterm_meshes_in_a_child_and_keeps_its_handler():
+    """gmsh's initialize resets SIGTERM to the default action, which would kill a run that
+    relies on its handler to remove its staging directory (a race CI hit). Such a caller gets
+    its mesh from a child process: gmsh never loads here, the mesh equals one built here, and
+    a SIGTERM afterwards reaches the caller's handler."""
+    import subprocess
+    import sys
+
+    script = """
+import os, signal, sys, time
+import numpy as np
+from railcheck.geometry.mesher import build_mesh
+from railcheck.geometry.models import bar
+
+class Caught(Exception):
+    pass
+
+def handler(signum, frame):
+    raise Caught()
+
+here = build_mesh(bar(0.1, 0.02, 0.02), 8e-3, 8e-3)
+assert "gmsh" in sys.modules
+del sys.modules["gmsh"]
+signal.signal(signal.SIGTERM, handler)
+child = build_mesh(bar(0.1, 0.02, 0.02), 8e-3, 8e-3)
+assert "gmsh" not in sys.modules, "gmsh was loaded by a caller that handles SIGTERM"
+assert np.array_equal(child.points, here.points) and np.array_equal(child.tets, here.tets)
+try:
+    os.kill(os.getpid(), signal.SIGTERM)
+    time.sleep(5)
+except Caught:
+    print("handled")
+"""
+    proc = subprocess.run([sys.executable, "-P", "-c", script], capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.strip() == "handled"
