@@ -61,7 +61,7 @@ def bearing_life(
     n = np.abs(relative_speed)
     turns = n.sum(axis=-1)
     with np.errstate(divide="ignore", invalid="ignore"):
-        pm = np.cbrt(np.where(turns > 0, (P**3 * n).sum(axis=-1) / turns, 0.0))
+        pm = np.cbrt(np.where(turns > 0, (P * P * P * n).sum(axis=-1) / turns, 0.0))
         n_mean = n.mean(axis=-1) / (2 * math.pi)  # rev/s
         life = np.where((pm > 0) & (n_mean > 0), (bearing.dynamic_capacity / pm) ** 3 * 1e6 / (3600.0 * n_mean), np.inf)
         peak = P.max(axis=-1)

@@ -479,3 +479,44 @@ def test_safe_speed_with_gravity_by_bisection(tmp_path):
     assert again["utilisation"][0] == pytest.approx(1.0, abs=1e-9)
     assert again["utilisation"][1] < 1.0 < again["utilisation"][2]
     assert list(again["verdict"][1:]) == ["pass", "fail"]  # at the safe speed itself: 1 to rounding
+
+
+def test_a_chunk_in_groups_of_one_setting_equals_one_group(monkeypatch):
+    """The revolving settings are evaluated in groups (one block of the batch kinematics
+    each) and their results joined: groups of one, two and every setting give the same
+    columns and motor curve bit for bit, over settings that fail checks, do not revolve or
+    pass, at two speeds."""
+    from railcheck.sweep import chunk
+    from railcheck.sweep.run import _context, sweep_settings
+
+    text = KINEMATICS_ONLY.replace('speeds = ["1 Hz"]', 'speeds = ["1 Hz", "2 Hz"]')
+    text += 'crank = ["360 mm", "480 mm"]\ncoupler = ["780 mm", "900 mm"]\nrocker = ["720 mm", "840 mm"]\n'
+    scene = parse_scene(__import__("tomllib").loads(text), "test")
+    lengths = sweep_settings(scene)["four-bar"]
+    ctx = _context(scene, "four-bar", {})
+    ids = np.arange(lengths["crank"].size)
+    results = []
+    for size in (1, 2, 10**6):
+        monkeypatch.setattr(chunk, "group_size", lambda steps, size=size: size)
+        results.append(chunk.evaluate_chunk(ctx, lengths, ids))
+    flags = chunk.configuration_flags(ctx, lengths)
+    turns = chunk.revolvable(ctx, lengths, flags)
+    passed = np.logical_and.reduce([v for k, v in flags.items() if k not in ("mu_min", "mu_max")])
+    assert 2 < turns.sum() < turns.size and 0 < passed.sum() < turns.sum()  # every kind of setting
+    whole = results[-1]
+    assert whole[chunk.MOTOR_CURVE_KEY]["rows"].tolist() == np.flatnonzero(passed).tolist()
+    for other in results[:-1]:
+        assert other.keys() == whole.keys()
+        for key, value in whole.items():
+            if key == chunk.MOTOR_CURVE_KEY:
+                for q in value:
+                    np.testing.assert_array_equal(other[key][q], value[q])
+            elif value.dtype == object:
+                assert other[key].tolist() == value.tolist(), key
+            else:
+                np.testing.assert_array_equal(other[key], value, err_msg=key)
+    curve = whole[chunk.MOTOR_CURVE_KEY]["torque_peak_Nm"]  # the passing settings' curve, row by row
+    first = whole["speed_Hz"] == 1.0
+    at_1hz = np.flatnonzero(np.isclose(chunk.motor_curve_speeds(ctx.speeds) / (2 * math.pi), 1.0))
+    assert at_1hz.size == 1
+    np.testing.assert_allclose(curve[:, at_1hz[0]], whole["torque_peak_Nm"][first][passed], rtol=1e-12)

@@ -487,20 +487,11 @@ def evaluate_chunk(ctx: SweepContext, lengths: dict, ids: np.ndarray) -> dict:
     flags = configuration_flags(ctx, lengths)
     checks = {k: v for k, v in flags.items() if k not in ("mu_min", "mu_max")}
     passed = np.logical_and.reduce(list(checks.values()))
-    turns = revolvable(ctx, lengths, flags)
-    idx = np.flatnonzero(turns)
-    s_list = [(w / ctx.speeds[0]) ** 2 for w in ctx.speeds]
-    kin = [{name: np.zeros(0) for name in kinematic_columns(ctx)} for _ in ctx.speeds]
-    fe = None
-    if idx.size:
-        sub = {b: v[idx] for b, v in lengths.items()}
-        loads = loads_of(ctx, sub)
-        kin = [motor_and_bearings(ctx, loads, w) for w in ctx.speeds]
-        fe_sel = np.flatnonzero(passed[idx])
-        if ctx.models and fe_sel.size:
-            fe = (idx[fe_sel], fe_results(ctx, loads, fe_sel, sub, s_list))
+    idx = np.flatnonzero(revolvable(ctx, lengths, flags))
+    rev = revolving_results(ctx, lengths, idx, passed)
+    fe = (rev["fe_at"], rev["fe"]) if "fe" in rev else None
     rows = []
-    motor = _motor_columns(ctx, n, idx, loads if idx.size else None, fe)
+    motor = _motor_columns(ctx, n, idx, rev, passed)
     for j, w in enumerate(ctx.speeds):
         col = {"setting": ids, "kind": np.full(n, ctx.kind, dtype=object)}
         col |= {f"{b}_mm": v * 1e3 for b, v in lengths.items()}
@@ -508,8 +499,8 @@ def evaluate_chunk(ctx: SweepContext, lengths: dict, ids: np.ndarray) -> dict:
         col |= {f"check_{k}": v.astype(bool) for k, v in checks.items()}
         col["checks_passed"] = passed
         col["mu_min_deg"], col["mu_max_deg"] = np.degrees(flags["mu_min"]), np.degrees(flags["mu_max"])
-        for key, values in kin[j].items():
-            col[key] = _scatter(n, idx, values)
+        for key in kinematic_columns(ctx):
+            col[key] = _scatter(n, idx, rev["kin"][j][key]) if idx.size else np.full(n, np.nan)
         col |= _fe_columns(ctx, n, fe, j, w, passed, checks)
         col |= motor["columns"]
         rows.append(col)
@@ -518,30 +509,94 @@ def evaluate_chunk(ctx: SweepContext, lengths: dict, ids: np.ndarray) -> dict:
     return out
 
 
+def group_size(steps: int) -> int:
+    """Revolving settings evaluated together: one block of the batch kinematics
+    (:data:`railcheck.kinematics.batch.BLOCK_ELEMENTS` settings x steps), so that no
+    settings x steps array is ever joined from blocks."""
+    return max(1, batch.BLOCK_ELEMENTS // max(steps, 1))
+
+
+def revolving_results(ctx: SweepContext, lengths: dict, idx: np.ndarray, passed: np.ndarray) -> dict:
+    """What the revolving settings ``idx`` give, evaluated in groups of
+    :func:`group_size` settings (each group's loads are dropped once reduced): ``kin``, per
+    speed the kinematic columns (:func:`motor_and_bearings`); ``curve``, the motor demand
+    at :func:`motor_curve_speeds`; for the settings that also pass the checks (with parts
+    to check) ``fe_at`` (their rows in the chunk), ``fe`` (:func:`fe_results`) and
+    ``at_safe`` (the motor demand at their safe speed). Every array's first axis runs
+    over the revolving settings, or over ``fe_at``."""
+    size = group_size(ctx.steps)
+    groups = [_revolving_group(ctx, lengths, idx[a : a + size], passed) for a in range(0, idx.size, size)]
+    if not groups:
+        return {}
+    out = {key: concat_trees([g[key] for g in groups]) for key in ("kin", "curve")}
+    with_fe = [g for g in groups if "fe" in g]
+    if with_fe:
+        out |= {key: concat_trees([g[key] for g in with_fe]) for key in ("fe_at", "fe", "at_safe")}
+    return out
+
+
+def _revolving_group(ctx: SweepContext, lengths: dict, rows: np.ndarray, passed: np.ndarray) -> dict:
+    """:func:`revolving_results` of one group of revolving settings ``rows``."""
+    sub = {b: v[rows] for b, v in lengths.items()}
+    loads = loads_of(ctx, sub)
+    out = {
+        "kin": [motor_and_bearings(ctx, loads, w) for w in ctx.speeds],
+        "curve": motor_demand(loads, ctx.speeds[0], motor_curve_speeds(ctx.speeds)),
+    }
+    fe_sel = np.flatnonzero(passed[rows])
+    if ctx.models and fe_sel.size:
+        res = fe_results(ctx, loads, fe_sel, sub, [(w / ctx.speeds[0]) ** 2 for w in ctx.speeds])
+        out |= {"fe_at": rows[fe_sel], "fe": res, "at_safe": _demand_at_safe(ctx, loads, fe_sel, res["safe_s"])}
+    return out
+
+
+def _demand_at_safe(ctx: SweepContext, loads: Loads, sel: np.ndarray, safe_s: np.ndarray) -> dict:
+    """The motor's peak and RMS torque (N m) and peak power (W) of the settings ``sel`` at
+    their safe speed ratio squared ``safe_s``: NaN where the safe speed is not finite."""
+    out = {k: np.full(sel.size, np.nan) for k in ("torque_peak_at_safe_Nm", "torque_rms_at_safe_Nm", "power_peak_at_safe_W")}
+    finite = np.isfinite(safe_s)
+    T = torque_at(loads, safe_s[finite], sel[finite])
+    peak = np.abs(T).max(axis=1)
+    out["torque_peak_at_safe_Nm"][finite] = peak
+    out["torque_rms_at_safe_Nm"][finite] = np.sqrt(np.mean(T**2, axis=1))
+    out["power_peak_at_safe_W"][finite] = peak * ctx.speeds[0] * np.sqrt(safe_s[finite])
+    return out
+
+
+def concat_trees(trees: list):
+    """Join trees of the same shape (dicts, lists, tuples of arrays) leaf by leaf along
+    the arrays' first axis."""
+    first = trees[0]
+    if isinstance(first, dict):
+        return {k: concat_trees([t[k] for t in trees]) for k in first}
+    if isinstance(first, (list, tuple)):
+        return type(first)(concat_trees(list(parts)) for parts in zip(*trees))
+    return first if len(trees) == 1 else np.concatenate(trees, axis=0)
+
+
 #: the chunk's per-setting motor curve travels with its columns under this key (the
 #: aggregate takes it; it is not a table column)
 MOTOR_CURVE_KEY = "_motor_curve"
 
 
-def _motor_columns(ctx: SweepContext, n: int, idx: np.ndarray, loads, fe) -> dict:
+def _motor_columns(ctx: SweepContext, n: int, idx: np.ndarray, rev: dict, passed: np.ndarray) -> dict:
     """``columns``: the motor's demand at each setting's safe speed (peak and RMS torque
-    N m, peak power W; null without a finite safe speed); ``curve``: quantity -> (n, G)
-    the demand at :func:`motor_curve_speeds` (NaN where a setting does not revolve)."""
+    N m, peak power W; null without a finite safe speed); ``curve``: ``rows``, the
+    settings that pass the configuration checks (the only ones the motor curve counts; a
+    chunk's other settings' curves never leave it), and quantity -> (rows, G) their
+    demand at :func:`motor_curve_speeds` (NaN where a setting does not revolve)."""
     grid = motor_curve_speeds(ctx.speeds)
-    curve = {k: np.full((n, grid.size), np.nan) for k in ("torque_peak_Nm", "torque_rms_Nm", "power_peak_W")}
+    rows = np.flatnonzero(passed)
+    curve: dict = {k: np.full((rows.size, grid.size), np.nan) for k in ("torque_peak_Nm", "torque_rms_Nm", "power_peak_W")}
     cols = {k: np.full(n, np.nan) for k in ("torque_peak_at_safe_Nm", "torque_rms_at_safe_Nm", "power_peak_at_safe_W")}
-    if loads is None:
-        return {"columns": cols, "curve": curve}
-    for k, v in motor_demand(loads, ctx.speeds[0], grid).items():
-        curve[k][idx] = v
-    if fe is not None:
-        at, res = fe
-        finite = np.isfinite(res["safe_s"])
-        T = torque_at(loads, res["safe_s"][finite], np.searchsorted(idx, at[finite]))
-        safe_speed = ctx.speeds[0] * np.sqrt(res["safe_s"][finite])
-        cols["torque_peak_at_safe_Nm"][at[finite]] = np.abs(T).max(axis=1)
-        cols["torque_rms_at_safe_Nm"][at[finite]] = np.sqrt(np.mean(T**2, axis=1))
-        cols["power_peak_at_safe_W"][at[finite]] = np.abs(T).max(axis=1) * safe_speed
+    position = np.full(n, -1)
+    position[rows] = np.arange(rows.size)
+    at = position[idx]  # each revolving setting's row in the curve, -1 if it fails a check
+    for k, v in rev.get("curve", {}).items():
+        curve[k][at[at >= 0]] = v[at >= 0]
+    curve["rows"] = rows
+    for k, v in rev.get("at_safe", {}).items():
+        cols[k][rev["fe_at"]] = v
     return {"columns": cols, "curve": curve}
 
 

@@ -192,8 +192,10 @@ class MotorSizing:
         self._keep(self.at_safe, c, safe_known, "_at_safe", lengths_of, with_safe=True)
         if curve is None or not self.curve_hz.size:
             return
-        safe = np.where(np.isnan(c["safe_speed_Hz"]), np.inf, c["safe_speed_Hz"])  # no FE: no speed limit known
-        running = c["checks_passed"][:, None] & (self.curve_hz[None, :] <= safe[:, None])  # (S, G)
+        rows = curve["rows"]  # the settings that pass the configuration checks: the curve's rows
+        safe = c["safe_speed_Hz"][rows]
+        safe = np.where(np.isnan(safe), np.inf, safe)  # no FE: no speed limit known
+        running = self.curve_hz[None, :] <= safe[:, None]  # (rows, G)
         self.curve_settings += running.sum(axis=0)
         for q in self.QUANTITIES:
             values = np.where(running & np.isfinite(curve[q]), curve[q], -np.inf)

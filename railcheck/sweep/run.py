@@ -26,16 +26,22 @@ from railcheck.files import Staging, atomic_write_text, reserve_results_dir, to_
 from railcheck.geometry.catalogue import with_overrides
 from railcheck.parts import PARTS
 from railcheck.progress import Progress
-from railcheck.sweep.chunk import MOTOR_CURVE_KEY, SweepContext, evaluate_chunk, motor_curve_speeds
+from railcheck.sweep.chunk import MOTOR_CURVE_KEY, SweepContext, evaluate_chunk, group_size, motor_curve_speeds
 from railcheck.sweep.grid import narrowed, rig_grid, settings
 from railcheck.sweep.maps import Aggregate, summary_of, write_maps, write_motor_plot
 from railcheck.sweep.parts import applicable, build_part_model, dynamic_in_sweep, is_free_rail
 from railcheck.sweep.report import write_sweep_report
 from railcheck.sweep.table import TableWriter
 
-#: bytes of working memory per setting and crank step of a chunk (kinematics, reactions
-#: at two speeds, FE coefficient histories; measured with tracemalloc, rounded up)
+#: bytes of working memory per setting and crank step of a group of revolving settings
+#: (kinematics, reactions at two speeds, FE coefficient histories; measured with
+#: tracemalloc, rounded up)
 BYTES_PER_SETTING_STEP = 3_000
+#: bytes per setting and speed of a chunk's table rows and motor curve (1.4 kB measured
+#: with tracemalloc at the peak of a 4,096-setting kinematic chunk, rounded up)
+BYTES_PER_ROW = 4_000
+#: settings per chunk at most (a chunk is one row group of the table)
+MAX_CHUNK = 4096
 
 
 @dataclass(frozen=True)
@@ -73,9 +79,18 @@ DYNAMIC_CHUNK = 16
 
 
 def chunk_size(scene) -> int:
-    """Settings per chunk, from the working-memory budget (at most :data:`DYNAMIC_CHUNK`
-    with a dynamic response)."""
-    size = int(max(1, min(4096, scene.sweep.memory // (BYTES_PER_SETTING_STEP * scene.sweep.steps))))
+    """Settings per chunk, the most whose rows (:data:`BYTES_PER_ROW`) and one group of
+    revolving settings' loads (:func:`railcheck.sweep.chunk.group_size` settings,
+    :data:`BYTES_PER_SETTING_STEP`) fit the working-memory budget; at most
+    :data:`MAX_CHUNK`, and :data:`DYNAMIC_CHUNK` with a dynamic response."""
+    steps, row = scene.sweep.steps, BYTES_PER_ROW * len(scene.sweep.speeds)
+    per_group_setting = steps * BYTES_PER_SETTING_STEP
+    group = group_size(steps)
+    if group * (per_group_setting + row) >= scene.sweep.memory:  # the chunk is smaller than a group
+        size = scene.sweep.memory // (per_group_setting + row)
+    else:
+        size = (scene.sweep.memory - group * per_group_setting) // row
+    size = int(max(1, min(MAX_CHUNK, size)))
     return min(size, DYNAMIC_CHUNK) if dynamic_in_sweep(scene) else size
 
 
