@@ -5,12 +5,21 @@ run is a fresh process, as a user runs it; the mesh cache is warm in all of them
 is its own cache). Prints the median wall time of ``--repeat`` runs of each and the
 ratios warm / cold.
 
-    python benchmarks/check_store.py [--repeat 3]
+With ``--sweeps``, in the same run and against the same cold check: the whole default rig
+(`railcheck sweep` with no scene: every four-bar and slider-crank setting, all five parts,
+720 steps; its unit fields from the store the checks filled, meshes cached) and the
+kinematics-only sweep of the same grid (a scene with only ``[sweep] kind = "both"``: no
+FE), each in a fresh process on a Dask local cluster of one worker per core and, for the
+kinematics, serially too. The kinematics' rate is its settings over its settings stage
+(``timings.json`` ``chunks``, cluster start-up included).
+
+    python benchmarks/check_store.py [--repeat 3] [--sweeps]
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import os
 import shutil
 import statistics
@@ -39,9 +48,44 @@ def run(scene: Path, out: Path, env: dict) -> float:
     return wall
 
 
+def sweep(scene: Path | None, out: Path, env: dict, *extra: str) -> tuple[float, dict, dict]:
+    """(wall s, summary.json, timings.json) of one `railcheck sweep` in a fresh process."""
+    cmd = [sys.executable, "-P", "-m", "railcheck.cli", "sweep", *([str(scene)] if scene else []), "--out", str(out)]
+    t = time.perf_counter()
+    proc = subprocess.run([*cmd, "--force", *extra], capture_output=True, text=True, env=env)
+    wall = time.perf_counter() - t
+    if proc.returncode not in (0, 1):
+        raise SystemExit(proc.stderr)
+    return wall, json.loads((out / "summary.json").read_text()), json.loads((out / "timings.json").read_text())
+
+
+def settings_of(summary: dict) -> int:
+    return sum(k["settings_total"] for k in summary["by_kind"].values())
+
+
+def sweeps(tmp: Path, env: dict, cold: dict[str, float]) -> None:
+    """The whole rig and its kinematics alone, against the cold checks ``cold``."""
+    wall, summary, timings = sweep(None, tmp / "rig", env)
+    print(
+        f"  whole rig: {wall:.1f} s (unit fields {timings['prepare']:.1f} s, settings {timings['chunks']:.1f} s, "
+        f"report {timings['report']:.1f} s), {settings_of(summary)} settings; "
+        + ", ".join(f"{wall / v:.1f}x the cold check {k}" for k, v in cold.items())
+    )
+    kinematic = tmp / "kinematics.toml"
+    kinematic.write_text('[sweep]\nkind = "both"\n')
+    for label, extra in ((f"Dask, {os.cpu_count()} workers", ()), ("serial", ("--serial",))):
+        wall, summary, timings = sweep(kinematic, tmp / "kin", env, *extra)
+        n = settings_of(summary)
+        print(
+            f"  kinematics only, {label}: {n} settings in {timings['chunks']:.2f} s = "
+            f"{n / timings['chunks']:,.0f} settings/s (wall {wall:.1f} s with start-up and report)"
+        )
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--sweeps", action="store_true", help="also the whole rig and the kinematics-only sweep")
     args = parser.parse_args()
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
@@ -65,6 +109,11 @@ def main():
     for label in ("json only", "every file"):
         print(f"  warm / cold, {label}: {med[f'warm, {label}'] / med[f'cold, {label}']:.3f}")
     print(f"  warm json only / cold every file: {med['warm, json only'] / med['cold, every file']:.3f}")
+    if args.sweeps:
+        with tempfile.TemporaryDirectory() as tmp:
+            env = {**os.environ}  # the user's own store and meshes, which the checks above do not touch
+            run(DEFAULT, Path(tmp) / "fill", env)  # the default scene's unit fields in the user's store
+            sweeps(Path(tmp), env, {label: med[f"cold, {label}"] for label in ("json only", "every file")})
 
 
 if __name__ == "__main__":
