@@ -41,8 +41,9 @@ SAMPLES = 90
 FIRST_NODES = 16
 #: relative margin on the bounds (rounding)
 SLACK = 1e-9
-#: floats per temporary (nodes x sampled steps x 6)
-CHUNK_VALUES = 8_000_000
+#: floats per temporary (nodes x sampled steps x 6): 4 MB, read twice (max and min) from
+#: cache; 70 ms against 85 ms at 8M for 29,000 nodes, 20 coefficients, 90 read steps
+CHUNK_VALUES = 1 << 19
 
 _w, _V = np.linalg.eigh(VM_QUADRATIC)
 #: the symmetric square root of VM_QUADRATIC: von Mises = |VM_FACTOR s|
