@@ -156,7 +156,7 @@ def _digest(arrays: dict[str, np.ndarray], meta: str) -> str:
         a = np.ascontiguousarray(arrays[name])
         h.update(str(a.dtype).encode())
         h.update(repr(a.shape).encode())
-        h.update(a.tobytes())
+        h.update(a.reshape(-1).view(np.uint8))  # the array's own bytes, hashed in place (no copy)
     return h.hexdigest()
 
 
