@@ -82,7 +82,11 @@ def chunk_size(scene) -> int:
     """Settings per chunk, the most whose rows (:data:`BYTES_PER_ROW`) and one group of
     revolving settings' loads (:func:`railcheck.sweep.chunk.group_size` settings,
     :data:`BYTES_PER_SETTING_STEP`) fit the working-memory budget; at most
-    :data:`MAX_CHUNK`, and :data:`DYNAMIC_CHUNK` with a dynamic response."""
+    :data:`MAX_CHUNK`, and :data:`DYNAMIC_CHUNK` with a dynamic response. With parts to
+    check, as many as if every setting's loads were held at once (237 at 720 steps and
+    512 MB), as before the groups: the FE settings cluster in the grid (a 4,096-setting
+    chunk of the whole rig holds up to 622 of them, about 7 worker-minutes), so small
+    chunks share them out evenly."""
     steps, row = scene.sweep.steps, BYTES_PER_ROW * len(scene.sweep.speeds)
     per_group_setting = steps * BYTES_PER_SETTING_STEP
     group = group_size(steps)
@@ -90,6 +94,8 @@ def chunk_size(scene) -> int:
         size = scene.sweep.memory // (per_group_setting + row)
     else:
         size = (scene.sweep.memory - group * per_group_setting) // row
+    if scene.check is not None:  # FE settings cost up to a second each: small chunks share them out
+        size = min(size, scene.sweep.memory // (per_group_setting + row))
     size = int(max(1, min(MAX_CHUNK, size)))
     return min(size, DYNAMIC_CHUNK) if dynamic_in_sweep(scene) else size
 
