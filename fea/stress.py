@@ -128,7 +128,7 @@ def _sum_onto_nodes(sdofs: np.ndarray, n: int, values: np.ndarray) -> np.ndarray
 
     nb, e = sdofs.shape
     scatter = sp.csr_matrix((np.ones(e * nb), (sdofs.T.ravel(), np.arange(e * nb))), shape=(n, e * nb))
-    return np.asarray(scatter @ values.reshape(e * nb, -1))
+    return np.asarray(scatter @ values.reshape(e * nb, int(np.prod(values.shape[2:], dtype=int))))
 
 
 #: von Mises squared as a quadratic form of the six stress components (xx, yy, zz, xy, yz, xz)

@@ -8,13 +8,23 @@ curved edges of quadratic meshes). gmsh is imported inside the mesher's function
 Units m.
 """
 
-from .catalogue import CATALOGUE_RAIL_MASS, RailSpec, rail_mass_per_metre, rail_mass_per_metre_with_holes, with_overrides
+from .catalogue import (
+    CATALOGUE_RAIL_MASS,
+    RailSection,
+    RailSpec,
+    rail_mass_per_metre,
+    rail_mass_per_metre_with_holes,
+    rail_section,
+    with_overrides,
+)
 from .meshdata import MeshData
 from .mesher import estimate_elements, local_numbering, mesh_part
 from .models import PartGeometry, bar, i_profile, joint_plate, rail
 
 __all__ = [
     "CATALOGUE_RAIL_MASS",
+    "RailSection",
+    "rail_section",
     "MeshData",
     "PartGeometry",
     "RailSpec",

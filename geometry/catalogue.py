@@ -5,9 +5,11 @@ the mechanism's plane (transverse), z normal to the plane (the bolts' axis).
 
 The size-25 profile rail: THK HSR25 and HIWIN HGR25 catalogues agree on the section
 (23 x 22 mm) and the mounting holes (60 mm pitch, 20 mm end distance, M6 counterbored
-7 x 11 x 9 mm); INA TKVD25 (seed 000) is of this size. Simplification: the section is
-modelled as a solid 23 x 22 mm rectangle; the four ball grooves are omitted (stiffer
-and heavier than the real profile: see :func:`rail_mass_per_metre`).
+7 x 11 x 9 mm); INA TKVD25 (seed 000) is of this size. The four ball tracks are modelled
+as four semicircular grooves along the rail, two in each side face (:class:`RailSpec`);
+the catalogues do not dimension them, so their radius and heights are assumed, chosen so
+the rail with its holes weighs what the catalogues say (3.16 kg/m against 3.1-3.21 kg/m:
+:func:`rail_mass_per_metre_with_holes`) and so the section's centroid stays at mid-height.
 
 PF_4b_006 and PF_4b_003_v2: seed 000 shows them only as pictures, so their dimensions
 here are assumptions, chosen to be plausible and, for PF_4b_006, to match the seed's
@@ -33,6 +35,9 @@ class RailSpec:
     hole_diameter: float = 7e-3  # catalogue, through hole for M6
     counterbore_diameter: float = 11e-3  # catalogue
     counterbore_depth: float = 9e-3  # catalogue
+    groove_radius: float = 3.6e-3  # assumed: sized to the catalogue mass (0 = a solid rectangle)
+    lower_groove_z: float = 6.1e-3  # assumed: centre height of the lower groove above the base
+    upper_groove_z: float = 15.9e-3  # assumed: of the upper groove (symmetric about mid-height)
 
     def hole_positions(self, length: float) -> list[float]:
         """x of every mounting hole (m) along a rail of ``length`` m."""
@@ -91,9 +96,53 @@ def with_overrides(overrides: dict[str, float]) -> tuple[RailSpec, JointPlateSpe
     return specs["rail"], specs["plate"], specs["iprofile"]
 
 
+@dataclass(frozen=True)
+class RailSection:
+    """The rail's cross-section (holes excluded), in the part frame: ``area`` m^2,
+    ``centroid_z`` m above the base (y = 0 by symmetry), ``inertia_in_plane`` m^4 about
+    the z axis through the centroid (bending by in-plane, y, loads), ``inertia_out_of_plane``
+    m^4 about the y axis through the centroid (bending by z loads)."""
+
+    area: float
+    centroid_z: float
+    inertia_in_plane: float
+    inertia_out_of_plane: float
+    width: float
+    height: float
+
+    @property
+    def modulus_in_plane(self) -> float:
+        """m^3: I / c for in-plane bending, c the half width (the side faces' lands)."""
+        return self.inertia_in_plane / (self.width / 2)
+
+    @property
+    def modulus_out_of_plane(self) -> float:
+        """m^3: I / c for out-of-plane bending, c the farther face from the centroid."""
+        return self.inertia_out_of_plane / max(self.centroid_z, self.height - self.centroid_z)
+
+
+def rail_section(spec: RailSpec = RAIL) -> RailSection:
+    """The grooved profile's section properties in closed form: the w x h rectangle less
+    four half-discs of radius r, their flat sides on the side faces at the grooves'
+    heights. A half-disc's second moment about its flat side and about the axis normal to
+    it through its centre is pi r^4 / 8 each; its centroid lies 4 r / (3 pi) inside."""
+    w, h, r = spec.width, spec.height, spec.groove_radius
+    zs = (spec.lower_groove_z, spec.upper_groove_z)
+    half = math.pi * r**2 / 2
+    area = w * h - 4 * half
+    centroid_z = (w * h * h / 2 - 2 * half * sum(zs)) / area
+    lever = 4 * r / (3 * math.pi)
+    # about y = 0: each half-disc's integral of y^2, with y = w/2 - s and s >= 0 inward
+    groove_y2 = half * (w / 2) ** 2 - 2 * (w / 2) * half * lever + math.pi * r**4 / 8
+    inertia_in_plane = h * w**3 / 12 - 4 * groove_y2
+    rect_z2 = w * h**3 / 12 + w * h * (h / 2 - centroid_z) ** 2
+    grooves_z2 = sum(2 * (math.pi * r**4 / 8 + half * (z - centroid_z) ** 2) for z in zs)
+    return RailSection(area, centroid_z, inertia_in_plane, rect_z2 - grooves_z2, w, h)
+
+
 def rail_mass_per_metre(spec: RailSpec = RAIL, density: float = STEEL_DENSITY) -> float:
-    """Mass per metre (kg/m) of the modelled section (solid rectangle), holes excluded."""
-    return spec.width * spec.height * density
+    """Mass per metre (kg/m) of the modelled section (grooved profile), holes excluded."""
+    return rail_section(spec).area * density
 
 
 def rail_mass_per_metre_with_holes(spec: RailSpec = RAIL, density: float = STEEL_DENSITY) -> float:
@@ -142,6 +191,19 @@ def validate(overrides: dict[str, float]) -> tuple[str, str] | None:
             "rail_counterbore_depth",
             rail.counterbore_depth < 0.9 * rail.height,
             "the counterbore must be shallower than 0.9 x the rail height",
+        ),
+        (
+            "rail_groove_radius",
+            0.0 <= rail.groove_radius
+            and (rail.groove_radius == 0.0 or rail.width / 2 - rail.groove_radius > rail.counterbore_diameter / 2 + 1e-3),
+            "the grooves must leave at least 1 mm of wall beside the counterbore",
+        ),
+        (
+            "rail_lower_groove_z",
+            rail.groove_radius < rail.lower_groove_z
+            and rail.lower_groove_z + 2 * rail.groove_radius < rail.upper_groove_z
+            and rail.upper_groove_z + rail.groove_radius < rail.height,
+            "the grooves must lie within the rail's height and apart from each other",
         ),
         (
             "rail_end_distance",

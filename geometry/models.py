@@ -8,7 +8,7 @@ Named groups (surfaces):
 
 * every part: "solid" (the volume);
 * ``bar``: "clamp" (x = 0 face), "tip" (x = L face);
-* ``rail``: "hole_K" for the bearing (through-hole) surface of the K-th mounting hole
+* ``rail`` (the grooved size-25 profile): "hole_K" for the bearing (through-hole) surface of the K-th mounting hole
   from the pivot end, "shaft_hole" (the hole the rail is held at, hole 0), "end_pivot"
   (x = 0), "end_free" (x = L);
 * ``joint_plate`` (PF_4b_006): "bearing_seat", "hole_0", "hole_1", "end_free";
@@ -20,7 +20,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from .catalogue import I_PROFILE, JOINT_PLATE, RAIL, IProfileSpec, JointPlateSpec, RailSpec
+from .catalogue import I_PROFILE, JOINT_PLATE, RAIL, IProfileSpec, JointPlateSpec, RailSection, RailSpec, rail_section
 
 
 @dataclass(frozen=True)
@@ -33,13 +33,22 @@ class PartGeometry:
         return dict(self.params)[name]
 
     @property
+    def section(self) -> RailSection:
+        """A rail's cross-section properties (closed form, holes excluded)."""
+        if self.kind != "rail":
+            raise ValueError(f"{self.kind} has no rail section")
+        p = dict(self.params)
+        names = ("width", "height", "groove_radius", "lower_groove_z", "upper_groove_z")
+        return rail_section(RailSpec(**{k: p[k] for k in names}))  # type: ignore[arg-type]
+
+    @property
     def volume(self) -> float:
         """Approximate solid volume (m^3), for mesh-size estimates."""
         p = dict(self.params)
         if self.kind == "bar":
             return p["length"] * p["width"] * p["height"]
         if self.kind == "rail":
-            return p["length"] * p["width"] * p["height"]
+            return p["length"] * (p["width"] * p["height"] - 2 * math.pi * p.get("groove_radius", 0.0) ** 2)
         if self.kind == "joint_plate":
             return p["length"] * p["width"] * p["thickness"] - math.pi / 4 * p["seat_diameter"] ** 2 * p["thickness"]
         if self.kind == "i_profile":
@@ -73,6 +82,9 @@ def rail(length: float, spec: RailSpec = RAIL, holes: bool = True) -> PartGeomet
             hole_diameter=spec.hole_diameter,
             counterbore_diameter=spec.counterbore_diameter,
             counterbore_depth=spec.counterbore_depth,
+            groove_radius=spec.groove_radius,
+            lower_groove_z=spec.lower_groove_z,
+            upper_groove_z=spec.upper_groove_z,
         ),
         groups,
     )

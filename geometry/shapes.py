@@ -54,6 +54,11 @@ def _build_rail(gmsh, p):
     occ = gmsh.model.occ
     box = occ.addBox(0, -w / 2, 0, L, w, h)
     tools = []
+    rg = p.get("groove_radius", 0.0)
+    if rg > 0:  # the ball tracks: semicircular grooves along x, two in each side face
+        for z in (p["lower_groove_z"], p["upper_groove_z"]):
+            for y in (-w / 2, w / 2):
+                tools.append((3, occ.addCylinder(-L, y, z, 3 * L, 0, 0, rg)))
     for x in xs:
         tools.append((3, occ.addCylinder(x, 0, -h, 0, 0, 3 * h, r)))
         tools.append((3, occ.addCylinder(x, 0, h - dc, 0, 0, 2 * dc, rc)))
@@ -68,7 +73,29 @@ def _build_rail(gmsh, p):
     if xs:
         groups["shaft_hole"] = holes[0]
     refine = [t for tags in holes + cbores for t in tags]
-    return groups, refine
+    grooves = _grooves(gmsh, L, w, rg)
+    # a quadratic edge follows an arc of up to about 70 degrees: elements at most the radius
+    return groups, refine, ({GROOVE_ELEMENT_PER_RADIUS * rg: grooves} if grooves else {})
+
+
+def _grooves(gmsh, L, w, radius):
+    """Surface tags of the rail's ball-track grooves: cylinders along x in its side faces."""
+    if radius <= 0:
+        return []
+    tags = []
+    for dim, tag in gmsh.model.getEntities(2):
+        if gmsh.model.getType(dim, tag) != "Cylinder":
+            continue
+        x0, y0, _, x1, y1, _ = gmsh.model.getBoundingBox(dim, tag)
+        if x1 - x0 > 0.9 * L and min(abs(y0), abs(y1)) > w / 2 - radius - 1e-6:
+            tags.append(tag)
+    return tags
+
+
+#: the grooves' largest element edge, in groove radii: a quadratic edge then spans at
+#: most about 80 degrees of arc (benchmarks/groove_mesh.py measures what 1.1 and 1.4 cost
+#: and give on a prismatic rail in tension)
+GROOVE_ELEMENT_PER_RADIUS = 1.4
 
 
 def _build_joint_plate(gmsh, p):

@@ -16,8 +16,9 @@ from .linkage import FourBar, SliderCrank
 class MassModel:
     """Masses of the rig's parts (seed 000 Anexo I; every value overridable).
 
-    ``rail_mass_per_m`` is the seed's 2.7 kg/m (the TKDV25 catalogue figure it used);
-    a solid 23 x 22 mm steel section would weigh about 3.9 kg/m (see geometry.catalogue).
+    ``rail_mass_per_m`` is the seed's 2.7 kg/m (the TKDV25 catalogue figure it used),
+    kept for ``formulation = "seed-2013"``; every other run takes the meshed profile's
+    3.16 kg/m (railcheck.parts.mass_model, geometry.catalogue).
     """
 
     rail_mass_per_m: float = 2.7

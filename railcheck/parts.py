@@ -13,7 +13,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Callable
 
-from railcheck.geometry.catalogue import with_overrides
+from railcheck.geometry.catalogue import rail_mass_per_metre_with_holes, with_overrides
 from railcheck.geometry.models import i_profile, joint_plate, rail
 from railcheck.kinematics.massmodel import MassModel
 
@@ -202,12 +202,15 @@ def geometry_of(name: str, overrides: dict):
 
 def mass_model(formulation: str, geometry_overrides: dict) -> MassModel:
     """The one mass model of a run, shared by the dynamics and the FE, whatever the
-    support: each rail placed as it is meshed, its first hole (the pivot) the catalogue's
-    end distance from its end; ``formulation = "seed-2013"`` keeps the 2013 study's
-    placement (the rail starts at the pivot), so its published tables stay reproduced."""
+    support: each rail weighs what its meshed profile weighs (the grooved size-25 section
+    less its holes, spread per metre: 3.16 kg/m by default) and is placed as it is meshed,
+    its first hole (the pivot) the catalogue's end distance from its end;
+    ``formulation = "seed-2013"`` keeps the 2013 study's masses (2.7 kg/m) and placement
+    (the rail starts at the pivot), so its published tables stay reproduced."""
     if formulation == "seed-2013":
         return MassModel()
-    return MassModel(rail_overhang=with_overrides(geometry_overrides)[0].end_distance)
+    rail = with_overrides(geometry_overrides)[0]
+    return MassModel(rail_mass_per_m=rail_mass_per_metre_with_holes(rail), rail_overhang=rail.end_distance)
 
 
 def rail_length(bar: str) -> float:

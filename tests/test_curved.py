@@ -4,6 +4,8 @@ Truths: a hole's exact circumference; a linear displacement field (patch test) a
 six rigid-body motions, which the isoparametric P2 space holds exactly on any element map;
 the resultant of a traction; Jacobians computed here by finite differences of the map."""
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
@@ -22,23 +24,69 @@ from railcheck.fea.materials import MATERIALS
 from railcheck.fea.mesh import curved_elements, group_facets, skfem_mesh
 from railcheck.fea.stress import affine_stress_moments, quadrature_stress_moments
 from railcheck.geometry import curving
+from railcheck.geometry.catalogue import RAIL
 from railcheck.geometry.mesher import mesh_part
 from railcheck.geometry.models import rail
 
 STEEL = MATERIALS["steel"]
 
 
+#: the rail without its grooves: only the holes are curved, and gmsh's mid-edge nodes
+#: are the only ones off the straight midpoints (the grooved profile's mesh also moves
+#: interior mid nodes: test_grooves_are_curved_and_no_element_folds)
+PLAIN = replace(RAIL, groove_radius=0.0)
+
+
 @pytest.fixture(scope="module")
 def short_rail():
     """A 120 mm rail with two holes, 2 mm elements at the holes (11 per circumference)."""
-    geo = rail(0.12)
+    geo = rail(0.12, PLAIN)
     return geo, mesh_part(geo, 0.006, 0.002, cache=False)
 
 
 @pytest.fixture(scope="module")
 def tiny_rail():
     """A 60 mm rail with one hole, coarse enough for an eigenvalue count."""
-    return mesh_part(rail(0.06), 0.01, 0.004, cache=False)
+    return mesh_part(rail(0.06, PLAIN), 0.01, 0.004, cache=False)
+
+
+def test_grooves_are_curved_and_no_element_folds():
+    """The grooved profile (default mesh sizes): the mid nodes of the edges whose ends both
+    lie on a groove lie on its cylinder (1e-9 of the radius), the elastic high-order
+    optimisation leaves every element's Jacobian positive, and nearly every curved edge
+    stays curved (straightening one loses the groove's arc there)."""
+    geo = rail(0.12)
+    mesh = mesh_part(geo, 0.02, 0.006, cache=False)
+    edges, mids = mesh.curved
+    p = dict(geo.params)
+    r, w = p["groove_radius"], p["width"]
+
+    def groove_distance(points):
+        y, z = points[:, 1], points[:, 2]
+        return np.min(
+            [
+                np.abs(np.hypot(y - s * w / 2, z - zg) - r)
+                for s in (-1, 1)
+                for zg in (p["lower_groove_z"], p["upper_groove_z"])
+            ],
+            axis=0,
+        )
+
+    # the boundary faces with three vertices on a groove: their edges lie on the cylinder
+    faces = np.sort(mesh.tets[:, [[0, 1, 2], [0, 1, 3], [0, 2, 3], [1, 2, 3]]].reshape(-1, 3), axis=1)
+    unique, count = np.unique(faces, axis=0, return_counts=True)
+    boundary = unique[count == 1]
+    on_groove = groove_distance(mesh.points) < 1e-9 * r
+    groove_faces = boundary[on_groove[boundary].all(axis=1)]
+    surface_edges = np.unique(np.sort(groove_faces[:, [[0, 1], [1, 2], [0, 2]]].reshape(-1, 2), axis=1), axis=0)
+    keys = curving.edge_keys(edges, mesh.points.shape[0])
+    on_surface = np.isin(keys, curving.edge_keys(surface_edges, mesh.points.shape[0]))
+    assert on_surface.sum() > 0.8 * surface_edges.shape[0] > 100  # curved, bar the few straightened
+    assert np.all(groove_distance(mids[on_surface]) < 1e-6 * r)
+    d = curving.edge_offsets(mesh.points, mesh.tets, edges, mids)
+    assert curving.jacobian_ratios(mesh.points, mesh.tets, d).min() > 0
+    straightened = int(mesh.warning.split()[0]) if mesh.warning else 0
+    assert straightened < 0.15 * edges.shape[0], (straightened, edges.shape[0])
 
 
 def _vector_basis(mesh, curved, intorder=2):

@@ -139,7 +139,7 @@ def test_pin_pressures_superpose_as_a_direct_solve_and_pull_as_f_over_a(bar):
         S_direct[0, mid],
         rcond=None,
     )[0]
-    axial = force / (geo.get("width") * geo.get("height"))
+    axial = force / geo.section.area  # the grooved profile's closed-form area
     assert fit[0] == pytest.approx(axial, rel=0.01)
     assert abs(fit[1]) * geo.get("width") / 2 < 0.01 * axial
 

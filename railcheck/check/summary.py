@@ -15,6 +15,7 @@ from railcheck.geometry.catalogue import (
     rail_mass_per_metre_with_holes,
     with_overrides,
 )
+from railcheck.parts import mass_model
 
 
 def summary_of(result: PipelineResult) -> dict:
@@ -32,7 +33,7 @@ def summary_of(result: PipelineResult) -> dict:
         out["material"] = scene.check.material
         out["effects"] = list(scene.check.effects)
     if any(p.geometry.kind == "rail" for p in result.parts.values()):
-        out["rail_mass_per_m_kg"] = rail_masses(scene.geometry)
+        out["rail_mass_per_m_kg"] = rail_masses(scene.geometry, scene.formulation)
     if result.kinematics_summary is not None:
         out["kinematics"] = result.kinematics_summary
     out["scene"] = scene.raw
@@ -211,11 +212,13 @@ def fatigue_summary(f: FatigueResult) -> dict:
     }
 
 
-def rail_masses(geometry_overrides: dict) -> dict:
-    """kg/m of the modelled rail section beside the seed's and the catalogue's figures."""
+def rail_masses(geometry_overrides: dict, formulation: str = "newton-euler") -> dict:
+    """kg/m of the modelled (grooved) rail section, with and without its holes, beside the
+    seed's and the catalogue's figures, and what the run's dynamics and FE carry."""
     rail = with_overrides(geometry_overrides)[0]
     return {
         "model_section": rail_mass_per_metre(rail),
         "model_with_holes": rail_mass_per_metre_with_holes(rail),
         **CATALOGUE_RAIL_MASS,
+        "dynamics": mass_model(formulation, geometry_overrides).rail_mass_per_m,
     }

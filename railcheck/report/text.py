@@ -189,10 +189,10 @@ def check_report(run) -> str:
         if "rail_mass_per_m_kg" in summary:
             m = summary["rail_mass_per_m_kg"]
             lines.append(
-                f"  rail mass: modelled section {m['model_section']:.2f} kg/m ({m['model_with_holes']:.2f} "
-                f"with its holes; solid rectangle, grooves omitted), HIWIN HGR25 "
-                f"{m['HIWIN HGR25 catalogue']:.2f} kg/m, the 2013 study {m['seed 000 (Anexo I)']:.2f} kg/m (used by the "
-                "dynamics)"
+                f"  rail mass: the grooved size-25 section {m['model_section']:.2f} kg/m "
+                f"({m['model_with_holes']:.2f} with its holes), HIWIN HGR25 {m['HIWIN HGR25 catalogue']:.2f} kg/m, "
+                f"the 2013 study {m['seed 000 (Anexo I)']:.2f} kg/m; the dynamics and the FE carry "
+                f"{m['dynamics']:.2f} kg/m"
             )
         known = (result.kinematics_summary or {}).get("warnings", [])
         lines += [f"warning: {w}" for w in result.warnings if w not in known]

@@ -80,6 +80,16 @@ CASES = [
         ("geometry.rail_hole_diameter",),
     ),
     (
+        "grooves through the rail's counterbores",
+        PLATE + '[geometry]\nrail_groove_radius = "8 mm"\n',
+        ("geometry.rail_groove_radius", "wall"),
+    ),
+    (
+        "grooves that overlap",
+        PLATE + '[geometry]\nrail_upper_groove_z = "9 mm"\n',
+        ("geometry.rail_lower_groove_z", "apart"),
+    ),
+    (
         "bearing seat off the plate",
         PLATE + '[geometry]\nplate_seat_diameter = "200 mm"\n',
         ("geometry.plate_seat_diameter",),
