@@ -37,7 +37,7 @@ from .meshdata import MeshData
 from .models import PartGeometry
 from .shapes import BUILDERS
 
-MESHER_VERSION = 10  # 10: grooved rails, untangled beside the grooves
+MESHER_VERSION = 11  # 10: grooved rails, untangled beside the grooves; 11: 10 untangling iterations
 SLIVER_SICN = 0.05  # elements whose signed inverse condition number is below this are slivers
 
 
@@ -234,6 +234,9 @@ def _build_here(part: PartGeometry, size: float, hole_size: float, verbose: bool
                 # gains 3.5% of area at its extreme fibres: benchmarks/groove_mesh.py)
                 if UNTANGLE_GROOVES:
                     gmsh.option.setNumber("Mesh.HighOrderNumLayers", 1)
+                    # 10 iterations per pass instead of 100: a third of the time, the same
+                    # section (66 instead of 51 of the crank rail's 17k curved edges straightened)
+                    gmsh.option.setNumber("Mesh.HighOrderIterMax", 10)
                     gmsh.model.mesh.optimize("HighOrder")
         data, index = _extract(gmsh, surfaces, qualities)
         if curved:

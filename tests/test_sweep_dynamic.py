@@ -4,8 +4,10 @@ at every speed, the amplification as a criterion, and a safe speed that keeps it
 the limit. Every figure is compared with ``railcheck check`` of the same setting, an
 independent path (one hole pair, its own mesh solve, modes and cycle evaluation). The
 rails are clamped (the 2013 model), whose coupler, a cantilever carrying its far joint's
-mass at 11 Hz, fails on its amplification at 1.5 Hz: the criterion's FAIL side (the free
-bodies' dynamic sweep: test_sweep_freebody.py)."""
+mass, passes at 0.5 Hz and fails on its amplification at 1.5 Hz: the criterion's both
+sides (the free bodies' dynamic sweep: test_sweep_freebody.py). On the solid section,
+before the grooved profile, it still passed at 1 Hz; the grooves lowered its safe speed
+to 0.85 Hz."""
 
 import math
 
@@ -19,7 +21,7 @@ ONE_SETTING = (
     FE_SWEEP.replace('crank = ["480 mm", "540 mm"]', 'crank = ["480 mm", "480 mm"]')
     .replace('rocker = ["780 mm", "840 mm"]', 'rocker = ["780 mm", "780 mm"]')
     .replace('ground = ["1020 mm", "1080 mm"]', 'ground = ["1020 mm", "1020 mm"]')
-    .replace('speeds = ["1 Hz"]', 'speeds = ["1 Hz", "1.5 Hz"]')
+    .replace('speeds = ["1 Hz"]', 'speeds = ["0.5 Hz", "1.5 Hz"]')
     .replace(
         'parts = ["crank-rail", "coupler-rail", "rocker-rail", "PF_4b_006", "PF_4b_003_v2"]',
         'support = "clamped"\neffects = ["inertia", "dynamic"]\n'
@@ -45,11 +47,11 @@ def _row(rows: dict, speed_hz: float) -> dict:
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("speed_hz", [1.0, 1.5])
+@pytest.mark.parametrize("speed_hz", [0.5, 1.5])
 def test_a_dynamic_sweep_row_equals_the_check_of_that_setting(rows, speed_hz):
     """Stress, fatigue factor, tip and amplification of every part, at both speeds (the
     response is not a rescaling of the first speed's), and the verdict's both sides: the
-    coupler passes at 1 Hz and fails on its amplification at 1.5 Hz, in the sweep and in
+    coupler passes at 0.5 Hz and fails on its amplification at 1.5 Hz, in the sweep and in
     the check alike."""
     row = _row(rows, speed_hz)
     result = _check(row, speed_hz)
@@ -63,7 +65,7 @@ def test_a_dynamic_sweep_row_equals_the_check_of_that_setting(rows, speed_hz):
     assert "PF_4b_003_v2_amplification" not in row  # constant loads: nothing to respond to
     coupler = result.parts["coupler-rail"]
     assert coupler.cycle.dynamic.amplification > 1.0
-    if speed_hz == 1.0:
+    if speed_hz == 0.5:
         assert row["verdict"] == "pass" and coupler.passed
     else:
         assert row["verdict"] == "fail" and "coupler-rail dynamic" in row["reason"]
@@ -74,10 +76,10 @@ def test_a_dynamic_sweep_row_equals_the_check_of_that_setting(rows, speed_hz):
 def test_checking_at_the_dynamic_safe_speed_gives_utilisation_one(rows):
     """The safe speed is searched (scan, then regula falsi): a check at that speed puts the
     governing part and criterion the sweep names exactly at the limit, and the speed lies
-    between the passing 1 Hz and the failing 1.5 Hz."""
-    row = _row(rows, 1.0)
+    between the passing 0.5 Hz and the failing 1.5 Hz."""
+    row = _row(rows, 0.5)
     safe = float(row["safe_speed_Hz"])
-    assert 1.0 < safe < 1.5
+    assert 0.5 < safe < 1.5
     result = _check(row, safe)
     u = {name: p.utilisation for name, p in result.parts.items()}
     assert max(u.values()) == pytest.approx(1.0, abs=1e-6)
