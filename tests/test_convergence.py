@@ -9,6 +9,7 @@ from railcheck.cli import main
 from railcheck.parts import geometry_of
 from railcheck.scene import load_scene
 from railcheck.studies.convergence import HOLE_RATIO, kinematics_study, richardson, solve_row
+from scene_texts import FINAL_DESIGN
 
 
 @pytest.mark.parametrize("p", [1.0, 2.0, 3.5])
@@ -103,19 +104,15 @@ FREE_RAILS_CONVERGED = {
     "rocker-rail": (8.3257826e6, 35.255882, 0.12489033e-3),
 }
 
-FREE_RAILS_SCENE = """
-[mechanism]
-kind = "four-bar"
-crank = "480 mm"
-coupler = "840 mm"
-rocker = "780 mm"
-ground = "1020 mm"
-speed = "1 Hz"
+FREE_RAILS_SCENE = (
+    FINAL_DESIGN
+    + """speed = "1 Hz"
 steps = 720
 [check]
 parts = ["crank-rail", "coupler-rail", "rocker-rail"]
 support = "free-body"
 """
+)
 
 
 @pytest.fixture(scope="module")
