@@ -57,7 +57,18 @@ def bearing_life(
 ) -> BearingLife:
     """``reaction`` (..., T, 2) N the joint's force over one revolution (uniform in time),
     ``relative_speed`` (..., T) rad/s of the bearing's rings."""
-    P = np.hypot(reaction[..., 0], reaction[..., 1]) / per_joint
+    return bearing_life_of_magnitude(np.hypot(reaction[..., 0], reaction[..., 1]), relative_speed, bearing, per_joint)
+
+
+def bearing_life_of_magnitude(
+    magnitude: np.ndarray,
+    relative_speed: np.ndarray,
+    bearing: BallBearing = BEARING_6205,
+    per_joint: int = BEARINGS_PER_JOINT,
+) -> BearingLife:
+    """:func:`bearing_life` from the joint force's magnitude ``magnitude`` (..., T) N (a
+    caller that has it already, e.g. for the peak reaction, does not compute it twice)."""
+    P = magnitude / per_joint
     n = np.abs(relative_speed)
     turns = n.sum(axis=-1)
     with np.errstate(divide="ignore", invalid="ignore"):
