@@ -116,6 +116,7 @@ def test_each_hole_of_a_case_list_gets_its_own_force(bar):
     np.testing.assert_allclose(full[0], expected, rtol=1e-13)
 
 
+@pytest.mark.slow  # 5.9 s in CI (a direct solve beside the unit fields): over the marker's few seconds
 def test_pin_pressures_superpose_as_a_direct_solve_and_pull_as_f_over_a(bar):
     """Two equal and opposite pin pressures on a free rail: the relieved unit fields
     combined equal the combined load solved directly (1e-9), and the stress between the
