@@ -4,21 +4,29 @@ evaluated at every step.
 
 A history ``c`` (T steps, k coefficients, each scaled by its largest stress per unit so
 forces, torques and accelerations are comparable) is split into its principal subspace
-of rank :data:`REDUCED_RANK` and a residual: ``c_t = P a_t + e_t``. Every STRIDE-th step
-is read at every node in the r coordinates ``a`` (r terms per stress component instead
-of k). A step between lies within ``|a_t - a_s|`` of its nearer sampled step ``s`` and
-within ``|e_t|`` of the subspace, so with ``Sw`` a node's stress per unit scaled
-coefficient (6 x k) and ``L`` the von Mises factor (von Mises = ``|L Sw c|``):
+and a residual: ``c_t = P a_t + e_t``, of the smallest rank from :data:`REDUCED_RANK` to
+:data:`MAX_RANK` whose residual is at most :data:`RESIDUAL_SHARE` of the history's
+largest ``|c_t|``. With ``Sw`` a node's stress per unit scaled coefficient (6 x k) and
+``L`` the von Mises factor (von Mises = ``|L Sw c|``), two bounds over every step:
 
-* von Mises at step t <= sampled von Mises + ``||L Sw P||_F |a_t - a_s|`` + ``||L Sw|| |e_t|``;
-* each stress component's maximum and minimum over all steps lie within ``g = |Sw_j P|
-  |a_t - a_s| + |Sw_j| |e_t|`` outside the sampled ones (bounds of its half-range and of
-  its midrange's magnitude, hence of the alternating and midrange von Mises).
+* **the box** (:func:`box_bounds`, a few operations per node): every ``a_t`` lies in the
+  box of the coordinates' ranges, over which a linear function's extremes are its value at
+  the box's centre plus or minus ``|row| . half-widths``; each stress component lies
+  within that of ``Sw_j P`` plus ``|Sw_j| |e_t|``, and von Mises within the norm of the
+  six rows of ``L Sw P`` so bounded plus ``||L Sw|| |e_t|``.
+* **the samples** (:func:`sampled_bounds`): :data:`SAMPLES` steps, evenly spaced along the
+  history's path in the subspace (so the fast stretches of a cycle are read as densely as
+  the slow ones), are read at the node in the r coordinates; a step between lies within
+  ``|a_t - a_s|`` of a read one, so von Mises at step t <= sampled von Mises + ``||L Sw P||_F
+  |a_t - a_s|`` + ``||L Sw|| |e_t|``, and each component's maximum and minimum lie within
+  ``g = |Sw_j P| |a_t - a_s| + |Sw_j| |e_t|`` outside the sampled ones (bounds of its
+  half-range and of its midrange's magnitude, hence of the alternating and midrange von
+  Mises).
 
-A real setting's history lies close to a few directions (its singular values fall to a
-few % of the first by the fourth), so the bounds are tight and a few to a few hundred of
-10,000-30,000 nodes remain. Everything in SI (Pa); the callers evaluate the remaining
-nodes exactly (:mod:`railcheck.sweep.fe`, :func:`fea.superpose.screened_max`,
+The box discards most nodes for the price of reading their stresses once; the samples,
+read only at the nodes the box keeps, leave a few to a few hundred of 10,000-30,000
+nodes. Everything in SI (Pa); the callers evaluate the remaining nodes exactly
+(:mod:`railcheck.sweep.fe`, :func:`fea.superpose.screened_max`,
 :func:`railcheck.check.cycle.fatigue_of`).
 """
 
@@ -30,13 +38,16 @@ import numpy as np
 
 from .stress import VM_QUADRATIC, von_mises
 
-#: the rank of the principal subspace a history is screened in
+#: the smallest rank of the principal subspace a history is screened in
 REDUCED_RANK = 4
-#: every STRIDE-th step (at least) is read at every node; the steps between are bounded
-STRIDE = 8
-#: a longer history is read at about this many steps (a stride of T / SAMPLES): the gap
-#: between read steps, which sets the bounds, is then that of 720 steps at STRIDE
+#: the largest rank (the sampled bounds cost r^2 per node and read step)
+MAX_RANK = 8
+#: the rank grows until the residual ``max |e_t|`` is at most this share of ``max |c_t|``
+RESIDUAL_SHARE = 0.01
+#: steps read at every node, evenly spaced along the history's path in the subspace
 SAMPLES = 90
+#: a history of at most this many steps is read whole (no screen)
+MIN_STEPS = 32
 #: nodes of best sampled value evaluated exactly first, for a threshold near the optimum
 FIRST_NODES = 16
 #: relative margin on the bounds (rounding)
@@ -53,7 +64,7 @@ VM_FACTOR = (_V * np.sqrt(np.maximum(_w, 0.0))) @ _V.T
 def applies(steps: int, k: int) -> bool:
     """Whether a history of ``steps`` x ``k`` coefficients is screened in its subspace
     (two coefficients have exact planar paths; a few steps are cheaper read whole)."""
-    return k > 2 and steps > 4 * STRIDE
+    return k > 2 and steps > MIN_STEPS
 
 
 def column_scale(S: np.ndarray) -> np.ndarray:
@@ -66,9 +77,9 @@ def column_scale(S: np.ndarray) -> np.ndarray:
 class Subspace:
     """One scaled history ``c`` (T, k) as ``c_t = P a_t + e_t``: ``P`` (k, r) its principal
     directions, ``a`` (T, r) the steps' coordinates, ``eps`` the largest ``|e_t|``;
-    ``sampled`` the indices of the steps read (every STRIDE-th, or about SAMPLES of a long
-    history) and ``delta`` the largest distance
-    ``|a_t - a_s|`` of any step from its nearer sampled neighbour."""
+    ``sampled`` the indices of the steps read (:data:`SAMPLES`, evenly spaced along the
+    path of ``a``) and ``delta`` the largest distance ``|a_t - a_s|`` of any step from the
+    nearer read step on either side."""
 
     P: np.ndarray
     a: np.ndarray
@@ -77,19 +88,49 @@ class Subspace:
     delta: float
 
 
+def subspace_rank(c: np.ndarray, Vt: np.ndarray) -> int:
+    """The smallest rank from REDUCED_RANK to MAX_RANK (at most k) whose residual is at
+    most RESIDUAL_SHARE of the history's largest step norm (``Vt``: the history's right
+    singular vectors, rows by decreasing singular value)."""
+    coords = c @ Vt.T  # (T, m): every step in the singular basis
+    # tail[:, r]: each step's residual beyond rank r (sums of squares from the back: no cancellation)
+    tail = np.sqrt(np.cumsum(coords[:, ::-1] ** 2, axis=1)[:, ::-1]).max(axis=0)
+    reach = float(np.linalg.norm(c, axis=1).max())
+    top = min(MAX_RANK, c.shape[1])
+    r = min(REDUCED_RANK, top)
+    while r < top and r < tail.size and tail[r] > RESIDUAL_SHARE * reach:
+        r += 1
+    return r
+
+
+def path_samples(a: np.ndarray, samples: int = SAMPLES) -> np.ndarray:
+    """Indices (ascending, first and last included) of about ``samples`` steps of the path
+    ``a`` (T, r), evenly spaced along its length."""
+    T = a.shape[0]
+    length = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(a, axis=0), axis=1))])
+    marks = np.linspace(0.0, length[-1], min(samples, T))
+    return np.unique(np.concatenate([np.searchsorted(length, marks).clip(0, T - 1), [0, T - 1]]))
+
+
+def gap_to_samples(a: np.ndarray, sampled: np.ndarray) -> float:
+    """The largest distance of a step of ``a`` (T, r) from the nearer of the read steps
+    ``sampled`` (ascending) before and after it."""
+    T = a.shape[0]
+    j = np.searchsorted(sampled, np.arange(T), side="right") - 1
+    before, after = sampled[j], sampled[np.minimum(j + 1, sampled.size - 1)]
+    gap = np.minimum(np.linalg.norm(a - a[before], axis=1), np.linalg.norm(a - a[after], axis=1))
+    return float(gap.max())
+
+
 def principal_subspace(c: np.ndarray) -> Subspace:
-    """The scaled history ``c`` (T, k) in its principal subspace of rank REDUCED_RANK."""
-    T, k = c.shape
+    """The scaled history ``c`` (T, k) in its principal subspace (:func:`subspace_rank`),
+    read at :func:`path_samples`."""
     _, _, Vt = np.linalg.svd(c, full_matrices=False)
-    P = Vt[: min(REDUCED_RANK, k)].T
+    P = Vt[: subspace_rank(c, Vt)].T
     a = c @ P
     eps = float(np.linalg.norm(c - a @ P.T, axis=1).max())
-    stride = max(STRIDE, -(-T // SAMPLES))
-    sampled = np.arange(0, T, stride)
-    before = (np.arange(T) // stride) * stride
-    after = np.minimum(before + stride, sampled[-1])
-    gap = np.minimum(np.linalg.norm(a - a[before], axis=1), np.linalg.norm(a - a[after], axis=1))
-    return Subspace(P, a, eps, sampled, float(gap.max()))
+    sampled = path_samples(a)
+    return Subspace(P, a, eps, sampled, gap_to_samples(a, sampled))
 
 
 @dataclass(frozen=True)
@@ -117,14 +158,35 @@ def von_mises_norm_bound(Sw: np.ndarray) -> np.ndarray:
     return np.sqrt(np.maximum(np.einsum("cnk,cd,dnk->n", Sw, VM_QUADRATIC, Sw, optimize=True), 0.0))
 
 
-def sampled_bounds(S: np.ndarray, scale: np.ndarray, norms: np.ndarray, vm_norm: np.ndarray, sub: Subspace) -> SampledBounds:
-    """The nodes' sampled values and bounds (module doc). ``S`` (6, n, k) Pa per unit
-    coefficient and ``scale`` (k,) the coefficients' scale (so ``S / scale`` is the stress
-    per unit scaled coefficient); ``norms`` (6, n) :func:`component_norms` of ``S /
-    scale``; ``vm_norm`` (n,) a bound of each node's von Mises per unit scaled coefficient
+def project(S: np.ndarray, scale: np.ndarray, sub: Subspace) -> np.ndarray:
+    """(6, n, r) Pa per unit of the subspace's coordinates: the stresses ``S`` (6, n, k) Pa
+    per unit coefficient along the principal directions of a history scaled by ``scale`` (k,)."""
+    return S @ (sub.P / scale[:, None])
+
+
+def box_bounds(SP: np.ndarray, norms: np.ndarray, vm_norm: np.ndarray, sub: Subspace) -> SampledBounds:
+    """Bounds over every step from the box of the subspace coordinates' ranges (module
+    doc), as :class:`SampledBounds`: ``high`` = ``low`` the components at the box's centre,
+    ``slack`` how far from it they reach, and ``von_mises`` = ``von_mises_upper`` a bound of
+    von Mises (the box reads no step). ``SP`` (6, n, r) :func:`project`; ``norms`` (6, n)
+    and ``vm_norm`` (n,) as for :func:`sampled_bounds`."""
+    lo, hi = sub.a.min(axis=0), sub.a.max(axis=0)
+    centre, half = 0.5 * (hi + lo), 0.5 * (hi - lo)
+    mid = SP @ centre  # (6, n)
+    reach = np.abs(SP) @ half + norms * sub.eps
+    L = np.tensordot(VM_FACTOR, SP, axes=([1], [0]))  # (6, n, r): von Mises = |L a|
+    rows = np.abs(L @ centre) + np.abs(L) @ half  # each row's largest |L_j . a| over the box
+    vm = np.sqrt(np.einsum("jn,jn->n", rows, rows)) + vm_norm * sub.eps
+    return SampledBounds(vm, vm, mid, mid, reach)
+
+
+def sampled_bounds(SP: np.ndarray, norms: np.ndarray, vm_norm: np.ndarray, sub: Subspace) -> SampledBounds:
+    """The nodes' sampled values and bounds (module doc). ``SP`` (6, n, r) the stresses
+    per unit of the subspace's coordinates (:func:`project`); ``norms`` (6, n)
+    :func:`component_norms` of the stress per unit scaled coefficient; ``vm_norm`` (n,) a
+    bound of each node's von Mises per unit scaled coefficient
     (:func:`von_mises_norm_bound`, or the square root of its quadratic form's largest
     eigenvalue)."""
-    SP = S @ (sub.P / scale[:, None])  # (6, n, r): stress per unit of the subspace's coordinates
     a = sub.a[sub.sampled]  # (s, r)
     n, r = SP.shape[1], SP.shape[2]
     # von Mises squared as an r x r form per node (r^2 terms per node and step, one matrix product)
@@ -149,7 +211,8 @@ def history_bounds(S: np.ndarray, C: np.ndarray) -> SampledBounds:
     one history ``C`` (steps, k), the coefficients scaled by :func:`column_scale`."""
     w = column_scale(S)
     Sw = S / w
-    return sampled_bounds(S, w, component_norms(Sw), von_mises_norm_bound(Sw), principal_subspace(C * w))
+    sub = principal_subspace(C * w)
+    return sampled_bounds(project(S, w, sub), component_norms(Sw), von_mises_norm_bound(Sw), sub)
 
 
 def fatigue_bounds(b: SampledBounds) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -172,7 +235,10 @@ def peak_candidates(b: SampledBounds, lower: float) -> np.ndarray:
     return np.flatnonzero(b.von_mises_upper * (1.0 + SLACK) >= lower)
 
 
-def first_nodes(values: np.ndarray, largest: bool = True) -> np.ndarray:
-    """The FIRST_NODES nodes of largest (or smallest) ``values``, ascending."""
-    order = np.argsort(-values if largest else values, kind="stable")
-    return np.sort(order[:FIRST_NODES])
+def first_nodes(values: np.ndarray, largest: bool = True, count: int = FIRST_NODES) -> np.ndarray:
+    """The ``count`` nodes of largest (or smallest) ``values``, ascending (a partial
+    sort: which of several equal values at the cut is taken is unspecified)."""
+    key = -values if largest else values
+    if key.size <= count:
+        return np.arange(key.size)
+    return np.sort(np.argpartition(key, count - 1)[:count])

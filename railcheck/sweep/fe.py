@@ -10,15 +10,15 @@ Exact screening. For a setting with coefficient history ``c(t)`` (steps, k):
   >= L`` are evaluated. Fatigue: an ellipse holds the history, which bounds each
   component's half-range and midrange; the ranges are the cycle polygon's support function.
 * More coefficients (free bodies: pins, pin pressures, inertia fields, modes): each history
-  is split into its principal subspace of rank :data:`REDUCED_RANK` and a residual
-  (``c_t = P a_t + e_t``), and every STRIDE-th step is read at every node in the subspace.
-  A step between lies within ``|a_t - a_s|`` of a sampled one and within ``|e_t|`` of the
-  subspace, which bounds every node's von Mises and component ranges over all steps
-  (:func:`_reduced_von_mises_peak`, :func:`_reduced_fatigue_min`). The nodes of best
-  sampled value are evaluated exactly first (a threshold), then only the nodes whose bound
-  can beat it. A many-coefficient history of a real setting lies close to a few
-  directions (singular values falling to a few % by the fourth), so a few hundred of
-  10,000-30,000 nodes are evaluated at every step.
+  is split into its principal subspace and a residual (``c_t = P a_t + e_t``;
+  :mod:`railcheck.fea.screen`). The box of the coordinates' ranges bounds every node's von
+  Mises and component ranges over all steps for a few operations per node; the nodes of
+  best box bound, read at steps spaced along the history's path, give exact thresholds
+  (a lower bound of the peak, an upper bound of the fatigue minimum), and only the nodes
+  whose box bound can beat them are read at those steps, whose bounds leave the few that
+  are evaluated at every step (:func:`_screened`). A many-coefficient history of a real
+  setting lies close to a few directions, so a few thousand of 10,000-30,000 nodes are
+  read and a few to a few hundred evaluated at every step.
 
 The results equal evaluating every verdict node (:func:`railcheck.check.cycle.evaluate_cycle`)
 to rounding. All arrays SI (Pa, m); vectorised over settings, steps and nodes, in chunks
@@ -33,24 +33,30 @@ import numpy as np
 
 from railcheck.fea import screen as screen_
 from railcheck.fea.fatigue import alternating_and_mean, safety_factor
+from railcheck.fea.stress import von_mises_squared
 from railcheck.fea.superpose import VM_QUADRATIC, candidate_steps, hull_polygon, support
 
 CHUNK_VALUES = 8_000_000  # floats per temporary (nodes x settings x steps)
 TOP_NODES = 64  # nodes evaluated first for the lower bound
 SLACK = 1e-9  # relative margin on the bounds (rounding)
+#: nodes of best box bound (per criterion) read at the sampled steps, whose best sampled
+#: values are then evaluated exactly for the thresholds (many coefficients)
+BOX_FIRST = 128
 
 
 @dataclass(frozen=True)
 class Screen:
     """One column set of a part's unit fields, at its verdict nodes: ``stress`` (6, n, k)
     Pa per unit coefficient; ``Q`` (n, k*k) the von Mises quadratic forms in the scaled
-    coefficients ``c * scale`` (Pa^2); ``lam`` (n,) their largest eigenvalues; ``G`` and
+    coefficients ``c * scale`` (Pa^2; two coefficients only, else None: a many-coefficient
+    history's von Mises is read from the stresses); ``lam`` (n,) their largest eigenvalues
+    (more than two coefficients: their trace, a bound of it); ``G`` and
     ``Ga`` (n,) the midrange and alternating bound factors of the fatigue screen; ``tip``
     (3, k) m; ``unit_rows`` (6, n) each component's stress per unit scaled coefficient
     (the norm of its k values over ``scale``)."""
 
     stress: np.ndarray
-    Q: np.ndarray
+    Q: np.ndarray | None
     lam: np.ndarray
     G: np.ndarray
     Ga: np.ndarray
@@ -60,6 +66,11 @@ class Screen:
     by_G: np.ndarray = field(repr=False, default=None)
     angle: np.ndarray | None = field(repr=False, default=None)  # (6, n) arctan2 of each component (k = 2)
     scale: np.ndarray | None = field(repr=False, default=None)  # (k,) the coefficients' scale w of Q and lam
+
+    @property
+    def vm_norm(self) -> np.ndarray:
+        """(n,) a bound of each node's von Mises per unit scaled coefficient: sqrt(lam)."""
+        return np.sqrt(np.maximum(self.lam, 0.0))
 
 
 def make_screen(stress: np.ndarray, verdict_mask: np.ndarray, tip: np.ndarray, cols: list[int]) -> Screen:
@@ -71,17 +82,21 @@ def make_screen(stress: np.ndarray, verdict_mask: np.ndarray, tip: np.ndarray, c
     # the quadratic forms in scaled coefficients c w (w: each coefficient's largest stress
     # per unit), so the bound sqrt(lam) |c w| is not set by mixing forces, torques and
     # accelerations of very different stress per unit
-    w = np.linalg.norm(S, axis=0).max(axis=0) + 1e-300
+    w = screen_.column_scale(S)
     Sw = S / w
-    Q = np.einsum("cnk,cd,dnl->nkl", Sw, VM_QUADRATIC, Sw, optimize=True)
-    lam = np.linalg.eigvalsh(Q)[:, -1]
+    if k > 2:  # no k x k forms (k^2 floats per node): the screens read the stresses
+        Q, lam = None, screen_.von_mises_norm_bound(Sw) ** 2
+    else:
+        Q = np.einsum("cnk,cd,dnl->nkl", Sw, VM_QUADRATIC, Sw, optimize=True)
+        lam = np.linalg.eigvalsh(Q)[:, -1]
+        Q = Q.reshape(-1, k * k)
     norms = np.linalg.norm(S, axis=2)  # (6, n)
     shear = 3.0 * (norms[3] ** 2 + norms[4] ** 2 + norms[5] ** 2)
     G = np.sqrt(0.5 * ((norms[0] + norms[1]) ** 2 + (norms[1] + norms[2]) ** 2 + (norms[2] + norms[0]) ** 2) + shear)
     Ga = np.sqrt(norms[0] ** 2 + norms[1] ** 2 + norms[2] ** 2 + shear)
     angle = np.arctan2(S[..., 1], S[..., 0]) if k == 2 else None
     unit_rows = np.linalg.norm(Sw, axis=2)  # (6, n): each component's stress per unit scaled coefficient
-    return Screen(S, Q.reshape(-1, k * k), lam, G, Ga, tip[:, cols], unit_rows, np.argsort(-lam), np.argsort(-Ga), angle, w)
+    return Screen(S, Q, lam, G, Ga, tip[:, cols], unit_rows, np.argsort(-lam), np.argsort(-Ga), angle, w)
 
 
 def hull_steps(C: np.ndarray) -> np.ndarray:
@@ -103,11 +118,15 @@ def _groups(settings: int, per_setting: int) -> list[slice]:
 
 def von_mises_peak(screen: Screen, C: np.ndarray) -> np.ndarray:
     """(S,) Pa: the largest von Mises over the verdict nodes and steps of each setting's
-    history ``C`` (S, T, k): histories of more than two coefficients in their own principal
-    subspace (:func:`_reduced_von_mises_peak`), two by the nodes' eigenvalue bound."""
+    history ``C`` (S, T, k): histories of more than two coefficients screened in their own
+    principal subspace (:func:`_screened`) or, a few steps, read whole; two by the nodes'
+    eigenvalue bound."""
     S_, T, k = C.shape
-    if screen_.applies(T, k):
-        return np.array([_reduced_von_mises_peak(screen, c) for c in C])
+    if k > 2:
+        if screen_.applies(T, k):
+            return np.array([_screened(screen, c)[0] for c in C])
+        every = np.arange(screen.stress.shape[1])
+        return np.sqrt(np.array([_exact_von_mises2(screen, every, c) for c in C]))
     C = C * screen.scale if screen.scale is not None else C  # the coefficients of Q
     CC = (C[..., :, None] * C[..., None, :]).reshape(S_, T, k * k)
     R2 = np.einsum("stk,stk->st", C, C).max(axis=1)
@@ -136,44 +155,69 @@ def peak_and_fatigue(
     enough: float | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """(:func:`von_mises_peak`, :func:`fatigue_min`) of the histories ``C`` (S, T, k), each
-    (S,); a many-coefficient history's sampled bounds computed once for both."""
+    (S,); a many-coefficient history's screens computed once for both."""
     S_, T, k = C.shape
     if not screen_.applies(T, k):
         return von_mises_peak(screen, C), fatigue_min(screen, C, endurance, ultimate, criterion, yield_strength, enough)
     factor = lambda sa, sm: safety_factor(sa, sm, endurance, ultimate, criterion, yield_strength)  # noqa: E731
-    vm, fat = np.empty(S_), np.empty(S_)
-    for i, c in enumerate(C):
-        b = _sampled(screen, c * screen.scale)
-        vm[i] = _reduced_von_mises_peak(screen, c, b)
-        fat[i] = _reduced_fatigue_min(screen, c, factor, enough, b)
-    return vm, fat
+    out = np.array([_screened(screen, c, factor, enough) for c in C])
+    return out[:, 0], out[:, 1]
 
 
-def _reduced_von_mises_peak(screen: Screen, c: np.ndarray, b: screen_.SampledBounds | None = None) -> float:
-    """Pa: the exact largest von Mises over the nodes and steps of one history ``c`` (T, k)
-    (unscaled coefficients): the nodes' sampled values and bounds in the history's
-    principal subspace (:mod:`railcheck.fea.screen`); the nodes of largest sampled value
-    give an exact lower bound, and only nodes whose bound reaches it are evaluated at
-    every step."""
-    c = c * screen.scale
-    b = _sampled(screen, c) if b is None else b
-    low = _exact_von_mises2(screen, screen_.first_nodes(b.von_mises), c)
-    nodes = screen_.peak_candidates(b, np.sqrt(low))
-    return float(np.sqrt(max(low, _exact_von_mises2(screen, nodes, c))))
+def _screened(screen: Screen, c: np.ndarray, factor=None, enough: float | None = None) -> tuple[float, float]:
+    """(Pa, factor): the exact largest von Mises over the nodes and steps of one history
+    ``c`` (T, k) (unscaled coefficients) and, with a ``factor`` (sa, sm) -> safety factor,
+    its exact smallest fatigue factor (else inf; ``enough`` as in :func:`fatigue_min`).
 
+    Every node's box bound (:func:`railcheck.fea.screen.box_bounds`); the
+    :data:`BOX_FIRST` nodes of best box bound read at the sampled steps, and the
+    FIRST_NODES of best sampled value among them evaluated exactly: the thresholds. Only
+    the nodes whose box bound can beat a threshold are read at the sampled steps, and only
+    those whose sampled bound can beat it are evaluated at every step."""
+    cs = c * screen.scale
+    sub = screen_.principal_subspace(cs)
+    SP = screen_.project(screen.stress, screen.scale, sub)
+    norms, vm_norm = screen.unit_rows, screen.vm_norm
 
-def _sampled(screen: Screen, c: np.ndarray) -> screen_.SampledBounds:
-    """The screen's nodes' sampled values and bounds for the scaled history ``c``."""
-    sub = screen_.principal_subspace(c)
-    return screen_.sampled_bounds(screen.stress, screen.scale, screen.unit_rows, np.sqrt(np.maximum(screen.lam, 0.0)), sub)
+    def sampled(nodes):
+        return screen_.sampled_bounds(SP[:, nodes], norms[:, nodes], vm_norm[nodes], sub)
+
+    box = screen_.box_bounds(SP, norms, vm_norm, sub)
+    first = screen_.first_nodes(box.von_mises_upper, count=BOX_FIRST)
+    if factor is not None:
+        box_factor = factor(*screen_.fatigue_bounds(box)[:2])
+        first = np.union1d(first, screen_.first_nodes(box_factor, largest=False, count=BOX_FIRST))
+    b = sampled(first)
+    low2 = _exact_von_mises2(screen, first[screen_.first_nodes(b.von_mises)], c)
+    keep = box.von_mises_upper * (1.0 + SLACK) >= np.sqrt(low2)
+    if factor is not None:
+        top = _fatigue_exact(
+            screen, first[screen_.first_nodes(factor(*screen_.fatigue_bounds(b)[2:]), largest=False)], c[None], factor
+        )[0]
+        can = box_factor <= top * (1.0 + SLACK)
+        if enough is not None:
+            can &= box_factor < enough * (1.0 + SLACK)
+        keep |= can
+    nodes = np.flatnonzero(keep)
+    b = sampled(nodes)
+    peak = float(np.sqrt(max(low2, _exact_von_mises2(screen, nodes[screen_.peak_candidates(b, np.sqrt(low2))], c))))
+    if factor is None:
+        return peak, np.inf
+    sa, sm, _, _ = screen_.fatigue_bounds(b)
+    can = factor(sa, sm) <= top * (1.0 + SLACK)
+    if enough is not None:
+        can &= factor(sa, sm) < enough * (1.0 + SLACK)
+    rest = nodes[can]
+    return peak, min(float(top), float(_fatigue_exact(screen, rest, c[None], factor)[0])) if rest.size else float(top)
 
 
 def _exact_von_mises2(screen: Screen, nodes: np.ndarray, c: np.ndarray) -> float:
-    """Pa^2: the largest von Mises squared over ``nodes`` and every step of ``c`` (T, k), scaled."""
-    cc = (c[:, :, None] * c[:, None, :]).reshape(c.shape[0], -1).T
+    """Pa^2: the largest von Mises squared over ``nodes`` and every step of the history
+    ``c`` (T, k) (the stresses at every step, in chunks)."""
     best = 0.0
-    for g in _groups(nodes.size, c.shape[0]):
-        best = max(best, float((screen.Q[nodes[g]] @ cc).max()))
+    for g in _groups(nodes.size, 6 * c.shape[0]):
+        X = screen.stress[:, nodes[g]] @ c.T  # (6, u, T)
+        best = max(best, float(von_mises_squared(X).max()))
     return best
 
 
@@ -197,7 +241,7 @@ def fatigue_min(
     factor = lambda sa, sm: safety_factor(sa, sm, endurance, ultimate, criterion, yield_strength)  # noqa: E731
     S_, T, k = C.shape
     if screen_.applies(T, k):
-        return np.array([_reduced_fatigue_min(screen, c, factor, enough) for c in C])
+        return np.array([_screened(screen, c, factor, enough)[1] for c in C])
     polygons = [hull_polygon(c) for c in C] if screen.angle is not None else None  # once per history
     best = _fatigue_exact(screen, screen.by_G[:TOP_NODES], C, factor, polygons)
     c0, E = _enclosing_ellipse(C)
@@ -214,28 +258,6 @@ def fatigue_min(
                 some = [polygons[i] for i in sub] if polygons is not None else None
                 best[sub] = np.minimum(best[sub], _fatigue_exact(screen, nodes, C[sub], factor, some))
     return best
-
-
-def _reduced_fatigue_min(
-    screen: Screen, c: np.ndarray, factor, enough: float | None, b: screen_.SampledBounds | None = None
-) -> float:
-    """The exact smallest fatigue factor over the nodes of one history ``c`` (T, k): the
-    bounds of each node's alternating and midrange von Mises over every step
-    (:func:`railcheck.fea.screen.fatigue_bounds`) bound its factor from below; the nodes of
-    smallest sampled factor are evaluated exactly first (a threshold), then every node
-    whose bound can beat it."""
-    b = _sampled(screen, c * screen.scale) if b is None else b
-    sa, sm, sa_sampled, sm_sampled = screen_.fatigue_bounds(b)
-    bound = factor(sa, sm)  # (n,)
-    history = c[None]
-    top = float(
-        _fatigue_exact(screen, screen_.first_nodes(factor(sa_sampled, sm_sampled), largest=False), history, factor)[0]
-    )
-    keep = bound <= top * (1.0 + SLACK)
-    if enough is not None:
-        keep &= bound < enough * (1.0 + SLACK)
-    nodes = np.flatnonzero(keep)
-    return min(top, float(_fatigue_exact(screen, nodes, history, factor)[0])) if nodes.size else top
 
 
 def _enclosing_ellipse(C: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
