@@ -82,6 +82,22 @@ def test_unloaded_setting_has_zero_stress_and_infinite_fatigue_factor():
     assert np.isinf(n[0]) and np.isfinite(n[1])
 
 
+def test_an_unloaded_many_coefficient_history_reads_no_node():
+    """A history of zeros (k > 2, screened in its subspace) has zero stress and an
+    infinite fatigue factor at once: its box is a point, which would keep every node for
+    every step (6 x nodes x steps floats)."""
+    rng = np.random.default_rng(1)
+    stress = rng.normal(size=(6, 400, 5))
+    screen = make_screen(stress, np.ones(400, bool), rng.normal(size=(3, 5)), list(range(5)))
+    C = np.zeros((2, 200, 5))
+    C[1] = rng.normal(size=(200, 5))
+    vm, n = peak_and_fatigue(screen, C, 200e6, 750e6, "goodman", None)
+    brute_vm, brute_n = _brute(stress, np.ones(400, bool), C)
+    assert vm[0] == 0.0 and np.isinf(n[0])
+    np.testing.assert_allclose(vm[1], brute_vm[1], rtol=1e-12)
+    np.testing.assert_allclose(n[1], brute_n[1], rtol=1e-12)
+
+
 @pytest.mark.parametrize("columns", [[0, 1], [2, 3]])
 def test_screen_selects_columns(columns):
     rng = np.random.default_rng(2)

@@ -174,6 +174,8 @@ def _screened(screen: Screen, c: np.ndarray, factor=None, enough: float | None =
     FIRST_NODES of best sampled value among them evaluated exactly: the thresholds. Only
     the nodes whose box bound can beat a threshold are read at the sampled steps, and only
     those whose sampled bound can beat it are evaluated at every step."""
+    if not np.any(c):  # unloaded: no stress anywhere (and no screen to build on a zero box)
+        return 0.0, np.inf
     cs = c * screen.scale
     sub = screen_.principal_subspace(cs)
     SP = screen_.project(screen.stress, screen.scale, sub)
@@ -296,9 +298,11 @@ def _fatigue_exact(screen: Screen, nodes: np.ndarray, C: np.ndarray, factor, pol
         return _fatigue_exact_planar(screen, nodes, C, factor, polygons)
     out = np.full(C.shape[0], np.inf)
     for g in _groups(C.shape[0], 6 * nodes.size * C.shape[1]):
-        X = np.tensordot(screen.stress[:, nodes, :], C[g], axes=([2], [2]))  # (6, u, s, T)
-        sa, sm = alternating_and_mean(X.max(axis=3), X.min(axis=3))
-        out[g] = factor(sa, sm).min(axis=0)
+        # and the nodes in groups too: one history over many nodes stays within CHUNK_VALUES
+        for h in _groups(nodes.size, 6 * C.shape[1] * (g.stop - g.start)):
+            X = np.tensordot(screen.stress[:, nodes[h], :], C[g], axes=([2], [2]))  # (6, u, s, T)
+            sa, sm = alternating_and_mean(X.max(axis=3), X.min(axis=3))
+            out[g] = np.minimum(out[g], factor(sa, sm).min(axis=0, initial=np.inf))
     return out
 
 
