@@ -205,10 +205,10 @@ def _screened(screen: Screen, c: np.ndarray, factor=None, enough: float | None =
     peak = float(np.sqrt(max(low2, _exact_von_mises2(screen, nodes[screen_.peak_candidates(b, np.sqrt(low2))], c))))
     if factor is None:
         return peak, np.inf
-    sa, sm, _, _ = screen_.fatigue_bounds(b)
-    can = factor(sa, sm) <= top * (1.0 + SLACK)
+    bound = factor(*screen_.fatigue_bounds(b)[:2])
+    can = bound <= top * (1.0 + SLACK)
     if enough is not None:
-        can &= factor(sa, sm) < enough * (1.0 + SLACK)
+        can &= bound < enough * (1.0 + SLACK)
     rest = nodes[can]
     return peak, min(float(top), float(_fatigue_exact(screen, rest, c[None], factor)[0])) if rest.size else float(top)
 
