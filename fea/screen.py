@@ -180,6 +180,38 @@ def box_bounds(SP: np.ndarray, norms: np.ndarray, vm_norm: np.ndarray, sub: Subs
     return SampledBounds(vm, vm, mid, mid, reach)
 
 
+class CoefficientBox:
+    """Box bounds (as :func:`box_bounds`) of many histories of one part at once, in the
+    coefficients themselves: each history's steps ``c_t`` lie in the box of its
+    coefficients' ranges, so each stress component of a node lies within its value at the
+    box's centre +- ``|S_j| . half-widths`` and von Mises within the norm of its six rows
+    ``L S`` so bounded (``L`` :data:`VM_FACTOR`); every history's bounds over every node are
+    three matrix products. No basis and no residual: the coefficients (pin forces, torques,
+    accelerations) are the directions along which a part's load varies independently, and
+    a node the box keeps is then bounded in the history's own principal subspace
+    (:func:`box_bounds`). ``S`` (6, n, k) Pa per unit coefficient, C-contiguous."""
+
+    def __init__(self, S: np.ndarray):
+        k = S.shape[2]
+        self.nodes = S.shape[1]
+        self.S2 = S.reshape(-1, k)  # (6 n, k): rows by component, then node
+        self.abs_S = np.abs(self.S2)
+        self.abs_L = np.abs(np.tensordot(VM_FACTOR, S, axes=([1], [0]))).reshape(-1, k)  # von Mises = |L S c|
+
+    def bounds(self, C: np.ndarray) -> list[SampledBounds]:
+        """One :class:`SampledBounds` per history of ``C`` (s, T, k) (unscaled
+        coefficients): ``high`` = ``low`` the components at the box's centre, ``slack``
+        their reach, ``von_mises`` = ``von_mises_upper`` the bound of von Mises."""
+        lo, hi = C.min(axis=1), C.max(axis=1)
+        centre, half = 0.5 * (hi + lo), 0.5 * (hi - lo)  # (s, k)
+        shape = (C.shape[0], 6, self.nodes)
+        mid = (centre @ self.S2.T).reshape(shape)
+        reach = (half @ self.abs_S.T).reshape(shape)
+        rows = np.abs(np.einsum("ij,sjn->sin", VM_FACTOR, mid)) + (half @ self.abs_L.T).reshape(shape)
+        vm = np.sqrt(np.einsum("sjn,sjn->sn", rows, rows))
+        return [SampledBounds(vm[i], vm[i], mid[i], mid[i], reach[i]) for i in range(C.shape[0])]
+
+
 def sampled_bounds(SP: np.ndarray, norms: np.ndarray, vm_norm: np.ndarray, sub: Subspace) -> SampledBounds:
     """The nodes' sampled values and bounds (module doc). ``SP`` (6, n, r) the stresses
     per unit of the subspace's coordinates (:func:`project`); ``norms`` (6, n)

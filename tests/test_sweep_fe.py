@@ -322,3 +322,32 @@ def test_the_box_keeps_a_fatigue_minimum_that_the_peak_does_not_hold():
     peak, factor = peak_and_fatigue(screen, C, 200.0, 750.0, "goodman", 400.0)
     np.testing.assert_allclose(peak, vm, rtol=1e-12)
     np.testing.assert_allclose(factor, n_min, rtol=1e-12)
+
+
+def test_the_coefficient_box_holds_every_step_and_is_reached_at_its_corners():
+    """:class:`railcheck.fea.screen.CoefficientBox` bounds every node's components and von
+    Mises over every step of each history of a group (random fields, histories with a
+    mean, harmonics and a kick), and for a history that visits every corner of its box its
+    component bounds are the exact extremes (the box is no looser than its definition)."""
+    import itertools
+
+    from railcheck.fea.screen import CoefficientBox
+
+    rng = np.random.default_rng(21)
+    n, k, T = 500, 3, 200
+    stress = rng.normal(size=(6, n, k)) * np.exp(rng.normal(size=(1, n, 1)))
+    stress[:, 7] = 0.0  # an unstressed node
+    t = np.linspace(0, 2 * np.pi, T, endpoint=False)
+    C = rng.normal(size=(4, 1, k)) * 5 + rng.normal(size=(4, 1, k)) * np.cos(t)[None, :, None]
+    C[:, 50] += rng.normal(size=(4, k)) * 3  # a kick
+    corners = np.array(list(itertools.product([-1.0, 1.0], repeat=k))) * [2.0, 0.5, 1.0] + [1.0, -3.0, 0.0]
+    C = np.concatenate([C, np.pad(corners, ((0, T - corners.shape[0]), (0, 0)), mode="edge")[None]])
+    box = CoefficientBox(np.ascontiguousarray(stress))
+    for c, b in zip(C, box.bounds(C)):
+        X = np.tensordot(stress, c, axes=([2], [1]))  # (6, n, T)
+        tol = 1e-12 * np.abs(X).max()
+        assert np.all(X.max(axis=2) <= b.high + b.slack + tol) and np.all(X.min(axis=2) >= b.low - b.slack - tol)
+        assert np.all(von_mises(X).max(axis=1) <= b.von_mises_upper * (1 + 1e-12))
+        np.testing.assert_array_equal(b.slack[:, 7], 0.0)
+    np.testing.assert_allclose(b.high + b.slack, X.max(axis=2), rtol=1e-12, atol=tol)  # the corners: exact
+    np.testing.assert_allclose(b.low - b.slack, X.min(axis=2), rtol=1e-12, atol=tol)

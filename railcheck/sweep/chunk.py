@@ -289,33 +289,36 @@ def evaluate_part(
             (np.flatnonzero(inverse == i), model.screen_for(key / 1e6), model.modes_for(key / 1e6))
             for i, key in enumerate(keys)
         ]
+    args = (model.endurance, model.ultimate, model.criterion, model.yield_strength, model.required if decide else None)
     for idx, screen, modes in groups:
         length = None if bar_lengths is None else bar_lengths[idx[0]]
-        for Cg, Ci in history:
-            C = model.with_pin_pressure(length, s[idx, None, None] * Ci[idx] + (Cg[idx] if Cg is not None else 0.0))
-            read = screen
-            quasi = None
-            if modes is not None:
-                quasi = von_mises_peak(screen, hull_steps(C))
-                dq = modal_correction(modes.modal_loads, modes.hz, C, speed0 * np.sqrt(s[idx]), model.damping)
-                C, read = np.concatenate([C, dq], axis=2), modes.screen
-            C = hull_steps(C)
-            peak, factor = peak_and_fatigue(
-                read,
-                C,
-                model.endurance,
-                model.ultimate,
-                model.criterion,
-                model.yield_strength,
-                model.required if decide else None,
-            )
-            quasi = peak if quasi is None else quasi
+        if modes is None:  # every load source's histories in one call: they share the part's box
+            C = hull_steps(np.concatenate([_source_history(model, length, s, idx, *h) for h in history]))
+            peak, factor = (r.reshape(len(history), idx.size) for r in peak_and_fatigue(screen, C, *args))
+            vm[idx] = np.maximum(vm[idx], peak.max(axis=0))
+            fat[idx] = np.minimum(fat[idx], factor.min(axis=0))
+            tip[idx] = np.maximum(tip[idx], tip_peak(screen, C).reshape(len(history), idx.size).max(axis=0))
+            amp[idx] = np.maximum(amp[idx], 1.0)  # quasi-static: the peak is its own
+            continue
+        for Cg, Ci in history:  # with modes: each source's correction read on the modes' screen
+            C = _source_history(model, length, s, idx, Cg, Ci)
+            quasi = von_mises_peak(screen, hull_steps(C))
+            dq = modal_correction(modes.modal_loads, modes.hz, C, speed0 * np.sqrt(s[idx]), model.damping)
+            C = hull_steps(np.concatenate([C, dq], axis=2))
+            peak, factor = peak_and_fatigue(modes.screen, C, *args)
             with np.errstate(invalid="ignore", divide="ignore"):
                 amp[idx] = np.maximum(amp[idx], np.where(quasi > 0, peak / quasi, 1.0))
             vm[idx] = np.maximum(vm[idx], peak)
             fat[idx] = np.minimum(fat[idx], factor)
-            tip[idx] = np.maximum(tip[idx], tip_peak(read, C))
+            tip[idx] = np.maximum(tip[idx], tip_peak(modes.screen, C))
     return vm, fat, tip, np.where(np.isfinite(amp), amp, 1.0)
+
+
+def _source_history(model, length, s: np.ndarray, idx: np.ndarray, Cg, Ci: np.ndarray) -> np.ndarray:
+    """(len(idx), T, k): one load source's coefficients for the settings ``idx`` at speed
+    ratio squared ``s`` (gravity ``Cg`` or None, inertia ``Ci``), with the pin pressures
+    of the hole pair a bar of ``length`` m uses."""
+    return model.with_pin_pressure(length, s[idx, None, None] * Ci[idx] + (Cg[idx] if Cg is not None else 0.0))
 
 
 def criterion_utilisations(model, vm, fat, tip, amp=None) -> dict[str, np.ndarray]:

@@ -124,7 +124,7 @@ def von_mises_peak(screen: Screen, C: np.ndarray) -> np.ndarray:
     S_, T, k = C.shape
     if k > 2:
         if screen_.applies(T, k):
-            return np.array([_screened(screen, c)[0] for c in C])
+            return _screened_group(screen, C)[:, 0]
         every = np.arange(screen.stress.shape[1])
         return np.sqrt(np.array([_exact_von_mises2(screen, every, c) for c in C]))
     C = C * screen.scale if screen.scale is not None else C  # the coefficients of Q
@@ -160,48 +160,81 @@ def peak_and_fatigue(
     if not screen_.applies(T, k):
         return von_mises_peak(screen, C), fatigue_min(screen, C, endurance, ultimate, criterion, yield_strength, enough)
     factor = lambda sa, sm: safety_factor(sa, sm, endurance, ultimate, criterion, yield_strength)  # noqa: E731
-    out = np.array([_screened(screen, c, factor, enough) for c in C])
+    out = _screened_group(screen, C, factor, enough)
     return out[:, 0], out[:, 1]
 
 
-def _screened(screen: Screen, c: np.ndarray, factor=None, enough: float | None = None) -> tuple[float, float]:
+def _screened_group(screen: Screen, C: np.ndarray, factor=None, enough: float | None = None) -> np.ndarray:
+    """(S, 2): :func:`_screened` of each history of ``C`` (S, T, k) (unscaled), the box
+    bounds of all of them from one :class:`railcheck.fea.screen.CoefficientBox`
+    (matrix products over every node, settings in groups of at most :data:`CHUNK_VALUES`
+    values each)."""
+    n = screen.stress.shape[1]
+    out = np.empty((C.shape[0], 2))
+    if not np.any(C):
+        out[:] = 0.0, np.inf
+        return out
+    group = screen_.CoefficientBox(screen.stress)
+    for g in _groups(C.shape[0], 18 * n):  # mid, reach and von Mises rows: 3 x (6, n) per setting
+        for i, box in zip(range(g.start, g.stop), group.bounds(C[g])):
+            out[i] = _screened(screen, C[i], box, factor, enough)
+    return out
+
+
+def _screened(
+    screen: Screen, c: np.ndarray, box: screen_.SampledBounds, factor=None, enough: float | None = None
+) -> tuple[float, float]:
     """(Pa, factor): the exact largest von Mises over the nodes and steps of one history
     ``c`` (T, k) (unscaled coefficients) and, with a ``factor`` (sa, sm) -> safety factor,
     its exact smallest fatigue factor (else inf; ``enough`` as in :func:`fatigue_min`).
 
-    Every node's box bound (:func:`railcheck.fea.screen.box_bounds`); the
-    :data:`BOX_FIRST` nodes of best box bound read at the sampled steps, and the
-    FIRST_NODES of best sampled value among them evaluated exactly: the thresholds. Only
-    the nodes whose box bound can beat a threshold are read at the sampled steps, and only
+    ``box``: every node's bound over all steps from its group's box
+    (:class:`railcheck.fea.screen.CoefficientBox`). The :data:`BOX_FIRST` nodes of best box
+    bound read at the sampled steps, and the FIRST_NODES of best sampled value among them
+    evaluated exactly: the thresholds. Only the nodes whose group box can beat a
+    threshold, and then whose box in the history's own principal subspace
+    (:func:`railcheck.fea.screen.box_bounds`) can, are read at the sampled steps, and only
     those whose sampled bound can beat it are evaluated at every step."""
     if not np.any(c):  # unloaded: no stress anywhere (and no screen to build on a zero box)
         return 0.0, np.inf
-    cs = c * screen.scale
-    sub = screen_.principal_subspace(cs)
-    SP = screen_.project(screen.stress, screen.scale, sub)
+    sub = screen_.principal_subspace(c * screen.scale)
     norms, vm_norm = screen.unit_rows, screen.vm_norm
 
-    def sampled(nodes):
-        return screen_.sampled_bounds(SP[:, nodes], norms[:, nodes], vm_norm[nodes], sub)
+    def projected(nodes):
+        return screen_.project(screen.stress[:, nodes], screen.scale, sub)
 
-    box = screen_.box_bounds(SP, norms, vm_norm, sub)
-    first = screen_.first_nodes(box.von_mises_upper, count=BOX_FIRST)
+    def sampled(nodes, SP):
+        return screen_.sampled_bounds(SP, norms[:, nodes], vm_norm[nodes], sub)
+
+    def beats(bounds, low2, top, bound=None):
+        """Nodes whose bounds can reach the peak's lower bound or the fatigue minimum's
+        upper one (``bound``: their fatigue factor's lower bound, when already known)."""
+        keep = bounds.von_mises_upper * (1.0 + SLACK) >= np.sqrt(low2)
+        if factor is not None:
+            bound = factor(*screen_.fatigue_bounds(bounds)[:2]) if bound is None else bound
+            can = bound <= top * (1.0 + SLACK)
+            if enough is not None:
+                can &= bound < enough * (1.0 + SLACK)
+            keep |= can
+        return keep
+
+    first, box_factor = screen_.first_nodes(box.von_mises_upper, count=BOX_FIRST), None
     if factor is not None:
         box_factor = factor(*screen_.fatigue_bounds(box)[:2])
         first = np.union1d(first, screen_.first_nodes(box_factor, largest=False, count=BOX_FIRST))
-    b = sampled(first)
+    b = sampled(first, projected(first))
     low2 = _exact_von_mises2(screen, first[screen_.first_nodes(b.von_mises)], c)
-    keep = box.von_mises_upper * (1.0 + SLACK) >= np.sqrt(low2)
+    top = np.inf
     if factor is not None:
         top = _fatigue_exact(
             screen, first[screen_.first_nodes(factor(*screen_.fatigue_bounds(b)[2:]), largest=False)], c[None], factor
         )[0]
-        can = box_factor <= top * (1.0 + SLACK)
-        if enough is not None:
-            can &= box_factor < enough * (1.0 + SLACK)
-        keep |= can
-    nodes = np.flatnonzero(keep)
-    b = sampled(nodes)
+    nodes = np.flatnonzero(beats(box, low2, top, box_factor))
+    SP = projected(nodes)
+    own = screen_.box_bounds(SP, norms[:, nodes], vm_norm[nodes], sub)
+    keep = beats(own, low2, top)
+    nodes, SP = nodes[keep], SP[:, keep]
+    b = sampled(nodes, SP)
     peak = float(np.sqrt(max(low2, _exact_von_mises2(screen, nodes[screen_.peak_candidates(b, np.sqrt(low2))], c))))
     if factor is None:
         return peak, np.inf
@@ -243,7 +276,7 @@ def fatigue_min(
     factor = lambda sa, sm: safety_factor(sa, sm, endurance, ultimate, criterion, yield_strength)  # noqa: E731
     S_, T, k = C.shape
     if screen_.applies(T, k):
-        return np.array([_screened(screen, c, factor, enough)[1] for c in C])
+        return _screened_group(screen, C, factor, enough)[:, 1]
     polygons = [hull_polygon(c) for c in C] if screen.angle is not None else None  # once per history
     best = _fatigue_exact(screen, screen.by_G[:TOP_NODES], C, factor, polygons)
     c0, E = _enclosing_ellipse(C)
