@@ -374,6 +374,46 @@ def test_a_sweep_row_equals_railcheck_check_of_that_setting(fe_sweep):
                 assert row[f"{name}_tip_mm"] / 1e3 == pytest.approx(env.max_tip, rel=1e-9), name
 
 
+@pytest.mark.slow
+def test_parts_prepared_in_two_processes_give_the_serial_table(fe_sweep, tmp_path):
+    """With Dask the parts' models are built in two spawned processes (each task reading
+    or solving its unit fields, pickled back whole): the table equals the serial run's
+    bit for bit."""
+    parallel = _rows(_sweep(tmp_path, FE_SWEEP, "dask", workers=2, serial=False, dask=True))
+    assert fe_sweep.keys() == parallel.keys()
+    for k in fe_sweep:
+        same = fe_sweep[k] == parallel[k]
+        if fe_sweep[k].dtype.kind == "f":
+            same |= np.isnan(fe_sweep[k]) & np.isnan(parallel[k])
+        assert np.all(same), k
+
+
+def test_a_part_is_built_after_the_one_whose_unit_fields_it_reuses():
+    """The default scene's whole rig: each free rail once per linkage kind (the second
+    kind reads the first's stored fields), the rocker after the coupler (the same rail
+    with the same settable lengths: one store entry), the plates once for both kinds."""
+    from railcheck.scene import load_scene
+    from railcheck.sweep.run import part_tasks, sweep_settings
+
+    scene = load_scene(None)
+    tasks = part_tasks(scene, sweep_settings(scene))
+    index = {(t.name, t.kinds): i for i, t in enumerate(tasks)}
+    four, both = ("four-bar",), ("four-bar", "slider-crank")
+    after = {
+        key: None if tasks[i].after is None else (tasks[tasks[i].after].name, tasks[tasks[i].after].kinds)
+        for key, i in index.items()
+    }
+    assert after == {
+        ("crank-rail", four): None,
+        ("crank-rail", ("slider-crank",)): ("crank-rail", four),
+        ("coupler-rail", four): None,
+        ("coupler-rail", ("slider-crank",)): ("coupler-rail", four),
+        ("rocker-rail", four): ("coupler-rail", four),
+        ("PF_4b_006", both): None,
+        ("PF_4b_003_v2", both): None,
+    }
+
+
 def test_motor_sizing_at_every_speed_and_its_curve_from_the_table(kinematic_sweep):
     """The motor a rig needs: at the listed speed, the largest peak torque, RMS torque and
     peak power over the settings that pass (from the table's rows, aggregated here

@@ -18,6 +18,7 @@ import os
 import threading
 import time
 from concurrent.futures import ProcessPoolExecutor
+from contextlib import contextmanager
 
 from railcheck.check.cycle import check_part, in_store
 from railcheck.check.jobs import PartJob
@@ -55,18 +56,27 @@ def check_parts(
 def _in_workers(
     part_jobs: dict[str, PartJob], solver: str, progress: Progress, jobs: int, label: dict, part_done
 ) -> dict[str, PartResult]:
+    order = sorted(part_jobs, key=lambda name: -_estimated_elements(part_jobs[name]))
+    largest, rest = order[0], order[1:]
+    with relayed_pool(jobs - 1, progress) as pool:
+        futures = {name: pool.submit(_check_one, part_jobs[name], solver, label[name], part_done) for name in rest}
+        here = _check_one(part_jobs[largest], solver, label[largest], part_done, lambda msg: progress.say("solve", msg))
+        return {name: here if name == largest else futures[name].result() for name in part_jobs}
+
+
+@contextmanager
+def relayed_pool(workers: int, progress: Progress):
+    """A pool of ``workers`` spawned processes (no library state forked) whose progress
+    lines (:func:`worker_say`) reach ``progress`` as they happen. An error, Ctrl-C or
+    SIGTERM in the block stops every worker at once."""
     ctx = multiprocessing.get_context("spawn")
     queue = ctx.SimpleQueue()
     relay = threading.Thread(target=_relay, args=(queue, progress), daemon=True)
     relay.start()
-    order = sorted(part_jobs, key=lambda name: -_estimated_elements(part_jobs[name]))
-    largest, rest = order[0], order[1:]
-    pool = ProcessPoolExecutor(jobs - 1, mp_context=ctx, initializer=_init_worker, initargs=(queue,))
+    pool = ProcessPoolExecutor(workers, mp_context=ctx, initializer=_init_worker, initargs=(queue,))
     try:
-        futures = {name: pool.submit(_check_one, part_jobs[name], solver, label[name], part_done) for name in rest}
-        here = _check_one(part_jobs[largest], solver, label[largest], part_done, lambda msg: progress.say("solve", msg))
-        results = {name: here if name == largest else futures[name].result() for name in part_jobs}
-    except BaseException:  # an error, Ctrl-C or SIGTERM: stop the other parts now
+        yield pool
+    except BaseException:
         for process in list(getattr(pool, "_processes", {}).values()):
             process.terminate()
         pool.shutdown(wait=False, cancel_futures=True)
@@ -75,7 +85,11 @@ def _in_workers(
         queue.put(None)
         relay.join(timeout=5)
     pool.shutdown()
-    return results
+
+
+def worker_say(message: str) -> None:
+    """A progress line from a :func:`relayed_pool` worker (printed by the main process)."""
+    _QUEUE.put(message)
 
 
 def _estimated_elements(job: PartJob) -> int:
@@ -102,7 +116,7 @@ def _init_worker(queue) -> None:
 def _check_one(job: PartJob, solver: str, label: str, part_done=None, say=None) -> PartResult:
     """Check one part (and write its files); progress lines go to ``say`` or, in a
     worker, to the queue."""
-    say = say or _QUEUE.put
+    say = say or worker_say
     part = check_part(job, solver, lambda msg: say(f"{label}: {msg}"))
     if part_done is not None:
         t = time.perf_counter()

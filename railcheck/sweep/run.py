@@ -12,19 +12,23 @@ into a staging directory that is renamed into place at the end (nothing half-wri
 from __future__ import annotations
 
 import math
+import os
 import time
+from concurrent.futures import FIRST_COMPLETED, wait
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from railcheck.check.jobs import part_geometries, refuse_huge
+from railcheck.check.jobs import mesh_sizes, part_geometries, refuse_huge
 from railcheck.check.run import say_target
+from railcheck.check.workers import relayed_pool, worker_say
 from railcheck.errors import EXIT_FAIL, EXIT_PASS, InputError
 from railcheck.fea.materials import MATERIALS
 from railcheck.files import Staging, atomic_write_text, reserve_results_dir, to_json
 from railcheck.geometry.catalogue import with_overrides
-from railcheck.parts import PARTS
+from railcheck.geometry.mesher import estimate_elements
+from railcheck.parts import PARTS, geometry_of, rail_length
 from railcheck.progress import Progress
 from railcheck.sweep.chunk import MOTOR_CURVE_KEY, SweepContext, evaluate_chunk, group_size, motor_curve_speeds
 from railcheck.sweep.grid import narrowed, rig_grid, settings
@@ -140,34 +144,101 @@ def validate(scene) -> None:
         narrowed(grid[kind], scene.sweep.ranges)  # a range with no settable length: refused, naming it
 
 
-def prepare_models(scene, by_kind: dict, progress) -> dict[str, dict]:
-    """kind -> part -> PartModel: each checked part meshed, factorised and solved once."""
+def prepare_models(scene, by_kind: dict, progress, jobs: int = 1) -> dict[str, dict]:
+    """kind -> part -> PartModel: each checked part meshed, factorised and solved once,
+    in ``jobs`` processes (:func:`_build_in_workers`) or in this one."""
     if scene.check is None:
         return {kind: {} for kind in by_kind}
 
     material = MATERIALS[scene.check.material]
     limit = scene.check.limit or material.fatigue_limit
     refuse_huge(scene, part_geometries(scene))
+    tasks = part_tasks(scene, by_kind)
+    args = (scene, material, limit)
+    if jobs > 1 and len(tasks) > 1:
+        built = _build_in_workers(tasks, args, progress, jobs)
+    else:
+        built = [_build_task(task, *args, say=lambda msg: progress.say("solve", msg)) for task in tasks]
     models: dict[str, dict] = {kind: {} for kind in by_kind}
+    for task, model in zip(tasks, built):
+        for k in task.kinds:
+            models[k][task.name] = model
+    return models
+
+
+@dataclass(frozen=True)
+class PartTask:
+    """One part model to build: the part, the linkage kinds it serves, its bar's lengths
+    (m) over their settings, its progress label, and ``after``: the index of an earlier
+    task whose unit fields it reuses from the store (the same part in another kind, or a
+    rail of the same kind with the same lengths: the coupler's and the rocker's), built
+    only once that one is done, or None."""
+
+    name: str
+    kinds: tuple[str, ...]
+    lengths: np.ndarray
+    label: str
+    after: int | None
+
+
+def part_tasks(scene, by_kind: dict) -> list[PartTask]:
+    """The part models a sweep needs, in the order they are reported."""
     names = [n for n in scene.check.parts if any(applicable(scene, n, k) for k in by_kind)]
+    tasks: list[PartTask] = []
+    reuses: dict = {}
     for i, name in enumerate(names, 1):
         bar = PARTS[name].bar
         for kinds in kind_groups(scene, name, [k for k in by_kind if applicable(scene, name, k)]):
             lengths = np.concatenate([by_kind[k][bar] for k in kinds if bar in by_kind[k]]) if bar else np.zeros(0)
-            t = time.perf_counter()
             label = f"({i}/{len(names)}) {name}" + (f" ({kinds[0]})" if len(kinds) < len(by_kind) > 1 else "")
-            say = lambda msg, label=label: progress.say("solve", f"{label}: {msg}")  # noqa: E731
-            model = build_part_model(scene, name, lengths, material, limit, say, linkage=kinds[0])
-            progress.say(
-                "solve",
-                f"{label}: {model.dofs} DOFs, "
-                f"{sum(s.stress.shape[2] for s in model.screens.values())} unit columns"
-                f"{_mode_note(model)} "
-                f"({time.perf_counter() - t:.1f} s)",
-            )
-            for k in kinds:
-                models[k][name] = model
-    return models
+            keys = (name, (PARTS[name].kind, bar and rail_length(bar), np.unique(np.round(lengths * 1e6)).tobytes()))
+            after = next((reuses[key] for key in keys if key in reuses), None)
+            for key in keys:
+                reuses.setdefault(key, len(tasks))
+            tasks.append(PartTask(name, tuple(kinds), lengths, label, after))
+    return tasks
+
+
+def _build_task(task: PartTask, scene, material, limit: float, say=None):
+    """Build one task's PartModel (progress lines to ``say``, or in a worker to the main
+    process), with a summary line."""
+    say = say or worker_say
+    t = time.perf_counter()
+    model = build_part_model(
+        scene, task.name, task.lengths, material, limit, lambda msg: say(f"{task.label}: {msg}"), linkage=task.kinds[0]
+    )
+    say(
+        f"{task.label}: {model.dofs} DOFs, "
+        f"{sum(s.stress.shape[2] for s in model.screens.values())} unit columns"
+        f"{_mode_note(model)} "
+        f"({time.perf_counter() - t:.1f} s)"
+    )
+    return model
+
+
+def _build_in_workers(tasks: list[PartTask], args: tuple, progress, jobs: int) -> list:
+    """The tasks' models built in ``jobs`` spawned processes (meshing and assembly are
+    single-threaded: two parts at once nearly halve a cold start). A free worker takes a
+    task whose reused fields are done (cheap: read from the store) before any other, then
+    the largest part by its estimated elements; the solver keeps a serial run's thread
+    count."""
+    scene = args[0]
+    size = [
+        estimate_elements(g, *mesh_sizes(scene.mesh, g.kind)) for g in (geometry_of(t.name, scene.geometry) for t in tasks)
+    ]
+    built: list = [None] * len(tasks)
+    pending = sorted(range(len(tasks)), key=lambda i: -size[i])
+    with relayed_pool(jobs, progress) as pool:
+        running: dict = {}
+        while pending or running:
+            ready = [i for i in pending if tasks[i].after is None or built[tasks[i].after] is not None]
+            for i in sorted(ready, key=lambda i: tasks[i].after is None)[: jobs - len(running)]:
+                running[pool.submit(_build_task, tasks[i], *args)] = i
+                pending.remove(i)
+            done, _ = wait(running, return_when=FIRST_COMPLETED)
+            for future in done:
+                built[running.pop(future)] = future.result()
+    return built
 
 
 def kind_groups(scene, name: str, kinds: list[str]) -> list[list[str]]:
@@ -238,11 +309,12 @@ def _run_into(scene, directory: Path, scheduler, workers, serial, progress, dask
         ", ".join(f"{k}: {v['crank'].size} settings" for k, v in by_kind.items())
         + f" x {len(scene.sweep.speeds)} speed(s), {scene.sweep.steps} steps",
     )
-    models = prepare_models(scene, by_kind, progress)
-    clock.append(time.perf_counter())
-    aggregates, tables = {}, {}
     large = sum(v["crank"].size for v in by_kind.values()) > 4 * chunk_size(scene)
     use_dask = (scheduler is not None or large) if dask is None else dask
+    # the parts in two processes when the settings run in parallel too
+    models = prepare_models(scene, by_kind, progress, min(2, os.cpu_count() or 1) if use_dask and not serial else 1)
+    clock.append(time.perf_counter())
+    aggregates, tables = {}, {}
     with _Executor(scheduler, workers, use_dask and not serial, progress) as executor:
         for kind, lengths in by_kind.items():
             ctx = _context(scene, kind, models[kind])
