@@ -181,35 +181,70 @@ def box_bounds(SP: np.ndarray, norms: np.ndarray, vm_norm: np.ndarray, sub: Subs
 
 
 class CoefficientBox:
-    """Box bounds (as :func:`box_bounds`) of many histories of one part at once, in the
-    coefficients themselves: each history's steps ``c_t`` lie in the box of its
-    coefficients' ranges, so each stress component of a node lies within its value at the
-    box's centre +- ``|S_j| . half-widths`` and von Mises within the norm of its six rows
-    ``L S`` so bounded (``L`` :data:`VM_FACTOR`); every history's bounds over every node are
-    three matrix products. No basis and no residual: the coefficients (pin forces, torques,
-    accelerations) are the directions along which a part's load varies independently, and
-    a node the box keeps is then bounded in the history's own principal subspace
-    (:func:`box_bounds`). ``S`` (6, n, k) Pa per unit coefficient, C-contiguous."""
+    """Box bounds (as :func:`box_bounds`) of many histories of one part at once, in one
+    orthonormal basis of the scaled coefficients shared by the group: each history's
+    coordinates ``d_t`` lie in the box of their ranges, so each stress component of a node
+    lies within its value at the box's centre +- ``|S_j B| . half-widths`` and von Mises
+    within the norm of its six rows ``L S B`` so bounded (``L`` :data:`VM_FACTOR`). Every
+    history's bounds over every node are three matrix products; the basis is of full rank,
+    so there is no residual. ``basis`` (k, k) orthonormal in the scaled coefficients
+    ``c * scale``, or None for the coefficients themselves (:func:`box_basis` chooses):
+    it only changes how many nodes a box keeps, never a result, since a node it keeps is
+    then bounded in the history's own principal subspace (:func:`box_bounds`) and read.
+    ``S`` (6, n, k) Pa per unit coefficient (C-contiguous), ``scale`` (k,) the
+    coefficients' scale."""
 
-    def __init__(self, S: np.ndarray):
+    def __init__(self, S: np.ndarray, scale: np.ndarray, basis: np.ndarray | None = None):
         k = S.shape[2]
-        self.nodes = S.shape[1]
+        self.nodes, self.scale, self.B = S.shape[1], scale, basis
         self.S2 = S.reshape(-1, k)  # (6 n, k): rows by component, then node
-        self.abs_S = np.abs(self.S2)
-        self.abs_L = np.abs(np.tensordot(VM_FACTOR, S, axes=([1], [0]))).reshape(-1, k)  # von Mises = |L S c|
+        L2 = np.tensordot(VM_FACTOR, S, axes=([1], [0])).reshape(-1, k)  # von Mises = |L S c|
+        if basis is not None:  # per unit of each basis coordinate
+            Bu = basis / scale[:, None]
+            self.abs_SB, self.abs_LB = np.abs(self.S2 @ Bu), np.abs(L2 @ Bu)
+        else:
+            self.abs_SB, self.abs_LB = np.abs(self.S2), np.abs(L2)
 
     def bounds(self, C: np.ndarray) -> list[SampledBounds]:
         """One :class:`SampledBounds` per history of ``C`` (s, T, k) (unscaled
         coefficients): ``high`` = ``low`` the components at the box's centre, ``slack``
         their reach, ``von_mises`` = ``von_mises_upper`` the bound of von Mises."""
-        lo, hi = C.min(axis=1), C.max(axis=1)
+        d = C if self.B is None else (C * self.scale) @ self.B  # (s, T, k) the steps' coordinates
+        lo, hi = d.min(axis=1), d.max(axis=1)
         centre, half = 0.5 * (hi + lo), 0.5 * (hi - lo)  # (s, k)
+        if self.B is not None:
+            centre = centre @ self.B.T / self.scale  # back to unscaled coefficients
         shape = (C.shape[0], 6, self.nodes)
         mid = (centre @ self.S2.T).reshape(shape)
-        reach = (half @ self.abs_S.T).reshape(shape)
-        rows = np.abs(np.einsum("ij,sjn->sin", VM_FACTOR, mid)) + (half @ self.abs_L.T).reshape(shape)
+        reach = (half @ self.abs_SB.T).reshape(shape)
+        rows = np.abs(np.einsum("ij,sjn->sin", VM_FACTOR, mid)) + (half @ self.abs_LB.T).reshape(shape)
         vm = np.sqrt(np.einsum("sjn,sjn->sn", rows, rows))
         return [SampledBounds(vm[i], vm[i], mid[i], mid[i], reach[i]) for i in range(C.shape[0])]
+
+
+#: nodes (evenly strided) on which :func:`box_basis` compares the two bases' boxes
+BASIS_TRIAL_NODES = 512
+
+
+def box_basis(S: np.ndarray, scale: np.ndarray, C: np.ndarray) -> np.ndarray | None:
+    """The basis of :class:`CoefficientBox` for the group of histories ``C`` (s, T, k):
+    the principal axes of their scaled steps' deviations from each history's mean, or
+    None (the coefficients themselves), whichever gives the smaller bounds (the sum of
+    von Mises bounds and component reaches) on :data:`BASIS_TRIAL_NODES` nodes of ``S``
+    (6, n, k). The principal axes suit histories that move in a few mixed directions (a
+    short crank's rail: 18 coefficients that are 4 signals, whose coefficient box kept
+    more than half the nodes), the coefficients loads that vary independently (the
+    coupler's and rocker's pins)."""
+    k = S.shape[2]
+    Cs = C * scale
+    D = (Cs - Cs.mean(axis=1, keepdims=True)).reshape(-1, k)
+    principal = np.linalg.eigh(D.T @ D)[1]
+    trial = np.ascontiguousarray(S[:, :: max(1, S.shape[1] // BASIS_TRIAL_NODES)])
+
+    def size(basis):
+        return sum(float(b.von_mises_upper.sum() + b.slack.sum()) for b in CoefficientBox(trial, scale, basis).bounds(C))
+
+    return principal if size(principal) < size(None) else None
 
 
 def sampled_bounds(SP: np.ndarray, norms: np.ndarray, vm_norm: np.ndarray, sub: Subspace) -> SampledBounds:
@@ -220,19 +255,17 @@ def sampled_bounds(SP: np.ndarray, norms: np.ndarray, vm_norm: np.ndarray, sub: 
     (:func:`von_mises_norm_bound`, or the square root of its quadratic form's largest
     eigenvalue)."""
     a = sub.a[sub.sampled]  # (s, r)
-    n, r = SP.shape[1], SP.shape[2]
-    # von Mises squared as an r x r form per node (r^2 terms per node and step, one matrix product)
-    L = np.tensordot(VM_FACTOR, SP, axes=([1], [0]))  # (6, n, r)
-    QP = np.einsum("cnr,cns->nrs", L, L).reshape(n, r * r)
-    aa = (a[:, :, None] * a[:, None, :]).reshape(-1, r * r)
+    n = SP.shape[1]
     vm, high, low = np.empty(n), np.empty((6, n)), np.empty((6, n))
     size = max(1, CHUNK_VALUES // (6 * a.shape[0]))
     for start in range(0, n, size):
         sl = slice(start, min(start + size, n))
-        X = SP[:, sl] @ a.T  # (6, m, s)
+        X = SP[:, sl] @ a.T  # (6, m, s): the components at the read steps
         high[:, sl], low[:, sl] = X.max(axis=2), X.min(axis=2)
-        vm[sl] = np.sqrt(np.maximum((QP[sl] @ aa.T).max(axis=1), 0.0))
-    vm_P = np.sqrt(np.maximum(QP[:, :: r + 1].sum(axis=1), 0.0))  # the form's trace: ||L SP||_F
+        Y = np.tensordot(VM_FACTOR, X, axes=([1], [0]))  # von Mises = |Y| at each read step
+        vm[sl] = np.sqrt(np.einsum("jms,jms->ms", Y, Y).max(axis=1))
+    # ||L SP||_F: the Frobenius norm of each node's von Mises factor in the r coordinates
+    vm_P = np.sqrt(np.maximum(np.einsum("cnr,cd,dnr->n", SP, VM_QUADRATIC, SP, optimize=True), 0.0))
     upper = vm + vm_P * sub.delta + vm_norm * sub.eps
     slack = np.linalg.norm(SP, axis=2) * sub.delta + norms * sub.eps
     return SampledBounds(vm, upper, high, low, slack)

@@ -324,8 +324,10 @@ def test_the_box_keeps_a_fatigue_minimum_that_the_peak_does_not_hold():
     np.testing.assert_allclose(factor, n_min, rtol=1e-12)
 
 
-def test_the_coefficient_box_holds_every_step_and_is_reached_at_its_corners():
-    """:class:`railcheck.fea.screen.CoefficientBox` bounds every node's components and von
+@pytest.mark.parametrize("rotated", [False, True])
+def test_the_coefficient_box_holds_every_step_and_is_reached_at_its_corners(rotated):
+    """:class:`railcheck.fea.screen.CoefficientBox`, in the coefficients themselves or in a
+    rotated basis of the scaled coefficients, bounds every node's components and von
     Mises over every step of each history of a group (random fields, histories with a
     mean, harmonics and a kick), and for a history that visits every corner of its box its
     component bounds are the exact extremes (the box is no looser than its definition)."""
@@ -337,12 +339,16 @@ def test_the_coefficient_box_holds_every_step_and_is_reached_at_its_corners():
     n, k, T = 500, 3, 200
     stress = rng.normal(size=(6, n, k)) * np.exp(rng.normal(size=(1, n, 1)))
     stress[:, 7] = 0.0  # an unstressed node
+    scale = np.array([1.0, 40.0, 0.2])
+    basis = np.linalg.qr(rng.normal(size=(k, k)))[0] if rotated else None
     t = np.linspace(0, 2 * np.pi, T, endpoint=False)
     C = rng.normal(size=(4, 1, k)) * 5 + rng.normal(size=(4, 1, k)) * np.cos(t)[None, :, None]
     C[:, 50] += rng.normal(size=(4, k)) * 3  # a kick
     corners = np.array(list(itertools.product([-1.0, 1.0], repeat=k))) * [2.0, 0.5, 1.0] + [1.0, -3.0, 0.0]
+    if rotated:  # the corners of a box in the basis coordinates d: c = B d / scale
+        corners = corners @ basis.T / scale
     C = np.concatenate([C, np.pad(corners, ((0, T - corners.shape[0]), (0, 0)), mode="edge")[None]])
-    box = CoefficientBox(np.ascontiguousarray(stress))
+    box = CoefficientBox(np.ascontiguousarray(stress), scale, basis)
     for c, b in zip(C, box.bounds(C)):
         X = np.tensordot(stress, c, axes=([2], [1]))  # (6, n, T)
         tol = 1e-12 * np.abs(X).max()
@@ -351,3 +357,46 @@ def test_the_coefficient_box_holds_every_step_and_is_reached_at_its_corners():
         np.testing.assert_array_equal(b.slack[:, 7], 0.0)
     np.testing.assert_allclose(b.high + b.slack, X.max(axis=2), rtol=1e-12, atol=tol)  # the corners: exact
     np.testing.assert_allclose(b.low - b.slack, X.min(axis=2), rtol=1e-12, atol=tol)
+
+
+def test_the_box_basis_follows_the_histories():
+    """:func:`railcheck.fea.screen.box_basis`: a group whose 6 coefficients are 2 signals
+    mixed (a rotating load seen through every coefficient) gets its principal axes;
+    coefficients that move independently keep their own basis (None)."""
+    from railcheck.fea.screen import box_basis
+
+    rng = np.random.default_rng(4)
+    stress = np.ascontiguousarray(rng.normal(size=(6, 1000, 6)))
+    t = np.linspace(0, 2 * np.pi, 360, endpoint=False)
+    signals = np.stack([np.cos(t), np.sin(t)], axis=1)  # (T, 2)
+    mixed = (signals @ rng.normal(size=(2, 6)))[None]
+    assert box_basis(stress, np.ones(6), mixed) is not None
+    independent = rng.uniform(-1.0, 1.0, size=(1, 360, 6))  # each coefficient on its own
+    assert box_basis(stress, np.ones(6), independent) is None
+
+
+@pytest.mark.parametrize("loose_share", [0.0, 1.0])
+def test_a_history_bounded_at_every_node_in_its_own_subspace_or_after_the_group_box_is_exact(monkeypatch, loose_share):
+    """Both ways a history's nodes are screened: its own subspace's box at every node (the
+    group's box kept too many: ``LOOSE_SHARE`` 0 forces it) or only at the nodes the
+    group's box keeps (1 forces it); random fields with hot nodes and a group of histories
+    with a mean, two harmonics and a kick: both equal every node x every step."""
+    import railcheck.sweep.fe as fe
+
+    monkeypatch.setattr(fe, "LOOSE_SHARE", loose_share)
+    rng = np.random.default_rng(31)
+    n, k, T = 3000, 9, 240
+    stress = rng.normal(size=(6, n, k)) * np.exp(1.5 * rng.normal(size=(1, n, 1)))
+    mask = rng.random(n) > 0.1
+    t = np.linspace(0, 2 * np.pi, T, endpoint=False)
+    C = (
+        rng.normal(size=(5, 1, k))
+        + rng.normal(size=(5, 1, k)) * np.cos(t)[None, :, None]
+        + rng.normal(size=(5, 1, k)) * np.sin(3 * t)[None, :, None]
+    )
+    C[:, 17] += rng.normal(size=(5, k))
+    screen = make_screen(stress, mask, np.zeros((3, k)), list(range(k)))
+    vm, n_min = _brute(stress, mask, C)
+    peak, factor = peak_and_fatigue(screen, C, 200e6, 750e6, "goodman", 400e6)
+    np.testing.assert_allclose(peak, vm, rtol=1e-12)
+    np.testing.assert_allclose(factor, n_min, rtol=1e-12)

@@ -42,6 +42,9 @@ SLACK = 1e-9  # relative margin on the bounds (rounding)
 #: nodes of best box bound (per criterion) read at the sampled steps, whose best sampled
 #: values are then evaluated exactly for the thresholds (many coefficients)
 BOX_FIRST = 128
+#: a history whose group box keeps more than this share of the nodes is bounded in its own
+#: principal subspace at every node instead (and its thresholds taken again from that box)
+LOOSE_SHARE = 0.25
 
 
 @dataclass(frozen=True)
@@ -174,7 +177,7 @@ def _screened_group(screen: Screen, C: np.ndarray, factor=None, enough: float | 
     if not np.any(C):
         out[:] = 0.0, np.inf
         return out
-    group = screen_.CoefficientBox(screen.stress)
+    group = screen_.CoefficientBox(screen.stress, screen.scale, screen_.box_basis(screen.stress, screen.scale, C))
     for g in _groups(C.shape[0], 18 * n):  # mid, reach and von Mises rows: 3 x (6, n) per setting
         for i, box in zip(range(g.start, g.stop), group.bounds(C[g])):
             out[i] = _screened(screen, C[i], box, factor, enough)
@@ -218,22 +221,37 @@ def _screened(
             keep |= can
         return keep
 
-    first, box_factor = screen_.first_nodes(box.von_mises_upper, count=BOX_FIRST), None
-    if factor is not None:
-        box_factor = factor(*screen_.fatigue_bounds(box)[:2])
-        first = np.union1d(first, screen_.first_nodes(box_factor, largest=False, count=BOX_FIRST))
-    b = sampled(first, projected(first))
-    low2 = _exact_von_mises2(screen, first[screen_.first_nodes(b.von_mises)], c)
-    top = np.inf
-    if factor is not None:
-        top = _fatigue_exact(
-            screen, first[screen_.first_nodes(factor(*screen_.fatigue_bounds(b)[2:]), largest=False)], c[None], factor
-        )[0]
+    def thresholds(bounds, bound):
+        """(Pa^2, factor): exact values at the nodes of best sampled value among the
+        :data:`BOX_FIRST` of best ``bounds`` (von Mises) and ``bound`` (fatigue factor)."""
+        first = screen_.first_nodes(bounds.von_mises_upper, count=BOX_FIRST)
+        if factor is not None:
+            first = np.union1d(first, screen_.first_nodes(bound, largest=False, count=BOX_FIRST))
+        b = sampled(first, projected(first))
+        low2 = _exact_von_mises2(screen, first[screen_.first_nodes(b.von_mises)], c)
+        if factor is None:
+            return low2, np.inf
+        f = factor(*screen_.fatigue_bounds(b)[2:])
+        return low2, _fatigue_exact(screen, first[screen_.first_nodes(f, largest=False)], c[None], factor)[0]
+
+    def fatigue_bound(bounds):
+        return factor(*screen_.fatigue_bounds(bounds)[:2]) if factor is not None else None
+
+    box_factor = fatigue_bound(box)
+    low2, top = thresholds(box, box_factor)
     nodes = np.flatnonzero(beats(box, low2, top, box_factor))
-    SP = projected(nodes)
-    own = screen_.box_bounds(SP, norms[:, nodes], vm_norm[nodes], sub)
-    keep = beats(own, low2, top)
-    nodes, SP = nodes[keep], SP[:, keep]
+    if nodes.size > LOOSE_SHARE * box.von_mises.size:  # the group's box is loose for this history
+        SP = screen_.project(screen.stress, screen.scale, sub)
+        own = screen_.box_bounds(SP, norms, vm_norm, sub)
+        own_factor = fatigue_bound(own)
+        more_low2, less_top = thresholds(own, own_factor)
+        low2, top = max(low2, more_low2), min(top, less_top)  # each an exact value at some node
+        nodes = np.flatnonzero(beats(own, low2, top, own_factor))
+        SP = SP[:, nodes]
+    else:
+        SP = projected(nodes)
+        keep = beats(screen_.box_bounds(SP, norms[:, nodes], vm_norm[nodes], sub), low2, top)
+        nodes, SP = nodes[keep], SP[:, keep]
     b = sampled(nodes, SP)
     peak = float(np.sqrt(max(low2, _exact_von_mises2(screen, nodes[screen_.peak_candidates(b, np.sqrt(low2))], c))))
     if factor is None:
