@@ -389,14 +389,20 @@ def test_parts_prepared_in_two_processes_give_the_serial_table(fe_sweep, tmp_pat
 
 
 def test_a_part_is_built_after_the_one_whose_unit_fields_it_reuses():
-    """The default scene's whole rig: each free rail once per linkage kind (the second
-    kind reads the first's stored fields), the rocker after the coupler (the same rail
-    with the same settable lengths: one store entry), the plates once for both kinds."""
+    """The default scene's parts over both linkage kinds: each free rail once per kind (the
+    second kind reads the first's stored fields), the rocker after the coupler (the same
+    rail with the same settable lengths, as on the whole rig's grid: one store entry), the
+    plates once for both kinds."""
     from railcheck.scene import load_scene
-    from railcheck.sweep.run import part_tasks, sweep_settings
+    from railcheck.sweep.run import part_tasks
 
     scene = load_scene(None)
-    tasks = part_tasks(scene, sweep_settings(scene))
+    same = np.array([0.36, 0.78, 0.84])  # m: the coupler's and the rocker's settable lengths
+    by_kind = {
+        "four-bar": {"crank": np.array([0.48]), "coupler": same, "rocker": same, "ground": np.array([1.02])},
+        "slider-crank": {"crank": np.array([0.48]), "coupler": np.array([0.84]), "offset": np.array([0.0])},
+    }
+    tasks = part_tasks(scene, by_kind)
     index = {(t.name, t.kinds): i for i, t in enumerate(tasks)}
     four, both = ("four-bar",), ("four-bar", "slider-crank")
     after = {
