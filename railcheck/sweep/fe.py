@@ -9,16 +9,19 @@ Exact screening. For a setting with coefficient history ``c(t)`` (steps, k):
   ``lam_n`` give a lower bound ``L`` of the peak and only nodes with ``sqrt(lam_n) max|c|
   >= L`` are evaluated. Fatigue: an ellipse holds the history, which bounds each
   component's half-range and midrange; the ranges are the cycle polygon's support function.
-* More coefficients (free bodies: pins, pin pressures, inertia fields, modes): each history
-  is split into its principal subspace and a residual (``c_t = P a_t + e_t``;
-  :mod:`railcheck.fea.screen`). The box of the coordinates' ranges bounds every node's von
-  Mises and component ranges over all steps for a few operations per node; the nodes of
-  best box bound, read at steps spaced along the history's path, give exact thresholds
-  (a lower bound of the peak, an upper bound of the fatigue minimum), and only the nodes
-  whose box bound can beat them are read at those steps, whose bounds leave the few that
-  are evaluated at every step (:func:`_screened`). A many-coefficient history of a real
-  setting lies close to a few directions, so a few thousand of 10,000-30,000 nodes are
-  read and a few to a few hundred evaluated at every step.
+* More coefficients (free bodies: pins, pin pressures, inertia fields, modes): the
+  histories of the settings that share a hole pair are boxed together, in one basis of
+  their coefficients (:class:`railcheck.fea.screen.CoefficientBox`: every node's von Mises
+  and component ranges over all steps bounded by three matrix products per group); each
+  history is then split into its principal subspace and a residual (``c_t = P a_t +
+  e_t``; :mod:`railcheck.fea.screen`) whose own box bounds the nodes the group's box
+  keeps. The nodes of best box bound, read at steps spaced along the history's path, give
+  exact thresholds (a lower bound of the peak, an upper bound of the fatigue minimum), and
+  only the nodes whose box bounds can beat them are read at those steps, whose bounds
+  leave the few that are evaluated at every step (:func:`_screened_group`,
+  :func:`_screened`). A many-coefficient history of a real setting lies close to a few
+  directions, so a few thousand of 10,000-30,000 nodes are read and a few to a few
+  hundred evaluated at every step.
 
 The results equal evaluating every verdict node (:func:`railcheck.check.cycle.evaluate_cycle`)
 to rounding. All arrays SI (Pa, m); vectorised over settings, steps and nodes, in chunks
