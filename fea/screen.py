@@ -36,7 +36,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .stress import VM_QUADRATIC, von_mises
+from .stress import VM_QUADRATIC, von_mises, von_mises_squared
 
 #: the smallest rank of the principal subspace a history is screened in
 REDUCED_RANK = 4
@@ -180,46 +180,71 @@ def box_bounds(SP: np.ndarray, norms: np.ndarray, vm_norm: np.ndarray, sub: Subs
     return SampledBounds(vm, vm, mid, mid, reach)
 
 
+#: single-precision unit roundoff: :class:`CoefficientBox` reads its matrices in float32
+#: (half the memory traffic of every node x every history) and widens its bounds to cover it
+FLOAT32_EPS = float(np.finfo(np.float32).eps)
+#: relative widening of a float32 von Mises interval bound: covers its own arithmetic
+#: (:func:`von_mises_interval_bound`, a few roundoffs of 6e-8)
+BOX_WIDENING = 1e-5
+
+
 class CoefficientBox:
     """Box bounds (as :func:`box_bounds`) of many histories of one part at once, in one
     orthonormal basis of the scaled coefficients shared by the group: each history's
-    coordinates ``d_t`` lie in the box of their ranges, so each stress component of a node
-    lies within its value at the box's centre +- ``|S_j B| . half-widths`` and von Mises
-    within the norm of its six rows ``L S B`` so bounded (``L`` :data:`VM_FACTOR`). Every
-    history's bounds over every node are three matrix products; the basis is of full rank,
-    so there is no residual. ``basis`` (k, k) orthonormal in the scaled coefficients
-    ``c * scale``, or None for the coefficients themselves (:func:`box_basis` chooses):
-    it only changes how many nodes a box keeps, never a result, since a node it keeps is
-    then bounded in the history's own principal subspace (:func:`box_bounds`) and read.
-    ``S`` (6, n, k) Pa per unit coefficient (C-contiguous), ``scale`` (k,) the
-    coefficients' scale."""
+    coordinates ``d_t`` lie in the box of their ranges (centre ``m``, half-widths ``h``),
+    so each stress component of a node lies within ``R_j . m +- |R_j| . h`` (``R_j`` the
+    component's row per unit basis coordinate), and von Mises within the interval bound
+    of those component intervals (:func:`von_mises_interval_bound`). Every history's
+    bounds over every node are two matrix products; the basis is of full rank, so there
+    is no residual. ``basis`` (k, k) orthonormal in the scaled coefficients ``c * scale``,
+    or None for the coefficients themselves (:func:`box_basis` chooses): it only changes
+    how many nodes a box keeps, never a result, since a node it keeps is then bounded in
+    the history's own principal subspace (:func:`box_bounds`) and read. ``S`` (6, n, k)
+    Pa per unit coefficient, ``scale`` (k,) the coefficients' scale.
+
+    The rows are held in float32 (the products stream every node once per history; half
+    the bytes). The bounds stay bounds: a float32 dot product of length k + 2 roundings
+    errs by at most ``(k + 4) u |m| . |R_j|`` (u the float32 roundoff; Higham, *Accuracy
+    and Stability of Numerical Algorithms*, 3.1), so ``2 (k + 4) u |m|`` is added to the
+    half-widths of the reach product (itself of non-negative terms, widened by the same
+    share): twice the products' worst error, the other half (at least 10 roundoffs of the
+    value) covers the few float32 roundings of the fatigue bounds computed from them
+    (:func:`fatigue_bounds`). Results are float32 (Pa)."""
 
     def __init__(self, S: np.ndarray, scale: np.ndarray, basis: np.ndarray | None = None):
         k = S.shape[2]
         self.nodes, self.scale, self.B = S.shape[1], scale, basis
-        self.S2 = S.reshape(-1, k)  # (6 n, k): rows by component, then node
-        L2 = np.tensordot(VM_FACTOR, S, axes=([1], [0])).reshape(-1, k)  # von Mises = |L S c|
-        if basis is not None:  # per unit of each basis coordinate
-            Bu = basis / scale[:, None]
-            self.abs_SB, self.abs_LB = np.abs(self.S2 @ Bu), np.abs(L2 @ Bu)
-        else:
-            self.abs_SB, self.abs_LB = np.abs(self.S2), np.abs(L2)
+        S2 = S.reshape(-1, k)  # (6 n, k): rows by component, then node
+        rows = S2 if basis is None else S2 @ (basis / scale[:, None])  # per unit of each basis coordinate
+        self.rows = rows.astype(np.float32)
+        self.abs_rows = np.abs(self.rows)
+        self.dot_error = 2.0 * (k + 4) * FLOAT32_EPS  # relative, of |m| . |R_j| (class doc)
 
     def bounds(self, C: np.ndarray) -> list[SampledBounds]:
         """One :class:`SampledBounds` per history of ``C`` (s, T, k) (unscaled
         coefficients): ``high`` = ``low`` the components at the box's centre, ``slack``
-        their reach, ``von_mises`` = ``von_mises_upper`` the bound of von Mises."""
+        their reach, ``von_mises`` = ``von_mises_upper`` the bound of von Mises (float32)."""
         d = C if self.B is None else (C * self.scale) @ self.B  # (s, T, k) the steps' coordinates
         lo, hi = d.min(axis=1), d.max(axis=1)
         centre, half = 0.5 * (hi + lo), 0.5 * (hi - lo)  # (s, k)
-        if self.B is not None:
-            centre = centre @ self.B.T / self.scale  # back to unscaled coefficients
         shape = (C.shape[0], 6, self.nodes)
-        mid = (centre @ self.S2.T).reshape(shape)
-        reach = (half @ self.abs_SB.T).reshape(shape)
-        rows = np.abs(np.einsum("ij,sjn->sin", VM_FACTOR, mid)) + (half @ self.abs_LB.T).reshape(shape)
-        vm = np.sqrt(np.einsum("sjn,sjn->sn", rows, rows))
+        mid = (centre.astype(np.float32) @ self.rows.T).reshape(shape)
+        widened = (half + self.dot_error * np.abs(centre)) * (1.0 + self.dot_error)
+        reach = (widened.astype(np.float32) @ self.abs_rows.T).reshape(shape)
+        vm = von_mises_interval_bound(mid, reach, axis=1)
         return [SampledBounds(vm[i], vm[i], mid[i], mid[i], reach[i]) for i in range(C.shape[0])]
+
+
+def von_mises_interval_bound(mid: np.ndarray, reach: np.ndarray, axis: int = 0) -> np.ndarray:
+    """Pa: the largest von Mises of any stress whose components (along ``axis``, 6:
+    xx, yy, zz, xy, yz, xz) lie within ``mid +- reach`` (Pa): each normal difference
+    ``s_i - s_j`` is at most ``|m_i - m_j| + r_i + r_j`` and each shear ``|m| + r``; exact
+    for a single component, and a bound of its float32 rounding (:data:`BOX_WIDENING`)."""
+    m = np.moveaxis(mid, axis, 0)
+    r = np.moveaxis(reach, axis, 0)
+    normal = sum((np.abs(m[i] - m[j]) + r[i] + r[j]) ** 2 for i, j in ((0, 1), (1, 2), (2, 0)))
+    shear = sum((np.abs(m[i]) + r[i]) ** 2 for i in (3, 4, 5))
+    return np.sqrt(0.5 * normal + 3.0 * shear) * (1.0 + mid.dtype.type(BOX_WIDENING))
 
 
 #: nodes (evenly strided) on which :func:`box_basis` compares the two bases' boxes
@@ -262,8 +287,7 @@ def sampled_bounds(SP: np.ndarray, norms: np.ndarray, vm_norm: np.ndarray, sub: 
         sl = slice(start, min(start + size, n))
         X = SP[:, sl] @ a.T  # (6, m, s): the components at the read steps
         high[:, sl], low[:, sl] = X.max(axis=2), X.min(axis=2)
-        Y = np.tensordot(VM_FACTOR, X, axes=([1], [0]))  # von Mises = |Y| at each read step
-        vm[sl] = np.sqrt(np.einsum("jms,jms->ms", Y, Y).max(axis=1))
+        vm[sl] = np.sqrt(von_mises_squared(X).max(axis=1))
     # ||L SP||_F: the Frobenius norm of each node's von Mises factor in the r coordinates
     vm_P = np.sqrt(np.maximum(np.einsum("cnr,cd,dnr->n", SP, VM_QUADRATIC, SP, optimize=True), 0.0))
     upper = vm + vm_P * sub.delta + vm_norm * sub.eps
