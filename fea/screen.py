@@ -285,11 +285,13 @@ def sampled_bounds(SP: np.ndarray, norms: np.ndarray, vm_norm: np.ndarray, sub: 
     size = max(1, CHUNK_VALUES // (6 * a.shape[0]))
     for start in range(0, n, size):
         sl = slice(start, min(start + size, n))
-        X = SP[:, sl] @ a.T  # (6, m, s): the components at the read steps
-        high[:, sl], low[:, sl] = X.max(axis=2), X.min(axis=2)
-        vm[sl] = np.sqrt(von_mises_squared(X).max(axis=1))
+        # (6, s, m): the components at the read steps, nodes last, so that the extremes
+        # over the steps are elementwise maxima of contiguous rows
+        X = np.matmul(a, SP[:, sl].transpose(0, 2, 1))
+        high[:, sl], low[:, sl] = X.max(axis=1), X.min(axis=1)
+        vm[sl] = np.sqrt(von_mises_squared(X).max(axis=0))
     # ||L SP||_F: the Frobenius norm of each node's von Mises factor in the r coordinates
-    vm_P = np.sqrt(np.maximum(np.einsum("cnr,cd,dnr->n", SP, VM_QUADRATIC, SP, optimize=True), 0.0))
+    vm_P = np.sqrt(von_mises_squared(SP).sum(axis=1))
     upper = vm + vm_P * sub.delta + vm_norm * sub.eps
     slack = np.linalg.norm(SP, axis=2) * sub.delta + norms * sub.eps
     return SampledBounds(vm, upper, high, low, slack)
