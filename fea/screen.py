@@ -220,19 +220,37 @@ class CoefficientBox:
         self.abs_rows = np.abs(self.rows)
         self.dot_error = 2.0 * (k + 4) * FLOAT32_EPS  # relative, of |m| . |R_j| (class doc)
 
-    def bounds(self, C: np.ndarray) -> list[SampledBounds]:
-        """One :class:`SampledBounds` per history of ``C`` (s, T, k) (unscaled
-        coefficients): ``high`` = ``low`` the components at the box's centre, ``slack``
-        their reach, ``von_mises`` = ``von_mises_upper`` the bound of von Mises (float32)."""
+    def restricted(self, nodes: np.ndarray) -> CoefficientBox:
+        """The same box at ``nodes`` (indices into this box's nodes) only."""
+        box = object.__new__(CoefficientBox)
+        k = self.rows.shape[1]
+        box.nodes, box.scale, box.B, box.dot_error = nodes.size, self.scale, self.B, self.dot_error
+        box.rows = np.ascontiguousarray(self.rows.reshape(6, self.nodes, k)[:, nodes].reshape(-1, k))
+        box.abs_rows = np.abs(box.rows)
+        return box
+
+    def ranges(self, C: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(lo, hi) (s, k): the ranges of the basis coordinates of each history of ``C``
+        (s, T, k) (unscaled coefficients), the box :meth:`box_of` bounds over."""
         d = C if self.B is None else (C * self.scale) @ self.B  # (s, T, k) the steps' coordinates
-        lo, hi = d.min(axis=1), d.max(axis=1)
+        return d.min(axis=1), d.max(axis=1)
+
+    def box_of(self, lo: np.ndarray, hi: np.ndarray) -> list[SampledBounds]:
+        """One :class:`SampledBounds` per box of basis coordinates ``lo`` to ``hi`` (s, k)
+        (:meth:`ranges`, or any box holding a history's steps): ``high`` = ``low`` the
+        components at the box's centre, ``slack`` their reach, ``von_mises`` =
+        ``von_mises_upper`` the bound of von Mises (float32)."""
         centre, half = 0.5 * (hi + lo), 0.5 * (hi - lo)  # (s, k)
-        shape = (C.shape[0], 6, self.nodes)
+        shape = (lo.shape[0], 6, self.nodes)
         mid = (centre.astype(np.float32) @ self.rows.T).reshape(shape)
         widened = (half + self.dot_error * np.abs(centre)) * (1.0 + self.dot_error)
         reach = (widened.astype(np.float32) @ self.abs_rows.T).reshape(shape)
         vm = von_mises_interval_bound(mid, reach, axis=1)
-        return [SampledBounds(vm[i], vm[i], mid[i], mid[i], reach[i]) for i in range(C.shape[0])]
+        return [SampledBounds(vm[i], vm[i], mid[i], mid[i], reach[i]) for i in range(lo.shape[0])]
+
+    def bounds(self, C: np.ndarray) -> list[SampledBounds]:
+        """:meth:`box_of` the :meth:`ranges` of each history of ``C`` (s, T, k)."""
+        return self.box_of(*self.ranges(C))
 
 
 def von_mises_interval_bound(mid: np.ndarray, reach: np.ndarray, axis: int = 0) -> np.ndarray:

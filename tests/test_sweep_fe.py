@@ -471,3 +471,85 @@ def test_a_history_bounded_at_every_node_in_its_own_subspace_or_after_the_group_
     peak, factor = peak_and_fatigue(screen, C, 200e6, 750e6, "goodman", 400e6)
     np.testing.assert_allclose(peak, vm, rtol=1e-12)
     np.testing.assert_allclose(factor, n_min, rtol=1e-12)
+
+
+@pytest.mark.parametrize("criterion", ["goodman", "gerber", "asme-elliptic"])
+def test_a_group_keeps_every_node_that_can_hold_a_history_s_peak_or_fatigue_minimum(criterion):
+    """The group's pre-pass (:func:`railcheck.sweep.fe._group_thresholds`,
+    :func:`railcheck.sweep.fe._group_nodes`): a part whose nodes are mostly cold, a few hot
+    ones each loaded by a different coefficient, and histories of very different sizes
+    (x0.05 to x20) and directions. Its thresholds are a lower bound of each peak and an
+    upper bound of each fatigue minimum (every node x every step); every node that reaches
+    a history's threshold (either criterion) is kept, and the cold ones are not."""
+    from railcheck.fea.screen import CoefficientBox, box_basis
+    from railcheck.sweep.fe import _group_nodes, _group_thresholds
+
+    rng = np.random.default_rng(12)
+    n, k, T = 3000, 6, 240
+    stress = 0.02 * rng.normal(size=(6, n, k)) * np.exp(rng.normal(size=(1, n, 1)))
+    hot = rng.choice(n, size=60, replace=False)
+    stress[:, hot] += (
+        rng.normal(size=(6, 60, 1)) * np.eye(k)[rng.integers(0, k, 60)][None] * np.exp(rng.normal(size=(1, 60, 1)))
+    )
+    t = np.linspace(0, 2 * np.pi, T, endpoint=False)
+    # coefficients 0-2 steady (the peaks), 3-5 alternating (the fatigue minima, elsewhere)
+    mean = np.where(np.arange(k) < 3, 4.0, 0.1) * rng.uniform(0.5, 1.0, size=(8, 1, k))
+    swing = np.where(np.arange(k) < 3, 0.2, 2.5) * rng.uniform(0.5, 1.0, size=(8, 1, k))
+    C = mean + swing * np.cos(t[None, :, None] + rng.uniform(0, 6, size=(8, 1, k)))
+    C[:, 40] += 0.2 * rng.normal(size=(8, k))  # a kick
+    C *= np.array([0.05, 0.3, 1.0, 1.0, 3.0, 5.0, 20.0, 1.0])[:, None, None]
+    C[7] = 0.0  # an unloaded history in the group
+    screen = make_screen(stress, np.ones(n, bool), np.zeros((3, k)), list(range(k)))
+    factor = lambda sa, sm: safety_factor(sa, sm, 2e8, 7.5e8, criterion, 4e8)  # noqa: E731
+    group = CoefficientBox(screen.stress, screen.scale, box_basis(screen.stress, screen.scale, C))
+    lo, hi = group.ranges(C)
+    low, top = _group_thresholds(screen, C, group, lo, hi, factor)
+    kept = _group_nodes(group, lo, hi, low, top, factor)
+
+    X = np.tensordot(screen.stress, C, axes=([2], [2]))  # (6, n, S, T)
+    vm = von_mises(X).max(axis=2)  # (n, S)
+    exact = factor(*alternating_and_mean(X.max(axis=3), X.min(axis=3)))  # (n, S)
+    assert np.all(low <= vm.max(axis=0)) and np.all(low[:7] > 0)
+    assert np.all(top >= exact.min(axis=0)) and np.all(np.isfinite(top[:7]))
+    needed = np.flatnonzero(np.any((vm[:, :7] >= low[:7]) | (exact[:, :7] <= top[:7]), axis=1))
+    assert np.isin(needed, kept).all()
+    assert kept.size < 0.1 * n  # the cold nodes are dropped
+    peaks, minima = np.argmax(vm[:, :7], axis=0), np.argmin(exact[:, :7], axis=0)
+    assert np.setdiff1d(minima, peaks).size  # fatigue keeps nodes of its own
+
+
+def test_a_group_keeps_the_node_whose_bound_is_exactly_its_threshold():
+    """Where the group's box is exact (one history visiting every corner of its box, nodes
+    with one stress component) the node that holds the peak has a bound equal to its
+    value, which is the threshold: it is kept (the pre-pass compares at 1, not beyond);
+    so is the fatigue minimum's. :func:`railcheck.sweep.fe._union` holds every scaled box
+    and no more."""
+    import itertools
+
+    from railcheck.fea.screen import CoefficientBox
+    from railcheck.sweep.fe import _group_nodes, _group_thresholds, _union
+
+    rng = np.random.default_rng(3)
+    n, k = 400, 3
+    stress = np.zeros((6, n, k))
+    stress[0] = rng.normal(size=(n, k)) * np.exp(rng.normal(size=(n, 1)))  # sigma_xx only
+    corners = np.array(list(itertools.product([-1.0, 1.0], repeat=k))) * [1.0, 0.5, 2.0] + [2.0, -1.0, 0.5]
+    C = np.pad(corners, ((0, 40 - corners.shape[0]), (0, 0)), mode="edge")[None]
+    screen = make_screen(stress, np.ones(n, bool), np.zeros((3, k)), list(range(k)))
+    factor = lambda sa, sm: safety_factor(sa, sm, 2e8, 7.5e8, "goodman")  # noqa: E731
+    group = CoefficientBox(screen.stress, screen.scale, None)
+    lo, hi = group.ranges(C)
+    low, top = _group_thresholds(screen, C, group, lo, hi, factor)
+    X = np.tensordot(screen.stress, C[0], axes=([2], [1]))  # (6, n, T)
+    vm = von_mises(X).max(axis=1)
+    exact = factor(*alternating_and_mean(X.max(axis=2), X.min(axis=2)))
+    assert low[0] == pytest.approx(vm.max(), rel=1e-12) and top[0] == pytest.approx(exact.min(), rel=1e-12)
+    assert np.argmax(vm) in _group_nodes(group, lo, hi, low, top)  # the peak alone: its bound is exact
+    assert np.argmin(exact) in _group_nodes(group, lo, hi, low, top, factor)
+
+    lo3, hi3 = rng.normal(size=(5, k)) - 2.0, rng.normal(size=(5, k)) + 2.0
+    scale = rng.uniform(0.1, 3.0, size=5)
+    ulo, uhi = _union(lo3, hi3, scale)
+    assert np.all(ulo <= lo3 * scale[:, None]) and np.all(uhi >= hi3 * scale[:, None])
+    np.testing.assert_array_equal(ulo[0], (lo3 * scale[:, None]).min(axis=0))
+    np.testing.assert_array_equal(uhi[0], (hi3 * scale[:, None]).max(axis=0))

@@ -9,8 +9,11 @@ Exact screening. For a setting with coefficient history ``c(t)`` (steps, k):
   ``lam_n`` give a lower bound ``L`` of the peak and only nodes with ``sqrt(lam_n) max|c|
   >= L`` are evaluated. Fatigue: an ellipse holds the history, which bounds each
   component's half-range and midrange; the ranges are the cycle polygon's support function.
-* More coefficients (free bodies: pins, pin pressures, inertia fields, modes): the
-  histories of the settings that share a hole pair are boxed together, in one basis of
+* More coefficients (free bodies: pins, pin pressures, inertia fields, modes): first the
+  group of settings that share a hole pair drops the nodes that can matter to none of
+  them (:func:`_group_nodes`: each history scaled by its thresholds from a few nodes
+  evaluated exactly, one box over all of them; on the whole rig 1-50% of a part's nodes
+  remain). The histories are then boxed together, in one basis of
   their coefficients (:class:`railcheck.fea.screen.CoefficientBox`: every node's von Mises
   and component ranges over all steps bounded by three matrix products per group); each
   history is then split into its principal subspace and a residual (``c_t = P a_t +
@@ -30,6 +33,7 @@ bounded by :data:`CHUNK_VALUES`.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -48,6 +52,12 @@ BOX_FIRST = 128
 #: a history whose group box keeps more than this share of the nodes is bounded in its own
 #: principal subspace at every node instead (and its thresholds taken again from that box)
 LOOSE_SHARE = 0.25
+#: nodes of best bound (each criterion) of a group's common shape whose exact values give
+#: every history of the group its first thresholds (:func:`_group_thresholds`)
+GROUP_CANDIDATES = 8
+#: a group's histories are screened on the nodes that can matter to one of them when
+#: those are fewer than this share of the part's (:func:`_group_nodes`)
+GROUP_SHARE = 0.7
 
 
 @dataclass(frozen=True)
@@ -173,22 +183,104 @@ def peak_and_fatigue(
 def _screened_group(screen: Screen, C: np.ndarray, factor=None, enough: float | None = None) -> np.ndarray:
     """(S, 2): :func:`_screened` of each history of ``C`` (S, T, k) (unscaled), the box
     bounds of all of them from one :class:`railcheck.fea.screen.CoefficientBox`
-    (matrix products over every node, settings in groups of at most :data:`CHUNK_VALUES`
-    values each)."""
-    n = screen.stress.shape[1]
+    (matrix products, settings in groups of at most :data:`CHUNK_VALUES` values each),
+    over only the nodes that can matter to some history of the group
+    (:func:`_group_nodes`)."""
     out = np.empty((C.shape[0], 2))
     if not np.any(C):
         out[:] = 0.0, np.inf
         return out
     group = screen_.CoefficientBox(screen.stress, screen.scale, screen_.box_basis(screen.stress, screen.scale, C))
-    for g in _groups(C.shape[0], 18 * n):  # mid, reach and von Mises rows: 3 x (6, n) per setting
-        for i, box in zip(range(g.start, g.stop), group.bounds(C[g])):
-            out[i] = _screened(screen, C[i], box, factor, enough)
+    lo, hi = group.ranges(C)
+    low, top = _group_thresholds(screen, C, group, lo, hi, factor)
+    nodes = _group_nodes(group, lo, hi, low, top, factor)
+    loose = LOOSE_SHARE * screen.stress.shape[1]  # of the part's nodes
+    if nodes.size < GROUP_SHARE * screen.stress.shape[1]:
+        screen, group = _restricted(screen, nodes), group.restricted(nodes)
+    n = screen.stress.shape[1]
+    for g in _groups(C.shape[0], 12 * n):  # mid and reach: 2 x (6, n) per setting
+        for i, box in zip(range(g.start, g.stop), group.box_of(lo[g], hi[g])):
+            out[i] = _screened(screen, C[i], box, factor, enough, low[i] ** 2, top[i], loose)
     return out
 
 
+def _union(lo: np.ndarray, hi: np.ndarray, scale: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """((1, k), (1, k)): the box holding every box ``lo`` to ``hi`` (s, k) scaled by its
+    ``scale`` (s,) > 0 (a history scaled by a positive factor has its box scaled)."""
+    return (lo * scale[:, None]).min(axis=0, keepdims=True), (hi * scale[:, None]).max(axis=0, keepdims=True)
+
+
+def _group_thresholds(
+    screen: Screen, C: np.ndarray, group: screen_.CoefficientBox, lo: np.ndarray, hi: np.ndarray, factor=None
+) -> tuple[np.ndarray, np.ndarray]:
+    """((S,) Pa, (S,)): for each history of ``C`` (S, T, k) its exact largest von Mises and
+    (with a ``factor``) smallest fatigue factor over a few nodes, every step: a lower bound
+    of its peak and an upper bound of its fatigue minimum (else inf). The nodes: the
+    :data:`GROUP_CANDIDATES` of best bound (each criterion) over the union of the
+    histories' boxes (``lo``, ``hi`` (S, k) in ``group``'s basis) each scaled to the same
+    largest corner, the group's common shape."""
+    corner = np.linalg.norm(np.maximum(np.abs(lo), np.abs(hi)), axis=1)
+    loaded = corner > 0
+    shape = group.box_of(*_union(lo[loaded], hi[loaded], 1.0 / corner[loaded]))[0]
+    nodes = screen_.first_nodes(shape.von_mises_upper, count=GROUP_CANDIDATES)
+    if factor is not None:
+        bound = factor(*screen_.fatigue_bounds(shape)[:2])
+        nodes = np.union1d(nodes, screen_.first_nodes(bound, largest=False, count=GROUP_CANDIDATES))
+    low = np.sqrt([_exact_von_mises2(screen, nodes, c) for c in C])
+    top = _fatigue_exact(screen, nodes, C, factor) if factor is not None else np.full(C.shape[0], np.inf)
+    return low, top
+
+
+def _group_nodes(
+    group: screen_.CoefficientBox, lo: np.ndarray, hi: np.ndarray, low: np.ndarray, top: np.ndarray, factor=None
+) -> np.ndarray:
+    """The nodes (ascending) that can hold some history's von Mises peak or fatigue
+    minimum: each history's box (``lo``, ``hi`` (S, k)) scaled by 1 / its peak's lower
+    bound ``low`` (S,) Pa (a node that cannot reach 1 cannot reach that history's peak)
+    and, for fatigue, by its minimum's upper bound ``top`` (S,) (the factor is homogeneous
+    of degree -1 in the stresses: a node whose factor cannot fall to 1 cannot fall to that
+    history's minimum); one box holds all the scaled ones and bounds every node at once.
+    Every node where a loaded history has no positive finite threshold (no stress at the
+    candidates)."""
+    loaded = np.any(lo != 0.0, axis=1) | np.any(hi != 0.0, axis=1)
+    every = np.arange(group.nodes)
+    if not np.all((low[loaded] > 0) & np.isfinite(low[loaded])):
+        return every
+    boxes = [_union(lo[loaded], hi[loaded], 1.0 / low[loaded])]
+    if factor is not None:
+        if not np.all((top[loaded] > 0) & np.isfinite(top[loaded])):
+            return every
+        boxes.append(_union(lo[loaded], hi[loaded], top[loaded]))
+    bounds = group.box_of(np.concatenate([b[0] for b in boxes]), np.concatenate([b[1] for b in boxes]))
+    keep = bounds[0].von_mises_upper * (1.0 + SLACK) >= 1.0
+    if factor is not None:
+        keep |= factor(*screen_.fatigue_bounds(bounds[1])[:2]) <= 1.0 + SLACK
+    return np.flatnonzero(keep)
+
+
+def _restricted(screen: Screen, nodes: np.ndarray) -> Screen:
+    """The many-coefficient ``screen`` at ``nodes`` only (the arrays :func:`_screened` reads)."""
+    return dataclasses.replace(
+        screen,
+        stress=np.ascontiguousarray(screen.stress[:, nodes]),
+        lam=screen.lam[nodes],
+        G=screen.G[nodes],
+        Ga=screen.Ga[nodes],
+        unit_rows=screen.unit_rows[:, nodes],
+        by_lam=None,
+        by_G=None,
+    )
+
+
 def _screened(
-    screen: Screen, c: np.ndarray, box: screen_.SampledBounds, factor=None, enough: float | None = None
+    screen: Screen,
+    c: np.ndarray,
+    box: screen_.SampledBounds,
+    factor=None,
+    enough: float | None = None,
+    low2: float = 0.0,
+    top: float = np.inf,
+    loose: float | None = None,
 ) -> tuple[float, float]:
     """(Pa, factor): the exact largest von Mises over the nodes and steps of one history
     ``c`` (T, k) (unscaled coefficients) and, with a ``factor`` (sa, sm) -> safety factor,
@@ -241,9 +333,10 @@ def _screened(
         return factor(*screen_.fatigue_bounds(bounds)[:2]) if factor is not None else None
 
     box_factor = fatigue_bound(box)
-    low2, top = thresholds(box, box_factor)
+    more_low2, less_top = thresholds(box, box_factor)
+    low2, top = max(low2, more_low2), min(top, less_top)  # each an exact value at some node
     nodes = np.flatnonzero(beats(box, low2, top, box_factor))
-    if nodes.size > LOOSE_SHARE * box.von_mises.size:  # the group's box is loose for this history
+    if nodes.size > (LOOSE_SHARE * box.von_mises.size if loose is None else loose):  # the group's box is loose here
         SP = screen_.project(screen.stress, screen.scale, sub)
         own = screen_.box_bounds(SP, norms, vm_norm, sub)
         own_factor = fatigue_bound(own)
