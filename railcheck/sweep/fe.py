@@ -12,10 +12,10 @@ Exact screening. For a setting with coefficient history ``c(t)`` (steps, k):
 * More coefficients (free bodies: pins, pin pressures, inertia fields, modes): first the
   group of settings that share a hole pair drops the nodes that can matter to none of
   them (:func:`_group_nodes`: each history scaled by its thresholds from a few nodes
-  evaluated exactly, one box over all of them; on the whole rig 1-50% of a part's nodes
-  remain). The histories are then boxed together, in one basis of
+  evaluated exactly, one box over all of them; 1.4% of the crank rail's nodes remain on
+  short-crank settings, 53% of PF_4b_006's). The histories are then boxed together, in one basis of
   their coefficients (:class:`railcheck.fea.screen.CoefficientBox`: every node's von Mises
-  and component ranges over all steps bounded by three matrix products per group); each
+  and component ranges over all steps bounded by two float32 matrix products); each
   history is then split into its principal subspace and a residual (``c_t = P a_t +
   e_t``; :mod:`railcheck.fea.screen`) whose own box bounds the nodes the group's box
   keeps. The nodes of best box bound, read at steps spaced along the history's path, give
