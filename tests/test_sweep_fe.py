@@ -18,6 +18,24 @@ def _brute(stress, mask, C, se=200e6, sut=750e6, criterion="goodman"):
     return vm, safety_factor(sa, sm, se, sut, criterion, 400e6).min(axis=0)
 
 
+@pytest.fixture(params=["with the group's nodes", "each history alone"])
+def group_prepass(request, monkeypatch):
+    """Both ways a group of many-coefficient histories is screened: after the group's
+    pre-pass (its thresholds from a few nodes, the nodes that matter to none dropped), and
+    with the group's thresholds withheld (0 and inf: every node stays), so that each
+    history's own screen must find the exact values by itself; the pre-pass must never be
+    what makes a case exact."""
+    if request.param == "each history alone":
+        import railcheck.sweep.fe as fe
+
+        def withheld(screen, C, *args, **kwargs):
+            return np.zeros(C.shape[0]), np.full(C.shape[0], np.inf)
+
+        monkeypatch.setattr(fe, "_group_thresholds", withheld)
+    return request.param
+
+
+@pytest.mark.usefixtures("group_prepass")
 @pytest.mark.slow  # 40 random examples, 6 s: the fast tier keeps the decoy and threshold cases
 @settings(max_examples=40, deadline=None)
 @given(
@@ -49,6 +67,7 @@ def test_screened_peaks_equal_brute_force(seed, k, criterion, spread):
     np.testing.assert_allclose(tip_peak(screen, C), np.linalg.norm(C @ tip.T, axis=2).max(axis=1), rtol=1e-14)
 
 
+@pytest.mark.usefixtures("group_prepass")
 @pytest.mark.parametrize("k", [2, 8])
 def test_a_pass_or_fail_question_gets_the_exact_factor_below_its_threshold(k):
     """``enough`` (a safe-speed search asks only whether the factor reaches it): below it
@@ -110,6 +129,7 @@ def test_screen_selects_columns(columns):
     np.testing.assert_allclose(von_mises_peak(screen, C), vm, rtol=1e-12)
 
 
+@pytest.mark.usefixtures("group_prepass")
 @pytest.mark.parametrize("k", [2, 3])
 def test_screens_stay_exact_when_the_largest_nodes_are_decoys(k):
     """The screens evaluate the nodes with the largest bounds first, then prune the rest
@@ -169,6 +189,7 @@ def test_hull_steps_keep_every_result():
     np.testing.assert_allclose(tip_peak(screen, H), tip_peak(screen, C), rtol=1e-12)
 
 
+@pytest.mark.usefixtures("group_prepass")
 def test_a_spike_between_sampled_steps_is_not_lost():
     """The screens of three or more coefficients read some steps (spaced along the history's
     path) in its principal subspace and bound the steps between (their distance from a
@@ -199,6 +220,7 @@ def test_a_spike_between_sampled_steps_is_not_lost():
     np.testing.assert_allclose(von_mises_peak(screen, C), vm, rtol=1e-12)
 
 
+@pytest.mark.usefixtures("group_prepass")
 def test_stress_outside_the_history_s_principal_subspace_is_not_lost():
     """A history of twelve coefficients that moves in four of them, with a one-step kick
     in the other eight (too little of the history's energy to be a principal direction):
@@ -262,6 +284,7 @@ def _kicked_rank8(harmonic: float, mean: float, kick: float):
     return stress, C, hidden, screen
 
 
+@pytest.mark.usefixtures("group_prepass")
 def test_the_box_keeps_nodes_loaded_only_outside_the_subspace():
     """The box screen (every node, before any step is read) bounds each component by its
     value over the box of the subspace coordinates plus the residual's share. In a rank-8
@@ -281,6 +304,7 @@ def test_the_box_keeps_nodes_loaded_only_outside_the_subspace():
     np.testing.assert_allclose(factor, n_min, rtol=1e-12)
 
 
+@pytest.mark.usefixtures("group_prepass")
 def test_the_box_keeps_a_peak_loaded_only_outside_the_subspace():
     """The von Mises peak alone (as the sweep reads a quasi-static peak beside the dynamic
     one): the nodes that hold it carry stress only on a one-step kick outside a rank-8
@@ -293,6 +317,7 @@ def test_the_box_keeps_a_peak_loaded_only_outside_the_subspace():
     np.testing.assert_allclose(von_mises_peak(screen, C), vm, rtol=1e-12)
 
 
+@pytest.mark.usefixtures("group_prepass")
 def test_the_box_keeps_a_fatigue_minimum_that_the_peak_does_not_hold():
     """300 nodes under a mean stress only hold the von Mises peak (and fill the nodes read
     first); 20 under an alternating stress only hold the lowest fatigue factor, and their
@@ -446,6 +471,7 @@ def test_the_box_basis_follows_the_histories():
     assert box_basis(stress, np.ones(6), independent) is None
 
 
+@pytest.mark.usefixtures("group_prepass")
 @pytest.mark.parametrize("loose_share", [0.0, 1.0])
 def test_a_history_bounded_at_every_node_in_its_own_subspace_or_after_the_group_box_is_exact(monkeypatch, loose_share):
     """Both ways a history's nodes are screened: its own subspace's box at every node (the
@@ -553,3 +579,31 @@ def test_a_group_keeps_the_node_whose_bound_is_exactly_its_threshold():
     assert np.all(ulo <= lo3 * scale[:, None]) and np.all(uhi >= hi3 * scale[:, None])
     np.testing.assert_array_equal(ulo[0], (lo3 * scale[:, None]).min(axis=0))
     np.testing.assert_array_equal(uhi[0], (hi3 * scale[:, None]).max(axis=0))
+
+
+def test_a_screen_and_its_box_restricted_to_some_nodes_are_the_same_at_those_nodes():
+    """:func:`railcheck.sweep.fe._restricted` and :meth:`CoefficientBox.restricted`: every
+    array the per-history screen reads, and every box bound, at the kept nodes equals the
+    whole part's at those nodes (in their order)."""
+    from railcheck.fea.screen import CoefficientBox, box_basis
+    from railcheck.sweep.fe import _restricted
+
+    rng = np.random.default_rng(9)
+    n, k = 700, 5
+    stress = rng.normal(size=(6, n, k)) * np.exp(rng.normal(size=(1, n, 1)))
+    screen = make_screen(stress, rng.random(n) > 0.2, rng.normal(size=(3, k)), list(range(k)))
+    nodes = np.sort(rng.choice(screen.stress.shape[1], 90, replace=False))
+    part = _restricted(screen, nodes)
+    np.testing.assert_array_equal(part.stress, screen.stress[:, nodes])
+    np.testing.assert_array_equal(part.unit_rows, screen.unit_rows[:, nodes])
+    np.testing.assert_array_equal(part.vm_norm, screen.vm_norm[nodes])
+    for name in ("lam", "G", "Ga"):
+        np.testing.assert_array_equal(getattr(part, name), getattr(screen, name)[nodes])
+    np.testing.assert_array_equal(part.scale, screen.scale)
+    np.testing.assert_array_equal(part.tip, screen.tip)
+    C = rng.normal(size=(3, 50, k)) + rng.normal(size=(3, 1, k))
+    box = CoefficientBox(screen.stress, screen.scale, box_basis(screen.stress, screen.scale, C))
+    for whole, kept in zip(box.bounds(C), box.restricted(nodes).bounds(C)):
+        np.testing.assert_array_equal(kept.von_mises_upper, whole.von_mises_upper[nodes])
+        np.testing.assert_array_equal(kept.high, whole.high[:, nodes])
+        np.testing.assert_array_equal(kept.slack, whole.slack[:, nodes])
