@@ -213,20 +213,27 @@ class CoefficientBox:
 
     def __init__(self, S: np.ndarray, scale: np.ndarray, basis: np.ndarray | None = None):
         k = S.shape[2]
-        self.nodes, self.scale, self.B = S.shape[1], scale, basis
         S2 = S.reshape(-1, k)  # (6 n, k): rows by component, then node
         rows = S2 if basis is None else S2 @ (basis / scale[:, None])  # per unit of each basis coordinate
-        self.rows = rows.astype(np.float32)
-        self.abs_rows = np.abs(self.rows)
-        self.dot_error = 2.0 * (k + 4) * FLOAT32_EPS  # relative, of |m| . |R_j| (class doc)
+        self._hold(rows.astype(np.float32), S.shape[1], scale, basis)
+
+    def _hold(self, rows: np.ndarray, nodes: int, scale: np.ndarray, basis: np.ndarray | None) -> None:
+        """Keep the float32 ``rows`` (6 nodes, k) per unit basis coordinate and what reads them."""
+        self.nodes, self.scale, self.B = nodes, scale, basis
+        self.rows = rows
+        self.abs_rows = np.abs(rows)
+        self.dot_error = 2.0 * (rows.shape[1] + 4) * FLOAT32_EPS  # relative, of |m| . |R_j| (class doc)
 
     def restricted(self, nodes: np.ndarray) -> CoefficientBox:
         """The same box at ``nodes`` (indices into this box's nodes) only."""
         box = object.__new__(CoefficientBox)
         k = self.rows.shape[1]
-        box.nodes, box.scale, box.B, box.dot_error = nodes.size, self.scale, self.B, self.dot_error
-        box.rows = np.ascontiguousarray(self.rows.reshape(6, self.nodes, k)[:, nodes].reshape(-1, k))
-        box.abs_rows = np.abs(box.rows)
+        box._hold(
+            np.ascontiguousarray(self.rows.reshape(6, self.nodes, k)[:, nodes].reshape(-1, k)),
+            nodes.size,
+            self.scale,
+            self.B,
+        )
         return box
 
     def ranges(self, C: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -245,6 +252,11 @@ class CoefficientBox:
         mid = (centre.astype(np.float32) @ self.rows.T).reshape(shape)
         widened = (half + self.dot_error * np.abs(centre)) * (1.0 + self.dot_error)
         reach = (widened.astype(np.float32) @ self.abs_rows.T).reshape(shape)
+        # beyond float32's range (3.4e38 Pa: absurd loads) a bound is infinite, never NaN,
+        # so such a node is kept and evaluated exactly in float64
+        lost = ~(np.isfinite(mid) & np.isfinite(reach))
+        if lost.any():
+            mid[lost], reach[lost] = 0.0, np.inf
         vm = von_mises_interval_bound(mid, reach, axis=1)
         return [SampledBounds(vm[i], vm[i], mid[i], mid[i], reach[i]) for i in range(lo.shape[0])]
 

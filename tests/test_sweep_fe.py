@@ -607,3 +607,22 @@ def test_a_screen_and_its_box_restricted_to_some_nodes_are_the_same_at_those_nod
         np.testing.assert_array_equal(kept.von_mises_upper, whole.von_mises_upper[nodes])
         np.testing.assert_array_equal(kept.high, whole.high[:, nodes])
         np.testing.assert_array_equal(kept.slack, whole.slack[:, nodes])
+
+
+@pytest.mark.usefixtures("group_prepass")
+def test_stresses_beyond_float32_range_are_screened_exactly():
+    """Absurd magnitudes: stresses of 1e40 Pa, beyond float32's range (3.4e38), where the
+    float32 box overflows. Its bounds become infinite (never NaN), the nodes are kept and
+    evaluated in float64: peak and fatigue factor equal every node x every step."""
+    rng = np.random.default_rng(17)
+    n, k, T = 1500, 6, 200
+    stress = rng.normal(size=(6, n, k)) * np.exp(2.0 * rng.normal(size=(1, n, 1))) * 1e28
+    t = np.linspace(0, 2 * np.pi, T, endpoint=False)
+    C = (rng.normal(size=(4, 1, k)) + rng.normal(size=(4, 1, k)) * np.cos(t)[None, :, None]) * 1e11
+    mask = np.ones(n, bool)
+    screen = make_screen(stress, mask, np.zeros((3, k)), list(range(k)))
+    vm, n_min = _brute(stress, mask, C)
+    assert np.all(np.isfinite(vm)) and vm.max() > 1e39
+    peak, factor = peak_and_fatigue(screen, C, 200e6, 750e6, "goodman", 400e6)
+    np.testing.assert_allclose(peak, vm, rtol=1e-12)
+    np.testing.assert_allclose(factor, n_min, rtol=1e-12)
