@@ -27,7 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .loading import body_force_vector, surface_dofs, traction_vector
-from .mesh import dof_components
+from .mesh import cached_on, dof_components
 from .system import solve
 
 __all__ = [
@@ -85,13 +85,22 @@ def _mode_fields(centre: np.ndarray):
 
 def rigid_modes(basis, density: float) -> RigidModes:
     """The :class:`RigidModes` of ``basis`` for a body of ``density`` (kg/m^3), rotations
-    about the centroid of the DOF locations."""
+    about the centroid of the DOF locations. The modes and their unit-density mass
+    products are integrated once per basis (read-only, shared by every call)."""
+    unit = cached_on(basis, "rigid_modes", lambda: _unit_density_modes(basis))
+    return RigidModes(Phi=unit.Phi, MPhi=density * unit.MPhi, centre=unit.centre)
+
+
+def _unit_density_modes(basis) -> RigidModes:
+    """:func:`rigid_modes` at a density of 1 kg/m^3, its arrays read-only."""
     locs = basis.doflocs
     centre = locs.mean(axis=1)
     fields = _mode_fields(centre)
     comp = dof_components(basis)
     Phi = np.stack([f(locs)[comp, np.arange(basis.N)] for f in fields], axis=1)
-    MPhi = density * body_force_vector(basis, fields)
+    MPhi = body_force_vector(basis, fields)
+    for a in (Phi, MPhi, centre):
+        a.flags.writeable = False
     return RigidModes(Phi=Phi, MPhi=MPhi, centre=centre)
 
 

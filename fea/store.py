@@ -39,7 +39,9 @@ from .unitcases import UnitSolve, solve_unit_cases
 __all__ = ["StoreInfo", "UnitRequest", "clear_store", "is_stored", "solve_stored", "store_dir", "store_info"]
 
 #: the entry format; bump it when what an entry holds or means changes
-FORMAT = "3"  # 3: pin pressures, graded density, deflection relative to a face's rigid motion
+#: (3: pin pressures, graded density, deflection relative to a face's rigid motion;
+#: 4: the stresses projected by a direct factor of the mass matrix)
+FORMAT = "4"
 DEFAULT_CAP_MB = 2048
 
 

@@ -2,8 +2,8 @@
 continuous scalar space of the same order, von Mises, peaks away from a support, means
 over a surface.
 
-One mass matrix serves all six components and every load case, solved by
-Jacobi-preconditioned CG to a relative residual of 1e-12; on straight elements the mass
+One mass matrix serves all six components and every load case, factorised once and
+solved to a relative residual below 1e-12 (checked); on straight elements the mass
 matrix and the stress moments are closed form, on curved ones a degree-2p rule. The
 "stress nodes" are that space's nodes (P2: vertices and mid-edge nodes). Every step is
 linear in the load, so the stress of a combination of loads is the same combination of
@@ -13,12 +13,14 @@ from __future__ import annotations
 
 import numpy as np
 
+from railcheck.machine import available_memory
+
 from .assembly import affine_reference, mass_matrix, straight_and_curved, straight_jacobians
 from .errors import NumericalError
 from .loading import surface_node_weights, surface_vectors
 from .materials import Material
 from .mesh import scalar_basis, vector_dof_map
-from .solvers import factorise, solve_jacobi_cg
+from .solvers import FACTOR_MEMORY_FRACTION, factorise, solve_jacobi_cg
 
 __all__ = [
     "VOIGT",
@@ -38,17 +40,23 @@ VOIGT = ((0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (0, 2))  # xx, yy, zz, xy, yz, 
 
 
 MASS_RTOL = 1e-12  # the stress projection's relative residual |b - M s| / |b|
+#: displacement columns from which the projection factorises its mass matrix rather than
+#: iterate (``benchmarks/fe_stages.py``: one column of a 175k- and a 753k-DOF cantilever
+#: 0.3 and 2.1 s by CG, 0.6 and 5.0 s by the factor; the crank rail's 65 columns 6.6 s
+#: by CG, 0.5 s by the factor)
+MASS_FACTOR_COLUMNS = 8
 
 
 def recover_stress(basis, U: np.ndarray, material: Material, report=None) -> np.ndarray:
     """(6, nodes[, k]) Pa: the L2 projection of the element stress of each displacement
     column onto the continuous scalar space of the basis's order (xx, yy, zz, xy, yz, xz).
     Straight elements in closed form (:func:`affine_stress_moments`, :func:`mass_matrix`),
-    curved ones by a rule exact to order 2p on their isoparametric map. The mass matrix is
-    well conditioned once scaled by its diagonal, so Jacobi-preconditioned CG solves all
-    columns together to a relative residual of 1e-12 in some 60 iterations, far cheaper
-    than factorising it (a factor as large as the stiffness's); a direct solve takes over
-    should CG stall."""
+    curved ones by a rule exact to order 2p on their isoparametric map. From
+    :data:`MASS_FACTOR_COLUMNS` columns the scalar mass matrix is factorised once (a third
+    of the stiffness's rows, a far smaller factor) and every column solved by that
+    factor, its true residual checked against :data:`MASS_RTOL`; with fewer, or no memory
+    for the factor, Jacobi-preconditioned CG solves them (the mass matrix is well
+    conditioned once scaled by its diagonal: some 60 iterations)."""
 
     U2 = U.reshape(U.shape[0], -1)
     k = U2.shape[1]
@@ -58,11 +66,25 @@ def recover_stress(basis, U: np.ndarray, material: Material, report=None) -> np.
         rhs += quadrature_stress_moments(basis, curved, U2, material)
     M = mass_matrix(basis)
     n = M.shape[0]
-    try:
+    S = _project_by_factor(M, rhs, report) if k >= MASS_FACTOR_COLUMNS else None
+    if S is None:
         S = solve_jacobi_cg(M, rhs, rtol=MASS_RTOL)
-    except NumericalError:
-        S = factorise(M, "direct", report=report).solve(rhs, rtol=1e-9, extended=False)
     return S.reshape(n, 6, k).transpose(1, 0, 2).reshape((6, n) + U.shape[1:])
+
+
+def _project_by_factor(M, rhs: np.ndarray, report=None) -> np.ndarray | None:
+    """``M^-1 rhs`` by a direct factor of the mass matrix, its residual checked against
+    :data:`MASS_RTOL`; None when the factor does not fit in memory or fails."""
+    try:
+        factor = factorise(M, "direct", FACTOR_MEMORY_FRACTION * available_memory(), report)
+    except (NumericalError, MemoryError):
+        return None
+    try:
+        return factor.solve(rhs, rtol=MASS_RTOL, extended=False, refine=False)
+    except NumericalError:
+        return None
+    finally:
+        factor.free()
 
 
 def affine_stress_moments(basis, U2: np.ndarray, material: Material, values: int = 4_000_000) -> np.ndarray:

@@ -381,6 +381,42 @@ def test_mass_matrix_equals_scikit_fem_and_jacobi_cg_equals_a_factorisation(bloc
         solve_jacobi_cg(-M, B)
 
 
+def test_the_stress_projection_by_its_factor_equals_jacobi_cg_and_falls_back_to_it(block, monkeypatch):
+    """The projection solves the mass matrix by a direct factor when it has many columns;
+    with no memory for the factor, or few columns, by Jacobi-CG. Both are the same projection: each satisfies
+    M s = b to 1e-12, and they agree to 1e-10 of the largest stress. Without the CG
+    fallback the memory-starved case raises."""
+    from skfem import Basis
+    from skfem.element import ElementVector
+
+    import railcheck.fea.stress as stress
+    from railcheck.fea.stress import recover_stress
+
+    basis = Basis(skfem_mesh(block.points, block.tets), ElementVector(element_of(2)), intorder=1)
+    U = np.random.default_rng(8).normal(scale=1e-6, size=(basis.N, stress.MASS_FACTOR_COLUMNS))
+    cg_calls = []
+    real_cg = stress.solve_jacobi_cg
+    monkeypatch.setattr(stress, "solve_jacobi_cg", lambda *a, **k: cg_calls.append(1) or real_cg(*a, **k))
+    by_factor = recover_stress(basis, U, STEEL)
+    assert not cg_calls
+    monkeypatch.setattr(stress, "available_memory", lambda: 0.0)
+    by_cg = recover_stress(basis, U, STEEL)
+    assert cg_calls
+    monkeypatch.undo()
+    cg_calls.clear()
+    monkeypatch.setattr(stress, "solve_jacobi_cg", lambda *a, **k: cg_calls.append(1) or real_cg(*a, **k))
+    few = recover_stress(basis, U[:, :-1], STEEL)  # under MASS_FACTOR_COLUMNS: by CG
+    np.testing.assert_allclose(few, by_cg[..., :-1], rtol=0, atol=1e-10 * np.abs(by_cg).max())
+    assert cg_calls
+    np.testing.assert_allclose(by_factor, by_cg, rtol=0, atol=1e-10 * np.abs(by_cg).max())
+    M = mass_matrix(basis)
+    rhs = stress.affine_stress_moments(basis, U, STEEL)
+    for S in (by_factor, by_cg):
+        nodal = S.reshape(6, M.shape[0], -1).transpose(1, 0, 2).reshape(M.shape[0], -1)
+        residual = np.linalg.norm(rhs - M @ nodal, axis=0) / np.linalg.norm(rhs, axis=0)
+        assert residual.max() <= stress.MASS_RTOL
+
+
 def test_local_numbering_keeps_the_mesh_and_shrinks_the_bandwidth():
     """Reverse Cuthill-McKee on a shuffled structured mesh: the same tetrahedra (as sets of
     points), sorted by their lowest vertex, with a vertex bandwidth near a layer's size

@@ -93,7 +93,7 @@ def make_screen(stress: np.ndarray, verdict_mask: np.ndarray, tip: np.ndarray, c
     """Screen of the unit-case columns ``cols`` of ``stress`` (6, nodes, cases)."""
 
     mask = verdict_mask if np.any(verdict_mask) else np.ones_like(verdict_mask)
-    S = np.ascontiguousarray(stress[:, mask][:, :, cols])
+    S = np.ascontiguousarray(stress[:, :, cols][:, mask])  # the columns first: a part has many
     k = S.shape[2]
     # the quadratic forms in scaled coefficients c w (w: each coefficient's largest stress
     # per unit), so the bound sqrt(lam) |c w| is not set by mixing forces, torques and
