@@ -254,18 +254,35 @@ def test_bearing_life_over_settings_and_joints_slow_rings_and_light_loads():
 
 
 @pytest.mark.slow
-def test_dask_and_serial_give_identical_tables(tmp_path):
+def test_dask_and_serial_give_identical_tables(tmp_path, monkeypatch):
+    """Both linkage kinds, their chunks in one Dask queue, the contexts mapped from shared
+    files; and again with the shared files refused by the disk (the contexts scattered
+    instead, said so): every table equals the serial run's, and no shared file is left
+    in the results."""
+    import railcheck.sweep.run as run_module
+
     text = KINEMATICS_ONLY + 'crank = ["420 mm", "540 mm"]\ncoupler = ["780 mm", "900 mm"]\nspeeds = ["1 Hz", "1.5 Hz"]\n'
     text = text.replace('speeds = ["1 Hz"]\n', "")
-    serial = _rows(_sweep(tmp_path, text, "serial", serial=True))
-    parallel = _rows(
-        _sweep(tmp_path, text.replace("[sweep]", '[sweep]\nmemory = "2 MB"'), "dask", workers=2, serial=False, dask=True)
-    )
-    assert serial.keys() == parallel.keys()
-    for k in serial:
-        assert np.array_equal(serial[k], parallel[k]) or np.allclose(
-            serial[k], parallel[k], rtol=0, atol=0, equal_nan=True
-        ), k
+    serial = _sweep(tmp_path, text, "serial", serial=True)
+    small = text.replace("[sweep]", '[sweep]\nmemory = "2 MB"')
+    parallel = _sweep(tmp_path, small, "dask", workers=2, serial=False, dask=True)
+
+    def full_disk(obj, path):
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(run_module, "write_shared", full_disk)
+    lines = []
+    progress = type("P", (), {"say": lambda self, stage, msg: lines.append(msg)})()
+    scattered = _sweep(tmp_path, small, "scattered", workers=2, serial=False, dask=True, progress=progress)
+    assert any("scattering it" in line for line in lines)
+    assert set(serial.tables) == {"four-bar", "slider-crank"}
+    for run in (parallel, scattered):
+        assert not list(run.target.glob(".context*"))
+        for kind in serial.tables:
+            one, other = _rows(serial, kind), _rows(run, kind)
+            assert one.keys() == other.keys()
+            for k in one:
+                assert np.array_equal(one[k], other[k], equal_nan=one[k].dtype.kind == "f"), (kind, k)
 
 
 @pytest.mark.slow

@@ -1,6 +1,7 @@
 """railcheck.sweep: ``railcheck sweep``, every setting of the rig.
 
-:mod:`.run` (chunks, Dask, the results directory), :mod:`.grid` (the settings the
+:mod:`.run` (chunks, Dask, the results directory), :mod:`.shared` (the context the
+local workers map from one file), :mod:`.grid` (the settings the
 rails' holes allow), :mod:`.chunk` (a chunk of settings -> rows), :mod:`.parts` (each
 part's unit fields for every hole pair), :mod:`.fe` (exact screened superposition),
 :mod:`.table` (Parquet/CSV), :mod:`.maps` (aggregates, the seed's hypotheses, maps).

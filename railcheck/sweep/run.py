@@ -15,6 +15,7 @@ import math
 import os
 import time
 from concurrent.futures import FIRST_COMPLETED, wait
+from contextlib import ExitStack
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -35,6 +36,7 @@ from railcheck.sweep.grid import narrowed, rig_grid, settings
 from railcheck.sweep.maps import Aggregate, summary_of, write_maps, write_motor_plot
 from railcheck.sweep.parts import applicable, build_part_model, dynamic_in_sweep, is_free_rail
 from railcheck.sweep.report import write_sweep_report
+from railcheck.sweep.shared import remove_shared, shared, write_shared
 from railcheck.sweep.table import TableWriter
 
 #: bytes of working memory per setting and crank step of a group of revolving settings
@@ -314,18 +316,18 @@ def _run_into(scene, directory: Path, scheduler, workers, serial, progress, dask
     # the parts in two processes when the settings run in parallel too
     models = prepare_models(scene, by_kind, progress, min(2, os.cpu_count() or 1) if use_dask and not serial else 1)
     clock.append(time.perf_counter())
-    aggregates, tables = {}, {}
-    with _Executor(scheduler, workers, use_dask and not serial, progress) as executor:
-        for kind, lengths in by_kind.items():
-            ctx = _context(scene, kind, models[kind])
-            path = directory / f"sweep-{kind}.{scene.sweep.format}"
-            aggregates[kind] = Aggregate(scene, kind, lengths, motor_curve_speeds(scene.sweep.speeds), models[kind])
-            with TableWriter(path, scene.sweep.format) as writer:
-                for columns in executor.map_chunks(ctx, lengths, chunk_size(scene)):
-                    curve = columns.pop(MOTOR_CURVE_KEY)
-                    writer.write(columns)
-                    aggregates[kind].add(columns, curve)
-            tables[kind] = path
+    kinds = list(by_kind)
+    tables = {kind: directory / f"sweep-{kind}.{scene.sweep.format}" for kind in kinds}
+    aggregates = {
+        kind: Aggregate(scene, kind, by_kind[kind], motor_curve_speeds(scene.sweep.speeds), models[kind]) for kind in kinds
+    }
+    jobs = [(lambda kind=kind: _context(scene, kind, models[kind]), by_kind[kind], kind) for kind in kinds]
+    with _Executor(scheduler, workers, use_dask and not serial, progress, directory) as executor, ExitStack() as stack:
+        writers = {kind: stack.enter_context(TableWriter(tables[kind], scene.sweep.format)) for kind in kinds}
+        for j, columns in executor.map_jobs(jobs, chunk_size(scene)):
+            curve = columns.pop(MOTOR_CURVE_KEY)
+            writers[kinds[j]].write(columns)
+            aggregates[kinds[j]].add(columns, curve)
     clock.append(time.perf_counter())
     summary = summary_of(scene, aggregates, tables, models)
 
@@ -362,12 +364,18 @@ WORKER_MALLOC = {"MALLOC_TRIM_THRESHOLD_": 256 << 20, "MALLOC_MMAP_THRESHOLD_": 
 
 class _Executor:
     """Chunks of settings -> their columns, in order: serially, or on Dask (a local
-    cluster unless ``scheduler`` names one) with at most two chunks per worker in flight."""
+    cluster unless ``scheduler`` names one). On Dask every kind's chunks form one queue
+    (a kind's last chunks share the workers with the next kind's first), two chunks per
+    worker in flight, finished chunks held until the ones before them are done (a slow
+    chunk does not idle the other workers). A local cluster's workers map each kind's
+    context from a file in ``scratch`` (:mod:`railcheck.sweep.shared`); an external
+    scheduler's receive it scattered."""
 
-    def __init__(self, scheduler, workers, use_dask: bool, progress):
+    def __init__(self, scheduler, workers, use_dask: bool, progress, scratch: Path | None = None):
         self.progress = progress
         self.use_dask = use_dask
         self.scheduler, self.workers = scheduler, workers
+        self.scratch = scratch
         self.client = self.cluster = None
 
     def __enter__(self):
@@ -406,33 +414,93 @@ class _Executor:
             self.cluster.close()
         return False
 
-    def map_chunks(self, ctx, lengths: dict, size: int):
-        """Yield each chunk's columns in order, with a progress line every few seconds."""
-
-        total = lengths["crank"].size
-        starts = list(range(0, total, size))
-        chunk = lambda a: ({b: v[a : a + size] for b, v in lengths.items()}, np.arange(a, min(a + size, total)))  # noqa: E731
-        meter = _Meter(self.progress, ctx.kind, total)
+    def map_jobs(self, jobs: list, size: int):
+        """Yield ``(job index, columns)`` of every chunk of every job ``(make_context,
+        lengths, kind)`` in order, job by job, with a progress line every few seconds
+        (``make_context()`` builds the job's context when its first chunk is due)."""
         if not self.use_dask:
-            for a in starts:
-                cols = evaluate_chunk(ctx, *chunk(a))
-                meter.done(min(size, total - a))
-                yield cols
+            for j, (make_context, lengths, kind) in enumerate(jobs):
+                ctx, total = make_context(), lengths["crank"].size
+                meter = _Meter(self.progress, kind, total)
+                for ids in _chunks(total, size):
+                    cols = evaluate_chunk(ctx, {b: v[ids] for b, v in lengths.items()}, ids)
+                    meter.done(ids.size)
+                    yield j, cols
             return
-        yield from self._dask_chunks(ctx, starts, chunk, size, total, meter)
+        yield from self._dask_jobs(jobs, size)
 
-    def _dask_chunks(self, ctx, starts, chunk, size, total, meter):
+    def _dask_jobs(self, jobs: list, size: int):
+        from dask.distributed import wait as wait_for
 
-        remote_ctx = self.client.scatter(ctx, broadcast=True)
-        window = 2 * max(1, len(self.client.scheduler_info()["workers"]))
-        pending = {}
-        for i, a in enumerate(starts):
-            pending[i] = self.client.submit(evaluate_chunk, remote_ctx, *chunk(a), pure=False)
-            while len(pending) >= window or (i == len(starts) - 1 and pending):
-                k = min(pending)
-                cols = pending.pop(k).result()
-                meter.done(min(size, total - starts[k]))
-                yield cols
+        workers = max(1, len(self.client.scheduler_info()["workers"]))
+        # each kind in at least two chunks per worker, so that none runs alone
+        tasks = [
+            (j, ids)
+            for j, (_, lengths, _) in enumerate(jobs)
+            for ids in _chunks(lengths["crank"].size, max(1, min(size, -(-lengths["crank"].size // (2 * workers)))))
+        ]
+        meters: dict[int, _Meter] = {}
+        contexts: dict[int, object] = {}
+        running: dict = {}  # future -> task index
+        finished: dict[int, dict] = {}
+        submitted = done = 0
+        try:
+            while done < len(tasks):
+                while submitted < len(tasks) and len(running) < 2 * workers and len(finished) < HELD_CHUNKS:
+                    j, ids = tasks[submitted]
+                    if j not in contexts:
+                        contexts[j] = self._context_ref(j, jobs[j][0]())
+                        meters[j] = _Meter(self.progress, jobs[j][2], jobs[j][1]["crank"].size)
+                    lengths = {b: v[ids] for b, v in jobs[j][1].items()}
+                    running[self.client.submit(_evaluate, contexts[j], lengths, ids, pure=False)] = submitted
+                    submitted += 1
+                if done not in finished:
+                    if not running:  # cannot happen: the next chunk is either finished or running
+                        raise RuntimeError(f"sweep chunk {done} was neither finished nor running")
+                    for future in wait_for(list(running), return_when="FIRST_COMPLETED").done:
+                        finished[running.pop(future)] = future.result()
+                    continue
+                j, ids = tasks[done]
+                meters[j].done(ids.size)
+                yield j, finished.pop(done)
+                done += 1
+                if done == len(tasks) or tasks[done][0] != j:
+                    self._release(contexts.pop(j))
+        finally:
+            for future in running:
+                future.cancel()
+            for ref in contexts.values():
+                self._release(ref)
+
+    def _context_ref(self, j: int, ctx):
+        """What a task is given for its context: a shared file's path (local cluster,
+        :mod:`railcheck.sweep.shared`), else the context scattered to every worker."""
+        if self.cluster is not None and self.scratch is not None:
+            try:
+                return str(write_shared(ctx, self.scratch / f".context-{j}.bin"))
+            except OSError as exc:
+                self.progress.say("sweep", f"cannot share the context through {self.scratch} ({exc}): scattering it")
+        return self.client.scatter(ctx, broadcast=True)
+
+    @staticmethod
+    def _release(ref) -> None:
+        if isinstance(ref, str):
+            remove_shared(Path(ref))
+
+
+#: finished chunks held at most while an earlier one still runs
+HELD_CHUNKS = 256
+
+
+def _chunks(total: int, size: int):
+    """The settings' indices of each chunk of at most ``size`` of ``total`` settings."""
+    return (np.arange(a, min(a + size, total)) for a in range(0, total, size))
+
+
+def _evaluate(context, lengths: dict, ids: np.ndarray) -> dict:
+    """:func:`railcheck.sweep.chunk.evaluate_chunk` in a worker, its context a shared
+    file's path or the context itself."""
+    return evaluate_chunk(shared(context) if isinstance(context, str) else context, lengths, ids)
 
 
 class _Meter:
