@@ -70,7 +70,7 @@ def applies(steps: int, k: int) -> bool:
 def column_scale(S: np.ndarray) -> np.ndarray:
     """(k,) each coefficient's largest stress per unit (Pa per unit) over the nodes of
     ``S`` (6, n, k): the coefficients' scale."""
-    return np.linalg.norm(S, axis=0).max(axis=0) + 1e-300
+    return np.sqrt(np.einsum("cnk,cnk->nk", S, S)).max(axis=0) + 1e-300
 
 
 @dataclass(frozen=True)
@@ -149,7 +149,7 @@ class SampledBounds:
 
 def component_norms(Sw: np.ndarray) -> np.ndarray:
     """(6, n): each stress component's norm over its k coefficients (Pa per unit scaled coefficient)."""
-    return np.linalg.norm(Sw, axis=2)
+    return np.sqrt(np.einsum("cnk,cnk->cn", Sw, Sw))
 
 
 def von_mises_norm_bound(Sw: np.ndarray) -> np.ndarray:

@@ -6,7 +6,6 @@ import math
 
 import numpy as np
 
-from railcheck.fea.cantilever import HEIGHT, LENGTH, LOAD, WIDTH
 from railcheck.units import for_people
 
 
@@ -207,8 +206,9 @@ def bench_report(out: dict) -> str:
 
     return "\n".join(
         [
-            f"cantilever {LENGTH * 1e3:g} x {WIDTH * 1e3:g} x {HEIGHT * 1e3:g} mm steel, clamped at x = 0, "
-            f"{LOAD:g} N transverse tip load; P{out['order']} tetrahedra, size {out['size_mm']:g} mm",
+            f"cantilever {out['length_m'] * 1e3:g} x {out['width_m'] * 1e3:g} x {out['height_m'] * 1e3:g} mm steel, "
+            f"clamped at x = 0, {out['tip_load_N']:g} N transverse tip load; "
+            f"P{out['order']} tetrahedra, size {out['size_mm']:g} mm",
             f"  tip deflection (FE)         {out['tip_deflection_m'] * 1e3:12.6f} mm",
             f"  Timoshenko PL^3/3EI+PL/kGA  {out['analytic_m'] * 1e3:12.6f} mm",
             f"  relative error              {out['relative_error'] * 100:+12.4f} %",

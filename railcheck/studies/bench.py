@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from railcheck.check.jobs import refuse_beyond_memory
 from railcheck.errors import InputError
-from railcheck.fea.cantilever import HEIGHT, LENGTH, WIDTH, run_cantilever
+from railcheck.fea.cantilever import HEIGHT, LENGTH, LOAD, WIDTH, run_cantilever
 from railcheck.geometry.models import bar
 
 
@@ -16,6 +16,10 @@ def run_bench(order: int = 2, size_mm: float = 4.0, solver: str = "auto") -> dic
     refuse_beyond_memory(bar(LENGTH, WIDTH, HEIGHT), size_mm * 1e-3, size_mm * 1e-3, order, "--size")
     r = run_cantilever(order=order, size=size_mm * 1e-3, solver=solver)
     return {
+        "length_m": LENGTH,
+        "width_m": WIDTH,
+        "height_m": HEIGHT,
+        "tip_load_N": LOAD,
         "tip_deflection_m": r.computed,
         "analytic_m": r.analytic,
         "relative_error": r.relative_error,

@@ -106,12 +106,12 @@ def make_screen(stress: np.ndarray, verdict_mask: np.ndarray, tip: np.ndarray, c
         Q = np.einsum("cnk,cd,dnl->nkl", Sw, VM_QUADRATIC, Sw, optimize=True)
         lam = np.linalg.eigvalsh(Q)[:, -1]
         Q = Q.reshape(-1, k * k)
-    norms = np.linalg.norm(S, axis=2)  # (6, n)
+    norms = screen_.component_norms(S)  # (6, n) Pa per unit coefficient
     shear = 3.0 * (norms[3] ** 2 + norms[4] ** 2 + norms[5] ** 2)
     G = np.sqrt(0.5 * ((norms[0] + norms[1]) ** 2 + (norms[1] + norms[2]) ** 2 + (norms[2] + norms[0]) ** 2) + shear)
     Ga = np.sqrt(norms[0] ** 2 + norms[1] ** 2 + norms[2] ** 2 + shear)
     angle = np.arctan2(S[..., 1], S[..., 0]) if k == 2 else None
-    unit_rows = np.linalg.norm(Sw, axis=2)  # (6, n): each component's stress per unit scaled coefficient
+    unit_rows = screen_.component_norms(Sw)  # (6, n): each component's stress per unit scaled coefficient
     return Screen(S, Q, lam, G, Ga, tip[:, cols], unit_rows, np.argsort(-lam), np.argsort(-Ga), angle, w)
 
 
