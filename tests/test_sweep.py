@@ -286,6 +286,30 @@ def test_dask_and_serial_give_identical_tables(tmp_path, monkeypatch):
 
 
 @pytest.mark.slow
+def test_an_external_scheduler_gets_the_context_scattered_and_the_serial_tables(tmp_path, monkeypatch):
+    """``--scheduler`` an existing cluster (its workers may not see this disk): the
+    contexts are scattered to its workers, no shared file is written, and both kinds'
+    tables equal the serial run's."""
+    from dask.distributed import LocalCluster
+
+    import railcheck.sweep.run as run_module
+
+    written = []
+    monkeypatch.setattr(run_module, "write_shared", lambda obj, path: written.append(path) or path)
+    text = KINEMATICS_ONLY + 'crank = ["420 mm", "540 mm"]\ncoupler = ["780 mm", "900 mm"]\n'
+    small = text.replace("[sweep]", '[sweep]\nmemory = "2 MB"')
+    serial = _sweep(tmp_path, text, "serial", serial=True)
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=False, protocol="tcp", dashboard_address=None) as cluster:
+        external = _sweep(tmp_path, small, "external", scheduler=cluster.scheduler_address)
+    assert not written and not list(external.target.glob(".context*"))
+    for kind in serial.tables:
+        one, other = _rows(serial, kind), _rows(external, kind)
+        assert one.keys() == other.keys()
+        for k in one:
+            assert np.array_equal(one[k], other[k], equal_nan=one[k].dtype.kind == "f"), (kind, k)
+
+
+@pytest.mark.slow
 def test_sweep_larger_than_its_memory_budget_streams_to_disk(tmp_path):
     """A 2 MB working-memory budget and a table more than ten times larger: the rows are
     written chunk by chunk and the traced peak (numpy and Python allocations, imports
