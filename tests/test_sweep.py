@@ -33,6 +33,15 @@ def _rows(run, kind="four-bar"):
     return {k: np.asarray(v.to_numpy(zero_copy_only=False)) for k, v in zip(table.column_names, table.columns)}
 
 
+def _assert_same_tables(one_run, other_run):
+    """Every kind's table of ``other_run`` equals ``one_run``'s bit for bit (NaN where NaN)."""
+    for kind in one_run.tables:
+        one, other = _rows(one_run, kind), _rows(other_run, kind)
+        assert one.keys() == other.keys()
+        for k in one:
+            assert np.array_equal(one[k], other[k], equal_nan=one[k].dtype.kind == "f"), (kind, k)
+
+
 def _independent_lengths(rail_mm: float) -> list[float]:
     """Written apart from railcheck.sweep.grid: holes at 20 mm, then every 60 mm, the last at
     least 20 mm from the end; a bar runs from the first hole to another."""
@@ -278,11 +287,7 @@ def test_dask_and_serial_give_identical_tables(tmp_path, monkeypatch):
     assert set(serial.tables) == {"four-bar", "slider-crank"}
     for run in (parallel, scattered):
         assert not list(run.target.glob(".context*"))
-        for kind in serial.tables:
-            one, other = _rows(serial, kind), _rows(run, kind)
-            assert one.keys() == other.keys()
-            for k in one:
-                assert np.array_equal(one[k], other[k], equal_nan=one[k].dtype.kind == "f"), (kind, k)
+        _assert_same_tables(serial, run)
 
 
 @pytest.mark.slow
@@ -302,11 +307,7 @@ def test_an_external_scheduler_gets_the_context_scattered_and_the_serial_tables(
     with LocalCluster(n_workers=2, threads_per_worker=1, processes=False, protocol="tcp", dashboard_address=None) as cluster:
         external = _sweep(tmp_path, small, "external", scheduler=cluster.scheduler_address)
     assert not written and not list(external.target.glob(".context*"))
-    for kind in serial.tables:
-        one, other = _rows(serial, kind), _rows(external, kind)
-        assert one.keys() == other.keys()
-        for k in one:
-            assert np.array_equal(one[k], other[k], equal_nan=one[k].dtype.kind == "f"), (kind, k)
+    _assert_same_tables(serial, external)
 
 
 @pytest.mark.slow
