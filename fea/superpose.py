@@ -164,17 +164,13 @@ def component_range(S: np.ndarray, C: np.ndarray) -> tuple[np.ndarray, np.ndarra
     if C.shape[1] == 2:
         polygon = hull_polygon(C)
         if polygon is not None:
-            D = S.reshape(-1, 2)
-            hi = support(D, polygon)
-            lo = -support(-D, polygon)
+            hi, lo = support_range(S.reshape(-1, 2), polygon)
             return hi.reshape(S.shape[:2]), lo.reshape(S.shape[:2])
     if C.shape[1] == 3 and np.all(C[:, 0] == 1.0):  # an affine plane (:func:`reduced`)
         polygon = hull_polygon(C[:, 1:])
         if polygon is not None:
-            D = np.ascontiguousarray(S[:, :, 1:]).reshape(-1, 2)
-            hi = support(D, polygon).reshape(S.shape[:2])
-            lo = -support(-D, polygon).reshape(S.shape[:2])
-            return S[:, :, 0] + hi, S[:, :, 0] + lo
+            hi, lo = support_range(np.ascontiguousarray(S[:, :, 1:]).reshape(-1, 2), polygon)
+            return S[:, :, 0] + hi.reshape(S.shape[:2]), S[:, :, 0] + lo.reshape(S.shape[:2])
     nodes = S.shape[1]
     hi, lo = np.empty((6, nodes)), np.empty((6, nodes))
     for sl in _node_chunks(nodes, C.shape[0], RANGE_CHUNK_VALUES):
@@ -196,6 +192,14 @@ def hull_polygon(C: np.ndarray) -> np.ndarray | None:
     except (QhullError, ValueError):
         return None
     return C[hull.vertices]  # qhull orders 2D vertices counter-clockwise
+
+
+def support_range(D: np.ndarray, V: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(max, min) over the polygon's vertices V (h, 2, counter-clockwise) of d . v for
+    every row d of D (m, 2): :func:`support` of D and of -D, whose angle is d's plus pi
+    (one arctan2 for both; the bracket's neighbours absorb the rounding)."""
+    angle = np.arctan2(D[:, 1], D[:, 0])
+    return support(D, V, angle), -support(-D, V, angle + np.pi)
 
 
 def support(D: np.ndarray, V: np.ndarray, angle: np.ndarray | None = None) -> np.ndarray:
@@ -239,9 +243,8 @@ def envelope(
         node = int(np.argmax(np.where(mask, best, -np.inf)))
         peak, step, top, node_env = float(best[node]), int(steps[where[node]]), float(best.max()), best
     else:
-        peak, node, k = screened_max(fields.stress, C[steps], mask, bounds)
+        peak, node, k, top = screened_max(fields.stress, C[steps], mask, bounds)
         step = int(steps[k])
-        top = screened_max(fields.stress, C[steps], np.ones_like(mask), bounds)[0]
         node_env = None
     tip = np.linalg.norm(C @ fields.tip.T, axis=1)  # every step: (steps,)
     t = int(np.argmax(tip))
@@ -260,41 +263,58 @@ SCREEN_TOP = 64
 
 def screened_max(
     S: np.ndarray, C: np.ndarray, mask: np.ndarray, bounds: screen.SampledBounds | None = None
-) -> tuple[float, int, int]:
-    """(largest von Mises Pa, its node, its step) over the nodes ``mask`` and the steps of
-    ``C``, as :func:`von_mises_max` would give (the first node and step of the maximum),
-    evaluating only the nodes that can hold it: a node's von Mises is at most
-    sqrt(largest eigenvalue of its quadratic form) x the history's largest norm; the exact
-    maximum over the nodes of largest eigenvalue is a lower bound, and only nodes whose
-    bound reaches it are evaluated. A history of more than two coefficients is screened in
-    its principal subspace instead (:mod:`fea.screen`; ``bounds``: its
-    :func:`fea.screen.history_bounds` over every node of ``S``, when already known)."""
-    idx = np.flatnonzero(mask)
+) -> tuple[float, int, int, float]:
+    """(largest von Mises Pa over the nodes ``mask``, its node, its step, the largest von
+    Mises Pa over every node) over the steps of ``C``, as :func:`von_mises_max` would give
+    (the first node and step of the maximum), evaluating only the nodes that can hold
+    either maximum: a node's von Mises is at most sqrt(largest eigenvalue of its quadratic
+    form) x the history's largest norm; the exact maximum over the nodes of largest
+    eigenvalue is a lower bound, and only nodes whose bound reaches it are evaluated. A
+    history of more than two coefficients is screened in its principal subspace instead
+    (:mod:`fea.screen`; ``bounds``: its :func:`fea.screen.history_bounds` over every node
+    of ``S``, when already known). A node left out of a maximum's candidates is strictly
+    below it, so evaluating the union of both candidate sets gives both exactly."""
     k = S.shape[2]
+    everywhere = np.ones_like(mask)
     if screen.applies(C.shape[0], k):  # many coefficients: the history's own subspace screens the nodes
         b = screen.history_bounds(S, C) if bounds is None else bounds
-        return _exact_max(S, C, _subspace_candidates(S, C, b, mask))
-    if k > 2:  # a few steps (a constant load: one): every node, directly (no k x k forms)
-        vm = von_mises(stress_at(S[:, idx], C))  # (nodes, steps)
+        nodes = np.union1d(_subspace_candidates(S, C, b, mask), _subspace_candidates(S, C, b, everywhere))
+        best, where = von_mises_max(S[:, nodes], C)
+    elif k > 2:  # a few steps (a constant load: one): every node, directly (no k x k forms)
+        nodes = np.arange(S.shape[1])
+        vm = von_mises(stress_at(S, C))  # (nodes, steps)
         where = np.argmax(vm, axis=1)
         best = np.take_along_axis(vm, where[:, None], axis=1)[:, 0]
-        j = int(np.argmax(best))
-        return float(best[j]), int(idx[j]), int(where[j])
-    Q = np.einsum("cnk,cd,dnl->nkl", S[:, idx], VM_QUADRATIC, S[:, idx], optimize=True)
-    lam = np.linalg.eigvalsh(Q)[:, -1]
-    Q = Q.reshape(idx.size, k * k)
-    CC = np.einsum("tk,tl->klt", C, C).reshape(k * k, -1)
+    else:
+        nodes, best, where = _two_coefficient_candidates(S, C, mask)
+    inside = mask[nodes]
+    j = int(np.argmax(np.where(inside, best, -np.inf)))
+    return float(best[j]), int(nodes[j]), int(where[j]), float(best.max())
+
+
+def _two_coefficient_candidates(S: np.ndarray, C: np.ndarray, mask: np.ndarray):
+    """(nodes ascending, their largest von Mises Pa, its step) for the nodes that can hold
+    the largest von Mises over ``mask`` or over every node of the two-coefficient fields
+    ``S`` (6, n, 2) and history ``C`` (steps, 2): each node's quadratic form's largest
+    eigenvalue (closed form) times the history's largest squared norm bounds it."""
+    q = np.einsum("cnk,cd,dnl->nkl", S, VM_QUADRATIC, S, optimize=True)
+    a, b, d = q[:, 0, 0], q[:, 0, 1], q[:, 1, 1]
+    lam = 0.5 * (a + d) + np.hypot(0.5 * (a - d), b)  # the 2 x 2 form's largest eigenvalue
+    Q = q.reshape(-1, 4)
+    CC = np.einsum("tk,tl->klt", C, C).reshape(4, -1)
     R2 = float(np.einsum("tk,tk->t", C, C).max())
-    top = np.argsort(-lam)[:SCREEN_TOP]
-    lower = float((Q[top] @ CC).max())
-    can = np.flatnonzero(lam * R2 * (1.0 + 1e-9) + 1e-300 >= lower)  # ascending: the first maximum stays first
-    best, where = np.empty(can.size), np.empty(can.size, dtype=np.int64)
-    for sl in _node_chunks(can.size, C.shape[0]):
-        vm2 = Q[can[sl]] @ CC
+    keep = np.zeros(S.shape[1], dtype=bool)
+    for within in (np.flatnonzero(mask), np.arange(S.shape[1])):
+        top = within[np.argsort(-lam[within])[:SCREEN_TOP]]
+        lower = float((Q[top] @ CC).max())
+        keep[within[lam[within] * R2 * (1.0 + 1e-9) + 1e-300 >= lower]] = True
+    nodes = np.flatnonzero(keep)
+    best, where = np.empty(nodes.size), np.empty(nodes.size, dtype=np.int64)
+    for sl in _node_chunks(nodes.size, C.shape[0]):
+        vm2 = Q[nodes[sl]] @ CC
         where[sl] = np.argmax(vm2, axis=1)
         best[sl] = np.take_along_axis(vm2, where[sl, None], axis=1)[:, 0]
-    j = int(np.argmax(best))
-    return float(np.sqrt(max(best[j], 0.0))), int(idx[can[j]]), int(where[j])
+    return nodes, np.sqrt(np.maximum(best, 0.0)), where
 
 
 def _subspace_candidates(S: np.ndarray, C: np.ndarray, b: screen.SampledBounds, mask: np.ndarray) -> np.ndarray:
@@ -305,14 +325,6 @@ def _subspace_candidates(S: np.ndarray, C: np.ndarray, b: screen.SampledBounds, 
     first = first[mask[first]]
     lower = float(von_mises(stress_at(S[:, first], C)).max())
     return np.intersect1d(screen.peak_candidates(b, lower), np.flatnonzero(mask))
-
-
-def _exact_max(S: np.ndarray, C: np.ndarray, nodes: np.ndarray) -> tuple[float, int, int]:
-    """(largest von Mises Pa, its node, its step) over ``nodes`` (ascending) and every step
-    of ``C``, as :func:`von_mises_max` evaluates them (the first node and step of the maximum)."""
-    best, where = von_mises_max(S[:, nodes], C)
-    j = int(np.argmax(best))
-    return float(best[j]), int(nodes[j]), int(where[j])
 
 
 def history_at_node(fields: UnitFields, C: np.ndarray, node: int) -> np.ndarray:
