@@ -98,8 +98,10 @@ def safety_factor(
         if criterion == "goodman":
             n = 1.0 / (sa / se + sm / sut)
         elif criterion == "gerber":
-            ratio = 2.0 * sm * se / (sut * sa)
-            n = np.where(sm > 0, 0.5 * (sut / sm) ** 2 * (sa / se) * (-1.0 + np.sqrt(1.0 + ratio**2)), se / sa)
+            # the root of n sa / se + (n sm / sut)^2 = 1, written without the cancellation of
+            # -1 + sqrt(1 + x^2) (x = 2 sm se / (sut sa)), which gives 0 once sm << sa
+            x = 2.0 * np.maximum(sm, 0.0) * se / (sut * sa)
+            n = 2.0 * se / (sa * (1.0 + np.sqrt(1.0 + x**2)))
             n = np.where(sa > 0, n, sut / sm)
         elif criterion == "asme-elliptic":
             if not sy:
