@@ -327,13 +327,54 @@ def sampled_bounds(SP: np.ndarray, norms: np.ndarray, vm_norm: np.ndarray, sub: 
     return SampledBounds(vm, upper, high, low, slack)
 
 
-def history_bounds(S: np.ndarray, C: np.ndarray) -> SampledBounds:
-    """:func:`sampled_bounds` of the nodes of ``S`` (6, n, k) Pa per unit coefficient for
-    one history ``C`` (steps, k), the coefficients scaled by :func:`column_scale`."""
+@dataclass(frozen=True)
+class Projected:
+    """One history's principal subspace ``sub`` (:func:`principal_subspace` of the scaled
+    history) and the nodes in it: ``SP`` (6, n, r) Pa per unit coordinate
+    (:func:`project`), ``norms`` (6, n) :func:`component_norms` and ``vm_norm`` (n,)
+    :func:`von_mises_norm_bound` of the stress per unit scaled coefficient."""
+
+    SP: np.ndarray
+    norms: np.ndarray
+    vm_norm: np.ndarray
+    sub: Subspace
+
+
+def project_history(S: np.ndarray, C: np.ndarray) -> Projected:
+    """:class:`Projected` of the nodes of ``S`` (6, n, k) Pa per unit coefficient for one
+    history ``C`` (steps, k), the coefficients scaled by :func:`column_scale`."""
     w = column_scale(S)
     Sw = S / w
     sub = principal_subspace(C * w)
-    return sampled_bounds(project(S, w, sub), component_norms(Sw), von_mises_norm_bound(Sw), sub)
+    return Projected(project(S, w, sub), component_norms(Sw), von_mises_norm_bound(Sw), sub)
+
+
+def history_bounds(S: np.ndarray, C: np.ndarray) -> SampledBounds:
+    """:func:`sampled_bounds` of every node of ``S`` (6, n, k) Pa per unit coefficient for
+    one history ``C`` (steps, k)."""
+    p = project_history(S, C)
+    return sampled_bounds(p.SP, p.norms, p.vm_norm, p.sub)
+
+
+def history_box_bounds(S: np.ndarray, C: np.ndarray) -> SampledBounds:
+    """:func:`box_bounds` of the nodes of ``S`` (6, n, k) Pa per unit coefficient for one
+    history ``C`` (steps, k): the box of its coordinates in its principal subspace bounds
+    every step without reading one (a few array passes over the nodes)."""
+    p = project_history(S, C)
+    return box_bounds(p.SP, p.norms, p.vm_norm, p.sub)
+
+
+def sampled_at(p: Projected, box: SampledBounds, nodes: np.ndarray) -> SampledBounds:
+    """The box bounds ``box`` (:func:`box_bounds` of ``p``) at every node but ``nodes``,
+    where the history is read at its sampled steps (:func:`sampled_bounds`): valid bounds
+    everywhere, tight where the box left candidates."""
+    s = sampled_bounds(p.SP[:, nodes], p.norms[:, nodes], p.vm_norm[nodes], p.sub)
+    out = SampledBounds(
+        *(np.array(a, copy=True) for a in (box.von_mises, box.von_mises_upper, box.high, box.low, box.slack))
+    )
+    out.von_mises[nodes], out.von_mises_upper[nodes] = s.von_mises, s.von_mises_upper
+    out.high[:, nodes], out.low[:, nodes], out.slack[:, nodes] = s.high, s.low, s.slack
+    return out
 
 
 def fatigue_bounds(b: SampledBounds) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:

@@ -278,7 +278,7 @@ def screened_max(
     everywhere = np.ones_like(mask)
     if screen.applies(C.shape[0], k):  # many coefficients: the history's own subspace screens the nodes
         b = screen.history_bounds(S, C) if bounds is None else bounds
-        nodes = np.union1d(_subspace_candidates(S, C, b, mask), _subspace_candidates(S, C, b, everywhere))
+        nodes = np.union1d(subspace_candidates(S, C, b, mask), subspace_candidates(S, C, b, everywhere))
         best, where = von_mises_max(S[:, nodes], C)
     elif k > 2:  # a few steps (a constant load: one): every node, directly (no k x k forms)
         nodes = np.arange(S.shape[1])
@@ -317,7 +317,7 @@ def _two_coefficient_candidates(S: np.ndarray, C: np.ndarray, mask: np.ndarray):
     return nodes, np.sqrt(np.maximum(best, 0.0)), where
 
 
-def _subspace_candidates(S: np.ndarray, C: np.ndarray, b: screen.SampledBounds, mask: np.ndarray) -> np.ndarray:
+def subspace_candidates(S: np.ndarray, C: np.ndarray, b: screen.SampledBounds, mask: np.ndarray) -> np.ndarray:
     """Indices (ascending) of the nodes in ``mask`` of ``S`` (6, n, k) that can hold their
     largest von Mises over the history ``C`` (steps, k): the bounds ``b`` from its principal
     subspace (:mod:`fea.screen`), a lower bound from the nodes of largest sampled value."""

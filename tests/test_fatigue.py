@@ -10,9 +10,10 @@ import numpy as np
 import pytest
 
 from railcheck.check.cycle import fatigue_of
+from railcheck.fea import screen
 from railcheck.fea.fatigue import alternating_and_mean, endurance_limit, safety_factor, size_factor
 from railcheck.fea.materials import MATERIALS
-from railcheck.fea.superpose import UnitFields
+from railcheck.fea.superpose import UnitFields, candidate_steps, component_range
 from railcheck.scene import parse_scene
 
 MPa = 1e6
@@ -43,6 +44,22 @@ def test_fully_reversed_static_and_unloaded_limits(criterion):
     static = 490 / 200 if criterion == "asme-elliptic" else 750 / 200
     assert _n(criterion, sa=0.0) == pytest.approx(static, rel=1e-12)
     assert _n(criterion, sa=0.0, sm=0.0) == math.inf
+
+
+@pytest.mark.parametrize("criterion", ["goodman", "gerber", "asme-elliptic"])
+def test_each_factor_solves_its_criterion_over_twenty_decades(criterion):
+    """n is the root of its criterion's equation, to rounding, for sa and sm from 1 Pa to
+    1e19 Pa (one far below the other included: Gerber's textbook form loses every digit to
+    the cancellation of -1 + sqrt(1 + x^2) there, and gave 0)."""
+    sa, sm = (a.ravel() for a in np.meshgrid(np.logspace(0, 19, 39), np.logspace(0, 19, 39)))
+    n = safety_factor(sa, sm, SE, SUT, criterion, SY)
+    equation = {
+        "goodman": n * sa / SE + n * sm / SUT,
+        "gerber": n * sa / SE + (n * sm / SUT) ** 2,
+        "asme-elliptic": (n * sa / SE) ** 2 + (n * sm / SY) ** 2,
+    }[criterion]
+    assert np.all(n > 0) and np.all(np.isfinite(n))
+    np.testing.assert_allclose(equation, 1.0, rtol=1e-12)
 
 
 def test_criteria_refuse_what_they_cannot_compute():
@@ -224,22 +241,25 @@ def test_the_fatigue_verdict_compares_with_the_required_factor():
 
 
 @pytest.mark.parametrize("criterion", ["goodman", "gerber", "asme-elliptic"])
-def test_without_node_fields_the_screened_minimum_is_every_nodes(criterion):
-    """A check that writes no VTU needs only the minimum: a many-coefficient history's
-    nodes are screened in its principal subspace and only the few that can hold the
-    minimum are evaluated. Minimum, node, sigma_a and sigma_m equal every node x every
-    step's, on random fields with hot nodes, decoys (huge stress on a barely used
-    coefficient) and a history with a mean and a kick between sampled steps; and the
-    verdict mask is honoured."""
+@pytest.mark.parametrize("k", [9, 2, 3])
+def test_without_node_fields_the_screened_minimum_is_every_nodes(criterion, k):
+    """A check that writes no VTU needs only the minimum: a history's nodes are screened
+    (many coefficients at its principal subspace's sampled steps, two coefficients or an
+    affine plane by its box) and only the few that can hold the minimum are evaluated.
+    Minimum, node, sigma_a and sigma_m equal every node x every step's, on random fields
+    with hot nodes, decoys (huge stress on a barely used coefficient) and a history with a
+    mean and a kick between sampled steps; and the verdict mask is honoured."""
     job = _crank_job(f'[fatigue]\ncriterion = "{criterion}"\n')
     rng = np.random.default_rng(21)
-    n, T, k = 3000, 400, 9
+    n, T = 3000, 400
     S = rng.normal(size=(6, n, k)) * np.exp(1.2 * rng.normal(size=(1, n, 1))) * 1e3
     S[:, :150, :] *= 1e-3
     S[:, :150, k - 1] = rng.normal(size=(6, 150)) * 1e8  # decoys
     t = np.linspace(0, 2 * np.pi, T, endpoint=False)
     C = np.column_stack([1e4 * np.cos((j + 1) * t + j) + 3e3 * j for j in range(k - 1)] + [1e-6 * np.sin(t)])
-    C[203, : k - 1] *= 1.8  # a kick between sampled steps
+    if k == 3:  # an affine plane, as a reduced free body's history
+        C = np.column_stack([np.ones(T), 1e4 * np.cos(t) + 3e3, 1e4 * np.sin(2 * t + 1)])
+    C[203, 1 if k == 3 else 0 : max(k - 1, 1)] *= 1.8  # a kick between sampled steps
 
     def fields_with(mask):
         return UnitFields(S, np.zeros((3, k)), np.zeros((n, 3, k)), rng.normal(size=(n, 3)), mask, tuple(map(str, range(k))))
@@ -254,3 +274,50 @@ def test_without_node_fields_the_screened_minimum_is_every_nodes(criterion):
     assert fast.min_safety_factor == pytest.approx(full.min_safety_factor, rel=1e-12)
     assert (fast.sigma_a, fast.sigma_m) == pytest.approx((full.sigma_a, full.sigma_m), rel=1e-12)
     assert full.node_factor.min() < full.min_safety_factor  # the minimum over all nodes is left out
+    # what the screen rests on: at every node its bounds reach the exact alternating and mean stress
+    Cs = C[candidate_steps(C)]
+    bounds = screen.history_bounds(S, Cs) if screen.applies(*Cs.shape) else screen.history_box_bounds(S, Cs)
+    sa_upper, sm_upper, _, _ = screen.fatigue_bounds(bounds)
+    sa, sm = alternating_and_mean(*component_range(S, Cs))
+    assert np.all(sa_upper >= sa * (1 - 1e-12)) and np.all(sm_upper >= sm * (1 - 1e-12))
+
+
+def test_the_checks_bounds_sample_only_the_boxs_candidates_and_stay_exact():
+    """:func:`railcheck.check.cycle.history_bounds`: the box at every node, the sampled
+    steps read only where the box leaves candidates. Its bounds reach every node's exact
+    von Mises peak and alternating and mean stresses, fewer than a quarter of the nodes
+    are read at the samples, and the peaks and fatigue minimum screened with them equal
+    every node x every step's."""
+    from railcheck.check.cycle import history_bounds
+    from railcheck.fea.superpose import envelope, von_mises_max
+
+    job = replace(_crank_job(""), node_fields=False)
+    rng = np.random.default_rng(8)
+    n, T, k = 4000, 500, 9
+    S = rng.normal(size=(6, n, k)) * np.exp(1.2 * rng.normal(size=(1, n, 1))) * 1e3
+    S[:, :150, :] *= 1e-3
+    S[:, :150, k - 1] = rng.normal(size=(6, 150)) * 1e8  # decoys on a barely used coefficient
+    t = np.linspace(0, 2 * np.pi, T, endpoint=False)
+    C = np.column_stack([1e4 * np.cos((j + 1) * t + j) + 3e3 * j for j in range(k - 1)] + [1e-6 * np.sin(t)])
+    C[203, : k - 1] *= 1.8  # a kick between sampled steps
+    mask = rng.random(n) > 0.2
+    fields = UnitFields(S, np.zeros((3, k)), np.zeros((n, 3, k)), rng.normal(size=(n, 3)), mask, tuple(map(str, range(k))))
+    steps = candidate_steps(C)
+    b = history_bounds(job, fields, C[steps])
+    peak = von_mises_max(S, C)[0]
+    high, low = component_range(S, C)
+    sa, sm = alternating_and_mean(high, low)
+    sa_upper, sm_upper, _, _ = screen.fatigue_bounds(b)
+    assert np.all(b.von_mises_upper >= peak * (1 - 1e-12))
+    reach = 1e-12 * np.abs(high).max()
+    assert np.all(high <= b.high + b.slack + reach) and np.all(low >= b.low - b.slack - reach)
+    assert np.all(sa_upper >= sa * (1 - 1e-12)) and np.all(sm_upper >= sm * (1 - 1e-12))
+    sampled = np.flatnonzero(b.high != b.low)  # the box's nodes have high = low (its centre)
+    assert 0 < sampled.size < n / 4
+    full, fast = envelope(fields, C), envelope(fields, C, every_node=False, steps=steps, bounds=b)
+    assert (fast.node, fast.step) == (full.node, full.step)
+    assert (fast.max_von_mises, fast.support_peak) == pytest.approx((full.max_von_mises, full.support_peak), rel=1e-13)
+    every = fatigue_of(replace(job, node_fields=True), fields, C)
+    screened = fatigue_of(job, fields, C, steps, b)
+    assert screened.location == every.location
+    assert screened.min_safety_factor == pytest.approx(every.min_safety_factor, rel=1e-12)
