@@ -324,7 +324,8 @@ def subspace_candidates(S: np.ndarray, C: np.ndarray, b: screen.SampledBounds, m
     first = screen.first_nodes(np.where(mask, b.von_mises, -np.inf))
     first = first[mask[first]]
     lower = float(von_mises(stress_at(S[:, first], C)).max())
-    return np.intersect1d(screen.peak_candidates(b, lower), np.flatnonzero(mask))
+    candidates = screen.peak_candidates(b, lower)  # ascending
+    return candidates[mask[candidates]]
 
 
 def history_at_node(fields: UnitFields, C: np.ndarray, node: int) -> np.ndarray:
