@@ -39,7 +39,7 @@ def random_case(seed: int, nodes: int = 300, k: int = 3, steps: int = 200):
     return S, C
 
 
-@pytest.mark.parametrize(("k", "seed"), [(1, 0), (2, 1), (3, 2), (5, 3)])
+@pytest.mark.parametrize(("k", "seed"), [(1, 0), (2, 1), (3, 2), (5, 3), (15, 6)])
 def test_von_mises_max_equals_every_step(k, seed):
     S, C = random_case(seed, k=k)
     vm = brute(S, C)
