@@ -283,12 +283,12 @@ def test_without_node_fields_the_screened_minimum_is_every_nodes(criterion, k):
 
 
 def test_the_checks_bounds_sample_only_the_boxs_candidates_and_stay_exact():
-    """:func:`railcheck.check.cycle.history_bounds`: the box at every node, the sampled
+    """:func:`railcheck.check.cycle.verdict_bounds`: the box at every node, the sampled
     steps read only where the box leaves candidates. Its bounds reach every node's exact
     von Mises peak and alternating and mean stresses, fewer than a quarter of the nodes
     are read at the samples, and the peaks and fatigue minimum screened with them equal
     every node x every step's."""
-    from railcheck.check.cycle import history_bounds
+    from railcheck.check.cycle import verdict_bounds
     from railcheck.fea.superpose import envelope, von_mises_max
 
     job = replace(_crank_job(""), node_fields=False)
@@ -303,7 +303,7 @@ def test_the_checks_bounds_sample_only_the_boxs_candidates_and_stay_exact():
     mask = rng.random(n) > 0.2
     fields = UnitFields(S, np.zeros((3, k)), np.zeros((n, 3, k)), rng.normal(size=(n, 3)), mask, tuple(map(str, range(k))))
     steps = candidate_steps(C)
-    b = history_bounds(job, fields, C[steps])
+    b = verdict_bounds(job, fields, C[steps])
     peak = von_mises_max(S, C)[0]
     high, low = component_range(S, C)
     sa, sm = alternating_and_mean(high, low)

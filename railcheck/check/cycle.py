@@ -182,7 +182,7 @@ def evaluate_cycle(job: PartJob, fields: UnitFields, histories: tuple[SourceHist
         few, C = reduced(fields, h.C)  # the same stresses in the fewest coefficients (exact)
         steps = candidate_steps(C)
         # the nodes' subspace bounds, once for the peaks and the fatigue minimum
-        bounds = history_bounds(job, few, C[steps]) if screen.applies(steps.size, C.shape[1]) else None
+        bounds = verdict_bounds(job, few, C[steps]) if screen.applies(steps.size, C.shape[1]) else None
         env = envelope(few, C, every_node=False, steps=steps, bounds=bounds)  # each node's maximum only for the VTU
         vm_seed = von_mises(stress_at(fields.stress, h.C[h.seed_step]))
         k = int(np.argmax(np.where(_verdict_mask(fields), vm_seed, -np.inf)))
@@ -280,8 +280,8 @@ def fatigue_of(
     history of more than :data:`fea.screen.MIN_STEPS` candidate steps are screened
     (:mod:`fea.screen`: many coefficients by their principal subspace's sampled steps, two
     or three by its box) and only those that can hold the minimum are evaluated: the same
-    minimum, node and stresses (``bounds``: the nodes' :func:`fea.screen.history_bounds`
-    for ``C[steps]``, when already known)."""
+    minimum, node and stresses (``bounds``: the nodes' :func:`verdict_bounds` or
+    :func:`fea.screen.history_bounds` for ``C[steps]``, when already known)."""
     spec = job.fatigue
     marin, factor = fatigue_factor(job)
     C = C[candidate_steps(C) if steps is None else steps]
@@ -332,7 +332,7 @@ def fatigue_factor(job: PartJob):
     return marin, factor
 
 
-def history_bounds(job: PartJob, fields: UnitFields, C: np.ndarray) -> screen.SampledBounds:
+def verdict_bounds(job: PartJob, fields: UnitFields, C: np.ndarray) -> screen.SampledBounds:
     """The nodes' bounds over the many-coefficient history ``C`` (its candidate steps) for
     the peaks and the fatigue minimum: the box of its principal subspace at every node
     (:func:`fea.screen.box_bounds`), and its sampled steps read only at the nodes that the
