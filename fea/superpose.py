@@ -310,6 +310,8 @@ def _two_coefficient_candidates(S: np.ndarray, C: np.ndarray, mask: np.ndarray):
     R2 = float(np.einsum("tk,tk->t", C, C).max())
     keep = np.zeros(S.shape[1], dtype=bool)
     for within in (np.flatnonzero(mask), np.arange(S.shape[1])):
+        if within.size == 0:
+            continue
         top = within[np.argsort(-lam[within])[:SCREEN_TOP]]
         lower = float((Q[top] @ CC).max())
         keep[within[lam[within] * R2 * (1.0 + 1e-9) + 1e-300 >= lower]] = True
