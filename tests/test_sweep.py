@@ -607,3 +607,18 @@ def test_a_chunk_in_groups_of_one_setting_equals_one_group(monkeypatch):
     at_1hz = np.flatnonzero(np.isclose(chunk.motor_curve_speeds(ctx.speeds) / (2 * math.pi), 1.0))
     assert at_1hz.size == 1
     np.testing.assert_allclose(curve[:, at_1hz[0]], whole["torque_peak_Nm"][first][passed], rtol=1e-12)
+
+
+def test_refusal_reasons_list_each_settings_failed_checks_in_order():
+    """Each setting's reason is its failed configuration checks joined in the checks'
+    order ("" when none fails), as one join per setting gives it; the combinations are
+    joined once each."""
+    from railcheck.sweep.chunk import refusal_reasons
+
+    rng = np.random.default_rng(3)
+    names = ["assembly", "grashof", "transmission_angle", "crank_rail_collision", "hole_grid", "joints_on_rails"]
+    checks = {name: rng.random(5000) > 0.3 for name in names}
+    expected = [", ".join(n for n in names if not checks[n][i]) for i in range(5000)]
+    reasons = refusal_reasons(checks, 5000)
+    assert reasons.dtype == object and list(reasons) == expected
+    assert "" in expected and max(map(len, expected)) > 60  # no failure, and every one

@@ -628,7 +628,7 @@ def failed_criteria(model, vm: np.ndarray, fat: np.ndarray, tip: np.ndarray, amp
 def _fe_columns(ctx: SweepContext, n: int, fe, j: int, speed: float, passed: np.ndarray, checks: dict) -> dict:
     """Per-part columns, the utilisation, governing part, safe speed, verdict and reason."""
     col, worst, governing = {}, np.full(n, np.nan), np.full(n, "", dtype=object)
-    failing = [[] for _ in range(n)]
+    failing: dict[int, list[str]] = {}  # setting -> its failed criteria, in the parts' order
     for name, m in ctx.models.items():
         vm, fat, tip, amp, u = (np.full(n, np.nan) for _ in range(5))
         if fe is not None:
@@ -636,7 +636,7 @@ def _fe_columns(ctx: SweepContext, n: int, fe, j: int, speed: float, passed: np.
             vm[at], fat[at], tip[at], amp[at], u[at] = res["per_speed"][j][name]
             for criterion, fails in failed_criteria(m, vm[at], fat[at], tip[at], amp[at]).items():
                 for i in at[fails]:
-                    failing[i].append(f"{name} {criterion}")
+                    failing.setdefault(int(i), []).append(f"{name} {criterion}")
         col[f"{name}_stress_MPa"], col[f"{name}_fatigue"] = vm / 1e6, fat
         col[f"{name}_tip_mm"], col[f"{name}_utilisation"] = tip * 1e3, u
         if m.dynamic is not None:
@@ -653,16 +653,25 @@ def _fe_columns(ctx: SweepContext, n: int, fe, j: int, speed: float, passed: np.
     col["utilisation"], col["governing_part"], col["governing_criterion"] = worst, governing, criterion
     col["safe_speed_Hz"], col["safe_speed_part"], col["safe_speed_criterion"] = safe, safe_part, safe_criterion
     col["safe_speed_unlimited"] = np.isinf(safe)  # the table holds null for the infinite speed
-    names = list(checks)
-    reason = np.array(
-        [
-            ", ".join(names[k] for k in range(len(names)) if not checks[names[k]][i])
-            if not passed[i]
-            else ", ".join(failing[i])
-            for i in range(n)
-        ],
-        dtype=object,
-    )
-    verdict = np.where(~passed, "refused", np.where(np.array([bool(f) for f in failing]), "fail", "pass"))
+    fails = np.zeros(n, dtype=bool)
+    fails[list(failing)] = True
+    reason = refusal_reasons(checks, n)  # object: any length
+    reason[passed] = ""
+    for i, criteria in failing.items():
+        if passed[i]:
+            reason[i] = ", ".join(criteria)
+    verdict = np.where(~passed, "refused", np.where(fails, "fail", "pass"))
     col["verdict"], col["reason"] = verdict.astype(object), reason
     return col
+
+
+def refusal_reasons(checks: dict[str, np.ndarray], n: int) -> np.ndarray:
+    """(n,) object: each setting's failed configuration checks, comma-separated in the
+    checks' order ("" where none fails); each distinct combination is joined once."""
+    names = list(checks)
+    code = np.zeros(n, dtype=np.int64)
+    for bit, name in enumerate(names):
+        code |= (~np.asarray(checks[name], dtype=bool)).astype(np.int64) << bit
+    combos, which = np.unique(code, return_inverse=True)
+    text = [", ".join(name for bit, name in enumerate(names) if combo >> bit & 1) for combo in combos.tolist()]
+    return np.array(text, dtype=object)[which.reshape(-1)]
