@@ -4,6 +4,7 @@ processes filling one entry both get correct fields; the size cap evicts the lea
 recently used entry; `railcheck cache` shows and clears it; and a warm `railcheck check`
 equals a cold one byte for byte."""
 
+import json
 import os
 import subprocess
 import sys
@@ -182,3 +183,22 @@ def test_a_warm_check_equals_a_cold_one_byte_for_byte(tmp_path):
     assert runs["warm"][0] == runs["cold"][0] == runs["bypass"][0]
     assert "from the store" in runs["warm"][1] and "from the store" not in runs["cold"][1]
     assert "from the store" not in runs["bypass"][1]
+    # every entry damaged (the parts' and their 2013 clamped models'): each is solved again
+    # and said so, and the numbers are the warm run's
+    for entry in (tmp_path / "cache" / "unit-fields").glob("*.npz"):
+        data = bytearray(entry.read_bytes())
+        data[len(data) // 2] ^= 0x10
+        entry.write_bytes(bytes(data))
+    proc = subprocess.run(
+        [sys.executable, "-P", "-m", "railcheck.cli", "check", str(scene), "--out", str(tmp_path / "damaged")],
+        capture_output=True,
+        text=True,
+        env=env,
+    )
+    assert proc.returncode == 0, proc.stderr
+    damaged, warm = (json.loads((tmp_path / run / "summary.json").read_text()) for run in ("damaged", "warm"))
+    said = [w for w in damaged.pop("warnings") if "solved again" in w]
+    assert any(w.startswith("crank-rail: stored unit fields") for w in said), said
+    assert any(w.startswith("crank-rail: 2013 clamped model: stored unit fields") for w in said), said
+    warm.pop("warnings")
+    assert damaged == warm

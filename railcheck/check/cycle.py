@@ -89,18 +89,21 @@ def check_part(job: PartJob, solver: str, report) -> PartResult:
     clamped = None
     if job.clamped is not None:
         t = time.perf_counter()
-        clamped = clamped_comparison(job.clamped, mesh, solver, report)
+        clamped, origin = clamped_comparison(job.clamped, mesh, solver, report)
+        if origin not in ("stored", "solved"):  # a damaged entry, solved again: said, as for the part's own
+            warnings.append(f"2013 clamped model: {origin}")
         seconds["clamped (2013)"] = time.perf_counter() - t
     return PartResult(
         job=job, mesh=mesh, solution=solution, cycle=cycle, seconds=seconds, warnings=tuple(warnings), clamped=clamped
     )
 
 
-def clamped_comparison(job: PartJob, mesh, solver: str, report) -> ClampedComparison:
+def clamped_comparison(job: PartJob, mesh, solver: str, report) -> tuple[ClampedComparison, str]:
     """The cycle peaks of a free rail's clamped (2013) model ``job`` on the same mesh, its
-    unit fields through the store like any part's."""
+    unit fields through the store like any part's, and where those came from
+    (:func:`railcheck.fea.store.solve_stored`'s ``origin``)."""
     cases = unit_cases(job.loads, job.geometry, list(job.holes))
-    fields, solve, _ = solve_stored(unit_request(job, mesh, cases), solver, lambda msg: None, store=use_store())
+    fields, solve, origin = solve_stored(unit_request(job, mesh, cases), solver, lambda msg: None, store=use_store())
     cycle = evaluate_cycle(job, fields, job.histories, solve)
     _refuse_non_finite(job.name, cycle)
     env = cycle.envelope
@@ -108,13 +111,14 @@ def clamped_comparison(job: PartJob, mesh, solver: str, report) -> ClampedCompar
         f"clamped as in 2013 (for comparison): cycle peak {env.max_von_mises / 1e6:.1f} MPa, "
         f"{env.support_peak / 1e6:.1f} MPa at the clamp"
     )
-    return ClampedComparison(
+    comparison = ClampedComparison(
         max_von_mises=env.max_von_mises,
         support_peak=env.support_peak,
         crank_angle_deg=cycle.history.crank_angle_deg,
         fatigue_factor=cycle.fatigue.min_safety_factor,
         max_tip=env.max_tip,
     )
+    return comparison, origin
 
 
 def _refuse_non_finite(name: str, cycle: CycleResult) -> None:
