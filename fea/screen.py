@@ -13,15 +13,22 @@ largest ``|c_t|``. With ``Sw`` a node's stress per unit scaled coefficient (6 x 
   box of the coordinates' ranges, over which a linear function's extremes are its value at
   the box's centre plus or minus ``|row| . half-widths``; each stress component lies
   within that of ``Sw_j P`` plus ``|Sw_j| |e_t|``, and von Mises within the norm of the
-  six rows of ``L Sw P`` so bounded plus ``||L Sw|| |e_t|``.
-* **the samples** (:func:`sampled_bounds`): :data:`SAMPLES` steps, evenly spaced along the
-  history's path in the subspace (so the fast stretches of a cycle are read as densely as
-  the slow ones), are read at the node in the r coordinates; a step between lies within
-  ``|a_t - a_s|`` of a read one, so von Mises at step t <= sampled von Mises + ``||L Sw P||_F
-  |a_t - a_s|`` + ``||L Sw|| |e_t|``, and each component's maximum and minimum lie within
-  ``g = |Sw_j P| |a_t - a_s| + |Sw_j| |e_t|`` outside the sampled ones (bounds of its
-  half-range and of its midrange's magnitude, hence of the alternating and midrange von
-  Mises).
+  six rows of ``L Sw P`` so bounded plus ``||L Sw|| |e_t|``. A component's midrange is
+  bounded more tightly by the values it takes at a few steps (:func:`box_bounds`).
+* **the samples** (:func:`sampled_bounds`): a few tens of steps of the history's path in
+  the subspace, chosen so that every step lies within ``delta`` of the chord between
+  the read steps before and after it (:func:`refined_samples`: the path is split at its
+  farthest step from a chord until every step is within :data:`CHORD_SHARE` of the
+  history's reach, or its residual, of its chord), are read at the node in the r
+  coordinates. A step between two read ones is a point ``p`` of their chord plus at
+  most ``delta``; a linear function at ``p`` lies between its values at the chord's
+  ends, and von Mises (a norm) at ``p`` is at most the larger of them. So von Mises at
+  step t <= sampled von Mises + ``||L Sw P||_F delta`` + ``||L Sw|| |e_t|``, and each
+  component's maximum and minimum lie within ``g = |Sw_j P| delta + |Sw_j| |e_t|``
+  outside the sampled ones (bounds of its half-range and of its midrange's magnitude,
+  hence of the alternating and midrange von Mises). On the rig's histories 20-40 read
+  steps so placed bound as tightly as 90 evenly spaced ones bounded by the distance to
+  the nearer read step.
 
 The box discards most nodes for the price of reading their stresses once; the samples,
 read only at the nodes the box keeps, leave a few to a few hundred of 10,000-30,000
@@ -44,8 +51,17 @@ REDUCED_RANK = 4
 MAX_RANK = 8
 #: the rank grows until the residual ``max |e_t|`` is at most this share of ``max |c_t|``
 RESIDUAL_SHARE = 0.01
-#: steps read at every node, evenly spaced along the history's path in the subspace
-SAMPLES = 90
+#: steps read first, evenly spaced along the history's path in the subspace; each round of
+#: :func:`refined_samples` then adds the farthest step of every chord farther than its tolerance
+FIRST_SAMPLES = 16
+#: every step lies within this share of the history's largest ``|a_t|`` (or within its
+#: residual, if larger) of the chord between the read steps around it
+CHORD_SHARE = 0.01
+#: steps of a history read at every node the box bounds (:func:`touched_steps`)
+TOUCHED_STEPS = 8
+#: at most this many steps are read (a history that is noise everywhere stops there; its
+#: ``delta`` is then measured, still a bound)
+MAX_SAMPLES = 256
 #: a history of at most this many steps is read whole (no screen)
 MIN_STEPS = 32
 #: nodes of best sampled value evaluated exactly first, for a threshold near the optimum
@@ -77,15 +93,17 @@ def column_scale(S: np.ndarray) -> np.ndarray:
 class Subspace:
     """One scaled history ``c`` (T, k) as ``c_t = P a_t + e_t``: ``P`` (k, r) its principal
     directions, ``a`` (T, r) the steps' coordinates, ``eps`` the largest ``|e_t|``;
-    ``sampled`` the indices of the steps read (:data:`SAMPLES`, evenly spaced along the
-    path of ``a``) and ``delta`` the largest distance ``|a_t - a_s|`` of any step from the
-    nearer read step on either side."""
+    ``sampled`` the indices of the steps read (:func:`refined_samples`) and ``delta`` the
+    largest distance of any step from the chord between the read steps around it
+    (:func:`chord_gaps`); ``touched`` the few steps (:func:`touched_steps`) whose values
+    tighten the box's midrange bounds (:func:`box_bounds`)."""
 
     P: np.ndarray
     a: np.ndarray
     eps: float
     sampled: np.ndarray
     delta: float
+    touched: np.ndarray
 
 
 def subspace_rank(c: np.ndarray, Vt: np.ndarray) -> int:
@@ -103,7 +121,7 @@ def subspace_rank(c: np.ndarray, Vt: np.ndarray) -> int:
     return r
 
 
-def path_samples(a: np.ndarray, samples: int = SAMPLES) -> np.ndarray:
+def path_samples(a: np.ndarray, samples: int) -> np.ndarray:
     """Indices (ascending, first and last included) of about ``samples`` steps of the path
     ``a`` (T, r), evenly spaced along its length."""
     T = a.shape[0]
@@ -112,25 +130,66 @@ def path_samples(a: np.ndarray, samples: int = SAMPLES) -> np.ndarray:
     return np.unique(np.concatenate([np.searchsorted(length, marks).clip(0, T - 1), [0, T - 1]]))
 
 
-def gap_to_samples(a: np.ndarray, sampled: np.ndarray) -> float:
-    """The largest distance of a step of ``a`` (T, r) from the nearer of the read steps
-    ``sampled`` (ascending) before and after it."""
+def chord_gaps(a: np.ndarray, sampled: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """((T,), (T,)): each step's distance from the chord between the read steps
+    ``sampled`` (ascending, first and last step included) before and after it, and the
+    index of that chord (its first read step's position in ``sampled``). A read step is
+    at distance 0."""
     T = a.shape[0]
-    j = np.searchsorted(sampled, np.arange(T), side="right") - 1
-    before, after = sampled[j], sampled[np.minimum(j + 1, sampled.size - 1)]
-    gap = np.minimum(np.linalg.norm(a - a[before], axis=1), np.linalg.norm(a - a[after], axis=1))
-    return float(gap.max())
+    j = np.minimum(np.searchsorted(sampled, np.arange(T), side="right") - 1, max(sampled.size - 2, 0))
+    start = a[sampled[j]]
+    d = a[sampled[np.minimum(j + 1, sampled.size - 1)]] - start
+    along = np.einsum("tr,tr->t", a - start, d) / np.maximum(np.einsum("tr,tr->t", d, d), np.finfo(float).tiny)
+    offset = a - start - np.clip(along, 0.0, 1.0)[:, None] * d
+    return np.sqrt(np.einsum("tr,tr->t", offset, offset)), j
+
+
+def refined_samples(a: np.ndarray, tolerance: float, first: np.ndarray) -> tuple[np.ndarray, float]:
+    """(indices, delta): steps of the path ``a`` (T, r) (ascending, first and last
+    included) such that every step lies within ``tolerance`` of the chord between the
+    read steps around it, and the largest such distance (:func:`chord_gaps`). From the
+    steps ``first`` (:func:`path_samples`), round by round the farthest step of every
+    chord that has one beyond ``tolerance`` is added (Douglas-Peucker, all chords at
+    once), up to :data:`MAX_SAMPLES`."""
+    sampled, cap = first, min(MAX_SAMPLES, a.shape[0])
+    while True:
+        gap, chord = chord_gaps(a, sampled)
+        if sampled.size >= cap or sampled.size < 2:
+            break
+        farthest = np.maximum.reduceat(gap, sampled[:-1])  # each chord's steps are contiguous
+        over = farthest > tolerance
+        if not over.any():
+            break
+        at = np.flatnonzero((gap == farthest[chord]) & over[chord])
+        new = at[np.unique(chord[at], return_index=True)[1]]  # one per chord
+        sampled = np.union1d(sampled, new[: cap - sampled.size])
+    return sampled, float(gap.max())
+
+
+def touched_steps(a: np.ndarray, first: np.ndarray) -> np.ndarray:
+    """Indices (ascending) of about :data:`TOUCHED_STEPS` of the evenly spaced steps
+    ``first`` (:func:`path_samples`) of the path ``a`` (T, r) and of the step nearest the
+    centre of its box (half-widths as unit): values the history takes, which bound each
+    component's midrange from both sides (:func:`box_bounds`)."""
+    lo, hi = a.min(axis=0), a.max(axis=0)
+    centre = np.argmin(np.square((a - 0.5 * (lo + hi)) / np.maximum(0.5 * (hi - lo), np.finfo(float).tiny)).sum(axis=1))
+    return np.union1d(first[:: max(1, first.size // TOUCHED_STEPS)], [centre])
 
 
 def principal_subspace(c: np.ndarray) -> Subspace:
     """The scaled history ``c`` (T, k) in its principal subspace (:func:`subspace_rank`),
-    read at :func:`path_samples`."""
-    _, _, Vt = np.linalg.svd(c, full_matrices=False)
+    read at :func:`refined_samples` (every step within :data:`CHORD_SHARE` of the
+    history's largest ``|c_t|``, or within its residual, of its chord). The directions
+    are the eigenvectors of ``c^T c`` (the right singular vectors; any orthonormal ``P``
+    gives valid bounds, since ``eps`` is the measured residual)."""
+    Vt = np.linalg.eigh(c.T @ c)[1][:, ::-1].T
     P = Vt[: subspace_rank(c, Vt)].T
     a = c @ P
     eps = float(np.linalg.norm(c - a @ P.T, axis=1).max())
-    sampled = path_samples(a)
-    return Subspace(P, a, eps, sampled, gap_to_samples(a, sampled))
+    reach = float(np.linalg.norm(c, axis=1).max())
+    first = path_samples(a, FIRST_SAMPLES)
+    sampled, delta = refined_samples(a, max(eps, CHORD_SHARE * reach), first)
+    return Subspace(P, a, eps, sampled, delta, touched_steps(a, first))
 
 
 @dataclass(frozen=True)
@@ -138,13 +197,16 @@ class SampledBounds:
     """Per node, from the sampled steps in the subspace: ``von_mises`` (n,) Pa the largest
     sampled von Mises and ``von_mises_upper`` (n,) a bound over every step; ``high``,
     ``low`` (6, n) Pa each component's sampled maximum and minimum and ``slack`` (6, n)
-    Pa how far outside them its value at any step can lie."""
+    Pa how far outside them its value at any step can lie; ``mid_upper`` (6, n) Pa, or
+    None, a bound of each component's midrange magnitude tighter than ``|high + low| / 2
+    + slack`` (:func:`box_bounds`; inf where there is none)."""
 
     von_mises: np.ndarray
     von_mises_upper: np.ndarray
     high: np.ndarray
     low: np.ndarray
     slack: np.ndarray
+    mid_upper: np.ndarray | None = None
 
 
 def component_norms(Sw: np.ndarray) -> np.ndarray:
@@ -169,15 +231,30 @@ def box_bounds(SP: np.ndarray, norms: np.ndarray, vm_norm: np.ndarray, sub: Subs
     doc), as :class:`SampledBounds`: ``high`` = ``low`` the components at the box's centre,
     ``slack`` how far from it they reach, and ``von_mises`` = ``von_mises_upper`` a bound of
     von Mises (the box reads no step). ``SP`` (6, n, r) :func:`project`; ``norms`` (6, n)
-    and ``vm_norm`` (n,) as for :func:`sampled_bounds`."""
+    and ``vm_norm`` (n,) as for :func:`sampled_bounds`.
+
+    ``mid_upper``: each component ``x`` has its maximum at most ``U`` = centre + reach and
+    its minimum at least ``D`` = centre - reach, and takes the values ``v_p`` (within the
+    residual's share ``g``) at the steps ``sub.touched``, so its maximum is at least
+    ``max v_p - g`` and its minimum at most ``min v_p + g``: its midrange lies within
+    ``[(D + max v_p - g) / 2, (U + min v_p + g) / 2]``. About half the box's
+    ``|centre| + reach`` on the rig's histories, whose midranges are small beside their
+    ranges."""
     lo, hi = sub.a.min(axis=0), sub.a.max(axis=0)
     centre, half = 0.5 * (hi + lo), 0.5 * (hi - lo)
     mid = SP @ centre  # (6, n)
-    reach = np.abs(SP) @ half + norms * sub.eps
+    share = norms * sub.eps
+    reach = np.abs(SP) @ half + share
     L = np.tensordot(VM_FACTOR, SP, axes=([1], [0]))  # (6, n, r): von Mises = |L a|
     rows = np.abs(L @ centre) + np.abs(L) @ half  # each row's largest |L_j . a| over the box
     vm = np.sqrt(np.einsum("jn,jn->n", rows, rows)) + vm_norm * sub.eps
-    return SampledBounds(vm, vm, mid, mid, reach)
+    # (6, p, n): the components at the touched steps (steps before nodes: the extremes
+    # over the steps are elementwise over contiguous rows)
+    taken = np.matmul(sub.a[sub.touched], SP.transpose(0, 2, 1))
+    above = mid + reach + taken.min(axis=1) + share  # twice the midrange's upper bound
+    below = mid - reach + taken.max(axis=1) - share  # twice its lower bound
+    mid_upper = np.minimum(0.5 * np.maximum(np.abs(above), np.abs(below)), np.abs(mid) + reach)
+    return SampledBounds(vm, vm, mid, mid, reach, mid_upper)
 
 
 #: single-precision unit roundoff: :class:`CoefficientBox` reads its matrices in float32
@@ -323,8 +400,12 @@ def sampled_bounds(SP: np.ndarray, norms: np.ndarray, vm_norm: np.ndarray, sub: 
     # ||L SP||_F: the Frobenius norm of each node's von Mises factor in the r coordinates
     vm_P = np.sqrt(von_mises_squared(SP).sum(axis=1))
     upper = vm + vm_P * sub.delta + vm_norm * sub.eps
-    slack = np.linalg.norm(SP, axis=2) * sub.delta + norms * sub.eps
-    return SampledBounds(vm, upper, high, low, slack)
+    share = norms * sub.eps  # the residual's share of a component
+    slack = np.linalg.norm(SP, axis=2) * sub.delta + share
+    # a read step's value is its subspace value within the residual's share, so the
+    # maximum lies in [high - share, high + slack] and the minimum in [low - slack, low +
+    # share]: the midrange within half of slack + share of the sampled one
+    return SampledBounds(vm, upper, high, low, slack, np.abs(0.5 * (high + low)) + 0.5 * (slack + share))
 
 
 @dataclass(frozen=True)
@@ -370,10 +451,13 @@ def sampled_at(p: Projected, box: SampledBounds, nodes: np.ndarray) -> SampledBo
     everywhere, tight where the box left candidates."""
     s = sampled_bounds(p.SP[:, nodes], p.norms[:, nodes], p.vm_norm[nodes], p.sub)
     out = SampledBounds(
-        *(np.array(a, copy=True) for a in (box.von_mises, box.von_mises_upper, box.high, box.low, box.slack))
+        *(np.array(a, copy=True) for a in (box.von_mises, box.von_mises_upper, box.high, box.low, box.slack)),
+        mid_upper=None if box.mid_upper is None else np.array(box.mid_upper, copy=True),
     )
     out.von_mises[nodes], out.von_mises_upper[nodes] = s.von_mises, s.von_mises_upper
     out.high[:, nodes], out.low[:, nodes], out.slack[:, nodes] = s.high, s.low, s.slack
+    if out.mid_upper is not None:
+        out.mid_upper[:, nodes] = s.mid_upper
     return out
 
 
@@ -383,6 +467,8 @@ def fatigue_bounds(b: SampledBounds) -> tuple[np.ndarray, np.ndarray, np.ndarray
     components' unknown signs), and their sampled values (an estimate)."""
     half = 0.5 * (b.high - b.low) + b.slack
     mid = np.abs(0.5 * (b.high + b.low)) + b.slack
+    if b.mid_upper is not None:
+        mid = np.minimum(mid, b.mid_upper)
     sa = np.sqrt(half[0] ** 2 + half[1] ** 2 + half[2] ** 2 + 3.0 * (half[3] ** 2 + half[4] ** 2 + half[5] ** 2))
     sm = np.sqrt(
         0.5 * ((mid[0] + mid[1]) ** 2 + (mid[1] + mid[2]) ** 2 + (mid[2] + mid[0]) ** 2)

@@ -626,3 +626,94 @@ def test_stresses_beyond_float32_range_are_screened_exactly():
     peak, factor = peak_and_fatigue(screen, C, 200e6, 750e6, "goodman", 400e6)
     np.testing.assert_allclose(peak, vm, rtol=1e-12)
     np.testing.assert_allclose(factor, n_min, rtol=1e-12)
+
+
+def _chord_distance_brute(a, sampled):
+    """Each step's distance from the segment between the read steps around it, one step
+    at a time (no shared code with :func:`railcheck.fea.screen.chord_gaps`)."""
+    out = np.zeros(a.shape[0])
+    for t in range(a.shape[0]):
+        i = min(int(np.searchsorted(sampled, t, side="right")) - 1, sampled.size - 2)
+        p, q = a[sampled[i]], a[sampled[i + 1]]
+        length2 = float(np.sum((q - p) ** 2))
+        lam = 0.0 if length2 == 0 else min(1.0, max(0.0, float(np.sum((a[t] - p) * (q - p))) / length2))
+        out[t] = float(np.linalg.norm(a[t] - (p + lam * (q - p))))
+    return out
+
+
+def test_the_subspace_bounds_hold_at_every_step_and_the_midrange_bounds_are_tight():
+    """The bounds of one history in its principal subspace (:mod:`railcheck.fea.screen`):
+    a history of eight harmonics (the subspace, rank 8 at most) and a small constant in a
+    ninth coefficient, orthogonal to them and left out of the subspace (its residual). Every node's components,
+    von Mises and midranges over every step lie within the box's and the samples' bounds.
+    The midrange bounds rest on values the history takes (the box) and on the maximum and
+    minimum lying within the slack above and below the sampled ones; at nodes loaded only
+    on the constant, both are exact: the residual's share is the whole midrange (dropping
+    the share from either bound fails here). Every step lies within ``delta`` of the chord
+    between its read steps (measured one step at a time), and ``delta`` is within the
+    tolerance the steps were refined to."""
+    from railcheck.fea import screen
+
+    rng = np.random.default_rng(31)
+    n, T, k = 600, 720, 9
+    t = np.linspace(0, 2 * np.pi, T, endpoint=False)
+    C = np.zeros((T, k))
+    for j in range(8):
+        C[:, j] = (3.0 - 0.3 * j) * np.cos((j + 1) * t + j)
+    C[:, 8] = 0.3  # a constant beside the harmonics: outside the rank-8 subspace
+    S = rng.normal(size=(6, n, k)) * np.exp(rng.normal(size=(1, n, 1)))
+    only = np.arange(20)  # loaded only on the constant
+    S[:, only, :8] = 0.0
+    p = screen.project_history(S, C)
+    assert p.sub.P.shape[1] == screen.MAX_RANK and p.sub.eps > 0
+    X = np.tensordot(S, C, axes=([2], [1]))  # (6, n, T)
+    high, low = X.max(axis=2), X.min(axis=2)
+    midrange = 0.5 * (high + low)
+    tol = 1e-12 * np.abs(X).max()
+    box = screen.box_bounds(p.SP, p.norms, p.vm_norm, p.sub)
+    read = screen.sampled_bounds(p.SP, p.norms, p.vm_norm, p.sub)
+    for b in (box, read):
+        assert np.all(high <= b.high + b.slack + tol) and np.all(low >= b.low - b.slack - tol)
+        assert np.all(von_mises(X).max(axis=1) <= b.von_mises_upper * (1 + 1e-12))
+        assert np.all(np.abs(midrange) <= b.mid_upper + tol)
+        np.testing.assert_allclose(b.mid_upper[:, only], np.abs(midrange[:, only]), rtol=1e-9)
+    ordinary = np.setdiff1d(np.arange(n), only)
+    loose = np.abs(0.5 * (box.high + box.low)) + box.slack  # the box's bound without the taken values
+    assert box.mid_upper[:, ordinary].sum() < 0.8 * loose[:, ordinary].sum()
+    gaps = _chord_distance_brute(p.sub.a, p.sub.sampled)
+    assert gaps.max() <= p.sub.delta * (1 + 1e-9) + 1e-12
+    assert p.sub.delta <= max(p.sub.eps, screen.CHORD_SHARE * np.linalg.norm(C * screen.column_scale(S), axis=1).max())
+    assert p.sub.sampled.size < 90  # fewer steps than the evenly spaced reading it replaced
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_the_subspace_bounds_hold_against_the_worst_residual_on_a_jagged_path(seed):
+    """The box's and the samples' bounds (:func:`railcheck.fea.screen.box_bounds`,
+    :func:`~railcheck.fea.screen.sampled_bounds`) against the worst a residual of size
+    ``eps`` can do: each component carries its full share ``norms * eps`` with a fixed
+    sign at every step, on a random-walk path with a mean (steps that run back past
+    their chords' ends, components with midranges far from zero, either sign). Every
+    component's maximum, minimum and midrange over every step lie within the bounds, and
+    every step lies within ``delta`` of the segment between its read steps."""
+    from railcheck.fea import screen
+
+    rng = np.random.default_rng(seed)
+    n, T, r = 400, 720, 5
+    a = np.cumsum(rng.normal(size=(T, r)), axis=0) + rng.normal(size=r) * 30.0
+    SP = rng.normal(size=(6, n, r)) * np.exp(rng.normal(size=(1, n, 1)))
+    norms = np.abs(rng.normal(size=(6, n))) * 5.0
+    eps = 1.0
+    first = screen.path_samples(a, screen.FIRST_SAMPLES)
+    sampled, delta = screen.refined_samples(a, 0.5, first)
+    sub = screen.Subspace(np.eye(r), a, eps, sampled, delta, screen.touched_steps(a, first))
+    sign = rng.choice([-1.0, 1.0], size=(6, n))
+    X = np.einsum("jnr,tr->jnt", SP, a) + (sign * norms * eps)[..., None]  # the worst residual
+    high, low = X.max(axis=2), X.min(axis=2)
+    tol = 1e-12 * np.abs(X).max()
+    vm_norm = np.full(n, np.inf)  # von Mises is not asked here
+    for b in (screen.box_bounds(SP, norms, vm_norm, sub), screen.sampled_bounds(SP, norms, vm_norm, sub)):
+        assert np.all(high <= b.high + b.slack + tol) and np.all(low >= b.low - b.slack - tol)
+        assert np.all(np.abs(0.5 * (high + low)) <= b.mid_upper + tol)
+    brute = _chord_distance_brute(a, sampled)
+    np.testing.assert_allclose(screen.chord_gaps(a, sampled)[0], brute, rtol=1e-9, atol=1e-12 * np.abs(a).max())
+    assert brute.max() <= delta * (1 + 1e-12)
