@@ -622,3 +622,63 @@ def test_refusal_reasons_list_each_settings_failed_checks_in_order():
     reasons = refusal_reasons(checks, 5000)
     assert reasons.dtype == object and list(reasons) == expected
     assert "" in expected and max(map(len, expected)) > 60  # no failure, and every one
+
+
+def test_joined_histories_keep_each_part_s_sources_in_order():
+    """The FE histories of several groups of settings joined as one: each part's load
+    sources' arrays follow one another along the settings, and a source without a
+    constant part (None) stays None."""
+    from railcheck.sweep.chunk import joined_histories
+
+    rng = np.random.default_rng(3)
+    first = {"a": [(None, rng.normal(size=(2, 5, 3)))], "b": [(rng.normal(size=(2, 5, 4)), rng.normal(size=(2, 5, 4)))]}
+    second = {"a": [(None, rng.normal(size=(1, 5, 3)))], "b": [(rng.normal(size=(1, 5, 4)), rng.normal(size=(1, 5, 4)))]}
+    joined = joined_histories([first, second])
+    assert joined["a"][0][0] is None
+    np.testing.assert_array_equal(joined["a"][0][1], np.concatenate([first["a"][0][1], second["a"][0][1]]))
+    for j in (0, 1):
+        np.testing.assert_array_equal(joined["b"][0][j], np.concatenate([first["b"][0][j], second["b"][0][j]]))
+
+
+@pytest.mark.slow
+def test_a_chunk_s_fe_settings_screened_together_equal_each_group_s_alone(monkeypatch):
+    """The FE settings of every group of revolving settings in a chunk are screened
+    together (the settings that share a part's hole pair in one box): free-body parts over
+    sixteen settings, in groups of one, five and every setting, give the same FE columns
+    to rounding (each a maximum or minimum of the same exact values) and the same
+    verdicts and motor demand at the safe speed."""
+    from railcheck.progress import Progress
+    from railcheck.sweep import chunk
+    from railcheck.sweep.run import _context, prepare_models, sweep_settings
+
+    text = FE_SWEEP.replace("parts = [", 'support = "free-body"\nparts = [')
+    text = text.replace('crank = ["480 mm", "540 mm"]', 'crank = ["300 mm", "480 mm"]')  # 4 x 1 x 2 x 2 settings
+    scene = parse_scene(__import__("tomllib").loads(text), "test")
+    settings = sweep_settings(scene)
+    lengths = settings["four-bar"]
+    models = prepare_models(scene, settings, Progress(quiet=True))["four-bar"]
+    ctx = _context(scene, "four-bar", models)
+    ids = np.arange(lengths["crank"].size)
+    results = []
+    for size in (1, 5, 10**6):
+        monkeypatch.setattr(chunk, "group_size", lambda steps, size=size: size)
+        results.append(chunk.evaluate_chunk(ctx, lengths, ids))
+    whole = results[-1]
+    assert np.isfinite(whole["crank-rail_stress_MPa"]).sum() >= 4  # settings with FE in several groups
+    # the motor demand is each setting's own at its own safe speed: peak power = peak torque x omega
+    safe = np.isfinite(whole["safe_speed_Hz"])
+    assert safe.sum() >= 4
+    np.testing.assert_allclose(
+        whole["power_peak_at_safe_W"][safe],
+        whole["torque_peak_at_safe_Nm"][safe] * 2 * math.pi * whole["safe_speed_Hz"][safe],
+        rtol=1e-12,
+    )
+    for other in results[:-1]:
+        assert other.keys() == whole.keys()
+        for key, value in whole.items():
+            if key == chunk.MOTOR_CURVE_KEY:
+                continue
+            if value.dtype == object:
+                assert other[key].tolist() == value.tolist(), key
+            else:
+                np.testing.assert_allclose(other[key], value, rtol=1e-12, err_msg=key)

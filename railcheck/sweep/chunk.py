@@ -352,14 +352,31 @@ def governing_of(ctx: SweepContext, results: dict) -> tuple[np.ndarray, np.ndarr
     return np.array(names, dtype=object)[k], np.array(crits, dtype=object)[k]
 
 
-def fe_results(ctx: SweepContext, loads: Loads, sel: np.ndarray, lengths: dict, speeds_s: list) -> dict:
-    """part -> list over speeds of (vm, fatigue, tip, amplification, utilisation) (S_sel,)
-    arrays, and ``safe_s``: the speed ratio squared at which the largest utilisation
-    reaches 1 (closed form when every result scales with ``s``; searched with gravity or a
-    dynamic response)."""
-    histories = {name: coefficients(ctx, name, loads, sel) for name, m in ctx.models.items() if m.constant is None}
-    bar_len = lambda m: lengths[m.bar][sel] if m.bar else None  # noqa: E731
-    n_sel = sel.size
+def fe_histories(ctx: SweepContext, loads: Loads, sel: np.ndarray) -> dict[str, list[tuple]]:
+    """part -> :func:`coefficients` of the settings ``sel`` (every part not of constant result)."""
+    return {name: coefficients(ctx, name, loads, sel) for name, m in ctx.models.items() if m.constant is None}
+
+
+def joined_histories(parts: list[dict[str, list[tuple]]]) -> dict[str, list[tuple]]:
+    """:func:`fe_histories` of several groups of settings as one: each part's load
+    sources' arrays joined along the settings (a constant part None stays None)."""
+    return {
+        name: [
+            tuple(None if arrays[0] is None else np.concatenate(arrays) for arrays in zip(*sources))
+            for sources in zip(*(p[name] for p in parts))
+        ]
+        for name in parts[0]
+    }
+
+
+def fe_results(ctx: SweepContext, histories: dict, lengths: dict, speeds_s: list) -> dict:
+    """part -> list over speeds of (vm, fatigue, tip, amplification, utilisation) (S,)
+    arrays of the settings whose histories are ``histories`` (:func:`fe_histories`) and
+    bar lengths ``lengths`` (bar -> (S,) m), and ``safe_s``: the speed ratio squared at
+    which the largest utilisation reaches 1 (closed form when every result scales with
+    ``s``; searched with gravity or a dynamic response)."""
+    bar_len = lambda m: lengths[m.bar] if m.bar else None  # noqa: E731
+    n_sel = next(iter(lengths.values())).size
 
     def at(s, decide: bool = False) -> dict:
         out = {}
@@ -523,8 +540,9 @@ def group_size(steps: int) -> int:
 
 
 def revolving_results(ctx: SweepContext, lengths: dict, idx: np.ndarray, passed: np.ndarray) -> dict:
-    """What the revolving settings ``idx`` give, evaluated in groups of
-    :func:`group_size` settings (each group's loads are dropped once reduced): ``kin``, per
+    """What the revolving settings ``idx`` give, the kinematics evaluated in groups of
+    :func:`group_size` settings (a group's loads are dropped once reduced, unless it holds
+    settings with FE: those are evaluated together once every group is): ``kin``, per
     speed the kinematic columns (:func:`motor_and_bearings`); ``curve``, the motor demand
     at :func:`motor_curve_speeds`; for the settings that also pass the checks (with parts
     to check) ``fe_at`` (their rows in the chunk), ``fe`` (:func:`fe_results`) and
@@ -535,14 +553,32 @@ def revolving_results(ctx: SweepContext, lengths: dict, idx: np.ndarray, passed:
     if not groups:
         return {}
     out = {key: concat_trees([g[key] for g in groups]) for key in ("kin", "curve")}
-    with_fe = [g for g in groups if "fe" in g]
+    with_fe = [g for g in groups if "fe_sel" in g]
     if with_fe:
-        out |= {key: concat_trees([g[key] for g in with_fe]) for key in ("fe_at", "fe", "at_safe")}
+        # every group's FE settings at once: the settings that share a part's hole pair are
+        # screened together (:func:`railcheck.sweep.fe.peak_and_fatigue`), and a chunk is
+        # sized to hold every setting's loads (:func:`railcheck.sweep.run.chunk_size`)
+        res = fe_results(
+            ctx,
+            joined_histories([g["fe_histories"] for g in with_fe]),
+            {b: np.concatenate([g["fe_lengths"][b] for g in with_fe]) for b in lengths},
+            [(w / ctx.speeds[0]) ** 2 for w in ctx.speeds],
+        )
+        ends = np.cumsum([g["fe_sel"].size for g in with_fe])
+        safe = np.split(res["safe_s"], ends[:-1])
+        out |= {
+            "fe_at": np.concatenate([g["fe_at"] for g in with_fe]),
+            "fe": res,
+            "at_safe": concat_trees([_demand_at_safe(ctx, g["loads"], g["fe_sel"], s) for g, s in zip(with_fe, safe)]),
+        }
     return out
 
 
 def _revolving_group(ctx: SweepContext, lengths: dict, rows: np.ndarray, passed: np.ndarray) -> dict:
-    """:func:`revolving_results` of one group of revolving settings ``rows``."""
+    """:func:`revolving_results` of one group of revolving settings ``rows``: its
+    kinematic columns and motor curve, and for its settings that pass the checks (with
+    parts to check) their rows in the chunk ``fe_at``, positions in the group
+    ``fe_sel``, bar lengths, FE histories (:func:`fe_histories`) and the group's loads."""
     sub = {b: v[rows] for b, v in lengths.items()}
     loads = loads_of(ctx, sub)
     out = {
@@ -551,8 +587,13 @@ def _revolving_group(ctx: SweepContext, lengths: dict, rows: np.ndarray, passed:
     }
     fe_sel = np.flatnonzero(passed[rows])
     if ctx.models and fe_sel.size:
-        res = fe_results(ctx, loads, fe_sel, sub, [(w / ctx.speeds[0]) ** 2 for w in ctx.speeds])
-        out |= {"fe_at": rows[fe_sel], "fe": res, "at_safe": _demand_at_safe(ctx, loads, fe_sel, res["safe_s"])}
+        out |= {
+            "fe_at": rows[fe_sel],
+            "fe_sel": fe_sel,
+            "fe_lengths": {b: v[fe_sel] for b, v in sub.items()},
+            "fe_histories": fe_histories(ctx, loads, fe_sel),
+            "loads": loads,
+        }
     return out
 
 
