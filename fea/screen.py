@@ -313,17 +313,41 @@ class CoefficientBox:
         )
         return box
 
+    def coordinates(self, C: np.ndarray) -> np.ndarray:
+        """(s, T, k): the basis coordinates of every step of each history of ``C`` (s, T,
+        k) (unscaled coefficients)."""
+        return C if self.B is None else (C * self.scale) @ self.B
+
     def ranges(self, C: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(lo, hi) (s, k): the ranges of the basis coordinates of each history of ``C``
         (s, T, k) (unscaled coefficients), the box :meth:`box_of` bounds over."""
-        d = C if self.B is None else (C * self.scale) @ self.B  # (s, T, k) the steps' coordinates
+        d = self.coordinates(C)
         return d.min(axis=1), d.max(axis=1)
 
-    def box_of(self, lo: np.ndarray, hi: np.ndarray) -> list[SampledBounds]:
+    def ranges_and_taken(self, C: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(lo, hi, taken): :meth:`ranges`, and ``taken`` (s, p, k) the coordinates of a
+        few steps of each history (:data:`BOX_TAKEN_STEPS` evenly spaced and the one
+        nearest its box's centre), values the history takes (:meth:`box_of`)."""
+        d = self.coordinates(C)
+        lo, hi = d.min(axis=1), d.max(axis=1)
+        centre, half = 0.5 * (hi + lo), np.maximum(0.5 * (hi - lo), np.finfo(float).tiny)
+        nearest = np.argmin(np.square((d - centre[:, None]) / half[:, None]).sum(axis=2), axis=1)  # (s,)
+        spaced = np.linspace(0, d.shape[1], BOX_TAKEN_STEPS, endpoint=False).astype(int)
+        steps = np.concatenate([np.broadcast_to(spaced, (d.shape[0], spaced.size)), nearest[:, None]], axis=1)
+        return lo, hi, np.take_along_axis(d, steps[:, :, None], axis=1)
+
+    def box_of(self, lo: np.ndarray, hi: np.ndarray, taken: np.ndarray | None = None) -> list[SampledBounds]:
         """One :class:`SampledBounds` per box of basis coordinates ``lo`` to ``hi`` (s, k)
         (:meth:`ranges`, or any box holding a history's steps): ``high`` = ``low`` the
         components at the box's centre, ``slack`` their reach, ``von_mises`` =
-        ``von_mises_upper`` the bound of von Mises (float32)."""
+        ``von_mises_upper`` the bound of von Mises (float32).
+
+        ``taken`` (s, p, k): coordinates of steps each history takes
+        (:meth:`ranges_and_taken`), which bound each component's midrange from both
+        sides (``mid_upper``, as :func:`box_bounds`: its maximum is at least the largest
+        taken value, its minimum at most the smallest). The taken values' float32 error
+        (the dot products' bound above, on the largest ``|taken|`` of each coordinate)
+        and four roundoffs of the terms summed widen it."""
         centre, half = 0.5 * (hi + lo), 0.5 * (hi - lo)  # (s, k)
         shape = (lo.shape[0], 6, self.nodes)
         mid = (centre.astype(np.float32) @ self.rows.T).reshape(shape)
@@ -335,7 +359,25 @@ class CoefficientBox:
         if lost.any():
             mid[lost], reach[lost] = 0.0, np.inf
         vm = von_mises_interval_bound(mid, reach, axis=1)
-        return [SampledBounds(vm[i], vm[i], mid[i], mid[i], reach[i]) for i in range(lo.shape[0])]
+        mid_upper = None if taken is None else self._mid_upper(mid, reach, taken)
+        return [
+            SampledBounds(vm[i], vm[i], mid[i], mid[i], reach[i], None if mid_upper is None else mid_upper[i])
+            for i in range(lo.shape[0])
+        ]
+
+    def _mid_upper(self, mid: np.ndarray, reach: np.ndarray, taken: np.ndarray) -> np.ndarray:
+        """(s, 6, n) float32: each component's midrange bound of :meth:`box_of` from the
+        values at the ``taken`` (s, p, k) coordinates; inf where any term is not finite."""
+        t = taken.astype(np.float32)
+        values = np.matmul(t, self.rows.T)  # (s, p, 6 n)
+        low, high = (v.reshape(mid.shape) for v in (values.min(axis=1), values.max(axis=1)))
+        error = ((self.dot_error * np.abs(taken).max(axis=1)).astype(np.float32) @ self.abs_rows.T).reshape(mid.shape)
+        error += np.float32(4.0 * FLOAT32_EPS) * (np.abs(mid) + reach + np.maximum(np.abs(low), np.abs(high)))
+        above = mid + reach + low + error  # twice the midrange's upper bound
+        below = mid - reach + high - error  # twice its lower bound
+        out = np.minimum(np.float32(0.5) * np.maximum(np.abs(above), np.abs(below)), np.abs(mid) + reach)
+        out[~np.isfinite(out)] = np.inf
+        return out
 
     def bounds(self, C: np.ndarray) -> list[SampledBounds]:
         """:meth:`box_of` the :meth:`ranges` of each history of ``C`` (s, T, k)."""
@@ -354,6 +396,9 @@ def von_mises_interval_bound(mid: np.ndarray, reach: np.ndarray, axis: int = 0) 
     return np.sqrt(0.5 * normal + 3.0 * shear) * (1.0 + mid.dtype.type(BOX_WIDENING))
 
 
+#: steps of each history (evenly spaced, besides the one nearest its box's centre) whose
+#: values tighten a group box's midrange bounds (:meth:`CoefficientBox.ranges_and_taken`)
+BOX_TAKEN_STEPS = 4
 #: nodes (evenly strided) on which :func:`box_basis` compares the two bases' boxes
 BASIS_TRIAL_NODES = 512
 

@@ -380,16 +380,31 @@ def test_the_coefficient_box_holds_every_step_and_is_reached_at_its_corners(rota
         corners = corners @ basis.T / scale
     C = np.concatenate([C, np.pad(corners, ((0, T - corners.shape[0]), (0, 0)), mode="edge")[None]])
     box = CoefficientBox(np.ascontiguousarray(stress), scale, basis)
-    for c, b in zip(C, box.bounds(C)):
+    with_taken = box.box_of(*box.ranges_and_taken(C))
+    for c, b, bt in zip(C, box.bounds(C), with_taken):
         X = np.tensordot(stress, c, axes=([2], [1]))  # (6, n, T)
         assert np.all(X.max(axis=2) <= b.high + b.slack) and np.all(X.min(axis=2) >= b.low - b.slack)
         assert np.all(von_mises(X).max(axis=1) <= b.von_mises_upper)
         np.testing.assert_array_equal(b.slack[:, 7], 0.0)
+        # the values taken bound each midrange, more tightly than the box's centre and reach
+        midrange = np.abs(0.5 * (X.max(axis=2) + X.min(axis=2)))
+        assert np.all(midrange <= bt.mid_upper)
+        assert bt.mid_upper.sum() < 0.9 * (np.abs(bt.high) + bt.slack).sum()
     near = 4 * BOX_WIDENING  # the corners: exact but for the float32 widening
     tol = near * np.abs(X).max(axis=2)  # each component's own magnitude
     assert np.all(np.abs(b.high + b.slack - X.max(axis=2)) <= tol)
     assert np.all(np.abs(b.low - b.slack - X.min(axis=2)) <= tol)
     np.testing.assert_allclose(b.von_mises_upper[[9, 11]], von_mises(X[:, [9, 11]]).max(axis=1), rtol=near)
+    # a mean in every basis coordinate and a harmonic in one: the box is exact (one
+    # coordinate moves) and the steps taken (a quarter period apart) reach each
+    # component's extremes, so the midrange bound is its exact midrange (to float32)
+    clean = rng.normal(size=(1, 1, k)) * 5 + np.array([3.0, 0.0, 0.0]) * np.cos(t)[None, :, None]
+    if rotated:  # those basis coordinates' coefficients: c = B d / scale
+        clean = clean @ basis.T / scale
+    Xc = np.tensordot(stress, clean[0], axes=([2], [1]))
+    bc = box.box_of(*box.ranges_and_taken(clean))[0]
+    midrange = np.abs(0.5 * (Xc.max(axis=2) + Xc.min(axis=2)))
+    np.testing.assert_allclose(bc.mid_upper, midrange, rtol=1e-4, atol=1e-4 * np.abs(Xc).max())
 
 
 @pytest.mark.parametrize("rotated", [False, True])
@@ -418,12 +433,16 @@ def test_the_float32_box_stays_a_bound_where_its_rounding_matters(rotated):
         C = C @ basis @ basis.T  # the same points; the box is taken in the rotated basis
     box = CoefficientBox(np.ascontiguousarray(stress), scale, basis)
     factor = lambda sa, sm: safety_factor(sa, sm, 2.6e8, 7.5e8, "goodman")  # noqa: E731
-    for c, b in zip(C, box.bounds(C)):
+    with_taken = box.box_of(*box.ranges_and_taken(C))  # the midranges bounded by values taken too
+    for c, b, bt in zip(C, box.bounds(C), with_taken):
         X = np.tensordot(stress, c, axes=([2], [1]))  # (6, n, T) float64
-        assert np.all(X.max(axis=2) <= b.high + b.slack) and np.all(X.min(axis=2) >= b.low - b.slack)
-        assert np.all(von_mises(X).max(axis=1) <= b.von_mises_upper)
         exact = factor(*alternating_and_mean(X.max(axis=2), X.min(axis=2)))
-        assert np.all(factor(*fatigue_bounds(b)[:2]) <= exact)
+        midrange = np.abs(0.5 * (X.max(axis=2) + X.min(axis=2)))
+        assert np.all(midrange <= bt.mid_upper)
+        for bounds in (b, bt):
+            assert np.all(X.max(axis=2) <= bounds.high + bounds.slack) and np.all(X.min(axis=2) >= bounds.low - bounds.slack)
+            assert np.all(von_mises(X).max(axis=1) <= bounds.von_mises_upper)
+            assert np.all(factor(*fatigue_bounds(bounds)[:2]) <= exact)
 
 
 def test_the_von_mises_interval_bound_holds_inside_its_intervals_and_in_float32():

@@ -191,15 +191,16 @@ def _screened_group(screen: Screen, C: np.ndarray, factor=None, enough: float | 
         out[:] = 0.0, np.inf
         return out
     group = screen_.CoefficientBox(screen.stress, screen.scale, screen_.box_basis(screen.stress, screen.scale, C))
-    lo, hi = group.ranges(C)
+    lo, hi, taken = group.ranges_and_taken(C)
     low, top = _group_thresholds(screen, C, group, lo, hi, factor)
     nodes = _group_nodes(group, lo, hi, low, top, factor)
     loose = LOOSE_SHARE * screen.stress.shape[1]  # of the part's nodes
     if nodes.size < GROUP_SHARE * screen.stress.shape[1]:
         screen, group = _restricted(screen, nodes), group.restricted(nodes)
     n = screen.stress.shape[1]
-    for g in _groups(C.shape[0], 12 * n):  # mid and reach: 2 x (6, n) per setting
-        for i, box in zip(range(g.start, g.stop), group.box_of(lo[g], hi[g])):
+    # mid, reach and the taken steps' values: (2 + p) x (6, n) per setting
+    for g in _groups(C.shape[0], 6 * (2 + taken.shape[1]) * n):
+        for i, box in zip(range(g.start, g.stop), group.box_of(lo[g], hi[g], taken[g])):
             out[i] = _screened(screen, C[i], box, factor, enough, low[i] ** 2, top[i], loose)
     return out
 
