@@ -359,19 +359,34 @@ class CoefficientBox:
         if lost.any():
             mid[lost], reach[lost] = 0.0, np.inf
         vm = von_mises_interval_bound(mid, reach, axis=1)
-        mid_upper = None if taken is None else self._mid_upper(mid, reach, taken)
+        mid_upper = None if taken is None else self._mid_upper(mid, reach, taken, self.rows, self.abs_rows)
         return [
             SampledBounds(vm[i], vm[i], mid[i], mid[i], reach[i], None if mid_upper is None else mid_upper[i])
             for i in range(lo.shape[0])
         ]
 
-    def _mid_upper(self, mid: np.ndarray, reach: np.ndarray, taken: np.ndarray) -> np.ndarray:
+    def at_nodes(self, b: SampledBounds, nodes: np.ndarray, taken: np.ndarray) -> SampledBounds:
+        """The bounds ``b`` of one history (:meth:`box_of`) at ``nodes`` only, with the
+        midrange bounds of the steps it takes, ``taken`` (p, k) (:meth:`box_of`): read
+        only where the box alone leaves candidates, since they cost p products per node."""
+        k = self.rows.shape[1]
+        rows = self.rows.reshape(6, self.nodes, k)[:, nodes].reshape(-1, k)
+        abs_rows = self.abs_rows.reshape(6, self.nodes, k)[:, nodes].reshape(-1, k)
+        mid, reach = b.high[:, nodes], b.slack[:, nodes]
+        mid_upper = self._mid_upper(mid[None], reach[None], taken[None], rows, abs_rows)[0]
+        return SampledBounds(b.von_mises[nodes], b.von_mises_upper[nodes], mid, mid, reach, mid_upper)
+
+    def _mid_upper(
+        self, mid: np.ndarray, reach: np.ndarray, taken: np.ndarray, rows: np.ndarray, abs_rows: np.ndarray
+    ) -> np.ndarray:
         """(s, 6, n) float32: each component's midrange bound of :meth:`box_of` from the
-        values at the ``taken`` (s, p, k) coordinates; inf where any term is not finite."""
+        values at the ``taken`` (s, p, k) coordinates, with the box's ``mid`` and
+        ``reach`` (s, 6, n) and its float32 ``rows`` and ``abs_rows`` (6 n, k) at those
+        nodes; inf where any term is not finite."""
         t = taken.astype(np.float32)
-        values = np.matmul(t, self.rows.T)  # (s, p, 6 n)
+        values = np.matmul(t, rows.T)  # (s, p, 6 n)
         low, high = (v.reshape(mid.shape) for v in (values.min(axis=1), values.max(axis=1)))
-        error = ((self.dot_error * np.abs(taken).max(axis=1)).astype(np.float32) @ self.abs_rows.T).reshape(mid.shape)
+        error = ((self.dot_error * np.abs(taken).max(axis=1)).astype(np.float32) @ abs_rows.T).reshape(mid.shape)
         error += np.float32(4.0 * FLOAT32_EPS) * (np.abs(mid) + reach + np.maximum(np.abs(low), np.abs(high)))
         above = mid + reach + low + error  # twice the midrange's upper bound
         below = mid - reach + high - error  # twice its lower bound

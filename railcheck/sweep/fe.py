@@ -198,10 +198,10 @@ def _screened_group(screen: Screen, C: np.ndarray, factor=None, enough: float | 
     if nodes.size < GROUP_SHARE * screen.stress.shape[1]:
         screen, group = _restricted(screen, nodes), group.restricted(nodes)
     n = screen.stress.shape[1]
-    # mid, reach and the taken steps' values: (2 + p) x (6, n) per setting
-    for g in _groups(C.shape[0], 6 * (2 + taken.shape[1]) * n):
-        for i, box in zip(range(g.start, g.stop), group.box_of(lo[g], hi[g], taken[g])):
-            out[i] = _screened(screen, C[i], box, factor, enough, low[i] ** 2, top[i], loose)
+    for g in _groups(C.shape[0], 12 * n):  # mid and reach: 2 x (6, n) per setting
+        for i, box in zip(range(g.start, g.stop), group.box_of(lo[g], hi[g])):
+            tighter = lambda nodes, b, i=i: group.at_nodes(b, nodes, taken[i])  # noqa: E731
+            out[i] = _screened(screen, C[i], box, factor, enough, low[i] ** 2, top[i], loose, tighter)
     return out
 
 
@@ -282,6 +282,7 @@ def _screened(
     low2: float = 0.0,
     top: float = np.inf,
     loose: float | None = None,
+    tighter=None,
 ) -> tuple[float, float]:
     """(Pa, factor): the exact largest von Mises over the nodes and steps of one history
     ``c`` (T, k) (unscaled coefficients) and, with a ``factor`` (sa, sm) -> safety factor,
@@ -293,7 +294,10 @@ def _screened(
     evaluated exactly: the thresholds. Only the nodes whose group box can beat a
     threshold, and then whose box in the history's own principal subspace
     (:func:`railcheck.fea.screen.box_bounds`) can, are read at the sampled steps, and only
-    those whose sampled bound can beat it are evaluated at every step."""
+    those whose sampled bound can beat it are evaluated at every step. ``tighter``:
+    (nodes, box) -> ``box`` at those nodes with its midrange bounds from the values the
+    history takes (:meth:`railcheck.fea.screen.CoefficientBox.at_nodes`), applied to the
+    nodes the box keeps before they are projected."""
     if not np.any(c):  # unloaded: no stress anywhere (and no screen to build on a zero box)
         return 0.0, np.inf
     sub = screen_.principal_subspace(c * screen.scale)
@@ -337,6 +341,9 @@ def _screened(
     more_low2, less_top = thresholds(box, box_factor)
     low2, top = max(low2, more_low2), min(top, less_top)  # each an exact value at some node
     nodes = np.flatnonzero(beats(box, low2, top, box_factor))
+    if tighter is not None and factor is not None and nodes.size:
+        # the box's midrange bounds from the values the history takes, at these nodes only
+        nodes = nodes[beats(tighter(nodes, box), low2, top)]
     if nodes.size > (LOOSE_SHARE * box.von_mises.size if loose is None else loose):  # the group's box is loose here
         SP = screen_.project(screen.stress, screen.scale, sub)
         own = screen_.box_bounds(SP, norms, vm_norm, sub)
