@@ -166,14 +166,32 @@ def refined_samples(a: np.ndarray, tolerance: float, first: np.ndarray) -> tuple
     return sampled, float(gap.max())
 
 
+def nearest_to_box_centre(d: np.ndarray) -> np.ndarray:
+    """(...,) the index of the step of each path ``d`` (..., T, k) nearest the centre of
+    the box of its coordinates' ranges, each coordinate in units of its half-width."""
+    lo, hi = d.min(axis=-2, keepdims=True), d.max(axis=-2, keepdims=True)
+    scaled = (d - 0.5 * (lo + hi)) / np.maximum(0.5 * (hi - lo), np.finfo(float).tiny)
+    return np.argmin(np.square(scaled).sum(axis=-1), axis=-1)
+
+
+def midrange_bound(mid: np.ndarray, reach: np.ndarray, low: np.ndarray, high: np.ndarray, margin) -> np.ndarray:
+    """A bound of each component's midrange magnitude over a history: its maximum is at
+    most ``mid + reach`` and its minimum at least ``mid - reach`` (a box), and it takes
+    values from ``low`` to ``high`` (within ``margin``) at a few steps, so its maximum is
+    at least ``high - margin`` and its minimum at most ``low + margin``: the midrange lies
+    within ``[(mid - reach + high - margin) / 2, (mid + reach + low + margin) / 2]``, and
+    within the box's ``|mid| + reach``. Arrays of one shape (Pa)."""
+    above = mid + reach + low + margin  # twice the midrange's upper bound
+    below = mid - reach + high - margin  # twice its lower bound
+    return np.minimum(0.5 * np.maximum(np.abs(above), np.abs(below)), np.abs(mid) + reach)
+
+
 def touched_steps(a: np.ndarray, first: np.ndarray) -> np.ndarray:
     """Indices (ascending) of about :data:`TOUCHED_STEPS` of the evenly spaced steps
     ``first`` (:func:`path_samples`) of the path ``a`` (T, r) and of the step nearest the
-    centre of its box (half-widths as unit): values the history takes, which bound each
-    component's midrange from both sides (:func:`box_bounds`)."""
-    lo, hi = a.min(axis=0), a.max(axis=0)
-    centre = np.argmin(np.square((a - 0.5 * (lo + hi)) / np.maximum(0.5 * (hi - lo), np.finfo(float).tiny)).sum(axis=1))
-    return np.union1d(first[:: max(1, first.size // TOUCHED_STEPS)], [centre])
+    centre of its box (:func:`nearest_to_box_centre`): values the history takes, which
+    bound each component's midrange from both sides (:func:`box_bounds`)."""
+    return np.union1d(first[:: max(1, first.size // TOUCHED_STEPS)], [nearest_to_box_centre(a)])
 
 
 def principal_subspace(c: np.ndarray) -> Subspace:
@@ -251,9 +269,7 @@ def box_bounds(SP: np.ndarray, norms: np.ndarray, vm_norm: np.ndarray, sub: Subs
     # (6, p, n): the components at the touched steps (steps before nodes: the extremes
     # over the steps are elementwise over contiguous rows)
     taken = np.matmul(sub.a[sub.touched], SP.transpose(0, 2, 1))
-    above = mid + reach + taken.min(axis=1) + share  # twice the midrange's upper bound
-    below = mid - reach + taken.max(axis=1) - share  # twice its lower bound
-    mid_upper = np.minimum(0.5 * np.maximum(np.abs(above), np.abs(below)), np.abs(mid) + reach)
+    mid_upper = midrange_bound(mid, reach, taken.min(axis=1), taken.max(axis=1), share)
     return SampledBounds(vm, vm, mid, mid, reach, mid_upper)
 
 
@@ -327,27 +343,19 @@ class CoefficientBox:
     def ranges_and_taken(self, C: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(lo, hi, taken): :meth:`ranges`, and ``taken`` (s, p, k) the coordinates of a
         few steps of each history (:data:`BOX_TAKEN_STEPS` evenly spaced and the one
-        nearest its box's centre), values the history takes (:meth:`box_of`)."""
+        nearest its box's centre), values the history takes (:meth:`at_nodes`)."""
         d = self.coordinates(C)
         lo, hi = d.min(axis=1), d.max(axis=1)
-        centre, half = 0.5 * (hi + lo), np.maximum(0.5 * (hi - lo), np.finfo(float).tiny)
-        nearest = np.argmin(np.square((d - centre[:, None]) / half[:, None]).sum(axis=2), axis=1)  # (s,)
+        nearest = nearest_to_box_centre(d)  # (s,)
         spaced = np.linspace(0, d.shape[1], BOX_TAKEN_STEPS, endpoint=False).astype(int)
         steps = np.concatenate([np.broadcast_to(spaced, (d.shape[0], spaced.size)), nearest[:, None]], axis=1)
         return lo, hi, np.take_along_axis(d, steps[:, :, None], axis=1)
 
-    def box_of(self, lo: np.ndarray, hi: np.ndarray, taken: np.ndarray | None = None) -> list[SampledBounds]:
+    def box_of(self, lo: np.ndarray, hi: np.ndarray) -> list[SampledBounds]:
         """One :class:`SampledBounds` per box of basis coordinates ``lo`` to ``hi`` (s, k)
         (:meth:`ranges`, or any box holding a history's steps): ``high`` = ``low`` the
         components at the box's centre, ``slack`` their reach, ``von_mises`` =
-        ``von_mises_upper`` the bound of von Mises (float32).
-
-        ``taken`` (s, p, k): coordinates of steps each history takes
-        (:meth:`ranges_and_taken`), which bound each component's midrange from both
-        sides (``mid_upper``, as :func:`box_bounds`: its maximum is at least the largest
-        taken value, its minimum at most the smallest). The taken values' float32 error
-        (the dot products' bound above, on the largest ``|taken|`` of each coordinate)
-        and four roundoffs of the terms summed widen it."""
+        ``von_mises_upper`` the bound of von Mises (float32)."""
         centre, half = 0.5 * (hi + lo), 0.5 * (hi - lo)  # (s, k)
         shape = (lo.shape[0], 6, self.nodes)
         mid = (centre.astype(np.float32) @ self.rows.T).reshape(shape)
@@ -359,16 +367,16 @@ class CoefficientBox:
         if lost.any():
             mid[lost], reach[lost] = 0.0, np.inf
         vm = von_mises_interval_bound(mid, reach, axis=1)
-        mid_upper = None if taken is None else self._mid_upper(mid, reach, taken, self.rows, self.abs_rows)
-        return [
-            SampledBounds(vm[i], vm[i], mid[i], mid[i], reach[i], None if mid_upper is None else mid_upper[i])
-            for i in range(lo.shape[0])
-        ]
+        return [SampledBounds(vm[i], vm[i], mid[i], mid[i], reach[i]) for i in range(lo.shape[0])]
 
     def at_nodes(self, b: SampledBounds, nodes: np.ndarray, taken: np.ndarray) -> SampledBounds:
-        """The bounds ``b`` of one history (:meth:`box_of`) at ``nodes`` only, with the
-        midrange bounds of the steps it takes, ``taken`` (p, k) (:meth:`box_of`): read
-        only where the box alone leaves candidates, since they cost p products per node."""
+        """The bounds ``b`` of one history (:meth:`box_of`) at ``nodes`` only, with
+        midrange bounds (``mid_upper``, :func:`midrange_bound`) from the coordinates of
+        steps the history takes, ``taken`` (p, k) (:meth:`ranges_and_taken`): its maximum
+        is at least the largest taken value, its minimum at most the smallest. Their
+        float32 error (the dot products' bound above, on the largest ``|taken|`` of each
+        coordinate) and four roundoffs of the terms summed widen it. Read only where the
+        box alone leaves candidates, since they cost p products per node."""
         k = self.rows.shape[1]
         rows = self.rows.reshape(6, self.nodes, k)[:, nodes].reshape(-1, k)
         abs_rows = self.abs_rows.reshape(6, self.nodes, k)[:, nodes].reshape(-1, k)
@@ -379,7 +387,7 @@ class CoefficientBox:
     def _mid_upper(
         self, mid: np.ndarray, reach: np.ndarray, taken: np.ndarray, rows: np.ndarray, abs_rows: np.ndarray
     ) -> np.ndarray:
-        """(s, 6, n) float32: each component's midrange bound of :meth:`box_of` from the
+        """(s, 6, n) float32: each component's midrange bound of :meth:`at_nodes` from the
         values at the ``taken`` (s, p, k) coordinates, with the box's ``mid`` and
         ``reach`` (s, 6, n) and its float32 ``rows`` and ``abs_rows`` (6 n, k) at those
         nodes; inf where any term is not finite."""
@@ -388,9 +396,7 @@ class CoefficientBox:
         low, high = (v.reshape(mid.shape) for v in (values.min(axis=1), values.max(axis=1)))
         error = ((self.dot_error * np.abs(taken).max(axis=1)).astype(np.float32) @ abs_rows.T).reshape(mid.shape)
         error += np.float32(4.0 * FLOAT32_EPS) * (np.abs(mid) + reach + np.maximum(np.abs(low), np.abs(high)))
-        above = mid + reach + low + error  # twice the midrange's upper bound
-        below = mid - reach + high - error  # twice its lower bound
-        out = np.minimum(np.float32(0.5) * np.maximum(np.abs(above), np.abs(below)), np.abs(mid) + reach)
+        out = midrange_bound(mid, reach, low, high, error)
         out[~np.isfinite(out)] = np.inf
         return out
 

@@ -380,7 +380,8 @@ def test_the_coefficient_box_holds_every_step_and_is_reached_at_its_corners(rota
         corners = corners @ basis.T / scale
     C = np.concatenate([C, np.pad(corners, ((0, T - corners.shape[0]), (0, 0)), mode="edge")[None]])
     box = CoefficientBox(np.ascontiguousarray(stress), scale, basis)
-    with_taken = box.box_of(*box.ranges_and_taken(C))
+    lo, hi, taken = box.ranges_and_taken(C)
+    with_taken = [box.at_nodes(b, np.arange(n), t) for b, t in zip(box.box_of(lo, hi), taken)]
     for c, b, bt in zip(C, box.bounds(C), with_taken):
         X = np.tensordot(stress, c, axes=([2], [1]))  # (6, n, T)
         assert np.all(X.max(axis=2) <= b.high + b.slack) and np.all(X.min(axis=2) >= b.low - b.slack)
@@ -402,7 +403,8 @@ def test_the_coefficient_box_holds_every_step_and_is_reached_at_its_corners(rota
     if rotated:  # those basis coordinates' coefficients: c = B d / scale
         clean = clean @ basis.T / scale
     Xc = np.tensordot(stress, clean[0], axes=([2], [1]))
-    bc = box.box_of(*box.ranges_and_taken(clean))[0]
+    lo, hi, taken = box.ranges_and_taken(clean)
+    bc = box.at_nodes(box.box_of(lo, hi)[0], np.arange(n), taken[0])
     midrange = np.abs(0.5 * (Xc.max(axis=2) + Xc.min(axis=2)))
     np.testing.assert_allclose(bc.mid_upper, midrange, rtol=1e-4, atol=1e-4 * np.abs(Xc).max())
 
@@ -433,7 +435,9 @@ def test_the_float32_box_stays_a_bound_where_its_rounding_matters(rotated):
         C = C @ basis @ basis.T  # the same points; the box is taken in the rotated basis
     box = CoefficientBox(np.ascontiguousarray(stress), scale, basis)
     factor = lambda sa, sm: safety_factor(sa, sm, 2.6e8, 7.5e8, "goodman")  # noqa: E731
-    with_taken = box.box_of(*box.ranges_and_taken(C))  # the midranges bounded by values taken too
+    lo, hi, taken = box.ranges_and_taken(C)
+    every = np.arange(n)
+    with_taken = [box.at_nodes(b, every, t) for b, t in zip(box.box_of(lo, hi), taken)]  # midranges by values taken too
     for c, b, bt in zip(C, box.bounds(C), with_taken):
         X = np.tensordot(stress, c, axes=([2], [1]))  # (6, n, T) float64
         exact = factor(*alternating_and_mean(X.max(axis=2), X.min(axis=2)))
