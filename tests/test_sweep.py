@@ -682,3 +682,23 @@ def test_a_chunk_s_fe_settings_screened_together_equal_each_group_s_alone(monkey
                 assert other[key].tolist() == value.tolist(), key
             else:
                 np.testing.assert_allclose(other[key], value, rtol=1e-12, err_msg=key)
+
+
+def test_a_cluster_left_half_started_by_an_interrupt_closes_quietly_at_exit(monkeypatch):
+    """Ctrl-C while the local cluster starts left it to distributed's exit hook, whose
+    assertion on a worker still starting printed a traceback after "railcheck:
+    interrupted". The hook is replaced (once) by one that closes the clusters quietly."""
+    from distributed.deploy import spec
+
+    from railcheck.sweep.run import _quiet_cluster_exit
+
+    _quiet_cluster_exit()
+    quiet = spec.close_clusters._railcheck_quiet
+    _quiet_cluster_exit()  # once only
+    assert spec.close_clusters._railcheck_quiet is quiet
+
+    def half_started():
+        raise AssertionError("Status.init")
+
+    monkeypatch.setattr(spec, "close_clusters", half_started)
+    quiet()  # the hook's error does not reach the exit

@@ -362,6 +362,26 @@ def _context(scene, kind: str, models: dict):
 WORKER_MALLOC = {"MALLOC_TRIM_THRESHOLD_": 256 << 20, "MALLOC_MMAP_THRESHOLD_": 32 << 20}
 
 
+def _quiet_cluster_exit() -> None:
+    """Replace distributed's exit hook that closes the local clusters still open by one
+    that closes them quietly: a run interrupted while its cluster starts or stops (Ctrl-C)
+    ends with ``railcheck: interrupted``, not with the hook's traceback (an assertion on a
+    worker still starting); the workers end with this process either way."""
+    import atexit
+    import contextlib
+
+    from distributed.deploy import spec
+
+    def close_quietly():
+        with contextlib.suppress(Exception):
+            spec.close_clusters()
+
+    if getattr(spec.close_clusters, "_railcheck_quiet", None) is None:
+        atexit.unregister(spec.close_clusters)
+        atexit.register(close_quietly)
+        spec.close_clusters._railcheck_quiet = close_quietly  # type: ignore[attr-defined]
+
+
 class _Executor:
     """Chunks of settings -> their columns, in order: serially, or on Dask (a local
     cluster unless ``scheduler`` names one). On Dask every kind's chunks form one queue
@@ -389,6 +409,7 @@ class _Executor:
 
         from dask.distributed import Client, LocalCluster
 
+        _quiet_cluster_exit()
         if self.scheduler:
             try:
                 self.client = Client(self.scheduler, timeout="5s")
