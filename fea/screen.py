@@ -89,83 +89,6 @@ def column_scale(S: np.ndarray) -> np.ndarray:
     return np.sqrt(np.einsum("cnk,cnk->nk", S, S)).max(axis=0) + 1e-300
 
 
-@dataclass(frozen=True)
-class Subspace:
-    """One scaled history ``c`` (T, k) as ``c_t = P a_t + e_t``: ``P`` (k, r) its principal
-    directions, ``a`` (T, r) the steps' coordinates, ``eps`` the largest ``|e_t|``;
-    ``sampled`` the indices of the steps read (:func:`refined_samples`) and ``delta`` the
-    largest distance of any step from the chord between the read steps around it
-    (:func:`chord_gaps`); ``touched`` the few steps (:func:`touched_steps`) whose values
-    tighten the box's midrange bounds (:func:`box_bounds`)."""
-
-    P: np.ndarray
-    a: np.ndarray
-    eps: float
-    sampled: np.ndarray
-    delta: float
-    touched: np.ndarray
-
-
-def subspace_rank(c: np.ndarray, Vt: np.ndarray) -> int:
-    """The smallest rank from REDUCED_RANK to MAX_RANK (at most k) whose residual is at
-    most RESIDUAL_SHARE of the history's largest step norm (``Vt``: the history's right
-    singular vectors, rows by decreasing singular value)."""
-    coords = c @ Vt.T  # (T, m): every step in the singular basis
-    # tail[:, r]: each step's residual beyond rank r (sums of squares from the back: no cancellation)
-    tail = np.sqrt(np.cumsum(coords[:, ::-1] ** 2, axis=1)[:, ::-1]).max(axis=0)
-    reach = float(np.linalg.norm(c, axis=1).max())
-    top = min(MAX_RANK, c.shape[1])
-    r = min(REDUCED_RANK, top)
-    while r < top and r < tail.size and tail[r] > RESIDUAL_SHARE * reach:
-        r += 1
-    return r
-
-
-def path_samples(a: np.ndarray, samples: int) -> np.ndarray:
-    """Indices (ascending, first and last included) of about ``samples`` steps of the path
-    ``a`` (T, r), evenly spaced along its length."""
-    T = a.shape[0]
-    length = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(a, axis=0), axis=1))])
-    marks = np.linspace(0.0, length[-1], min(samples, T))
-    return np.unique(np.concatenate([np.searchsorted(length, marks).clip(0, T - 1), [0, T - 1]]))
-
-
-def chord_gaps(a: np.ndarray, sampled: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """((T,), (T,)): each step's distance from the chord between the read steps
-    ``sampled`` (ascending, first and last step included) before and after it, and the
-    index of that chord (its first read step's position in ``sampled``). A read step is
-    at distance 0."""
-    T = a.shape[0]
-    j = np.minimum(np.searchsorted(sampled, np.arange(T), side="right") - 1, max(sampled.size - 2, 0))
-    start = a[sampled[j]]
-    d = a[sampled[np.minimum(j + 1, sampled.size - 1)]] - start
-    along = np.einsum("tr,tr->t", a - start, d) / np.maximum(np.einsum("tr,tr->t", d, d), np.finfo(float).tiny)
-    offset = a - start - np.clip(along, 0.0, 1.0)[:, None] * d
-    return np.sqrt(np.einsum("tr,tr->t", offset, offset)), j
-
-
-def refined_samples(a: np.ndarray, tolerance: float, first: np.ndarray) -> tuple[np.ndarray, float]:
-    """(indices, delta): steps of the path ``a`` (T, r) (ascending, first and last
-    included) such that every step lies within ``tolerance`` of the chord between the
-    read steps around it, and the largest such distance (:func:`chord_gaps`). From the
-    steps ``first`` (:func:`path_samples`), round by round the farthest step of every
-    chord that has one beyond ``tolerance`` is added (Douglas-Peucker, all chords at
-    once), up to :data:`MAX_SAMPLES`."""
-    sampled, cap = first, min(MAX_SAMPLES, a.shape[0])
-    while True:
-        gap, chord = chord_gaps(a, sampled)
-        if sampled.size >= cap or sampled.size < 2:
-            break
-        farthest = np.maximum.reduceat(gap, sampled[:-1])  # each chord's steps are contiguous
-        over = farthest > tolerance
-        if not over.any():
-            break
-        at = np.flatnonzero((gap == farthest[chord]) & over[chord])
-        new = at[np.unique(chord[at], return_index=True)[1]]  # one per chord
-        sampled = np.union1d(sampled, new[: cap - sampled.size])
-    return sampled, float(gap.max())
-
-
 def nearest_to_box_centre(d: np.ndarray) -> np.ndarray:
     """(...,) the index of the step of each path ``d`` (..., T, k) nearest the centre of
     the box of its coordinates' ranges, each coordinate in units of its half-width."""
@@ -186,28 +109,205 @@ def midrange_bound(mid: np.ndarray, reach: np.ndarray, low: np.ndarray, high: np
     return np.minimum(0.5 * np.maximum(np.abs(above), np.abs(below)), np.abs(mid) + reach)
 
 
-def touched_steps(a: np.ndarray, first: np.ndarray) -> np.ndarray:
-    """Indices (ascending) of about :data:`TOUCHED_STEPS` of the evenly spaced steps
-    ``first`` (:func:`path_samples`) of the path ``a`` (T, r) and of the step nearest the
-    centre of its box (:func:`nearest_to_box_centre`): values the history takes, which
-    bound each component's midrange from both sides (:func:`box_bounds`)."""
-    return np.union1d(first[:: max(1, first.size // TOUCHED_STEPS)], [nearest_to_box_centre(a)])
+@dataclass(frozen=True)
+class Subspace:
+    """One scaled history ``c`` (T, k) as ``c_t = P a_t + e_t``: ``P`` (k, r) its principal
+    directions, ``a`` (T, r) the steps' coordinates, ``eps`` the largest ``|e_t|``;
+    ``sampled`` the indices of the steps read (:func:`refined_samples`) and ``delta`` the
+    largest distance of any step from the chord between the read steps around it
+    (:func:`chord_gaps`); ``touched`` the few steps (:func:`touched_steps`) whose values
+    tighten the box's midrange bounds (:func:`box_bounds`)."""
+
+    P: np.ndarray
+    a: np.ndarray
+    eps: float
+    sampled: np.ndarray
+    delta: float
+    touched: np.ndarray
+
+
+@dataclass(frozen=True)
+class Subspaces:
+    """Many scaled histories ``C`` (S, T, k) in their principal subspaces at once
+    (:func:`principal_subspaces`), padded to one rank ``R`` = min(:data:`MAX_RANK`, k):
+    ``P`` (S, k, R) the directions (the columns beyond each history's ``rank`` (S,) zero),
+    ``a`` (S, T, R) the coordinates, ``eps`` (S,) the largest residual, ``sampled`` (S, M)
+    and ``touched`` (S, p) step indices (ascending, each row padded by repeating its last
+    index), ``delta`` (S,) as :class:`Subspace`."""
+
+    P: np.ndarray
+    a: np.ndarray
+    eps: np.ndarray
+    sampled: np.ndarray
+    delta: np.ndarray
+    touched: np.ndarray
+    rank: np.ndarray
+
+    def one(self, i: int) -> Subspace:
+        """History ``i`` as a :class:`Subspace` (its own rank, no padding)."""
+        r = int(self.rank[i])
+        return Subspace(
+            self.P[i, :, :r], self.a[i, :, :r], float(self.eps[i]), np.unique(self.sampled[i]),
+            float(self.delta[i]), np.unique(self.touched[i]),
+        )  # fmt: skip
+
+
+def subspace_ranks(coords: np.ndarray, reach: np.ndarray) -> np.ndarray:
+    """(S,) for each history the smallest rank from REDUCED_RANK to MAX_RANK (at most k)
+    whose residual is at most RESIDUAL_SHARE of its largest step norm ``reach`` (S,);
+    ``coords`` (S, T, k) its steps in its singular basis (columns by decreasing singular
+    value)."""
+    k = coords.shape[2]
+    # tail[:, r]: the largest residual beyond rank r (sums of squares from the back: no cancellation)
+    tail = np.sqrt(np.cumsum(coords[..., ::-1] ** 2, axis=2)[..., ::-1]).max(axis=1)
+    top = min(MAX_RANK, k)
+    low = min(REDUCED_RANK, top)
+    small = tail[:, low:top] <= RESIDUAL_SHARE * reach[:, None]
+    if not small.shape[1]:
+        return np.full(coords.shape[0], top)
+    return np.where(small.any(axis=1), low + np.argmax(small, axis=1), top)
+
+
+def path_sample_mask(a: np.ndarray, samples: int) -> np.ndarray:
+    """(S, T) bool: about ``samples`` steps of each path ``a`` (S, T, r), evenly spaced
+    along its length, the first and last included."""
+    S, T = a.shape[:2]
+    steps = np.linalg.norm(np.diff(a, axis=1), axis=2)
+    length = np.concatenate([np.zeros((S, 1)), np.cumsum(steps, axis=1)], axis=1)
+    marks = np.linspace(0.0, 1.0, min(samples, T))[None, :] * length[:, -1:]  # (S, m)
+    at = (length[:, None, :] < marks[:, :, None]).sum(axis=2).clip(0, T - 1)  # searchsorted, row by row
+    mask = np.zeros((S, T), dtype=bool)
+    np.put_along_axis(mask, at, True, axis=1)
+    mask[:, [0, -1]] = True
+    return mask
+
+
+def chord_gaps_of(a: np.ndarray, mask: np.ndarray) -> np.ndarray:
+    """(S, T): each step's distance from the chord between the read steps (``mask`` (S,
+    T), first and last step read) before and after it, on each path ``a`` (S, T, r); 0
+    at a read step."""
+    S, T = mask.shape
+    t = np.arange(T)
+    before = np.maximum.accumulate(np.where(mask, t, 0), axis=1)  # the last read step <= t
+    at_or_after = np.minimum.accumulate(np.where(mask, t, T - 1)[:, ::-1], axis=1)[:, ::-1]
+    after = np.concatenate([at_or_after[:, 1:], np.full((S, 1), T - 1)], axis=1)  # the first read step > t
+    start = np.take_along_axis(a, before[:, :, None], axis=1)
+    d = np.take_along_axis(a, after[:, :, None], axis=1) - start
+    rel = a - start
+    along = np.einsum("str,str->st", rel, d) / np.maximum(np.einsum("str,str->st", d, d), np.finfo(float).tiny)
+    offset = rel - np.clip(along, 0.0, 1.0)[:, :, None] * d
+    return np.sqrt(np.einsum("str,str->st", offset, offset))
+
+
+def refined_masks(a: np.ndarray, tolerance: np.ndarray, mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """((S, T) bool, (S,)): read steps of each path ``a`` (S, T, r) such that every step
+    lies within its ``tolerance`` (S,) of the chord between the read steps around it,
+    and the largest such distance (:func:`chord_gaps_of`). From the read steps ``mask``
+    (:func:`path_sample_mask`), round by round the farthest step of every chord that has
+    one beyond the tolerance is added (Douglas-Peucker, all chords of all paths at once),
+    up to :data:`MAX_SAMPLES` per path."""
+    S, T = mask.shape
+    cap = min(MAX_SAMPLES, T)
+    mask = mask.copy()
+    while True:
+        gap = chord_gaps_of(a, mask)
+        counts = mask.sum(axis=1)
+        starts = np.flatnonzero(mask)  # each chord's steps are contiguous from its first read step
+        farthest = np.maximum.reduceat(gap.ravel(), starts)
+        chord = np.cumsum(mask.ravel()) - 1  # (S T,) each step's chord
+        over = (farthest > tolerance[starts // T]) & (counts[starts // T] < cap)
+        at = np.flatnonzero((gap.ravel() == farthest[chord]) & over[chord])
+        at = at[np.unique(chord[at], return_index=True)[1]]  # one per chord, ascending
+        if not at.size:
+            return mask, gap.max(axis=1)
+        path = at // T
+        first = np.searchsorted(path, path)  # each path's first new step's position in ``at``
+        keep = np.arange(at.size) - first < (cap - counts)[path]
+        mask.ravel()[at[keep]] = True
+
+
+def history_blocks(h: np.ndarray, limit: int | None = None) -> list[tuple[int, int, int]]:
+    """(history, start, stop) of each run of one value in ``h`` (ascending history
+    indices of (history, node) pairs), runs longer than ``limit`` split: each history's
+    pairs, for one product each."""
+    if not h.size:
+        return []
+    cuts = np.flatnonzero(np.diff(h)) + 1
+    starts, stops = np.concatenate([[0], cuts]), np.concatenate([cuts, [h.size]])
+    step = limit or h.size
+    return [(int(h[a]), int(c), int(min(c + step, b))) for a, b in zip(starts, stops) for c in range(a, b, step)]
+
+
+def padded_indices(mask: np.ndarray) -> np.ndarray:
+    """(S, M): the indices of each row's True entries (ascending; at least one per row),
+    each row padded by repeating its last one to the longest row's count M."""
+    counts = mask.sum(axis=1)
+    order = np.argsort(~mask, axis=1, kind="stable")[:, : counts.max()]
+    return np.take_along_axis(order, np.minimum(np.arange(order.shape[1])[None, :], counts[:, None] - 1), axis=1)
+
+
+def touched_of(a: np.ndarray, first: np.ndarray) -> np.ndarray:
+    """(S, p) indices (ascending, padded): about :data:`TOUCHED_STEPS` of each path's
+    evenly spaced steps ``first`` (S, T) bool (:func:`path_sample_mask`) and the step
+    nearest the centre of its box (:func:`nearest_to_box_centre`): values each history
+    takes, which bound each component's midrange from both sides (:func:`box_bounds`)."""
+    order = np.cumsum(first, axis=1) - 1  # each step's position among the read ones
+    stride = np.maximum(1, first.sum(axis=1) // TOUCHED_STEPS)[:, None]
+    touched = first & (order % stride == 0)
+    touched[np.arange(a.shape[0]), nearest_to_box_centre(a)] = True
+    return padded_indices(touched)
+
+
+def principal_subspaces(C: np.ndarray) -> Subspaces:
+    """The scaled histories ``C`` (S, T, k) in their principal subspaces
+    (:func:`subspace_ranks`), read at :func:`refined_masks` (every step within
+    :data:`CHORD_SHARE` of the history's largest ``|c_t|``, or within its residual, of
+    its chord). The directions are the eigenvectors of ``c^T c`` (the right singular
+    vectors; any orthonormal ``P`` gives valid bounds, since ``eps`` is the measured
+    residual)."""
+    k = C.shape[2]
+    V = np.linalg.eigh(np.matmul(C.transpose(0, 2, 1), C))[1][:, :, ::-1]  # (S, k, k) by decreasing eigenvalue
+    reach = np.linalg.norm(C, axis=2).max(axis=1)
+    rank = subspace_ranks(np.matmul(C, V), reach)
+    R = min(MAX_RANK, k)
+    P = V[:, :, :R] * (np.arange(R)[None, :] < rank[:, None])[:, None, :]
+    a = np.matmul(C, P)
+    eps = np.linalg.norm(C - np.matmul(a, P.transpose(0, 2, 1)), axis=2).max(axis=1)
+    first = path_sample_mask(a, FIRST_SAMPLES)
+    sampled, delta = refined_masks(a, np.maximum(eps, CHORD_SHARE * reach), first)
+    return Subspaces(P, a, eps, padded_indices(sampled), delta, touched_of(a, first), rank)
 
 
 def principal_subspace(c: np.ndarray) -> Subspace:
-    """The scaled history ``c`` (T, k) in its principal subspace (:func:`subspace_rank`),
-    read at :func:`refined_samples` (every step within :data:`CHORD_SHARE` of the
-    history's largest ``|c_t|``, or within its residual, of its chord). The directions
-    are the eigenvectors of ``c^T c`` (the right singular vectors; any orthonormal ``P``
-    gives valid bounds, since ``eps`` is the measured residual)."""
-    Vt = np.linalg.eigh(c.T @ c)[1][:, ::-1].T
-    P = Vt[: subspace_rank(c, Vt)].T
-    a = c @ P
-    eps = float(np.linalg.norm(c - a @ P.T, axis=1).max())
-    reach = float(np.linalg.norm(c, axis=1).max())
-    first = path_samples(a, FIRST_SAMPLES)
-    sampled, delta = refined_samples(a, max(eps, CHORD_SHARE * reach), first)
-    return Subspace(P, a, eps, sampled, delta, touched_steps(a, first))
+    """:func:`principal_subspaces` of one scaled history ``c`` (T, k)."""
+    return principal_subspaces(c[None]).one(0)
+
+
+def path_samples(a: np.ndarray, samples: int) -> np.ndarray:
+    """:func:`path_sample_mask` of one path ``a`` (T, r), as indices."""
+    return np.flatnonzero(path_sample_mask(a[None], samples)[0])
+
+
+def chord_gaps(a: np.ndarray, sampled: np.ndarray) -> np.ndarray:
+    """:func:`chord_gaps_of` one path ``a`` (T, r) read at the steps ``sampled``."""
+    mask = np.zeros((1, a.shape[0]), dtype=bool)
+    mask[0, sampled] = True
+    return chord_gaps_of(a[None], mask)[0]
+
+
+def refined_samples(a: np.ndarray, tolerance: float, first: np.ndarray) -> tuple[np.ndarray, float]:
+    """:func:`refined_masks` of one path ``a`` (T, r) from the steps ``first``, as indices."""
+    mask = np.zeros((1, a.shape[0]), dtype=bool)
+    mask[0, first] = True
+    mask, delta = refined_masks(a[None], np.array([tolerance]), mask)
+    return np.flatnonzero(mask[0]), float(delta[0])
+
+
+def touched_steps(a: np.ndarray, first: np.ndarray) -> np.ndarray:
+    """:func:`touched_of` one path ``a`` (T, r) from its evenly spaced steps ``first``."""
+    mask = np.zeros((1, a.shape[0]), dtype=bool)
+    mask[0, first] = True
+    return np.unique(touched_of(a[None], mask)[0])
 
 
 @dataclass(frozen=True)
@@ -316,6 +416,17 @@ class CoefficientBox:
         self.rows = rows
         self.abs_rows = np.abs(rows)
         self.dot_error = 2.0 * (rows.shape[1] + 4) * FLOAT32_EPS  # relative, of |m| . |R_j| (class doc)
+        self._by_node: tuple[np.ndarray, np.ndarray] | None = None  # (n, 6, k) rows and (n, 6) norms, when read
+
+    def _node_major(self) -> tuple[np.ndarray, np.ndarray]:
+        """((n, 6, k) float32, (n, 6)): the rows grouped by node (a node's six rows
+        contiguous: gathering a few thousand nodes is one block each) and each row's
+        Euclidean norm, made on first use."""
+        if self._by_node is None:
+            k = self.rows.shape[1]
+            by_node = np.ascontiguousarray(self.rows.reshape(6, self.nodes, k).transpose(1, 0, 2))
+            self._by_node = by_node, np.sqrt(np.einsum("njk,njk->nj", by_node, by_node, dtype=np.float64))
+        return self._by_node
 
     def restricted(self, nodes: np.ndarray) -> CoefficientBox:
         """The same box at ``nodes`` (indices into this box's nodes) only."""
@@ -351,11 +462,11 @@ class CoefficientBox:
         steps = np.concatenate([np.broadcast_to(spaced, (d.shape[0], spaced.size)), nearest[:, None]], axis=1)
         return lo, hi, np.take_along_axis(d, steps[:, :, None], axis=1)
 
-    def box_of(self, lo: np.ndarray, hi: np.ndarray) -> list[SampledBounds]:
-        """One :class:`SampledBounds` per box of basis coordinates ``lo`` to ``hi`` (s, k)
-        (:meth:`ranges`, or any box holding a history's steps): ``high`` = ``low`` the
-        components at the box's centre, ``slack`` their reach, ``von_mises`` =
-        ``von_mises_upper`` the bound of von Mises (float32)."""
+    def box_arrays(self, lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(von Mises (s, n), mid (s, 6, n), reach (s, 6, n)) float32 Pa: the bounds over
+        each box of basis coordinates ``lo`` to ``hi`` (s, k) (:meth:`ranges`, or any box
+        holding a history's steps): the components at the box's centre, their reach,
+        and the bound of von Mises."""
         centre, half = 0.5 * (hi + lo), 0.5 * (hi - lo)  # (s, k)
         shape = (lo.shape[0], 6, self.nodes)
         mid = (centre.astype(np.float32) @ self.rows.T).reshape(shape)
@@ -366,35 +477,44 @@ class CoefficientBox:
         lost = ~(np.isfinite(mid) & np.isfinite(reach))
         if lost.any():
             mid[lost], reach[lost] = 0.0, np.inf
-        vm = von_mises_interval_bound(mid, reach, axis=1)
+        return von_mises_interval_bound(mid, reach, axis=1), mid, reach
+
+    def box_of(self, lo: np.ndarray, hi: np.ndarray) -> list[SampledBounds]:
+        """One :class:`SampledBounds` per box of :meth:`box_arrays`: ``high`` = ``low``
+        the components at the box's centre, ``slack`` their reach, ``von_mises`` =
+        ``von_mises_upper`` the bound of von Mises (float32)."""
+        vm, mid, reach = self.box_arrays(lo, hi)
         return [SampledBounds(vm[i], vm[i], mid[i], mid[i], reach[i]) for i in range(lo.shape[0])]
 
     def at_nodes(self, b: SampledBounds, nodes: np.ndarray, taken: np.ndarray) -> SampledBounds:
         """The bounds ``b`` of one history (:meth:`box_of`) at ``nodes`` only, with
-        midrange bounds (``mid_upper``, :func:`midrange_bound`) from the coordinates of
-        steps the history takes, ``taken`` (p, k) (:meth:`ranges_and_taken`): its maximum
-        is at least the largest taken value, its minimum at most the smallest. Their
-        float32 error (the dot products' bound above, on the largest ``|taken|`` of each
-        coordinate) and four roundoffs of the terms summed widen it. Read only where the
-        box alone leaves candidates, since they cost p products per node."""
-        k = self.rows.shape[1]
-        rows = self.rows.reshape(6, self.nodes, k)[:, nodes].reshape(-1, k)
-        abs_rows = self.abs_rows.reshape(6, self.nodes, k)[:, nodes].reshape(-1, k)
+        midrange bounds from the coordinates of steps the history takes, ``taken`` (p, k)
+        (:meth:`ranges_and_taken`, :meth:`midrange_at`)."""
         mid, reach = b.high[:, nodes], b.slack[:, nodes]
-        mid_upper = self._mid_upper(mid[None], reach[None], taken[None], rows, abs_rows)[0]
+        mid_upper = self.midrange_at(mid.T, reach.T, nodes, np.zeros(nodes.size, dtype=int), taken[None]).T
         return SampledBounds(b.von_mises[nodes], b.von_mises_upper[nodes], mid, mid, reach, mid_upper)
 
-    def _mid_upper(
-        self, mid: np.ndarray, reach: np.ndarray, taken: np.ndarray, rows: np.ndarray, abs_rows: np.ndarray
+    def midrange_at(
+        self, mid: np.ndarray, reach: np.ndarray, nodes: np.ndarray, h: np.ndarray, taken: np.ndarray
     ) -> np.ndarray:
-        """(s, 6, n) float32: each component's midrange bound of :meth:`at_nodes` from the
-        values at the ``taken`` (s, p, k) coordinates, with the box's ``mid`` and
-        ``reach`` (s, 6, n) and its float32 ``rows`` and ``abs_rows`` (6 n, k) at those
-        nodes; inf where any term is not finite."""
-        t = taken.astype(np.float32)
-        values = np.matmul(t, rows.T)  # (s, p, 6 n)
-        low, high = (v.reshape(mid.shape) for v in (values.min(axis=1), values.max(axis=1)))
-        error = ((self.dot_error * np.abs(taken).max(axis=1)).astype(np.float32) @ abs_rows.T).reshape(mid.shape)
+        """(q, 6) float32 Pa: bounds of the midrange of each component at ``nodes`` (q,)
+        over the history ``h`` (q,) (ascending) of each entry, whose box gives ``mid`` and
+        ``reach`` (q, 6) there and which takes the basis coordinates ``taken[h]`` (s, p,
+        k) (:meth:`ranges_and_taken`): its maximum is at least the largest taken value,
+        its minimum at most the smallest (:func:`midrange_bound`). Their float32 error
+        (the dot products' bound of the class doc, ``|t| . |R_j|``, bounded by ``|m|_2
+        |R_j|_2`` with ``m`` the largest ``|taken|`` of each coordinate) and four
+        roundoffs of the terms summed widen it; inf where a term is not finite. Read only
+        where the box alone leaves candidates, since they cost p products per node."""
+        by_node, norms = self._node_major()
+        k = by_node.shape[2]
+        low, high = np.empty(mid.shape, dtype=np.float32), np.empty(mid.shape, dtype=np.float32)
+        t32 = taken.astype(np.float32)
+        for i, start, stop in history_blocks(h):
+            values = t32[i] @ by_node[nodes[start:stop]].reshape(-1, k).T  # (p, 6 m): one product per history
+            low[start:stop], high[start:stop] = values.min(axis=0).reshape(-1, 6), values.max(axis=0).reshape(-1, 6)
+        scale = self.dot_error * np.linalg.norm(np.abs(taken).max(axis=1), axis=1)  # (s,)
+        error = (scale[h][:, None] * norms[nodes]).astype(np.float32)
         error += np.float32(4.0 * FLOAT32_EPS) * (np.abs(mid) + reach + np.maximum(np.abs(low), np.abs(high)))
         out = midrange_bound(mid, reach, low, high, error)
         out[~np.isfinite(out)] = np.inf
@@ -446,28 +566,44 @@ def box_basis(S: np.ndarray, scale: np.ndarray, C: np.ndarray) -> np.ndarray | N
 
 
 def sampled_bounds(SP: np.ndarray, norms: np.ndarray, vm_norm: np.ndarray, sub: Subspace) -> SampledBounds:
-    """The nodes' sampled values and bounds (module doc). ``SP`` (6, n, r) the stresses
-    per unit of the subspace's coordinates (:func:`project`); ``norms`` (6, n)
-    :func:`component_norms` of the stress per unit scaled coefficient; ``vm_norm`` (n,) a
-    bound of each node's von Mises per unit scaled coefficient
+    """The nodes' sampled values and bounds (module doc) for one history: ``SP`` (6, n, r)
+    the stresses per unit of the subspace's coordinates (:func:`project`); ``norms`` (6,
+    n) :func:`component_norms` of the stress per unit scaled coefficient; ``vm_norm``
+    (n,) a bound of each node's von Mises per unit scaled coefficient
     (:func:`von_mises_norm_bound`, or the square root of its quadratic form's largest
-    eigenvalue)."""
-    a = sub.a[sub.sampled]  # (s, r)
+    eigenvalue). :func:`sampled_pairs` with every node paired with the one history."""
     n = SP.shape[1]
-    vm, high, low = np.empty(n), np.empty((6, n)), np.empty((6, n))
-    size = max(1, CHUNK_VALUES // (6 * a.shape[0]))
-    for start in range(0, n, size):
-        sl = slice(start, min(start + size, n))
-        # (6, s, m): the components at the read steps, nodes last, so that the extremes
+    at = sub.a[sub.sampled][None]
+    one = np.zeros(n, dtype=int)
+    return sampled_pairs(
+        np.ascontiguousarray(SP.transpose(1, 0, 2)), one, at, np.array([sub.delta]), np.array([sub.eps]), norms, vm_norm
+    )
+
+
+def sampled_pairs(
+    SP: np.ndarray, h: np.ndarray, at: np.ndarray, delta: np.ndarray, eps: np.ndarray, norms: np.ndarray, vm_norm: np.ndarray
+) -> SampledBounds:
+    """:class:`SampledBounds` (components first, (6, q)) of (history, node) pairs (module
+    doc): ``SP`` (q, 6, r) each pair's stresses per unit of its history's subspace
+    coordinates, ``h`` (q,) its history (ascending), ``at`` (s, M, r) each history's
+    read steps' coordinates, ``delta`` and ``eps`` (s,) its chord distance and residual,
+    ``norms`` (6, q) and ``vm_norm`` (q,) as for :func:`sampled_bounds`. One product per
+    history (and per :data:`CHUNK_VALUES` of its values)."""
+    q, _, r = SP.shape
+    vm, high, low = np.empty(q), np.empty((q, 6)), np.empty((q, 6))
+    for i, start, stop in history_blocks(h, max(1, CHUNK_VALUES // (6 * at.shape[1]))):
+        # (M, m, 6): the components at the read steps, steps first, so that the extremes
         # over the steps are elementwise maxima of contiguous rows
-        X = np.matmul(a, SP[:, sl].transpose(0, 2, 1))
-        high[:, sl], low[:, sl] = X.max(axis=1), X.min(axis=1)
-        vm[sl] = np.sqrt(von_mises_squared(X).max(axis=0))
+        X = (at[i] @ SP[start:stop].reshape(-1, r).T).reshape(at.shape[1], -1, 6)
+        high[start:stop], low[start:stop] = X.max(axis=0), X.min(axis=0)
+        vm[start:stop] = np.sqrt(von_mises_squared(X.transpose(2, 0, 1)).max(axis=0))
+    high, low = np.ascontiguousarray(high.T), np.ascontiguousarray(low.T)
+    delta, eps = delta[h], eps[h]
     # ||L SP||_F: the Frobenius norm of each node's von Mises factor in the r coordinates
-    vm_P = np.sqrt(von_mises_squared(SP).sum(axis=1))
-    upper = vm + vm_P * sub.delta + vm_norm * sub.eps
-    share = norms * sub.eps  # the residual's share of a component
-    slack = np.linalg.norm(SP, axis=2) * sub.delta + share
+    vm_P = np.sqrt(von_mises_squared(SP.transpose(1, 0, 2)).sum(axis=1))
+    upper = vm + vm_P * delta + vm_norm * eps
+    share = norms * eps  # the residual's share of a component
+    slack = np.linalg.norm(SP, axis=2).T * delta + share
     # a read step's value is its subspace value within the residual's share, so the
     # maximum lies in [high - share, high + slack] and the minimum in [low - slack, low +
     # share]: the midrange within half of slack + share of the sampled one

@@ -738,5 +738,27 @@ def test_the_subspace_bounds_hold_against_the_worst_residual_on_a_jagged_path(se
         assert np.all(high <= b.high + b.slack + tol) and np.all(low >= b.low - b.slack - tol)
         assert np.all(np.abs(0.5 * (high + low)) <= b.mid_upper + tol)
     brute = _chord_distance_brute(a, sampled)
-    np.testing.assert_allclose(screen.chord_gaps(a, sampled)[0], brute, rtol=1e-9, atol=1e-12 * np.abs(a).max())
+    np.testing.assert_allclose(screen.chord_gaps(a, sampled), brute, rtol=1e-9, atol=1e-12 * np.abs(a).max())
     assert brute.max() <= delta * (1 + 1e-12)
+
+
+def test_the_sampled_von_mises_bound_covers_the_steps_between_read_steps():
+    """A history inside its principal subspace (no residual) on a closed curve: between
+    two read steps the path bulges outside their chord, so von Mises there can exceed
+    both read values. The bound's chord term (``||L SP||_F delta``,
+    :func:`railcheck.fea.screen.sampled_pairs`) covers it at every node and step; the
+    read values alone do not. Planting the bound without that term fails."""
+    from railcheck.fea import screen
+
+    rng = np.random.default_rng(3)
+    n, T, k = 300, 720, 6
+    t = np.linspace(0.0, 2.0 * np.pi, T, endpoint=False)
+    C = np.zeros((T, k))
+    C[:, 0], C[:, 1], C[:, 2] = np.cos(t), np.sin(t), 0.3 * np.cos(3.0 * t)
+    S = rng.normal(size=(6, n, k))
+    p = screen.project_history(S, C)
+    b = screen.sampled_bounds(p.SP, p.norms, p.vm_norm, p.sub)
+    vm = von_mises(np.einsum("jnk,tk->jnt", S, C)).max(axis=1)
+    assert p.sub.eps < 1e-9 and p.sub.delta > 0.0
+    assert np.all(vm <= b.von_mises_upper * (1.0 + 1e-12))
+    assert np.any(vm > b.von_mises * (1.0 + 1e-6))  # the read steps alone miss some nodes' peaks

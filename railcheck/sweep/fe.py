@@ -58,6 +58,9 @@ GROUP_CANDIDATES = 8
 #: a group's histories are screened on the nodes that can matter to one of them when
 #: those are fewer than this share of the part's (:func:`_group_nodes`)
 GROUP_SHARE = 0.7
+#: histories x nodes whose box bounds a batch of :func:`_screened_group` holds at once
+#: (about 60 bytes each, in float32)
+BATCH_PAIRS = 1 << 18
 
 
 @dataclass(frozen=True)
@@ -181,11 +184,11 @@ def peak_and_fatigue(
 
 
 def _screened_group(screen: Screen, C: np.ndarray, factor=None, enough: float | None = None) -> np.ndarray:
-    """(S, 2): :func:`_screened` of each history of ``C`` (S, T, k) (unscaled), the box
-    bounds of all of them from one :class:`railcheck.fea.screen.CoefficientBox`
-    (matrix products, settings in groups of at most :data:`CHUNK_VALUES` values each),
-    over only the nodes that can matter to some history of the group
-    (:func:`_group_nodes`)."""
+    """(S, 2): the exact von Mises peak (Pa) and fatigue minimum of each history of ``C``
+    (S, T, k) (unscaled), the box bounds of all of them from one
+    :class:`railcheck.fea.screen.CoefficientBox` over only the nodes that can matter to
+    some history of the group (:func:`_group_nodes`), then screened together in batches
+    of at most :data:`BATCH_PAIRS` nodes x histories (:func:`_screened_batch`)."""
     out = np.empty((C.shape[0], 2))
     if not np.any(C):
         out[:] = 0.0, np.inf
@@ -197,12 +200,156 @@ def _screened_group(screen: Screen, C: np.ndarray, factor=None, enough: float | 
     loose = LOOSE_SHARE * screen.stress.shape[1]  # of the part's nodes
     if nodes.size < GROUP_SHARE * screen.stress.shape[1]:
         screen, group = _restricted(screen, nodes), group.restricted(nodes)
-    n = screen.stress.shape[1]
-    for g in _groups(C.shape[0], 12 * n):  # mid and reach: 2 x (6, n) per setting
-        for i, box in zip(range(g.start, g.stop), group.box_of(lo[g], hi[g])):
-            tighter = lambda nodes, b, i=i: group.at_nodes(b, nodes, taken[i])  # noqa: E731
-            out[i] = _screened(screen, C[i], box, factor, enough, low[i] ** 2, top[i], loose, tighter)
+    by_node = np.ascontiguousarray(screen.stress.transpose(1, 0, 2))  # (n, 6, k): a node's rows together
+    loaded = np.flatnonzero(np.any(C != 0.0, axis=(1, 2)))
+    out[:] = 0.0, np.inf  # an unloaded history: no stress anywhere
+    size = max(1, BATCH_PAIRS // screen.stress.shape[1])
+    for start in range(0, loaded.size, size):
+        g = loaded[start : start + size]
+        batch = _Batch(screen, by_node, group, C[g], taken[g], factor, enough)
+        out[g] = batch.screened(*group.box_arrays(lo[g], hi[g]), low[g] ** 2, top[g], loose)
     return out
+
+
+class _Batch:
+    """Histories ``C`` (s, T, k) (unscaled) of one group screened together: every stage
+    of :func:`_screened` on (history, node) pairs at once, in the histories' principal
+    subspaces (:func:`railcheck.fea.screen.principal_subspaces`); the exact values per
+    history. ``by_node`` (n, 6, k) the screen's stresses grouped by node; ``group`` the
+    group's box and ``taken`` (s, p, k) each history's coordinates at a few steps in its
+    basis (:meth:`railcheck.fea.screen.CoefficientBox.ranges_and_taken`). Pa throughout."""
+
+    def __init__(self, screen: Screen, by_node: np.ndarray, group, C: np.ndarray, taken: np.ndarray, factor, enough):
+        self.screen, self.by_node, self.group, self.C, self.taken = screen, by_node, group, C, taken
+        self.factor, self.enough = factor, enough
+        self.sub = screen_.principal_subspaces(C * screen.scale)
+        self.Pw = self.sub.P / screen.scale[None, :, None]  # (s, k, R) per unit coefficient
+
+    def fatigue_bound(self, b: screen_.SampledBounds) -> np.ndarray | None:
+        """The lower bound of the fatigue factor from bounds ``b``, or None (no fatigue)."""
+        return self.factor(*screen_.fatigue_bounds(b)[:2]) if self.factor is not None else None
+
+    def beats(self, b: screen_.SampledBounds, h: np.ndarray, low2: np.ndarray, top: np.ndarray, bound=None) -> np.ndarray:
+        """(q,) bool: the pairs (histories ``h``) whose bounds ``b`` can reach their
+        history's peak lower bound ``sqrt(low2)`` or fatigue upper bound ``top`` (s,)
+        (``bound``: their fatigue factor's lower bound, when already known)."""
+        keep = b.von_mises_upper * (1.0 + SLACK) >= np.sqrt(low2)[h]
+        if self.factor is not None:
+            bound = self.fatigue_bound(b) if bound is None else bound
+            can = bound <= top[h] * (1.0 + SLACK)
+            if self.enough is not None:
+                can &= bound < self.enough * (1.0 + SLACK)
+            keep |= can
+        return keep
+
+    def projected(self, h: np.ndarray, nodes: np.ndarray) -> np.ndarray:
+        """(q, 6, R) Pa per unit subspace coordinate of each pair's history (``h`` ascending)."""
+        k, R = self.Pw.shape[1:]
+        SP = np.empty((h.size, 6, R))
+        for i, start, stop in screen_.history_blocks(h):
+            SP[start:stop] = (self.by_node[nodes[start:stop]].reshape(-1, k) @ self.Pw[i]).reshape(-1, 6, R)
+        return SP
+
+    def sampled(self, SP: np.ndarray, h: np.ndarray, nodes: np.ndarray) -> screen_.SampledBounds:
+        """:func:`railcheck.fea.screen.sampled_pairs` of each pair (``h`` ascending)."""
+        sub, screen = self.sub, self.screen
+        at = np.take_along_axis(sub.a, sub.sampled[:, :, None], axis=1)  # (s, M, R)
+        return screen_.sampled_pairs(SP, h, at, sub.delta, sub.eps, screen.unit_rows[:, nodes], screen.vm_norm[nodes])
+
+    def exact(
+        self, h: np.ndarray, nodes: np.ndarray, peak: np.ndarray, fatigue: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """((s,) Pa^2, (s,)): each history's largest von Mises squared over every step at
+        its pairs' nodes marked ``peak`` (0 if none), and its smallest fatigue factor at
+        those marked ``fatigue`` (inf if none; each component's extremes over every
+        step). ``h`` (q,) ascending; one product per history (in chunks of
+        :data:`CHUNK_VALUES`)."""
+        s, T, k = self.C.shape
+        vm2, least = np.zeros(s), np.full(s, np.inf)
+        keep = peak | fatigue
+        h, nodes, peak, fatigue = h[keep], nodes[keep], peak[keep], fatigue[keep]
+        size = max(1, CHUNK_VALUES // (6 * T))
+        for i, start, stop in screen_.history_blocks(h):
+            for a in range(start, stop, size):
+                b = min(a + size, stop)
+                X = (self.by_node[nodes[a:b]].reshape(-1, k) @ self.C[i].T).reshape(b - a, 6, T).transpose(1, 0, 2)
+                if peak[a:b].any():
+                    vm2[i] = max(vm2[i], float(von_mises_squared(X[:, peak[a:b]]).max()))
+                if fatigue[a:b].any():
+                    Y = X[:, fatigue[a:b]]
+                    least[i] = min(least[i], float(self.factor(*alternating_and_mean(Y.max(axis=2), Y.min(axis=2))).min()))
+        return vm2, least
+
+    def thresholds(self, vm: np.ndarray, bound: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
+        """((s,) Pa^2, (s,)): exact values at the nodes of best sampled value among the
+        :data:`BOX_FIRST` of best box bound ``vm`` (von Mises, (s, n)) and ``bound``
+        (fatigue factor) of each history."""
+        first = _first_per_row(vm, BOX_FIRST, largest=True)
+        if bound is not None:
+            first = np.concatenate([first, _first_per_row(bound, BOX_FIRST, largest=False)], axis=1)
+        first = np.sort(first, axis=1)
+        repeated = np.zeros(first.shape, dtype=bool)
+        repeated[:, 1:] = first[:, 1:] == first[:, :-1]
+        s, F = first.shape
+        h, nodes = np.repeat(np.arange(s), F), first.ravel()
+        b = self.sampled(self.projected(h, nodes), h, nodes)
+        best = np.where(repeated, -np.inf, b.von_mises.reshape(s, F))
+        peak = np.zeros((s, F), dtype=bool)
+        np.put_along_axis(peak, _first_per_row(best, screen_.FIRST_NODES, largest=True), True, axis=1)
+        fatigue = np.zeros((s, F), dtype=bool)
+        if bound is not None:
+            f = np.where(repeated, np.inf, self.factor(*screen_.fatigue_bounds(b)[2:]).reshape(s, F))
+            np.put_along_axis(fatigue, _first_per_row(f, screen_.FIRST_NODES, largest=False), True, axis=1)
+        return self.exact(h, nodes, peak.ravel(), fatigue.ravel())
+
+    def screened(self, vm, mid, reach, low2, top, loose) -> np.ndarray:
+        """(s, 2): each history's exact peak (Pa) and fatigue minimum, from its group box
+        bounds ``vm`` (s, n), ``mid`` and ``reach`` (s, 6, n) (float32) and the group's
+        thresholds ``low2`` (Pa^2) and ``top`` (s,); a history whose group box keeps more
+        than ``loose`` nodes is screened alone (:func:`_screened`)."""
+        s = self.C.shape[0]
+        out = np.empty((s, 2))
+        mid6, reach6 = mid.transpose(1, 0, 2), reach.transpose(1, 0, 2)
+        box_factor = self.fatigue_bound(screen_.SampledBounds(vm, vm, mid6, mid6, reach6))
+        more_low2, less_top = self.thresholds(vm, box_factor)
+        low2, top = np.maximum(low2, more_low2), np.minimum(top, less_top)  # each an exact value at some node
+        every = np.arange(s)
+        keep = self.beats(screen_.SampledBounds(vm, vm, mid6, mid6, reach6), every[:, None], low2, top, box_factor)
+        h, nodes = np.nonzero(keep)
+        if self.factor is not None and h.size:
+            # the box's midrange bounds from the values each history takes, at these pairs only
+            m, r = mid[h, :, nodes], reach[h, :, nodes]  # (q, 6)
+            mid_upper = self.group.midrange_at(m, r, nodes, h, self.taken)
+            tighter = screen_.SampledBounds(vm[h, nodes], vm[h, nodes], m.T, m.T, r.T, mid_upper.T)
+            kept = self.beats(tighter, h, low2, top)
+            h, nodes = h[kept], nodes[kept]
+        alone = np.bincount(h, minlength=s) > loose  # the group's box is loose for these
+        for i in np.flatnonzero(alone):
+            box = screen_.SampledBounds(vm[i], vm[i], mid[i], mid[i], reach[i])
+            tighter_i = lambda some, b, i=i: self.group.at_nodes(b, some, self.taken[i])  # noqa: E731
+            out[i] = _screened(self.screen, self.C[i], box, self.factor, self.enough, low2[i], top[i], loose, tighter_i)
+        h, nodes = h[~alone[h]], nodes[~alone[h]]
+        b = self.sampled(self.projected(h, nodes), h, nodes)
+        peak = b.von_mises_upper * (1.0 + SLACK) >= np.sqrt(low2)[h]
+        fatigue = np.zeros_like(peak)
+        if self.factor is not None:
+            bound = self.fatigue_bound(b)
+            fatigue = bound <= top[h] * (1.0 + SLACK)
+            if self.enough is not None:
+                fatigue &= bound < self.enough * (1.0 + SLACK)
+        vm2, least = self.exact(h, nodes, peak, fatigue)
+        out[~alone, 0] = np.sqrt(np.maximum(low2, vm2))[~alone]
+        out[~alone, 1] = np.minimum(top, least)[~alone]
+        return out
+
+
+def _first_per_row(values: np.ndarray, count: int, largest: bool) -> np.ndarray:
+    """(s, min(count, n)): the column indices of each row's ``count`` largest (or
+    smallest) ``values`` (s, n), in no order."""
+    key = -values if largest else values
+    if key.shape[1] <= count:
+        return np.broadcast_to(np.arange(key.shape[1]), key.shape).copy()
+    return np.argpartition(key, count - 1, axis=1)[:, :count]
 
 
 def _union(lo: np.ndarray, hi: np.ndarray, scale: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
