@@ -762,3 +762,64 @@ def test_the_sampled_von_mises_bound_covers_the_steps_between_read_steps():
     assert p.sub.eps < 1e-9 and p.sub.delta > 0.0
     assert np.all(vm <= b.von_mises_upper * (1.0 + 1e-12))
     assert np.any(vm > b.von_mises * (1.0 + 1e-6))  # the read steps alone miss some nodes' peaks
+
+
+def test_the_group_box_s_midrange_bounds_of_many_histories_at_once_equal_each_alone():
+    """:meth:`railcheck.fea.screen.CoefficientBox.midrange_at` over (history, node) pairs
+    of several histories at once (one product per history) equals
+    :meth:`~railcheck.fea.screen.CoefficientBox.at_nodes` of each history alone, and every
+    component's midrange over every step lies within it. Histories with different means
+    and shapes, so that a pair read against another history's taken values would
+    differ. Plant: every history's pairs read with the first history's values."""
+    from railcheck.fea.screen import CoefficientBox
+
+    rng = np.random.default_rng(7)
+    n, T, k, s = 200, 360, 5, 4
+    t = np.linspace(0.0, 2.0 * np.pi, T, endpoint=False)
+    stress = rng.normal(size=(6, n, k))
+    C = np.stack(
+        [
+            np.cos((i + 1) * t[:, None] + rng.uniform(0, 6, k)) * rng.uniform(0.5, 3.0, k) + rng.normal(size=k) * i
+            for i in range(s)
+        ]
+    )
+    box = CoefficientBox(stress, np.ones(k))
+    lo, hi, taken = box.ranges_and_taken(C)
+    vm, mid, reach = box.box_arrays(lo, hi)
+    h, nodes = np.nonzero(rng.random((s, n)) < 0.5)
+    together = box.midrange_at(mid[h, :, nodes], reach[h, :, nodes], nodes, h, taken)
+    X = np.einsum("jnk,stk->sjnt", stress, C)
+    midrange = np.abs(0.5 * (X.max(axis=3) + X.min(axis=3)))  # (s, 6, n)
+    assert np.all(midrange[h, :, nodes] <= together * (1 + 1e-6) + 1e-9 * np.abs(X).max())
+    for i, b in enumerate(box.box_of(lo, hi)):
+        alone = box.at_nodes(b, nodes[h == i], taken[i])
+        np.testing.assert_array_equal(together[h == i], alone.mid_upper.T)
+
+
+def test_histories_in_their_subspaces_together_equal_each_alone():
+    """:func:`railcheck.fea.screen.principal_subspaces` of several histories at once (the
+    read steps of every path refined together) gives each history the same rank,
+    coordinates, residual, read steps, chord distance and touched steps as that history
+    alone. Histories of different reach and shape, so a tolerance or a chord taken from
+    another history would differ. Plant: every path refined to the first one's
+    tolerance."""
+    from railcheck.fea import screen
+
+    rng = np.random.default_rng(11)
+    T, k = 720, 12
+    t = np.linspace(0.0, 2.0 * np.pi, T, endpoint=False)[:, None]
+    C = np.stack(
+        [
+            np.cos(t * rng.integers(1, 4, k) + rng.uniform(0, 6, k)) * rng.uniform(0.1, 1.0, k) * 10.0**i
+            + 10.0**i * 0.02 * rng.normal(size=(T, k)) * (i == 2)
+            for i in range(4)
+        ]
+    )
+    together = screen.principal_subspaces(C)
+    for i in range(C.shape[0]):
+        one, alone = together.one(i), screen.principal_subspace(C[i])
+        np.testing.assert_allclose(one.a, alone.a, rtol=1e-12, atol=1e-12 * np.abs(alone.a).max())
+        assert one.eps == pytest.approx(alone.eps, rel=1e-9, abs=1e-12 * 10.0**i)
+        np.testing.assert_array_equal(one.sampled, alone.sampled)
+        np.testing.assert_array_equal(one.touched, alone.touched)
+        assert one.delta == pytest.approx(alone.delta, rel=1e-9)

@@ -17,12 +17,15 @@ Exact screening. For a setting with coefficient history ``c(t)`` (steps, k):
   their coefficients (:class:`railcheck.fea.screen.CoefficientBox`: every node's von Mises
   and component ranges over all steps bounded by two float32 matrix products); each
   history is then split into its principal subspace and a residual (``c_t = P a_t +
-  e_t``; :mod:`railcheck.fea.screen`) whose own box bounds the nodes the group's box
-  keeps. The nodes of best box bound, read at steps spaced along the history's path, give
-  exact thresholds (a lower bound of the peak, an upper bound of the fatigue minimum), and
-  only the nodes whose box bounds can beat them are read at those steps, whose bounds
-  leave the few that are evaluated at every step (:func:`_screened_group`,
-  :func:`_screened`). A many-coefficient history of a real setting lies close to a few
+  e_t``; :mod:`railcheck.fea.screen`). The nodes of best box bound, read at steps placed
+  along the history's path, give exact thresholds (a lower bound of the peak, an upper
+  bound of the fatigue minimum); only the nodes whose group box (with the values the
+  history takes) can beat them are read at those steps, whose bounds leave the few that
+  are evaluated at every step. The group's histories go through these stages together
+  (:class:`_Batch`: every stage on (history, node) pairs, one matrix product per history
+  where nodes are read); a history whose group box keeps more than
+  :data:`LOOSE_SHARE` of the nodes is screened alone, in its own subspace's box first
+  (:func:`_screened`). A many-coefficient history of a real setting lies close to a few
   directions, so a few thousand of 10,000-30,000 nodes are read and a few to a few
   hundred evaluated at every step.
 
