@@ -271,16 +271,14 @@ class _Batch:
         vm2, least = np.zeros(s), np.full(s, np.inf)
         keep = peak | fatigue
         h, nodes, peak, fatigue = h[keep], nodes[keep], peak[keep], fatigue[keep]
-        size = max(1, CHUNK_VALUES // (6 * T))
-        for i, start, stop in screen_.history_blocks(h):
-            for a in range(start, stop, size):
-                b = min(a + size, stop)
-                X = (self.by_node[nodes[a:b]].reshape(-1, k) @ self.C[i].T).reshape(b - a, 6, T).transpose(1, 0, 2)
-                if peak[a:b].any():
-                    vm2[i] = max(vm2[i], float(von_mises_squared(X[:, peak[a:b]]).max()))
-                if fatigue[a:b].any():
-                    Y = X[:, fatigue[a:b]]
-                    least[i] = min(least[i], float(self.factor(*alternating_and_mean(Y.max(axis=2), Y.min(axis=2))).min()))
+        for i, a, b in screen_.history_blocks(h, max(1, CHUNK_VALUES // (6 * T))):
+            X = (self.by_node[nodes[a:b]].reshape(-1, k) @ self.C[i].T).reshape(b - a, 6, T)  # node, component, step
+            p, f = peak[a:b], fatigue[a:b]
+            if p.any():
+                vm2[i] = max(vm2[i], float(von_mises_squared(X[p].transpose(1, 0, 2)).max()))
+            if f.any():  # the extremes over the steps of every row (contiguous), then the nodes asked
+                high, low = X.max(axis=2)[f].T, X.min(axis=2)[f].T
+                least[i] = min(least[i], float(self.factor(*alternating_and_mean(high, low)).min()))
         return vm2, least
 
     def thresholds(self, vm: np.ndarray, bound: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
