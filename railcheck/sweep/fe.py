@@ -191,7 +191,7 @@ def _screened_group(screen: Screen, C: np.ndarray, factor=None, enough: float | 
     (S, T, k) (unscaled), the box bounds of all of them from one
     :class:`railcheck.fea.screen.CoefficientBox` over only the nodes that can matter to
     some history of the group (:func:`_group_nodes`), then screened together in batches
-    of at most :data:`BATCH_PAIRS` nodes x histories (:func:`_screened_batch`)."""
+    of at most :data:`BATCH_PAIRS` nodes x histories (:class:`_Batch`)."""
     out = np.empty((C.shape[0], 2))
     if not np.any(C):
         out[:] = 0.0, np.inf
