@@ -236,14 +236,7 @@ class _Batch:
         """(q,) bool: the pairs (histories ``h``) whose bounds ``b`` can reach their
         history's peak lower bound ``sqrt(low2)`` or fatigue upper bound ``top`` (s,)
         (``bound``: their fatigue factor's lower bound, when already known)."""
-        keep = b.von_mises_upper * (1.0 + SLACK) >= np.sqrt(low2)[h]
-        if self.factor is not None:
-            bound = self.fatigue_bound(b) if bound is None else bound
-            can = bound <= top[h] * (1.0 + SLACK)
-            if self.enough is not None:
-                can &= bound < self.enough * (1.0 + SLACK)
-            keep |= can
-        return keep
+        return _can_beat(b, np.sqrt(low2)[h], top[h], self.factor, self.enough, bound)
 
     def projected(self, h: np.ndarray, nodes: np.ndarray) -> np.ndarray:
         """(q, 6, R) Pa per unit subspace coordinate of each pair's history (``h`` ascending)."""
@@ -331,17 +324,37 @@ class _Batch:
             out[i] = _screened(self.screen, self.C[i], box, self.factor, self.enough, low2[i], top[i], loose, tighter_i)
         h, nodes = h[~alone[h]], nodes[~alone[h]]
         b = self.sampled(self.projected(h, nodes), h, nodes)
-        peak = b.von_mises_upper * (1.0 + SLACK) >= np.sqrt(low2)[h]
+        peak = _can_beat(b, np.sqrt(low2)[h], top[h], None, None)
         fatigue = np.zeros_like(peak)
         if self.factor is not None:
-            bound = self.fatigue_bound(b)
-            fatigue = bound <= top[h] * (1.0 + SLACK)
-            if self.enough is not None:
-                fatigue &= bound < self.enough * (1.0 + SLACK)
+            fatigue = _fatigue_can(self.fatigue_bound(b), top[h], self.enough)
         vm2, least = self.exact(h, nodes, peak, fatigue)
         out[~alone, 0] = np.sqrt(np.maximum(low2, vm2))[~alone]
         out[~alone, 1] = np.minimum(top, least)[~alone]
         return out
+
+
+def _can_beat(b: screen_.SampledBounds, low, top, factor=None, enough: float | None = None, bound=None) -> np.ndarray:
+    """bool, one per node (or pair) of the bounds ``b``: whether its von Mises bound can
+    reach ``low`` (Pa, a lower bound of the peak: an exact value at some node) or, with a
+    ``factor`` (sa, sm) -> safety factor, its fatigue factor's lower bound (``bound``,
+    when already known) can fall to ``top`` (an upper bound of the minimum) and below
+    ``enough`` (:func:`_fatigue_can`). ``low`` and ``top`` broadcast against the nodes;
+    both comparisons widened by :data:`SLACK` (rounding)."""
+    keep = b.von_mises_upper * (1.0 + SLACK) >= low
+    if factor is not None:
+        keep |= _fatigue_can(factor(*screen_.fatigue_bounds(b)[:2]) if bound is None else bound, top, enough)
+    return keep
+
+
+def _fatigue_can(bound: np.ndarray, top, enough: float | None = None) -> np.ndarray:
+    """bool: whether a fatigue factor's lower bound ``bound`` can fall to ``top`` (an
+    upper bound of the minimum) and, with ``enough`` (a factor beyond which the exact
+    value does not matter, :func:`fatigue_min`), below it; widened by :data:`SLACK`."""
+    can = bound <= top * (1.0 + SLACK)
+    if enough is not None:
+        can &= bound < enough * (1.0 + SLACK)
+    return can
 
 
 def _first_per_row(values: np.ndarray, count: int, largest: bool) -> np.ndarray:
@@ -460,14 +473,7 @@ def _screened(
     def beats(bounds, low2, top, bound=None):
         """Nodes whose bounds can reach the peak's lower bound or the fatigue minimum's
         upper one (``bound``: their fatigue factor's lower bound, when already known)."""
-        keep = bounds.von_mises_upper * (1.0 + SLACK) >= np.sqrt(low2)
-        if factor is not None:
-            bound = factor(*screen_.fatigue_bounds(bounds)[:2]) if bound is None else bound
-            can = bound <= top * (1.0 + SLACK)
-            if enough is not None:
-                can &= bound < enough * (1.0 + SLACK)
-            keep |= can
-        return keep
+        return _can_beat(bounds, np.sqrt(low2), top, factor, enough, bound)
 
     def thresholds(bounds, bound):
         """(Pa^2, factor): exact values at the nodes of best sampled value among the
@@ -508,11 +514,7 @@ def _screened(
     peak = float(np.sqrt(max(low2, _exact_von_mises2(screen, nodes[screen_.peak_candidates(b, np.sqrt(low2))], c))))
     if factor is None:
         return peak, np.inf
-    bound = factor(*screen_.fatigue_bounds(b)[:2])
-    can = bound <= top * (1.0 + SLACK)
-    if enough is not None:
-        can &= bound < enough * (1.0 + SLACK)
-    rest = nodes[can]
+    rest = nodes[_fatigue_can(factor(*screen_.fatigue_bounds(b)[:2]), top, enough)]
     return peak, min(float(top), float(_fatigue_exact(screen, rest, c[None], factor)[0])) if rest.size else float(top)
 
 
@@ -553,9 +555,7 @@ def fatigue_min(
     n = screen.stress.shape[1]
     for g in _groups(S_, 12 * n):
         bound = factor(*_fatigue_bounds(screen.stress, c0[g], E[g]))  # (n, s)
-        can = bound <= best[g][None, :] * (1.0 + SLACK)
-        if enough is not None:
-            can &= bound < enough * (1.0 + SLACK)
+        can = _fatigue_can(bound, best[g][None, :], enough)
         for h in _groups(can.shape[1], 6 * max(1, int(can.sum(axis=0).max())) * T):
             nodes = np.flatnonzero(can[:, h].any(axis=1))
             if nodes.size:
