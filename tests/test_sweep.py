@@ -648,7 +648,7 @@ def test_a_chunk_s_fe_settings_screened_together_equal_each_group_s_alone(monkey
     to rounding (each a maximum or minimum of the same exact values) and the same
     verdicts and motor demand at the safe speed."""
     from railcheck.progress import Progress
-    from railcheck.sweep import chunk
+    from railcheck.sweep import chunk, fe
     from railcheck.sweep.run import _context, prepare_models, sweep_settings
 
     text = FE_SWEEP.replace("parts = [", 'support = "free-body"\nparts = [')
@@ -663,8 +663,14 @@ def test_a_chunk_s_fe_settings_screened_together_equal_each_group_s_alone(monkey
     for size in (1, 5, 10**6):
         monkeypatch.setattr(chunk, "group_size", lambda steps, size=size: size)
         results.append(chunk.evaluate_chunk(ctx, lengths, ids))
+    with monkeypatch.context() as m:  # every hole pair's histories cut into groups of two
+        m.setattr(fe, "GROUP_MOST", 2)
+        results.insert(0, chunk.evaluate_chunk(ctx, lengths, ids))
     whole = results[-1]
     assert np.isfinite(whole["crank-rail_stress_MPa"]).sum() >= 4  # settings with FE in several groups
+    # the settings with FE are those the run's chunks count as checked (one row per speed)
+    checked = np.repeat(chunk.checked_settings(ctx, lengths), len(scene.sweep.speeds))
+    assert np.isfinite(whole["crank-rail_stress_MPa"]).tolist() == checked.tolist()
     # the motor demand is each setting's own at its own safe speed: peak power = peak torque x omega
     safe = np.isfinite(whole["safe_speed_Hz"])
     assert safe.sum() >= 4
@@ -682,6 +688,25 @@ def test_a_chunk_s_fe_settings_screened_together_equal_each_group_s_alone(monkey
                 assert other[key].tolist() == value.tolist(), key
             else:
                 np.testing.assert_allclose(other[key], value, rtol=1e-12, err_msg=key)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_chunks_hold_consecutive_settings_within_both_limits(seed):
+    """A run's chunks cover every setting once, in order; each holds at most ``size``
+    settings and at most ``checked_size`` settings checked by FE, and ends only where
+    the next setting would break a limit (or the settings end)."""
+    from railcheck.sweep.run import _chunks
+
+    rng = np.random.default_rng(seed)
+    checked = rng.random(int(rng.integers(1, 3000))) < rng.choice([0.0, 0.04, 0.5, 1.0])
+    size, checked_size = int(rng.integers(1, 400)), int(rng.integers(1, 40))
+    chunks = list(_chunks(checked, size, checked_size))
+    assert np.concatenate(chunks).tolist() == list(range(checked.size))
+    for ids in chunks:
+        assert ids.size <= size and checked[ids].sum() <= checked_size
+        end = ids[-1] + 1
+        if end < checked.size:  # the next setting would break a limit
+            assert ids.size == size or checked[ids].sum() + checked[end] > checked_size
 
 
 def test_a_cluster_left_half_started_by_an_interrupt_closes_quietly_at_exit(monkeypatch):

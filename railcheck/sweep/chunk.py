@@ -66,6 +66,19 @@ def configuration_flags(ctx: SweepContext, lengths: dict) -> dict:
     return flags
 
 
+def passes_checks(flags: dict) -> np.ndarray:
+    """(S,) True where a setting passes every configuration check of ``flags``
+    (:func:`configuration_flags`; ``mu_min``/``mu_max`` are angles, not checks)."""
+    return np.logical_and.reduce([v for k, v in flags.items() if k not in ("mu_min", "mu_max")])
+
+
+def checked_settings(ctx: SweepContext, lengths: dict) -> np.ndarray:
+    """(S,) True where a setting's parts are checked by FE when the scene has parts to
+    check: it revolves and passes every configuration check."""
+    flags = configuration_flags(ctx, lengths)
+    return passes_checks(flags) & revolvable(ctx, lengths, flags)
+
+
 def revolvable(ctx: SweepContext, lengths: dict, flags: dict) -> np.ndarray:
     """(S,) True where the crank makes a full revolution away from a toggle."""
     if ctx.kind == "four-bar":
@@ -173,15 +186,21 @@ def motor_curve_speeds(speeds) -> np.ndarray:
     return np.linspace(0.0, MOTOR_CURVE_SPAN * max(speeds), MOTOR_CURVE_POINTS)
 
 
-def torque_at(loads: Loads, s: np.ndarray, rows: np.ndarray) -> np.ndarray:
-    """(R, T) N m: the motor torque over the cycle of the revolving settings ``rows`` at
-    their speed ratios squared ``s`` (R,): the gravity part plus ``s`` times the inertial
-    part."""
-    out = np.zeros((rows.size, loads.motion.omega.shape[2]))
-    if loads.constant is not None:
-        out += loads.constant.torque[rows]
-    if loads.inertial is not None:
-        out += s[:, None] * loads.inertial.torque[rows]
+def torque_parts(loads: Loads, rows: np.ndarray) -> tuple[np.ndarray | None, np.ndarray | None]:
+    """(gravity part, inertial part at the first speed) of the motor torque (R, T) N m over
+    the cycle of the revolving settings ``rows``, each None without that effect."""
+    return tuple(None if d is None else d.torque[rows] for d in (loads.constant, loads.inertial))  # type: ignore[return-value]
+
+
+def torque_at(parts: tuple[np.ndarray | None, np.ndarray | None], s: np.ndarray) -> np.ndarray:
+    """(R, T) N m: the motor torque over the cycle at speed ratios squared ``s`` (R,) from
+    its :func:`torque_parts`: the gravity part plus ``s`` times the inertial part."""
+    constant, inertial = parts
+    out = np.zeros(next(p for p in parts if p is not None).shape)
+    if constant is not None:
+        out += constant
+    if inertial is not None:
+        out += s[:, None] * inertial
     return out
 
 
@@ -509,7 +528,7 @@ def evaluate_chunk(ctx: SweepContext, lengths: dict, ids: np.ndarray) -> dict:
     n = ids.size
     flags = configuration_flags(ctx, lengths)
     checks = {k: v for k, v in flags.items() if k not in ("mu_min", "mu_max")}
-    passed = np.logical_and.reduce(list(checks.values()))
+    passed = passes_checks(flags)
     idx = np.flatnonzero(revolvable(ctx, lengths, flags))
     rev = revolving_results(ctx, lengths, idx, passed)
     fe = (rev["fe_at"], rev["fe"]) if "fe" in rev else None
@@ -541,13 +560,13 @@ def group_size(steps: int) -> int:
 
 def revolving_results(ctx: SweepContext, lengths: dict, idx: np.ndarray, passed: np.ndarray) -> dict:
     """What the revolving settings ``idx`` give, the kinematics evaluated in groups of
-    :func:`group_size` settings (a group's loads are dropped once reduced, unless it holds
-    settings with FE: those are evaluated together once every group is): ``kin``, per
-    speed the kinematic columns (:func:`motor_and_bearings`); ``curve``, the motor demand
-    at :func:`motor_curve_speeds`; for the settings that also pass the checks (with parts
-    to check) ``fe_at`` (their rows in the chunk), ``fe`` (:func:`fe_results`) and
-    ``at_safe`` (the motor demand at their safe speed). Every array's first axis runs
-    over the revolving settings, or over ``fe_at``."""
+    :func:`group_size` settings (a group's loads are dropped once reduced; of its settings
+    with FE only their coefficient histories and motor torque are held, until every
+    group is done): ``kin``, per speed the kinematic columns (:func:`motor_and_bearings`);
+    ``curve``, the motor demand at :func:`motor_curve_speeds`; for the settings that also
+    pass the checks (with parts to check) ``fe_at`` (their rows in the chunk), ``fe``
+    (:func:`fe_results`) and ``at_safe`` (the motor demand at their safe speed). Every
+    array's first axis runs over the revolving settings, or over ``fe_at``."""
     size = group_size(ctx.steps)
     groups = [_revolving_group(ctx, lengths, idx[a : a + size], passed) for a in range(0, idx.size, size)]
     if not groups:
@@ -556,8 +575,8 @@ def revolving_results(ctx: SweepContext, lengths: dict, idx: np.ndarray, passed:
     with_fe = [g for g in groups if "fe_sel" in g]
     if with_fe:
         # every group's FE settings at once: the settings that share a part's hole pair are
-        # screened together (:func:`railcheck.sweep.fe.peak_and_fatigue`), and a chunk is
-        # sized to hold every setting's loads (:func:`railcheck.sweep.run.chunk_size`)
+        # screened together (:func:`railcheck.sweep.fe.peak_and_fatigue`); a chunk holds at
+        # most :func:`railcheck.sweep.run.checked_chunk_size` of them
         res = fe_results(
             ctx,
             joined_histories([g["fe_histories"] for g in with_fe]),
@@ -569,7 +588,7 @@ def revolving_results(ctx: SweepContext, lengths: dict, idx: np.ndarray, passed:
         out |= {
             "fe_at": np.concatenate([g["fe_at"] for g in with_fe]),
             "fe": res,
-            "at_safe": concat_trees([_demand_at_safe(ctx, g["loads"], g["fe_sel"], s) for g, s in zip(with_fe, safe)]),
+            "at_safe": concat_trees([_demand_at_safe(ctx, g["fe_torque"], s) for g, s in zip(with_fe, safe)]),
         }
     return out
 
@@ -578,7 +597,8 @@ def _revolving_group(ctx: SweepContext, lengths: dict, rows: np.ndarray, passed:
     """:func:`revolving_results` of one group of revolving settings ``rows``: its
     kinematic columns and motor curve, and for its settings that pass the checks (with
     parts to check) their rows in the chunk ``fe_at``, positions in the group
-    ``fe_sel``, bar lengths, FE histories (:func:`fe_histories`) and the group's loads."""
+    ``fe_sel``, bar lengths, FE histories (:func:`fe_histories`) and motor torque
+    (:func:`torque_parts`)."""
     sub = {b: v[rows] for b, v in lengths.items()}
     loads = loads_of(ctx, sub)
     out = {
@@ -592,17 +612,20 @@ def _revolving_group(ctx: SweepContext, lengths: dict, rows: np.ndarray, passed:
             "fe_sel": fe_sel,
             "fe_lengths": {b: v[fe_sel] for b, v in sub.items()},
             "fe_histories": fe_histories(ctx, loads, fe_sel),
-            "loads": loads,
+            "fe_torque": torque_parts(loads, fe_sel),
         }
     return out
 
 
-def _demand_at_safe(ctx: SweepContext, loads: Loads, sel: np.ndarray, safe_s: np.ndarray) -> dict:
-    """The motor's peak and RMS torque (N m) and peak power (W) of the settings ``sel`` at
-    their safe speed ratio squared ``safe_s``: NaN where the safe speed is not finite."""
-    out = {k: np.full(sel.size, np.nan) for k in ("torque_peak_at_safe_Nm", "torque_rms_at_safe_Nm", "power_peak_at_safe_W")}
+def _demand_at_safe(ctx: SweepContext, torque: tuple, safe_s: np.ndarray) -> dict:
+    """The motor's peak and RMS torque (N m) and peak power (W) of settings whose
+    :func:`torque_parts` are ``torque`` at their safe speed ratio squared ``safe_s``: NaN
+    where the safe speed is not finite."""
+    out = {
+        k: np.full(safe_s.size, np.nan) for k in ("torque_peak_at_safe_Nm", "torque_rms_at_safe_Nm", "power_peak_at_safe_W")
+    }
     finite = np.isfinite(safe_s)
-    T = torque_at(loads, safe_s[finite], sel[finite])
+    T = torque_at(tuple(None if p is None else p[finite] for p in torque), safe_s[finite])  # type: ignore[arg-type]
     peak = np.abs(T).max(axis=1)
     out["torque_peak_at_safe_Nm"][finite] = peak
     out["torque_rms_at_safe_Nm"][finite] = np.sqrt(np.mean(T**2, axis=1))

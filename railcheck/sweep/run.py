@@ -31,7 +31,14 @@ from railcheck.geometry.catalogue import with_overrides
 from railcheck.geometry.mesher import estimate_elements
 from railcheck.parts import PARTS, geometry_of, rail_length
 from railcheck.progress import Progress
-from railcheck.sweep.chunk import MOTOR_CURVE_KEY, SweepContext, evaluate_chunk, group_size, motor_curve_speeds
+from railcheck.sweep.chunk import (
+    MOTOR_CURVE_KEY,
+    SweepContext,
+    checked_settings,
+    evaluate_chunk,
+    group_size,
+    motor_curve_speeds,
+)
 from railcheck.sweep.grid import narrowed, rig_grid, settings
 from railcheck.sweep.maps import Aggregate, summary_of, write_maps, write_motor_plot
 from railcheck.sweep.parts import applicable, build_part_model, dynamic_in_sweep, is_free_rail
@@ -46,8 +53,19 @@ BYTES_PER_SETTING_STEP = 3_000
 #: bytes per setting and speed of a chunk's table rows and motor curve (1.4 kB measured
 #: with tracemalloc at the peak of a 4,096-setting kinematic chunk, rounded up)
 BYTES_PER_ROW = 4_000
+#: bytes per crank step of a setting with FE held in its chunk until the chunk's FE
+#: settings are screened together (every part's coefficient histories, the motor torque,
+#: the screens' temporaries; 1.5 kB measured with tracemalloc at the peak of a whole-rig
+#: chunk of 192 of them, rounded up)
+BYTES_PER_CHECKED_STEP = 2_000
 #: settings per chunk at most (a chunk is one row group of the table)
 MAX_CHUNK = 4096
+#: settings with FE per chunk at most. A chunk's settings that share a part's hole pair
+#: are screened together (:func:`railcheck.sweep.fe.peak_and_fatigue`), so more of them
+#: make larger groups (the rocker rail's hole pair changes every 41 settings of the grid);
+#: fewer share the FE out more evenly between workers (a setting with FE costs about
+#: 25 ms, the whole rig's 4,349 about two worker-minutes)
+CHECKED_CHUNK = 192
 
 
 @dataclass(frozen=True)
@@ -88,11 +106,7 @@ def chunk_size(scene) -> int:
     """Settings per chunk, the most whose rows (:data:`BYTES_PER_ROW`) and one group of
     revolving settings' loads (:func:`railcheck.sweep.chunk.group_size` settings,
     :data:`BYTES_PER_SETTING_STEP`) fit the working-memory budget; at most
-    :data:`MAX_CHUNK`, and :data:`DYNAMIC_CHUNK` with a dynamic response. With parts to
-    check, as many as if every setting's loads were held at once (237 at 720 steps and
-    512 MB), as before the groups: the FE settings cluster in the grid (a 4,096-setting
-    chunk of the whole rig holds up to 622 of them, about 7 worker-minutes), so small
-    chunks share them out evenly."""
+    :data:`MAX_CHUNK`, and :data:`DYNAMIC_CHUNK` with a dynamic response."""
     steps, row = scene.sweep.steps, BYTES_PER_ROW * len(scene.sweep.speeds)
     per_group_setting = steps * BYTES_PER_SETTING_STEP
     group = group_size(steps)
@@ -100,10 +114,33 @@ def chunk_size(scene) -> int:
         size = scene.sweep.memory // (per_group_setting + row)
     else:
         size = (scene.sweep.memory - group * per_group_setting) // row
-    if scene.check is not None:  # FE settings cost up to a second each: small chunks share them out
-        size = min(size, scene.sweep.memory // (per_group_setting + row))
     size = int(max(1, min(MAX_CHUNK, size)))
     return min(size, DYNAMIC_CHUNK) if dynamic_in_sweep(scene) else size
+
+
+def checked_chunk_size(scene) -> int:
+    """Settings with FE per chunk at most: the most whose held histories
+    (:data:`BYTES_PER_CHECKED_STEP`) fit the working-memory budget beside the chunk's rows
+    and one group's loads (:func:`chunk_size`); at most :data:`CHECKED_CHUNK`, and
+    :data:`DYNAMIC_CHUNK` with a dynamic response."""
+    steps, row = scene.sweep.steps, BYTES_PER_ROW * len(scene.sweep.speeds)
+    group = min(group_size(steps), chunk_size(scene))
+    left = scene.sweep.memory - group * steps * BYTES_PER_SETTING_STEP - chunk_size(scene) * row
+    size = int(max(1, min(CHECKED_CHUNK, left // (steps * BYTES_PER_CHECKED_STEP))))
+    return min(size, DYNAMIC_CHUNK) if dynamic_in_sweep(scene) else size
+
+
+#: finished chunks held at most while an earlier one still runs (and fewer when their
+#: rows would not fit the working-memory budget: :func:`held_chunks`)
+HELD_CHUNKS = 256
+
+
+def held_chunks(scene) -> int:
+    """Finished chunks held at most while an earlier one still runs: as many as their
+    rows (:data:`BYTES_PER_ROW`) fit the working-memory budget, at least 4 and at most
+    :data:`HELD_CHUNKS`."""
+    rows = chunk_size(scene) * BYTES_PER_ROW * len(scene.sweep.speeds)
+    return int(max(4, min(HELD_CHUNKS, scene.sweep.memory // rows)))
 
 
 #: the address schemes a Dask scheduler listens on
@@ -311,7 +348,9 @@ def _run_into(scene, directory: Path, scheduler, workers, serial, progress, dask
         ", ".join(f"{k}: {v['crank'].size} settings" for k, v in by_kind.items())
         + f" x {len(scene.sweep.speeds)} speed(s), {scene.sweep.steps} steps",
     )
-    large = sum(v["crank"].size for v in by_kind.values()) > 4 * chunk_size(scene)
+    checked = {kind: _checked(scene, kind, lengths) for kind, lengths in by_kind.items()}
+    total, total_checked = sum(c.size for c in checked.values()), sum(int(c.sum()) for c in checked.values())
+    large = total > 4 * chunk_size(scene) or total_checked > 4 * checked_chunk_size(scene)
     use_dask = (scheduler is not None or large) if dask is None else dask
     # the parts in two processes when the settings run in parallel too
     models = prepare_models(scene, by_kind, progress, min(2, os.cpu_count() or 1) if use_dask and not serial else 1)
@@ -321,10 +360,10 @@ def _run_into(scene, directory: Path, scheduler, workers, serial, progress, dask
     aggregates = {
         kind: Aggregate(scene, kind, by_kind[kind], motor_curve_speeds(scene.sweep.speeds), models[kind]) for kind in kinds
     }
-    jobs = [(lambda kind=kind: _context(scene, kind, models[kind]), by_kind[kind], kind) for kind in kinds]
+    jobs = [(lambda kind=kind: _context(scene, kind, models[kind]), by_kind[kind], kind, checked[kind]) for kind in kinds]
     with _Executor(scheduler, workers, use_dask and not serial, progress, directory) as executor, ExitStack() as stack:
         writers = {kind: stack.enter_context(TableWriter(tables[kind], scene.sweep.format)) for kind in kinds}
-        for j, columns in executor.map_jobs(jobs, chunk_size(scene)):
+        for j, columns in executor.map_jobs(jobs, chunk_size(scene), checked_chunk_size(scene), held_chunks(scene)):
             curve = columns.pop(MOTOR_CURVE_KEY)
             writers[kinds[j]].write(columns)
             aggregates[kinds[j]].add(columns, curve)
@@ -339,6 +378,14 @@ def _run_into(scene, directory: Path, scheduler, workers, serial, progress, dask
     timings = dict(zip(("prepare", "chunks", "report"), np.diff(clock)))
     atomic_write_text(directory / "timings.json", to_json(timings) + "\n")
     return summary, tables, timings
+
+
+def _checked(scene, kind: str, lengths: dict) -> np.ndarray:
+    """(N,) True where the sweep checks a setting's parts by FE
+    (:func:`railcheck.sweep.chunk.checked_settings`; none without parts to check)."""
+    if scene.check is None:
+        return np.zeros(lengths["crank"].size, dtype=bool)
+    return checked_settings(_context(scene, kind, {}), lengths)
 
 
 def _context(scene, kind: str, models: dict):
@@ -435,30 +482,33 @@ class _Executor:
             self.cluster.close()
         return False
 
-    def map_jobs(self, jobs: list, size: int):
+    def map_jobs(self, jobs: list, size: int, checked_size: int, held: int = HELD_CHUNKS):
         """Yield ``(job index, columns)`` of every chunk of every job ``(make_context,
-        lengths, kind)`` in order, job by job, with a progress line every few seconds
-        (``make_context()`` builds the job's context when its first chunk is due)."""
+        lengths, kind, checked)`` in order, job by job, with a progress line every few
+        seconds (``make_context()`` builds the job's context when its first chunk is due;
+        chunks as :func:`_chunks`; on Dask at most ``held`` finished chunks wait for an
+        earlier one)."""
         if not self.use_dask:
-            for j, (make_context, lengths, kind) in enumerate(jobs):
+            for j, (make_context, lengths, kind, checked) in enumerate(jobs):
                 ctx, total = make_context(), lengths["crank"].size
                 meter = _Meter(self.progress, kind, total)
-                for ids in _chunks(total, size):
+                for ids in _chunks(checked, size, checked_size):
                     cols = evaluate_chunk(ctx, {b: v[ids] for b, v in lengths.items()}, ids)
                     meter.done(ids.size)
                     yield j, cols
             return
-        yield from self._dask_jobs(jobs, size)
+        yield from self._dask_jobs(jobs, size, checked_size, held)
 
-    def _dask_jobs(self, jobs: list, size: int):
+    def _dask_jobs(self, jobs: list, size: int, checked_size: int, held: int):
         from dask.distributed import wait as wait_for
 
         workers = max(1, len(self.client.scheduler_info()["workers"]))
         # each kind in at least two chunks per worker, so that none runs alone
+        share = lambda n, most: max(1, min(most, -(-n // (2 * workers))))  # noqa: E731
         tasks = [
             (j, ids)
-            for j, (_, lengths, _) in enumerate(jobs)
-            for ids in _chunks(lengths["crank"].size, max(1, min(size, -(-lengths["crank"].size // (2 * workers)))))
+            for j, (_, lengths, _, checked) in enumerate(jobs)
+            for ids in _chunks(checked, share(checked.size, size), share(int(checked.sum()), checked_size))
         ]
         meters: dict[int, _Meter] = {}
         contexts: dict[int, object] = {}
@@ -467,7 +517,7 @@ class _Executor:
         submitted = done = 0
         try:
             while done < len(tasks):
-                while submitted < len(tasks) and len(running) < 2 * workers and len(finished) < HELD_CHUNKS:
+                while submitted < len(tasks) and len(running) < 2 * workers and len(finished) < held:
                     j, ids = tasks[submitted]
                     if j not in contexts:
                         contexts[j] = self._context_ref(j, jobs[j][0]())
@@ -509,13 +559,17 @@ class _Executor:
             remove_shared(Path(ref))
 
 
-#: finished chunks held at most while an earlier one still runs
-HELD_CHUNKS = 256
-
-
-def _chunks(total: int, size: int):
-    """The settings' indices of each chunk of at most ``size`` of ``total`` settings."""
-    return (np.arange(a, min(a + size, total)) for a in range(0, total, size))
+def _chunks(checked: np.ndarray, size: int, checked_size: int):
+    """The settings' indices of each chunk: consecutive settings, at most ``size`` of them
+    and at most ``checked_size`` checked by FE (``checked`` (N,) bool, one per setting)."""
+    count = np.concatenate([[0], np.cumsum(checked)])  # checked settings before each
+    a = 0
+    while a < checked.size:
+        # the last end b whose chunk [a, b) holds at most checked_size checked settings
+        b = int(np.searchsorted(count, count[a] + checked_size, side="right")) - 1
+        b = max(a + 1, min(b, a + size))
+        yield np.arange(a, b)
+        a = b
 
 
 def _evaluate(context, lengths: dict, ids: np.ndarray) -> dict:
