@@ -326,6 +326,13 @@ class SampledBounds:
     slack: np.ndarray
     mid_upper: np.ndarray | None = None
 
+    @classmethod
+    def box(cls, vm: np.ndarray, mid: np.ndarray, reach: np.ndarray, mid_upper: np.ndarray | None = None):
+        """Bounds that read no step: every step's components within ``mid +- reach``,
+        von Mises at most ``vm``; ``high`` and ``low`` are both ``mid`` (the same array:
+        :func:`fatigue_bounds` knows a box by it)."""
+        return cls(vm, vm, mid, mid, reach, mid_upper)
+
 
 def component_norms(Sw: np.ndarray) -> np.ndarray:
     """(6, n): each stress component's norm over its k coefficients (Pa per unit scaled coefficient)."""
@@ -370,7 +377,7 @@ def box_bounds(SP: np.ndarray, norms: np.ndarray, vm_norm: np.ndarray, sub: Subs
     # over the steps are elementwise over contiguous rows)
     taken = np.matmul(sub.a[sub.touched], SP.transpose(0, 2, 1))
     mid_upper = midrange_bound(mid, reach, taken.min(axis=1), taken.max(axis=1), share)
-    return SampledBounds(vm, vm, mid, mid, reach, mid_upper)
+    return SampledBounds.box(vm, mid, reach, mid_upper)
 
 
 #: single-precision unit roundoff: :class:`CoefficientBox` reads its matrices in float32
@@ -484,7 +491,7 @@ class CoefficientBox:
         the components at the box's centre, ``slack`` their reach, ``von_mises`` =
         ``von_mises_upper`` the bound of von Mises (float32)."""
         vm, mid, reach = self.box_arrays(lo, hi)
-        return [SampledBounds(vm[i], vm[i], mid[i], mid[i], reach[i]) for i in range(lo.shape[0])]
+        return [SampledBounds.box(vm[i], mid[i], reach[i]) for i in range(lo.shape[0])]
 
     def at_nodes(self, b: SampledBounds, nodes: np.ndarray, taken: np.ndarray) -> SampledBounds:
         """The bounds ``b`` of one history (:meth:`box_of`) at ``nodes`` only, with
@@ -492,7 +499,7 @@ class CoefficientBox:
         (:meth:`ranges_and_taken`, :meth:`midrange_at`)."""
         mid, reach = b.high[:, nodes], b.slack[:, nodes]
         mid_upper = self.midrange_at(mid.T, reach.T, nodes, np.zeros(nodes.size, dtype=int), taken[None]).T
-        return SampledBounds(b.von_mises[nodes], b.von_mises_upper[nodes], mid, mid, reach, mid_upper)
+        return SampledBounds.box(b.von_mises[nodes], mid, reach, mid_upper)
 
     def midrange_at(
         self, mid: np.ndarray, reach: np.ndarray, nodes: np.ndarray, h: np.ndarray, taken: np.ndarray
@@ -663,20 +670,48 @@ def sampled_at(p: Projected, box: SampledBounds, nodes: np.ndarray) -> SampledBo
     return out
 
 
-def fatigue_bounds(b: SampledBounds) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """(sa_upper, sm_upper, sa_sampled, sm_sampled) (n,) Pa: upper bounds of each node's
-    alternating and midrange von Mises over every step (no cross terms between the
-    components' unknown signs), and their sampled values (an estimate)."""
-    half = 0.5 * (b.high - b.low) + b.slack
-    mid = np.abs(0.5 * (b.high + b.low)) + b.slack
+def fatigue_bounds(b: SampledBounds) -> tuple[np.ndarray, np.ndarray]:
+    """(sa_upper, sm_upper) (n,) Pa: upper bounds of each node's alternating and midrange
+    von Mises over every step. Each component's maximum lies within ``[high - slack, high
+    + slack]`` and its minimum within ``[low - slack, low + slack]``, so its half-range
+    lies within ``(high - low) / 2 +- slack`` (and is not negative) and its midrange within
+    ``(high + low) / 2 +- slack`` (and within ``+- mid_upper``); each von Mises is bounded
+    over those intervals (:func:`interval_von_mises`). In float32 (a group's box) the
+    intervals are widened by their ends' own rounding."""
+    spread = b.slack
+    if b.high.dtype == np.float32:
+        spread = spread + np.float32(4.0 * FLOAT32_EPS) * (np.abs(b.high) + np.abs(b.low) + b.slack)
+    if b.high is b.low:  # a box: its centre, no step read; the half-range from 0 to the reach
+        centre, half_lo, half_hi = b.high, None, spread
+    else:
+        half, centre = 0.5 * (b.high - b.low), 0.5 * (b.high + b.low)
+        half_lo, half_hi = np.maximum(half - spread, 0.0), half + spread
+    mid_lo, mid_hi = centre - spread, centre + spread
     if b.mid_upper is not None:
-        mid = np.minimum(mid, b.mid_upper)
-    sa = np.sqrt(half[0] ** 2 + half[1] ** 2 + half[2] ** 2 + 3.0 * (half[3] ** 2 + half[4] ** 2 + half[5] ** 2))
-    sm = np.sqrt(
-        0.5 * ((mid[0] + mid[1]) ** 2 + (mid[1] + mid[2]) ** 2 + (mid[2] + mid[0]) ** 2)
-        + 3.0 * (mid[3] ** 2 + mid[4] ** 2 + mid[5] ** 2)
-    )
-    return sa, sm, von_mises(0.5 * (b.high - b.low)), von_mises(0.5 * (b.high + b.low))
+        mid_lo, mid_hi = np.maximum(mid_lo, -b.mid_upper), np.minimum(mid_hi, b.mid_upper)
+    return interval_von_mises(half_lo, half_hi), interval_von_mises(mid_lo, mid_hi)
+
+
+def fatigue_sampled(b: SampledBounds) -> tuple[np.ndarray, np.ndarray]:
+    """(sa, sm) (n,) Pa: each node's alternating and midrange von Mises over the steps
+    read (an estimate: the nodes worth evaluating first)."""
+    return von_mises(0.5 * (b.high - b.low)), von_mises(0.5 * (b.high + b.low))
+
+
+def interval_von_mises(lo: np.ndarray | None, hi: np.ndarray) -> np.ndarray:
+    """(n,) Pa: a bound of the von Mises of any stress whose components (6, n) lie within
+    ``[lo, hi]`` (Pa; ``lo`` None: 0): each normal difference ``s_i - s_j`` at most
+    ``max(hi_i - lo_j, hi_j - lo_i)`` in magnitude, each shear at most ``max(|lo|,
+    |hi|)``; widened by :data:`BOX_WIDENING` in float32 (its own arithmetic)."""
+    pairs = ((0, 1), (1, 2), (2, 0))
+    if lo is None:
+        normal = sum(np.maximum(hi[i], hi[j]) ** 2 for i, j in pairs)
+        shear = sum(hi[i] ** 2 for i in (3, 4, 5))
+    else:
+        normal = sum(np.maximum(hi[i] - lo[j], hi[j] - lo[i]) ** 2 for i, j in pairs)
+        shear = sum(np.maximum(np.abs(lo[i]), np.abs(hi[i])) ** 2 for i in (3, 4, 5))
+    widening = BOX_WIDENING if hi.dtype == np.float32 else 0.0
+    return np.sqrt(0.5 * normal + 3.0 * shear) * (1.0 + hi.dtype.type(widening))
 
 
 def peak_candidates(b: SampledBounds, lower: float) -> np.ndarray:

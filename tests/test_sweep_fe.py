@@ -446,7 +446,7 @@ def test_the_float32_box_stays_a_bound_where_its_rounding_matters(rotated):
         for bounds in (b, bt):
             assert np.all(X.max(axis=2) <= bounds.high + bounds.slack) and np.all(X.min(axis=2) >= bounds.low - bounds.slack)
             assert np.all(von_mises(X).max(axis=1) <= bounds.von_mises_upper)
-            assert np.all(factor(*fatigue_bounds(bounds)[:2]) <= exact)
+            assert np.all(factor(*fatigue_bounds(bounds)) <= exact)
 
 
 def test_the_von_mises_interval_bound_holds_inside_its_intervals_and_in_float32():
@@ -476,6 +476,82 @@ def test_the_von_mises_interval_bound_holds_inside_its_intervals_and_in_float32(
     normal = sum((np.abs(m[i] - m[j]) + r[i] + r[j]) ** 2 for i, j in ((0, 1), (1, 2), (2, 0)))
     exact = np.sqrt(0.5 * normal + 3.0 * sum((np.abs(m[i]) + r[i]) ** 2 for i in (3, 4, 5)))
     assert np.all(von_mises_interval_bound(m32, r32) >= exact)
+
+
+def test_the_von_mises_bound_over_component_intervals_holds_inside_them_and_in_float32():
+    """:func:`railcheck.fea.screen.interval_von_mises` (the fatigue screens' bound of the
+    alternating and midrange von Mises): no stress whose components lie in the intervals
+    (random points and every corner) exceeds it; a single component's bound is its
+    largest magnitude; same-signed normal intervals give less than their magnitudes
+    added; computed in float32 it is not below the float64 value of the same intervals."""
+    import itertools
+
+    from railcheck.fea.screen import interval_von_mises
+
+    rng = np.random.default_rng(9)
+    a, b = rng.normal(size=(2, 6, 2000)) * np.exp(rng.normal(size=(1, 1, 2000)))
+    lo, hi = np.minimum(a, b), np.maximum(a, b)
+    bound = interval_von_mises(lo, hi)
+    for corner in itertools.product([0, 1], repeat=6):
+        assert np.all(von_mises(np.where(np.array(corner, bool)[:, None], hi, lo)) <= bound)
+    inside = lo[:, None] + (hi - lo)[:, None] * rng.uniform(size=(6, 50, 2000))
+    assert np.all(von_mises(inside) <= bound)
+    assert np.all(interval_von_mises(None, np.abs(hi)) >= interval_von_mises(np.zeros_like(hi), np.abs(hi)) * (1 - 1e-15))
+    single_lo, single_hi = np.zeros_like(lo), np.zeros_like(hi)
+    single_lo[1], single_hi[1] = lo[1], hi[1]
+    np.testing.assert_allclose(
+        interval_von_mises(single_lo, single_hi), np.maximum(np.abs(lo[1]), np.abs(hi[1])), rtol=1e-15
+    )
+    same = abs(hi[0, 0]) * np.array([[1.0], [0.9], [1.1], [0], [0], [0]])  # nearly equal normal stresses
+    assert interval_von_mises(0.99 * same, same)[0] < 0.2 * np.abs(same).sum()
+    lo32, hi32 = lo.astype(np.float32), hi.astype(np.float32)
+    assert np.all(interval_von_mises(lo32, hi32) >= interval_von_mises(lo32.astype(float), hi32.astype(float)))
+
+
+@pytest.mark.parametrize("box", [True, False])
+def test_float32_fatigue_bounds_are_not_below_the_float64_bounds_of_the_same_values(box):
+    """The group's box is read in float32. Near-hydrostatic stresses (normal components of
+    1e8 Pa differing by 1e2, reaches of 10 Pa, below float32's spacing there) make the
+    intervals' ends round by more than the von Mises they bound: the fatigue bounds in
+    float32 stay at or above those of the same values in float64 (the ends widened by
+    their own rounding)."""
+    from railcheck.fea.screen import SampledBounds, fatigue_bounds
+
+    rng = np.random.default_rng(11)
+    n = 5000
+    mid = np.zeros((6, n))
+    mid[:3] = 1e8 * rng.choice([-1.0, 1.0], size=n) + 1e2 * rng.normal(size=(3, n))
+    mid[3:] = 10.0 * rng.normal(size=(3, n))
+    reach = 10.0 * np.abs(rng.normal(size=(6, n)))
+    m32, r32 = mid.astype(np.float32), reach.astype(np.float32)
+    vm = np.ones(n, dtype=np.float32)
+
+    def bounds(m, r):
+        return SampledBounds.box(vm, m, r) if box else SampledBounds(vm, vm, m, m - r, r)
+
+    wide = fatigue_bounds(bounds(m32, r32))
+    exact = fatigue_bounds(bounds(m32.astype(float), r32.astype(float)))
+    for x, y in zip(wide, exact):
+        assert np.all(x >= y)
+
+
+def test_fatigue_bounds_of_a_box_equal_those_of_the_same_bounds_read_as_steps():
+    """A box (:meth:`railcheck.fea.screen.SampledBounds.box`: no step read, ``high`` and
+    ``low`` the same array) has the fatigue bounds of the same values given as separate
+    sampled extremes: the box's shortcut (the half-range from 0) is only a shortcut, in
+    float64 and float32."""
+    from railcheck.fea.screen import SampledBounds, fatigue_bounds
+
+    rng = np.random.default_rng(10)
+    for dtype in (np.float64, np.float32):
+        mid = (rng.normal(size=(6, 500)) * 1e8).astype(dtype)
+        reach = (np.abs(rng.normal(size=(6, 500))) * 1e8).astype(dtype)
+        vm = np.ones(500, dtype=dtype)
+        for upper in (None, np.abs(mid) + 0.5 * reach):
+            box = fatigue_bounds(SampledBounds.box(vm, mid, reach, upper))
+            read = fatigue_bounds(SampledBounds(vm, vm, mid, mid.copy(), reach, upper))
+            for x, y in zip(box, read):
+                np.testing.assert_allclose(x, y, rtol=1e-6 if dtype == np.float32 else 1e-15)
 
 
 def test_the_box_basis_follows_the_histories():

@@ -357,8 +357,8 @@ def _fatigue_candidates(S: np.ndarray, C: np.ndarray, factor, b: screen.SampledB
     smallest fatigue factor over the history ``C`` (steps, k): a lower bound of each node's
     factor from its sampled subspace bounds ``b`` (:func:`fea.screen.fatigue_bounds`), a
     threshold from the nodes of smallest sampled factor evaluated exactly."""
-    sa, sm, sa_sampled, sm_sampled = screen.fatigue_bounds(b)
-    first = screen.first_nodes(np.where(mask, factor(sa_sampled, sm_sampled), np.inf), largest=False)
+    sa, sm = screen.fatigue_bounds(b)
+    first = screen.first_nodes(np.where(mask, factor(*screen.fatigue_sampled(b)), np.inf), largest=False)
     first = first[mask[first]]
     top = float(factor(*alternating_and_mean(*component_range(S[:, first], C))).min())
     return np.flatnonzero(mask & (factor(sa, sm) <= top * (1.0 + screen.SLACK)))

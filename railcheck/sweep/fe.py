@@ -240,7 +240,7 @@ class _Batch:
 
     def fatigue_bound(self, b: screen_.SampledBounds) -> np.ndarray | None:
         """The lower bound of the fatigue factor from bounds ``b``, or None (no fatigue)."""
-        return self.factor(*screen_.fatigue_bounds(b)[:2]) if self.factor is not None else None
+        return self.factor(*screen_.fatigue_bounds(b)) if self.factor is not None else None
 
     def beats(self, b: screen_.SampledBounds, h: np.ndarray, low2: np.ndarray, top: np.ndarray, bound=None) -> np.ndarray:
         """(q,) bool: the pairs (histories ``h``) whose bounds ``b`` can reach their
@@ -302,7 +302,7 @@ class _Batch:
         np.put_along_axis(peak, _first_per_row(best, screen_.FIRST_NODES, largest=True), True, axis=1)
         fatigue = np.zeros((s, F), dtype=bool)
         if bound is not None:
-            f = np.where(repeated, np.inf, self.factor(*screen_.fatigue_bounds(b)[2:]).reshape(s, F))
+            f = np.where(repeated, np.inf, self.factor(*screen_.fatigue_sampled(b)).reshape(s, F))
             np.put_along_axis(fatigue, _first_per_row(f, screen_.FIRST_NODES, largest=False), True, axis=1)
         return self.exact(h, nodes, peak.ravel(), fatigue.ravel())
 
@@ -314,22 +314,22 @@ class _Batch:
         s = self.C.shape[0]
         out = np.empty((s, 2))
         mid6, reach6 = mid.transpose(1, 0, 2), reach.transpose(1, 0, 2)
-        box_factor = self.fatigue_bound(screen_.SampledBounds(vm, vm, mid6, mid6, reach6))
+        box_factor = self.fatigue_bound(screen_.SampledBounds.box(vm, mid6, reach6))
         more_low2, less_top = self.thresholds(vm, box_factor)
         low2, top = np.maximum(low2, more_low2), np.minimum(top, less_top)  # each an exact value at some node
         every = np.arange(s)
-        keep = self.beats(screen_.SampledBounds(vm, vm, mid6, mid6, reach6), every[:, None], low2, top, box_factor)
+        keep = self.beats(screen_.SampledBounds.box(vm, mid6, reach6), every[:, None], low2, top, box_factor)
         h, nodes = np.nonzero(keep)
         if self.factor is not None and h.size:
             # the box's midrange bounds from the values each history takes, at these pairs only
             m, r = mid[h, :, nodes], reach[h, :, nodes]  # (q, 6)
             mid_upper = self.group.midrange_at(m, r, nodes, h, self.taken)
-            tighter = screen_.SampledBounds(vm[h, nodes], vm[h, nodes], m.T, m.T, r.T, mid_upper.T)
+            tighter = screen_.SampledBounds.box(vm[h, nodes], m.T, r.T, mid_upper.T)
             kept = self.beats(tighter, h, low2, top)
             h, nodes = h[kept], nodes[kept]
         alone = np.bincount(h, minlength=s) > loose  # the group's box is loose for these
         for i in np.flatnonzero(alone):
-            box = screen_.SampledBounds(vm[i], vm[i], mid[i], mid[i], reach[i])
+            box = screen_.SampledBounds.box(vm[i], mid[i], reach[i])
             tighter_i = lambda some, b, i=i: self.group.at_nodes(b, some, self.taken[i])  # noqa: E731
             out[i] = _screened(self.screen, self.C[i], box, self.factor, self.enough, low2[i], top[i], loose, tighter_i)
         h, nodes = h[~alone[h]], nodes[~alone[h]]
@@ -353,7 +353,7 @@ def _can_beat(b: screen_.SampledBounds, low, top, factor=None, enough: float | N
     both comparisons widened by :data:`SLACK` (rounding)."""
     keep = b.von_mises_upper * (1.0 + SLACK) >= low
     if factor is not None:
-        keep |= _fatigue_can(factor(*screen_.fatigue_bounds(b)[:2]) if bound is None else bound, top, enough)
+        keep |= _fatigue_can(factor(*screen_.fatigue_bounds(b)) if bound is None else bound, top, enough)
     return keep
 
 
@@ -396,7 +396,7 @@ def _group_thresholds(
     shape = group.box_of(*_union(lo[loaded], hi[loaded], 1.0 / corner[loaded]))[0]
     nodes = screen_.first_nodes(shape.von_mises_upper, count=GROUP_CANDIDATES)
     if factor is not None:
-        bound = factor(*screen_.fatigue_bounds(shape)[:2])
+        bound = factor(*screen_.fatigue_bounds(shape))
         nodes = np.union1d(nodes, screen_.first_nodes(bound, largest=False, count=GROUP_CANDIDATES))
     low = np.sqrt([_exact_von_mises2(screen, nodes, c) for c in C])
     top = _fatigue_exact(screen, nodes, C, factor) if factor is not None else np.full(C.shape[0], np.inf)
@@ -426,7 +426,7 @@ def _group_nodes(
     bounds = group.box_of(np.concatenate([b[0] for b in boxes]), np.concatenate([b[1] for b in boxes]))
     keep = bounds[0].von_mises_upper * (1.0 + SLACK) >= 1.0
     if factor is not None:
-        keep |= factor(*screen_.fatigue_bounds(bounds[1])[:2]) <= 1.0 + SLACK
+        keep |= factor(*screen_.fatigue_bounds(bounds[1])) <= 1.0 + SLACK
     return np.flatnonzero(keep)
 
 
@@ -495,11 +495,11 @@ def _screened(
         low2 = _exact_von_mises2(screen, first[screen_.first_nodes(b.von_mises)], c)
         if factor is None:
             return low2, np.inf
-        f = factor(*screen_.fatigue_bounds(b)[2:])
+        f = factor(*screen_.fatigue_sampled(b))
         return low2, _fatigue_exact(screen, first[screen_.first_nodes(f, largest=False)], c[None], factor)[0]
 
     def fatigue_bound(bounds):
-        return factor(*screen_.fatigue_bounds(bounds)[:2]) if factor is not None else None
+        return factor(*screen_.fatigue_bounds(bounds)) if factor is not None else None
 
     box_factor = fatigue_bound(box)
     more_low2, less_top = thresholds(box, box_factor)
@@ -524,7 +524,7 @@ def _screened(
     peak = float(np.sqrt(max(low2, _exact_von_mises2(screen, nodes[screen_.peak_candidates(b, np.sqrt(low2))], c))))
     if factor is None:
         return peak, np.inf
-    rest = nodes[_fatigue_can(factor(*screen_.fatigue_bounds(b)[:2]), top, enough)]
+    rest = nodes[_fatigue_can(factor(*screen_.fatigue_bounds(b)), top, enough)]
     return peak, min(float(top), float(_fatigue_exact(screen, rest, c[None], factor)[0])) if rest.size else float(top)
 
 
