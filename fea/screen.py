@@ -702,7 +702,9 @@ def interval_von_mises(lo: np.ndarray | None, hi: np.ndarray) -> np.ndarray:
     """(n,) Pa: a bound of the von Mises of any stress whose components (6, n) lie within
     ``[lo, hi]`` (Pa; ``lo`` None: 0): each normal difference ``s_i - s_j`` at most
     ``max(hi_i - lo_j, hi_j - lo_i)`` in magnitude, each shear at most ``max(|lo|,
-    |hi|)``; widened by :data:`BOX_WIDENING` in float32 (its own arithmetic)."""
+    |hi|)``; widened by :data:`BOX_WIDENING` in float32 (its own arithmetic). For
+    intervals ``mid +- reach`` this is :func:`von_mises_interval_bound`, which the boxes
+    compute from ``mid`` and ``reach`` without forming the ends."""
     pairs = ((0, 1), (1, 2), (2, 0))
     if lo is None:
         normal = sum(np.maximum(hi[i], hi[j]) ** 2 for i, j in pairs)

@@ -486,7 +486,7 @@ def test_the_von_mises_bound_over_component_intervals_holds_inside_them_and_in_f
     added; computed in float32 it is not below the float64 value of the same intervals."""
     import itertools
 
-    from railcheck.fea.screen import interval_von_mises
+    from railcheck.fea.screen import BOX_WIDENING, interval_von_mises, von_mises_interval_bound
 
     rng = np.random.default_rng(9)
     a, b = rng.normal(size=(2, 6, 2000)) * np.exp(rng.normal(size=(1, 1, 2000)))
@@ -506,6 +506,9 @@ def test_the_von_mises_bound_over_component_intervals_holds_inside_them_and_in_f
     assert interval_von_mises(0.99 * same, same)[0] < 0.2 * np.abs(same).sum()
     lo32, hi32 = lo.astype(np.float32), hi.astype(np.float32)
     assert np.all(interval_von_mises(lo32, hi32) >= interval_von_mises(lo32.astype(float), hi32.astype(float)))
+    # symmetric intervals: the boxes' own form of the same bound (widened by BOX_WIDENING in any precision)
+    symmetric = von_mises_interval_bound(0.5 * (lo + hi), 0.5 * (hi - lo))
+    np.testing.assert_allclose(bound * (1.0 + BOX_WIDENING), symmetric, rtol=1e-12)
 
 
 @pytest.mark.parametrize("box", [True, False])
