@@ -709,6 +709,27 @@ def test_chunks_hold_consecutive_settings_within_both_limits(seed):
             assert ids.size == size or checked[ids].sum() + checked[end] > checked_size
 
 
+@pytest.mark.slow
+def test_the_local_cluster_s_workers_run_without_the_dask_profiler_and_with_their_heap_settings():
+    """The local cluster's workers get :data:`railcheck.sweep.run.WORKER_CONFIG` (no
+    statistical profiler sampling the computing thread) and the glibc heap settings of
+    :data:`railcheck.sweep.run.WORKER_MALLOC` in their environment."""
+    import os
+
+    import dask
+
+    from railcheck.progress import Progress
+    from railcheck.sweep.run import WORKER_MALLOC, _Executor
+
+    def settings():
+        return dask.config.get("distributed.worker.profile.enabled"), {k: os.environ.get(k) for k in WORKER_MALLOC}
+
+    with _Executor(None, 1, True, Progress(quiet=True)) as executor:
+        seen = list(executor.client.run(settings).values())
+    assert seen == [(False, {k: str(v) for k, v in WORKER_MALLOC.items()})]
+    assert dask.config.get("distributed.worker.profile.enabled")  # this process keeps its own
+
+
 def test_a_cluster_left_half_started_by_an_interrupt_closes_quietly_at_exit(monkeypatch):
     """Ctrl-C while the local cluster starts left it to distributed's exit hook, whose
     assertion on a worker still starting printed a traceback after "railcheck:

@@ -407,6 +407,11 @@ def _context(scene, kind: str, models: dict):
 #: the whole rig's workers spent 101 s of 575 core-seconds in the kernel, and the captured
 #: near-default histories ran 2.36 s against 2.62 s (sys 0.35 against 1.37 s).
 WORKER_MALLOC = {"MALLOC_TRIM_THRESHOLD_": 256 << 20, "MALLOC_MMAP_THRESHOLD_": 32 << 20}
+#: Dask settings of the local cluster's workers. Their statistical profiler (for a dashboard
+#: this cluster does not start) samples the computing thread's stack every 10 ms, holding the
+#: GIL that the screens' many small numpy calls need: the whole rig's settings took 73.1 and
+#: 86.5 s without it against 80.0 and 90.6 s with it (two pairs, alternated).
+WORKER_CONFIG = {"distributed.worker.profile.enabled": False}
 
 
 def _quiet_cluster_exit() -> None:
@@ -466,7 +471,8 @@ class _Executor:
             import dask
 
             n = self.workers or os.cpu_count() or 1
-            with dask.config.set({f"distributed.nanny.pre-spawn-environ.{k}": v for k, v in WORKER_MALLOC.items()}):
+            environ = {f"distributed.nanny.pre-spawn-environ.{k}": v for k, v in WORKER_MALLOC.items()}
+            with dask.config.set(environ | WORKER_CONFIG):
                 self.cluster = LocalCluster(
                     n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None, silence_logs=logging.ERROR
                 )
