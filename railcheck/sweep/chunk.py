@@ -66,10 +66,16 @@ def configuration_flags(ctx: SweepContext, lengths: dict) -> dict:
     return flags
 
 
+def checks_of(flags: dict) -> dict:
+    """check name -> (S,) pass flags: :func:`configuration_flags` without the transmission
+    angles ``mu_min``/``mu_max`` (rad), which are not checks."""
+    return {k: v for k, v in flags.items() if k not in ("mu_min", "mu_max")}
+
+
 def passes_checks(flags: dict) -> np.ndarray:
     """(S,) True where a setting passes every configuration check of ``flags``
-    (:func:`configuration_flags`; ``mu_min``/``mu_max`` are angles, not checks)."""
-    return np.logical_and.reduce([v for k, v in flags.items() if k not in ("mu_min", "mu_max")])
+    (:func:`configuration_flags`, :func:`checks_of`)."""
+    return np.logical_and.reduce(list(checks_of(flags).values()))
 
 
 def checked_settings(ctx: SweepContext, lengths: dict) -> np.ndarray:
@@ -527,7 +533,7 @@ def evaluate_chunk(ctx: SweepContext, lengths: dict, ids: np.ndarray) -> dict:
     speed (setting-major): column name -> array."""
     n = ids.size
     flags = configuration_flags(ctx, lengths)
-    checks = {k: v for k, v in flags.items() if k not in ("mu_min", "mu_max")}
+    checks = checks_of(flags)
     passed = passes_checks(flags)
     idx = np.flatnonzero(revolvable(ctx, lengths, flags))
     rev = revolving_results(ctx, lengths, idx, passed)
