@@ -36,10 +36,14 @@ def _rows(run, kind="four-bar"):
 def _assert_same_tables(one_run, other_run):
     """Every kind's table of ``other_run`` equals ``one_run``'s bit for bit (NaN where NaN)."""
     for kind in one_run.tables:
-        one, other = _rows(one_run, kind), _rows(other_run, kind)
-        assert one.keys() == other.keys()
-        for k in one:
-            assert np.array_equal(one[k], other[k], equal_nan=one[k].dtype.kind == "f"), (kind, k)
+        _assert_same_rows(_rows(one_run, kind), _rows(other_run, kind), kind)
+
+
+def _assert_same_rows(one: dict, other: dict, kind: str = "four-bar") -> None:
+    """The columns ``other`` (:func:`_rows`) equal ``one`` bit for bit (NaN where NaN)."""
+    assert one.keys() == other.keys()
+    for k in one:
+        assert np.array_equal(one[k], other[k], equal_nan=one[k].dtype.kind == "f"), (kind, k)
 
 
 def _independent_lengths(rail_mm: float) -> list[float]:
@@ -290,6 +294,20 @@ def test_dask_and_serial_give_identical_tables(tmp_path, monkeypatch):
         _assert_same_tables(serial, run)
 
 
+def test_chunks_on_threads_give_the_serial_tables(tmp_path):
+    """Both linkage kinds on three threads of this process (a sweep without FE, too small
+    for Dask: each kind in two chunks per thread), said so: every table equals the serial
+    run's."""
+    text = KINEMATICS_ONLY + 'crank = ["420 mm", "540 mm"]\ncoupler = ["780 mm", "900 mm"]\n'
+    serial = _sweep(tmp_path, text, "serial", serial=True)
+    lines = []
+    progress = type("P", (), {"say": lambda self, stage, msg: lines.append(msg)})()
+    threaded = _sweep(tmp_path, text, "threads", workers=3, progress=progress)
+    assert "3 threads in this process" in lines and not any("Dask" in line for line in lines)
+    assert set(serial.tables) == {"four-bar", "slider-crank"}
+    _assert_same_tables(serial, threaded)
+
+
 @pytest.mark.slow
 def test_an_external_scheduler_gets_the_context_scattered_and_the_serial_tables(tmp_path, monkeypatch):
     """``--scheduler`` an existing cluster (its workers may not see this disk): the
@@ -422,12 +440,14 @@ def test_parts_prepared_in_two_processes_give_the_serial_table(fe_sweep, tmp_pat
     or solving its unit fields, pickled back whole): the table equals the serial run's
     bit for bit."""
     parallel = _rows(_sweep(tmp_path, FE_SWEEP, "dask", workers=2, serial=False, dask=True))
-    assert fe_sweep.keys() == parallel.keys()
-    for k in fe_sweep:
-        same = fe_sweep[k] == parallel[k]
-        if fe_sweep[k].dtype.kind == "f":
-            same |= np.isnan(fe_sweep[k]) & np.isnan(parallel[k])
-        assert np.all(same), k
+    _assert_same_rows(fe_sweep, parallel)
+
+
+@pytest.mark.slow
+def test_an_fe_sweep_on_threads_gives_the_serial_table(fe_sweep, tmp_path):
+    """The FE sweep's chunks, a few settings with FE each, on two threads of this process
+    (BLAS on one thread meanwhile): the table equals the serial run's bit for bit."""
+    _assert_same_rows(fe_sweep, _rows(_sweep(tmp_path, FE_SWEEP, "threads", workers=2, dask=False)))
 
 
 def test_a_part_is_built_after_the_one_whose_unit_fields_it_reuses():

@@ -26,8 +26,13 @@ def add_args(p) -> None:
         metavar="ADDR",
         help="a running Dask scheduler, e.g. tcp://host:8786 (default: a local cluster for large sweeps)",
     )
-    p.add_argument("--workers", type=int, metavar="N", help="local Dask workers (default: one per core)")
-    p.add_argument("--serial", action="store_true", help="run in this process, without Dask")
+    p.add_argument(
+        "--workers",
+        type=int,
+        metavar="N",
+        help="local Dask workers, or threads of this process for a sweep too small for Dask (default: one per core)",
+    )
+    p.add_argument("--serial", action="store_true", help="run in this process on one thread, without Dask")
 
 
 def run(args) -> int:

@@ -2,7 +2,8 @@
 speed, motor and bearings (:mod:`railcheck.sweep.chunk` computes a chunk of settings).
 
 The settings are chunked so that a chunk's working arrays fit ``[sweep] memory``; the
-chunks run serially or on Dask (a local cluster, or ``--scheduler`` an existing one), and
+chunks run on this process's threads (:mod:`railcheck.sweep.threads`), serially, or on
+Dask (a local cluster, or ``--scheduler`` an existing one), and
 their rows are written in order as they arrive (Parquet row groups or CSV), so a sweep
 whose table is larger than memory completes. Per kind the run writes
 ``sweep-KIND.parquet`` (or ``.csv``), the maps, ``motor.png`` and ``summary.json``, all
@@ -45,6 +46,7 @@ from railcheck.sweep.parts import applicable, build_part_model, dynamic_in_sweep
 from railcheck.sweep.report import write_sweep_report
 from railcheck.sweep.shared import remove_shared, shared, write_shared
 from railcheck.sweep.table import TableWriter
+from railcheck.sweep.threads import blas_on_one_thread, in_order_on_threads
 
 #: bytes of working memory per setting and crank step of a group of revolving settings
 #: (kinematics, reactions at two speeds, FE coefficient histories; measured with
@@ -96,6 +98,11 @@ def sweep_settings(scene) -> dict[str, dict[str, np.ndarray]]:
         for kind in scene.sweep.kinds
     }
 
+
+#: a sweep without FE runs on Dask only beyond this many chunks: below it this process's
+#: threads finish before a local cluster has started (the whole rig's 115,456 settings at
+#: 720 steps: about 2 s on two threads, 3.7 s on two Dask workers with their start-up)
+KINEMATIC_DASK_CHUNKS = 64
 
 #: settings per chunk at most with a dynamic response (each setting's safe-speed search
 #: costs seconds: small chunks keep every worker busy)
@@ -311,7 +318,8 @@ def run_sweep(
 ) -> SweepRun:
     """Run the sweep the scene asks for and write its results directory. Dask runs the
     chunks when ``scheduler`` is given or the sweep is large (``dask`` True/False forces
-    it either way; ``serial`` is ``dask=False``)."""
+    it either way), else ``workers`` threads of this process (default one per core;
+    ``serial``: one thread, no Dask)."""
 
     validate(scene)
     if scheduler is not None:
@@ -350,7 +358,7 @@ def _run_into(scene, directory: Path, scheduler, workers, serial, progress, dask
     )
     checked = {kind: _checked(scene, kind, lengths) for kind, lengths in by_kind.items()}
     total, total_checked = sum(c.size for c in checked.values()), sum(int(c.sum()) for c in checked.values())
-    large = total > 4 * chunk_size(scene) or total_checked > 4 * checked_chunk_size(scene)
+    large = total > KINEMATIC_DASK_CHUNKS * chunk_size(scene) or total_checked > 4 * checked_chunk_size(scene)
     use_dask = (scheduler is not None or large) if dask is None else dask
     # the parts in two processes when the settings run in parallel too
     models = prepare_models(scene, by_kind, progress, min(2, os.cpu_count() or 1) if use_dask and not serial else 1)
@@ -361,7 +369,11 @@ def _run_into(scene, directory: Path, scheduler, workers, serial, progress, dask
         kind: Aggregate(scene, kind, by_kind[kind], motor_curve_speeds(scene.sweep.speeds), models[kind]) for kind in kinds
     }
     jobs = [(lambda kind=kind: _context(scene, kind, models[kind]), by_kind[kind], kind, checked[kind]) for kind in kinds]
-    with _Executor(scheduler, workers, use_dask and not serial, progress, directory) as executor, ExitStack() as stack:
+    threads = 1 if serial else workers or os.cpu_count() or 1
+    with (
+        _Executor(scheduler, workers, use_dask and not serial, progress, directory, threads) as executor,
+        ExitStack() as stack,
+    ):
         writers = {kind: stack.enter_context(TableWriter(tables[kind], scene.sweep.format)) for kind in kinds}
         for j, columns in executor.map_jobs(jobs, chunk_size(scene), checked_chunk_size(scene), held_chunks(scene)):
             curve = columns.pop(MOTOR_CURVE_KEY)
@@ -443,9 +455,10 @@ class _Executor:
     context from a file in ``scratch`` (:mod:`railcheck.sweep.shared`); an external
     scheduler's receive it scattered."""
 
-    def __init__(self, scheduler, workers, use_dask: bool, progress, scratch: Path | None = None):
+    def __init__(self, scheduler, workers, use_dask: bool, progress, scratch: Path | None = None, threads: int = 1):
         self.progress = progress
         self.use_dask = use_dask
+        self.threads = threads
         self.scheduler, self.workers = scheduler, workers
         self.scratch = scratch
         self.client = self.cluster = None
@@ -494,7 +507,11 @@ class _Executor:
         seconds (``make_context()`` builds the job's context when its first chunk is due;
         chunks as :func:`_chunks`; on Dask at most ``held`` finished chunks wait for an
         earlier one)."""
-        if not self.use_dask:
+        if self.use_dask:
+            yield from self._dask_jobs(jobs, size, checked_size, held)
+        elif self.threads > 1:
+            yield from self._threaded_jobs(jobs, size, checked_size, held)
+        else:
             for j, (make_context, lengths, kind, checked) in enumerate(jobs):
                 ctx, total = make_context(), lengths["crank"].size
                 meter = _Meter(self.progress, kind, total)
@@ -502,20 +519,34 @@ class _Executor:
                     cols = evaluate_chunk(ctx, {b: v[ids] for b, v in lengths.items()}, ids)
                     meter.done(ids.size)
                     yield j, cols
-            return
-        yield from self._dask_jobs(jobs, size, checked_size, held)
+
+    def _threaded_jobs(self, jobs: list, size: int, checked_size: int, held: int):
+        """:meth:`map_jobs` on this process's threads (:mod:`railcheck.sweep.threads`):
+        the same chunks as on as many Dask workers, the same columns."""
+        self.progress.say("sweep", f"{self.threads} threads in this process")
+        tasks = _shared_out(jobs, size, checked_size, self.threads)
+        contexts = [make_context() for make_context, *_ in jobs]
+
+        started: dict[int, float] = {}  # job index -> when its first chunk started
+
+        def run(task):
+            j, ids = task
+            started.setdefault(j, time.perf_counter())
+            return evaluate_chunk(contexts[j], {b: v[ids] for b, v in jobs[j][1].items()}, ids)
+
+        meters: dict[int, _Meter] = {}
+        with blas_on_one_thread():
+            for (j, ids), cols in zip(tasks, in_order_on_threads(run, tasks, self.threads, max(held, self.threads))):
+                if j not in meters:
+                    meters[j] = _Meter(self.progress, jobs[j][2], jobs[j][1]["crank"].size, started[j])
+                meters[j].done(ids.size)
+                yield j, cols
 
     def _dask_jobs(self, jobs: list, size: int, checked_size: int, held: int):
         from dask.distributed import wait as wait_for
 
         workers = max(1, len(self.client.scheduler_info()["workers"]))
-        # each kind in at least two chunks per worker, so that none runs alone
-        share = lambda n, most: max(1, min(most, -(-n // (2 * workers))))  # noqa: E731
-        tasks = [
-            (j, ids)
-            for j, (_, lengths, _, checked) in enumerate(jobs)
-            for ids in _chunks(checked, share(checked.size, size), share(int(checked.sum()), checked_size))
-        ]
+        tasks = _shared_out(jobs, size, checked_size, workers)
         meters: dict[int, _Meter] = {}
         contexts: dict[int, object] = {}
         running: dict = {}  # future -> task index
@@ -565,6 +596,18 @@ class _Executor:
             remove_shared(Path(ref))
 
 
+def _shared_out(jobs: list, size: int, checked_size: int, workers: int) -> list[tuple[int, np.ndarray]]:
+    """(job index, settings' indices) of every chunk of every job, in order, for
+    ``workers`` running at once: each kind in at least two chunks per worker, so that none
+    runs alone (chunks as :func:`_chunks`)."""
+    share = lambda n, most: max(1, min(most, -(-n // (2 * workers))))  # noqa: E731
+    return [
+        (j, ids)
+        for j, (_, lengths, _, checked) in enumerate(jobs)
+        for ids in _chunks(checked, share(checked.size, size), share(int(checked.sum()), checked_size))
+    ]
+
+
 def _chunks(checked: np.ndarray, size: int, checked_size: int):
     """The settings' indices of each chunk: consecutive settings, at most ``size`` of them
     and at most ``checked_size`` checked by FE (``checked`` (N,) bool, one per setting)."""
@@ -587,9 +630,9 @@ def _evaluate(context, lengths: dict, ids: np.ndarray) -> dict:
 class _Meter:
     """Progress of one kind: settings done, rate and elapsed time, every 5 s at most."""
 
-    def __init__(self, progress, kind: str, total: int):
+    def __init__(self, progress, kind: str, total: int, t0: float | None = None):
         self.progress, self.kind, self.total = progress, kind, total
-        self.count, self.t0, self.last = 0, time.perf_counter(), -math.inf
+        self.count, self.t0, self.last = 0, time.perf_counter() if t0 is None else t0, -math.inf
 
     def done(self, n: int) -> None:
         self.count += n
