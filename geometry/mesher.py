@@ -121,6 +121,15 @@ def mesh_part(
     return data
 
 
+def cached_mesh(part: PartGeometry, size: float, hole_size: float | None = None, optimize: bool = True) -> MeshData | None:
+    """The mesh :func:`mesh_part` would read from the cache, or None when it would have to
+    build it (no entry, or a damaged or stale one): a probe that never meshes."""
+    hole_size = hole_size or size / 3.0
+    payload = _cache_payload(part, size, hole_size, optimize)
+    path = default_cache_dir() / f"{part.kind}-{_cache_key(part, size, hole_size, optimize)}.npz"
+    return read_cached(path, payload)[0]
+
+
 def build_mesh(part: PartGeometry, size: float, hole_size: float, verbose: bool = False, optimize: bool = True) -> MeshData:
     """Build the gmsh model of ``part`` and mesh it (no cache).
 

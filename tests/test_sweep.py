@@ -768,3 +768,59 @@ def test_a_cluster_left_half_started_by_an_interrupt_closes_quietly_at_exit(monk
 
     monkeypatch.setattr(spec, "close_clusters", half_started)
     quiet()  # the hook's error does not reach the exit
+
+
+TWO_PLATES = """
+[sweep]
+kind = "four-bar"
+speeds = ["1 Hz"]
+steps = 90
+crank = ["480 mm", "480 mm"]
+coupler = ["840 mm", "840 mm"]
+rocker = ["780 mm", "780 mm"]
+ground = ["1020 mm", "1020 mm"]
+[check]
+parts = ["PF_4b_006", "PF_4b_003_v2"]
+[loads.PF_4b_003_v2]
+longitudinal = "250 N"
+transverse = "250 N"
+[mesh]
+size = "8 mm"
+hole_size = "4 mm"
+"""
+
+
+@pytest.mark.slow
+def test_parts_are_built_in_worker_processes_only_when_one_must_be_meshed_or_solved(tmp_path, monkeypatch):
+    """With an empty cache the parts go to the worker processes; once their meshes are
+    cached and their unit fields stored they are read in this process, into the same
+    models; with the store off (RAILCHECK_STORE=0) they go to the workers again."""
+    import railcheck.sweep.run as run_module
+    from railcheck.fea.materials import MATERIALS
+    from railcheck.progress import Progress
+    from railcheck.sweep.parts import part_is_stored
+
+    monkeypatch.setenv("RAILCHECK_CACHE", str(tmp_path / "cache"))
+    to_workers = []
+
+    def workers_here(tasks, args, progress, jobs):  # records the call, builds in this process
+        to_workers.append([t.name for t in tasks])
+        return [run_module._build_task(t, *args, say=lambda msg: None) for t in tasks]
+
+    monkeypatch.setattr(run_module, "_build_in_workers", workers_here)
+    scene = parse_scene(__import__("tomllib").loads(TWO_PLATES), "test")
+    settings = run_module.sweep_settings(scene)
+    tasks = run_module.part_tasks(scene, settings)
+    stored = lambda: [part_is_stored(scene, t.name, t.lengths, MATERIALS["steel"]) for t in tasks]  # noqa: E731
+    assert stored() == [False, False]
+    cold = run_module.prepare_models(scene, settings, Progress(quiet=True), jobs=2)["four-bar"]
+    assert to_workers == [["PF_4b_006", "PF_4b_003_v2"]] and stored() == [True, True]
+    warm = run_module.prepare_models(scene, settings, Progress(quiet=True), jobs=2)["four-bar"]
+    assert len(to_workers) == 1  # nothing to mesh or solve: built here
+    for name in cold:
+        for key, screen in cold[name].screens.items():
+            np.testing.assert_array_equal(screen.stress, warm[name].screens[key].stress)
+    monkeypatch.setenv("RAILCHECK_STORE", "0")
+    assert stored() == [False, False]
+    run_module.prepare_models(scene, settings, Progress(quiet=True), jobs=2)
+    assert len(to_workers) == 2

@@ -20,8 +20,8 @@ from railcheck.check.cycle import use_store
 from railcheck.check.jobs import carried_masses, free_body_cases, mesh_sizes
 from railcheck.check.loading import LoadModel, load_model, pin_pressure_map, source_histories, unit_cases
 from railcheck.fea.fatigue import endurance_limit
-from railcheck.fea.store import UnitRequest, solve_stored
-from railcheck.geometry.mesher import mesh_part
+from railcheck.fea.store import UnitRequest, is_stored, solve_stored
+from railcheck.geometry.mesher import cached_mesh, mesh_part
 from railcheck.loads.cases import rail_bolt_holes
 from railcheck.parts import PARTS, geometry_of, kind_of
 from railcheck.sweep.fe import fatigue_min, make_screen, tip_peak, von_mises_peak
@@ -158,9 +158,45 @@ def build_part_model(
     them (``lengths``: the bar lengths, m, the sweep's settings give this part's bar;
     ``linkage``: its kind, which sets the point masses a rail's joints carry)."""
 
-    kind = kind_of(name)
     geo = geometry_of(name, scene.geometry)
     mesh = mesh_part(geo, *mesh_sizes(scene.mesh, geo.kind), optimize=scene.mesh.optimize)
+    setup = _part_setup(scene, name, geo, mesh, lengths, material, linkage)
+    fields, meta, origin = solve_stored(setup.request, "auto", report, store=use_store())
+    if origin != "solved":
+        report(f"unit fields: {origin}")
+    return _part_model(scene, name, setup, fields, meta, material, limit)
+
+
+def part_is_stored(scene, name: str, lengths: np.ndarray, material, linkage: str = "four-bar") -> bool:
+    """Whether :func:`build_part_model` of these arguments would find the part's mesh in
+    the cache and its unit fields in the store (on disk: reading verifies them), so that
+    it neither meshes nor solves; a probe that never meshes."""
+    if not use_store():
+        return False
+    geo = geometry_of(name, scene.geometry)
+    mesh = cached_mesh(geo, *mesh_sizes(scene.mesh, geo.kind), optimize=scene.mesh.optimize)
+    return mesh is not None and is_stored(_part_setup(scene, name, geo, mesh, lengths, material, linkage).request)
+
+
+@dataclass(frozen=True)
+class _PartSetup:
+    """What a part model derives from the scene and the mesh before its unit fields."""
+
+    free: bool
+    plate: bool
+    loads: LoadModel
+    groups: dict
+    pair_of: dict
+    cases: dict
+    columns: dict
+    pressure: dict
+    modes: object
+    request: UnitRequest
+
+
+def _part_setup(scene, name: str, geo, mesh, lengths: np.ndarray, material, linkage: str) -> _PartSetup:
+    """The part's loads, hole groups, unit cases and store request (:func:`build_part_model`)."""
+    kind = kind_of(name)
     free, plate = is_free_rail(scene, name), is_free_plate(scene, name) or is_on_foundation(scene, name)
     inertia = "inertia" in scene.check.effects
     loads = load_model(scene, name, material.density, *((0.0, inertia, linkage) if free else ()))
@@ -199,9 +235,15 @@ def build_part_model(
         else None,
         modes,
     )
-    fields, meta, origin = solve_stored(request, "auto", report, store=use_store())
-    if origin != "solved":
-        report(f"unit fields: {origin}")
+    return _PartSetup(free, plate, loads, groups, pair_of, cases, columns, pressure, modes, request)
+
+
+def _part_model(scene, name: str, setup: _PartSetup, fields, meta, material, limit: float) -> PartModel:
+    """The part model of its setup and unit fields: screens, modes, limits, and a
+    constant-load part's own figures (:func:`build_part_model`)."""
+    kind, geo = kind_of(name), geometry_of(name, scene.geometry)
+    free, plate, loads, groups, pair_of = setup.free, setup.plate, setup.loads, setup.groups, setup.pair_of
+    cases, columns, pressure, modes = setup.cases, setup.columns, setup.pressure, setup.modes
     screens = {
         key: make_screen(fields.stress, fields.verdict_mask, tip_of(fields, key), cols) for key, cols in columns.items()
     }
