@@ -346,16 +346,19 @@ def _output(table: dict) -> OutputSpec:
     return OutputSpec(d, _bool(table, "vtk", p, True), _bool(table, "png", p, True), _bool(table, "plots", p, True))
 
 
+#: catalogue dimensions whose zero means a feature left out: a rail without its grooves
+#: (a solid rectangle, :class:`railcheck.geometry.catalogue.RailSpec`)
+ZERO_MEANS_NONE = ("rail_groove_radius",)
+
+
 def _geometry(table: dict) -> dict[str, float]:
     out = {}
     for key, value in table.items():
         if key not in OVERRIDABLE:
             raise InputError(f"geometry.{key}", f"unknown key (allowed: {', '.join(sorted(OVERRIDABLE))})")
-        out[key] = _in_range(
-            parse_quantity(value, "length", f"geometry.{key}", positive=True, allow_zero=False),
-            "geometry",
-            f"geometry.{key}",
-        )
+        zero_ok = key in ZERO_MEANS_NONE
+        length = parse_quantity(value, "length", f"geometry.{key}", positive=True, allow_zero=zero_ok)
+        out[key] = length if zero_ok and length == 0 else _in_range(length, "geometry", f"geometry.{key}")
     problem = validate(out)
     if problem:
         raise InputError(*problem)

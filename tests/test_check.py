@@ -19,6 +19,7 @@ from railcheck.check.pipeline import run_pipeline
 from railcheck.check.summary import rail_masses
 from railcheck.fea.errors import ModelError
 from railcheck.loads.rotation import to_rail_axes
+from railcheck.parts import geometry_of
 from railcheck.scene import load_scene, parse_scene
 from scene_texts import FINAL_DESIGN, PLATE_LOADS, assert_picture, browse
 
@@ -270,6 +271,30 @@ def test_the_meshed_rail_weighs_what_the_closed_form_section_says():
     assert volume == pytest.approx(geo.section.area * 0.3 - holes, rel=1e-2)
     assert mass_model("newton-euler", {}).rail_mass_per_m == rail_mass_per_metre_with_holes()
     assert mass_model("seed-2013", {}).rail_mass_per_m == 2.7
+
+
+def test_a_rail_without_grooves_is_a_solid_rectangle_of_its_width_and_height():
+    """``[geometry] rail_groove_radius = "0 mm"`` (the catalogue's "no grooves"): the scene
+    takes it, the section is the 23 x 22 mm rectangle, and the meshed rail's volume is that
+    rectangle's less the holes, to 1% (at 6 mm the holes' curved edges fold and are
+    straightened: faceted holes, 8% of their volume, said in the mesh's warning); zero is
+    still refused for any other dimension, and a negative radius too."""
+    from railcheck.errors import InputError
+    from railcheck.fea.elasticity import assemble, mass_matrix
+    from railcheck.fea.materials import MATERIALS
+    from railcheck.geometry import mesh_part
+
+    scene = parse_scene(tomllib.loads(FINAL_DESIGN + '[geometry]\nrail_groove_radius = "0 mm"\n'), "test")
+    geo = geometry_of("crank-rail", scene.geometry)
+    assert geo.section.area == pytest.approx(23e-3 * 22e-3, rel=1e-12)
+    mesh = mesh_part(geo, 20e-3, 6e-3)
+    _, basis = assemble(mesh.points, mesh.tets, MATERIALS["steel"], 2, mesh.curved)
+    holes = len(geo.get("hole_x")) * math.pi / 4 * (7e-3**2 * 13e-3 + 11e-3**2 * 9e-3)
+    assert mass_matrix(basis).sum() == pytest.approx(23e-3 * 22e-3 * 0.7 - holes, rel=1e-2)
+    assert "straightened" in mesh.warning
+    for text in ('rail_width = "0 mm"', 'rail_groove_radius = "-1 mm"'):
+        with pytest.raises(InputError, match="geometry.rail_"):
+            parse_scene(tomllib.loads(FINAL_DESIGN + f"[geometry]\n{text}\n"), "test")
 
 
 @pytest.mark.slow
