@@ -198,6 +198,34 @@ def test_sigterm_cleans_up_and_the_next_run_removes_dead_staging(tmp_path):
     assert not dead.exists()
 
 
+@pytest.mark.slow  # a subprocess sweep, about 5 s
+@pytest.mark.parametrize(("sig", "status"), [("SIGINT", 130), ("SIGTERM", 143)])
+def test_a_sweep_on_threads_stops_at_once_on_a_signal_and_leaves_nothing(tmp_path, sig, status):
+    """A kinematics-only sweep of the whole rig at 5,000 steps (this process's threads,
+    each chunk about a second): interrupted or terminated after its first chunk, it exits
+    within 5 s with its status and one line, and leaves no results or staging."""
+    import signal
+    import time
+
+    scene = tmp_path / "scene.toml"
+    scene.write_text('[sweep]\nkind = "both"\nsteps = 5000\n')
+    proc = subprocess.Popen(
+        [sys.executable, "-P", "-m", "railcheck.cli", "sweep", str(scene), "--out", str(tmp_path / "r")],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        text=True,
+        cwd=tmp_path,
+    )
+    assert "threads in this process" in proc.stderr.readline() + proc.stderr.readline()
+    assert "settings/s" in proc.stderr.readline()  # the first chunk is done: the threads are busy
+    t = time.time()
+    proc.send_signal(getattr(signal, sig))
+    assert proc.wait(timeout=60) == status and time.time() - t < 5
+    rest = proc.stderr.read()
+    assert "Traceback" not in rest and rest.strip().splitlines()[-1] in ("railcheck: interrupted", "railcheck: terminated")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["scene.toml"]
+
+
 def test_bad_output_path_fails_before_any_meshing(tmp_path):
     import os
 
