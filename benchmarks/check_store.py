@@ -48,15 +48,20 @@ def run(scene: Path, out: Path, env: dict) -> float:
     return wall
 
 
-def sweep(scene: Path | None, out: Path, env: dict, *extra: str) -> tuple[float, dict, dict]:
-    """(wall s, summary.json, timings.json) of one `railcheck sweep` in a fresh process."""
+def sweep(scene: Path | None, out: Path, env: dict, *extra: str) -> tuple[float, dict, dict, str]:
+    """(wall s, summary.json, timings.json, where its chunks ran) of one `railcheck sweep`
+    in a fresh process."""
     cmd = [sys.executable, "-P", "-m", "railcheck.cli", "sweep", *([str(scene)] if scene else []), "--out", str(out)]
     t = time.perf_counter()
     proc = subprocess.run([*cmd, "--force", *extra], capture_output=True, text=True, env=env)
     wall = time.perf_counter() - t
     if proc.returncode not in (0, 1):
         raise SystemExit(proc.stderr)
-    return wall, json.loads((out / "summary.json").read_text()), json.loads((out / "timings.json").read_text())
+    ran = next(
+        (line.split("sweep", 1)[1].strip() for line in proc.stderr.splitlines() if "threads in" in line or "Dask:" in line),
+        "serially",
+    )
+    return wall, json.loads((out / "summary.json").read_text()), json.loads((out / "timings.json").read_text()), ran
 
 
 def settings_of(summary: dict) -> int:
@@ -65,19 +70,19 @@ def settings_of(summary: dict) -> int:
 
 def sweeps(tmp: Path, env: dict, cold: dict[str, float]) -> None:
     """The whole rig and its kinematics alone, against the cold checks ``cold``."""
-    wall, summary, timings = sweep(None, tmp / "rig", env)
+    wall, summary, timings, ran = sweep(None, tmp / "rig", env)
     print(
-        f"  whole rig: {wall:.1f} s (unit fields {timings['prepare']:.1f} s, settings {timings['chunks']:.1f} s, "
+        f"  whole rig ({ran}): {wall:.1f} s (unit fields {timings['prepare']:.1f} s, settings {timings['chunks']:.1f} s, "
         f"report {timings['report']:.1f} s), {settings_of(summary)} settings; "
         + ", ".join(f"{wall / v:.1f}x the cold check {k}" for k, v in cold.items())
     )
     kinematic = tmp / "kinematics.toml"
     kinematic.write_text('[sweep]\nkind = "both"\n')
-    for label, extra in ((f"Dask, {os.cpu_count()} workers", ()), ("serial", ("--serial",))):
-        wall, summary, timings = sweep(kinematic, tmp / "kin", env, *extra)
+    for extra in ((), ("--serial",)):
+        wall, summary, timings, ran = sweep(kinematic, tmp / "kin", env, *extra)
         n = settings_of(summary)
         print(
-            f"  kinematics only, {label}: {n} settings in {timings['chunks']:.2f} s = "
+            f"  kinematics only ({ran}): {n} settings in {timings['chunks']:.2f} s = "
             f"{n / timings['chunks']:,.0f} settings/s (wall {wall:.1f} s with start-up and report)"
         )
 
