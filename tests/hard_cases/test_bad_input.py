@@ -169,21 +169,26 @@ def test_two_runs_into_one_out_both_survive(tmp_path):
         assert json.loads((tmp_path / d / "summary.json").read_text())["verdict"] == "PASS"
 
 
+def _started(tmp_path, command: str, scene_text: str) -> subprocess.Popen:
+    """`railcheck COMMAND scene.toml --out r` started in ``tmp_path`` (its stderr piped)."""
+    scene = tmp_path / "scene.toml"
+    scene.write_text(scene_text)
+    return subprocess.Popen(
+        [sys.executable, "-P", "-m", "railcheck.cli", command, str(scene), "--out", str(tmp_path / "r")],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        text=True,
+        cwd=tmp_path,
+    )
+
+
 @pytest.mark.slow  # two subprocess runs, 2 s: the fast tier keeps the other interruption cases
 def test_sigterm_cleans_up_and_the_next_run_removes_dead_staging(tmp_path):
     import os
     import signal
     import time
 
-    scene = tmp_path / "scene.toml"
-    scene.write_text(FOURBAR + 'steps = 200\n[check]\nparts = ["crank-rail"]\n[mesh]\nsize = "8 mm"\n')
-    proc = subprocess.Popen(
-        [sys.executable, "-P", "-m", "railcheck.cli", "check", str(scene), "--out", str(tmp_path / "r")],
-        stdout=subprocess.DEVNULL,
-        stderr=subprocess.PIPE,
-        text=True,
-        cwd=tmp_path,
-    )
+    proc = _started(tmp_path, "check", FOURBAR + 'steps = 200\n[check]\nparts = ["crank-rail"]\n[mesh]\nsize = "8 mm"\n')
     deadline = time.time() + 60
     while not list(tmp_path.glob(".r.staging.*")) and time.time() < deadline:
         time.sleep(0.05)
@@ -207,15 +212,7 @@ def test_a_sweep_on_threads_stops_at_once_on_a_signal_and_leaves_nothing(tmp_pat
     import signal
     import time
 
-    scene = tmp_path / "scene.toml"
-    scene.write_text('[sweep]\nkind = "both"\nsteps = 5000\n')
-    proc = subprocess.Popen(
-        [sys.executable, "-P", "-m", "railcheck.cli", "sweep", str(scene), "--out", str(tmp_path / "r")],
-        stdout=subprocess.DEVNULL,
-        stderr=subprocess.PIPE,
-        text=True,
-        cwd=tmp_path,
-    )
+    proc = _started(tmp_path, "sweep", '[sweep]\nkind = "both"\nsteps = 5000\n')
     assert "threads in this process" in proc.stderr.readline() + proc.stderr.readline()
     assert "settings/s" in proc.stderr.readline()  # the first chunk is done: the threads are busy
     t = time.time()
