@@ -295,15 +295,20 @@ def test_dask_and_serial_give_identical_tables(tmp_path, monkeypatch):
 
 
 def test_chunks_on_threads_give_the_serial_tables(tmp_path):
-    """Both linkage kinds on three threads of this process (a sweep without FE, too small
-    for Dask: each kind in two chunks per thread), said so: every table equals the serial
-    run's."""
+    """Both linkage kinds on one thread per core of this process (a sweep without FE, too
+    small for Dask: each kind in two chunks per thread), said so: every table equals the
+    serial run's. Asked for a million workers it uses one per core, and says so."""
+    import os
+
+    cores = os.cpu_count() or 1
     text = KINEMATICS_ONLY + 'crank = ["420 mm", "540 mm"]\ncoupler = ["780 mm", "900 mm"]\n'
     serial = _sweep(tmp_path, text, "serial", serial=True)
     lines = []
     progress = type("P", (), {"say": lambda self, stage, msg: lines.append(msg)})()
-    threaded = _sweep(tmp_path, text, "threads", workers=3, progress=progress)
-    assert "3 threads in this process" in lines and not any("Dask" in line for line in lines)
+    threaded = _sweep(tmp_path, text, "threads", workers=10**6, progress=progress)
+    assert f"--workers 1000000: this machine has {cores} cores; using {cores}" in lines
+    assert f"{cores} threads in this process" in lines or cores == 1
+    assert not any("Dask" in line for line in lines)
     assert set(serial.tables) == {"four-bar", "slider-crank"}
     _assert_same_tables(serial, threaded)
 
