@@ -10,6 +10,18 @@ rocker = "780 mm"
 ground = "1020 mm"
 """
 
+#: a sweep of seed 000's final design alone (one setting), at 1 Hz and 90 steps
+FINAL_DESIGN_SWEEP = """
+[sweep]
+kind = "four-bar"
+speeds = ["1 Hz"]
+steps = 90
+crank = ["480 mm", "480 mm"]
+coupler = ["840 mm", "840 mm"]
+rocker = ["780 mm", "780 mm"]
+ground = ["1020 mm", "1020 mm"]
+"""
+
 #: PF_4b_003_v2 alone with the seed's explicit loads (4.2.1): no linkage runs
 PLATE_LOADS = """
 [check]

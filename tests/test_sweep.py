@@ -14,6 +14,7 @@ from railcheck.loads.bearings import BEARING_6205, bearing_life
 from railcheck.scene import parse_scene
 from railcheck.sweep.run import run_sweep
 from railcheck.sweep.table import read_table
+from scene_texts import FINAL_DESIGN_SWEEP
 
 # seed 000, 3.3.6: (b2, b3, b4, d) mm -> mu_max, mu_min (deg) and the seed's label
 SEED_336 = [
@@ -775,16 +776,9 @@ def test_a_cluster_left_half_started_by_an_interrupt_closes_quietly_at_exit(monk
     quiet()  # the hook's error does not reach the exit
 
 
-TWO_PLATES = """
-[sweep]
-kind = "four-bar"
-speeds = ["1 Hz"]
-steps = 90
-crank = ["480 mm", "480 mm"]
-coupler = ["840 mm", "840 mm"]
-rocker = ["780 mm", "780 mm"]
-ground = ["1020 mm", "1020 mm"]
-[check]
+TWO_PLATES = (
+    FINAL_DESIGN_SWEEP
+    + """[check]
 parts = ["PF_4b_006", "PF_4b_003_v2"]
 [loads.PF_4b_003_v2]
 longitudinal = "250 N"
@@ -793,6 +787,7 @@ transverse = "250 N"
 size = "8 mm"
 hole_size = "4 mm"
 """
+)
 
 
 @pytest.mark.slow

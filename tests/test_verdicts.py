@@ -15,6 +15,7 @@ from railcheck.cli import main
 from railcheck.scene import parse_scene
 from railcheck.sweep.run import run_sweep
 from railcheck.sweep.table import read_table
+from scene_texts import FINAL_DESIGN_SWEEP
 
 #: PF_4b_003_v2 under the seed's constant explicit loads (4.2.1) on a coarse mesh:
 #: about 81 MPa, fatigue factor about 9.2 (constant loads: n = Sut / sigma_m), 0.10 mm
@@ -87,16 +88,9 @@ def test_a_part_fails_on_each_criterion_alone(tmp_path, passing, extra, fatigue,
     assert f"PF_4b_003_v2 {criterion}" in stdout.strip().splitlines()[-1]
 
 
-SWEEP = """
-[sweep]
-kind = "four-bar"
-speeds = ["1 Hz"]
-steps = 90
-crank = ["480 mm", "480 mm"]
-coupler = ["840 mm", "840 mm"]
-rocker = ["780 mm", "780 mm"]
-ground = ["1020 mm", "1020 mm"]
-[check]
+SWEEP = (
+    FINAL_DESIGN_SWEEP
+    + """[check]
 parts = ["crank-rail"]
 EXTRA
 [mesh]
@@ -105,6 +99,7 @@ hole_size = "6 mm"
 [geometry]
 rail_groove_radius = "0 mm"
 """
+)
 # a rail without its grooves (a solid 23 x 22 mm section): the verdict's logic does not
 # depend on the section, and the grooves' fine mesh costs 9 s cold against 1.4 s (and
 # half the unknowns to solve)
