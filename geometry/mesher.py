@@ -104,8 +104,7 @@ def mesh_part(
     if verbose is None:
         verbose = os.environ.get("RAILCHECK_GMSH_VERBOSE", "") not in ("", "0")
     hole_size = hole_size or size / 3.0
-    payload = _cache_payload(part, size, hole_size, optimize)
-    path = (cache_dir or default_cache_dir()) / f"{part.kind}-{_cache_key(part, size, hole_size, optimize)}.npz"
+    path, payload = _cache_entry(part, size, hole_size, optimize, cache_dir)
     why = None
     if cache:
         data, why = read_cached(path, payload)
@@ -124,10 +123,15 @@ def mesh_part(
 def cached_mesh(part: PartGeometry, size: float, hole_size: float | None = None, optimize: bool = True) -> MeshData | None:
     """The mesh :func:`mesh_part` would read from the cache, or None when it would have to
     build it (no entry, or a damaged or stale one): a probe that never meshes."""
-    hole_size = hole_size or size / 3.0
+    return read_cached(*_cache_entry(part, size, hole_size or size / 3.0, optimize))[0]
+
+
+def _cache_entry(
+    part: PartGeometry, size: float, hole_size: float, optimize: bool, cache_dir: Path | None = None
+) -> tuple[Path, str]:
+    """(path, payload) of the cache entry of ``part`` meshed with these parameters."""
     payload = _cache_payload(part, size, hole_size, optimize)
-    path = default_cache_dir() / f"{part.kind}-{_cache_key(part, size, hole_size, optimize)}.npz"
-    return read_cached(path, payload)[0]
+    return (cache_dir or default_cache_dir()) / f"{part.kind}-{_cache_key(part, size, hole_size, optimize)}.npz", payload
 
 
 def build_mesh(part: PartGeometry, size: float, hole_size: float, verbose: bool = False, optimize: bool = True) -> MeshData:

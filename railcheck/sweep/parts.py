@@ -182,6 +182,7 @@ def part_is_stored(scene, name: str, lengths: np.ndarray, material, linkage: str
 class _PartSetup:
     """What a part model derives from the scene and the mesh before its unit fields."""
 
+    geo: object  # PartGeometry
     free: bool
     plate: bool
     loads: LoadModel
@@ -235,13 +236,13 @@ def _part_setup(scene, name: str, geo, mesh, lengths: np.ndarray, material, link
         else None,
         modes,
     )
-    return _PartSetup(free, plate, loads, groups, pair_of, cases, columns, pressure, modes, request)
+    return _PartSetup(geo, free, plate, loads, groups, pair_of, cases, columns, pressure, modes, request)
 
 
 def _part_model(scene, name: str, setup: _PartSetup, fields, meta, material, limit: float) -> PartModel:
     """The part model of its setup and unit fields: screens, modes, limits, and a
     constant-load part's own figures (:func:`build_part_model`)."""
-    kind, geo = kind_of(name), geometry_of(name, scene.geometry)
+    kind, geo = kind_of(name), setup.geo
     free, plate, loads, groups, pair_of = setup.free, setup.plate, setup.loads, setup.groups, setup.pair_of
     cases, columns, pressure, modes = setup.cases, setup.columns, setup.pressure, setup.modes
     screens = {
