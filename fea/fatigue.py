@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .elasticity import von_mises
+from .invariants import von_mises
 
 #: surface factor ka = a Sut^b, Sut in MPa (Shigley table 6-2)
 SURFACE = {

@@ -17,6 +17,7 @@ from railcheck.machine import available_memory
 
 from .assembly import affine_reference, mass_matrix, straight_and_curved, straight_jacobians
 from .errors import NumericalError
+from .invariants import VM_QUADRATIC, von_mises, von_mises_squared  # noqa: F401 (the names stress users read)
 from .loading import surface_node_weights, surface_vectors
 from .materials import Material
 from .mesh import scalar_basis, vector_dof_map
@@ -151,31 +152,6 @@ def _sum_onto_nodes(sdofs: np.ndarray, n: int, values: np.ndarray) -> np.ndarray
     nb, e = sdofs.shape
     scatter = sp.csr_matrix((np.ones(e * nb), (sdofs.T.ravel(), np.arange(e * nb))), shape=(n, e * nb))
     return np.asarray(scatter @ values.reshape(e * nb, int(np.prod(values.shape[2:], dtype=int))))
-
-
-#: von Mises squared as a quadratic form of the six stress components (xx, yy, zz, xy, yz, xz)
-VM_QUADRATIC = np.array(
-    [
-        [1.0, -0.5, -0.5, 0, 0, 0],
-        [-0.5, 1.0, -0.5, 0, 0, 0],
-        [-0.5, -0.5, 1.0, 0, 0, 0],
-        [0, 0, 0, 3.0, 0, 0],
-        [0, 0, 0, 0, 3.0, 0],
-        [0, 0, 0, 0, 0, 3.0],
-    ]
-)
-
-
-def von_mises(s: np.ndarray) -> np.ndarray:
-    """Von Mises stress (Pa) of stress components (6, ...) Pa (xx, yy, zz, xy, yz, xz)."""
-    return np.sqrt(von_mises_squared(s))
-
-
-def von_mises_squared(s: np.ndarray) -> np.ndarray:
-    """Von Mises stress squared (Pa^2) of stress components (6, ...) Pa: a maximum needs
-    one square root, not one per entry."""
-    sxx, syy, szz, sxy, syz, sxz = s
-    return 0.5 * ((sxx - syy) ** 2 + (syy - szz) ** 2 + (szz - sxx) ** 2) + 3.0 * (sxy**2 + syz**2 + sxz**2)
 
 
 def away_from(locations: np.ndarray, support_points: np.ndarray, distance: float) -> np.ndarray:

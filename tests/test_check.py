@@ -1,5 +1,6 @@
 """`railcheck check`: load cases, staged pipeline, outputs, verdicts."""
 
+import ast
 import json
 import math
 import pickle
@@ -123,6 +124,19 @@ def test_kinematics_only_run_imports_no_heavy_module(tmp_path):
     summary = json.loads(proc.stdout)
     assert summary["stages_run"] == ["scene", "kinematics", "report"]
     assert summary["verdict"] == "NO CHECK"
+
+
+def test_reading_a_scene_loads_no_fe_solver():
+    """A scene is validated before anything is solved: reading one imports none of scipy
+    and none of our FE stack beyond the fatigue criteria, the materials and von Mises
+    (numpy-only modules), so a bad scene is refused at once."""
+    code = (
+        "import sys; from railcheck.scene import load_scene; load_scene(None); "
+        "print(sorted(m for m in sys.modules if m.startswith(('scipy', 'railcheck.fea'))))"
+    )
+    proc = subprocess.run([sys.executable, "-P", "-c", code], capture_output=True, text=True, check=True)
+    loaded = ast.literal_eval(proc.stdout)
+    assert loaded == ["railcheck.fea", "railcheck.fea.fatigue", "railcheck.fea.invariants", "railcheck.fea.materials"]
 
 
 @pytest.mark.slow
