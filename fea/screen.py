@@ -341,8 +341,9 @@ def component_norms(Sw: np.ndarray) -> np.ndarray:
 
 def von_mises_norm_bound(Sw: np.ndarray) -> np.ndarray:
     """(n,): an upper bound of each node's largest von Mises per unit scaled coefficient,
-    the Frobenius norm of its von Mises factor (sqrt of the trace of its quadratic form)."""
-    return np.sqrt(np.maximum(np.einsum("cnk,cd,dnk->n", Sw, VM_QUADRATIC, Sw, optimize=True), 0.0))
+    the Frobenius norm of its von Mises factor (sqrt of the trace of its quadratic form:
+    the sum of each coefficient's von Mises squared)."""
+    return np.sqrt(von_mises_squared(Sw).sum(axis=-1))
 
 
 def project(S: np.ndarray, scale: np.ndarray, sub: Subspace) -> np.ndarray:

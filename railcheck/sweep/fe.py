@@ -102,10 +102,21 @@ class Screen:
 
 
 def make_screen(stress: np.ndarray, verdict_mask: np.ndarray, tip: np.ndarray, cols: list[int]) -> Screen:
-    """Screen of the unit-case columns ``cols`` of ``stress`` (6, nodes, cases)."""
+    """Screen of the unit-case columns ``cols`` of ``stress`` (6, nodes, cases) at the
+    verdict nodes; ``tip`` (3, cases) m."""
+    nodes = np.flatnonzero(_verdict_nodes(verdict_mask))
+    # the columns first, then the nodes, each by np.take: a part's fields have many columns
+    return _screen(np.take(np.take(stress, cols, axis=2), nodes, axis=1), tip[:, cols])
 
-    mask = verdict_mask if np.any(verdict_mask) else np.ones_like(verdict_mask)
-    S = np.ascontiguousarray(stress[:, :, cols][:, mask])  # the columns first: a part has many
+
+def _verdict_nodes(verdict_mask: np.ndarray) -> np.ndarray:
+    """The mask of the nodes a screen reads: the verdict nodes, or every node if none is."""
+    return verdict_mask if np.any(verdict_mask) else np.ones_like(verdict_mask)
+
+
+def _screen(S: np.ndarray, tip: np.ndarray) -> Screen:
+    """Screen of the stresses ``S`` (6, n, k) Pa per unit coefficient (contiguous) at the
+    verdict nodes and the tip's (3, k) m per unit coefficient."""
     k = S.shape[2]
     # the quadratic forms in scaled coefficients c w (w: each coefficient's largest stress
     # per unit), so the bound sqrt(lam) |c w| is not set by mixing forces, torques and
@@ -124,7 +135,7 @@ def make_screen(stress: np.ndarray, verdict_mask: np.ndarray, tip: np.ndarray, c
     Ga = np.sqrt(norms[0] ** 2 + norms[1] ** 2 + norms[2] ** 2 + shear)
     angle = np.arctan2(S[..., 1], S[..., 0]) if k == 2 else None
     unit_rows = screen_.component_norms(Sw)  # (6, n): each component's stress per unit scaled coefficient
-    return Screen(S, Q, lam, G, Ga, tip[:, cols], unit_rows, np.argsort(-lam), np.argsort(-Ga), angle, w)
+    return Screen(S, Q, lam, G, Ga, tip, unit_rows, np.argsort(-lam), np.argsort(-Ga), angle, w)
 
 
 def hull_steps(C: np.ndarray) -> np.ndarray:
