@@ -180,8 +180,11 @@ def write_entry(path: Path, payload: str, fields, solve) -> None:
         path.parent.mkdir(parents=True, exist_ok=True)
         np.savez(tmp, payload=np.array(payload), meta=np.array(meta), **arrays)
         os.replace(tmp, path)
-    except OSError:  # a full disk or a read-only store: nothing half-written is left
-        tmp.unlink(missing_ok=True)
+    except OSError:  # a full disk, a read-only store, a file where its folder should be
+        try:  # nothing half-written is left (and no folder may exist to hold any)
+            tmp.unlink(missing_ok=True)
+        except OSError:
+            pass
         return
     _evict(path.parent, _cap_bytes(), keep=path)
 

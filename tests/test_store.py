@@ -146,6 +146,17 @@ def test_a_store_that_cannot_be_written_only_costs_time(store, monkeypatch):
     assert not store.exists() or not list(store.iterdir())
 
 
+def test_a_store_under_a_file_only_costs_time(tmp_path, monkeypatch):
+    """RAILCHECK_CACHE below a regular file (no folder can be made there): the mesh and
+    the fields are made and returned, and nothing is written anywhere."""
+    blocker = tmp_path / "a-file"
+    blocker.write_text("not a folder")
+    monkeypatch.setenv("RAILCHECK_CACHE", str(blocker / "cache"))
+    fields, _, origin = solve_stored(_request())
+    assert origin == "solved" and fields.stress.size
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a-file"] and blocker.read_text() == "not a folder"
+
+
 def test_railcheck_cache_shows_and_clears(store, capsys):
     from railcheck.cli import main
 
