@@ -27,6 +27,7 @@ from __future__ import annotations
 import functools
 import hashlib
 import json
+import math
 import os
 import stat
 import time
@@ -34,6 +35,9 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
+
+from railcheck.errors import InputError
+from railcheck.geometry.cache import default_cache_dir
 
 from .dynamic import DynamicModel
 from .superpose import UnitFields
@@ -50,16 +54,23 @@ DEFAULT_CAP_MB = 2048
 
 
 def store_dir() -> Path:
-    """The store's directory (created on first write)."""
-    root = Path(os.environ.get("RAILCHECK_CACHE", Path.home() / ".cache" / "railcheck"))
-    return root / "unit-fields"
+    """The store's directory (created on first write), in the mesh cache's folder."""
+    return default_cache_dir() / "unit-fields"
 
 
-def _cap_bytes() -> int:
-    try:
-        return int(float(os.environ.get("RAILCHECK_STORE_MB", DEFAULT_CAP_MB)) * 1e6)
-    except ValueError:
+def store_cap_bytes() -> int:
+    """The store's size cap in bytes: ``RAILCHECK_STORE_MB`` megabytes (unset or empty:
+    :data:`DEFAULT_CAP_MB`); anything but a finite number of at least 0 is refused."""
+    text = os.environ.get("RAILCHECK_STORE_MB", "").strip()
+    if not text:
         return int(DEFAULT_CAP_MB * 1e6)
+    try:
+        mb = float(text)
+    except ValueError:
+        mb = math.nan
+    if not (math.isfinite(mb) and 0.0 <= mb * 1e6 < 2.0**62):
+        raise InputError("RAILCHECK_STORE_MB", f"must be a size in megabytes, 0 or more, got {text!r}")
+    return int(mb * 1e6)
 
 
 @functools.lru_cache(maxsize=1)
@@ -186,7 +197,7 @@ def write_entry(path: Path, payload: str, fields, solve) -> None:
         except OSError:
             pass
         return
-    _evict(path.parent, _cap_bytes(), keep=path)
+    _evict(path.parent, store_cap_bytes(), keep=path)
 
 
 def read_entry(path: Path, payload: str):
@@ -330,7 +341,7 @@ class StoreInfo:
 def store_info() -> StoreInfo:
     directory = store_dir()
     entries = _entries(directory)
-    return StoreInfo(directory, len(entries), sum(p.stat().st_size for p in entries), _cap_bytes())
+    return StoreInfo(directory, len(entries), sum(p.stat().st_size for p in entries), store_cap_bytes())
 
 
 def clear_store() -> int:

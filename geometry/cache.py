@@ -19,7 +19,9 @@ __all__ = ["default_cache_dir", "read_cached", "write_cached"]
 
 
 def default_cache_dir() -> Path:
-    return Path(os.environ.get("RAILCHECK_CACHE", Path.home() / ".cache" / "railcheck"))
+    """The folder of the mesh cache and the unit-field store: ``RAILCHECK_CACHE``, or
+    ~/.cache/railcheck when it is unset or empty."""
+    return Path(os.environ.get("RAILCHECK_CACHE") or Path.home() / ".cache" / "railcheck")
 
 
 def _digest(

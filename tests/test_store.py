@@ -168,6 +168,36 @@ def test_railcheck_cache_shows_and_clears(store, capsys):
     assert store_info().entries == 0
 
 
+@pytest.mark.parametrize("cap", ["abc", "-5", "nan", "inf", "1e309", "2e60"])
+def test_a_bad_store_cap_is_one_line_naming_the_variable_before_any_work(store, capsys, monkeypatch, cap, tmp_path):
+    from railcheck.cli import main
+
+    monkeypatch.setenv("RAILCHECK_STORE_MB", cap)
+    assert main(["kinematics", "--plots", str(tmp_path / "plots")]) == 2
+    err = capsys.readouterr().err
+    assert err == f"railcheck: error: RAILCHECK_STORE_MB: must be a size in megabytes, 0 or more, got {cap!r}\n"
+    assert not (tmp_path / "plots").exists() and not store.parent.exists()
+
+
+@pytest.mark.parametrize("cap, expected", [("", 2048e6), (" 1.5 ", 1.5e6), ("0", 0)])
+def test_the_store_cap_reads_megabytes_and_an_empty_variable_is_the_default(monkeypatch, cap, expected):
+    from railcheck.fea.store import store_cap_bytes
+
+    monkeypatch.setenv("RAILCHECK_STORE_MB", cap)
+    assert store_cap_bytes() == expected
+
+
+def test_an_empty_cache_variable_is_the_default_folder(monkeypatch, tmp_path):
+    """RAILCHECK_CACHE="" is unset (not the current folder), for the meshes and the store alike."""
+    from railcheck.fea.store import store_dir
+    from railcheck.geometry.cache import default_cache_dir
+
+    monkeypatch.setenv("HOME", str(tmp_path))
+    monkeypatch.setenv("RAILCHECK_CACHE", "")
+    assert default_cache_dir() == tmp_path / ".cache" / "railcheck"
+    assert store_dir() == default_cache_dir() / "unit-fields"
+
+
 @pytest.mark.slow
 def test_a_warm_check_equals_a_cold_one_byte_for_byte(tmp_path):
     """The crank rail at 20 mm: a cold check fills the store, a warm one reads it (no

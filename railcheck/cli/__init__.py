@@ -18,6 +18,7 @@ from importlib.metadata import PackageNotFoundError, version
 
 from railcheck.cli import bench, cache, check, convergence, init, kinematics, mechanism, sweep
 from railcheck.errors import EXIT_INPUT, EXIT_PASS, RailcheckError
+from railcheck.fea.store import store_cap_bytes
 from railcheck.files import writable_dir, writable_file
 
 DESCRIPTION = (
@@ -73,7 +74,9 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def _check_output_options(args) -> None:
-    """Every output path the command line names is checked before any work starts."""
+    """Every output path the command line names, and the store's size cap
+    (``RAILCHECK_STORE_MB``), is checked before any work starts."""
+    store_cap_bytes()
     for attr, (option, is_dir) in OUTPUT_OPTIONS.items():
         value = getattr(args, attr, None)
         if value:
