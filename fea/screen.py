@@ -43,7 +43,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .stress import VM_QUADRATIC, von_mises, von_mises_squared
+from .invariants import VM_QUADRATIC, von_mises, von_mises_squared
 
 #: the smallest rank of the principal subspace a history is screened in
 REDUCED_RANK = 4

@@ -18,7 +18,7 @@ import numpy as np
 
 from . import screen
 from .elasticity import von_mises
-from .stress import VM_QUADRATIC  # von Mises squared as s^T P s (re-exported)
+from .invariants import VM_QUADRATIC  # von Mises squared as s^T P s (re-exported)
 
 CHUNK_VALUES = 20_000_000  # floats per chunk of (6, nodes, steps) of a von Mises pass
 #: floats per chunk of (6, nodes, steps) when each component's maximum and minimum are read

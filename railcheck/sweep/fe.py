@@ -43,7 +43,7 @@ import numpy as np
 
 from railcheck.fea import screen as screen_
 from railcheck.fea.fatigue import alternating_and_mean, safety_factor
-from railcheck.fea.stress import von_mises_squared
+from railcheck.fea.invariants import von_mises_squared
 from railcheck.fea.superpose import VM_QUADRATIC, candidate_steps, hull_polygon, support
 
 CHUNK_VALUES = 8_000_000  # floats per temporary (nodes x settings x steps)
