@@ -43,17 +43,27 @@ def atomic_path(target: str | Path) -> Iterator[Path]:
     the block succeeds, remove it when it fails. The suffix is kept (writers that choose
     a format by extension still work)."""
     target = Path(target)
-    fd, tmp = tempfile.mkstemp(prefix=f".{target.stem}.", suffix=target.suffix, dir=target.parent)
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=f".{target.stem}.", suffix=target.suffix, dir=target.parent)
+    except OSError as exc:
+        raise _naming(exc, target) from exc
     os.close(fd)
     tmp_path = Path(tmp)
     try:
         yield tmp_path
         os.chmod(tmp_path, 0o666 & ~_umask())
         os.replace(tmp_path, target)
-    except BaseException:
-        with contextlib.suppress(FileNotFoundError):
+    except BaseException as exc:
+        with contextlib.suppress(OSError):
             tmp_path.unlink()
+        if isinstance(exc, OSError) and exc.filename in (tmp, str(tmp_path)):
+            raise _naming(exc, target) from exc  # the user's file, not its temporary name
         raise
+
+
+def _naming(exc: OSError, target: Path) -> OSError:
+    """The same error (its errno's class) about ``target``."""
+    return OSError(exc.errno, exc.strerror, str(target)) if exc.errno else OSError(str(exc))
 
 
 def atomic_write_text(target: str | Path, text: str) -> None:
@@ -181,16 +191,25 @@ def writable_dir(path: str | Path, option: str) -> Path:
         raise InputError(option, f"cannot create {p}: {exc.strerror or exc}") from None
     if not os.access(p, os.W_OK | os.X_OK):
         raise InputError(option, f"{p} is not writable")
+    try:  # a file made and removed: what os.access cannot tell (root, /proc, a read-only mount)
+        fd, probe = tempfile.mkstemp(prefix=".railcheck-probe.", dir=p)
+        os.close(fd)
+        os.unlink(probe)
+    except OSError as exc:
+        raise InputError(option, f"cannot write in {p}: {exc.strerror or exc}") from None
     return p
 
 
-def writable_file(path: str | Path, option: str) -> Path:
-    """Check that ``path`` can be written as a file (its directory is created), or raise
-    InputError naming ``option``; called before any work starts."""
+def writable_file(path: str | Path, option: str, suffix: str | None = None) -> Path:
+    """Check that ``path`` can be written as a file (its directory is created) and, for a
+    format chosen by the name, ends in ``suffix`` (e.g. ".gif"), or raise InputError
+    naming ``option``; called before any work starts."""
 
     p = Path(path)
     if p.is_dir():
         raise InputError(option, f"{p} is a directory, not a file name")
+    if suffix and p.suffix.lower() != suffix:
+        raise InputError(option, f"the file is written as {suffix[1:].upper()}: name it *{suffix}, got {p.name!r}")
     writable_dir(p.parent if str(p.parent) else Path("."), option)
     if p.exists() and not os.access(p, os.W_OK):
         raise InputError(option, f"{p} is not writable")

@@ -39,12 +39,13 @@ COMMANDS = {
 }
 
 #: output options: attribute -> (option, directory?)
+#: attribute -> (option, a directory?, the file name's required suffix or None)
 OUTPUT_OPTIONS = {
-    "plots": ("--plots", True),
-    "csv": ("--csv", False),
-    "html": ("--html", False),
-    "gif": ("--gif", False),
-    "plot": ("--plot", False),
+    "plots": ("--plots", True, None),
+    "csv": ("--csv", False, None),
+    "html": ("--html", False, None),
+    "gif": ("--gif", False, ".gif"),  # the writer picks GIF by the name
+    "plot": ("--plot", False, None),  # written as PNG whatever its name
 }
 
 
@@ -77,10 +78,13 @@ def _check_output_options(args) -> None:
     """Every output path the command line names, and the store's size cap
     (``RAILCHECK_STORE_MB``), is checked before any work starts."""
     store_cap_bytes()
-    for attr, (option, is_dir) in OUTPUT_OPTIONS.items():
+    for attr, (option, is_dir, suffix) in OUTPUT_OPTIONS.items():
         value = getattr(args, attr, None)
         if value:
-            (writable_dir if is_dir else writable_file)(value, option)
+            if is_dir:
+                writable_dir(value, option)
+            else:
+                writable_file(value, option, suffix)
 
 
 def _terminate(signum, frame):

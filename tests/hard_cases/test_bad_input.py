@@ -121,6 +121,39 @@ def test_output_dir_not_writable(tmp_path):
     one_line_exit_2(proc, "output.dir")
 
 
+@pytest.mark.parametrize(
+    "option, path, needles",
+    [
+        ("--gif", "anim.txt", ("--gif", "*.gif", "'anim.txt'")),  # the GIF writer picks its format by the name
+        ("--csv", "/proc/tracer.csv", ("--csv", "cannot write in /proc")),  # root may, /proc may not
+        ("--html", "/proc/page.html", ("--html", "cannot write in /proc")),
+    ],
+)
+def test_an_output_file_that_cannot_be_written_as_named_is_refused_first(tmp_path, option, path, needles):
+    proc = subprocess.run(
+        [sys.executable, "-P", "-m", "railcheck.cli", "mechanism", "four-bar", option, path],
+        capture_output=True,
+        text=True,
+        cwd=tmp_path,
+    )
+    one_line_exit_2(proc, *needles)
+    assert not proc.stdout and not list(tmp_path.iterdir())  # refused before the mechanism ran
+
+
+def test_a_write_that_fails_names_the_file_asked_for_and_leaves_no_temporary(tmp_path):
+    """A writer's error about the temporary name (a full disk) is reported with the
+    target's name, its errno kept; nothing is left beside it."""
+    from railcheck.files import atomic_path
+
+    target = tmp_path / "tracer.csv"
+    with pytest.raises(OSError) as caught:
+        with atomic_path(target) as tmp:
+            tmp.write_text("half")
+            raise OSError(28, "No space left on device", str(tmp))
+    assert (caught.value.errno, caught.value.filename) == (28, str(target))
+    assert not list(tmp_path.iterdir())
+
+
 @pytest.mark.slow
 def test_failed_run_leaves_earlier_results_untouched(tmp_path):
     good = check(tmp_path, PLATE)
