@@ -422,6 +422,9 @@ def _sweep(table: dict) -> SweepSpec:
         _in_range(parse_quantity(v, "angular_speed", p + "speeds", positive=True, allow_zero=False), "speed", p + "speeds")
         for v in speeds
     )
+    for i, w in enumerate(speeds):  # one row per setting and speed: a speed listed twice doubles rows
+        if any(math.isclose(w, u, rel_tol=1e-9) for u in speeds[:i]):
+            raise InputError(p + "speeds", f"{table['speeds'][i]!r} is {w / (2 * math.pi):g} Hz, already listed")
     steps = table.get("steps", 720)
     if isinstance(steps, bool) or not isinstance(steps, int) or not 8 <= steps <= 100_000:
         raise InputError(p + "steps", f"must be a whole number from 8 to 100000, got {steps!r}")

@@ -33,6 +33,8 @@ def sweep(tmp_path, text, *extra):
         (BASE + 'crank = ["60 kg", "660 mm"]\n', ("sweep.crank", "kg")),
         (BASE + "speeds = []\n", ("sweep.speeds",)),
         (BASE + 'speeds = ["1e9 Hz"]\n', ("sweep.speeds", "physical range")),
+        (BASE + 'speeds = ["1 Hz", "2 Hz", "1 Hz"]\n', ("sweep.speeds", "'1 Hz' is 1 Hz, already listed")),
+        (BASE + 'speeds = ["1 Hz", "60 rpm"]\n', ("sweep.speeds", "'60 rpm' is 1 Hz, already listed")),
         (BASE.replace("steps = 16", "steps = 3"), ("sweep.steps",)),
         (BASE + 'memory = "1 kB"\n', ("sweep.memory",)),
         (BASE + 'format = "xlsx"\n', ("sweep.format",)),
