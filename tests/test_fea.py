@@ -136,8 +136,8 @@ def test_holed_rail_is_more_flexible_and_the_difference_is_measured():
 
 @pytest.fixture(scope="module")
 def rail_mesh():
-    """A 700 mm grooved rail on the check's default mesh (the mesh test_check.py weighs:
-    one mesh per run)."""
+    """A 700 mm grooved rail on the check's default mesh (the crank rail's: in CI the main
+    job has meshed it, so it is read from the mesh cache)."""
     return mesh_part(rail(0.7), 20e-3, hole_size=6e-3)
 
 

@@ -129,15 +129,16 @@ def test_output_dir_not_writable(tmp_path):
         ("--html", "/proc/page.html", ("--html", "cannot write in /proc")),
     ],
 )
-def test_an_output_file_that_cannot_be_written_as_named_is_refused_first(tmp_path, option, path, needles):
-    proc = subprocess.run(
-        [sys.executable, "-P", "-m", "railcheck.cli", "mechanism", "four-bar", option, path],
-        capture_output=True,
-        text=True,
-        cwd=tmp_path,
-    )
-    one_line_exit_2(proc, *needles)
-    assert not proc.stdout and not list(tmp_path.iterdir())  # refused before the mechanism ran
+def test_an_output_file_that_cannot_be_written_as_named_is_refused_first(
+    tmp_path, monkeypatch, capsys, option, path, needles
+):
+    from railcheck.cli import main
+
+    monkeypatch.chdir(tmp_path)
+    status = main(["mechanism", "four-bar", option, path])
+    out, err = capsys.readouterr()
+    one_line_exit_2(subprocess.CompletedProcess([], status, out, err), *needles)
+    assert not out and not list(tmp_path.iterdir())  # refused before the mechanism ran
 
 
 def test_a_write_that_fails_names_the_file_asked_for_and_leaves_no_temporary(tmp_path):
