@@ -234,6 +234,7 @@ def test_the_readme_layout_matches_the_tree():
     assert not unlisted, f"in the tree but not in the README's Layout: {unlisted}"
 
 
+@pytest.mark.slow  # 3.7 s (a P2 solve): the README's example, not a regression check; the fast tier stays under 90 s
 def test_the_readme_fe_api_example_runs_with_public_names():
     """The development page's FE API example (a torque as a traction) runs as printed."""
     text = DEVELOPMENT.read_text()

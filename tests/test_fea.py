@@ -78,6 +78,7 @@ def test_p2_cantilever_within_one_percent_of_timoshenko(axis):
     assert abs(r.relative_error) < 0.01, r.relative_error
 
 
+@pytest.mark.slow  # 1.6-2.5 s, three meshes: a convergence study (the fast tier keeps the Timoshenko cantilever)
 def test_p2_error_shrinks_under_refinement_and_p1_locking_is_measured():
     errors = [abs(run_cantilever(order=2, size=s).relative_error) for s in (20e-3, 10e-3, 7e-3)]
     assert errors[0] > errors[1] > errors[2]
@@ -208,6 +209,7 @@ def test_missing_group_and_missing_support_are_errors(rail_mesh):
         solve_elasticity(*args, [], [HoleLoad("hole_11", (1.0, 0, 0))])
 
 
+@pytest.mark.slow  # 3.0-3.4 s: the output format's round trip; the fast tier stays under 90 s
 def test_vtu_round_trip(tmp_path, rail_mesh):
     import meshio
 
@@ -504,6 +506,7 @@ def saint_venant_torsion_constant(a: float, b: float, terms: int = 50) -> float:
     return a * b**3 * (1 / 3 - 64 / np.pi**5 * (b / a) * np.sum(np.tanh(n * np.pi * a / (2 * b)) / n**5))
 
 
+@pytest.mark.slow  # 2.2-2.6 s, a fine bar: the fast tier keeps tractions giving F / A (test_freebody)
 def test_a_torque_as_a_traction_twists_a_bar_as_saint_venant_says():
     """A textbook case written with public names only: a torque T on the tip face as the
     traction t = (T / I_p) (0, -(z - zc), y - yc), linear in the section coordinates, and

@@ -102,11 +102,33 @@ CASES = [
 ]
 
 
+def check_here(tmp_path, scene_text, monkeypatch, capsys) -> subprocess.CompletedProcess:
+    """:func:`check` through ``railcheck.cli.main`` in this process (no interpreter start
+    per case): its exit status, stdout and stderr as a finished process's."""
+    from railcheck.cli import main
+
+    scene = tmp_path / "scene.toml"
+    scene.write_text(scene_text)
+    monkeypatch.chdir(tmp_path)
+    status = main(["check", str(scene), "--out", str(tmp_path / "results")])
+    out, err = capsys.readouterr()
+    return subprocess.CompletedProcess([], status, out, err)
+
+
 @pytest.mark.parametrize("name,text,needles", CASES, ids=[c[0] for c in CASES])
-def test_bad_scene_exits_2_and_writes_nothing(tmp_path, name, text, needles):
-    proc = check(tmp_path, text)
+def test_bad_scene_exits_2_and_writes_nothing(tmp_path, monkeypatch, capsys, name, text, needles):
+    proc = check_here(tmp_path, text, monkeypatch, capsys)
     one_line_exit_2(proc, *needles)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["scene.toml"]  # nothing half-written
+
+
+@pytest.mark.parametrize("name,text,needles", [c for c in CASES if c[0] in ("malformed TOML", "absurd load")])
+def test_a_bad_scene_in_its_own_process_exits_2_with_one_line(tmp_path, name, text, needles):
+    """The same refusals as the process's exit status and stderr (the cases above run in
+    this process)."""
+    proc = check(tmp_path, text)
+    one_line_exit_2(proc, *needles)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["scene.toml"]
 
 
 def test_output_dir_that_is_a_file(tmp_path):
