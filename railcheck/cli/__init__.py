@@ -38,7 +38,6 @@ COMMANDS = {
     "cache": cache,
 }
 
-#: output options: attribute -> (option, directory?)
 #: attribute -> (option, a directory?, the file name's required suffix or None)
 OUTPUT_OPTIONS = {
     "plots": ("--plots", True, None),
