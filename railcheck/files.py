@@ -182,8 +182,12 @@ def writable_dir(path: str | Path, option: str) -> Path:
     """Create (if needed) and return a directory the run may write into, or raise
     InputError naming ``option``; called before any work starts."""
 
-    p = Path(path)
-    if p.exists() and not p.is_dir():
+    p = _nameable(Path(path), option)
+    try:  # a name the file system cannot hold (too long) raises here already
+        exists_as_file = p.exists() and not p.is_dir()
+    except (OSError, ValueError) as exc:
+        raise _unusable(option, p, exc) from None
+    if exists_as_file:
         raise InputError(option, f"{p} exists and is not a directory")
     try:
         p.mkdir(parents=True, exist_ok=True)
@@ -200,13 +204,33 @@ def writable_dir(path: str | Path, option: str) -> Path:
     return p
 
 
+def _nameable(p: Path, option: str) -> Path:
+    """``p``, or the InputError naming ``option`` when it holds a NUL character (no file
+    system takes one; pathlib's lookups would say "no such file" instead)."""
+    if "\0" in str(p):
+        raise _unusable(option, p, ValueError("a file name cannot hold a NUL character"))
+    return p
+
+
+def _unusable(option: str, p: Path, exc: Exception) -> InputError:
+    """A path the file system cannot even look up (too long a name, a NUL byte), shown
+    shortened: the InputError naming ``option``."""
+    text = str(p)
+    shown = text if len(text) <= 80 else text[:77] + "..."
+    return InputError(option, f"cannot use {shown!r}: {getattr(exc, 'strerror', None) or exc}")
+
+
 def writable_file(path: str | Path, option: str, suffix: str | None = None) -> Path:
     """Check that ``path`` can be written as a file (its directory is created) and, for a
     format chosen by the name, ends in ``suffix`` (e.g. ".gif"), or raise InputError
     naming ``option``; called before any work starts."""
 
-    p = Path(path)
-    if p.is_dir():
+    p = _nameable(Path(path), option)
+    try:
+        is_dir = p.is_dir()
+    except (OSError, ValueError) as exc:
+        raise _unusable(option, p, exc) from None
+    if is_dir:
         raise InputError(option, f"{p} is a directory, not a file name")
     if suffix and p.suffix.lower() != suffix:
         raise InputError(option, f"the file is written as {suffix[1:].upper()}: name it *{suffix}, got {p.name!r}")

@@ -341,7 +341,7 @@ def _output(table: dict) -> OutputSpec:
     p = "output."
     _unknown(table, _ALLOWED["output"], p)
     d = table.get("dir", "results")
-    if not isinstance(d, str) or not d.strip():
+    if not isinstance(d, str) or not d.strip() or "\0" in d:  # no file system takes a NUL
         raise InputError(p + "dir", f"must be a directory name, got {d!r}")
     return OutputSpec(d, _bool(table, "vtk", p, True), _bool(table, "png", p, True), _bool(table, "plots", p, True))
 

@@ -68,6 +68,7 @@ CASES = [
         ("check.factor",),
     ),
     ("absurd load", PLATE.replace('"250 N"', '"1e12 N"'), ("loads.PF_4b_003_v2.longitudinal", "1 MN")),
+    ("NUL in the results folder", PLATE + '[output]\ndir = "res\\u0000ults"\n', ("output.dir", "directory name")),
     ("absurd length", FOURBAR.replace('"1020 mm"', '"1e6 m"'), ("mechanism.ground", "10 m")),
     (
         "mesh coarser than the part",
@@ -161,6 +162,28 @@ def test_an_output_file_that_cannot_be_written_as_named_is_refused_first(
     out, err = capsys.readouterr()
     one_line_exit_2(subprocess.CompletedProcess([], status, out, err), *needles)
     assert not out and not list(tmp_path.iterdir())  # refused before the mechanism ran
+
+
+@pytest.mark.parametrize(
+    "argv, option",
+    [
+        (["kinematics", "--plots", "P" * 300], "--plots"),
+        (["mechanism", "four-bar", "--csv", "P" * 300 + ".csv"], "--csv"),
+        (["mechanism", "four-bar", "--html", "nul\0.html"], "--html"),
+    ],
+)
+def test_an_output_name_the_file_system_cannot_hold_is_refused_naming_the_option(
+    tmp_path, monkeypatch, capsys, argv, option
+):
+    """Too long a name (ENAMETOOLONG) or a NUL byte: looking the path up fails before the
+    option's own checks; the refusal names the option and shows the name shortened."""
+    from railcheck.cli import main
+
+    monkeypatch.chdir(tmp_path)
+    status = main(argv)
+    out, err = capsys.readouterr()
+    one_line_exit_2(subprocess.CompletedProcess([], status, out, err), f"error: {option}: cannot use")
+    assert len(err) < 200 and not list(tmp_path.iterdir())
 
 
 def test_a_write_that_fails_names_the_file_asked_for_and_leaves_no_temporary(tmp_path):
