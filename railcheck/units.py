@@ -76,6 +76,8 @@ def parse_quantity(value: object, dimension: str, field: str, *, positive: bool 
             f"cannot read {value!r} as a {dimension.replace('_', ' ')} (expected a number and one of: {', '.join(units)})",
         )
     number, unit = match.group(1), (match.group(2) or "").strip()
+    if re.match(r"^,\d", unit):  # "480,5 mm": a decimal comma, as Spanish and much of Europe write
+        raise InputError(field, f'write a decimal point, not a comma: "{number}.{unit[1:]}" (got {value!r})')
     if not unit:
         raise InputError(field, f'needs a unit, e.g. "{number} {PREFERRED[dimension]}"')
     if unit not in units:

@@ -38,6 +38,17 @@ def test_the_greek_mu_and_the_micro_sign_are_one_unit():
     assert parse_quantity("250 \u00b5m", "length", "f") == pytest.approx(250e-6)
 
 
+@pytest.mark.parametrize(
+    "text, dimension, shown", [("480,5 mm", "length", '"480.5 mm"'), ("1,25 Hz", "angular_speed", '"1.25 Hz"')]
+)
+def test_a_decimal_comma_is_named_as_one(text, dimension, shown):
+    """Spanish and much of Europe write "0,48 m": a comma after the digits is said to be a
+    decimal comma, with the value written with a point, not read as an unknown unit."""
+    with pytest.raises(InputError) as err:
+        parse_quantity(text, dimension, "mechanism.crank")
+    assert str(err.value) == f"mechanism.crank: write a decimal point, not a comma: {shown} (got {text!r})"
+
+
 def test_a_scene_nested_thousands_deep_is_refused(tmp_path):
     scene = tmp_path / "deep.toml"
     scene.write_text("x = " + "[" * 20000 + "]" * 20000 + "\n")
