@@ -147,7 +147,7 @@ def hull_steps(C: np.ndarray) -> np.ndarray:
     steps = [candidate_steps(c) for c in C]
     H = max(s.size for s in steps)
     index = np.stack([np.pad(s, (0, H - s.size), mode="edge") for s in steps])
-    return np.take_along_axis(C, index[:, :, None], axis=1)
+    return screen_.steps_of(C, index)
 
 
 def _groups(settings: int, per_setting: int) -> list[slice]:
@@ -270,7 +270,7 @@ class _Batch:
     def sampled(self, SP: np.ndarray, h: np.ndarray, nodes: np.ndarray) -> screen_.SampledBounds:
         """:func:`railcheck.fea.screen.sampled_pairs` of each pair (``h`` ascending)."""
         sub, screen = self.sub, self.screen
-        at = np.take_along_axis(sub.a, sub.sampled[:, :, None], axis=1)  # (s, M, R)
+        at = screen_.steps_of(sub.a, sub.sampled)  # (s, M, R)
         return screen_.sampled_pairs(SP, h, at, sub.delta, sub.eps, screen.unit_rows[:, nodes], screen.vm_norm[nodes])
 
     def exact(
