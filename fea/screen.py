@@ -227,6 +227,7 @@ def refined_masks(a: np.ndarray, tolerance: np.ndarray, mask: np.ndarray) -> tup
         over = (farthest > tolerance[starts // T]) & (counts[starts // T] < cap)
         at = np.flatnonzero((gap.ravel() == farthest[chord]) & over[chord])
         at = at[np.unique(chord[at], return_index=True)[1]]  # one per chord, ascending
+        at = at[~mask.ravel()[at]]  # only steps not yet read: every round adds one, so the loop ends
         if not at.size:
             return mask, gap.max(axis=1)
         path = at // T

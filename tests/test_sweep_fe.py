@@ -189,6 +189,19 @@ def test_hull_steps_keep_every_result():
     np.testing.assert_allclose(tip_peak(screen, H), tip_peak(screen, C), rtol=1e-12)
 
 
+@pytest.mark.parametrize("shape", [(1, 9, 3), (4, 720, 8), (3, 50, 2, 6)])
+def test_steps_of_paths_equal_take_along_axis(shape):
+    """The one gather of the screens' steps (whole rows of the flattened paths) picks each
+    path's own steps, as take_along_axis does, for one path, many, and rows of any shape."""
+    from railcheck.fea.screen import steps_of
+
+    rng = np.random.default_rng(3)
+    a = rng.normal(size=shape)
+    index = np.sort(rng.integers(0, shape[1], size=(shape[0], 7)), axis=1)
+    expected = np.take_along_axis(a, index.reshape(index.shape + (1,) * (a.ndim - 2)), axis=1)
+    np.testing.assert_array_equal(steps_of(a, index), expected)
+
+
 @pytest.mark.usefixtures("group_prepass")
 def test_a_spike_between_sampled_steps_is_not_lost():
     """The screens of three or more coefficients read some steps (spaced along the history's
