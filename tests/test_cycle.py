@@ -79,7 +79,8 @@ def direct_stress(mesh, holes, c, body=(0.0, 0.0)):
     )
 
 
-@pytest.mark.parametrize("step", [0, 200, 555])
+# one instant in the fast tier; the two others (the same property, 3 s each) in the slow one
+@pytest.mark.parametrize("step", [0, pytest.param(200, marks=pytest.mark.slow), pytest.param(555, marks=pytest.mark.slow)])
 def test_superposition_equals_a_direct_solve_at_three_instants(crank, step):
     scene, geo, mesh, holes, fields, meta = crank
     fields = first_cases(fields, 2)
