@@ -58,7 +58,11 @@ def sweep(scene: Path | None, out: Path, env: dict, *extra: str) -> tuple[float,
     if proc.returncode not in (0, 1):
         raise SystemExit(proc.stderr)
     ran = next(
-        (line.split("sweep", 1)[1].strip() for line in proc.stderr.splitlines() if "threads in" in line or "Dask:" in line),
+        (
+            line.split("sweep", 1)[1].strip()
+            for line in proc.stderr.splitlines()
+            if "threads in" in line or "forked from" in line or "Dask:" in line
+        ),
         "serially",
     )
     return wall, json.loads((out / "summary.json").read_text()), json.loads((out / "timings.json").read_text()), ran

@@ -295,23 +295,27 @@ def test_dask_and_serial_give_identical_tables(tmp_path, monkeypatch):
         _assert_same_tables(serial, run)
 
 
-def test_chunks_on_threads_give_the_serial_tables(tmp_path):
-    """Both linkage kinds on one thread per core of this process (a sweep without FE, too
-    small for Dask: each kind in two chunks per thread), said so: every table equals the
-    serial run's. Asked for a million workers it uses one per core, and says so."""
+def test_chunks_on_forked_processes_give_the_serial_tables(tmp_path):
+    """Both linkage kinds on one process per core forked from this one (a sweep without
+    FE, too small for Dask: each kind in two chunks per process; threads where the
+    platform does not fork), said so: every table equals the serial run's. Asked for a
+    million workers it uses one per core, and says so."""
     import os
+
+    from railcheck.sweep import forked
 
     cores = os.cpu_count() or 1
     text = KINEMATICS_ONLY + 'crank = ["420 mm", "540 mm"]\ncoupler = ["780 mm", "900 mm"]\n'
     serial = _sweep(tmp_path, text, "serial", serial=True)
     lines = []
     progress = type("P", (), {"say": lambda self, stage, msg: lines.append(msg)})()
-    threaded = _sweep(tmp_path, text, "threads", workers=10**6, progress=progress)
+    local = _sweep(tmp_path, text, "local", workers=10**6, progress=progress)
     assert f"--workers 1000000: this machine has {cores} cores; using {cores}" in lines
-    assert f"{cores} threads in this process" in lines or cores == 1
+    how = "processes forked from this one" if forked.available() else "threads in this process"
+    assert f"{cores} {how}" in lines or cores == 1
     assert not any("Dask" in line for line in lines)
     assert set(serial.tables) == {"four-bar", "slider-crank"}
-    _assert_same_tables(serial, threaded)
+    _assert_same_tables(serial, local)
 
 
 @pytest.mark.slow
@@ -452,8 +456,13 @@ def test_parts_prepared_in_two_processes_give_the_serial_table(fe_sweep, tmp_pat
 @pytest.mark.slow
 def test_an_fe_sweep_on_threads_gives_the_serial_table(fe_sweep, tmp_path):
     """The FE sweep's chunks, a few settings with FE each, on two threads of this process
-    (BLAS on one thread meanwhile): the table equals the serial run's bit for bit."""
-    _assert_same_rows(fe_sweep, _rows(_sweep(tmp_path, FE_SWEEP, "threads", workers=2, dask=False)))
+    (BLAS on one thread meanwhile; a sweep with FE never forks, :mod:`railcheck.sweep.forked`),
+    said so: the table equals the serial run's bit for bit."""
+    lines = []
+    progress = type("P", (), {"say": lambda self, stage, msg: lines.append(msg)})()
+    run = _sweep(tmp_path, FE_SWEEP, "threads", workers=2, dask=False, progress=progress)
+    assert "2 threads in this process" in lines
+    _assert_same_rows(fe_sweep, _rows(run))
 
 
 def test_a_part_is_built_after_the_one_whose_unit_fields_it_reuses():

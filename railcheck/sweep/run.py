@@ -2,8 +2,9 @@
 speed, motor and bearings (:mod:`railcheck.sweep.chunk` computes a chunk of settings).
 
 The settings are chunked so that a chunk's working arrays fit ``[sweep] memory``; the
-chunks run on this process's threads (:mod:`railcheck.sweep.threads`), serially, or on
-Dask (a local cluster, or ``--scheduler`` an existing one), and
+chunks run on processes forked from this one (a sweep without FE:
+:mod:`railcheck.sweep.forked`), on this process's threads (:mod:`railcheck.sweep.threads`),
+serially, or on Dask (a local cluster, or ``--scheduler`` an existing one), and
 their rows are written in order as they arrive (Parquet row groups or CSV), so a sweep
 whose table is larger than memory completes. Per kind the run writes
 ``sweep-KIND.parquet`` (or ``.csv``), the maps, ``motor.png`` and ``summary.json``, all
@@ -32,6 +33,7 @@ from railcheck.geometry.catalogue import with_overrides
 from railcheck.geometry.mesher import estimate_elements
 from railcheck.parts import PARTS, geometry_of, rail_length
 from railcheck.progress import Progress
+from railcheck.sweep import forked
 from railcheck.sweep.chunk import (
     MOTOR_CURVE_KEY,
     SweepContext,
@@ -40,6 +42,7 @@ from railcheck.sweep.chunk import (
     group_size,
     motor_curve_speeds,
 )
+from railcheck.sweep.forked import in_order_on_processes
 from railcheck.sweep.grid import narrowed, rig_grid, settings
 from railcheck.sweep.maps import Aggregate, summary_of, write_maps, write_motor_plot
 from railcheck.sweep.parts import applicable, build_part_model, dynamic_in_sweep, is_free_rail, part_is_stored
@@ -379,7 +382,9 @@ def _run_into(scene, directory: Path, scheduler, workers, serial, progress, dask
     jobs = [(lambda kind=kind: _context(scene, kind, models[kind]), by_kind[kind], kind, checked[kind]) for kind in kinds]
     threads = 1 if serial else workers or os.cpu_count() or 1
     with (
-        _Executor(scheduler, workers, use_dask and not serial, progress, directory, threads) as executor,
+        _Executor(
+            scheduler, workers, use_dask and not serial, progress, directory, threads, forks=total_checked == 0
+        ) as executor,
         ExitStack() as stack,
     ):
         writers = {kind: stack.enter_context(TableWriter(tables[kind], scene.sweep.format)) for kind in kinds}
@@ -474,10 +479,20 @@ class _Executor:
     context from a file in ``scratch`` (:mod:`railcheck.sweep.shared`); an external
     scheduler's receive it scattered."""
 
-    def __init__(self, scheduler, workers, use_dask: bool, progress, scratch: Path | None = None, threads: int = 1):
+    def __init__(
+        self,
+        scheduler,
+        workers,
+        use_dask: bool,
+        progress,
+        scratch: Path | None = None,
+        threads: int = 1,
+        forks: bool = False,
+    ):
         self.progress = progress
         self.use_dask = use_dask
         self.threads = threads
+        self.forks = forks and forked.available()
         self.scheduler, self.workers = scheduler, workers
         self.scratch = scratch
         self.client = self.cluster = None
@@ -529,7 +544,7 @@ class _Executor:
         if self.use_dask:
             yield from self._dask_jobs(jobs, size, checked_size, held)
         elif self.threads > 1:
-            yield from self._threaded_jobs(jobs, size, checked_size, held)
+            yield from self._local_jobs(jobs, size, checked_size, held)
         else:
             for j, (make_context, lengths, kind, checked) in enumerate(jobs):
                 ctx, total = make_context(), lengths["crank"].size
@@ -539,26 +554,32 @@ class _Executor:
                     meter.done(ids.size)
                     yield j, cols
 
-    def _threaded_jobs(self, jobs: list, size: int, checked_size: int, held: int):
-        """:meth:`map_jobs` on this process's threads (:mod:`railcheck.sweep.threads`):
-        the same chunks as on as many Dask workers, the same columns."""
-        self.progress.say("sweep", f"{self.threads} threads in this process")
+    def _local_jobs(self, jobs: list, size: int, checked_size: int, held: int):
+        """:meth:`map_jobs` on processes forked from this one when the executor
+        ``forks`` (:mod:`railcheck.sweep.forked`), else on this process's threads
+        (:mod:`railcheck.sweep.threads`): the same chunks as on as many Dask workers, the
+        same columns."""
+        how = "processes forked from this one" if self.forks else "threads in this process"
+        self.progress.say("sweep", f"{self.threads} {how}")
         tasks = _shared_out(jobs, size, checked_size, self.threads)
         contexts = [make_context() for make_context, *_ in jobs]
 
-        started: dict[int, float] = {}  # job index -> when its first chunk started
+        started: dict[int, float] = {}  # job index -> when its first chunk started (threads)
 
         def run(task):
             j, ids = task
             started.setdefault(j, time.perf_counter())
             return evaluate_chunk(contexts[j], {b: v[ids] for b, v in jobs[j][1].items()}, ids)
 
+        in_order = in_order_on_processes if self.forks else in_order_on_threads
         meters: dict[int, _Meter] = {}
+        last = time.perf_counter()  # a forked job's meter starts when the job before it ended
         with blas_on_one_thread():
-            for (j, ids), cols in zip(tasks, in_order_on_threads(run, tasks, self.threads, max(held, self.threads))):
+            for (j, ids), cols in zip(tasks, in_order(run, tasks, self.threads, max(held, self.threads))):
                 if j not in meters:
-                    meters[j] = _Meter(self.progress, jobs[j][2], jobs[j][1]["crank"].size, started[j])
+                    meters[j] = _Meter(self.progress, jobs[j][2], jobs[j][1]["crank"].size, started.get(j, last))
                 meters[j].done(ids.size)
+                last = time.perf_counter()
                 yield j, cols
 
     def _dask_jobs(self, jobs: list, size: int, checked_size: int, held: int):

@@ -284,22 +284,44 @@ def test_sigterm_cleans_up_and_the_next_run_removes_dead_staging(tmp_path):
 
 @pytest.mark.slow  # a subprocess sweep, about 5 s
 @pytest.mark.parametrize(("sig", "status"), [("SIGINT", 130), ("SIGTERM", 143)])
-def test_a_sweep_on_threads_stops_at_once_on_a_signal_and_leaves_nothing(tmp_path, sig, status):
-    """A kinematics-only sweep of the whole rig at 5,000 steps (this process's threads,
-    each chunk about a second): interrupted or terminated after its first chunk, it exits
-    within 5 s with its status and one line, and leaves no results or staging."""
+def test_a_local_sweep_stops_at_once_on_a_signal_and_leaves_nothing(tmp_path, sig, status):
+    """A kinematics-only sweep of the whole rig at 5,000 steps (processes forked from this
+    one, or threads where the platform does not fork; each chunk about a second):
+    interrupted or terminated after its first chunk, it exits within 5 s with its status
+    and one line, and leaves no results, no staging and no running process."""
     import signal
     import time
 
     proc = _started(tmp_path, "sweep", '[sweep]\nkind = "both"\nsteps = 5000\n')
-    assert "threads in this process" in proc.stderr.readline() + proc.stderr.readline()
-    assert "settings/s" in proc.stderr.readline()  # the first chunk is done: the threads are busy
+    first = proc.stderr.readline() + proc.stderr.readline()
+    assert "forked from this one" in first or "threads in this process" in first
+    assert "settings/s" in proc.stderr.readline()  # the first chunk is done: the workers are busy
     t = time.time()
     proc.send_signal(getattr(signal, sig))
     assert proc.wait(timeout=60) == status and time.time() - t < 5
     rest = proc.stderr.read()
     assert "Traceback" not in rest and rest.strip().splitlines()[-1] in ("railcheck: interrupted", "railcheck: terminated")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["scene.toml"]
+    time.sleep(0.5)
+    assert not _running_with(str(tmp_path / "scene.toml"))  # no forked child left behind
+
+
+def _running_with(argument: str) -> list[int]:
+    """The pids of the running (not zombie) processes with ``argument`` on their command line."""
+    import os
+
+    found = []
+    for entry in os.listdir("/proc") if os.path.isdir("/proc") else []:
+        try:
+            with open(f"/proc/{entry}/cmdline", "rb") as f:
+                args = f.read().split(b"\0")
+            with open(f"/proc/{entry}/stat") as f:
+                zombie = f.read().rsplit(")", 1)[1].split()[0] == "Z"
+        except OSError:
+            continue
+        if argument.encode() in args and not zombie:
+            found.append(int(entry))
+    return found
 
 
 def test_bad_output_path_fails_before_any_meshing(tmp_path):

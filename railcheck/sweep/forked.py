@@ -1,0 +1,134 @@
+"""A kinematics-only sweep's chunks on processes forked from this one (Linux).
+
+The kinematics' chunks are thousands of small numpy calls (blocks of
+:data:`railcheck.kinematics.batch.BLOCK_ELEMENTS` values, sized for the core's cache):
+on two threads of one process they hold the GIL between their loops and run only about
+1.2x as fast as one thread. Forked processes run them side by side, and share this
+process's memory (the settings, the contexts) copy on write, so a task is only a chunk's
+index and its result one chunk's columns.
+
+Only a sweep without FE forks: its chunks call numpy alone (pthreads, fork-safe),
+while a sweep with FE may have loaded MKL, whose OpenMP runtime a forked child must not
+use; those keep to threads (:mod:`railcheck.sweep.threads`). The children ignore Ctrl-C
+and die on SIGTERM: the caller stops them when it stops (an error, a signal, an abandoned
+iterator), and the kernel sends it to them when their parent dies (a killed run).
+"""
+
+from __future__ import annotations
+
+import ctypes
+import itertools
+import multiprocessing
+import os
+import pickle
+import signal
+import sys
+from collections import deque
+from collections.abc import Callable, Iterator, Sequence
+from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures import TimeoutError as FutureTimeout
+from concurrent.futures.process import BrokenProcessPool
+from typing import Any, TypeVar
+
+from railcheck.errors import RailcheckError
+
+T = TypeVar("T")
+
+#: seconds between looks at a result that has not arrived (signals are handled in between)
+WAIT_S = 0.2
+
+#: token -> (function, items) of each running call, read by the children it forks
+_CALLS: dict[int, tuple[Callable, Sequence]] = {}
+_TOKENS = itertools.count()
+
+#: prctl option: the signal a process receives when its parent dies (linux/prctl.h)
+PR_SET_PDEATHSIG = 1
+
+
+def available() -> bool:
+    """Whether this platform forks processes (Linux; macOS's fork is unsafe with its system
+    libraries, Windows has none)."""
+    return sys.platform == "linux" and "fork" in multiprocessing.get_all_start_methods()
+
+
+def in_order_on_processes(function: Callable[[Any], T], items: Sequence, processes: int, ahead: int) -> Iterator[T]:
+    """``function(item)`` of every item, yielded in the items' order, computed in
+    ``processes`` forked children with at most ``ahead`` items started beyond the one the
+    caller waits for. ``function`` and ``items`` reach the children by the fork (neither is
+    pickled); each result comes back pickled. An exception from ``function`` is raised here
+    at its item's turn; a child that dies (killed, out of memory) is a
+    :class:`~railcheck.errors.RailcheckError` naming the sweep. Once the caller stops, the
+    children are terminated."""
+    token = next(_TOKENS)
+    _CALLS[token] = (function, items)
+    pool = ProcessPoolExecutor(
+        processes, mp_context=multiprocessing.get_context("fork"), initializer=_child_signals, initargs=(os.getpid(),)
+    )
+    pending: deque = deque()
+    finished = False
+    try:
+        for i in range(len(items)):
+            while len(pending) < len(items) - i and len(pending) <= ahead:
+                pending.append(pool.submit(_run_item, token, i + len(pending)))
+            ok, value = _result(pending.popleft())
+            if not ok:
+                raise value
+            yield value
+        finished = True
+    finally:
+        _CALLS.pop(token, None)
+        if not finished:
+            _terminate_children(pool)
+        pool.shutdown(wait=True, cancel_futures=True)
+
+
+def _result(future) -> tuple[bool, Any]:
+    """The future's (ok, value), waiting in short steps so that signals are handled."""
+    while True:
+        try:
+            return future.result(timeout=WAIT_S)
+        except FutureTimeout:
+            continue
+        except BrokenProcessPool:
+            raise RailcheckError(
+                "sweep", "a worker process died (killed, or out of memory): run again, or with --serial"
+            ) from None
+
+
+def _child_signals(parent: int) -> None:
+    """In a child: Ctrl-C is the parent's to handle, SIGTERM (from the parent) ends it, and
+    so does the parent's death (Linux ``PR_SET_PDEATHSIG``: a killed run leaves no child
+    waiting for tasks)."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    try:
+        libc = ctypes.CDLL(None, use_errno=True)
+        libc.prctl(PR_SET_PDEATHSIG, signal.SIGTERM)
+    except (OSError, AttributeError):  # no prctl: the task pipe's end still ends it, later
+        pass
+    if os.getppid() != parent:  # the parent died before the request took effect
+        os._exit(1)
+
+
+def _run_item(token: int, i: int) -> tuple[bool, Any]:
+    """In a child: (True, the result) of item ``i`` of call ``token``, or (False, the
+    exception, or a RuntimeError naming it if it cannot be pickled)."""
+    function, items = _CALLS[token]
+    try:
+        return True, function(items[i])
+    except BaseException as exc:  # handed to the caller in order
+        return False, _sendable(exc)
+
+
+def _sendable(exc: BaseException) -> BaseException:
+    try:
+        pickle.loads(pickle.dumps(exc))
+        return exc
+    except Exception:
+        return RuntimeError(f"{type(exc).__name__}: {exc}")
+
+
+def _terminate_children(pool: ProcessPoolExecutor) -> None:
+    """Terminate the pool's children at once (their running items are abandoned)."""
+    for process in list((getattr(pool, "_processes", None) or {}).values()):
+        process.terminate()

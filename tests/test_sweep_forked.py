@@ -1,0 +1,161 @@
+"""Chunks on forked processes (:mod:`railcheck.sweep.forked`): results in order, at most
+``ahead`` started beyond the awaited one, an error at its turn (picklable or not), a
+child that dies is a one-line error, and no child outlives a stopped call."""
+
+import multiprocessing
+import os
+import signal
+import time
+
+import pytest
+
+from railcheck.errors import InputError, RailcheckError
+from railcheck.sweep import forked
+from railcheck.sweep.forked import in_order_on_processes
+
+pytestmark = pytest.mark.skipif(not forked.available(), reason="forks only on Linux")
+
+
+def _children() -> set[int]:
+    """The pids of this process's living children."""
+    return {p.pid for p in multiprocessing.active_children()} | _proc_children()
+
+
+def _proc_children() -> set[int]:
+    me, out = os.getpid(), set()
+    for entry in os.listdir("/proc"):
+        if entry.isdigit():
+            try:
+                with open(f"/proc/{entry}/stat") as f:
+                    fields = f.read().rsplit(")", 1)[1].split()
+            except OSError:
+                continue
+            if int(fields[1]) == me and fields[0] != "Z":
+                out.add(int(entry))
+    return out
+
+
+def _slow_square(i: int) -> int:
+    time.sleep(0.002 * ((7 * i) % 5))  # finish out of order
+    return i * i
+
+
+@pytest.mark.parametrize("processes", [1, 2, 3])
+def test_results_come_in_the_items_order_whatever_order_they_finish_in(processes):
+    items = list(range(40))
+    assert list(in_order_on_processes(_slow_square, items, processes, ahead=4)) == [i * i for i in items]
+
+
+def test_the_function_and_items_reach_the_children_without_pickling():
+    unpicklable = lambda i: (i, os.getpid())  # noqa: E731  # a lambda cannot be pickled
+    got = list(in_order_on_processes(unpicklable, list(range(8)), 2, ahead=2))
+    assert [i for i, _ in got] == list(range(8))
+    assert os.getpid() not in {pid for _, pid in got}  # computed in the children
+
+
+def test_no_more_than_ahead_items_are_started_beyond_the_awaited_one():
+    taken = multiprocessing.Value("i", 0)  # shared memory: the children see the caller's count
+    worst = multiprocessing.Value("i", 0)
+
+    def record(i):
+        with worst.get_lock():
+            worst.value = max(worst.value, i - taken.value)
+        time.sleep(0.001)
+        return i
+
+    for value in in_order_on_processes(record, list(range(30)), processes=3, ahead=2):
+        time.sleep(0.005)  # a slow consumer: the workers would run ahead if allowed
+        taken.value = value + 1
+    assert 1 <= worst.value <= 2 + 1  # the awaited item itself, plus two ahead
+
+
+def test_an_error_is_raised_at_its_turn_after_the_results_before_it():
+    def fail_at_5(i):
+        if i == 5:
+            raise InputError("mechanism.crank", "item 5")
+        return i
+
+    got = []
+    with pytest.raises(InputError, match="item 5") as caught:
+        for value in in_order_on_processes(fail_at_5, list(range(20)), processes=2, ahead=3):
+            got.append(value)
+    assert got == [0, 1, 2, 3, 4]
+    assert caught.value.field == "mechanism.crank"  # the error whole, not its text
+
+
+def test_an_error_that_cannot_be_pickled_comes_back_named():
+    class Local(Exception):  # a local class cannot be pickled
+        pass
+
+    def fail(i):
+        raise Local("not picklable")
+
+    with pytest.raises(RuntimeError, match="Local: not picklable"):
+        list(in_order_on_processes(fail, [0, 1], processes=2, ahead=1))
+
+
+def test_a_child_that_dies_is_a_one_line_error_and_no_child_is_left():
+    def die_at_3(i):
+        if i == 3:
+            os.kill(os.getpid(), signal.SIGKILL)  # the OOM killer, say
+        time.sleep(0.01)
+        return i
+
+    before = _children()
+    with pytest.raises(RailcheckError, match="worker process died"):
+        list(in_order_on_processes(die_at_3, list(range(10)), processes=2, ahead=2))
+    time.sleep(0.2)
+    assert _children() <= before
+
+
+def test_the_children_are_stopped_at_once_when_the_caller_stops():
+    def slow(i):
+        time.sleep(0 if i == 0 else 30)
+        return i
+
+    before = _children()
+    results = in_order_on_processes(slow, list(range(100)), processes=2, ahead=2)
+    assert next(results) == 0
+    assert len(_children() - before) == 2  # the two children, busy
+    t = time.perf_counter()
+    results.close()  # the caller stops (an abandoned iterator, an exception, a signal)
+    assert time.perf_counter() - t < 5  # not after the running items' 30 s
+    time.sleep(0.2)
+    assert _children() <= before
+
+
+def test_a_killed_caller_leaves_no_child(tmp_path):
+    """The caller killed (SIGKILL: no clean-up of its own) while its children are busy:
+    the kernel ends them (``PR_SET_PDEATHSIG``)."""
+    import subprocess
+    import sys
+
+    script = tmp_path / "caller.py"
+    script.write_text(
+        "import os, sys, time\n"
+        "from railcheck.sweep.forked import in_order_on_processes\n"
+        "def slow(i):\n"
+        "    if i == 0:\n"
+        "        return os.getpid()\n"
+        "    time.sleep(60)\n"
+        "for pid in in_order_on_processes(slow, list(range(10)), 2, 2):\n"
+        "    print(pid, flush=True)\n"
+    )
+    caller = subprocess.Popen([sys.executable, str(script)], stdout=subprocess.PIPE, text=True)
+    child = int(caller.stdout.readline())
+    assert os.path.exists(f"/proc/{child}")
+    caller.kill()
+    caller.wait(timeout=10)
+    deadline = time.time() + 5
+    while time.time() < deadline and _alive(child):
+        time.sleep(0.05)
+    assert not _alive(child)
+
+
+def _alive(pid: int) -> bool:
+    """Whether ``pid`` runs (a zombie awaiting its reaper does not)."""
+    try:
+        with open(f"/proc/{pid}/stat") as f:
+            return f.read().rsplit(")", 1)[1].split()[0] != "Z"
+    except OSError:
+        return False
