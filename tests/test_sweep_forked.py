@@ -159,3 +159,21 @@ def _alive(pid: int) -> bool:
             return f.read().rsplit(")", 1)[1].split()[0] != "Z"
     except OSError:
         return False
+
+
+def test_without_semaphores_the_platform_does_not_fork(monkeypatch):
+    """A container without ``/dev/shm``: a pool's queues cannot be made, so the sweep
+    keeps to threads (:func:`railcheck.sweep.forked.available` False)."""
+    import multiprocessing.context
+
+    def no_shm(self, *args, **kwargs):
+        raise OSError(38, "Function not implemented")
+
+    monkeypatch.setattr(multiprocessing.context.BaseContext, "Lock", no_shm)
+    forked.available.cache_clear()
+    try:
+        assert not forked.available()
+    finally:
+        monkeypatch.undo()
+        forked.available.cache_clear()
+    assert forked.available()

@@ -17,6 +17,7 @@ iterator), and the kernel sends it to them when their parent dies (a killed run)
 from __future__ import annotations
 
 import ctypes
+import functools
 import itertools
 import multiprocessing
 import os
@@ -45,10 +46,18 @@ _TOKENS = itertools.count()
 PR_SET_PDEATHSIG = 1
 
 
+@functools.cache
 def available() -> bool:
     """Whether this platform forks processes (Linux; macOS's fork is unsafe with its system
-    libraries, Windows has none)."""
-    return sys.platform == "linux" and "fork" in multiprocessing.get_all_start_methods()
+    libraries, Windows has none) and has the semaphores a pool's queues need (a container
+    without ``/dev/shm`` has not)."""
+    if sys.platform != "linux" or "fork" not in multiprocessing.get_all_start_methods():
+        return False
+    try:
+        multiprocessing.get_context("fork").Lock()
+    except (OSError, ImportError):
+        return False
+    return True
 
 
 def in_order_on_processes(function: Callable[[Any], T], items: Sequence, processes: int, ahead: int) -> Iterator[T]:
