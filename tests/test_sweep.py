@@ -454,14 +454,20 @@ def test_parts_prepared_in_two_processes_give_the_serial_table(fe_sweep, tmp_pat
 
 
 @pytest.mark.slow
-def test_an_fe_sweep_on_threads_gives_the_serial_table(fe_sweep, tmp_path):
-    """The FE sweep's chunks, a few settings with FE each, on two threads of this process
-    (BLAS on one thread meanwhile; a sweep with FE never forks, :mod:`railcheck.sweep.forked`),
-    said so: the table equals the serial run's bit for bit."""
+@pytest.mark.parametrize("forks", [True, False], ids=["forked", "threads"])
+def test_an_fe_sweep_on_local_workers_gives_the_serial_table(fe_sweep, tmp_path, monkeypatch, forks):
+    """The FE sweep's chunks, a few settings with FE each, on two processes forked from
+    this one, or on two threads of this process where it cannot fork (BLAS on one thread
+    meanwhile), said so: the table equals the serial run's bit for bit."""
+    from railcheck.sweep import forked
+
+    if forks and not forked.available():
+        pytest.skip("this platform does not fork")
+    monkeypatch.setattr(forked, "available", lambda: forks)
     lines = []
     progress = type("P", (), {"say": lambda self, stage, msg: lines.append(msg)})()
-    run = _sweep(tmp_path, FE_SWEEP, "threads", workers=2, dask=False, progress=progress)
-    assert "2 threads in this process" in lines
+    run = _sweep(tmp_path, FE_SWEEP, "local", workers=2, dask=False, progress=progress)
+    assert ("2 processes forked from this one" if forks else "2 threads in this process") in lines
     _assert_same_rows(fe_sweep, _rows(run))
 
 

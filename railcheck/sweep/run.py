@@ -2,9 +2,9 @@
 speed, motor and bearings (:mod:`railcheck.sweep.chunk` computes a chunk of settings).
 
 The settings are chunked so that a chunk's working arrays fit ``[sweep] memory``; the
-chunks run on processes forked from this one (a sweep without FE:
-:mod:`railcheck.sweep.forked`), on this process's threads (:mod:`railcheck.sweep.threads`),
-serially, or on Dask (a local cluster, or ``--scheduler`` an existing one), and
+chunks run on processes forked from this one (:mod:`railcheck.sweep.forked`), serially, on
+Dask (``--scheduler`` an existing cluster, or a local one where this process cannot fork),
+or on this process's threads (a small sweep that cannot fork), and
 their rows are written in order as they arrive (Parquet row groups or CSV), so a sweep
 whose table is larger than memory completes. Per kind the run writes
 ``sweep-KIND.parquet`` (or ``.csv``), the maps, ``motor.png`` and ``summary.json``, all
@@ -102,9 +102,10 @@ def sweep_settings(scene) -> dict[str, dict[str, np.ndarray]]:
     }
 
 
-#: a sweep without FE runs on Dask only beyond this many chunks: below it this process's
-#: threads finish before a local cluster has started (the whole rig's 115,456 settings at
-#: 720 steps: about 2 s on two threads, 3.7 s on two Dask workers with their start-up)
+#: a sweep without FE is large beyond this many chunks (where this process cannot fork:
+#: runs on Dask; below it this process's threads finish before a local cluster has
+#: started: the whole rig's 115,456 settings at 720 steps, about 2 s on two threads, 3.7 s
+#: on two Dask workers with their start-up)
 KINEMATIC_DASK_CHUNKS = 64
 
 #: settings per chunk at most with a dynamic response (each setting's safe-speed search
@@ -327,9 +328,10 @@ def run_sweep(
     dask: bool | None = None,
 ) -> SweepRun:
     """Run the sweep the scene asks for and write its results directory. Dask runs the
-    chunks when ``scheduler`` is given or the sweep is large (``dask`` True/False forces
-    it either way), else ``workers`` threads of this process (default one per core;
-    ``serial``: one thread, no Dask)."""
+    chunks when ``scheduler`` is given, or on a local cluster when the sweep is large and
+    this process cannot fork (``dask`` True/False forces it either way); else ``workers``
+    processes forked from this one, or threads of this process where it cannot fork
+    (default one per core; ``serial``: this process alone, no Dask)."""
 
     validate(scene)
     if scheduler is not None:
@@ -370,9 +372,11 @@ def _run_into(scene, directory: Path, scheduler, workers, serial, progress, dask
     checked = {kind: _checked(scene, kind, lengths) for kind, lengths in by_kind.items()}
     total, total_checked = sum(c.size for c in checked.values()), sum(int(c.sum()) for c in checked.values())
     large = total > KINEMATIC_DASK_CHUNKS * chunk_size(scene) or total_checked > 4 * checked_chunk_size(scene)
-    use_dask = (scheduler is not None or large) if dask is None else dask
-    # the parts in two processes when the settings run in parallel too
-    models = prepare_models(scene, by_kind, progress, min(2, os.cpu_count() or 1) if use_dask and not serial else 1)
+    forks = forked.available()
+    # a local cluster only where this process cannot fork its workers (they share its memory)
+    use_dask = (scheduler is not None or (large and not forks)) if dask is None else dask
+    # the parts in two processes when the settings are many and run in parallel too
+    models = prepare_models(scene, by_kind, progress, min(2, os.cpu_count() or 1) if large and not serial else 1)
     clock.append(time.perf_counter())
     kinds = list(by_kind)
     tables = {kind: directory / f"sweep-{kind}.{scene.sweep.format}" for kind in kinds}
@@ -382,9 +386,7 @@ def _run_into(scene, directory: Path, scheduler, workers, serial, progress, dask
     jobs = [(lambda kind=kind: _context(scene, kind, models[kind]), by_kind[kind], kind, checked[kind]) for kind in kinds]
     threads = 1 if serial else workers or os.cpu_count() or 1
     with (
-        _Executor(
-            scheduler, workers, use_dask and not serial, progress, directory, threads, forks=total_checked == 0
-        ) as executor,
+        _Executor(scheduler, workers, use_dask and not serial, progress, directory, threads, forks) as executor,
         ExitStack() as stack,
     ):
         writers = {kind: stack.enter_context(TableWriter(tables[kind], scene.sweep.format)) for kind in kinds}
@@ -471,8 +473,9 @@ def _quiet_cluster_exit() -> None:
 
 
 class _Executor:
-    """Chunks of settings -> their columns, in order: serially, or on Dask (a local
-    cluster unless ``scheduler`` names one). On Dask every kind's chunks form one queue
+    """Chunks of settings -> their columns, in order: serially, on ``threads`` local
+    workers (forked processes when ``forks``, else threads), or on Dask (a local cluster
+    unless ``scheduler`` names one). On Dask every kind's chunks form one queue
     (a kind's last chunks share the workers with the next kind's first), two chunks per
     worker in flight, finished chunks held until the ones before them are done (a slow
     chunk does not idle the other workers). A local cluster's workers map each kind's
@@ -492,7 +495,7 @@ class _Executor:
         self.progress = progress
         self.use_dask = use_dask
         self.threads = threads
-        self.forks = forks and forked.available()
+        self.forks = forks
         self.scheduler, self.workers = scheduler, workers
         self.scratch = scratch
         self.client = self.cluster = None
@@ -562,25 +565,45 @@ class _Executor:
         how = "processes forked from this one" if self.forks else "threads in this process"
         self.progress.say("sweep", f"{self.threads} {how}")
         tasks = _shared_out(jobs, size, checked_size, self.threads)
-        contexts = [make_context() for make_context, *_ in jobs]
+        with blas_on_one_thread():
+            if self.forks:
+                yield from self._forked_jobs(jobs, tasks, held)
+            else:
+                yield from self._threaded_jobs(jobs, tasks, held)
 
-        started: dict[int, float] = {}  # job index -> when its first chunk started (threads)
+    def _forked_jobs(self, jobs: list, tasks: list[tuple[int, np.ndarray]], held: int):
+        """Each job's chunks on processes forked once its context is built: they share it
+        (and the settings) copy on write; it is released when the job is done."""
+        for j, (make_context, lengths, kind, _) in enumerate(jobs):
+            context = make_context()
+            mine = [ids for i, ids in tasks if i == j]
+
+            def run(ids, context=context, lengths=lengths):
+                return evaluate_chunk(context, {b: v[ids] for b, v in lengths.items()}, ids)
+
+            meter = _Meter(self.progress, kind, lengths["crank"].size)
+            for ids, cols in zip(mine, in_order_on_processes(run, mine, self.threads, max(held, self.threads))):
+                meter.done(ids.size)
+                yield j, cols
+            del context, run
+
+    def _threaded_jobs(self, jobs: list, tasks: list[tuple[int, np.ndarray]], held: int):
+        """Every job's chunks in one queue on this process's threads (each job's context
+        built first)."""
+        contexts = [make_context() for make_context, *_ in jobs]
+        started: dict[int, float] = {}  # job index -> when its first chunk started
 
         def run(task):
             j, ids = task
             started.setdefault(j, time.perf_counter())
             return evaluate_chunk(contexts[j], {b: v[ids] for b, v in jobs[j][1].items()}, ids)
 
-        in_order = in_order_on_processes if self.forks else in_order_on_threads
         meters: dict[int, _Meter] = {}
-        last = time.perf_counter()  # a forked job's meter starts when the job before it ended
-        with blas_on_one_thread():
-            for (j, ids), cols in zip(tasks, in_order(run, tasks, self.threads, max(held, self.threads))):
-                if j not in meters:
-                    meters[j] = _Meter(self.progress, jobs[j][2], jobs[j][1]["crank"].size, started.get(j, last))
-                meters[j].done(ids.size)
-                last = time.perf_counter()
-                yield j, cols
+        for (j, ids), cols in zip(tasks, in_order_on_threads(run, tasks, self.threads, max(held, self.threads))):
+            if j not in meters:
+                meters[j] = _Meter(self.progress, jobs[j][2], jobs[j][1]["crank"].size, started[j])
+            meters[j].done(ids.size)
+            yield j, cols
 
     def _dask_jobs(self, jobs: list, size: int, checked_size: int, held: int):
         from dask.distributed import wait as wait_for
