@@ -9,8 +9,8 @@ With ``--sweeps``, in the same run and against the same cold check: the whole de
 (`railcheck sweep` with no scene: every four-bar and slider-crank setting, all five parts,
 720 steps; its unit fields from the store the checks filled, meshes cached) and the
 kinematics-only sweep of the same grid (a scene with only ``[sweep] kind = "both"``: no
-FE), each in a fresh process: the whole rig on a Dask local cluster of one worker per
-core, the kinematics on one process per core forked from the sweep's and serially. The
+FE), each in a fresh process on one process per core forked from the sweep's (a Dask
+local cluster where it cannot fork) and, for the kinematics, serially too. The
 kinematics' rate is its settings over its settings stage (``timings.json`` ``chunks``,
 the workers' start-up included).
 
