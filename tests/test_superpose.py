@@ -80,6 +80,55 @@ def test_component_range_equals_every_step(k):
     np.testing.assert_allclose(lo, s.min(axis=2), rtol=1e-12, atol=1e-9)
 
 
+def _long_history(kind: str, steps: int, k: int, rng) -> np.ndarray:
+    """(steps, k) coefficients like a crank cycle's: a constant 1, then columns of very
+    different scales (forces, torques, accelerations); ``kind`` shapes them."""
+    t = np.linspace(0.0, 2 * np.pi, steps, endpoint=False)
+    C = np.zeros((steps, k))
+    for j in range(1, k):
+        for h in range(1, 6):
+            C[:, j] += rng.normal() / h * np.cos(h * t + rng.uniform(0, 2 * np.pi))
+    C[:, 1:] *= np.logspace(7, 0, k - 1)  # 1e7 down to 1
+    C[:, 0] = 1.0
+    if kind == "noisy":  # no smoothness: every step a jump
+        C[:, 1:] += rng.normal(size=(steps, k - 1)) * np.logspace(7, 0, k - 1)
+    elif kind == "plateau":  # long stretches of equal values: many blocks hold the extreme
+        C[:, 1:] = np.clip(C[:, 1:], -0.3 * np.abs(C[:, 1:]).max(axis=0), 0.3 * np.abs(C[:, 1:]).max(axis=0))
+    elif kind == "still column":  # a coefficient that never moves, and one that is zero
+        C[:, 2] = 3.0e5
+        C[:, 3] = 0.0
+    return C
+
+
+@pytest.mark.parametrize(
+    ("kind", "steps", "k"),
+    [("smooth", 5000, 13), ("smooth", 1001, 10), ("noisy", 2000, 12), ("plateau", 3000, 11), ("still column", 777, 8)],
+)
+def test_a_long_history_s_component_range_equals_every_step(kind, steps, k):
+    """A history long enough to be read by blocks (:func:`fea.superpose.pruned_range`):
+    each component's maximum and minimum at every node equal every step's, to rounding
+    (relative to the row's |s| |c|), on smooth, noisy, clipped and still coefficients,
+    with an unstressed node and a node stressed by one coefficient only."""
+    from railcheck.fea.superpose import RANGE_PRUNE_STEPS, dense_range
+
+    assert steps >= RANGE_PRUNE_STEPS
+    rng = np.random.default_rng(steps + k)
+    C = _long_history(kind, steps, k, rng)
+    S = rng.normal(size=(6, 300, k)) / np.maximum(np.abs(C).max(axis=0), 1.0)  # every coefficient's stress of one order
+    S[:, 5] = 0.0  # an unstressed node
+    S[:, 9] = 0.0
+    S[:, 9, k - 1] = 1.0  # a node only the smallest coefficient stresses
+    s = np.einsum("cnk,tk->cnt", S, C)
+    scale = np.einsum("cnk,k->cn", np.abs(S), np.abs(C).max(axis=0)) + 1e-300
+    hi, lo = component_range(S, C)
+    assert np.abs(hi - s.max(axis=2)).max() / scale.max() < 1e-13
+    assert np.all(np.abs(hi - s.max(axis=2)) <= 1e-12 * scale)
+    assert np.all(np.abs(lo - s.min(axis=2)) <= 1e-12 * scale)
+    assert np.all(hi[:, 5] == 0.0) and np.all(lo[:, 5] == 0.0)
+    dense = dense_range(S, C)
+    assert np.all(np.abs(hi - dense[0]) <= 1e-12 * scale) and np.all(np.abs(lo - dense[1]) <= 1e-12 * scale)
+
+
 def test_hull_polygon_and_its_support_function():
     """A square's hull is its four corners counter-clockwise; the support function of any
     direction is the largest projection of the corners; no polygon for three points or
@@ -252,3 +301,23 @@ def test_reduced_histories_give_the_same_stresses_in_fewer_coefficients():
     hi_r, lo_r = component_range(few.stress, A)
     np.testing.assert_allclose(hi_r, hi, rtol=0, atol=1e-12 * np.abs(hi).max())
     np.testing.assert_allclose(lo_r, lo, rtol=0, atol=1e-12 * np.abs(hi).max())
+
+
+def test_a_smooth_long_history_is_read_in_a_few_blocks_per_row(monkeypatch):
+    """The blocks' bounds prune (:func:`fea.superpose.pruned_range`): on a smooth history
+    of 5,000 steps with coefficients of scales 1 to 1e7, a row's extreme is sought in a few
+    blocks of its 157, not all (the bounds in scaled coefficients; unscaled, the largest
+    coefficient's reach would keep every block)."""
+    import railcheck.fea.superpose as superpose
+
+    rng = np.random.default_rng(5)
+    C = _long_history("smooth", 5000, 13, rng)
+    S = rng.normal(size=(6, 400, 13)) / np.abs(C).max(axis=0)
+    pairs = []
+    read = superpose._read_blocks
+    monkeypatch.setattr(
+        superpose, "_read_blocks", lambda R, b, best, r, rows, w: pairs.append(rows.size) or read(R, b, best, r, rows, w)
+    )
+    superpose.pruned_range(S, C)
+    per_row_and_side = sum(pairs) / (2 * 6 * 400)
+    assert 1.0 <= per_row_and_side < 8.0

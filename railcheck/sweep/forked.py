@@ -81,7 +81,10 @@ def in_order_on_processes(function: Callable[[Any], T], items: Sequence, process
     try:
         for i in range(len(items)):
             while len(pending) < len(items) - i and len(pending) <= ahead:
-                pending.append(pool.submit(_run_item, token, i + len(pending)))
+                try:
+                    pending.append(pool.submit(_run_item, token, i + len(pending)))
+                except BrokenProcessPool:  # a child died since the last result
+                    raise _died() from None
             ok, value = _result(pending.popleft())
             if not ok:
                 raise value
@@ -102,9 +105,11 @@ def _result(future) -> tuple[bool, Any]:
         except FutureTimeout:
             continue
         except BrokenProcessPool:
-            raise RailcheckError(
-                "sweep", "a worker process died (killed, or out of memory): run again, or with --serial"
-            ) from None
+            raise _died() from None
+
+
+def _died() -> RailcheckError:
+    return RailcheckError("sweep", "a worker process died (killed, or out of memory): run again, or with --serial")
 
 
 def _child_signals(parent: int) -> None:
