@@ -375,8 +375,10 @@ def _run_into(scene, directory: Path, scheduler, workers, serial, progress, dask
     forks = forked.available()
     # a local cluster only where this process cannot fork its workers (they share its memory)
     use_dask = (scheduler is not None or (large and not forks)) if dask is None else dask
-    # the parts in two processes when the settings are many and run in parallel too
-    models = prepare_models(scene, by_kind, progress, min(2, os.cpu_count() or 1) if large and not serial else 1)
+    # the parts in two processes when the settings run on Dask, or are many, and in parallel too
+    models = prepare_models(
+        scene, by_kind, progress, min(2, os.cpu_count() or 1) if (use_dask or large) and not serial else 1
+    )
     clock.append(time.perf_counter())
     kinds = list(by_kind)
     tables = {kind: directory / f"sweep-{kind}.{scene.sweep.format}" for kind in kinds}
