@@ -94,6 +94,7 @@ def test_superposition_equals_a_direct_solve_at_three_instants(crank, step):
     )
 
 
+@pytest.mark.slow  # 3 s; the fast tier keeps superposition against a direct solve at one instant
 def test_superposition_with_body_forces_equals_a_direct_solve(crank):
     scene, geo, mesh, holes, fields, meta = crank
     assert list(fields.names) == ["bolt_x", "bolt_y", "body_x", "body_y", "body_rot", "body_rad"]

@@ -243,6 +243,7 @@ def test_a_free_coupler_bends_as_the_statics_of_its_loads_say(free_run):
     assert abs(b) * I == pytest.approx(abs(moment), rel=0.03)
 
 
+@pytest.mark.slow  # 6 s; the fast tier keeps superposition against a direct solve in test_cycle.py
 def test_free_body_superposition_equals_a_direct_solve(rail):
     """Inertia relief is linear: the relieved unit cases combined equal the combined load
     relieved and solved directly, to 1e-9."""

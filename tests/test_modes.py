@@ -32,6 +32,7 @@ def test_the_mass_matrix_weighs_the_bar(beam):
         assert translation @ M @ translation == pytest.approx(STEEL.density * L * W * H, rel=1e-9)
 
 
+@pytest.mark.slow  # 3 s; the fast tier keeps the cantilever's first frequency against beam theory
 def test_a_free_bar_has_six_rigid_modes_then_beam_bending(beam):
     mesh, K, basis, M = beam
     modes = natural_modes(K, M, [], 8)

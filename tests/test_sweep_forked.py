@@ -16,25 +16,6 @@ from railcheck.sweep.forked import in_order_on_processes
 pytestmark = pytest.mark.skipif(not forked.available(), reason="forks only on Linux")
 
 
-def _children() -> set[int]:
-    """The pids of this process's living children."""
-    return {p.pid for p in multiprocessing.active_children()} | _proc_children()
-
-
-def _proc_children() -> set[int]:
-    me, out = os.getpid(), set()
-    for entry in os.listdir("/proc"):
-        if entry.isdigit():
-            try:
-                with open(f"/proc/{entry}/stat") as f:
-                    fields = f.read().rsplit(")", 1)[1].split()
-            except OSError:
-                continue
-            if int(fields[1]) == me and fields[0] != "Z":
-                out.add(int(entry))
-    return out
-
-
 def _slow_square(i: int) -> int:
     time.sleep(0.002 * ((7 * i) % 5))  # finish out of order
     return i * i
@@ -94,36 +75,64 @@ def test_an_error_that_cannot_be_pickled_comes_back_named():
         list(in_order_on_processes(fail, [0, 1], processes=2, ahead=1))
 
 
+def _recorder(slots: int):
+    """A shared array the children write their pids into (the test's own children, named
+    exactly: other tests' processes in this test process do not count)."""
+    pids = multiprocessing.Array("i", slots)
+    return pids, lambda: {p for p in pids[:] if p}
+
+
 def test_a_child_that_dies_is_a_one_line_error_and_no_child_is_left():
+    pids, ours = _recorder(10)
+
     def die_at_3(i):
+        pids[i] = os.getpid()
         if i == 3:
             os.kill(os.getpid(), signal.SIGKILL)  # the OOM killer, say
         time.sleep(0.01)
         return i
 
-    before = _children()
     with pytest.raises(RailcheckError, match="worker process died"):
         list(in_order_on_processes(die_at_3, list(range(10)), processes=2, ahead=2))
-    time.sleep(0.2)
-    assert _children() <= before, (before, _children())
+    assert 1 <= len(ours()) <= 2  # the pool's two children (a broken pool starts no other)
+    assert not [pid for pid in ours() if _alive(pid)]
+
+
+def test_a_child_that_dies_while_the_caller_writes_is_the_same_one_line_error():
+    """The death seen when the caller next submits (it was busy with a result): the same
+    error, not the pool's own."""
+
+    def die_at_1(i):
+        if i == 1:
+            time.sleep(0.2)  # after item 0's result is taken
+            os.kill(os.getpid(), signal.SIGKILL)
+        return i
+
+    with pytest.raises(RailcheckError, match="worker process died"):
+        for _ in in_order_on_processes(die_at_1, list(range(10)), processes=2, ahead=1):
+            time.sleep(0.5)  # writing the result: the pool breaks meanwhile
 
 
 def test_the_children_are_stopped_at_once_when_the_caller_stops():
+    pids, ours = _recorder(100)
+
     def slow(i):
+        pids[i] = os.getpid()
         time.sleep(0 if i == 0 else 30)
         return i
 
-    before = _children()
     results = in_order_on_processes(slow, list(range(100)), processes=2, ahead=2)
     assert next(results) == 0
-    busy = _children() - before
-    assert len(busy) == 2, (before, busy)  # the two children, busy
+    deadline = time.time() + 10
+    while len(ours()) < 2 and time.time() < deadline:  # both children busy with a 30-s item
+        time.sleep(0.01)
+    busy = ours()
+    assert len(busy) == 2 and all(_alive(pid) for pid in busy), busy
     t = time.perf_counter()
     results.close()  # the caller stops (an abandoned iterator, an exception, a signal)
     took = time.perf_counter() - t
     assert took < 5, took  # not after the running items' 30 s
-    time.sleep(0.2)
-    assert not busy & _children(), (busy, _children())
+    assert not [pid for pid in busy if _alive(pid)]
 
 
 def test_a_killed_caller_leaves_no_child(tmp_path):
