@@ -1,6 +1,7 @@
-"""Chunks on forked processes (:mod:`railcheck.sweep.forked`): results in order, at most
-``ahead`` started beyond the awaited one, an error at its turn (picklable or not), a
-child that dies is a one-line error, and no child outlives a stopped call."""
+"""Chunks on forked processes (:mod:`railcheck.sweep.forked`; results in the items' order:
+``tests/test_sweep_threads.py``, for both): at most ``ahead`` started beyond the awaited
+one, an error at its turn (picklable or not), a child that dies is a one-line error, and
+no child outlives a stopped call."""
 
 import multiprocessing
 import os
@@ -14,17 +15,6 @@ from railcheck.sweep import forked
 from railcheck.sweep.forked import in_order_on_processes
 
 pytestmark = pytest.mark.skipif(not forked.available(), reason="forks only on Linux")
-
-
-def _slow_square(i: int) -> int:
-    time.sleep(0.002 * ((7 * i) % 5))  # finish out of order
-    return i * i
-
-
-@pytest.mark.parametrize("processes", [1, 2, 3])
-def test_results_come_in_the_items_order_whatever_order_they_finish_in(processes):
-    items = list(range(40))
-    assert list(in_order_on_processes(_slow_square, items, processes, ahead=4)) == [i * i for i in items]
 
 
 def test_the_function_and_items_reach_the_children_without_pickling():

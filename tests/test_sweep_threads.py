@@ -16,10 +16,17 @@ def _slow_square(i: int) -> int:
     return i * i
 
 
-@pytest.mark.parametrize("threads", [1, 2, 3])
-def test_results_come_in_the_items_order_whatever_order_they_finish_in(threads):
+@pytest.mark.parametrize("workers", [1, 2, 3])
+@pytest.mark.parametrize("forks", [False, True], ids=["threads", "forked"])
+def test_results_come_in_the_items_order_whatever_order_they_finish_in(workers, forks):
+    """On threads and on forked processes (:mod:`railcheck.sweep.forked`)."""
+    from railcheck.sweep import forked
+
+    if forks and not forked.available():
+        pytest.skip("this platform does not fork")
+    in_order = forked.in_order_on_processes if forks else in_order_on_threads
     items = list(range(40))
-    assert list(in_order_on_threads(_slow_square, items, threads, ahead=4)) == [i * i for i in items]
+    assert list(in_order(_slow_square, items, workers, ahead=4)) == [i * i for i in items]
 
 
 def test_no_more_than_ahead_items_are_started_beyond_the_awaited_one():
