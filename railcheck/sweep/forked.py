@@ -121,7 +121,7 @@ def _child_signals(parent: int) -> None:
     try:
         libc = ctypes.CDLL(None, use_errno=True)
         libc.prctl(PR_SET_PDEATHSIG, signal.SIGTERM)
-    except (OSError, AttributeError):  # no prctl: the task pipe's end still ends it, later
+    except (OSError, AttributeError):  # no prctl in this libc: a killed run's children outlive it
         pass
     if os.getppid() != parent:  # the parent died before the request took effect
         os._exit(1)
