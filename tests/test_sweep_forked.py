@@ -14,7 +14,9 @@ from railcheck.errors import InputError, RailcheckError
 from railcheck.sweep import forked
 from railcheck.sweep.forked import in_order_on_processes
 
-pytestmark = pytest.mark.skipif(not forked.available(), reason="forks only on Linux")
+# slow tier: one pytest process. Forking inside a pytest-xdist worker (execnet's threads)
+# took the worker down in two CI rehearsals ("node down"), never in a plain process
+pytestmark = [pytest.mark.skipif(not forked.available(), reason="forks only on Linux"), pytest.mark.slow]
 
 
 def test_the_function_and_items_reach_the_children_without_pickling():
