@@ -18,7 +18,7 @@ def _slow_square(i: int) -> int:
 
 
 @pytest.mark.parametrize("workers", [1, 2, 3])
-@pytest.mark.parametrize("forks", [False, True], ids=["threads", "forked"])
+@pytest.mark.parametrize("forks", [False, pytest.param(True, marks=pytest.mark.slow)], ids=["threads", "forked"])
 def test_results_come_in_the_items_order_whatever_order_they_finish_in(workers, forks):
     """On threads and on forked processes (:mod:`railcheck.sweep.forked`)."""
     from railcheck.sweep import forked
