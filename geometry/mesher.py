@@ -142,8 +142,10 @@ def build_mesh(part: PartGeometry, size: float, hole_size: float, verbose: bool 
     sends it to another thread (numpy's and MKL's). A caller that handles SIGTERM (the
     command line: a terminated run removes its staging directory) therefore gets its mesh
     from a child process, where gmsh cannot touch the caller's handlers; the child costs
-    about 0.2 s. Any other caller meshes in this process."""
-    if _handles_sigterm():
+    about 0.2 s. So does a caller in another thread than the main one, where the caller's
+    handlers (and Python's ignored SIGPIPE) cannot be put back. Any other caller meshes in
+    this process."""
+    if _handles_sigterm() or threading.current_thread() is not threading.main_thread():
         return _build_in_child(part, size, hole_size, verbose, optimize)
     return _build_here(part, size, hole_size, verbose, optimize)
 
@@ -285,13 +287,16 @@ def _threshold_field(gmsh, surfaces, near: float, far: float) -> int:
 @contextlib.contextmanager
 def _callers_signal_handlers():
     """gmsh (its library's loading, initialize and finalize) installs its own SIGINT and
-    SIGTERM handlers: keep the caller's (SIGTERM cleans up a run). Both signals are held
-    back in the block, so one that arrives meanwhile reaches the caller's handler once
-    ``restore()`` has put it back, instead of gmsh's or the default action."""
+    SIGTERM handlers and sets SIGPIPE back to the default action: keep the caller's
+    (SIGTERM cleans up a run; Python ignores SIGPIPE, so that a write to a closed pipe is an
+    error, not the death of the process: a forked pool's stopped children, ``| head``).
+    SIGINT and SIGTERM are held back in the block, so one that arrives meanwhile reaches
+    the caller's handler once ``restore()`` has put it back, instead of gmsh's or the
+    default action."""
     import signal
 
     wanted = (signal.SIGINT, signal.SIGTERM)
-    handlers = {sig: signal.getsignal(sig) for sig in wanted}
+    handlers = {sig: signal.getsignal(sig) for sig in (*wanted, signal.SIGPIPE)}
     main = threading.current_thread() is threading.main_thread()
 
     def restore():

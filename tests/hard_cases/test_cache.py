@@ -131,3 +131,39 @@ except Caught:
     proc = subprocess.run([sys.executable, "-P", "-c", script], capture_output=True, text=True, timeout=120)
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout.strip() == "handled"
+
+
+def test_meshing_here_leaves_sigpipe_ignored_so_a_closed_pipe_is_an_error_not_death():
+    """gmsh's initialize sets SIGPIPE back to the default action (death). After meshing in
+    this process, Python's disposition (ignored) is back: a write to a pipe whose reader
+    has gone (a stopped forked pool's children, ``railcheck ... | head``) raises
+    BrokenPipeError instead of killing the process silently with status 141 (a CI run's
+    pytest process died so)."""
+    import subprocess
+    import sys
+
+    script = """
+import os
+from railcheck.geometry.mesher import build_mesh
+from railcheck.geometry.models import bar
+
+def sigpipe_ignored():
+    for line in open("/proc/self/status"):
+        if line.startswith("SigIgn:"):
+            return bool(int(line.split()[1], 16) >> 12 & 1)
+
+assert sigpipe_ignored()
+build_mesh(bar(0.1, 0.02, 0.02), 8e-3, 8e-3)
+import sys
+assert "gmsh" in sys.modules, "meshed in a child, not here"
+print("ignored" if sigpipe_ignored() else "default")
+read, write = os.pipe()
+os.close(read)
+try:
+    os.write(write, b"x")
+except BrokenPipeError:
+    print("error")
+"""
+    proc = subprocess.run([sys.executable, "-P", "-c", script], capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, f"status {proc.returncode}: {proc.stderr}"
+    assert proc.stdout.split() == ["ignored", "error"]
