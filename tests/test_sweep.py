@@ -295,7 +295,7 @@ def test_dask_and_serial_give_identical_tables(tmp_path, monkeypatch):
         _assert_same_tables(serial, run)
 
 
-@pytest.mark.slow  # forks: not in a pytest-xdist worker (tests/test_sweep_forked.py)
+@pytest.mark.slow  # forks, like tests/test_sweep_forked.py
 def test_chunks_on_forked_processes_give_the_serial_tables(tmp_path):
     """Both linkage kinds on one process per core forked from this one (a sweep without
     FE, too small for Dask: each kind in two chunks per process; threads where the

@@ -26,7 +26,7 @@ def test_results_come_in_the_items_order_whatever_order_they_finish_in(workers, 
     if forks and not forked.available():
         pytest.skip("this platform does not fork")
     if forks and os.environ.get("PYTEST_XDIST_WORKER"):
-        pytest.skip("forks: the slow tier's single process runs it (tests/test_sweep_forked.py)")
+        pytest.skip("forks: the slow tier runs it")
     in_order = forked.in_order_on_processes if forks else in_order_on_threads
     items = list(range(40))
     assert list(in_order(_slow_square, items, workers, ahead=4)) == [i * i for i in items]

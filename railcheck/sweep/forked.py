@@ -19,6 +19,7 @@ it to them when their parent dies (a killed run).
 
 from __future__ import annotations
 
+import contextlib
 import ctypes
 import functools
 import itertools
@@ -73,16 +74,18 @@ def in_order_on_processes(function: Callable[[Any], T], items: Sequence, process
     children are terminated."""
     token = next(_TOKENS)
     _CALLS[token] = (function, items)
-    pool = ProcessPoolExecutor(
-        processes, mp_context=multiprocessing.get_context("fork"), initializer=_child_signals, initargs=(os.getpid(),)
-    )
+    with _sigpipe_held():
+        pool = ProcessPoolExecutor(
+            processes, mp_context=multiprocessing.get_context("fork"), initializer=_child_signals, initargs=(os.getpid(),)
+        )
     pending: deque = deque()
     finished = False
     try:
         for i in range(len(items)):
             while len(pending) < len(items) - i and len(pending) <= ahead:
                 try:
-                    pending.append(pool.submit(_run_item, token, i + len(pending)))
+                    with _sigpipe_held():  # the pool's threads start here and keep the mask
+                        pending.append(pool.submit(_run_item, token, i + len(pending)))
                 except BrokenProcessPool:  # a child died since the last result
                     raise _died() from None
             ok, value = _result(pending.popleft())
@@ -95,6 +98,22 @@ def in_order_on_processes(function: Callable[[Any], T], items: Sequence, process
         if not finished:
             _terminate_children(pool)
         pool.shutdown(wait=True, cancel_futures=True)
+
+
+@contextlib.contextmanager
+def _sigpipe_held():
+    """SIGPIPE blocked in this thread for the block, and so in the threads it starts (the
+    pool's manager and its queue's feeder, which write the tasks to the children's pipe).
+    Once the children are stopped those writes meet a closed pipe: blocked, that is an
+    error the pool handles, whatever the process's disposition. Python ignores SIGPIPE, but
+    a library may have set it back to the default action, death (gmsh's initialize does;
+    a CI run's pytest process died so, status 141). The mask is this thread's own: nothing
+    process-wide changes, and it works in any thread."""
+    held = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGPIPE})
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, held)
 
 
 def _result(future) -> tuple[bool, Any]:
@@ -118,6 +137,7 @@ def _child_signals(parent: int) -> None:
     waiting for tasks)."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGPIPE})  # forked while held
     try:
         libc = ctypes.CDLL(None, use_errno=True)
         libc.prctl(PR_SET_PDEATHSIG, signal.SIGTERM)
