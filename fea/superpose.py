@@ -146,18 +146,37 @@ def _node_chunks(nodes: int, steps: int, values: int = CHUNK_VALUES):
 
 
 def von_mises_max(S: np.ndarray, C: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(max over steps (nodes,) Pa, the step of it (nodes,)) for every node.
+    """(max over steps (nodes,) Pa, the step of it (nodes,), the first of equal ones) for
+    every node: a long history by blocks of steps, only the blocks that can hold a node's
+    maximum read whole (:func:`pruned_von_mises_max`), a short one at every step
+    (:func:`dense_von_mises_max`)."""
+    if C.shape[0] >= RANGE_PRUNE_STEPS:
+        return pruned_von_mises_max(S, C)
+    return dense_von_mises_max(S, C)
 
-    Von Mises squared is a quadratic form in the coefficients, ``c^T Q_n c`` with
-    ``Q_n = S_n^T P S_n`` (k x k per node, symmetric): one matrix product of its
-    k (k + 1) / 2 distinct entries with the steps' products ``c_i c_j`` (off the diagonal
-    twice), (nodes x k(k+1)/2) @ (k(k+1)/2 x steps): 120 products per node and step
-    instead of 225 at 15 coefficients."""
+
+def _quadratic_forms(S: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Von Mises squared as a quadratic form in the coefficients, ``c^T Q_n c`` with ``Q_n
+    = S_n^T P S_n`` (k x k per node, symmetric): (nodes, k (k + 1) / 2) its distinct
+    entries, and their (i, j) indices (:func:`_products` pairs the steps with them)."""
     nodes, k = S.shape[1], S.shape[2]
     i, j = np.triu_indices(k)
     full = np.einsum("cnk,cd,dnl->nkl", S, VM_QUADRATIC, S, optimize=True).reshape(nodes, k * k)
-    Q = np.take(full, i * k + j, axis=1)
-    CC = (C[:, i] * C[:, j] * np.where(i == j, 1.0, 2.0)).T
+    return np.take(full, i * k + j, axis=1), i, j
+
+
+def _products(C: np.ndarray, i: np.ndarray, j: np.ndarray) -> np.ndarray:
+    """(k (k + 1) / 2, steps) the steps' products ``c_i c_j``, off the diagonal twice."""
+    return (C[:, i] * C[:, j] * np.where(i == j, 1.0, 2.0)).T
+
+
+def dense_von_mises_max(S: np.ndarray, C: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`von_mises_max` at every step: one matrix product of the quadratic forms'
+    k (k + 1) / 2 distinct entries with the steps' products, (nodes x k(k+1)/2) @
+    (k(k+1)/2 x steps): 120 products per node and step instead of 225 at 15 coefficients."""
+    nodes = S.shape[1]
+    Q, i, j = _quadratic_forms(S)
+    CC = _products(C, i, j)
     best = np.empty(nodes)
     where = np.empty(nodes, dtype=np.int64)
     for sl in _node_chunks(nodes, C.shape[0]):
@@ -165,6 +184,75 @@ def von_mises_max(S: np.ndarray, C: np.ndarray) -> tuple[np.ndarray, np.ndarray]
         where[sl] = np.argmax(vm2, axis=1)
         best[sl] = np.take_along_axis(vm2, where[sl, None], axis=1)[:, 0]
     return np.sqrt(np.maximum(best, 0.0)), where
+
+
+def pruned_von_mises_max(S: np.ndarray, C: np.ndarray, block: int = RANGE_BLOCK) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`von_mises_max` of a long history ``C`` (steps, k) by blocks of ``block``
+    consecutive steps (:class:`_Blocks`), exact (to rounding).
+
+    Von Mises is a norm of the stress, ``|A c|`` with ``A = VM_FACTOR S_n`` (6 x k), so
+    at a step of a block ``|A c_t| <= |A c_m| + |A u w| max|a_t| + ||A w||_F max|e_t|``
+    (triangle inequality; the spectral norm is at most the Frobenius one): a block where
+    that cannot reach the node's best middle value cannot hold its maximum. Only the
+    blocks that can are read at every step, with the quadratic forms of
+    :func:`dense_von_mises_max` (the same values)."""
+    nodes, k = S.shape[1], S.shape[2]
+    g = _Blocks.of(C, block)
+    nb, width = g.steps.shape
+    Q, i, j = _quadratic_forms(S)
+    middle2 = Q @ _products(g.middle, i, j)  # (nodes, nb): von Mises squared at real steps
+    first = np.argmax(middle2, axis=1)
+    best2 = middle2[np.arange(nodes), first]
+    best = np.sqrt(np.maximum(best2, 0.0))
+    found_rows, found_blocks = [], []
+    size = max(1, RANGE_CHUNK_VALUES // (6 * nb))
+    for sl in (slice(a, min(a + size, nodes)) for a in range(0, nodes, size)):
+        F = np.tensordot(screen.VM_FACTOR, S[:, sl], axes=(1, 0))  # (6, chunk, k): von Mises = |F c|
+        along = F @ g.direction_w.T  # (6, chunk, nb)
+        reach = np.sqrt(np.einsum("cnb,cnb->nb", along, along)) * g.reach_along
+        # |F w|_F, and the square root of the quadratic forms' rounding (relative eps k^2)
+        frob = np.sqrt(np.einsum("cnk,cnk,k->n", F, F, g.w * g.w))
+        reach += frob[:, None] * (g.reach_across + VM_PRUNE_SLACK * k)
+        reach += np.sqrt(np.maximum(middle2[sl], 0.0))
+        can_rows, can_blocks = np.nonzero(reach >= best[sl, None])
+        found_rows.append(can_rows + sl.start)
+        found_blocks.append(can_blocks)
+    rows = np.concatenate(found_rows)
+    value, step = _read_von_mises_blocks(
+        Q, _products(g.values.reshape(-1, k), i, j), g.steps, rows, np.concatenate(found_blocks)
+    )
+    # each node's largest value, at the first step of equal ones (as a read of every step)
+    middle_step = g.steps[first, width // 2]
+    np.maximum.at(best2, rows, value)
+    where = np.where(middle2[np.arange(nodes), first] == best2, middle_step, np.iinfo(np.int64).max)
+    tied = value == best2[rows]
+    np.minimum.at(where, rows[tied], step[tied])
+    return np.sqrt(np.maximum(best2, 0.0)), where
+
+
+#: margin of :func:`pruned_von_mises_max`'s bounds, in units of a node's ``|A w|_F k``:
+#: the square root of the quadratic forms' relative rounding (von Mises squared is read,
+#: so a small von Mises is known to about sqrt(eps) of the node's scale)
+VM_PRUNE_SLACK = 1e-7
+
+
+def _read_von_mises_blocks(Q, CC, steps, rows, which) -> tuple[np.ndarray, np.ndarray]:
+    """(von Mises squared, step) of the largest value over the steps of block ``which[p]``
+    at node ``rows[p]``, for every pair p (``CC`` the blocks' steps' products, block after
+    block): one product per block, the pairs ordered by block."""
+    width = steps.shape[1]
+    order = np.argsort(which, kind="stable")
+    value, step = np.empty(rows.size), np.empty(rows.size, dtype=np.int64)
+    sorted_which = which[order]
+    starts = np.flatnonzero(np.r_[True, sorted_which[1:] != sorted_which[:-1]]) if which.size else np.empty(0, int)
+    for a, b in zip(starts, np.r_[starts[1:], which.size]):
+        p = order[a:b]
+        blk = sorted_which[a]
+        vm2 = Q[rows[p]] @ CC[:, blk * width : (blk + 1) * width]  # (pairs, width)
+        at = np.argmax(vm2, axis=1)
+        value[p] = vm2[np.arange(p.size), at]
+        step[p] = steps[blk, at]
+    return value, step
 
 
 def component_range(S: np.ndarray, C: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -200,47 +288,67 @@ def dense_range(S: np.ndarray, C: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return hi, lo
 
 
+@dataclass(frozen=True)
+class _Blocks:
+    """A long history ``C`` (steps, k) cut into blocks of consecutive steps, each bounded
+    about its middle step: in coefficients scaled by their largest values ``w`` (forces,
+    torques and accelerations differ by orders of magnitude), a step ``t`` of block ``b``
+    is ``c_t = c_m + w (a_t u + e_t)``, ``u`` the block's main direction (unit; a short
+    arc of the cycle lies nearly along its tangent), ``|a_t| <= reach_along[b]`` and
+    ``|e_t| <= reach_across[b]`` (plus a margin for the products' rounding: ``|c / w| <=
+    1``). ``steps`` (nb, block) the steps' indices (the last block padded by its last
+    step), ``values`` (nb, block, k) their coefficients, ``middle`` (nb, k) the middle
+    steps' and ``direction_w`` (nb, k) ``u w``."""
+
+    steps: np.ndarray
+    values: np.ndarray
+    middle: np.ndarray
+    direction_w: np.ndarray
+    reach_along: np.ndarray
+    reach_across: np.ndarray
+    w: np.ndarray
+
+    @classmethod
+    def of(cls, C: np.ndarray, block: int) -> _Blocks:
+        T, k = C.shape
+        nb = -(-T // block)
+        steps = np.minimum(np.arange(nb * block), T - 1).reshape(nb, block)
+        values = C[steps]
+        middle = values[:, block // 2]
+        w = np.abs(C).max(axis=0)
+        w[w == 0.0] = 1.0
+        offsets = (values - middle[:, None, :]) / w
+        direction = np.linalg.svd(offsets, full_matrices=False)[2][:, 0, :]  # (nb, k), unit
+        along = np.einsum("tbk,tk->tb", offsets, direction)
+        across = offsets - along[:, :, None] * direction[:, None, :]
+        reach_across = np.sqrt(np.einsum("tbk,tbk->tb", across, across)).max(axis=1) + PRUNE_SLACK * k
+        return cls(steps, values, middle, direction * w, np.abs(along).max(axis=1), reach_across, w)
+
+
 def pruned_range(S: np.ndarray, C: np.ndarray, block: int = RANGE_BLOCK) -> tuple[np.ndarray, np.ndarray]:
     """:func:`component_range` of a long history ``C`` (steps, k) by blocks of ``block``
-    consecutive steps, exact (to rounding).
+    consecutive steps (:class:`_Blocks`), exact (to rounding).
 
-    Each row ``s`` (a node's component, (k,)) is read at each block's middle step ``m``.
-    In coefficients scaled by their largest values, a step ``t`` of the block is ``c_t =
-    c_m + a_t u + e_t``, ``u`` the block's main direction (unit; a short arc of the cycle
-    lies nearly along its tangent) and ``e_t`` what is left across it, so ``s . c_t <=
-    s . c_m + |s . u| max|a_t| + |s| max|e_t|`` (Cauchy-Schwarz on the rest): a block
-    where that cannot reach the row's best middle value cannot hold its maximum (nor,
-    mirrored, its minimum). Only the blocks that can are read at every step: on the
-    default check's parts 5-7 blocks of 157 per row and extreme. Three products of (rows x
-    k) by (k x blocks) and one small product per block, instead of (rows x k) by (k x
-    steps)."""
-    T, k = C.shape
-    nb = -(-T // block)
-    index = np.minimum(np.arange(nb * block), T - 1).reshape(nb, block)  # the last block padded by its last step
-    blocks = C[index]  # (nb, block, k)
-    middle = blocks[:, block // 2]  # (nb, k): a step of each block
-    # the geometry in coefficients scaled by their largest values (forces, torques and
-    # accelerations differ by orders of magnitude): s . c = (s w) . (c / w)
-    w = np.abs(C).max(axis=0)
-    w[w == 0.0] = 1.0
-    offsets = (blocks - middle[:, None, :]) / w
-    direction = np.linalg.svd(offsets, full_matrices=False)[2][:, 0, :]  # (nb, k), unit
-    along = np.einsum("tbk,tk->tb", offsets, direction)
-    across = offsets - along[:, :, None] * direction[:, None, :]
-    reach_along = np.abs(along).max(axis=1)  # (nb,)
-    # what is left across, plus a margin for the products' rounding (|c / w| <= 1)
-    reach_across = np.sqrt(np.einsum("tbk,tbk->tb", across, across)).max(axis=1) + PRUNE_SLACK * k
-    direction_w = direction * w  # s . (direction w) = (s w) . direction
+    Each row ``s`` (a node's component, (k,)) is read at each block's middle step ``m``:
+    ``s . c_t <= s . c_m + |s . u w| max|a_t| + |s w| max|e_t|`` (Cauchy-Schwarz on the
+    rest), so a block where that cannot reach the row's best middle value cannot hold its
+    maximum (nor, mirrored, its minimum). Only the blocks that can are read at every step:
+    on the default check's parts 5-7 blocks of 157 per row and extreme. Three products of
+    (rows x k) by (k x blocks) and one small product per block, instead of (rows x k) by
+    (k x steps)."""
+    k = C.shape[1]
+    g = _Blocks.of(C, block)
+    nb = g.steps.shape[0]
     R = S.reshape(-1, k)
     hi, lo = np.empty(R.shape[0]), np.empty(R.shape[0])
     pairs: dict[str, list] = {"hi_rows": [], "hi_blocks": [], "lo_rows": [], "lo_blocks": []}
     size = max(1, RANGE_CHUNK_VALUES // nb)
     for sl in (slice(a, min(a + size, R.shape[0])) for a in range(0, R.shape[0], size)):
         r = R[sl]
-        values = r @ middle.T  # (rows, nb): exact values at real steps
-        reach = np.abs(r @ direction_w.T)
-        reach *= reach_along
-        reach += np.sqrt(np.einsum("rk,rk,k->r", r, r, w * w))[:, None] * reach_across
+        values = r @ g.middle.T  # (rows, nb): exact values at real steps
+        reach = np.abs(r @ g.direction_w.T)
+        reach *= g.reach_along
+        reach += np.sqrt(np.einsum("rk,rk,k->r", r, r, g.w * g.w))[:, None] * g.reach_across
         hi[sl], lo[sl] = values.max(axis=1), values.min(axis=1)
         for side, can in (("hi", values + reach >= hi[sl, None]), ("lo", values - reach <= lo[sl, None])):
             i, b = np.nonzero(can)
@@ -248,7 +356,7 @@ def pruned_range(S: np.ndarray, C: np.ndarray, block: int = RANGE_BLOCK) -> tupl
             pairs[f"{side}_blocks"].append(b)
     for side, best, reduce in (("hi", hi, np.maximum), ("lo", lo, np.minimum)):
         rows, which = np.concatenate(pairs[f"{side}_rows"]), np.concatenate(pairs[f"{side}_blocks"])
-        _read_blocks(R, blocks, best, reduce, rows, which)
+        _read_blocks(R, g.values, best, reduce, rows, which)
     return hi.reshape(S.shape[:2]), lo.reshape(S.shape[:2])
 
 

@@ -97,12 +97,24 @@ def _long_history(kind: str, steps: int, k: int, rng) -> np.ndarray:
     elif kind == "still column":  # a coefficient that never moves, and one that is zero
         C[:, 2] = 3.0e5
         C[:, 3] = 0.0
+    elif kind == "polyline":  # straight within each block of 32: the along-bound alone is tight
+        corners = C[::32]
+        at = np.arange(steps) / 32.0
+        b = np.minimum(at.astype(int), corners.shape[0] - 2)
+        C = corners[b] + (at - b)[:, None] * (corners[b + 1] - corners[b])
     return C
 
 
 @pytest.mark.parametrize(
     ("kind", "steps", "k"),
-    [("smooth", 5000, 13), ("smooth", 1001, 10), ("noisy", 2000, 12), ("plateau", 3000, 11), ("still column", 777, 8)],
+    [
+        ("smooth", 5000, 13),
+        ("smooth", 1001, 10),
+        ("noisy", 2000, 12),
+        ("plateau", 3000, 11),
+        ("still column", 777, 8),
+        ("polyline", 4000, 9),
+    ],
 )
 def test_a_long_history_s_component_range_equals_every_step(kind, steps, k):
     """A history long enough to be read by blocks (:func:`fea.superpose.pruned_range`):
@@ -127,6 +139,61 @@ def test_a_long_history_s_component_range_equals_every_step(kind, steps, k):
     assert np.all(hi[:, 5] == 0.0) and np.all(lo[:, 5] == 0.0)
     dense = dense_range(S, C)
     assert np.all(np.abs(hi - dense[0]) <= 1e-12 * scale) and np.all(np.abs(lo - dense[1]) <= 1e-12 * scale)
+
+
+@pytest.mark.parametrize(
+    ("kind", "steps", "k"),
+    [
+        ("smooth", 5000, 13),
+        ("smooth", 1001, 6),
+        ("noisy", 2000, 12),
+        ("plateau", 3000, 11),
+        ("still column", 777, 8),
+        ("polyline", 4000, 9),
+    ],
+)
+def test_a_long_history_s_von_mises_max_equals_every_step(kind, steps, k):
+    """A history long enough to be read by blocks (:func:`fea.superpose.pruned_von_mises_max`):
+    each node's largest von Mises equals the one of every step by definition, to rounding,
+    at a step that holds it (the first of equal ones where the values are equal: an
+    unstressed node's is step 0, as a read of every step gives)."""
+    from railcheck.fea.superpose import RANGE_PRUNE_STEPS, dense_von_mises_max
+
+    assert steps >= RANGE_PRUNE_STEPS
+    rng = np.random.default_rng(steps + 3 * k)
+    C = _long_history(kind, steps, k, rng)
+    S = rng.normal(size=(6, 300, k)) / np.maximum(np.abs(C).max(axis=0), 1.0)
+    S[:, 5] = 0.0  # an unstressed node
+    S[:, 9] = 0.0
+    S[:, 9, k - 1] = 1.0  # a node only the smallest coefficient stresses
+    vm = brute(S, C)  # (nodes, steps)
+    scale = np.sqrt((np.einsum("cnk,k->cn", np.abs(S), np.abs(C).max(axis=0)) ** 2).sum(axis=0)) + 1e-300
+    best, where = von_mises_max(S, C)
+    assert np.all(np.abs(best - vm.max(axis=1)) <= 1e-7 * scale)
+    assert np.all(np.abs(vm[np.arange(300), where] - vm.max(axis=1)) <= 1e-7 * scale)
+    assert best[5] == 0.0 and where[5] == 0
+    dense_best, dense_where = dense_von_mises_max(S, C)
+    assert np.all(np.abs(best - dense_best) <= 1e-7 * scale)
+    stressed = vm.max(axis=1) > 1e-3 * scale  # a clear maximum: the same step
+    assert np.mean(where[stressed] == dense_where[stressed]) > 0.99
+
+
+def test_a_smooth_long_history_s_von_mises_is_read_in_a_few_blocks_per_node(monkeypatch):
+    """The blocks' bounds prune (:func:`fea.superpose.pruned_von_mises_max`): a node's
+    maximum over a smooth history of 5,000 steps is sought in a few blocks of its 157."""
+    import railcheck.fea.superpose as superpose
+
+    rng = np.random.default_rng(6)
+    C = _long_history("smooth", 5000, 13, rng)
+    S = rng.normal(size=(6, 400, 13)) / np.abs(C).max(axis=0)
+    pairs = []
+    read = superpose._read_von_mises_blocks
+    monkeypatch.setattr(
+        superpose, "_read_von_mises_blocks", lambda Q, CC, st, rows, w: pairs.append(rows.size) or read(Q, CC, st, rows, w)
+    )
+    best, _ = superpose.pruned_von_mises_max(S, C)
+    assert 1.0 <= pairs[0] / 400 < 8.0
+    np.testing.assert_allclose(best, brute(S, C).max(axis=1), rtol=1e-12)
 
 
 def test_hull_polygon_and_its_support_function():
