@@ -150,7 +150,7 @@ def von_mises_max(S: np.ndarray, C: np.ndarray) -> tuple[np.ndarray, np.ndarray]
     every node: a long history by blocks of steps, only the blocks that can hold a node's
     maximum read whole (:func:`pruned_von_mises_max`), a short one at every step
     (:func:`dense_von_mises_max`)."""
-    if C.shape[0] >= RANGE_PRUNE_STEPS:
+    if C.shape[0] >= RANGE_PRUNE_STEPS and np.isfinite(C).all():  # else NaN out, for the caller to refuse
         return pruned_von_mises_max(S, C)
     return dense_von_mises_max(S, C)
 
@@ -273,7 +273,7 @@ def component_range(S: np.ndarray, C: np.ndarray) -> tuple[np.ndarray, np.ndarra
         if polygon is not None:
             hi, lo = support_range(np.ascontiguousarray(S[:, :, 1:]).reshape(-1, 2), polygon)
             return S[:, :, 0] + hi.reshape(S.shape[:2]), S[:, :, 0] + lo.reshape(S.shape[:2])
-    if C.shape[0] >= RANGE_PRUNE_STEPS:
+    if C.shape[0] >= RANGE_PRUNE_STEPS and np.isfinite(C).all():  # else NaN out, for the caller to refuse
         return pruned_range(S, C)
     return dense_range(S, C)
 

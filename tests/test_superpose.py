@@ -196,6 +196,19 @@ def test_a_smooth_long_history_s_von_mises_is_read_in_a_few_blocks_per_node(monk
     np.testing.assert_allclose(best, brute(S, C).max(axis=1), rtol=1e-12)
 
 
+def test_a_long_history_with_a_nan_gives_nan_not_an_error():
+    """A non-finite coefficient (a numerical failure upstream) reaches the caller as NaN,
+    which it refuses as a numerical failure (``railcheck.check.cycle``), not as the block
+    bounds' SVD error."""
+    rng = np.random.default_rng(1)
+    C = _long_history("smooth", 600, 6, rng)
+    C[100, 3] = np.nan
+    S = rng.normal(size=(6, 20, 6))
+    assert np.isnan(von_mises_max(S, C)[0]).all()
+    hi, lo = component_range(S, C)
+    assert np.isnan(hi).all() and np.isnan(lo).all()
+
+
 def test_hull_polygon_and_its_support_function():
     """A square's hull is its four corners counter-clockwise; the support function of any
     direction is the largest projection of the corners; no polygon for three points or
