@@ -327,7 +327,11 @@ class SampledBounds:
     ``low`` (6, n) Pa each component's sampled maximum and minimum and ``slack`` (6, n)
     Pa how far outside them its value at any step can lie; ``mid_upper`` (6, n) Pa, or
     None, a bound of each component's midrange magnitude tighter than ``|high + low| / 2
-    + slack`` (:func:`box_bounds`; inf where there is none)."""
+    + slack`` (:func:`box_bounds`; inf where there is none); ``share`` (6, n) Pa, or None
+    (then ``slack``), how far inside them its largest and smallest value can lie: a read
+    step's value is its subspace value within the residual's share (:func:`sampled_pairs`),
+    so the component's maximum is at least ``high - share``, its minimum at most ``low +
+    share``."""
 
     von_mises: np.ndarray
     von_mises_upper: np.ndarray
@@ -335,6 +339,7 @@ class SampledBounds:
     low: np.ndarray
     slack: np.ndarray
     mid_upper: np.ndarray | None = None
+    share: np.ndarray | None = None
 
     @classmethod
     def box(cls, vm: np.ndarray, mid: np.ndarray, reach: np.ndarray, mid_upper: np.ndarray | None = None):
@@ -625,7 +630,7 @@ def sampled_pairs(
     # a read step's value is its subspace value within the residual's share, so the
     # maximum lies in [high - share, high + slack] and the minimum in [low - slack, low +
     # share]: the midrange within half of slack + share of the sampled one
-    return SampledBounds(vm, upper, high, low, slack, np.abs(0.5 * (high + low)) + 0.5 * (slack + share))
+    return SampledBounds(vm, upper, high, low, slack, np.abs(0.5 * (high + low)) + 0.5 * (slack + share), share)
 
 
 @dataclass(frozen=True)
@@ -673,31 +678,38 @@ def sampled_at(p: Projected, box: SampledBounds, nodes: np.ndarray) -> SampledBo
     out = SampledBounds(
         *(np.array(a, copy=True) for a in (box.von_mises, box.von_mises_upper, box.high, box.low, box.slack)),
         mid_upper=None if box.mid_upper is None else np.array(box.mid_upper, copy=True),
+        share=np.array(box.slack if box.share is None else box.share, copy=True),  # the box's centre: +- its reach
     )
     out.von_mises[nodes], out.von_mises_upper[nodes] = s.von_mises, s.von_mises_upper
     out.high[:, nodes], out.low[:, nodes], out.slack[:, nodes] = s.high, s.low, s.slack
     if out.mid_upper is not None:
         out.mid_upper[:, nodes] = s.mid_upper
+    if out.share is not None and s.share is not None:
+        out.share[:, nodes] = s.share
     return out
 
 
 def fatigue_bounds(b: SampledBounds) -> tuple[np.ndarray, np.ndarray]:
     """(sa_upper, sm_upper) (n,) Pa: upper bounds of each node's alternating and midrange
-    von Mises over every step. Each component's maximum lies within ``[high - slack, high
-    + slack]`` and its minimum within ``[low - slack, low + slack]``, so its half-range
-    lies within ``(high - low) / 2 +- slack`` (and is not negative) and its midrange within
-    ``(high + low) / 2 +- slack`` (and within ``+- mid_upper``); each von Mises is bounded
-    over those intervals (:func:`interval_von_mises`). In float32 (a group's box) the
-    intervals are widened by their ends' own rounding."""
+    von Mises over every step. Each component's maximum lies within ``[high - share, high
+    + slack]`` and its minimum within ``[low - slack, low + share]`` (``share`` the
+    bounds' own, else ``slack``), so its half-range lies within ``[(high - low) / 2 -
+    share, (high - low) / 2 + slack]`` (and is not negative) and its midrange within
+    ``(high + low) / 2 +- (slack + share) / 2`` (and within ``+- mid_upper``); each von
+    Mises is bounded over those intervals (:func:`interval_von_mises`). In float32 (a
+    group's box) the intervals are widened by their ends' own rounding."""
     spread = b.slack
+    inner = b.slack if b.share is None else b.share
     if b.high.dtype == np.float32:
-        spread = spread + np.float32(4.0 * FLOAT32_EPS) * (np.abs(b.high) + np.abs(b.low) + b.slack)
+        rounding = np.float32(4.0 * FLOAT32_EPS) * (np.abs(b.high) + np.abs(b.low) + b.slack)
+        spread, inner = spread + rounding, inner + rounding
     if b.high is b.low:  # a box: its centre, no step read; the half-range from 0 to the reach
         centre, half_lo, half_hi = b.high, None, spread
+        mid_lo, mid_hi = centre - spread, centre + spread
     else:
         half, centre = 0.5 * (b.high - b.low), 0.5 * (b.high + b.low)
-        half_lo, half_hi = np.maximum(half - spread, 0.0), half + spread
-    mid_lo, mid_hi = centre - spread, centre + spread
+        half_lo, half_hi = np.maximum(half - inner, 0.0), half + spread
+        mid_lo, mid_hi = centre - 0.5 * (spread + inner), centre + 0.5 * (spread + inner)
     if b.mid_upper is not None:
         mid_lo, mid_hi = np.maximum(mid_lo, -b.mid_upper), np.minimum(mid_hi, b.mid_upper)
     return interval_von_mises(half_lo, half_hi), interval_von_mises(mid_lo, mid_hi)

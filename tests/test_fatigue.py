@@ -311,6 +311,8 @@ def test_the_checks_bounds_sample_only_the_boxs_candidates_and_stay_exact():
     assert np.all(b.von_mises_upper >= peak * (1 - 1e-12))
     reach = 1e-12 * np.abs(high).max()
     assert np.all(high <= b.high + b.slack + reach) and np.all(low >= b.low - b.slack - reach)
+    # and within the residual's share inside the read values (fatigue_bounds rests on both)
+    assert np.all(high >= b.high - b.share - reach) and np.all(low <= b.low + b.share + reach)
     assert np.all(sa_upper >= sa * (1 - 1e-12)) and np.all(sm_upper >= sm * (1 - 1e-12))
     sampled = np.flatnonzero(b.high != b.low)  # the box's nodes have high = low (its centre)
     assert 0 < sampled.size < n / 4
@@ -321,3 +323,50 @@ def test_the_checks_bounds_sample_only_the_boxs_candidates_and_stay_exact():
     screened = fatigue_of(job, fields, C, steps, b)
     assert screened.location == every.location
     assert screened.min_safety_factor == pytest.approx(every.min_safety_factor, rel=1e-12)
+
+
+def test_fatigue_bounds_cover_every_stress_range_their_sampled_bounds_allow():
+    """:func:`fea.screen.fatigue_bounds` of sampled bounds: each component's maximum may lie
+    anywhere in ``[high - share, high + slack]`` and its minimum in ``[low - slack, low +
+    share]`` (read values within the residual's share inside, the chords' slack outside).
+    At every corner of those intervals, drawn at random per component over many nodes, the
+    alternating and mean von Mises stay within the bounds, and some come within 2% of
+    them (the bounds are tight at the corners). Planted: the share taken as 0 (read values
+    exact), or the midrange's width as the slack alone, each fails."""
+    rng = np.random.default_rng(12)
+    n = 20000
+    high = rng.normal(size=(6, n)) * 100.0
+    low = high - np.abs(rng.normal(size=(6, n))) * rng.choice([1.0, 100.0], size=(1, n))
+    slack = np.abs(rng.normal(size=(6, n))) * 20.0
+    share = slack * rng.uniform(0.0, 1.0, size=(6, n))
+    b = screen.SampledBounds(np.zeros(n), np.zeros(n), high, low, slack, None, share)
+    sa_upper, sm_upper = screen.fatigue_bounds(b)
+    closest = 0.0
+    for _ in range(40):
+        top = np.where(rng.random((6, n)) < 0.5, high - share, high + slack)
+        bottom = np.where(rng.random((6, n)) < 0.5, low - slack, low + share)
+        bottom = np.minimum(bottom, top)  # a minimum is never above the maximum
+        sa, sm = alternating_and_mean(top, bottom)
+        assert np.all(sa <= sa_upper * (1 + 1e-12)) and np.all(sm <= sm_upper * (1 + 1e-12))
+        closest = max(closest, float(np.max(sa / sa_upper)), float(np.max(sm / sm_upper)))
+    assert closest > 0.98
+
+
+def test_sampled_bounds_hold_each_component_s_extremes_inside_and_outside():
+    """:func:`fea.screen.sampled_bounds` on a history with a residual outside its largest
+    subspace (12 independent harmonics, rank 8): every node's component maximum over every
+    step lies in ``[high - share, high + slack]`` and its minimum in ``[low - slack, low +
+    share]``, what :func:`fea.screen.fatigue_bounds` rests on. Planted: the share a tenth
+    of the residual's, the test fails."""
+    rng = np.random.default_rng(4)
+    n, T, k = 3000, 720, 12
+    t = np.linspace(0.0, 2.0 * np.pi, T, endpoint=False)
+    C = np.column_stack([np.cos((j + 1) * t + rng.uniform(0, 6)) * rng.uniform(0.5, 2.0) for j in range(k)])
+    S = rng.normal(size=(6, n, k))
+    p = screen.project_history(S, C)
+    assert p.sub.eps > 0.05 * np.abs(C).max()  # a real residual
+    b = screen.sampled_bounds(p.SP, p.norms, p.vm_norm, p.sub)
+    high, low = component_range(S, C)
+    tol = 1e-12 * np.abs(high).max()
+    assert np.all(high <= b.high + b.slack + tol) and np.all(low >= b.low - b.slack - tol)
+    assert np.all(high >= b.high - b.share - tol) and np.all(low <= b.low + b.share + tol)
