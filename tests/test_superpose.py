@@ -105,17 +105,19 @@ def _long_history(kind: str, steps: int, k: int, rng) -> np.ndarray:
     return C
 
 
-@pytest.mark.parametrize(
-    ("kind", "steps", "k"),
-    [
-        ("smooth", 5000, 13),
-        ("smooth", 1001, 10),
-        ("noisy", 2000, 12),
-        ("plateau", 3000, 11),
-        ("still column", 777, 8),
-        ("polyline", 4000, 9),
-    ],
-)
+#: (kind, steps, coefficients) of the long histories read by blocks (:func:`_long_history`)
+LONG_HISTORIES = [
+    ("smooth", 5000, 13),
+    ("smooth", 1001, 10),
+    ("smooth", 1001, 6),
+    ("noisy", 2000, 12),
+    ("plateau", 3000, 11),
+    ("still column", 777, 8),
+    ("polyline", 4000, 9),
+]
+
+
+@pytest.mark.parametrize(("kind", "steps", "k"), LONG_HISTORIES)
 def test_a_long_history_s_component_range_equals_every_step(kind, steps, k):
     """A history long enough to be read by blocks (:func:`fea.superpose.pruned_range`):
     each component's maximum and minimum at every node equal every step's, to rounding
@@ -141,17 +143,7 @@ def test_a_long_history_s_component_range_equals_every_step(kind, steps, k):
     assert np.all(np.abs(hi - dense[0]) <= 1e-12 * scale) and np.all(np.abs(lo - dense[1]) <= 1e-12 * scale)
 
 
-@pytest.mark.parametrize(
-    ("kind", "steps", "k"),
-    [
-        ("smooth", 5000, 13),
-        ("smooth", 1001, 6),
-        ("noisy", 2000, 12),
-        ("plateau", 3000, 11),
-        ("still column", 777, 8),
-        ("polyline", 4000, 9),
-    ],
-)
+@pytest.mark.parametrize(("kind", "steps", "k"), LONG_HISTORIES)
 def test_a_long_history_s_von_mises_max_equals_every_step(kind, steps, k):
     """A history long enough to be read by blocks (:func:`fea.superpose.pruned_von_mises_max`):
     each node's largest von Mises equals the one of every step by definition, to rounding,
@@ -176,24 +168,6 @@ def test_a_long_history_s_von_mises_max_equals_every_step(kind, steps, k):
     assert np.all(np.abs(best - dense_best) <= 1e-7 * scale)
     stressed = vm.max(axis=1) > 1e-3 * scale  # a clear maximum: the same step
     assert np.mean(where[stressed] == dense_where[stressed]) > 0.99
-
-
-def test_a_smooth_long_history_s_von_mises_is_read_in_a_few_blocks_per_node(monkeypatch):
-    """The blocks' bounds prune (:func:`fea.superpose.pruned_von_mises_max`): a node's
-    maximum over a smooth history of 5,000 steps is sought in a few blocks of its 157."""
-    import railcheck.fea.superpose as superpose
-
-    rng = np.random.default_rng(6)
-    C = _long_history("smooth", 5000, 13, rng)
-    S = rng.normal(size=(6, 400, 13)) / np.abs(C).max(axis=0)
-    pairs = []
-    read = superpose._read_von_mises_blocks
-    monkeypatch.setattr(
-        superpose, "_read_von_mises_blocks", lambda Q, CC, st, rows, w: pairs.append(rows.size) or read(Q, CC, st, rows, w)
-    )
-    best, _ = superpose.pruned_von_mises_max(S, C)
-    assert 1.0 <= pairs[0] / 400 < 8.0
-    np.testing.assert_allclose(best, brute(S, C).max(axis=1), rtol=1e-12)
 
 
 def test_a_long_history_with_a_nan_gives_nan_not_an_error():
@@ -383,21 +357,24 @@ def test_reduced_histories_give_the_same_stresses_in_fewer_coefficients():
     np.testing.assert_allclose(lo_r, lo, rtol=0, atol=1e-12 * np.abs(hi).max())
 
 
-def test_a_smooth_long_history_is_read_in_a_few_blocks_per_row(monkeypatch):
-    """The blocks' bounds prune (:func:`fea.superpose.pruned_range`): on a smooth history
-    of 5,000 steps with coefficients of scales 1 to 1e7, a row's extreme is sought in a few
-    blocks of its 157, not all (the bounds in scaled coefficients; unscaled, the largest
-    coefficient's reach would keep every block)."""
+@pytest.mark.parametrize("reader", ["component range", "von Mises"])
+def test_a_smooth_long_history_is_read_in_a_few_blocks_per_row(monkeypatch, reader):
+    """The blocks' bounds prune (:func:`fea.superpose.pruned_range`,
+    :func:`fea.superpose.pruned_von_mises_max`): on a smooth history of 5,000 steps with
+    coefficients of scales 1 to 1e7, a row's extreme (a node's largest von Mises) is sought
+    in a few blocks of its 157, not all (the bounds in scaled coefficients; unscaled, the
+    largest coefficient's reach would keep every block)."""
     import railcheck.fea.superpose as superpose
 
     rng = np.random.default_rng(5)
     C = _long_history("smooth", 5000, 13, rng)
     S = rng.normal(size=(6, 400, 13)) / np.abs(C).max(axis=0)
+    name, pruned, searches = {
+        "component range": ("_read_blocks", superpose.pruned_range, 2 * 6 * 400),  # each row's maximum and minimum
+        "von Mises": ("_read_von_mises_blocks", superpose.pruned_von_mises_max, 400),
+    }[reader]
     pairs = []
-    read = superpose._read_blocks
-    monkeypatch.setattr(
-        superpose, "_read_blocks", lambda R, b, best, r, rows, w: pairs.append(rows.size) or read(R, b, best, r, rows, w)
-    )
-    superpose.pruned_range(S, C)
-    per_row_and_side = sum(pairs) / (2 * 6 * 400)
-    assert 1.0 <= per_row_and_side < 8.0
+    read = getattr(superpose, name)
+    monkeypatch.setattr(superpose, name, lambda *args: pairs.append(args[-2].size) or read(*args))  # args[-2]: the rows
+    pruned(S, C)
+    assert 1.0 <= sum(pairs) / searches < 8.0
