@@ -684,8 +684,8 @@ def sampled_at(p: Projected, box: SampledBounds, nodes: np.ndarray) -> SampledBo
     out.high[:, nodes], out.low[:, nodes], out.slack[:, nodes] = s.high, s.low, s.slack
     if out.mid_upper is not None:
         out.mid_upper[:, nodes] = s.mid_upper
-    if out.share is not None and s.share is not None:
-        out.share[:, nodes] = s.share
+    assert out.share is not None and s.share is not None  # both set above and by sampled_pairs
+    out.share[:, nodes] = s.share
     return out
 
 

@@ -239,20 +239,26 @@ VM_PRUNE_SLACK = 1e-7
 def _read_von_mises_blocks(Q, CC, steps, rows, which) -> tuple[np.ndarray, np.ndarray]:
     """(von Mises squared, step) of the largest value over the steps of block ``which[p]``
     at node ``rows[p]``, for every pair p (``CC`` the blocks' steps' products, block after
-    block): one product per block, the pairs ordered by block."""
+    block): one product per block (:func:`_pairs_by_block`)."""
     width = steps.shape[1]
-    order = np.argsort(which, kind="stable")
     value, step = np.empty(rows.size), np.empty(rows.size, dtype=np.int64)
-    sorted_which = which[order]
-    starts = np.flatnonzero(np.r_[True, sorted_which[1:] != sorted_which[:-1]]) if which.size else np.empty(0, int)
-    for a, b in zip(starts, np.r_[starts[1:], which.size]):
-        p = order[a:b]
-        blk = sorted_which[a]
+    for blk, p in _pairs_by_block(which, steps.shape[0]):
         vm2 = Q[rows[p]] @ CC[:, blk * width : (blk + 1) * width]  # (pairs, width)
         at = np.argmax(vm2, axis=1)
         value[p] = vm2[np.arange(p.size), at]
         step[p] = steps[blk, at]
     return value, step
+
+
+def _pairs_by_block(which: np.ndarray, blocks: int):
+    """(block, the indices of the pairs that read it) for every block some pair reads,
+    ``which`` (pairs,) each pair's block of ``blocks``: the pairs ordered by block with a
+    radix sort of their block numbers (16-bit where they fit)."""
+    order = np.argsort(which.astype(np.int16 if blocks <= np.iinfo(np.int16).max else np.int64), kind="stable")
+    ordered = which[order]
+    starts = np.flatnonzero(np.r_[True, ordered[1:] != ordered[:-1]]) if which.size else np.empty(0, int)
+    for a, b in zip(starts, np.r_[starts[1:], which.size]):
+        yield int(ordered[a]), order[a:b]
 
 
 def component_range(S: np.ndarray, C: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -362,15 +368,12 @@ def pruned_range(S: np.ndarray, C: np.ndarray, block: int = RANGE_BLOCK) -> tupl
 
 def _read_blocks(R, blocks, best, reduce, rows, which) -> None:
     """``best[row] = reduce(best[row], each step's value)`` over the steps of block
-    ``which[p]`` of row ``rows[p]``, for every pair p: one product per block (the pairs
-    ordered by block with a radix sort of their block numbers, 16-bit where they fit)."""
-    order = np.argsort(which.astype(np.int16 if blocks.shape[0] <= np.iinfo(np.int16).max else np.int64), kind="stable")
-    rows, which = rows[order], which[order]
-    starts = np.flatnonzero(np.r_[True, which[1:] != which[:-1]]) if which.size else np.empty(0, int)
+    ``which[p]`` of row ``rows[p]``, for every pair p: one product per block
+    (:func:`_pairs_by_block`)."""
     extreme = np.empty(rows.size)
-    for a, b in zip(starts, np.r_[starts[1:], which.size]):
-        values = R[rows[a:b]] @ blocks[which[a]].T  # (pairs, block)
-        extreme[a:b] = values.max(axis=1) if reduce is np.maximum else values.min(axis=1)
+    for blk, p in _pairs_by_block(which, blocks.shape[0]):
+        values = R[rows[p]] @ blocks[blk].T  # (pairs, block)
+        extreme[p] = values.max(axis=1) if reduce is np.maximum else values.min(axis=1)
     reduce.at(best, rows, extreme)
 
 
