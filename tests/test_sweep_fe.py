@@ -129,6 +129,24 @@ def test_screen_selects_columns(columns):
     np.testing.assert_allclose(von_mises_peak(screen, C), vm, rtol=1e-12)
 
 
+def test_the_screens_of_many_hole_pairs_hold_each_pairs_columns_at_the_verdict_nodes():
+    """make_screens reads the fields in slabs of nodes for every key at once: each screen
+    holds exactly its columns (any order, repeated) at the verdict nodes, across slab
+    boundaries, as plain indexing gives, and its tip's columns."""
+    from railcheck.sweep.fe import GATHER_NODES, make_screens
+
+    rng = np.random.default_rng(5)
+    n = 3 * GATHER_NODES + 7
+    stress, tip = rng.normal(size=(6, n, 9)), rng.normal(size=(3, 9))
+    mask = rng.random(n) < 0.8
+    columns = {"a": [0, 1, 2], "b": [8, 3, 3, 5], "c": list(range(9))}
+    screens = make_screens(stress, mask, {key: tip + i for i, key in enumerate(columns)}, columns)
+    for i, (key, cols) in enumerate(columns.items()):
+        np.testing.assert_array_equal(screens[key].stress, stress[:, mask][:, :, cols])
+        np.testing.assert_array_equal(screens[key].tip, (tip + i)[:, cols])
+        assert screens[key].stress.flags.c_contiguous
+
+
 @pytest.mark.usefixtures("group_prepass")
 @pytest.mark.parametrize("k", [2, 3])
 def test_screens_stay_exact_when_the_largest_nodes_are_decoys(k):

@@ -24,7 +24,7 @@ from railcheck.fea.store import UnitRequest, is_stored, solve_stored
 from railcheck.geometry.mesher import cached_mesh, mesh_part
 from railcheck.loads.cases import rail_bolt_holes
 from railcheck.parts import PARTS, geometry_of, kind_of
-from railcheck.sweep.fe import fatigue_min, make_screen, tip_peak, von_mises_peak
+from railcheck.sweep.fe import fatigue_min, make_screens, tip_peak, von_mises_peak
 
 
 @dataclass(frozen=True)
@@ -245,9 +245,7 @@ def _part_model(scene, name: str, setup: _PartSetup, fields, meta, material, lim
     kind, geo = kind_of(name), setup.geo
     free, plate, loads, groups, pair_of = setup.free, setup.plate, setup.loads, setup.groups, setup.pair_of
     cases, columns, pressure, modes = setup.cases, setup.columns, setup.pressure, setup.modes
-    screens = {
-        key: make_screen(fields.stress, fields.verdict_mask, tip_of(fields, key), cols) for key, cols in columns.items()
-    }
+    screens = make_screens(fields.stress, fields.verdict_mask, {key: tip_of(fields, key) for key in columns}, columns)
     dynamic = pair_modes(fields, meta, columns, len(cases)) if modes else None
     spec = scene.fatigue
     marin = endurance_limit(material.ultimate_strength, spec.surface, kind.section(geo), spec.load, spec.reliability)
@@ -311,11 +309,13 @@ def mode_requests(scene, name: str, groups: dict, deflections: dict | None = Non
 def pair_modes(fields, meta, columns: dict, n_cases: int) -> dict:
     """Hole-pair key -> :class:`PairModes` from a solve with one mode set per key (the
     mode columns follow the ``n_cases`` unit cases, key by key)."""
-    out, start = {}, n_cases
+    with_modes, start = {}, n_cases
     for key, cols in columns.items():
-        found = meta.mode_sets[key]
-        mode_cols = list(range(start, start + found.hz.size))
-        start += found.hz.size
-        screen = make_screen(fields.stress, fields.verdict_mask, tip_of(fields, key), list(cols) + mode_cols)
-        out[key] = PairModes(found.hz, found.modal_loads[:, cols], screen)
-    return out
+        hz = meta.mode_sets[key].hz
+        with_modes[key] = list(cols) + list(range(start, start + hz.size))
+        start += hz.size
+    screens = make_screens(fields.stress, fields.verdict_mask, {key: tip_of(fields, key) for key in columns}, with_modes)
+    return {
+        key: PairModes(meta.mode_sets[key].hz, meta.mode_sets[key].modal_loads[:, cols], screens[key])
+        for key, cols in columns.items()
+    }
