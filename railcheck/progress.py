@@ -15,4 +15,5 @@ class Progress:
 
     def say(self, stage: str, message: str) -> None:
         if not self.quiet:
-            print(f"[{time.perf_counter() - self.t0:7.1f} s] {stage:<10} {message}", file=sys.stderr, flush=True)
+            # one write per line: lines said from several threads never interleave
+            print(f"[{time.perf_counter() - self.t0:7.1f} s] {stage:<10} {message}\n", end="", file=sys.stderr, flush=True)

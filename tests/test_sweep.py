@@ -809,8 +809,9 @@ hole_size = "4 mm"
 @pytest.mark.slow
 def test_parts_are_built_in_worker_processes_only_when_one_must_be_meshed_or_solved(tmp_path, monkeypatch):
     """With an empty cache the parts go to the worker processes; once their meshes are
-    cached and their unit fields stored they are read in this process, into the same
-    models; with the store off (RAILCHECK_STORE=0) they go to the workers again."""
+    cached and their unit fields stored they are read on this process's threads, into
+    the same models (each thread's screens bit for bit the workers'); with the store off
+    (RAILCHECK_STORE=0) they go to the workers again."""
     import railcheck.sweep.run as run_module
     from railcheck.fea.materials import MATERIALS
     from railcheck.progress import Progress
@@ -824,6 +825,14 @@ def test_parts_are_built_in_worker_processes_only_when_one_must_be_meshed_or_sol
         return [run_module._build_task(t, *args, say=lambda msg: None) for t in tasks]
 
     monkeypatch.setattr(run_module, "_build_in_workers", workers_here)
+    on_threads = []
+    threaded = run_module._build_on_threads
+
+    def threads_recorded(tasks, args, say, jobs):  # records the call, builds on the threads
+        on_threads.append([t.name for t in tasks])
+        return threaded(tasks, args, say, jobs)
+
+    monkeypatch.setattr(run_module, "_build_on_threads", threads_recorded)
     scene = parse_scene(__import__("tomllib").loads(TWO_PLATES), "test")
     settings = run_module.sweep_settings(scene)
     tasks = run_module.part_tasks(scene, settings)
@@ -832,11 +841,11 @@ def test_parts_are_built_in_worker_processes_only_when_one_must_be_meshed_or_sol
     cold = run_module.prepare_models(scene, settings, Progress(quiet=True), jobs=2)["four-bar"]
     assert to_workers == [["PF_4b_006", "PF_4b_003_v2"]] and stored() == [True, True]
     warm = run_module.prepare_models(scene, settings, Progress(quiet=True), jobs=2)["four-bar"]
-    assert len(to_workers) == 1  # nothing to mesh or solve: built here
+    assert len(to_workers) == 1 and on_threads == [["PF_4b_006", "PF_4b_003_v2"]]  # nothing to mesh or solve
     for name in cold:
         for key, screen in cold[name].screens.items():
             np.testing.assert_array_equal(screen.stress, warm[name].screens[key].stress)
     monkeypatch.setenv("RAILCHECK_STORE", "0")
     assert stored() == [False, False]
     run_module.prepare_models(scene, settings, Progress(quiet=True), jobs=2)
-    assert len(to_workers) == 2
+    assert len(to_workers) == 2 and len(on_threads) == 1
