@@ -167,6 +167,56 @@ def test_stopped_children_do_not_kill_a_caller_whose_sigpipe_is_fatal(tmp_path):
     assert (out.returncode, out.stdout.strip()) == (0, "survived"), out.stderr
 
 
+def test_a_caller_with_busy_threads_of_its_own_gets_the_sweep_unforked(tmp_path):
+    """A library caller whose own threads run BLAS products and write to stderr while it
+    sweeps: its workers are not forked (a child has only the forking thread; OpenBLAS's
+    fork handler hung such a caller in blas_thread_shutdown_ in 3 of 3 runs, and a lock
+    another thread holds stays held in a child), the run says so, finishes, and writes
+    the serial sweep's table."""
+    import subprocess
+    import sys
+
+    import pyarrow.parquet as pq
+
+    scene = tmp_path / "kinematics.toml"
+    scene.write_text('[sweep]\nkind = "both"\n')
+    script = tmp_path / "caller.py"
+    script.write_text(
+        "import sys, threading\n"
+        "import numpy as np\n"
+        "from railcheck.cli import main\n"
+        "stop = threading.Event()\n"
+        "def products():\n"
+        "    a = np.random.default_rng(0).normal(size=(200, 200))\n"
+        "    while not stop.is_set():\n"
+        "        a = a @ a.T / np.linalg.norm(a)\n"
+        "def chatter():\n"
+        "    while not stop.is_set():\n"
+        "        stop.wait(0.01)\n"
+        "        sys.stderr.write('caller thread\\n')\n"
+        "for f in (products, chatter):\n"
+        "    threading.Thread(target=f, daemon=True).start()\n"
+        "status = main(['sweep', sys.argv[1], '--out', sys.argv[2], '--force'])\n"
+        "stop.set()\n"
+        "sys.exit(status)\n"
+    )
+    busy = subprocess.run(
+        [sys.executable, str(script), str(scene), str(tmp_path / "busy")], capture_output=True, text=True, timeout=180
+    )
+    assert busy.returncode == 0, busy.stderr[-2000:]
+    assert "this process runs other threads: its workers are not forked" in busy.stderr
+    serial = subprocess.run(
+        [sys.executable, "-m", "railcheck.cli", "sweep", str(scene), "--out", str(tmp_path / "serial"), "--serial"],
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
+    assert serial.returncode == 0, serial.stderr[-2000:]
+    for kind in ("four-bar", "slider-crank"):
+        name = f"sweep-{kind}.parquet"
+        assert pq.read_table(tmp_path / "busy" / name).equals(pq.read_table(tmp_path / "serial" / name))
+
+
 def test_a_killed_caller_leaves_no_child(tmp_path):
     """The caller killed (SIGKILL: no clean-up of its own) while its children are busy:
     the kernel ends them (``PR_SET_PDEATHSIG``)."""

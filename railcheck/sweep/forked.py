@@ -1,5 +1,6 @@
 """A sweep's chunks on processes forked from this one (Linux), unless ``--scheduler``
-names a Dask cluster.
+names a Dask cluster or this process runs other threads (:func:`alone`: a library caller's
+own; its sweep then runs where a process that cannot fork runs it).
 
 Forked children share this process's memory (the settings, each kind's context with its
 parts' screens, 1.3 GB for the whole rig) copy on write: a task is a chunk's index and its
@@ -28,6 +29,7 @@ import os
 import pickle
 import signal
 import sys
+import threading
 from collections import deque
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import ProcessPoolExecutor
@@ -64,6 +66,17 @@ def available() -> bool:
     return True
 
 
+def alone() -> bool:
+    """Whether this process runs no Python thread but the one calling: the only state in
+    which it forks its workers. A child has only the forking thread, and a lock another
+    thread holds at the fork stays held in it; OpenBLAS's own fork handler deadlocks when
+    another thread is inside a multi-threaded product (OpenBLAS issues #2270, #5520; seen
+    here: a caller whose thread ran 200 x 200 products hung in ``blas_thread_shutdown_``
+    in 3 of 3 runs). A library caller with threads of its own gets the sweep on threads
+    (:mod:`railcheck.sweep.threads`) instead."""
+    return threading.active_count() == 1
+
+
 def in_order_on_processes(function: Callable[[Any], T], items: Sequence, processes: int, ahead: int) -> Iterator[T]:
     """``function(item)`` of every item, yielded in the items' order, computed in
     ``processes`` forked children with at most ``ahead`` items started beyond the one the
@@ -71,7 +84,7 @@ def in_order_on_processes(function: Callable[[Any], T], items: Sequence, process
     pickled); each result comes back pickled. An exception from ``function`` is raised here
     at its item's turn; a child that dies (killed, out of memory) is a
     :class:`~railcheck.errors.RailcheckError` naming the sweep. Once the caller stops, the
-    children are terminated."""
+    children are terminated. Call it only when this process is :func:`alone`."""
     token = next(_TOKENS)
     _CALLS[token] = (function, items)
     with _sigpipe_held():

@@ -384,7 +384,9 @@ def _run_into(scene, directory: Path, scheduler, workers, serial, progress, dask
     checked = {kind: _checked(scene, kind, lengths) for kind, lengths in by_kind.items()}
     total, total_checked = sum(c.size for c in checked.values()), sum(int(c.sum()) for c in checked.values())
     large = total > KINEMATIC_DASK_CHUNKS * chunk_size(scene) or total_checked > 4 * checked_chunk_size(scene)
-    forks = forked.available()
+    forks = forked.available() and forked.alone()
+    if forked.available() and not forks and not serial:
+        progress.say("sweep", "this process runs other threads: its workers are not forked (a fork could hang them)")
     # a local cluster only where this process cannot fork its workers (they share its memory)
     use_dask = (scheduler is not None or (large and not forks)) if dask is None else dask
     # the parts in two processes when the settings run on Dask, or are many, and in parallel too
