@@ -72,8 +72,9 @@ def alone() -> bool:
     thread holds at the fork stays held in it; OpenBLAS's own fork handler deadlocks when
     another thread is inside a multi-threaded product (OpenBLAS issues #2270, #5520; seen
     here: a caller whose thread ran 200 x 200 products hung in ``blas_thread_shutdown_``
-    in 3 of 3 runs). A library caller with threads of its own gets the sweep on threads
-    (:mod:`railcheck.sweep.threads`) instead."""
+    in 3 of 3 runs). A library caller with threads of its own gets its sweep where a
+    process that cannot fork runs it: a Dask local cluster for a large sweep, else this
+    process's threads (:mod:`railcheck.sweep.threads`)."""
     return threading.active_count() == 1
 
 
