@@ -296,7 +296,7 @@ def test_dask_and_serial_give_identical_tables(tmp_path, monkeypatch):
 
 
 @pytest.mark.slow  # forks, like tests/test_sweep_forked.py
-def test_chunks_on_forked_processes_give_the_serial_tables(tmp_path):
+def test_chunks_on_forked_processes_give_the_serial_tables(tmp_path, monkeypatch):
     """Both linkage kinds on one process per core forked from this one (a sweep without
     FE, too small for Dask: each kind in two chunks per process; threads where the
     platform does not fork), said so: every table equals the serial run's. Asked for a
@@ -304,6 +304,10 @@ def test_chunks_on_forked_processes_give_the_serial_tables(tmp_path):
     import os
 
     from railcheck.sweep import forked
+
+    # the forked executor itself: earlier tests of this pytest process may leave threads
+    # (whether a process with threads forks: tests/test_sweep_forked.py)
+    monkeypatch.setattr(forked, "alone", lambda: True)
 
     cores = os.cpu_count() or 1
     text = KINEMATICS_ONLY + 'crank = ["420 mm", "540 mm"]\ncoupler = ["780 mm", "900 mm"]\n'
@@ -465,6 +469,7 @@ def test_an_fe_sweep_on_local_workers_gives_the_serial_table(fe_sweep, tmp_path,
     if forks and not forked.available():
         pytest.skip("this platform does not fork")
     monkeypatch.setattr(forked, "available", lambda: forks)
+    monkeypatch.setattr(forked, "alone", lambda: True)  # earlier tests may leave threads in this process
     lines = []
     progress = type("P", (), {"say": lambda self, stage, msg: lines.append(msg)})()
     run = _sweep(tmp_path, FE_SWEEP, "local", workers=2, dask=False, progress=progress)

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import math
 import os
+import threading
 import time
 from concurrent.futures import FIRST_COMPLETED, wait
 from contextlib import ExitStack
@@ -386,7 +387,10 @@ def _run_into(scene, directory: Path, scheduler, workers, serial, progress, dask
     large = total > KINEMATIC_DASK_CHUNKS * chunk_size(scene) or total_checked > 4 * checked_chunk_size(scene)
     forks = forked.available() and forked.alone()
     if forked.available() and not forks and not serial:
-        progress.say("sweep", "this process runs other threads: its workers are not forked (a fork could hang them)")
+        others = ", ".join(t.name for t in threading.enumerate() if t is not threading.current_thread())
+        progress.say(
+            "sweep", f"this process runs other threads ({others}): its workers are not forked (a fork could hang them)"
+        )
     # a local cluster only where this process cannot fork its workers (they share its memory)
     use_dask = (scheduler is not None or (large and not forks)) if dask is None else dask
     # the parts in two processes when the settings run on Dask, or are many, and in parallel too
