@@ -245,7 +245,7 @@ def _part_model(scene, name: str, setup: _PartSetup, fields, meta, material, lim
     kind, geo = kind_of(name), setup.geo
     free, plate, loads, groups, pair_of = setup.free, setup.plate, setup.loads, setup.groups, setup.pair_of
     cases, columns, pressure, modes = setup.cases, setup.columns, setup.pressure, setup.modes
-    screens = make_screens(fields.stress, fields.verdict_mask, {key: tip_of(fields, key) for key in columns}, columns)
+    screens = screens_of(fields, columns)
     dynamic = pair_modes(fields, meta, columns, len(cases)) if modes else None
     spec = scene.fatigue
     marin = endurance_limit(material.ultimate_strength, spec.surface, kind.section(geo), spec.load, spec.reliability)
@@ -286,6 +286,12 @@ def dynamic_in_sweep(scene) -> bool:
     return scene.check is not None and "dynamic" in scene.check.effects and any(w > 0 for w in scene.sweep.speeds)
 
 
+def screens_of(fields, columns: dict) -> dict:
+    """Hole-pair key -> the screen of its unit-case columns ``columns[key]`` in the part's
+    ``fields`` (:func:`railcheck.sweep.fe.make_screens`, each key's own tip operator)."""
+    return make_screens(fields.stress, fields.verdict_mask, {key: tip_of(fields, key) for key in columns}, columns)
+
+
 def tip_of(fields, key):
     """(3, k) m: the deflection operator's columns of a key (a free rail has one per key)."""
     return fields.tips[key] if fields.tips else fields.tip
@@ -314,7 +320,7 @@ def pair_modes(fields, meta, columns: dict, n_cases: int) -> dict:
         hz = meta.mode_sets[key].hz
         with_modes[key] = list(cols) + list(range(start, start + hz.size))
         start += hz.size
-    screens = make_screens(fields.stress, fields.verdict_mask, {key: tip_of(fields, key) for key in columns}, with_modes)
+    screens = screens_of(fields, with_modes)
     return {
         key: PairModes(meta.mode_sets[key].hz, meta.mode_sets[key].modal_loads[:, cols], screens[key])
         for key, cols in columns.items()

@@ -17,7 +17,7 @@ import math
 import os
 import threading
 import time
-from concurrent.futures import FIRST_COMPLETED, wait
+from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
 from contextlib import ExitStack
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -280,8 +280,6 @@ def _build_on_threads(tasks: list[PartTask], args: tuple, say, jobs: int) -> lis
     cached and unit fields stored: reading the store and gathering the screens are numpy
     copies that release the GIL, and nothing is pickled back (BLAS on one thread each
     meanwhile). In the tasks' order."""
-    from concurrent.futures import ThreadPoolExecutor
-
     with blas_on_one_thread(), ThreadPoolExecutor(jobs, thread_name_prefix="railcheck-parts") as pool:
         return list(pool.map(lambda task: _build_task(task, *args, say=say), tasks))
 
