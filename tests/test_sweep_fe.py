@@ -147,6 +147,37 @@ def test_the_screens_of_many_hole_pairs_hold_each_pairs_columns_at_the_verdict_n
         assert screens[key].stress.flags.c_contiguous
 
 
+def test_the_screens_of_freshly_solved_fields_are_gathered_without_copying_them_whole():
+    """A solve returns the fields as a transposed view of node-major columns (not
+    C-contiguous). The screens gathered from that layout equal those of a C-contiguous
+    copy bit for bit, and no slab's gather copies the whole array: the peak of memory
+    allocated while gathering them is within half the fields' size of the contiguous
+    gather's (np.take of such an array copies it whole, once per slab)."""
+    import tracemalloc
+
+    from railcheck.sweep.fe import GATHER_NODES, make_screens
+
+    rng = np.random.default_rng(11)
+    n, cases = 4 * GATHER_NODES + 3, 60
+    fields = np.asfortranarray(rng.normal(size=(n, 6 * cases))).reshape(n, 6, cases).transpose(1, 0, 2)
+    assert not fields.flags.c_contiguous  # the layout of railcheck.fea.stress.recover_stress
+    contiguous = np.ascontiguousarray(fields)
+    mask, tips = rng.random(n) < 0.9, {"a": np.zeros((3, cases)), "b": np.ones((3, cases))}
+    columns = {"a": [0, 5, 7], "b": list(range(0, cases, 3))}
+
+    def gathered(stress):
+        tracemalloc.start()
+        try:
+            return make_screens(stress, mask, tips, columns), tracemalloc.get_traced_memory()[1]
+        finally:
+            tracemalloc.stop()
+
+    (expected, base), (screens, peak) = gathered(contiguous), gathered(fields)
+    for key in columns:
+        np.testing.assert_array_equal(screens[key].stress, expected[key].stress)
+    assert peak < base + fields.nbytes // 2, f"{peak - base} bytes more than a gather of {fields.nbytes} contiguous bytes"
+
+
 @pytest.mark.usefixtures("group_prepass")
 @pytest.mark.parametrize("k", [2, 3])
 def test_screens_stay_exact_when_the_largest_nodes_are_decoys(k):

@@ -116,15 +116,28 @@ def make_screens(stress: np.ndarray, verdict_mask: np.ndarray, tips: dict, colum
     :data:`GATHER_NODES` verdict nodes, each slab's columns gathered for every key while
     it is in cache: a part's fields have tens to hundreds of columns and each hole pair
     a few of them, so a gather per key streamed them all once per key (a rail's 89
-    columns and 16 hole pairs of 17: 0.15-0.2 against 0.38-0.44 s)."""
+    columns and 16 hole pairs of 17: 0.15-0.2 against 0.38-0.44 s). ``stress`` in any
+    memory layout (:func:`_node_slab`)."""
     nodes = np.flatnonzero(_verdict_nodes(verdict_mask))
     index = {key: np.asarray(cols, dtype=np.intp) for key, cols in columns.items()}
     out = {key: np.empty((6, nodes.size, i.size)) for key, i in index.items()}
     for start in range(0, nodes.size, GATHER_NODES):
-        slab = np.take(stress, nodes[start : start + GATHER_NODES], axis=1)  # (6, b, cases)
+        slab = _node_slab(stress, nodes[start : start + GATHER_NODES])  # (6, b, cases)
         for key, i in index.items():
             out[key][:, start : start + GATHER_NODES] = np.take(slab, i, axis=2)
     return {key: _screen(out[key], tips[key][:, index[key]]) for key in columns}
+
+
+def _node_slab(stress: np.ndarray, nodes: np.ndarray) -> np.ndarray:
+    """(6, b, cases) C-contiguous: ``stress[:, nodes]``. ``np.take`` is the faster gather
+    of a C-contiguous array, but of any other it first copies the whole array: freshly
+    solved fields are a transposed view of the solver's node-major columns
+    (:func:`railcheck.fea.stress.recover_stress`), where a take per slab copied a rail's
+    421 MB of fields each time (20.6 against 0.6 s for a rail's screens); such fields are
+    indexed slab by slab instead (stored ones are read C-contiguous)."""
+    if stress.flags.c_contiguous:
+        return np.take(stress, nodes, axis=1)
+    return np.ascontiguousarray(stress[:, nodes])
 
 
 def _verdict_nodes(verdict_mask: np.ndarray) -> np.ndarray:
