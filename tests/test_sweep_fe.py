@@ -964,3 +964,22 @@ def test_histories_in_their_subspaces_together_equal_each_alone():
         np.testing.assert_array_equal(one.sampled, alone.sampled)
         np.testing.assert_array_equal(one.touched, alone.touched)
         assert one.delta == pytest.approx(alone.delta, rel=1e-9)
+
+
+def test_the_step_nearest_a_paths_box_centre_is_found_in_half_width_units():
+    """nearest_to_box_centre: the step whose coordinates, each over its box half-width,
+    lie nearest the box's centre (brute force), on paths whose coordinates differ by ten
+    orders of magnitude, a constant coordinate and one of half-width about 1e-150 (no
+    overflow, no NaN; which step a caller gets only tightens its bounds: any step the
+    history takes is a valid one)."""
+    from railcheck.fea.screen import nearest_to_box_centre
+
+    rng = np.random.default_rng(3)
+    d = rng.normal(size=(5, 300, 6)) * np.array([1e-5, 1.0, 1e5, 0.0, 1e-150, 3.0]) + np.array(
+        [7.0, -2.0, 0.0, 4.0, 0.0, 1e3]
+    )
+    lo, hi = d.min(axis=1, keepdims=True), d.max(axis=1, keepdims=True)
+    half = np.where(hi > lo, 0.5 * (hi - lo), 1.0)
+    brute = np.argmin((((d - 0.5 * (lo + hi)) / half) ** 2).sum(axis=2), axis=1)
+    np.testing.assert_array_equal(nearest_to_box_centre(d), brute)
+    np.testing.assert_array_equal(nearest_to_box_centre(d[0]), brute[0])
