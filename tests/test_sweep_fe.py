@@ -983,3 +983,48 @@ def test_the_step_nearest_a_paths_box_centre_is_found_in_half_width_units():
     brute = np.argmin((((d - 0.5 * (lo + hi)) / half) ** 2).sum(axis=2), axis=1)
     np.testing.assert_array_equal(nearest_to_box_centre(d), brute)
     np.testing.assert_array_equal(nearest_to_box_centre(d[0]), brute[0])
+
+
+@pytest.mark.usefixtures("group_prepass")
+def test_a_pair_the_thresholds_read_but_did_not_evaluate_is_still_evaluated_when_it_can_hold_the_peak(monkeypatch):
+    """A batch's thresholds read the nodes of best box bound at the sampled steps and
+    evaluate the few of best sampled value exactly; the pairs they read keep their bounds
+    for the rest of the screen. Here a history of nine directions is read in rank 8
+    (seven harmonics and a constant) with a one-step kick as its residual; twenty decoy
+    nodes carry the harmonics (their sampled value is about their peak) and ten hidden
+    nodes only the kick (sampled value nearly zero, peak higher than every decoy's). The
+    thresholds read the hidden nodes but evaluate decoys, so the hidden ones must then be
+    evaluated for the peak. The second history is larger than the first, its kick more so:
+    a pair given another history's bounds loses its peak. Each history goes through the
+    batch (a history screened alone is refused here)."""
+    import railcheck.sweep.fe as fe
+
+    def refused(*args, **kwargs):
+        raise AssertionError("a history was screened alone")
+
+    monkeypatch.setattr(fe, "_screened", refused)
+    rng = np.random.default_rng(21)
+    n, T, k = 3000, 1440, 9
+    t = np.linspace(0, 2 * np.pi, T, endpoint=False)
+    C = np.zeros((2, T, k))
+    for j in range(7):
+        C[:, :, j] = np.cos((j + 1) * t + j)[None] * np.array([[1.0], [1.8]])
+    C[:, :, 7] = 1.0  # a constant: the mean stress
+    C[:, 77, 8] = [1.0, 1.5]  # a one-step kick
+    stress = rng.normal(size=(6, n, k)) * 1e-3  # the nodes that matter to no history
+    stress[:, :, 8] = 0.0
+    decoys, hidden = rng.choice(n, 30, replace=False).reshape(2, 15)
+    stress[:, decoys, :8] = rng.normal(size=(6, 15, 8))
+    stress[:, hidden, :] = 0.0
+    stress[:, hidden, 8] = rng.normal(size=(6, 15)) * 6.0
+    mask = np.ones(n, bool)
+    screen = make_screen(stress, mask, np.zeros((3, k)), list(range(k)))
+    vm, n_min = _brute(stress, mask, C)
+    for c in C:  # a hidden node holds the peak; every decoy has a larger value off the kick
+        X = np.tensordot(stress, c, axes=([2], [1]))
+        peak = von_mises(X).max(axis=1)
+        assert np.argmax(peak) in hidden and peak[hidden].max() > peak[decoys].max()
+        assert von_mises(np.delete(X, 77, axis=2)[:, hidden]).max() < 1e-12 < peak[decoys].min()
+    both = peak_and_fatigue(screen, C, 200e6, 750e6, "goodman", None)
+    np.testing.assert_allclose(both[0], vm, rtol=1e-12)
+    np.testing.assert_allclose(both[1], n_min, rtol=1e-12)

@@ -20,8 +20,9 @@ Exact screening. For a setting with coefficient history ``c(t)`` (steps, k):
   e_t``; :mod:`railcheck.fea.screen`). The nodes of best box bound, read at steps placed
   along the history's path, give exact thresholds (a lower bound of the peak, an upper
   bound of the fatigue minimum); only the nodes whose group box (with the values the
-  history takes) can beat them are read at those steps, whose bounds leave the few that
-  are evaluated at every step. The group's histories go through these stages together
+  history takes) can beat them are read at those steps (a pair the thresholds read keeps
+  its bounds, and one they evaluated is not evaluated again), whose bounds leave the few
+  that are evaluated at every step. The group's histories go through these stages together
   (:class:`_Batch`: every stage on (history, node) pairs, one matrix product per history
   where nodes are read); a history whose group box keeps more than
   :data:`LOOSE_SHARE` of the nodes is screened alone, in its own subspace's box first
@@ -330,10 +331,11 @@ class _Batch:
                 least[i] = min(least[i], float(self.factor(*alternating_and_mean(high, low)).min()))
         return vm2, least
 
-    def thresholds(self, vm: np.ndarray, bound: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
-        """((s,) Pa^2, (s,)): exact values at the :data:`THRESHOLD_NODES` of best sampled
-        value among the :data:`BOX_FIRST` of best box bound ``vm`` (von Mises, (s, n)) and
-        ``bound`` (fatigue factor) of each history."""
+    def thresholds(self, vm: np.ndarray, bound: np.ndarray | None) -> tuple[np.ndarray, np.ndarray, _Read]:
+        """((s,) Pa^2, (s,), read): exact values at the :data:`THRESHOLD_NODES` of best
+        sampled value among the :data:`BOX_FIRST` of best box bound ``vm`` (von Mises, (s,
+        n)) and ``bound`` (fatigue factor) of each history; ``read`` those pairs' sampled
+        bounds and which of them were evaluated exactly (:class:`_Read`)."""
         first = _first_per_row(vm, BOX_FIRST, largest=True)
         if bound is not None:
             first = np.concatenate([first, _first_per_row(bound, BOX_FIRST, largest=False)], axis=1)
@@ -347,10 +349,17 @@ class _Batch:
         peak = np.zeros((s, F), dtype=bool)
         np.put_along_axis(peak, _first_per_row(best, THRESHOLD_NODES, largest=True), True, axis=1)
         fatigue = np.zeros((s, F), dtype=bool)
+        factor_bound = None
         if bound is not None:
             f = np.where(repeated, np.inf, self.factor(*screen_.fatigue_sampled(b)).reshape(s, F))
             np.put_along_axis(fatigue, _first_per_row(f, THRESHOLD_NODES, largest=False), True, axis=1)
-        return self.exact(h, nodes, peak.ravel(), fatigue.ravel())
+            factor_bound = self.fatigue_bound(b)
+        vm2, least = self.exact(h, nodes, peak.ravel(), fatigue.ravel())
+        once = ~repeated.ravel()
+        key = h[once] * self.by_node.shape[0] + nodes[once]  # ascending
+        read = _Read(key, b.von_mises_upper[once], None if factor_bound is None else factor_bound[once],
+                     peak.ravel()[once], fatigue.ravel()[once])  # fmt: skip
+        return vm2, least, read
 
     def screened(self, vm, mid, reach, low2, top, loose) -> np.ndarray:
         """(s, 2): each history's exact peak (Pa) and fatigue minimum, from its group box
@@ -361,7 +370,7 @@ class _Batch:
         out = np.empty((s, 2))
         mid6, reach6 = mid.transpose(1, 0, 2), reach.transpose(1, 0, 2)
         box_factor = self.fatigue_bound(screen_.SampledBounds.box(vm, mid6, reach6))
-        more_low2, less_top = self.thresholds(vm, box_factor)
+        more_low2, less_top, read = self.thresholds(vm, box_factor)
         low2, top = np.maximum(low2, more_low2), np.minimum(top, less_top)  # each an exact value at some node
         every = np.arange(s)
         keep = self.beats(screen_.SampledBounds.box(vm, mid6, reach6), every[:, None], low2, top, box_factor)
@@ -379,15 +388,48 @@ class _Batch:
             tighter_i = lambda some, b, i=i: self.group.at_nodes(b, some, self.taken[i])  # noqa: E731
             out[i] = _screened(self.screen, self.C[i], box, self.factor, self.enough, low2[i], top[i], loose, tighter_i)
         h, nodes = h[~alone[h]], nodes[~alone[h]]
-        b = self.sampled(self.projected(h, nodes), h, nodes)
-        peak = _can_beat(b, np.sqrt(low2)[h], top[h], None, None)
+        # the pairs the thresholds read keep their sampled bounds; only the others are read
+        at = read.find(h * self.by_node.shape[0] + nodes)
+        new = at < 0
+        upper, factor_bound = np.empty(h.size), np.empty(h.size)
+        upper[~new] = read.von_mises_upper[at[~new]]
+        b = self.sampled(self.projected(h[new], nodes[new]), h[new], nodes[new])
+        upper[new] = b.von_mises_upper
+        peak = upper * (1.0 + SLACK) >= np.sqrt(low2)[h]
         fatigue = np.zeros_like(peak)
         if self.factor is not None:
-            fatigue = _fatigue_can(self.fatigue_bound(b), top[h], self.enough)
+            factor_bound[~new] = read.factor_bound[at[~new]]
+            factor_bound[new] = self.fatigue_bound(b)
+            fatigue = _fatigue_can(factor_bound, top[h], self.enough)
+        # and a pair evaluated exactly for a criterion there is not evaluated again for it
+        peak[~new] &= ~read.peak[at[~new]]
+        fatigue[~new] &= ~read.fatigue[at[~new]]
         vm2, least = self.exact(h, nodes, peak, fatigue)
         out[~alone, 0] = np.sqrt(np.maximum(low2, vm2))[~alone]
         out[~alone, 1] = np.minimum(top, least)[~alone]
         return out
+
+
+@dataclass(frozen=True)
+class _Read:
+    """The (history, node) pairs a batch's thresholds read at the sampled steps
+    (:meth:`_Batch.thresholds`), by ``key`` = history x nodes + node (ascending): their
+    ``von_mises_upper`` (Pa) and fatigue factor ``factor_bound`` (or None) bounds, and
+    whether each was evaluated exactly for the ``peak`` and for ``fatigue`` (its exact
+    value is then in the thresholds)."""
+
+    key: np.ndarray
+    von_mises_upper: np.ndarray
+    factor_bound: np.ndarray | None
+    peak: np.ndarray
+    fatigue: np.ndarray
+
+    def find(self, keys: np.ndarray) -> np.ndarray:
+        """(q,) the index of each of ``keys`` among the pairs read, -1 where not read."""
+        if not self.key.size:
+            return np.full(keys.size, -1)
+        at = np.searchsorted(self.key, keys).clip(max=self.key.size - 1)
+        return np.where(self.key[at] == keys, at, -1)
 
 
 def _can_beat(b: screen_.SampledBounds, low, top, factor=None, enough: float | None = None, bound=None) -> np.ndarray:
