@@ -357,9 +357,8 @@ class _Batch:
         vm2, least = self.exact(h, nodes, peak.ravel(), fatigue.ravel())
         once = ~repeated.ravel()
         key = h[once] * self.by_node.shape[0] + nodes[once]  # ascending
-        read = _Read(key, b.von_mises_upper[once], None if factor_bound is None else factor_bound[once],
-                     peak.ravel()[once], fatigue.ravel()[once])  # fmt: skip
-        return vm2, least, read
+        bound_once = None if factor_bound is None else factor_bound[once]
+        return vm2, least, _Read(key, b.von_mises_upper[once], bound_once, peak.ravel()[once], fatigue.ravel()[once])
 
     def screened(self, vm, mid, reach, low2, top, loose) -> np.ndarray:
         """(s, 2): each history's exact peak (Pa) and fatigue minimum, from its group box
@@ -395,7 +394,7 @@ class _Batch:
         upper[~new] = read.von_mises_upper[at[~new]]
         b = self.sampled(self.projected(h[new], nodes[new]), h[new], nodes[new])
         upper[new] = b.von_mises_upper
-        peak = upper * (1.0 + SLACK) >= np.sqrt(low2)[h]
+        peak = _peak_can(upper, np.sqrt(low2)[h])
         fatigue = np.zeros_like(peak)
         if self.factor is not None:
             factor_bound[~new] = read.factor_bound[at[~new]]
@@ -439,10 +438,16 @@ def _can_beat(b: screen_.SampledBounds, low, top, factor=None, enough: float | N
     when already known) can fall to ``top`` (an upper bound of the minimum) and below
     ``enough`` (:func:`_fatigue_can`). ``low`` and ``top`` broadcast against the nodes;
     both comparisons widened by :data:`SLACK` (rounding)."""
-    keep = b.von_mises_upper * (1.0 + SLACK) >= low
+    keep = _peak_can(b.von_mises_upper, low)
     if factor is not None:
         keep |= _fatigue_can(factor(*screen_.fatigue_bounds(b)) if bound is None else bound, top, enough)
     return keep
+
+
+def _peak_can(upper: np.ndarray, low) -> np.ndarray:
+    """bool: whether a von Mises bound ``upper`` (Pa) can reach ``low`` (a lower bound of
+    the peak: an exact value at some node), widened by :data:`SLACK` (rounding)."""
+    return upper * (1.0 + SLACK) >= low
 
 
 def _fatigue_can(bound: np.ndarray, top, enough: float | None = None) -> np.ndarray:
