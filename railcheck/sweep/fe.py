@@ -285,6 +285,10 @@ class _Batch:
         self.sub = screen_.principal_subspaces(C * screen.scale)
         self.Pw = self.sub.P / screen.scale[None, :, None]  # (s, k, R) per unit coefficient
 
+    def pair_key(self, h: np.ndarray, nodes: np.ndarray) -> np.ndarray:
+        """(q,) one integer per (history, node) pair, ordered by history then node."""
+        return h * self.by_node.shape[0] + nodes
+
     def fatigue_bound(self, b: screen_.SampledBounds) -> np.ndarray | None:
         """The lower bound of the fatigue factor from bounds ``b``, or None (no fatigue)."""
         return self.factor(*screen_.fatigue_bounds(b)) if self.factor is not None else None
@@ -356,7 +360,7 @@ class _Batch:
             factor_bound = self.fatigue_bound(b)
         vm2, least = self.exact(h, nodes, peak.ravel(), fatigue.ravel())
         once = ~repeated.ravel()
-        key = h[once] * self.by_node.shape[0] + nodes[once]  # ascending
+        key = self.pair_key(h[once], nodes[once])  # ascending
         bound_once = None if factor_bound is None else factor_bound[once]
         return vm2, least, _Read(key, b.von_mises_upper[once], bound_once, peak.ravel()[once], fatigue.ravel()[once])
 
@@ -388,7 +392,7 @@ class _Batch:
             out[i] = _screened(self.screen, self.C[i], box, self.factor, self.enough, low2[i], top[i], loose, tighter_i)
         h, nodes = h[~alone[h]], nodes[~alone[h]]
         # the pairs the thresholds read keep their sampled bounds; only the others are read
-        at = read.find(h * self.by_node.shape[0] + nodes)
+        at = read.find(self.pair_key(h, nodes))
         new = at < 0
         upper, factor_bound = np.empty(h.size), np.empty(h.size)
         upper[~new] = read.von_mises_upper[at[~new]]
@@ -412,7 +416,7 @@ class _Batch:
 @dataclass(frozen=True)
 class _Read:
     """The (history, node) pairs a batch's thresholds read at the sampled steps
-    (:meth:`_Batch.thresholds`), by ``key`` = history x nodes + node (ascending): their
+    (:meth:`_Batch.thresholds`), by ``key`` (:meth:`_Batch.pair_key`, ascending): their
     ``von_mises_upper`` (Pa) and fatigue factor ``factor_bound`` (or None) bounds, and
     whether each was evaluated exactly for the ``peak`` and for ``fatigue`` (its exact
     value is then in the thresholds)."""
