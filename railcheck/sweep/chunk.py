@@ -319,7 +319,8 @@ def evaluate_part(
         length = None if bar_lengths is None else bar_lengths[idx[0]]
         if modes is None:  # every load source's histories in one call: they share the part's box
             C = hull_steps(np.concatenate([_source_history(model, length, s, idx, *h) for h in history]))
-            peak, factor = (r.reshape(len(history), idx.size) for r in peak_and_fatigue(screen, C, *args))
+            sets = np.tile(np.arange(idx.size), len(history))  # a setting's load sources: one set
+            peak, factor = (r.reshape(len(history), idx.size) for r in peak_and_fatigue(screen, C, *args, sets=sets))
             vm[idx] = np.maximum(vm[idx], peak.max(axis=0))
             fat[idx] = np.minimum(fat[idx], factor.min(axis=0))
             tip[idx] = np.maximum(tip[idx], tip_peak(screen, C).reshape(len(history), idx.size).max(axis=0))

@@ -29,6 +29,9 @@ Exact screening. For a setting with coefficient history ``c(t)`` (steps, k):
   (:func:`_screened`). A many-coefficient history of a real setting lies close to a few
   directions, so a few thousand of 10,000-30,000 nodes are read and a few to a few
   hundred evaluated at every step.
+* One setting's load sources on copies of a part (PF_4b_006 at two joints) are one set
+  (:func:`peak_and_fatigue` ``sets``): only the set's worst value is reported, so an exact
+  value at any of its histories is a threshold for all of them.
 
 The results equal evaluating every verdict node (:func:`railcheck.check.cycle.evaluate_cycle`)
 to rounding. All arrays SI (Pa, m); vectorised over settings, steps and nodes, in chunks
@@ -228,27 +231,71 @@ def peak_and_fatigue(
     criterion: str,
     yield_strength: float | None,
     enough: float | None = None,
+    sets: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """(:func:`von_mises_peak`, :func:`fatigue_min`) of the histories ``C`` (S, T, k), each
-    (S,); a many-coefficient history's screens computed once for both."""
+    (S,); a many-coefficient history's screens computed once for both.
+
+    ``sets`` (S,) int: histories of one label are one setting's load sources on copies of
+    the part (PF_4b_006 at two joints), of which only the largest peak and the smallest
+    factor matter. Each history's results are then its set's (the exact peak and minimum
+    over the set's histories), and an exact value found for one history is a threshold
+    for every history of its set: a weaker source's nodes that cannot reach its set's
+    peak are never read. None: every history its own set."""
     S_, T, k = C.shape
+    labels = np.arange(S_) if sets is None else np.asarray(sets)
     if not screen_.applies(T, k):
-        return von_mises_peak(screen, C), fatigue_min(screen, C, endurance, ultimate, criterion, yield_strength, enough)
+        vm = von_mises_peak(screen, C)
+        factor = fatigue_min(screen, C, endurance, ultimate, criterion, yield_strength, enough)
+        return _over_sets(vm, labels, np.maximum), _over_sets(factor, labels, np.minimum)
     factor = lambda sa, sm: safety_factor(sa, sm, endurance, ultimate, criterion, yield_strength)  # noqa: E731
-    out = _screened_group(screen, C, factor, enough)
+    order = np.argsort(labels, kind="stable")  # each set's histories consecutive
+    out = np.empty((S_, 2))
+    out[order] = _screened_group(screen, C[order], factor, enough, labels[order])
     return out[:, 0], out[:, 1]
 
 
-def _screened_group(screen: Screen, C: np.ndarray, factor=None, enough: float | None = None) -> np.ndarray:
+def _over_sets(values: np.ndarray, labels: np.ndarray, reduce) -> np.ndarray:
+    """``values`` (S,) each replaced by ``reduce`` (``np.maximum`` or ``np.minimum``) over
+    the entries of its label in ``labels`` (S,) int."""
+    if values.size == 0:
+        return values
+    _, inverse = np.unique(labels, return_inverse=True)
+    best = np.full(inverse.max() + 1, -np.inf if reduce is np.maximum else np.inf)
+    reduce.at(best, inverse, values)
+    return best[inverse]
+
+
+def _set_cuts(labels: np.ndarray, size: int) -> list[slice]:
+    """Consecutive runs of the histories (``labels`` (S,) ascending: each set's histories
+    consecutive) of nearly equal length, at most ``size`` unless one set is longer, each
+    cut where a set begins."""
+    S_ = labels.size
+    if S_ <= size:
+        return [slice(0, S_)]
+    starts = np.flatnonzero(np.concatenate([[True], labels[1:] != labels[:-1]]))
+    ideal = np.cumsum([p.size for p in np.array_split(np.arange(S_), -(-S_ // size))])[:-1]
+    at = np.searchsorted(starts, ideal)
+    cuts = np.unique(np.concatenate([[0], np.where(at < starts.size, starts[at.clip(max=starts.size - 1)], S_), [S_]]))
+    return [slice(int(a), int(b)) for a, b in zip(cuts[:-1], cuts[1:]) if b > a]
+
+
+def _screened_group(
+    screen: Screen, C: np.ndarray, factor=None, enough: float | None = None, labels: np.ndarray | None = None
+) -> np.ndarray:
     """(S, 2): the exact von Mises peak (Pa) and fatigue minimum of each history of ``C``
     (S, T, k) (unscaled), in consecutive groups of at most :data:`GROUP_MOST` histories:
     the box bounds of a group's histories from one
     :class:`railcheck.fea.screen.CoefficientBox` over only the nodes that can matter to
     some history of the group (:func:`_group_nodes`), then screened together in batches
-    of at most :data:`BATCH_PAIRS` nodes x histories (:class:`_Batch`)."""
+    of at most :data:`BATCH_PAIRS` nodes x histories (:class:`_Batch`). ``labels`` (S,)
+    ascending: the histories' sets (:func:`peak_and_fatigue`; None: each its own), never
+    split between groups or batches; each history's results are its set's."""
+    labels = np.arange(C.shape[0]) if labels is None else labels
     if C.shape[0] > GROUP_MOST:  # consecutive groups of nearly equal size
-        parts = np.array_split(np.arange(C.shape[0]), -(-C.shape[0] // GROUP_MOST))
-        return np.concatenate([_screened_group(screen, C[p], factor, enough) for p in parts])
+        return np.concatenate(
+            [_screened_group(screen, C[p], factor, enough, labels[p]) for p in _set_cuts(labels, GROUP_MOST)]
+        )
     out = np.empty((C.shape[0], 2))
     if not np.any(C):
         out[:] = 0.0, np.inf
@@ -256,6 +303,7 @@ def _screened_group(screen: Screen, C: np.ndarray, factor=None, enough: float | 
     group = screen_.CoefficientBox(screen.stress, screen.scale, screen_.box_basis(screen.stress, screen.scale, C))
     lo, hi, taken = group.ranges_and_taken(C)
     low, top = _group_thresholds(screen, C, group, lo, hi, factor)
+    low, top = _over_sets(low, labels, np.maximum), _over_sets(top, labels, np.minimum)  # exact values of the set
     nodes = _group_nodes(group, lo, hi, low, top, factor)
     loose = LOOSE_SHARE * screen.stress.shape[1]  # of the part's nodes
     if nodes.size < GROUP_SHARE * screen.stress.shape[1]:
@@ -264,11 +312,11 @@ def _screened_group(screen: Screen, C: np.ndarray, factor=None, enough: float | 
     loaded = np.flatnonzero(np.any(C != 0.0, axis=(1, 2)))
     out[:] = 0.0, np.inf  # an unloaded history: no stress anywhere
     size = max(1, BATCH_PAIRS // screen.stress.shape[1])
-    for start in range(0, loaded.size, size):
-        g = loaded[start : start + size]
-        batch = _Batch(screen, by_node, group, C[g], taken[g], factor, enough)
+    for run in _set_cuts(labels[loaded], size):
+        g = loaded[run]
+        batch = _Batch(screen, by_node, group, C[g], taken[g], factor, enough, labels[g])
         out[g] = batch.screened(*group.box_arrays(lo[g], hi[g]), low[g] ** 2, top[g], loose)
-    return out
+    return np.stack([_over_sets(out[:, 0], labels, np.maximum), _over_sets(out[:, 1], labels, np.minimum)], axis=1)
 
 
 class _Batch:
@@ -279,9 +327,9 @@ class _Batch:
     group's box and ``taken`` (s, p, k) each history's coordinates at a few steps in its
     basis (:meth:`railcheck.fea.screen.CoefficientBox.ranges_and_taken`). Pa throughout."""
 
-    def __init__(self, screen: Screen, by_node: np.ndarray, group, C: np.ndarray, taken: np.ndarray, factor, enough):
+    def __init__(self, screen: Screen, by_node: np.ndarray, group, C: np.ndarray, taken: np.ndarray, factor, enough, labels):
         self.screen, self.by_node, self.group, self.C, self.taken = screen, by_node, group, C, taken
-        self.factor, self.enough = factor, enough
+        self.factor, self.enough, self.labels = factor, enough, labels
         self.sub = screen_.principal_subspaces(C * screen.scale)
         self.Pw = self.sub.P / screen.scale[None, :, None]  # (s, k, R) per unit coefficient
 
@@ -375,6 +423,7 @@ class _Batch:
         box_factor = self.fatigue_bound(screen_.SampledBounds.box(vm, mid6, reach6))
         more_low2, less_top, read = self.thresholds(vm, box_factor)
         low2, top = np.maximum(low2, more_low2), np.minimum(top, less_top)  # each an exact value at some node
+        low2, top = _over_sets(low2, self.labels, np.maximum), _over_sets(top, self.labels, np.minimum)  # of the set
         every = np.arange(s)
         keep = self.beats(screen_.SampledBounds.box(vm, mid6, reach6), every[:, None], low2, top, box_factor)
         h, nodes = np.nonzero(keep)
