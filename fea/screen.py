@@ -162,11 +162,12 @@ def subspace_ranks(coords: np.ndarray, reach: np.ndarray) -> np.ndarray:
     ``coords`` (S, T, k) its steps in its singular basis (columns by decreasing singular
     value)."""
     k = coords.shape[2]
-    # tail[:, r]: the largest residual beyond rank r (sums of squares from the back: no cancellation)
-    tail = np.sqrt(np.cumsum(coords[..., ::-1] ** 2, axis=2)[..., ::-1]).max(axis=1)
     top = min(MAX_RANK, k)
     low = min(REDUCED_RANK, top)
-    small = tail[:, low:top] <= RESIDUAL_SHARE * reach[:, None]
+    # tail[:, r - low]: the largest residual beyond rank r, low <= r < top (sums of squares
+    # from the back: no cancellation; the square root after the maximum, as it is monotone)
+    tail = np.sqrt(np.cumsum(coords[..., ::-1] ** 2, axis=2)[..., k - top : k - low][..., ::-1].max(axis=1))
+    small = tail <= RESIDUAL_SHARE * reach[:, None]
     if not small.shape[1]:
         return np.full(coords.shape[0], top)
     return np.where(small.any(axis=1), low + np.argmax(small, axis=1), top)

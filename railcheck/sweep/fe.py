@@ -544,9 +544,8 @@ def _group_thresholds(
     if factor is not None:
         bound = factor(*screen_.fatigue_bounds(shape))
         nodes = np.union1d(nodes, screen_.first_nodes(bound, largest=False, count=GROUP_CANDIDATES))
-    low = np.sqrt([_exact_von_mises2(screen, nodes, c) for c in C])
-    top = _fatigue_exact(screen, nodes, C, factor) if factor is not None else np.full(C.shape[0], np.inf)
-    return low, top
+    vm2, top = _exact_at(screen, nodes, C, factor)
+    return np.sqrt(vm2), top
 
 
 def _group_nodes(
@@ -755,14 +754,25 @@ def _fatigue_exact(screen: Screen, nodes: np.ndarray, C: np.ndarray, factor, pol
 
     if screen.angle is not None:
         return _fatigue_exact_planar(screen, nodes, C, factor, polygons)
-    out = np.full(C.shape[0], np.inf)
+    return _exact_at(screen, nodes, C, factor, peak=False)[1]
+
+
+def _exact_at(screen: Screen, nodes: np.ndarray, C: np.ndarray, factor=None, peak: bool = True):
+    """((S,) Pa^2, (S,)): over ``nodes`` and every step of each history of ``C`` (S, T, k),
+    the largest von Mises squared (0 without ``peak``) and, with a ``factor``, the
+    smallest fatigue factor (each component's extremes over the steps; else inf), both
+    from one product (tensordot), in chunks of :data:`CHUNK_VALUES`."""
+    vm2, least = np.zeros(C.shape[0]), np.full(C.shape[0], np.inf)
     for g in _groups(C.shape[0], 6 * nodes.size * C.shape[1]):
         # and the nodes in groups too: one history over many nodes stays within CHUNK_VALUES
         for h in _groups(nodes.size, 6 * C.shape[1] * (g.stop - g.start)):
             X = np.tensordot(screen.stress[:, nodes[h], :], C[g], axes=([2], [2]))  # (6, u, s, T)
-            sa, sm = alternating_and_mean(X.max(axis=3), X.min(axis=3))
-            out[g] = np.minimum(out[g], factor(sa, sm).min(axis=0, initial=np.inf))
-    return out
+            if peak:
+                vm2[g] = np.maximum(vm2[g], von_mises_squared(X).max(axis=(0, 2), initial=0.0))
+            if factor is not None:
+                sa, sm = alternating_and_mean(X.max(axis=3), X.min(axis=3))
+                least[g] = np.minimum(least[g], factor(sa, sm).min(axis=0, initial=np.inf))
+    return vm2, least
 
 
 def _fatigue_exact_planar(screen: Screen, nodes: np.ndarray, C: np.ndarray, factor, polygons=None) -> np.ndarray:
