@@ -114,6 +114,9 @@ def test_each_hole_of_a_case_list_gets_its_own_force(bar):
     hole_forces = [(100.0, -50.0 - 100.0), (0.0, 100.0), (0.0, 10.0), (0.0, 30.0)]
     expected = np.concatenate([C[0]] + [harmonic_coefficients(np.array(f)) for f in hole_forces])
     np.testing.assert_allclose(full[0], expected, rtol=1e-13)
+    steps = np.stack([C[0] * f for f in (1.0, -2.0, 0.5, 0.0)]).reshape(2, 2, 4)  # (settings, steps, k)
+    each = [pin_pressure_map(cases).extend(c[None])[0] for c in steps.reshape(4, 4)]
+    np.testing.assert_allclose(pin_pressure_map(cases).extend(steps).reshape(4, -1), each, rtol=1e-13, atol=1e-9)
 
 
 @pytest.mark.slow  # 5.9 s in CI (a direct solve beside the unit fields): over the marker's few seconds

@@ -233,7 +233,9 @@ class PinPressureMap:
         pressure harmonics appended (:func:`railcheck.loads.pin_pressure.harmonic_coefficients`)."""
         if self.holes.shape[0] == 0:
             return C
-        forces = np.einsum("...k,hkc->...hc", C, self.holes)
+        h = self.holes.shape[0]
+        # one matrix product (einsum's generic loop took 4.4 of a whole rig's 117 s)
+        forces = (C @ self.holes.transpose(1, 0, 2).reshape(self.linear, 2 * h)).reshape(C.shape[:-1] + (h, 2))
         extra = harmonic_coefficients(forces, self.harmonics)  # (..., h, m)
         return np.concatenate([C, extra.reshape(extra.shape[:-2] + (-1,))], axis=-1)
 
