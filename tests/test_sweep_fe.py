@@ -1085,3 +1085,36 @@ def test_the_load_sources_of_one_setting_are_screened_as_one_set(monkeypatch):
     alone = peak_and_fatigue(screen, C, 200e6, 750e6, "goodman", 400e6)  # no sets: each its own
     np.testing.assert_allclose(alone[0], vm, rtol=1e-12)
     np.testing.assert_allclose(alone[1], n_min, rtol=1e-12)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_a_weaker_source_that_holds_its_set_s_fatigue_minimum_is_not_dropped(monkeypatch, seed):
+    """Sets of two sources: one carries a mean stress (a constant and a small swing), the
+    other a fully reversed swing about a third of it, on other coefficients. In some sets
+    the swing, under its set's peak, holds the set's fatigue minimum (Goodman: 200 / s
+    against 750 / 3 s). A source is skipped only when no node can pass either of its
+    set's thresholds; skipping it on von Mises alone fails this. The group's thresholds
+    come from one node per criterion, so they rarely settle a set by themselves."""
+    import railcheck.sweep.fe as fe
+
+    monkeypatch.setattr(fe, "GROUP_CANDIDATES", 1)
+    rng = np.random.default_rng(100 + seed)
+    n, T, k, sets = 1200, 360, 6, 10
+    t = np.linspace(0, 2 * np.pi, T, endpoint=False)
+    stress = rng.normal(size=(6, n, k)) * np.exp(0.7 * rng.normal(size=(1, n, 1)))
+    C = np.zeros((2 * sets, T, k))
+    size = np.exp(0.5 * rng.normal(size=sets))
+    C[:sets, :, :3] = 3.0 * size[:, None, None] * (rng.normal(size=(sets, 1, 3)) + 0.05 * np.sin(t)[None, :, None])
+    C[sets:, :, 3:] = (
+        size[:, None, None] * rng.normal(size=(sets, 1, 3)) * np.cos(t[None, :, None] + rng.random((sets, 1, 1)) * 6)
+    )
+    labels = np.tile(np.arange(sets), 2)
+    mask = np.ones(n, bool)
+    screen = make_screen(stress, mask, np.zeros((3, k)), list(range(k)))
+    vm, n_min = _brute(stress, mask, C)
+    set_vm = np.maximum(vm[:sets], vm[sets:])
+    set_min = np.minimum(n_min[:sets], n_min[sets:])
+    assert np.any((n_min[sets:] < n_min[:sets]) & (vm[sets:] < vm[:sets]))  # a swing's minimum under its set's peak
+    peak, factor = peak_and_fatigue(screen, C, 200e6, 750e6, "goodman", 400e6, sets=labels)
+    np.testing.assert_allclose(peak, np.tile(set_vm, 2), rtol=1e-12)
+    np.testing.assert_allclose(factor, np.tile(set_min, 2), rtol=1e-12)

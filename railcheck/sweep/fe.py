@@ -314,8 +314,22 @@ def _screened_group(
     size = max(1, BATCH_PAIRS // screen.stress.shape[1])
     for run in _set_cuts(labels[loaded], size):
         g = loaded[run]
-        batch = _Batch(screen, by_node, group, C[g], taken[g], factor, enough, labels[g])
-        out[g] = batch.screened(*group.box_arrays(lo[g], hi[g]), low[g] ** 2, top[g], loose)
+        vm, mid, reach = group.box_arrays(lo[g], hi[g])
+        box = screen_.SampledBounds.box(vm, mid.transpose(1, 0, 2), reach.transpose(1, 0, 2))
+        box_factor = factor(*screen_.fatigue_bounds(box)) if factor is not None else None
+        peak_can = _peak_can(vm, low[g][:, None])
+        fatigue_can = _fatigue_can(box_factor, top[g][:, None], enough) if box_factor is not None else None
+        # a history none of whose nodes can pass its set's thresholds has them as its values
+        live = (peak_can | fatigue_can if fatigue_can is not None else peak_can).any(axis=1)
+        out[g[~live], 0], out[g[~live], 1] = low[g[~live]], top[g[~live]]
+        if not live.any():
+            continue
+        batch = _Batch(screen, by_node, group, C[g[live]], taken[g[live]], factor, enough, labels[g[live]])
+        can = (peak_can[live], None if fatigue_can is None else fatigue_can[live])
+        box_factor = None if box_factor is None else box_factor[live]
+        out[g[live]] = batch.screened(
+            vm[live], mid[live], reach[live], box_factor, can, low[g[live]] ** 2, top[g[live]], loose
+        )
     return np.stack([_over_sets(out[:, 0], labels, np.maximum), _over_sets(out[:, 1], labels, np.minimum)], axis=1)
 
 
@@ -412,16 +426,20 @@ class _Batch:
         bound_once = None if factor_bound is None else factor_bound[once]
         return vm2, least, _Read(key, b.von_mises_upper[once], bound_once, peak.ravel()[once], fatigue.ravel()[once])
 
-    def screened(self, vm, mid, reach, low2, top, loose) -> np.ndarray:
+    def screened(self, vm, mid, reach, box_factor, can, low2, top, loose) -> np.ndarray:
         """(s, 2): each history's exact peak (Pa) and fatigue minimum, from its group box
-        bounds ``vm`` (s, n), ``mid`` and ``reach`` (s, 6, n) (float32) and the group's
-        thresholds ``low2`` (Pa^2) and ``top`` (s,); a history whose group box keeps more
-        than ``loose`` nodes is screened alone (:func:`_screened`)."""
+        bounds ``vm`` (s, n), ``mid`` and ``reach`` (s, 6, n) (float32), their fatigue
+        factor's lower bound ``box_factor`` (s, n) (or None), the group's thresholds
+        ``low2`` (Pa^2) and ``top`` (s,) and ``can`` (peak, fatigue) (s, n) bool (or None)
+        the nodes whose bounds can pass them; a history whose group box keeps more than
+        ``loose`` nodes is screened alone (:func:`_screened`)."""
         s = self.C.shape[0]
         out = np.empty((s, 2))
         mid6, reach6 = mid.transpose(1, 0, 2), reach.transpose(1, 0, 2)
-        box_factor = self.fatigue_bound(screen_.SampledBounds.box(vm, mid6, reach6))
-        more_low2, less_top, read = self.thresholds(vm, box_factor)
+        # the thresholds are taken at nodes that can pass the group's (no other can raise them)
+        first_vm = np.where(can[0], vm, -np.inf)
+        first_factor = None if box_factor is None else np.where(can[1], box_factor, np.inf)
+        more_low2, less_top, read = self.thresholds(first_vm, first_factor)
         low2, top = np.maximum(low2, more_low2), np.minimum(top, less_top)  # each an exact value at some node
         low2, top = _over_sets(low2, self.labels, np.maximum), _over_sets(top, self.labels, np.minimum)  # of the set
         every = np.arange(s)
