@@ -397,34 +397,40 @@ class _Batch:
                 least[i] = min(least[i], float(self.factor(*alternating_and_mean(high, low)).min()))
         return vm2, least
 
-    def thresholds(self, vm: np.ndarray, bound: np.ndarray | None) -> tuple[np.ndarray, np.ndarray, _Read]:
+    def thresholds(
+        self, vm: np.ndarray, bound: np.ndarray | None, passable: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray, _Read]:
         """((s,) Pa^2, (s,), read): exact values at the :data:`THRESHOLD_NODES` of best
         sampled value among the :data:`BOX_FIRST` of best box bound ``vm`` (von Mises, (s,
-        n)) and ``bound`` (fatigue factor) of each history; ``read`` those pairs' sampled
-        bounds and which of them were evaluated exactly (:class:`_Read`)."""
+        n)) and ``bound`` (fatigue factor) of each history, of those ``passable`` (s, n)
+        (whose bounds can pass the thresholds so far: no other node can raise them);
+        ``read`` those pairs' sampled bounds and which of them were evaluated exactly
+        (:class:`_Read`)."""
         first = _first_per_row(vm, BOX_FIRST, largest=True)
         if bound is not None:
             first = np.concatenate([first, _first_per_row(bound, BOX_FIRST, largest=False)], axis=1)
         first = np.sort(first, axis=1)
-        repeated = np.zeros(first.shape, dtype=bool)
-        repeated[:, 1:] = first[:, 1:] == first[:, :-1]
         s, F = first.shape
-        h, nodes = np.repeat(np.arange(s), F), first.ravel()
+        # each node once, and only those that can pass the thresholds so far (``passable``)
+        use = np.ones(first.shape, dtype=bool)
+        use[:, 1:] = first[:, 1:] != first[:, :-1]
+        use = (use & np.take_along_axis(passable, first, axis=1)).ravel()
+        h, nodes = np.repeat(np.arange(s), F)[use], first.ravel()[use]
         b = self.sampled(self.projected(h, nodes), h, nodes)
-        best = np.where(repeated, -np.inf, b.von_mises.reshape(s, F))
+        best = np.full(s * F, -np.inf)
+        best[use] = b.von_mises
         peak = np.zeros((s, F), dtype=bool)
-        np.put_along_axis(peak, _first_per_row(best, THRESHOLD_NODES, largest=True), True, axis=1)
+        np.put_along_axis(peak, _first_per_row(best.reshape(s, F), THRESHOLD_NODES, largest=True), True, axis=1)
         fatigue = np.zeros((s, F), dtype=bool)
         factor_bound = None
         if bound is not None:
-            f = np.where(repeated, np.inf, self.factor(*screen_.fatigue_sampled(b)).reshape(s, F))
-            np.put_along_axis(fatigue, _first_per_row(f, THRESHOLD_NODES, largest=False), True, axis=1)
+            f = np.full(s * F, np.inf)
+            f[use] = self.factor(*screen_.fatigue_sampled(b))
+            np.put_along_axis(fatigue, _first_per_row(f.reshape(s, F), THRESHOLD_NODES, largest=False), True, axis=1)
             factor_bound = self.fatigue_bound(b)
-        vm2, least = self.exact(h, nodes, peak.ravel(), fatigue.ravel())
-        once = ~repeated.ravel()
-        key = self.pair_key(h[once], nodes[once])  # ascending
-        bound_once = None if factor_bound is None else factor_bound[once]
-        return vm2, least, _Read(key, b.von_mises_upper[once], bound_once, peak.ravel()[once], fatigue.ravel()[once])
+        peak, fatigue = peak.ravel()[use], fatigue.ravel()[use]
+        vm2, least = self.exact(h, nodes, peak, fatigue)
+        return vm2, least, _Read(self.pair_key(h, nodes), b.von_mises_upper, factor_bound, peak, fatigue)
 
     def screened(self, vm, mid, reach, box_factor, can, low2, top, loose) -> np.ndarray:
         """(s, 2): each history's exact peak (Pa) and fatigue minimum, from its group box
@@ -439,7 +445,8 @@ class _Batch:
         # the thresholds are taken at nodes that can pass the group's (no other can raise them)
         first_vm = np.where(can[0], vm, -np.inf)
         first_factor = None if box_factor is None else np.where(can[1], box_factor, np.inf)
-        more_low2, less_top, read = self.thresholds(first_vm, first_factor)
+        passable = can[0] if can[1] is None else can[0] | can[1]
+        more_low2, less_top, read = self.thresholds(first_vm, first_factor, passable)
         low2, top = np.maximum(low2, more_low2), np.minimum(top, less_top)  # each an exact value at some node
         low2, top = _over_sets(low2, self.labels, np.maximum), _over_sets(top, self.labels, np.minimum)  # of the set
         every = np.arange(s)
