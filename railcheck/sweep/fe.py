@@ -339,9 +339,20 @@ class _Batch:
     subspaces (:func:`railcheck.fea.screen.principal_subspaces`); the exact values per
     history. ``by_node`` (n, 6, k) the screen's stresses grouped by node; ``group`` the
     group's box and ``taken`` (s, p, k) each history's coordinates at a few steps in its
-    basis (:meth:`railcheck.fea.screen.CoefficientBox.ranges_and_taken`). Pa throughout."""
+    basis (:meth:`railcheck.fea.screen.CoefficientBox.ranges_and_taken`); ``labels`` (s,)
+    ascending the histories' sets (:func:`peak_and_fatigue`). Pa throughout."""
 
-    def __init__(self, screen: Screen, by_node: np.ndarray, group, C: np.ndarray, taken: np.ndarray, factor, enough, labels):
+    def __init__(
+        self,
+        screen: Screen,
+        by_node: np.ndarray,
+        group,
+        C: np.ndarray,
+        taken: np.ndarray,
+        factor,
+        enough,
+        labels: np.ndarray,
+    ):
         self.screen, self.by_node, self.group, self.C, self.taken = screen, by_node, group, C, taken
         self.factor, self.enough, self.labels = factor, enough, labels
         self.sub = screen_.principal_subspaces(C * screen.scale)
@@ -436,8 +447,8 @@ class _Batch:
         """(s, 2): each history's exact peak (Pa) and fatigue minimum, from its group box
         bounds ``vm`` (s, n), ``mid`` and ``reach`` (s, 6, n) (float32), their fatigue
         factor's lower bound ``box_factor`` (s, n) (or None), the group's thresholds
-        ``low2`` (Pa^2) and ``top`` (s,) and ``can`` (peak, fatigue) (s, n) bool (or None)
-        the nodes whose bounds can pass them; a history whose group box keeps more than
+        ``low2`` (Pa^2) and ``top`` (s,), and ``can`` the nodes whose bounds can pass them
+        ((s, n) bool for the peak and for fatigue, or None without a factor); a history whose group box keeps more than
         ``loose`` nodes is screened alone (:func:`_screened`)."""
         s = self.C.shape[0]
         out = np.empty((s, 2))
