@@ -110,13 +110,19 @@ def reduced(fields: UnitFields, C: np.ndarray, rtol: float = 1e-12) -> tuple[Uni
     return out, A
 
 
+def hull_applies(steps: int, k: int) -> bool:
+    """Whether qhull can drop steps of a history of ``steps`` x ``k`` coefficients (not
+    for few steps, one coefficient or more than :data:`HULL_MAX_DIM`)."""
+    return steps > 8 * (k + 1) and 2 <= k <= HULL_MAX_DIM
+
+
 def candidate_steps(C: np.ndarray) -> np.ndarray:
     """Indices of the steps that can hold the maximum of any convex function of the
     coefficients (the convex hull's vertices), or every step where qhull cannot help
-    (few steps, degenerate or high-dimensional point sets)."""
+    (:func:`hull_applies`; degenerate point sets)."""
     steps, k = C.shape
     everything = np.arange(steps)
-    if steps <= 8 * (k + 1) or k < 2 or k > HULL_MAX_DIM:
+    if not hull_applies(steps, k):
         return everything
     from scipy.spatial import ConvexHull, QhullError
 

@@ -236,6 +236,8 @@ def test_hull_steps_keep_every_result():
         rtol=1e-12,
     )
     np.testing.assert_allclose(tip_peak(screen, H), tip_peak(screen, C), rtol=1e-12)
+    many = rng.normal(size=(2, 240, 5))  # beyond qhull's dimensions every step stays, uncopied
+    assert hull_steps(many) is many
 
 
 @pytest.mark.parametrize("shape", [(1, 9, 3), (4, 720, 8), (3, 50, 2, 6)])

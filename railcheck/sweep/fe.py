@@ -48,7 +48,7 @@ import numpy as np
 from railcheck.fea import screen as screen_
 from railcheck.fea.fatigue import alternating_and_mean, safety_factor
 from railcheck.fea.invariants import von_mises_squared
-from railcheck.fea.superpose import VM_QUADRATIC, candidate_steps, hull_polygon, support
+from railcheck.fea.superpose import VM_QUADRATIC, candidate_steps, hull_applies, hull_polygon, support
 
 CHUNK_VALUES = 8_000_000  # floats per temporary (nodes x settings x steps)
 TOP_NODES = 64  # nodes evaluated first for the lower bound
@@ -183,6 +183,8 @@ def hull_steps(C: np.ndarray) -> np.ndarray:
     minimum) over the cycle of a convex (or linear) function of the coefficients, reached
     at a vertex (:func:`railcheck.fea.superpose.candidate_steps`), so the results are unchanged."""
 
+    if not hull_applies(C.shape[1], C.shape[2]):  # every step is a candidate: no copy
+        return C
     steps = [candidate_steps(c) for c in C]
     H = max(s.size for s in steps)
     index = np.stack([np.pad(s, (0, H - s.size), mode="edge") for s in steps])
