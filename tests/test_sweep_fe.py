@@ -792,6 +792,11 @@ def test_stresses_beyond_float32_range_are_screened_exactly():
     peak, factor = peak_and_fatigue(screen, C, 200e6, 750e6, "goodman", 400e6)
     np.testing.assert_allclose(peak, vm, rtol=1e-12)
     np.testing.assert_allclose(factor, n_min, rtol=1e-12)
+    C[1] *= 1e-3  # as one setting's two sources: the weaker's nodes pass no threshold of its set's
+    vm, n_min = _brute(stress, mask, C)
+    peak, factor = peak_and_fatigue(screen, C, 200e6, 750e6, "goodman", 400e6, sets=np.array([0, 0, 1, 1]))
+    np.testing.assert_allclose(peak, np.repeat([vm[:2].max(), vm[2:].max()], 2), rtol=1e-12)
+    np.testing.assert_allclose(factor, np.repeat([n_min[:2].min(), n_min[2:].min()], 2), rtol=1e-12)
 
 
 def _chord_distance_brute(a, sampled):
