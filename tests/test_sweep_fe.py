@@ -502,15 +502,73 @@ def test_the_float32_box_stays_a_bound_where_its_rounding_matters(rotated):
     lo, hi, taken = box.ranges_and_taken(C)
     every = np.arange(n)
     with_taken = [box.at_nodes(b, every, t) for b, t in zip(box.box_of(lo, hi), taken)]  # midranges by values taken too
-    for c, b, bt in zip(C, box.bounds(C), with_taken):
+    # the fatigue bounds of the boxes with the midranges bounded by the steps' means, as the sweep reads them
+    by_mean = _fatigue_by_mean(box, C, lo, hi)
+    midrange_box = _midrange_images(box, C, lo, hi)
+    for c, b, bt, bm, (mid_lo, mid_hi) in zip(C, box.bounds(C), with_taken, by_mean, midrange_box):
         X = np.tensordot(stress, c, axes=([2], [1]))  # (6, n, T) float64
         exact = factor(*alternating_and_mean(X.max(axis=2), X.min(axis=2)))
         midrange = np.abs(0.5 * (X.max(axis=2) + X.min(axis=2)))
         assert np.all(midrange <= bt.mid_upper)
+        signed = 0.5 * (X.max(axis=2) + X.min(axis=2))
+        assert np.all(mid_lo <= signed) and np.all(signed <= mid_hi)  # in the midrange box's image, bit for bit
+        assert np.all(factor(*bm) <= exact)
         for bounds in (b, bt):
             assert np.all(X.max(axis=2) <= bounds.high + bounds.slack) and np.all(X.min(axis=2) >= bounds.low - bounds.slack)
             assert np.all(von_mises(X).max(axis=1) <= bounds.von_mises_upper)
             assert np.all(factor(*fatigue_bounds(bounds)) <= exact)
+
+
+def _fatigue_by_mean(box, C, lo, hi):
+    """(sa, sm) bounds of each history of ``C`` from its box with its midranges bounded by
+    its steps' mean (:meth:`railcheck.fea.screen.CoefficientBox.fatigue_bounds_of`), as
+    :func:`railcheck.sweep.fe._screened_group` reads them: one (sa, sm) per history."""
+    from railcheck.fea.screen import SampledBounds, midrange_box
+
+    vm, mid, reach = box.box_arrays(lo, hi)
+    b = SampledBounds.box(vm, mid.transpose(1, 0, 2), reach.transpose(1, 0, 2))
+    sa, sm = box.fatigue_bounds_of(b, *midrange_box(lo, hi, box.coordinates(C).mean(axis=1)))
+    return list(zip(sa, sm))
+
+
+def _midrange_images(box, C, lo, hi):
+    """(lo, hi) (6, n) per history: the image of its midrange box (the float32 box's
+    component intervals, widened as :func:`railcheck.fea.screen.fatigue_bounds` widens them)."""
+    from railcheck.fea.screen import FLOAT32_EPS, midrange_box
+
+    _, mid, reach = box.box_arrays(*midrange_box(lo, hi, box.coordinates(C).mean(axis=1)), von_mises=False)
+    spread = reach + np.float32(4.0 * FLOAT32_EPS) * (2 * np.abs(mid) + reach)
+    return list(zip(mid - spread, mid + spread))
+
+
+def test_the_midrange_box_holds_a_swing_s_midrange_at_its_mean_within_half_its_reach():
+    """:func:`railcheck.fea.screen.midrange_box`: a harmonic about its mean (a link's
+    fully reversed swing) has its midrange at the mean; the box of the coordinates'
+    ranges only says it lies within ``|mid| + reach``, the midrange box within half the
+    reach of the mean, and it holds every component's midrange of random histories (a
+    mean, harmonics and a kick)."""
+    from railcheck.fea.screen import CoefficientBox, midrange_box
+
+    rng = np.random.default_rng(8)
+    n, k, T = 300, 4, 360
+    stress = rng.normal(size=(6, n, k))
+    t = np.linspace(0, 2 * np.pi, T, endpoint=False)
+    swing = (rng.normal(size=(1, k)) * 0.2 + np.array([3.0, 0.0, 0.0, 0.0]) * np.cos(t)[:, None])[None]
+    noisy = rng.normal(size=(5, 1, k)) + rng.normal(size=(5, 1, k)) * np.cos(t[None, :, None] + rng.uniform(0, 6, (5, 1, k)))
+    noisy[:, 90] += rng.normal(size=(5, k)) * 2.0
+    C = np.concatenate([swing, noisy])
+    box = CoefficientBox(np.ascontiguousarray(stress), np.ones(k), None)
+    lo, hi = box.ranges(C)
+    _, mid, reach = box.box_arrays(*midrange_box(lo, hi, C.mean(axis=1)), von_mises=False)
+    _, box_mid, box_reach = box.box_arrays(lo, hi, von_mises=False)
+    X = np.tensordot(stress, C, axes=([2], [2]))  # (6, n, S, T)
+    midrange, half = 0.5 * (X.max(axis=3) + X.min(axis=3)), 0.5 * (X.max(axis=3) - X.min(axis=3))  # (6, n, S)
+    midrange, half = midrange.transpose(2, 0, 1), half.transpose(2, 0, 1)  # (S, 6, n)
+    assert np.all(np.abs(midrange - mid) <= reach * (1 + 1e-5))  # every history, every component
+    # the swing: at its mean, within half its reach (the box: anywhere within |mid| + reach)
+    np.testing.assert_allclose(mid[0], midrange[0], atol=1e-5 * np.abs(X).max())
+    np.testing.assert_allclose(reach[0], 0.5 * half[0], rtol=1e-4, atol=1e-5 * np.abs(X).max())
+    np.testing.assert_allclose(box_reach[0], half[0], rtol=1e-4, atol=1e-5 * np.abs(X).max())
 
 
 def test_the_von_mises_interval_bound_holds_inside_its_intervals_and_in_float32():
@@ -666,6 +724,58 @@ def test_a_history_bounded_at_every_node_in_its_own_subspace_or_after_the_group_
 
 
 @pytest.mark.parametrize("criterion", ["goodman", "gerber", "asme-elliptic"])
+def test_a_group_keeps_the_fatigue_minimum_a_steady_load_holds(criterion):
+    """Histories of very different sizes whose fatigue minima are held by their means (a
+    steady load with a small swing; the swings' nodes elsewhere): each history's midrange
+    box is scaled by its own fatigue threshold before the group's union
+    (:func:`railcheck.sweep.fe._group_nodes` with the means), so every node that can hold
+    a minimum is kept, and the screened results equal every node x every step."""
+    from railcheck.fea.screen import CoefficientBox, box_basis
+    from railcheck.sweep.fe import _group_nodes, _group_thresholds
+
+    rng = np.random.default_rng(17)
+    n, k, T, S = 2500, 5, 240, 9
+    stress = 0.05 * rng.normal(size=(6, n, k)) * np.exp(rng.normal(size=(1, n, 1)))
+    # hot nodes: some loaded by a steady coefficient alone (the peaks), others by a steady
+    # and an alternating one (the fatigue minima: more mean than swing, less peak)
+    hot = rng.choice(n, size=80, replace=False)
+    steady_row, swing_row = np.eye(k)[rng.integers(0, 2, 80)], np.eye(k)[rng.integers(2, k, 80)]
+    weights = (
+        np.where(np.arange(80) < 40, 1.3, 1.0)[:, None] * steady_row
+        + np.where(np.arange(80) < 40, 0.0, 1.5)[:, None] * swing_row
+    )
+    stress[:, hot] += rng.normal(size=(6, 80, 1)) * weights[None]
+    t = np.linspace(0, 2 * np.pi, T, endpoint=False)
+    steady = np.where(np.arange(k) < 2, 3.0, 0.05) * rng.uniform(0.5, 1.0, size=(S, 1, k))
+    swing = np.where(np.arange(k) < 2, 0.1, 0.4) * rng.uniform(0.5, 1.0, size=(S, 1, k))
+    C = (steady + swing * np.cos(t[None, :, None] + rng.uniform(0, 6, size=(S, 1, k)))) * 1e7
+    C *= np.exp(rng.uniform(-4.0, 4.0, size=(S, 1, 1)))  # sizes over 3.5 decades
+    screen = make_screen(stress, np.ones(n, bool), np.zeros((3, k)), list(range(k)))
+    factor = lambda sa, sm: safety_factor(sa, sm, 2e8, 7.5e8, criterion, 4e8)  # noqa: E731
+    X = np.tensordot(screen.stress, C, axes=([2], [2]))  # (6, n, S, T)
+    sa, sm = alternating_and_mean(X.max(axis=3), X.min(axis=3))
+    exact = factor(sa, sm)  # (n, S)
+    minima = np.argmin(exact, axis=0)
+    assert np.all(sm[minima, np.arange(S)] > sa[minima, np.arange(S)])  # more mean than swing
+    if criterion != "asme-elliptic":  # (which weighs the mean by the yield strength: its minima are the peaks)
+        assert np.mean(minima != np.argmax(von_mises(X).max(axis=2), axis=0)) > 0.5  # mostly not the peaks
+    # the whole group, and each history alone (where von Mises's box is tight and keeps
+    # only the peaks: the minima are kept by the fatigue bound alone)
+    for part in [np.arange(S)] + [np.array([i]) for i in range(S)]:
+        Cp = C[part]
+        group = CoefficientBox(screen.stress, screen.scale, box_basis(screen.stress, screen.scale, Cp))
+        lo, hi = group.ranges(Cp)
+        low, top = _group_thresholds(screen, Cp, group, lo, hi, factor)
+        kept = _group_nodes(group, lo, hi, low, top, factor, group.coordinates(Cp).mean(axis=1))
+        needed = np.flatnonzero(np.any(exact[:, part] <= top, axis=1))
+        assert np.isin(needed, kept).all()
+    vm, n_min = _brute(stress, np.ones(n, bool), C, 2e8, 7.5e8, criterion)
+    peak, least = peak_and_fatigue(screen, C, 2e8, 7.5e8, criterion, 4e8)
+    np.testing.assert_allclose(peak, vm, rtol=1e-12)
+    np.testing.assert_allclose(least, n_min, rtol=1e-12)
+
+
+@pytest.mark.parametrize("criterion", ["goodman", "gerber", "asme-elliptic"])
 def test_a_group_keeps_every_node_that_can_hold_a_history_s_peak_or_fatigue_minimum(criterion):
     """The group's pre-pass (:func:`railcheck.sweep.fe._group_thresholds`,
     :func:`railcheck.sweep.fe._group_nodes`): a part whose nodes are mostly cold, a few hot
@@ -697,6 +807,8 @@ def test_a_group_keeps_every_node_that_can_hold_a_history_s_peak_or_fatigue_mini
     lo, hi = group.ranges(C)
     low, top = _group_thresholds(screen, C, group, lo, hi, factor)
     kept = _group_nodes(group, lo, hi, low, top, factor)
+    # the midranges bounded by the histories' means too (as the sweep reads them)
+    by_mean = _group_nodes(group, lo, hi, low, top, factor, group.coordinates(C).mean(axis=1))
 
     X = np.tensordot(screen.stress, C, axes=([2], [2]))  # (6, n, S, T)
     vm = von_mises(X).max(axis=2)  # (n, S)
@@ -704,8 +816,11 @@ def test_a_group_keeps_every_node_that_can_hold_a_history_s_peak_or_fatigue_mini
     assert np.all(low <= vm.max(axis=0)) and np.all(low[:7] > 0)
     assert np.all(top >= exact.min(axis=0)) and np.all(np.isfinite(top[:7]))
     needed = np.flatnonzero(np.any((vm[:, :7] >= low[:7]) | (exact[:, :7] <= top[:7]), axis=1))
-    assert np.isin(needed, kept).all()
+    assert np.isin(needed, kept).all() and np.isin(needed, by_mean).all()
     assert kept.size < 0.1 * n  # the cold nodes are dropped
+    assert np.isin(by_mean, kept).all()
+    if criterion == "goodman":  # linear in the midrange (Gerber's square makes it count less)
+        assert by_mean.size < kept.size  # the means drop more
     peaks, minima = np.argmax(vm[:, :7], axis=0), np.argmin(exact[:, :7], axis=0)
     assert np.setdiff1d(minima, peaks).size  # fatigue keeps nodes of its own
 
