@@ -490,11 +490,18 @@ class CoefficientBox:
         steps = np.concatenate([np.broadcast_to(spaced, (d.shape[0], spaced.size)), nearest[:, None]], axis=1)
         return lo, hi, steps_of(d, steps)
 
-    def box_arrays(self, lo: np.ndarray, hi: np.ndarray, von_mises: bool = True):
+    def box_arrays(self, lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(von Mises (s, n), mid (s, 6, n), reach (s, 6, n)) float32 Pa: the bounds over
         each box of basis coordinates ``lo`` to ``hi`` (s, k) (:meth:`ranges`, or any box
-        holding a history's steps): the components at the box's centre, their reach,
-        and the bound of von Mises (None without ``von_mises``)."""
+        holding a history's steps): the components at the box's centre, their reach
+        (:meth:`products`), and the bound of von Mises."""
+        mid, reach = self.products(lo, hi)
+        return von_mises_interval_bound(mid, reach, axis=1), mid, reach
+
+    def products(self, lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(mid (s, 6, n), reach (s, 6, n)) float32 Pa: each component's value at the
+        centre of each box of basis coordinates ``lo`` to ``hi`` (s, k) and how far it
+        can move within the box (two products, one pass over the rows for all boxes)."""
         centre, half = 0.5 * (hi + lo), 0.5 * (hi - lo)  # (s, k)
         shape = (lo.shape[0], 6, self.nodes)
         mid = (centre.astype(np.float32) @ self.rows.T).reshape(shape)
@@ -505,19 +512,7 @@ class CoefficientBox:
         lost = ~(np.isfinite(mid) & np.isfinite(reach))
         if lost.any():
             mid[lost], reach[lost] = 0.0, np.inf
-        return von_mises_interval_bound(mid, reach, axis=1) if von_mises else None, mid, reach
-
-    def fatigue_bounds_of(self, box: SampledBounds, mid_lo: np.ndarray, mid_hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """(sa_upper, sm_upper) (s, n) float32 Pa: :func:`fatigue_bounds` of boxes of
-        basis coordinates (``box``: their :meth:`box_arrays`, components first), the
-        midrange bound tightened by a box ``mid_lo`` to ``mid_hi`` (s, k) of coordinates
-        whose image holds each component's midrange (:func:`midrange_box`). A history
-        that swings about a small mean (a link's) has a midrange far below the box's
-        ``|mid| + reach``: one more pair of products per history."""
-        sa, sm = fatigue_bounds(box)
-        _, mid, reach = self.box_arrays(mid_lo, mid_hi, von_mises=False)
-        midranges = SampledBounds.box(None, mid.transpose(1, 0, 2), reach.transpose(1, 0, 2))  # type: ignore[arg-type]
-        return sa, np.minimum(sm, fatigue_bounds(midranges, alternating=False)[1])
+        return mid, reach
 
     def box_of(self, lo: np.ndarray, hi: np.ndarray) -> list[SampledBounds]:
         """One :class:`SampledBounds` per box of :meth:`box_arrays`: ``high`` = ``low``
@@ -600,7 +595,8 @@ def box_basis(S: np.ndarray, scale: np.ndarray, C: np.ndarray) -> np.ndarray | N
     trial = np.ascontiguousarray(S[:, :: max(1, S.shape[1] // BASIS_TRIAL_NODES)])
 
     def size(basis):
-        return sum(float(b.von_mises_upper.sum() + b.slack.sum()) for b in CoefficientBox(trial, scale, basis).bounds(C))
+        vm, _, reach = CoefficientBox(trial, scale, basis).box_arrays(*CoefficientBox(trial, scale, basis).ranges(C))
+        return float(vm.sum(dtype=np.float64) + reach.sum(dtype=np.float64))
 
     return principal if size(principal) < size(None) else None
 
@@ -724,6 +720,17 @@ def midrange_box(lo: np.ndarray, hi: np.ndarray, mean: np.ndarray) -> tuple[np.n
     that of the true one (T eps: 1e-11 at 100,000 steps)."""
     pad = MEAN_ROUNDING * (np.abs(lo) + np.abs(hi))
     return 0.5 * (mean + lo) - pad, 0.5 * (mean + hi) + pad
+
+
+def fatigue_bounds_by_midranges(box: SampledBounds, mid: np.ndarray, reach: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(sa_upper, sm_upper) (..., n) Pa: :func:`fatigue_bounds` of the boxes ``box``, the
+    midrange bound tightened by the products (:meth:`CoefficientBox.products`, components
+    first: ``mid``, ``reach`` (6, ..., n)) of boxes whose image holds each component's
+    midrange (:func:`midrange_box`). A history that swings about a small mean (a link's)
+    has a midrange far below its box's ``|mid| + reach``."""
+    sa, sm = fatigue_bounds(box)
+    midranges = SampledBounds.box(None, mid, reach)  # type: ignore[arg-type]
+    return sa, np.minimum(sm, fatigue_bounds(midranges, alternating=False)[1])
 
 
 def fatigue_bounds(b: SampledBounds, alternating: bool = True) -> tuple[np.ndarray | None, np.ndarray]:

@@ -521,13 +521,14 @@ def test_the_float32_box_stays_a_bound_where_its_rounding_matters(rotated):
 
 def _fatigue_by_mean(box, C, lo, hi):
     """(sa, sm) bounds of each history of ``C`` from its box with its midranges bounded by
-    its steps' mean (:meth:`railcheck.fea.screen.CoefficientBox.fatigue_bounds_of`), as
+    its steps' mean (:func:`railcheck.fea.screen.fatigue_bounds_by_midranges`), as
     :func:`railcheck.sweep.fe._screened_group` reads them: one (sa, sm) per history."""
-    from railcheck.fea.screen import SampledBounds, midrange_box
+    from railcheck.fea.screen import SampledBounds, fatigue_bounds_by_midranges, midrange_box
 
     vm, mid, reach = box.box_arrays(lo, hi)
     b = SampledBounds.box(vm, mid.transpose(1, 0, 2), reach.transpose(1, 0, 2))
-    sa, sm = box.fatigue_bounds_of(b, *midrange_box(lo, hi, box.coordinates(C).mean(axis=1)))
+    m_mid, m_reach = box.products(*midrange_box(lo, hi, box.coordinates(C).mean(axis=1)))
+    sa, sm = fatigue_bounds_by_midranges(b, m_mid.transpose(1, 0, 2), m_reach.transpose(1, 0, 2))
     return list(zip(sa, sm))
 
 
@@ -536,7 +537,7 @@ def _midrange_images(box, C, lo, hi):
     component intervals, widened as :func:`railcheck.fea.screen.fatigue_bounds` widens them)."""
     from railcheck.fea.screen import FLOAT32_EPS, midrange_box
 
-    _, mid, reach = box.box_arrays(*midrange_box(lo, hi, box.coordinates(C).mean(axis=1)), von_mises=False)
+    mid, reach = box.products(*midrange_box(lo, hi, box.coordinates(C).mean(axis=1)))
     spread = reach + np.float32(4.0 * FLOAT32_EPS) * (2 * np.abs(mid) + reach)
     return list(zip(mid - spread, mid + spread))
 
@@ -559,8 +560,8 @@ def test_the_midrange_box_holds_a_swing_s_midrange_at_its_mean_within_half_its_r
     C = np.concatenate([swing, noisy])
     box = CoefficientBox(np.ascontiguousarray(stress), np.ones(k), None)
     lo, hi = box.ranges(C)
-    _, mid, reach = box.box_arrays(*midrange_box(lo, hi, C.mean(axis=1)), von_mises=False)
-    _, box_mid, box_reach = box.box_arrays(lo, hi, von_mises=False)
+    mid, reach = box.products(*midrange_box(lo, hi, C.mean(axis=1)))
+    box_mid, box_reach = box.products(lo, hi)
     X = np.tensordot(stress, C, axes=([2], [2]))  # (6, n, S, T)
     midrange, half = 0.5 * (X.max(axis=3) + X.min(axis=3)), 0.5 * (X.max(axis=3) - X.min(axis=3))  # (6, n, S)
     midrange, half = midrange.transpose(2, 0, 1), half.transpose(2, 0, 1)  # (S, 6, n)

@@ -321,13 +321,7 @@ def _screened_group(
     size = max(1, BATCH_PAIRS // screen.stress.shape[1])
     for run in _set_cuts(labels[loaded], size):
         g = loaded[run]
-        vm, mid, reach = group.box_arrays(lo[g], hi[g])
-        box = screen_.SampledBounds.box(vm, mid.transpose(1, 0, 2), reach.transpose(1, 0, 2))
-        box_factor = (
-            factor(*group.fatigue_bounds_of(box, *screen_.midrange_box(lo[g], hi[g], mean[g])))
-            if factor is not None
-            else None
-        )
+        vm, mid, reach, box_factor = _box_and_factor(group, lo[g], hi[g], mean[g], factor)
         peak_can = _peak_can(vm, low[g][:, None])
         fatigue_can = _fatigue_can(box_factor, top[g][:, None], enough) if box_factor is not None else None
         # a history none of whose nodes can pass its set's thresholds has them as its values
@@ -342,6 +336,29 @@ def _screened_group(
             vm[live], mid[live], reach[live], box_factor, can, low[g[live]] ** 2, top[g[live]], loose
         )
     return np.stack([_over_sets(out[:, 0], labels, np.maximum), _over_sets(out[:, 1], labels, np.minimum)], axis=1)
+
+
+def _box_and_factor(group: screen_.CoefficientBox, lo, hi, mean, factor=None):
+    """(vm (s, n), mid (s, 6, n), reach (s, 6, n), factor bound (s, n) or None) float32:
+    the box bounds of histories whose basis coordinates range over ``lo`` to ``hi`` (s,
+    k), and with a ``factor`` its lower bound with the midranges bounded by the histories'
+    means ``mean`` (s, k) (:func:`railcheck.fea.screen.midrange_box`): the boxes and the
+    midrange boxes in one pass over the group's rows."""
+    s = lo.shape[0]
+    if factor is None:
+        vm, mid, reach = group.box_arrays(lo, hi)
+        return vm, mid, reach, None
+    m_lo, m_hi = screen_.midrange_box(lo, hi, mean)
+    mid, reach = group.products(np.concatenate([lo, m_lo]), np.concatenate([hi, m_hi]))
+    vm = screen_.von_mises_interval_bound(mid[:s], reach[:s], axis=1)
+    box = screen_.SampledBounds.box(vm, _by_component(mid[:s]), _by_component(reach[:s]))
+    bound = factor(*screen_.fatigue_bounds_by_midranges(box, _by_component(mid[s:]), _by_component(reach[s:])))
+    return vm, mid[:s], reach[:s], bound
+
+
+def _by_component(a: np.ndarray) -> np.ndarray:
+    """(6, s, n) view of (s, 6, n) bounds."""
+    return a.transpose(1, 0, 2)
 
 
 class _Batch:
@@ -623,16 +640,17 @@ def _group_nodes(
         if not np.all((top[loaded] > 0) & np.isfinite(top[loaded])):
             return every
         boxes.append(_union(lo[loaded], hi[loaded], top[loaded]))
-    box_lo, box_hi = (np.concatenate([b[i] for b in boxes]) for i in (0, 1))
-    vm, mid, reach = group.box_arrays(box_lo, box_hi)
-    keep = vm[0] * (1.0 + SLACK) >= 1.0
-    if factor is not None and mean is None:
-        keep |= factor(*screen_.fatigue_bounds(screen_.SampledBounds.box(vm[1], mid[1], reach[1]))) <= 1.0 + SLACK
-    elif factor is not None:
+    if factor is not None and mean is not None:
         # each history's midrange box scaled as its box: their union holds every midrange
-        mid_lo, mid_hi = _union(*screen_.midrange_box(lo[loaded], hi[loaded], mean[loaded]), top[loaded])
-        fatigue = screen_.SampledBounds.box(vm[1:], mid[1:].transpose(1, 0, 2), reach[1:].transpose(1, 0, 2))
-        keep |= factor(*group.fatigue_bounds_of(fatigue, mid_lo, mid_hi))[0] <= 1.0 + SLACK
+        boxes.append(_union(*screen_.midrange_box(lo[loaded], hi[loaded], mean[loaded]), top[loaded]))
+    mid, reach = group.products(*(np.concatenate([b[i] for b in boxes]) for i in (0, 1)))  # one pass over the rows
+    keep = screen_.von_mises_interval_bound(mid[0], reach[0], axis=0) * (1.0 + SLACK) >= 1.0
+    if factor is not None:
+        fatigue = screen_.SampledBounds.box(None, mid[1], reach[1])  # type: ignore[arg-type]
+        if mean is None:
+            keep |= factor(*screen_.fatigue_bounds(fatigue)) <= 1.0 + SLACK
+        else:
+            keep |= factor(*screen_.fatigue_bounds_by_midranges(fatigue, mid[2], reach[2])) <= 1.0 + SLACK
     return np.flatnonzero(keep)
 
 
