@@ -595,7 +595,8 @@ def box_basis(S: np.ndarray, scale: np.ndarray, C: np.ndarray) -> np.ndarray | N
     trial = np.ascontiguousarray(S[:, :: max(1, S.shape[1] // BASIS_TRIAL_NODES)])
 
     def size(basis):
-        vm, _, reach = CoefficientBox(trial, scale, basis).box_arrays(*CoefficientBox(trial, scale, basis).ranges(C))
+        box = CoefficientBox(trial, scale, basis)
+        vm, _, reach = box.box_arrays(*box.ranges(C))
         return float(vm.sum(dtype=np.float64) + reach.sum(dtype=np.float64))
 
     return principal if size(principal) < size(None) else None
