@@ -310,7 +310,9 @@ def _screened_group(
     lo, hi, taken = group.ranges_and_taken(C)
     low, top = _group_thresholds(screen, C, group, lo, hi, factor)
     low, top = _over_sets(low, labels, np.maximum), _over_sets(top, labels, np.minimum)  # exact values of the set
-    mean = group.coordinates(C).mean(axis=1)  # (S, k) each history's mean: its midranges' bound
+    # (S, k) each history's mean in the basis (linear: the basis of the coefficients' mean),
+    # which bounds its midranges; the rounding of either order is within midrange_box's widening
+    mean = group.coordinates(C.mean(axis=1, keepdims=True))[:, 0] if factor is not None else None
     nodes = _group_nodes(group, lo, hi, low, top, factor, mean)
     loose = LOOSE_SHARE * screen.stress.shape[1]  # of the part's nodes
     if nodes.size < GROUP_SHARE * screen.stress.shape[1]:
@@ -321,7 +323,7 @@ def _screened_group(
     size = max(1, BATCH_PAIRS // screen.stress.shape[1])
     for run in _set_cuts(labels[loaded], size):
         g = loaded[run]
-        vm, mid, reach, box_factor = _box_and_factor(group, lo[g], hi[g], mean[g], factor)
+        vm, mid, reach, box_factor = _box_and_factor(group, lo[g], hi[g], None if mean is None else mean[g], factor)
         peak_can = _peak_can(vm, low[g][:, None])
         fatigue_can = _fatigue_can(box_factor, top[g][:, None], enough) if box_factor is not None else None
         # a history none of whose nodes can pass its set's thresholds has them as its values
@@ -345,7 +347,7 @@ def _box_and_factor(group: screen_.CoefficientBox, lo, hi, mean, factor=None):
     means ``mean`` (s, k) (:func:`railcheck.fea.screen.midrange_box`): the boxes and the
     midrange boxes in one pass over the group's rows."""
     s = lo.shape[0]
-    if factor is None:
+    if factor is None:  # (and ``mean`` None: the means are only taken for fatigue)
         vm, mid, reach = group.box_arrays(lo, hi)
         return vm, mid, reach, None
     m_lo, m_hi = screen_.midrange_box(lo, hi, mean)
@@ -480,7 +482,7 @@ class _Batch:
         ``loose`` nodes is screened alone (:func:`_screened`)."""
         s = self.C.shape[0]
         out = np.empty((s, 2))
-        mid6, reach6 = mid.transpose(1, 0, 2), reach.transpose(1, 0, 2)
+        mid6, reach6 = _by_component(mid), _by_component(reach)
         # the thresholds are taken at nodes that can pass the group's (no other can raise them)
         first_vm = np.where(can[0], vm, -np.inf)
         first_factor = None if box_factor is None else np.where(can[1], box_factor, np.inf)
