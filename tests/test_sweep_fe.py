@@ -1169,7 +1169,7 @@ def test_the_load_sources_of_one_setting_are_screened_as_one_set(monkeypatch):
 
     monkeypatch.setattr(fe, "GROUP_MOST", 5)
     rng = np.random.default_rng(33)
-    n, T, k = 1500, 720, 9
+    n, T, k = 1500, 360, 9
     monkeypatch.setattr(fe, "BATCH_PAIRS", 2 * n)
     t = np.linspace(0, 2 * np.pi, T, endpoint=False)
     sizes = rng.integers(1, 4, size=14)
