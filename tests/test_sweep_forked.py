@@ -270,3 +270,43 @@ def test_without_semaphores_the_platform_does_not_fork(monkeypatch):
         monkeypatch.undo()
         forked.available.cache_clear()
     assert forked.available()
+
+
+CHILD_HEAP_SCRIPT = """
+import ctypes, sys
+import numpy as np
+from railcheck.sweep.forked import in_order_on_processes
+
+class MallInfo2(ctypes.Structure):
+    _fields_ = [(name, ctypes.c_size_t) for name in
+                ("arena", "ordblks", "smblks", "hblks", "hblkhd", "usmblks", "fsmblks", "uordblks", "fordblks", "keepcost")]
+
+libc = ctypes.CDLL(None)
+try:
+    libc.mallinfo2.restype = MallInfo2
+except AttributeError:
+    sys.exit(3)  # glibc older than 2.33, or none
+
+def mapped_by_a_20_mb_block(_):
+    before = libc.mallinfo2().hblkhd
+    block = np.ones(20 << 20, dtype=np.uint8)
+    return libc.mallinfo2().hblkhd - before, int(block[-1])
+
+grown = [g for g, _ in in_order_on_processes(mapped_by_a_20_mb_block, [0, 1], 2, ahead=1)]
+print(max(grown) < (20 << 20), mapped_by_a_20_mb_block(0)[0] >= (20 << 20))
+"""
+
+
+def test_a_child_takes_blocks_up_to_32_mib_from_the_heap(tmp_path):
+    """The children tune glibc's allocator (:func:`railcheck.sweep.forked._reuse_freed_memory`):
+    a 20 MB block comes from the heap (kept and reused once freed), not from fresh
+    ``mmap`` pages as in a fresh process whose allocator has not adapted (its own
+    block, the control)."""
+    import subprocess
+    import sys
+
+    run = subprocess.run([sys.executable, "-c", CHILD_HEAP_SCRIPT], capture_output=True, text=True, timeout=120)
+    if run.returncode == 3:
+        pytest.skip("no glibc mallinfo2")
+    assert run.returncode == 0, run.stderr
+    assert run.stdout.split() == ["True", "True"]

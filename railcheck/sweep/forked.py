@@ -51,6 +51,12 @@ _TOKENS = itertools.count()
 #: prctl option: the signal a process receives when its parent dies (linux/prctl.h)
 PR_SET_PDEATHSIG = 1
 
+#: glibc ``mallopt`` parameters (malloc.h) and the values a forked child sets
+#: (:func:`_reuse_freed_memory`): blocks up to 32 MiB (the largest glibc takes) from the
+#: heap, and freed memory kept for the next ones
+M_TRIM_THRESHOLD, M_TOP_PAD, M_MMAP_THRESHOLD = -1, -2, -3
+CHILD_MALLOPT = ((M_MMAP_THRESHOLD, 32 << 20), (M_TRIM_THRESHOLD, 1 << 30), (M_TOP_PAD, 64 << 20))
+
 
 @functools.cache
 def available() -> bool:
@@ -148,7 +154,7 @@ def _died() -> RailcheckError:
 def _child_signals(parent: int) -> None:
     """In a child: Ctrl-C is the parent's to handle, SIGTERM (from the parent) ends it, and
     so does the parent's death (Linux ``PR_SET_PDEATHSIG``: a killed run leaves no child
-    waiting for tasks)."""
+    waiting for tasks); then its allocator is tuned (:func:`_reuse_freed_memory`)."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
     signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGPIPE})  # forked while held
@@ -159,6 +165,25 @@ def _child_signals(parent: int) -> None:
         pass
     if os.getppid() != parent:  # the parent died before the request took effect
         os._exit(1)
+    _reuse_freed_memory()
+
+
+def _reuse_freed_memory() -> None:
+    """In a child: glibc's allocator keeps freed blocks of up to 32 MiB for the next ones
+    (:data:`CHILD_MALLOPT`). A chunk's screens allocate and free thousands of temporary
+    arrays of 0.1-30 MB; by default each comes from fresh ``mmap`` pages, zeroed by the
+    kernel at first touch, and goes back at its free. The whole rig (three alternating
+    runs each): system CPU 9-14 -> 4-5 s, chunks 48.4 -> 47.3 s (medians), the largest
+    resident set the same (2.6 GB, the parent's), the tables the same. A child lives for
+    one kind's chunks, so what it keeps is returned at its exit. Nothing without glibc's
+    ``mallopt`` (musl)."""
+    try:
+        mallopt = ctypes.CDLL(None).mallopt
+    except (OSError, AttributeError):
+        return
+    mallopt.argtypes, mallopt.restype = (ctypes.c_int, ctypes.c_int), ctypes.c_int
+    for option, value in CHILD_MALLOPT:
+        mallopt(option, value)
 
 
 def _run_item(token: int, i: int) -> tuple[bool, Any]:
