@@ -478,10 +478,37 @@ def _map_figure(agg: Aggregate, path: Path) -> None:
         f"check in colour{note}{constant}",
         fontsize=10,
     )
-    fig.tight_layout(rect=(0, 0.04 if handles else 0, 1, 0.96))
+    _fixed_layout(fig, len(panels), len(pairs), bottom=1.0 if handles else 0.6)
     with atomic_path(path) as tmp:
         fig.savefig(tmp, dpi=100)
     plt.close(fig)
+
+
+#: inches around and between a map figure's panels (:func:`_fixed_layout`): left of the
+#: first column (y label and ticks), right of the last colorbar, above the first row (the
+#: title, two lines), between rows (a panel's x label and the next one's title), between
+#: columns (a colorbar with its label and the next panel's y label)
+MAP_MARGINS = {"left": 0.9, "right": 0.3, "top": 1.3, "between_rows": 0.9, "between_columns": 1.1}
+
+
+def _fixed_layout(fig, rows: int, columns: int, bottom: float) -> None:
+    """The map figure's panels placed by fixed margins in inches (:data:`MAP_MARGINS`;
+    ``bottom`` below the last row: its x labels and the legend). The figure's layout is
+    the same for every sweep (only the numbers change), so it is not measured from the
+    drawn text as ``tight_layout`` does, which cost a third of the whole rig's maps
+    (1.79 against 1.15 s for the four-bar's)."""
+    width, height = fig.get_size_inches()
+    m = MAP_MARGINS
+    panel_w = (width - m["left"] - m["right"] - (columns - 1) * m["between_columns"]) / columns
+    panel_h = (height - m["top"] - bottom - (rows - 1) * m["between_rows"]) / rows
+    fig.subplots_adjust(
+        left=m["left"] / width,
+        right=1 - m["right"] / width,
+        top=1 - m["top"] / height,
+        bottom=bottom / height,
+        wspace=m["between_columns"] / panel_w,
+        hspace=m["between_rows"] / panel_h,
+    )
 
 
 def occurring_reasons(agg: Aggregate) -> list[str]:
