@@ -479,11 +479,14 @@ class CoefficientBox:
         d = self.coordinates(C)
         return d.min(axis=1), d.max(axis=1)
 
-    def ranges_and_taken(self, C: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def ranges_and_taken(
+        self, C: np.ndarray, coordinates: np.ndarray | None = None
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(lo, hi, taken): :meth:`ranges`, and ``taken`` (s, p, k) the coordinates of a
         few steps of each history (:data:`BOX_TAKEN_STEPS` evenly spaced and the one
-        nearest its box's centre), values the history takes (:meth:`at_nodes`)."""
-        d = self.coordinates(C)
+        nearest its box's centre), values the history takes (:meth:`at_nodes`).
+        ``coordinates``: :meth:`coordinates` of ``C`` when already computed."""
+        d = self.coordinates(C) if coordinates is None else coordinates
         lo, hi = d.min(axis=1), d.max(axis=1)
         nearest = nearest_to_box_centre(d)  # (s,)
         spaced = np.linspace(0, d.shape[1], BOX_TAKEN_STEPS, endpoint=False).astype(int)
@@ -580,26 +583,44 @@ BASIS_TRIAL_NODES = 512
 
 
 def box_basis(S: np.ndarray, scale: np.ndarray, C: np.ndarray) -> np.ndarray | None:
-    """The basis of :class:`CoefficientBox` for the group of histories ``C`` (s, T, k):
-    the principal axes of their scaled steps' deviations from each history's mean, or
-    None (the coefficients themselves), whichever gives the smaller bounds (the sum of
-    von Mises bounds and component reaches) on :data:`BASIS_TRIAL_NODES` nodes of ``S``
-    (6, n, k). The principal axes suit histories that move in a few mixed directions (a
-    short crank's rail: 18 coefficients that are 4 signals, whose coefficient box kept
-    more than half the nodes), the coefficients loads that vary independently (the
-    coupler's and rocker's pins)."""
+    """The basis of :class:`CoefficientBox` for the group of histories ``C`` (s, T, k)
+    (:func:`box_basis_and_coordinates`)."""
+    return box_basis_and_coordinates(S, scale, C)[0]
+
+
+def basis_trial_nodes(S: np.ndarray) -> np.ndarray:
+    """(6, m, k) contiguous: the stresses ``S`` (6, n, k) at the :data:`BASIS_TRIAL_NODES`
+    evenly strided nodes on which :func:`box_basis_and_coordinates` compares the bases."""
+    return np.ascontiguousarray(S[:, :: max(1, S.shape[1] // BASIS_TRIAL_NODES)])
+
+
+def box_basis_and_coordinates(
+    S: np.ndarray, scale: np.ndarray, C: np.ndarray, trial: np.ndarray | None = None
+) -> tuple[np.ndarray | None, np.ndarray]:
+    """(basis, coordinates): the basis of :class:`CoefficientBox` for the group of
+    histories ``C`` (s, T, k), the principal axes of their scaled steps' deviations from
+    each history's mean, or None (the coefficients themselves), whichever gives the
+    smaller bounds (the sum of von Mises bounds and component reaches) on the trial nodes
+    of ``S`` (6, n, k) (``trial``: :func:`basis_trial_nodes` of ``S``, made once per
+    screen; None: made here); and every step's coordinates in it (s, T, k), as
+    :meth:`CoefficientBox.coordinates` gives them (the trial computed them). The
+    principal axes suit histories that move in a few mixed directions (a short crank's
+    rail: 18 coefficients that are 4 signals, whose coefficient box kept more than half
+    the nodes), the coefficients loads that vary independently (the coupler's and
+    rocker's pins)."""
     k = S.shape[2]
     Cs = C * scale
     D = (Cs - Cs.mean(axis=1, keepdims=True)).reshape(-1, k)
     principal = np.linalg.eigh(D.T @ D)[1]
-    trial = np.ascontiguousarray(S[:, :: max(1, S.shape[1] // BASIS_TRIAL_NODES)])
+    trial = basis_trial_nodes(S) if trial is None else trial
 
-    def size(basis):
+    def size(basis, d):
         box = CoefficientBox(trial, scale, basis)
-        vm, _, reach = box.box_arrays(*box.ranges(C))
+        vm, _, reach = box.box_arrays(d.min(axis=1), d.max(axis=1))
         return float(vm.sum(dtype=np.float64) + reach.sum(dtype=np.float64))
 
-    return principal if size(principal) < size(None) else None
+    d = Cs @ principal  # (CoefficientBox.coordinates in this basis)
+    return (principal, d) if size(principal, d) < size(None, C) else (None, C)
 
 
 def sampled_bounds(SP: np.ndarray, norms: np.ndarray, vm_norm: np.ndarray, sub: Subspace) -> SampledBounds:

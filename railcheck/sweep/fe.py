@@ -109,6 +109,7 @@ class Screen:
     by_G: np.ndarray = field(repr=False, default=None)
     angle: np.ndarray | None = field(repr=False, default=None)  # (6, n) arctan2 of each component (k = 2)
     scale: np.ndarray | None = field(repr=False, default=None)  # (k,) the coefficients' scale w of Q and lam
+    trial: np.ndarray | None = field(repr=False, default=None)  # (6, m, k) screen_.basis_trial_nodes of stress
 
     @property
     def vm_norm(self) -> np.ndarray:
@@ -178,7 +179,8 @@ def _screen(S: np.ndarray, tip: np.ndarray) -> Screen:
     Ga = np.sqrt(norms[0] ** 2 + norms[1] ** 2 + norms[2] ** 2 + shear)
     angle = np.arctan2(S[..., 1], S[..., 0]) if k == 2 else None
     unit_rows = screen_.component_norms(Sw)  # (6, n): each component's stress per unit scaled coefficient
-    return Screen(S, Q, lam, G, Ga, tip, unit_rows, np.argsort(-lam), np.argsort(-Ga), angle, w)
+    trial = screen_.basis_trial_nodes(S)
+    return Screen(S, Q, lam, G, Ga, tip, unit_rows, np.argsort(-lam), np.argsort(-Ga), angle, w, trial)
 
 
 def hull_steps(C: np.ndarray) -> np.ndarray:
@@ -306,8 +308,9 @@ def _screened_group(
     if not np.any(C):
         out[:] = 0.0, np.inf
         return out
-    group = screen_.CoefficientBox(screen.stress, screen.scale, screen_.box_basis(screen.stress, screen.scale, C))
-    lo, hi, taken = group.ranges_and_taken(C)
+    basis, coordinates = screen_.box_basis_and_coordinates(screen.stress, screen.scale, C, screen.trial)
+    group = screen_.CoefficientBox(screen.stress, screen.scale, basis)
+    lo, hi, taken = group.ranges_and_taken(C, coordinates)
     low, top = _group_thresholds(screen, C, group, lo, hi, factor)
     low, top = _over_sets(low, labels, np.maximum), _over_sets(top, labels, np.minimum)  # exact values of the set
     # (S, k) each history's mean in the basis (linear: the basis of the coefficients' mean),
