@@ -305,7 +305,11 @@ def test_a_child_takes_blocks_up_to_32_mib_from_the_heap(tmp_path):
     import subprocess
     import sys
 
-    run = subprocess.run([sys.executable, "-c", CHILD_HEAP_SCRIPT], capture_output=True, text=True, timeout=120)
+    # run outside the checkout: ``-c`` puts the working directory first on the path, and a
+    # checkout's ``railcheck/`` would shadow the installed package
+    run = subprocess.run(
+        [sys.executable, "-c", CHILD_HEAP_SCRIPT], capture_output=True, text=True, timeout=120, cwd=tmp_path
+    )
     if run.returncode == 3:
         pytest.skip("no glibc mallinfo2")
     assert run.returncode == 0, run.stderr
