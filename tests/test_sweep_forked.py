@@ -274,8 +274,6 @@ def test_without_semaphores_the_platform_does_not_fork(monkeypatch):
 
 CHILD_HEAP_SCRIPT = """
 import ctypes, sys
-import numpy as np
-from railcheck.sweep.forked import in_order_on_processes
 
 class MallInfo2(ctypes.Structure):
     _fields_ = [(name, ctypes.c_size_t) for name in
@@ -284,8 +282,15 @@ class MallInfo2(ctypes.Structure):
 libc = ctypes.CDLL(None)
 try:
     libc.mallinfo2.restype = MallInfo2
+    libc.mallopt.argtypes = (ctypes.c_int, ctypes.c_int)
 except AttributeError:
     sys.exit(3)  # glibc older than 2.33, or none
+# this process's threshold fixed at glibc's default (128 KiB), before anything is freed: it
+# no longer adapts to what is freed, so its own 20 MB block is mapped whatever ran before
+libc.mallopt(-3, 128 << 10)
+
+import numpy as np
+from railcheck.sweep.forked import in_order_on_processes
 
 def mapped_by_a_20_mb_block(_):
     before = libc.mallinfo2().hblkhd
@@ -300,8 +305,8 @@ print(max(grown) < (20 << 20), mapped_by_a_20_mb_block(0)[0] >= (20 << 20))
 def test_a_child_takes_blocks_up_to_32_mib_from_the_heap(tmp_path):
     """The children tune glibc's allocator (:func:`railcheck.sweep.forked._reuse_freed_memory`):
     a 20 MB block comes from the heap (kept and reused once freed), not from fresh
-    ``mmap`` pages as in a fresh process whose allocator has not adapted (its own
-    block, the control)."""
+    ``mmap`` pages as in the forking process, whose threshold is held at glibc's default
+    (its own block, the control)."""
     import subprocess
     import sys
 
