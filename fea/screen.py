@@ -423,6 +423,12 @@ class CoefficientBox:
     the history's own principal subspace (:func:`box_bounds`) and read. ``S`` (6, n, k)
     Pa per unit coefficient, ``scale`` (k,) the coefficients' scale.
 
+    Histories that lie in an r-dimensional subspace of the scaled coefficients
+    (:func:`history_span`) are boxed in r coordinates: ``basis`` (k, r) spans it and
+    ``dual`` (k, r) gives the coordinates, ``d = (c * scale) dual`` with ``c * scale =
+    basis d`` for every history in it (``dual^T basis = I``); the rows and the products
+    are then r columns wide. None: ``dual`` is ``basis``.
+
     The rows are held in float32 (the products stream every node once per history; half
     the bytes). The bounds stay bounds: a float32 dot product of length k + 2 roundings
     errs by at most ``(k + 4) u |m| . |R_j|`` (u the float32 roundoff; Higham, *Accuracy
@@ -432,15 +438,18 @@ class CoefficientBox:
     value) covers the few float32 roundings of the fatigue bounds computed from them
     (:func:`fatigue_bounds`). Results are float32 (Pa)."""
 
-    def __init__(self, S: np.ndarray, scale: np.ndarray, basis: np.ndarray | None = None):
+    def __init__(self, S: np.ndarray, scale: np.ndarray, basis: np.ndarray | None = None, dual: np.ndarray | None = None):
         k = S.shape[2]
         S2 = S.reshape(-1, k)  # (6 n, k): rows by component, then node
         rows = S2 if basis is None else S2 @ (basis / scale[:, None])  # per unit of each basis coordinate
-        self._hold(rows.astype(np.float32), S.shape[1], scale, basis)
+        self._hold(rows.astype(np.float32), S.shape[1], scale, basis, dual)
 
-    def _hold(self, rows: np.ndarray, nodes: int, scale: np.ndarray, basis: np.ndarray | None) -> None:
-        """Keep the float32 ``rows`` (6 nodes, k) per unit basis coordinate and what reads them."""
+    def _hold(
+        self, rows: np.ndarray, nodes: int, scale: np.ndarray, basis: np.ndarray | None, dual: np.ndarray | None = None
+    ) -> None:
+        """Keep the float32 ``rows`` (6 nodes, r) per unit basis coordinate and what reads them."""
         self.nodes, self.scale, self.B = nodes, scale, basis
+        self.W = basis if dual is None else dual  # (k, r): the coordinates of the scaled coefficients
         self.rows = rows
         self.abs_rows = np.abs(rows)
         self.dot_error = 2.0 * (rows.shape[1] + 4) * FLOAT32_EPS  # relative, of |m| . |R_j| (class doc)
@@ -465,13 +474,14 @@ class CoefficientBox:
             nodes.size,
             self.scale,
             self.B,
+            self.W,
         )
         return box
 
     def coordinates(self, C: np.ndarray) -> np.ndarray:
         """(s, T, k): the basis coordinates of every step of each history of ``C`` (s, T,
         k) (unscaled coefficients)."""
-        return C if self.B is None else (C * self.scale) @ self.B
+        return C if self.W is None else (C * self.scale) @ self.W
 
     def ranges(self, C: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(lo, hi) (s, k): the ranges of the basis coordinates of each history of ``C``
@@ -573,6 +583,73 @@ def von_mises_interval_bound(mid: np.ndarray, reach: np.ndarray, axis: int = 0) 
     normal = sum((np.abs(m[i] - m[j]) + r[i] + r[j]) ** 2 for i, j in ((0, 1), (1, 2), (2, 0)))
     shear = sum((np.abs(m[i]) + r[i]) ** 2 for i in (3, 4, 5))
     return np.sqrt(0.5 * normal + 3.0 * shear) * (1.0 + mid.dtype.type(BOX_WIDENING))
+
+
+#: singular values of a group's sampled steps above this share of the largest span the
+#: group's histories (:func:`history_span`); the rest are rounding (a free body's
+#: equilibrium and the joints its group shares: about 1e-16 of the largest, against 1e-4
+#: to 1e-3 for the smallest kept)
+SPAN_RANK = 1e-10
+#: a group's histories are re-expressed in fewer coefficients only when each history's
+#: residual outside their span is at most this share of its largest scaled coefficient
+#: vector (:func:`history_span`): its results then equal the full ones to rounding
+SPAN_RESIDUAL = 1e-13
+#: every this-many-th step of each history is read to find the span (the residual is then
+#: measured at every step, so a direction only the skipped steps take is never lost)
+SPAN_STRIDE = 8
+
+
+@dataclass(frozen=True)
+class Span:
+    """A group's scaled coefficients ``c * scale`` (k,) in r of themselves: ``index`` (r,)
+    ascending the independent ones, ``basis`` (k, r) with ``c * scale = basis (c *
+    scale)[index]`` for every step of every history of the group (to the residual
+    :func:`history_span` measured), ``basis[index]`` the identity."""
+
+    index: np.ndarray
+    basis: np.ndarray
+
+    @property
+    def dual(self) -> np.ndarray:
+        """(k, r): the selection of the independent coefficients (``dual^T basis = I``)."""
+        out = np.zeros(self.basis.shape)
+        out[self.index, np.arange(self.index.size)] = 1.0
+        return out
+
+
+def history_span(Cs: np.ndarray) -> Span | None:
+    """The span of the scaled histories ``Cs`` (s, T, k) as r < k of their coefficients
+    (:class:`Span`), or None when they span all k (or are not finite, or zero).
+
+    The rank is read from the singular values of every :data:`SPAN_STRIDE`-th step (above
+    :data:`SPAN_RANK` of the largest); the independent coefficients are the pivots of a
+    column-pivoted QR of the span's basis (the best conditioned choice). The residual of
+    each step, ``e = Cs - basis Cs[index]``, is bounded from its part outside the span,
+    ``|e| <= |z| (1 + |basis|_2)`` (``z`` the component along the null directions: the
+    span's part is reproduced exactly), and the span is used only when every history's
+    bound is at most :data:`SPAN_RESIDUAL` of its largest ``|Cs_t|``."""
+    s, T, k = Cs.shape
+    X = Cs[:, ::SPAN_STRIDE].reshape(-1, k)
+    if X.shape[0] < k:
+        X = Cs.reshape(-1, k)
+    if not np.all(np.isfinite(X)):
+        return None
+    _, sv, Vt = np.linalg.svd(np.linalg.qr(X, mode="r"))
+    if not sv[0] > 0.0:
+        return None
+    r = int(np.count_nonzero(sv > SPAN_RANK * sv[0]))
+    if r >= k:
+        return None
+    import scipy.linalg
+
+    B, N = Vt[:r].T, Vt[r:].T
+    index = np.sort(scipy.linalg.qr(B.T, pivoting=True, mode="r")[1][:r])
+    basis = B @ np.linalg.inv(B[index])
+    basis[index] = np.eye(r)
+    outside = np.linalg.norm(Cs @ N, axis=2).max(axis=1) * (1.0 + np.linalg.norm(basis, 2))
+    if not np.all(outside <= SPAN_RESIDUAL * np.linalg.norm(Cs, axis=2).max(axis=1)):
+        return None
+    return Span(index, basis)
 
 
 #: steps of each history (evenly spaced, besides the one nearest its box's centre) whose

@@ -1241,3 +1241,124 @@ def test_a_weaker_source_that_holds_its_set_s_fatigue_minimum_is_not_dropped(mon
     peak, factor = peak_and_fatigue(screen, C, 200e6, 750e6, "goodman", 400e6, sets=labels)
     np.testing.assert_allclose(peak, np.tile(set_vm, 2), rtol=1e-12)
     np.testing.assert_allclose(factor, np.tile(set_min, 2), rtol=1e-12)
+
+
+def _in_subspace(rng, s: int, T: int, k: int, r: int) -> np.ndarray:
+    """(s, T, k) histories of ``k`` coefficients that lie in a random ``r``-dimensional
+    subspace of them (as a free body's: its equilibrium ties the coefficients), each with
+    a mean, two harmonics and coefficients of very different sizes."""
+    t = np.linspace(0, 2 * np.pi, T, endpoint=False)
+    a = rng.normal(size=(s, 1, r)) + sum(
+        rng.normal(size=(s, 1, r)) / j * np.cos(j * t + rng.uniform(0, 6))[None, :, None] for j in range(1, 9)
+    )
+    return (a @ rng.normal(size=(r, k))) * np.exp(2 * rng.normal(size=k))
+
+
+def test_history_span_finds_the_subspace_the_histories_lie_in():
+    """Histories in a 7-dimensional subspace of 12 coefficients: 7 of the coefficients
+    give back every step of every history to rounding, the others combinations of them."""
+    from railcheck.fea.screen import history_span
+
+    rng = np.random.default_rng(3)
+    C = _in_subspace(rng, 9, 240, 12, 7)
+    span = history_span(C)
+    assert span is not None and span.index.size == 7
+    np.testing.assert_array_equal(span.basis[span.index], np.eye(7))
+    np.testing.assert_allclose(C[..., span.index] @ span.basis.T, C, rtol=0, atol=1e-13 * np.abs(C).max())
+    np.testing.assert_allclose(span.dual.T @ span.basis, np.eye(7), atol=1e-12)
+
+
+def test_history_span_is_none_unless_the_span_holds_every_step():
+    """No span where the histories use every coefficient, where one step leaves the
+    subspace (a step the rank is not read at: only the residual at every step catches
+    it), where they are zero, or where they are not finite."""
+    from railcheck.fea.screen import SPAN_STRIDE, history_span
+
+    rng = np.random.default_rng(4)
+    assert history_span(rng.normal(size=(3, 100, 6))) is None
+    C = _in_subspace(rng, 4, 240, 12, 7)
+    assert history_span(C) is not None
+    kicked = C.copy()
+    kicked[2, SPAN_STRIDE + 3] += 1e-9 * np.abs(C).max() * rng.normal(size=12)
+    assert history_span(kicked) is None
+    assert history_span(np.zeros((2, 50, 5))) is None
+    broken = C.copy()
+    broken[0, 5, 3] = np.nan
+    assert history_span(broken) is None
+
+
+@pytest.mark.usefixtures("group_prepass")
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_histories_in_a_subspace_are_screened_in_it_and_equal_brute_force(seed, monkeypatch):
+    """Histories of 14 coefficients in a 9-dimensional subspace (as a free body's) are
+    screened in 9 of their coefficients, over nodes of very different stress (the group's
+    box drops most), hot nodes and nodes loaded mostly along the coefficients that are
+    combinations of others: the peak and fatigue factor equal every node x every step,
+    by set as well."""
+    import railcheck.sweep.fe as fe
+
+    rng = np.random.default_rng(seed)
+    n, T, k, r = 2500, 360, 14, 9
+    C = _in_subspace(rng, 11, T, k, r) * 1e3
+    stress = rng.normal(size=(6, n, k)) * np.exp(1.5 * rng.normal(size=(1, n, 1))) / np.abs(C).max(axis=(0, 1))
+    hot = rng.choice(n, 25, replace=False)
+    stress[:, hot] *= 5.0
+    span = fe.screen_.history_span(C * make_screen(stress, np.ones(n, bool), np.zeros((3, k)), list(range(k))).scale)
+    assert span is not None and span.index.size == r
+    dependent = np.setdiff1d(np.arange(k), span.index)
+    stress[:, hot[:10][:, None], dependent[None, :]] *= 40.0  # hot only through the dependent coefficients
+    mask = rng.random(n) > 0.05
+    screen = make_screen(stress, mask, rng.normal(size=(3, k)), list(range(k)))
+    used = []
+    monkeypatch.setattr(fe, "_in_span", lambda *a, _f=fe._in_span: used.append(1) or _f(*a))
+    vm, n_min = _brute(stress, mask, C)
+    got = peak_and_fatigue(screen, C, 200e6, 750e6, "goodman", 400e6)
+    assert used
+    np.testing.assert_allclose(got[0], vm, rtol=1e-12)
+    np.testing.assert_allclose(got[1], n_min, rtol=1e-12)
+    sets = np.arange(C.shape[0]) // 2
+    by_set = peak_and_fatigue(screen, C, 200e6, 750e6, "goodman", 400e6, sets=sets)
+    np.testing.assert_allclose(by_set[0], [vm[sets == i].max() for i in sets], rtol=1e-12)
+    np.testing.assert_allclose(by_set[1], [n_min[sets == i].min() for i in sets], rtol=1e-12)
+
+
+@pytest.mark.parametrize("axes", ["principal", "independent"])
+def test_a_group_in_a_subspace_is_boxed_and_read_in_its_coordinates(axes):
+    """The group's box in the span: its coordinates of the histories are those the box
+    was built for (also the means' coordinates, :meth:`CoefficientBox.coordinates`), its
+    rows times them give every node's stress at every step, and the screen in the span's
+    coefficients gives the same stresses, with its bounds per unit coefficient (each
+    component's norm, von Mises' trace bound) those of its own stresses. Histories along
+    mixed directions, boxed along their principal axes, and histories whose first seven
+    coefficients move independently (the rest their combinations), boxed in those seven."""
+    import railcheck.sweep.fe as fe
+    from railcheck.fea.screen import component_norms, history_span, von_mises_norm_bound
+
+    n, k, r = 800, 12, 7
+    if axes == "principal":
+        rng = np.random.default_rng(5)
+        C = _in_subspace(rng, 5, 240, k, r)
+    else:
+        rng = np.random.default_rng(6)
+        t = np.linspace(0, 2 * np.pi, 240, endpoint=False)
+        own = np.stack([np.cos((j + 1) * t + rng.uniform(0, 6)) + rng.normal() for j in range(r)], -1)
+        own = own[None] * rng.uniform(0.5, 2, size=(5, 1, r))
+        C = np.concatenate([own, own @ rng.normal(size=(r, k - r)) * 0.3], -1)
+    stress = rng.normal(size=(6, n, k))
+    screen = make_screen(stress, np.ones(n, bool), rng.normal(size=(3, k)), list(range(k)))
+    span = history_span(C * screen.scale)
+    assert span is not None
+    group, d = fe._group_box(screen, C, span)
+    assert group.rows.shape == (6 * n, r)
+    assert (group.B is span.basis) == (axes == "independent")
+    np.testing.assert_allclose(group.coordinates(C), d, rtol=1e-12, atol=1e-12 * np.abs(d).max())
+    exact = np.einsum("cnk,stk->stcn", stress, C)
+    scale = np.abs(exact).max()
+    np.testing.assert_allclose(np.einsum("jr,str->stj", group.rows, d).reshape(exact.shape), exact, atol=1e-5 * scale)
+    nodes = np.sort(rng.choice(n, 50, replace=False))
+    inside = fe._in_span(screen, span, nodes)
+    Cr = (C * screen.scale)[..., span.index]
+    np.testing.assert_allclose(np.einsum("cnk,stk->stcn", inside.stress, Cr), exact[..., nodes], atol=1e-12 * scale)
+    np.testing.assert_allclose(inside.unit_rows, component_norms(inside.stress), rtol=1e-14)
+    np.testing.assert_allclose(inside.lam, von_mises_norm_bound(inside.stress) ** 2, rtol=1e-14)
+    np.testing.assert_array_equal(inside.scale, np.ones(r))

@@ -33,6 +33,14 @@ Exact screening. For a setting with coefficient history ``c(t)`` (steps, k):
   (:func:`_screened`). A many-coefficient history of a real setting lies close to a few
   directions, so a few thousand of 10,000-30,000 nodes are read and a few to a few
   hundred evaluated at every step.
+* A group's histories often span fewer dimensions than they have coefficients: a free
+  body's equilibrium ties three of them, and the settings of a group share a bar (a link
+  rail's 17 coefficients span 10-12, PF_4b_006's 18 span 15). The group is then boxed
+  and read in r of its coefficients, the rest combinations of them
+  (:func:`railcheck.fea.screen.history_span`; :func:`_group_box`, :func:`_in_span`):
+  every product over the nodes is r columns wide instead of k. Each history's residual
+  outside the span is measured and at most 1e-13 of its size, so the results equal the
+  full evaluation's to rounding (captured whole-rig calls: 2e-15).
 * One setting's load sources on copies of a part (PF_4b_006 at two joints) are one set
   (:func:`peak_and_fatigue` ``sets``): only the set's worst value is reported, so an exact
   value at any of its histories is a threshold for all of them.
@@ -173,14 +181,19 @@ def _screen(S: np.ndarray, tip: np.ndarray) -> Screen:
         Q = np.einsum("cnk,cd,dnl->nkl", Sw, VM_QUADRATIC, Sw, optimize=True)
         lam = np.linalg.eigvalsh(Q)[:, -1]
         Q = Q.reshape(-1, k * k)
-    norms = screen_.component_norms(S)  # (6, n) Pa per unit coefficient
-    shear = 3.0 * (norms[3] ** 2 + norms[4] ** 2 + norms[5] ** 2)
-    G = np.sqrt(0.5 * ((norms[0] + norms[1]) ** 2 + (norms[1] + norms[2]) ** 2 + (norms[2] + norms[0]) ** 2) + shear)
-    Ga = np.sqrt(norms[0] ** 2 + norms[1] ** 2 + norms[2] ** 2 + shear)
+    G, Ga = _fatigue_factors(screen_.component_norms(S))
     angle = np.arctan2(S[..., 1], S[..., 0]) if k == 2 else None
     unit_rows = screen_.component_norms(Sw)  # (6, n): each component's stress per unit scaled coefficient
     trial = screen_.basis_trial_nodes(S)
     return Screen(S, Q, lam, G, Ga, tip, unit_rows, np.argsort(-lam), np.argsort(-Ga), angle, w, trial)
+
+
+def _fatigue_factors(norms: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(G, Ga) (n,): the midrange and alternating bound factors of the fatigue screen
+    from each component's norm ``norms`` (6, n) Pa per unit coefficient."""
+    shear = 3.0 * (norms[3] ** 2 + norms[4] ** 2 + norms[5] ** 2)
+    G = np.sqrt(0.5 * ((norms[0] + norms[1]) ** 2 + (norms[1] + norms[2]) ** 2 + (norms[2] + norms[0]) ** 2) + shear)
+    return G, np.sqrt(norms[0] ** 2 + norms[1] ** 2 + norms[2] ** 2 + shear)
 
 
 def hull_steps(C: np.ndarray) -> np.ndarray:
@@ -308,8 +321,8 @@ def _screened_group(
     if not np.any(C):
         out[:] = 0.0, np.inf
         return out
-    basis, coordinates = screen_.box_basis_and_coordinates(screen.stress, screen.scale, C, screen.trial)
-    group = screen_.CoefficientBox(screen.stress, screen.scale, basis)
+    span = screen_.history_span(C * screen.scale)
+    group, coordinates = _group_box(screen, C, span)
     lo, hi, taken = group.ranges_and_taken(C, coordinates)
     low, top = _group_thresholds(screen, C, group, lo, hi, factor)
     low, top = _over_sets(low, labels, np.maximum), _over_sets(top, labels, np.minimum)  # exact values of the set
@@ -318,8 +331,14 @@ def _screened_group(
     mean = group.coordinates(C.mean(axis=1, keepdims=True))[:, 0] if factor is not None else None
     nodes = _group_nodes(group, lo, hi, low, top, factor, mean)
     loose = LOOSE_SHARE * screen.stress.shape[1]  # of the part's nodes
-    if nodes.size < GROUP_SHARE * screen.stress.shape[1]:
-        screen, group = _restricted(screen, nodes), group.restricted(nodes)
+    restrict = nodes.size < GROUP_SHARE * screen.stress.shape[1]
+    if span is not None:  # the histories in the span's independent coefficients from here on
+        C = (C * screen.scale)[..., span.index]
+        screen = _in_span(screen, span, nodes if restrict else None)
+    elif restrict:
+        screen = _restricted(screen, nodes)
+    if restrict:
+        group = group.restricted(nodes)
     by_node = np.ascontiguousarray(screen.stress.transpose(1, 0, 2))  # (n, 6, k): a node's rows together
     loaded = np.flatnonzero(np.any(C != 0.0, axis=(1, 2)))
     out[:] = 0.0, np.inf  # an unloaded history: no stress anywhere
@@ -341,6 +360,38 @@ def _screened_group(
             vm[live], mid[live], reach[live], box_factor, can, low[g[live]] ** 2, top[g[live]], loose
         )
     return np.stack([_over_sets(out[:, 0], labels, np.maximum), _over_sets(out[:, 1], labels, np.minimum)], axis=1)
+
+
+def _group_box(screen: Screen, C: np.ndarray, span: screen_.Span | None) -> tuple[screen_.CoefficientBox, np.ndarray]:
+    """(box, coordinates (s, T, r)): the group's :class:`railcheck.fea.screen.CoefficientBox`
+    over every node of ``screen`` for its histories ``C`` (s, T, k), in the basis
+    :func:`railcheck.fea.screen.box_basis_and_coordinates` chooses, and their coordinates
+    in it. With a ``span`` (:func:`railcheck.fea.screen.history_span`) the basis is chosen
+    among the span's r independent coefficients and their principal axes, and the box is
+    r columns wide."""
+    if span is None:
+        basis, coordinates = screen_.box_basis_and_coordinates(screen.stress, screen.scale, C, screen.trial)
+        return screen_.CoefficientBox(screen.stress, screen.scale, basis), coordinates
+    per_unit = span.basis / screen.scale[:, None]  # (k, r): stress per unit independent scaled coefficient
+    trial = screen.trial if screen.trial is not None else screen_.basis_trial_nodes(screen.stress)
+    trial = np.ascontiguousarray(trial @ per_unit)
+    axes, coordinates = screen_.box_basis_and_coordinates(
+        trial, np.ones(span.index.size), (C * screen.scale)[..., span.index], trial
+    )
+    basis, dual = (span.basis, span.dual) if axes is None else (span.basis @ axes, span.dual @ axes)
+    return screen_.CoefficientBox(screen.stress, screen.scale, basis, dual), coordinates
+
+
+def _in_span(screen: Screen, span: screen_.Span, nodes: np.ndarray | None) -> Screen:
+    """The many-coefficient ``screen`` at ``nodes`` (None: every node) in the span's r
+    independent scaled coefficients (:class:`railcheck.fea.screen.Span`): its stresses per
+    unit of each (Pa), their scale 1, and the arrays :func:`_screened` reads."""
+    per_unit = span.basis / screen.scale[:, None]
+    stress = np.ascontiguousarray((screen.stress if nodes is None else screen.stress[:, nodes]) @ per_unit)
+    unit_rows = screen_.component_norms(stress)
+    G, Ga = _fatigue_factors(unit_rows)
+    lam = screen_.von_mises_norm_bound(stress) ** 2
+    return Screen(stress, None, lam, G, Ga, screen.tip @ per_unit, unit_rows, scale=np.ones(span.index.size))
 
 
 def _box_and_factor(group: screen_.CoefficientBox, lo, hi, mean, factor=None):
