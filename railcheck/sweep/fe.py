@@ -103,28 +103,82 @@ BATCH_PAIRS = 1 << 18
 
 
 @dataclass(frozen=True)
+class ScreenBounds:
+    """A screen's bounds per unit coefficient at each of its n nodes: ``lam`` (n,) the
+    largest eigenvalue of each node's von Mises quadratic form in the scaled coefficients
+    (Pa^2; more than two coefficients: its trace, a bound of it); ``G`` and ``Ga`` (n,) the
+    midrange and alternating bound factors of the fatigue screen; ``unit_rows`` (6, n)
+    each component's stress per unit scaled coefficient (the norm of its k values over
+    ``scale``); ``by_lam`` and ``by_G`` the nodes by decreasing ``lam`` and ``Ga``."""
+
+    lam: np.ndarray
+    G: np.ndarray
+    Ga: np.ndarray
+    unit_rows: np.ndarray
+    by_lam: np.ndarray
+    by_G: np.ndarray
+
+
+def screen_bounds(S: np.ndarray, scale: np.ndarray, lam: np.ndarray | None = None) -> ScreenBounds:
+    """:class:`ScreenBounds` of the stresses ``S`` (6, n, k) Pa per unit coefficient with
+    the coefficients' ``scale`` (k,); ``lam`` when known (two coefficients: the forms'
+    eigenvalues), else the trace bound."""
+    Sw = S / scale
+    lam = screen_.von_mises_norm_bound(Sw) ** 2 if lam is None else lam
+    G, Ga = _fatigue_factors(screen_.component_norms(S))
+    return ScreenBounds(lam, G, Ga, screen_.component_norms(Sw), np.argsort(-lam), np.argsort(-Ga))
+
+
+@dataclass(frozen=True)
 class Screen:
     """One column set of a part's unit fields, at its verdict nodes: ``stress`` (6, n, k)
     Pa per unit coefficient; ``Q`` (n, k*k) the von Mises quadratic forms in the scaled
     coefficients ``c * scale`` (Pa^2; two coefficients only, else None: a many-coefficient
-    history's von Mises is read from the stresses); ``lam`` (n,) their largest eigenvalues
-    (more than two coefficients: their trace, a bound of it); ``G`` and
-    ``Ga`` (n,) the midrange and alternating bound factors of the fatigue screen; ``tip``
-    (3, k) m; ``unit_rows`` (6, n) each component's stress per unit scaled coefficient
-    (the norm of its k values over ``scale``)."""
+    history's von Mises is read from the stresses); ``tip`` (3, k) m; ``scale`` (k,) the
+    coefficients' scale w; ``bounds`` (:class:`ScreenBounds`: ``lam``, ``G``, ``Ga``,
+    ``unit_rows``, ``by_lam``, ``by_G``, read as the screen's own attributes), or None:
+    computed on first use. A many-coefficient screen's are mostly never read: a group
+    whose histories span fewer dimensions than their coefficients is read in a screen of
+    its own (:func:`_in_span`), so the rig's parts skip them (1.8 s of its serial
+    preparation)."""
 
     stress: np.ndarray
     Q: np.ndarray | None
-    lam: np.ndarray
-    G: np.ndarray
-    Ga: np.ndarray
     tip: np.ndarray
-    unit_rows: np.ndarray
-    by_lam: np.ndarray = field(repr=False, default=None)
-    by_G: np.ndarray = field(repr=False, default=None)
+    scale: np.ndarray
+    bounds: ScreenBounds | None = field(repr=False, default=None)
     angle: np.ndarray | None = field(repr=False, default=None)  # (6, n) arctan2 of each component (k = 2)
-    scale: np.ndarray | None = field(repr=False, default=None)  # (k,) the coefficients' scale w of Q and lam
     trial: np.ndarray | None = field(repr=False, default=None)  # (6, m, k) screen_.basis_trial_nodes of stress
+
+    def _bounds(self) -> ScreenBounds:
+        if self.bounds is None:  # once: a frozen dataclass's cache
+            object.__setattr__(self, "bounds", screen_bounds(self.stress, self.scale))
+        assert self.bounds is not None
+        return self.bounds
+
+    @property
+    def lam(self) -> np.ndarray:
+        return self._bounds().lam
+
+    @property
+    def G(self) -> np.ndarray:
+        return self._bounds().G
+
+    @property
+    def Ga(self) -> np.ndarray:
+        return self._bounds().Ga
+
+    @property
+    def unit_rows(self) -> np.ndarray:
+        return self._bounds().unit_rows
+
+    @property
+    def by_lam(self) -> np.ndarray:
+        return self._bounds().by_lam
+
+    @property
+    def by_G(self) -> np.ndarray:
+        return self._bounds().by_G
 
     @property
     def vm_norm(self) -> np.ndarray:
@@ -181,18 +235,14 @@ def _screen(S: np.ndarray, tip: np.ndarray) -> Screen:
     # per unit), so the bound sqrt(lam) |c w| is not set by mixing forces, torques and
     # accelerations of very different stress per unit
     w = screen_.column_scale(S)
-    Sw = S / w
-    if k > 2:  # no k x k forms (k^2 floats per node): the screens read the stresses
-        Q, lam = None, screen_.von_mises_norm_bound(Sw) ** 2
-    else:
-        Q = np.einsum("cnk,cd,dnl->nkl", Sw, VM_QUADRATIC, Sw, optimize=True)
-        lam = np.linalg.eigvalsh(Q)[:, -1]
-        Q = Q.reshape(-1, k * k)
-    G, Ga = _fatigue_factors(screen_.component_norms(S))
-    angle = np.arctan2(S[..., 1], S[..., 0]) if k == 2 else None
-    unit_rows = screen_.component_norms(Sw)  # (6, n): each component's stress per unit scaled coefficient
     trial = screen_.basis_trial_nodes(S)
-    return Screen(S, Q, lam, G, Ga, tip, unit_rows, np.argsort(-lam), np.argsort(-Ga), angle, w, trial)
+    if k > 2:  # no k x k forms (k^2 floats per node): the screens read the stresses; bounds on first use
+        return Screen(S, None, tip, w, trial=trial)
+    Sw = S / w
+    Q = np.einsum("cnk,cd,dnl->nkl", Sw, VM_QUADRATIC, Sw, optimize=True)
+    bounds = screen_bounds(S, w, np.linalg.eigvalsh(Q)[:, -1])
+    angle = np.arctan2(S[..., 1], S[..., 0]) if k == 2 else None
+    return Screen(S, Q.reshape(-1, k * k), tip, w, bounds, angle, trial)
 
 
 def _fatigue_factors(norms: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -394,13 +444,10 @@ def _group_box(screen: Screen, C: np.ndarray, span: screen_.Span | None) -> tupl
 def _in_span(screen: Screen, span: screen_.Span, nodes: np.ndarray | None) -> Screen:
     """The many-coefficient ``screen`` at ``nodes`` (None: every node) in the span's r
     independent scaled coefficients (:class:`railcheck.fea.screen.Span`): its stresses per
-    unit of each (Pa), their scale 1, and the arrays :func:`_screened` reads."""
+    unit of each (Pa), their scale 1 (its bounds computed on first use)."""
     per_unit = span.basis / screen.scale[:, None]
     stress = np.ascontiguousarray((screen.stress if nodes is None else screen.stress[:, nodes]) @ per_unit)
-    unit_rows = screen_.component_norms(stress)
-    G, Ga = _fatigue_factors(unit_rows)
-    lam = screen_.von_mises_norm_bound(stress) ** 2
-    return Screen(stress, None, lam, G, Ga, screen.tip @ per_unit, unit_rows, scale=np.ones(span.index.size))
+    return Screen(stress, None, screen.tip @ per_unit, np.ones(span.index.size))
 
 
 def _box_and_factor(group: screen_.CoefficientBox, lo, hi, mean, factor=None):
@@ -720,17 +767,8 @@ def _group_nodes(
 
 
 def _restricted(screen: Screen, nodes: np.ndarray) -> Screen:
-    """The many-coefficient ``screen`` at ``nodes`` only (the arrays :func:`_screened` reads)."""
-    return dataclasses.replace(
-        screen,
-        stress=np.ascontiguousarray(screen.stress[:, nodes]),
-        lam=screen.lam[nodes],
-        G=screen.G[nodes],
-        Ga=screen.Ga[nodes],
-        unit_rows=screen.unit_rows[:, nodes],
-        by_lam=None,
-        by_G=None,
-    )
+    """The many-coefficient ``screen`` at ``nodes`` only (its bounds computed there on first use)."""
+    return dataclasses.replace(screen, stress=np.ascontiguousarray(screen.stress[:, nodes]), bounds=None)
 
 
 def _screened(
