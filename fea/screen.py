@@ -77,6 +77,12 @@ _w, _V = np.linalg.eigh(VM_QUADRATIC)
 VM_FACTOR = (_V * np.sqrt(np.maximum(_w, 0.0))) @ _V.T
 
 
+def scaled(C: np.ndarray, scale: np.ndarray) -> np.ndarray:
+    """``C * scale``, or ``C`` itself where every scale is 1 (a screen in a span's
+    coefficients: no copy of the histories)."""
+    return C if np.all(scale == 1.0) else C * scale
+
+
 def applies(steps: int, k: int) -> bool:
     """Whether a history of ``steps`` x ``k`` coefficients is screened in its subspace
     (two coefficients have exact planar paths; a few steps are cheaper read whole)."""
@@ -686,7 +692,7 @@ def box_basis_and_coordinates(
     the nodes), the coefficients loads that vary independently (the coupler's and
     rocker's pins)."""
     k = S.shape[2]
-    Cs = C * scale
+    Cs = scaled(C, scale)
     D = (Cs - Cs.mean(axis=1, keepdims=True)).reshape(-1, k)
     principal = np.linalg.eigh(D.T @ D)[1]
     trial = basis_trial_nodes(S) if trial is None else trial

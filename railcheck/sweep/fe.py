@@ -380,8 +380,10 @@ def _screened_group(
     if not np.any(C):
         out[:] = 0.0, np.inf
         return out
-    span = screen_.history_span(C * screen.scale)
-    group, coordinates = _group_box(screen, C, span)
+    span = screen_.history_span(Cs := C * screen.scale)
+    Cr = None if span is None else Cs[..., span.index]  # (s, T, r) the independent scaled coefficients
+    del Cs
+    group, coordinates = _group_box(screen, C, span, Cr)
     lo, hi, taken = group.ranges_and_taken(C, coordinates)
     low, top = _group_thresholds(screen, C, group, lo, hi, factor)
     low, top = _over_sets(low, labels, np.maximum), _over_sets(top, labels, np.minimum)  # exact values of the set
@@ -392,7 +394,7 @@ def _screened_group(
     loose = LOOSE_SHARE * screen.stress.shape[1]  # of the part's nodes
     restrict = nodes.size < GROUP_SHARE * screen.stress.shape[1]
     if span is not None:  # the histories in the span's independent coefficients from here on
-        C = (C * screen.scale)[..., span.index]
+        C = Cr
         screen = _in_span(screen, span, nodes if restrict else None)
     elif restrict:
         screen = _restricted(screen, nodes)
@@ -421,13 +423,16 @@ def _screened_group(
     return np.stack([_over_sets(out[:, 0], labels, np.maximum), _over_sets(out[:, 1], labels, np.minimum)], axis=1)
 
 
-def _group_box(screen: Screen, C: np.ndarray, span: screen_.Span | None) -> tuple[screen_.CoefficientBox, np.ndarray]:
+def _group_box(
+    screen: Screen, C: np.ndarray, span: screen_.Span | None, Cr: np.ndarray | None = None
+) -> tuple[screen_.CoefficientBox, np.ndarray]:
     """(box, coordinates (s, T, r)): the group's :class:`railcheck.fea.screen.CoefficientBox`
     over every node of ``screen`` for its histories ``C`` (s, T, k), in the basis
     :func:`railcheck.fea.screen.box_basis_and_coordinates` chooses, and their coordinates
     in it. With a ``span`` (:func:`railcheck.fea.screen.history_span`) the basis is chosen
     among the span's r independent coefficients and their principal axes, and the box is
-    r columns wide."""
+    r columns wide; ``Cr`` (s, T, r) the histories' independent scaled coefficients, when
+    already taken."""
     if span is None:
         basis, coordinates = screen_.box_basis_and_coordinates(screen.stress, screen.scale, C, screen.trial)
         return screen_.CoefficientBox(screen.stress, screen.scale, basis), coordinates
@@ -435,7 +440,7 @@ def _group_box(screen: Screen, C: np.ndarray, span: screen_.Span | None) -> tupl
     trial = screen.trial if screen.trial is not None else screen_.basis_trial_nodes(screen.stress)
     trial = np.ascontiguousarray(trial @ per_unit)
     axes, coordinates = screen_.box_basis_and_coordinates(
-        trial, np.ones(span.index.size), (C * screen.scale)[..., span.index], trial
+        trial, np.ones(span.index.size), (C * screen.scale)[..., span.index] if Cr is None else Cr, trial
     )
     basis, dual = (span.basis, span.dual) if axes is None else (span.basis @ axes, span.dual @ axes)
     return screen_.CoefficientBox(screen.stress, screen.scale, basis, dual), coordinates
@@ -495,7 +500,7 @@ class _Batch:
     ):
         self.screen, self.by_node, self.group, self.C, self.taken = screen, by_node, group, C, taken
         self.factor, self.enough, self.labels = factor, enough, labels
-        self.sub = screen_.principal_subspaces(C * screen.scale)
+        self.sub = screen_.principal_subspaces(screen_.scaled(C, screen.scale))
         self.Pw = self.sub.P / screen.scale[None, :, None]  # (s, k, R) per unit coefficient
 
     def pair_key(self, h: np.ndarray, nodes: np.ndarray) -> np.ndarray:
