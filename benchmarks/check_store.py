@@ -85,7 +85,7 @@ def sweeps(tmp: Path, env: dict, cold: dict[str, float]) -> None:
     print(
         f"  whole rig ({ran}): {wall:.1f} s (unit fields {timings['prepare']:.1f} s, settings {timings['chunks']:.1f} s, "
         f"report {timings['report']:.1f} s), {settings_of(summary)} settings; "
-        + ", ".join(f"{wall / v:.1f}x the cold check {k}" for k, v in cold.items())
+        + ", ".join(f"{wall / v:.2f}x the cold check {k}" for k, v in cold.items())
     )
     kinematic = tmp / "kinematics.toml"
     kinematic.write_text('[sweep]\nkind = "both"\n')

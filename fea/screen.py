@@ -653,7 +653,8 @@ def history_span(Cs: np.ndarray) -> Span | None:
     basis = B @ np.linalg.inv(B[index])
     basis[index] = np.eye(r)
     outside = np.linalg.norm(Cs @ N, axis=2).max(axis=1) * (1.0 + np.linalg.norm(basis, 2))
-    if not np.all(outside <= SPAN_RESIDUAL * np.linalg.norm(Cs, axis=2).max(axis=1)):
+    size = np.linalg.norm(Cs, axis=2).max(axis=1)  # (overflows to inf beyond 1e154: then no span)
+    if not np.all(np.isfinite(size) & (outside <= SPAN_RESIDUAL * size)):
         return None
     return Span(index, basis)
 

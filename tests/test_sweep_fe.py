@@ -1271,7 +1271,7 @@ def test_history_span_finds_the_subspace_the_histories_lie_in():
 def test_history_span_is_none_unless_the_span_holds_every_step():
     """No span where the histories use every coefficient, where one step leaves the
     subspace (a step the rank is not read at: only the residual at every step catches
-    it), where they are zero, or where they are not finite."""
+    it), where they are zero, or where they are not finite or their sizes overflow."""
     from railcheck.fea.screen import SPAN_STRIDE, history_span
 
     rng = np.random.default_rng(4)
@@ -1285,6 +1285,7 @@ def test_history_span_is_none_unless_the_span_holds_every_step():
     broken = C.copy()
     broken[0, 5, 3] = np.nan
     assert history_span(broken) is None
+    assert history_span(C * (1e300 / np.abs(C).max())) is None  # finite, but its squares overflow
 
 
 @pytest.mark.usefixtures("group_prepass")
