@@ -433,7 +433,10 @@ class CoefficientBox:
     (:func:`history_span`) are boxed in r coordinates: ``basis`` (k, r) spans it and
     ``dual`` (k, r) gives the coordinates, ``d = (c * scale) dual`` with ``c * scale =
     basis d`` for every history in it (``dual^T basis = I``); the rows and the products
-    are then r columns wide. None: ``dual`` is ``basis``.
+    are then r columns wide, and the box bounds the histories as the span re-expresses
+    them (each within :data:`SPAN_RESIDUAL` of its size, the rounding its span left;
+    :func:`railcheck.sweep.fe._in_span` reads them in the same coefficients). None:
+    ``dual`` is ``basis``.
 
     The rows are held in float32 (the products stream every node once per history; half
     the bytes). The bounds stay bounds: a float32 dot product of length k + 2 roundings
@@ -652,8 +655,9 @@ def history_span(Cs: np.ndarray) -> Span | None:
     index = np.sort(scipy.linalg.qr(B.T, pivoting=True, mode="r")[1][:r])
     basis = B @ np.linalg.inv(B[index])
     basis[index] = np.eye(r)
-    outside = np.linalg.norm(Cs @ N, axis=2).max(axis=1) * (1.0 + np.linalg.norm(basis, 2))
-    size = np.linalg.norm(Cs, axis=2).max(axis=1)  # (overflows to inf beyond 1e154: then no span)
+    with np.errstate(over="ignore"):  # sizes beyond 1e154 overflow to inf: then no span
+        outside = np.linalg.norm(Cs @ N, axis=2).max(axis=1) * (1.0 + np.linalg.norm(basis, 2))
+        size = np.linalg.norm(Cs, axis=2).max(axis=1)
     if not np.all(np.isfinite(size) & (outside <= SPAN_RESIDUAL * size)):
         return None
     return Span(index, basis)

@@ -129,6 +129,17 @@ def screen_bounds(S: np.ndarray, scale: np.ndarray, lam: np.ndarray | None = Non
     return ScreenBounds(lam, G, Ga, screen_.component_norms(Sw), np.argsort(-lam), np.argsort(-Ga))
 
 
+class _FromBounds:
+    """A :class:`ScreenBounds` field read as a :class:`Screen`'s own attribute (its
+    bounds computed on first use)."""
+
+    def __set_name__(self, owner, name: str) -> None:
+        self.name = name
+
+    def __get__(self, screen, owner=None) -> np.ndarray:
+        return getattr(screen._bounds(), self.name)
+
+
 @dataclass(frozen=True)
 class Screen:
     """One column set of a part's unit fields, at its verdict nodes: ``stress`` (6, n, k)
@@ -156,29 +167,12 @@ class Screen:
         assert self.bounds is not None
         return self.bounds
 
-    @property
-    def lam(self) -> np.ndarray:
-        return self._bounds().lam
-
-    @property
-    def G(self) -> np.ndarray:
-        return self._bounds().G
-
-    @property
-    def Ga(self) -> np.ndarray:
-        return self._bounds().Ga
-
-    @property
-    def unit_rows(self) -> np.ndarray:
-        return self._bounds().unit_rows
-
-    @property
-    def by_lam(self) -> np.ndarray:
-        return self._bounds().by_lam
-
-    @property
-    def by_G(self) -> np.ndarray:
-        return self._bounds().by_G
+    lam = _FromBounds()
+    G = _FromBounds()
+    Ga = _FromBounds()
+    unit_rows = _FromBounds()
+    by_lam = _FromBounds()
+    by_G = _FromBounds()
 
     @property
     def vm_norm(self) -> np.ndarray:
@@ -393,13 +387,13 @@ def _screened_group(
     nodes = _group_nodes(group, lo, hi, low, top, factor, mean)
     loose = LOOSE_SHARE * screen.stress.shape[1]  # of the part's nodes
     restrict = nodes.size < GROUP_SHARE * screen.stress.shape[1]
-    if span is not None:  # the histories in the span's independent coefficients from here on
-        C = Cr
-        screen = _in_span(screen, span, nodes if restrict else None)
-    elif restrict:
-        screen = _restricted(screen, nodes)
     if restrict:
-        group = group.restricted(nodes)
+        screen, group = _restricted(screen, nodes), group.restricted(nodes)
+    exact = None
+    if span is not None:  # bounded in the span's independent coefficients from here on, evaluated in all k
+        by_node_k = np.ascontiguousarray(screen.stress.transpose(1, 0, 2))
+        exact = _Exact(screen, by_node_k, C)
+        screen, C = _in_span(screen, span), Cr
     by_node = np.ascontiguousarray(screen.stress.transpose(1, 0, 2))  # (n, 6, k): a node's rows together
     loaded = np.flatnonzero(np.any(C != 0.0, axis=(1, 2)))
     out[:] = 0.0, np.inf  # an unloaded history: no stress anywhere
@@ -414,7 +408,8 @@ def _screened_group(
         out[g[~live], 0], out[g[~live], 1] = low[g[~live]], top[g[~live]]
         if not live.any():
             continue
-        batch = _Batch(screen, by_node, group, C[g[live]], taken[g[live]], factor, enough, labels[g[live]])
+        some = None if exact is None else exact.of(g[live])
+        batch = _Batch(screen, by_node, group, C[g[live]], taken[g[live]], factor, enough, labels[g[live]], some)
         can = (peak_can[live], None if fatigue_can is None else fatigue_can[live])
         box_factor = None if box_factor is None else box_factor[live]
         out[g[live]] = batch.screened(
@@ -446,13 +441,31 @@ def _group_box(
     return screen_.CoefficientBox(screen.stress, screen.scale, basis, dual), coordinates
 
 
-def _in_span(screen: Screen, span: screen_.Span, nodes: np.ndarray | None) -> Screen:
-    """The many-coefficient ``screen`` at ``nodes`` (None: every node) in the span's r
-    independent scaled coefficients (:class:`railcheck.fea.screen.Span`): its stresses per
-    unit of each (Pa), their scale 1 (its bounds computed on first use)."""
+def _in_span(screen: Screen, span: screen_.Span) -> Screen:
+    """The many-coefficient ``screen`` in the span's r independent scaled coefficients
+    (:class:`railcheck.fea.screen.Span`): its stresses per unit of each (Pa), their scale
+    1 (its bounds computed on first use)."""
     per_unit = span.basis / screen.scale[:, None]
-    stress = np.ascontiguousarray((screen.stress if nodes is None else screen.stress[:, nodes]) @ per_unit)
-    return Screen(stress, None, screen.tip @ per_unit, np.ones(span.index.size))
+    return Screen(np.ascontiguousarray(screen.stress @ per_unit), None, screen.tip @ per_unit, np.ones(span.index.size))
+
+
+@dataclass(frozen=True)
+class _Exact:
+    """Where a group screened in a span (:func:`_in_span`) takes its exact values: the
+    ``screen`` in the original coefficients at the same nodes, its stresses by node
+    ``by_node`` (n, 6, k), and the histories ``C`` (s, T, k). Every exact value is then
+    the one a group without a span computes, bit for bit: a table does not depend on how
+    the settings were grouped (serial or on workers). The bounds, read in the span, are
+    those of histories within 1e-13 of these (:data:`railcheck.fea.screen.SPAN_RESIDUAL`),
+    far inside the :data:`SLACK` every comparison with an exact value allows."""
+
+    screen: Screen
+    by_node: np.ndarray
+    C: np.ndarray
+
+    def of(self, histories: np.ndarray) -> _Exact:
+        """The same for the ``histories`` (indices) only."""
+        return _Exact(self.screen, self.by_node, self.C[histories])
 
 
 def _box_and_factor(group: screen_.CoefficientBox, lo, hi, mean, factor=None):
@@ -497,9 +510,11 @@ class _Batch:
         factor,
         enough,
         labels: np.ndarray,
+        exact: _Exact | None = None,
     ):
         self.screen, self.by_node, self.group, self.C, self.taken = screen, by_node, group, C, taken
         self.factor, self.enough, self.labels = factor, enough, labels
+        self.at = _Exact(screen, by_node, C) if exact is None else exact  # where exact values are taken
         self.sub = screen_.principal_subspaces(screen_.scaled(C, screen.scale))
         self.Pw = self.sub.P / screen.scale[None, :, None]  # (s, k, R) per unit coefficient
 
@@ -539,12 +554,12 @@ class _Batch:
         those marked ``fatigue`` (inf if none; each component's extremes over every
         step). ``h`` (q,) ascending; one product per history (in chunks of
         :data:`EXACT_VALUES`)."""
-        s, T, k = self.C.shape
+        s, T, k = self.at.C.shape
         vm2, least = np.zeros(s), np.full(s, np.inf)
         keep = peak | fatigue
         h, nodes, peak, fatigue = h[keep], nodes[keep], peak[keep], fatigue[keep]
         for i, a, b in screen_.history_blocks(h, max(1, EXACT_VALUES // (6 * T))):
-            X = (self.by_node[nodes[a:b]].reshape(-1, k) @ self.C[i].T).reshape(b - a, 6, T)  # node, component, step
+            X = (self.at.by_node[nodes[a:b]].reshape(-1, k) @ self.at.C[i].T).reshape(b - a, 6, T)  # node, component, step
             p, f = peak[a:b], fatigue[a:b]
             if p.any():
                 vm2[i] = max(vm2[i], float(von_mises_squared(X[p].transpose(1, 0, 2)).max()))
@@ -619,7 +634,10 @@ class _Batch:
         for i in np.flatnonzero(alone):
             box = screen_.SampledBounds.box(vm[i], mid[i], reach[i])
             tighter_i = lambda some, b, i=i: self.group.at_nodes(b, some, self.taken[i])  # noqa: E731
-            out[i] = _screened(self.screen, self.C[i], box, self.factor, self.enough, low2[i], top[i], loose, tighter_i)
+            exact_i = (self.at.screen, self.at.C[i])
+            out[i] = _screened(
+                self.screen, self.C[i], box, self.factor, self.enough, low2[i], top[i], loose, tighter_i, exact_i
+            )
         h, nodes = h[~alone[h]], nodes[~alone[h]]
         # the pairs the thresholds read keep their sampled bounds; only the others are read
         at = read.find(self.pair_key(h, nodes))
@@ -786,6 +804,7 @@ def _screened(
     top: float = np.inf,
     loose: float | None = None,
     tighter=None,
+    exact: tuple[Screen, np.ndarray] | None = None,
 ) -> tuple[float, float]:
     """(Pa, factor): the exact largest von Mises over the nodes and steps of one history
     ``c`` (T, k) (unscaled coefficients) and, with a ``factor`` (sa, sm) -> safety factor,
@@ -800,9 +819,12 @@ def _screened(
     those whose sampled bound can beat it are evaluated at every step. ``tighter``:
     (nodes, box) -> ``box`` at those nodes with its midrange bounds from the values the
     history takes (:meth:`railcheck.fea.screen.CoefficientBox.at_nodes`), applied to the
-    nodes the box keeps before they are projected."""
+    nodes the box keeps before they are projected. ``exact``: (screen, history) where the
+    exact values are taken, the same nodes in other coefficients (:class:`_Exact`); None:
+    ``screen`` and ``c``."""
     if not np.any(c):  # unloaded: no stress anywhere (and no screen to build on a zero box)
         return 0.0, np.inf
+    ex_screen, ex_c = (screen, c) if exact is None else exact
     sub = screen_.principal_subspace(c * screen.scale)
     norms, vm_norm = screen.unit_rows, screen.vm_norm
 
@@ -824,11 +846,11 @@ def _screened(
         if factor is not None:
             first = np.union1d(first, screen_.first_nodes(bound, largest=False, count=BOX_FIRST))
         b = sampled(first, projected(first))
-        low2 = _exact_von_mises2(screen, first[screen_.first_nodes(b.von_mises)], c)
+        low2 = _exact_von_mises2(ex_screen, first[screen_.first_nodes(b.von_mises)], ex_c)
         if factor is None:
             return low2, np.inf
         f = factor(*screen_.fatigue_sampled(b))
-        return low2, _fatigue_exact(screen, first[screen_.first_nodes(f, largest=False)], c[None], factor)[0]
+        return low2, _fatigue_exact(ex_screen, first[screen_.first_nodes(f, largest=False)], ex_c[None], factor)[0]
 
     def fatigue_bound(bounds):
         return factor(*screen_.fatigue_bounds(bounds)) if factor is not None else None
@@ -853,11 +875,11 @@ def _screened(
         keep = beats(screen_.box_bounds(SP, norms[:, nodes], vm_norm[nodes], sub), low2, top)
         nodes, SP = nodes[keep], SP[:, keep]
     b = sampled(nodes, SP)
-    peak = float(np.sqrt(max(low2, _exact_von_mises2(screen, nodes[screen_.peak_candidates(b, np.sqrt(low2))], c))))
+    peak = float(np.sqrt(max(low2, _exact_von_mises2(ex_screen, nodes[screen_.peak_candidates(b, np.sqrt(low2))], ex_c))))
     if factor is None:
         return peak, np.inf
     rest = nodes[_fatigue_can(factor(*screen_.fatigue_bounds(b)), top, enough)]
-    return peak, min(float(top), float(_fatigue_exact(screen, rest, c[None], factor)[0])) if rest.size else float(top)
+    return peak, min(float(top), float(_fatigue_exact(ex_screen, rest, ex_c[None], factor)[0])) if rest.size else float(top)
 
 
 def _exact_von_mises2(screen: Screen, nodes: np.ndarray, c: np.ndarray) -> float:
