@@ -38,9 +38,11 @@ Exact screening. For a setting with coefficient history ``c(t)`` (steps, k):
   rail's 17 coefficients span 10-12, PF_4b_006's 18 span 15). The group is then boxed
   and read in r of its coefficients, the rest combinations of them
   (:func:`railcheck.fea.screen.history_span`; :func:`_group_box`, :func:`_in_span`):
-  every product over the nodes is r columns wide instead of k. Each history's residual
-  outside the span is measured and at most 1e-13 of its size, so the results equal the
-  full evaluation's to rounding (captured whole-rig calls: 2e-15).
+  every bound over the nodes is r columns wide instead of k. Each history's residual
+  outside the span is measured and at most 1e-13 of its size, far inside the bounds'
+  :data:`SLACK`; the exact values are still taken in all k coefficients (:class:`_Exact`),
+  so the results are bit for bit those without the span, however the settings were
+  grouped (captured whole-rig calls and the whole rig's tables: equal).
 * One setting's load sources on copies of a part (PF_4b_006 at two joints) are one set
   (:func:`peak_and_fatigue` ``sets``): only the set's worst value is reported, so an exact
   value at any of its histories is a threshold for all of them.
