@@ -500,7 +500,9 @@ class _Batch:
     history. ``by_node`` (n, 6, k) the screen's stresses grouped by node; ``group`` the
     group's box and ``taken`` (s, p, k) each history's coordinates at a few steps in its
     basis (:meth:`railcheck.fea.screen.CoefficientBox.ranges_and_taken`); ``labels`` (s,)
-    ascending the histories' sets (:func:`peak_and_fatigue`). Pa throughout."""
+    ascending the histories' sets (:func:`peak_and_fatigue`); ``exact`` where the exact
+    values are taken (:class:`_Exact`; None: ``screen``, ``by_node`` and ``C``). Pa
+    throughout."""
 
     def __init__(
         self,
