@@ -376,9 +376,9 @@ def _screened_group(
     if not np.any(C):
         out[:] = 0.0, np.inf
         return out
-    span = screen_.history_span(Cs := C * screen.scale)
+    Cs = C * screen.scale
+    span = screen_.history_span(Cs)
     Cr = None if span is None else Cs[..., span.index]  # (s, T, r) the independent scaled coefficients
-    del Cs
     group, coordinates = _group_box(screen, C, span, Cr)
     lo, hi, taken = group.ranges_and_taken(C, coordinates)
     low, top = _group_thresholds(screen, C, group, lo, hi, factor)
