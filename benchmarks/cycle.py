@@ -13,14 +13,14 @@ import argparse
 import statistics
 import time
 
-from railcheck.check.cycle import evaluate_cycle
-from railcheck.check.jobs import build_load_cases, part_geometries, part_jobs
-from railcheck.check.kinematics_stage import run_kinematics
-from railcheck.check.loading import unit_cases
 from railcheck.fea.elasticity import HoleLoad, Support, solve_elasticity
 from railcheck.fea.materials import MATERIALS
 from railcheck.fea.unitcases import solve_unit_cases
 from railcheck.geometry.mesher import mesh_part
+from railcheck.model.cycle import evaluate_cycle
+from railcheck.model.jobs import build_load_cases, part_geometries, part_jobs
+from railcheck.model.kinematics_stage import run_kinematics
+from railcheck.model.loading import unit_cases
 from railcheck.parts import kind_of
 from railcheck.scene import load_scene
 

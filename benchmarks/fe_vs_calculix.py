@@ -32,8 +32,6 @@ from pathlib import Path
 
 import numpy as np
 
-from railcheck.check.jobs import build_load_cases, part_geometries
-from railcheck.check.kinematics_stage import run_kinematics
 from railcheck.fea.cantilever import HEIGHT, LENGTH, LOAD, WIDTH
 from railcheck.fea.elasticity import (
     HoleLoad,
@@ -48,6 +46,8 @@ from railcheck.fea.materials import MATERIALS
 from railcheck.fea.mesh import scalar_basis, vector_dof_map
 from railcheck.geometry.mesher import mesh_part
 from railcheck.geometry.models import bar
+from railcheck.model.jobs import build_load_cases, part_geometries
+from railcheck.model.kinematics_stage import run_kinematics
 from railcheck.scene import load_scene
 
 ABAQUS_EDGES = [(0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3)]

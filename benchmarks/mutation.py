@@ -39,14 +39,14 @@ ROOT = Path(__file__).resolve().parent.parent
 #: test files, then optionally "-k" and an expression)
 TARGETS: dict[str, tuple[str, tuple[str, ...] | None, tuple[str, ...]]] = {
     "railcheck.fea.fatigue": ("fea/fatigue.py", None, ("tests/test_fatigue.py",)),
-    "railcheck.check.records": (
+    "railcheck.model.records": (
         "railcheck/check/records.py",
         None,
         ("tests/test_verdicts.py", "tests/test_fatigue.py"),
     ),
     "railcheck.fea.superpose": ("fea/superpose.py", None, ("tests/test_superpose.py",)),
-    "railcheck.sweep.fe": (  # the screens' entry points (their helpers run inside them)
-        "railcheck/sweep/fe.py",
+    "railcheck.fea.screening": (  # the screens' entry points (their helpers run inside them)
+        "railcheck/fea/screening/",
         ("make_screen", "hull_steps", "von_mises_peak", "fatigue_min", "tip_peak"),
         ("tests/test_sweep_fe.py",),
     ),
@@ -75,7 +75,7 @@ TARGETS: dict[str, tuple[str, tuple[str, ...] | None, tuple[str, ...]]] = {
 #: "before" score: ``--targets before --tests-root`` a checkout of that commit
 BEFORE: dict[str, tuple[str, ...]] = {
     "railcheck.fea.fatigue": ("tests/test_cycle.py", "-k", "marin or goodman or polygon"),
-    "railcheck.check.records": ("tests/test_check.py", "tests/test_registry.py", "tests/test_cli_kinematics.py"),
+    "railcheck.model.records": ("tests/test_check.py", "tests/test_registry.py", "tests/test_cli_kinematics.py"),
     "railcheck.sweep.chunk": ("tests/test_sweep.py", "-k", "not dask and not memory"),
     "railcheck.loads.bearings": ("tests/test_sweep.py", "-k", "bearing"),
     "railcheck.kinematics.checks": tuple(

@@ -13,11 +13,11 @@ import time
 
 import numpy as np
 
-from railcheck.check.jobs import mesh_sizes
 from railcheck.fea.elasticity import assemble, dof_components, supports, unit_traction_vectors
 from railcheck.fea.materials import MATERIALS
 from railcheck.fea.solvers import factorise, rigid_body_modes, solve_amg
 from railcheck.geometry.mesher import mesh_part
+from railcheck.model.jobs import mesh_sizes
 from railcheck.parts import geometry_of, kind_of
 from railcheck.scene import load_scene
 

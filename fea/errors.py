@@ -1,8 +1,8 @@
-"""Errors raised by the FE package (derived from :mod:`railcheck.errors`)."""
+"""Errors raised by the FE package (derived from :mod:`railcheck.base.errors`)."""
 
 from __future__ import annotations
 
-from railcheck.errors import InputError, NumericalError
+from railcheck.base.errors import InputError, NumericalError
 
 __all__ = ["ModelError", "NumericalError"]
 

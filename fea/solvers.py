@@ -41,7 +41,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from railcheck.machine import available_memory
+from railcheck.base.machine import available_memory
 
 from .errors import NumericalError
 from .mkl import MKL_REPRODUCIBLE, pardiso_available

@@ -36,7 +36,7 @@ from pathlib import Path
 
 import numpy as np
 
-from railcheck.errors import InputError
+from railcheck.base.errors import InputError
 from railcheck.geometry.cache import default_cache_dir
 
 from .dynamic import DynamicModel

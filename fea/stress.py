@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from railcheck.machine import available_memory
+from railcheck.base.machine import available_memory
 
 from .assembly import affine_reference, mass_matrix, straight_and_curved, straight_jacobians
 from .errors import NumericalError

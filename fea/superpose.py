@@ -16,8 +16,9 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from . import screen
+from . import screening
 from .elasticity import von_mises
+from .hull import candidate_steps, hull_polygon, support_range
 from .invariants import VM_QUADRATIC  # von Mises squared as s^T P s (re-exported)
 
 CHUNK_VALUES = 20_000_000  # floats per chunk of (6, nodes, steps) of a von Mises pass
@@ -33,7 +34,6 @@ RANGE_PRUNE_STEPS = 8 * RANGE_BLOCK
 #: ``|s w| k``, w the coefficients' scales: far above float64's, far below any stress
 #: that matters)
 PRUNE_SLACK = 1e-12
-HULL_MAX_DIM = 3  # above it, every step is evaluated (qhull on a closed curve in 5 dimensions took minutes)
 
 
 @dataclass(frozen=True)
@@ -110,36 +110,6 @@ def reduced(fields: UnitFields, C: np.ndarray, rtol: float = 1e-12) -> tuple[Uni
     return out, A
 
 
-def hull_applies(steps: int, k: int) -> bool:
-    """Whether qhull can drop steps of a history of ``steps`` x ``k`` coefficients (not
-    for few steps, one coefficient or more than :data:`HULL_MAX_DIM`)."""
-    return steps > 8 * (k + 1) and 2 <= k <= HULL_MAX_DIM
-
-
-def candidate_steps(C: np.ndarray) -> np.ndarray:
-    """Indices of the steps that can hold the maximum of any convex function of the
-    coefficients (the convex hull's vertices), or every step where qhull cannot help
-    (:func:`hull_applies`; degenerate point sets)."""
-    steps, k = C.shape
-    everything = np.arange(steps)
-    if not hull_applies(steps, k):
-        return everything
-    from scipy.spatial import ConvexHull, QhullError
-
-    scale = np.abs(C).max(axis=0)
-    live = (scale > 0) & (np.ptp(C, axis=0) > 0)  # a constant column cannot move the maximum
-    X = C[:, live] / scale[live]
-    if X.shape[1] < 2:
-        return np.unique(np.r_[np.argmax(X[:, 0]) if X.size else 0, np.argmin(X[:, 0]) if X.size else 0])
-    rank = np.linalg.matrix_rank(X - X.mean(axis=0), tol=1e-9 * np.sqrt(steps))
-    if rank < X.shape[1]:
-        return everything
-    try:
-        return np.unique(ConvexHull(X).vertices)
-    except (QhullError, ValueError):
-        return everything
-
-
 def stress_at(S: np.ndarray, c: np.ndarray) -> np.ndarray:
     """(6, nodes[, steps]) Pa for coefficients ``c`` (k,) or (steps, k)."""
     return np.tensordot(S, np.asarray(c, float).T, axes=([2], [0]))
@@ -213,7 +183,7 @@ def pruned_von_mises_max(S: np.ndarray, C: np.ndarray, block: int = RANGE_BLOCK)
     found_rows, found_blocks = [], []
     size = max(1, RANGE_CHUNK_VALUES // (6 * nb))
     for sl in (slice(a, min(a + size, nodes)) for a in range(0, nodes, size)):
-        F = np.tensordot(screen.VM_FACTOR, S[:, sl], axes=(1, 0))  # (6, chunk, k): von Mises = |F c|
+        F = np.tensordot(screening.VM_FACTOR, S[:, sl], axes=(1, 0))  # (6, chunk, k): von Mises = |F c|
         along = F @ g.direction_w.T  # (6, chunk, nb)
         reach = np.sqrt(np.einsum("cnb,cnb->nb", along, along)) * g.reach_along
         # |F w|_F, and the square root of the quadratic forms' rounding (relative eps k^2)
@@ -383,64 +353,21 @@ def _read_blocks(R, blocks, best, reduce, rows, which) -> None:
     reduce.at(best, rows, extreme)
 
 
-def hull_polygon(C: np.ndarray) -> np.ndarray | None:
-    """The 2D points' convex hull vertices in counter-clockwise order, or None when
-    they do not span a polygon."""
-    from scipy.spatial import ConvexHull, QhullError
-
-    scale = np.abs(C).max(axis=0)
-    if C.shape[0] < 4 or np.any(scale == 0):
-        return None
-    try:
-        hull = ConvexHull(C / scale)
-    except (QhullError, ValueError):
-        return None
-    return C[hull.vertices]  # qhull orders 2D vertices counter-clockwise
-
-
-def support_range(D: np.ndarray, V: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(max, min) over the polygon's vertices V (h, 2, counter-clockwise) of d . v for
-    every row d of D (m, 2): :func:`support` of D and of -D, whose angle is d's plus pi
-    (one arctan2 for both; the bracket's neighbours absorb the rounding)."""
-    angle = np.arctan2(D[:, 1], D[:, 0])
-    return support(D, V, angle), -support(-D, V, angle + np.pi)
-
-
-def support(D: np.ndarray, V: np.ndarray, angle: np.ndarray | None = None) -> np.ndarray:
-    """max over the polygon's vertices V (h, 2, counter-clockwise) of d . v for every row
-    d of D (m, 2): the vertex after the edge whose outward normal angle precedes d's
-    (``angle``: the rows' arctan2, when already known)."""
-    edges = np.roll(V, -1, axis=0) - V
-    normal_angle = np.arctan2(-edges[:, 0], edges[:, 1])  # outward normal (e_y, -e_x)
-    start = normal_angle[0]
-    rel = np.mod(normal_angle - start, 2 * np.pi)
-    rel[0] = 0.0
-    theta = np.mod((np.arctan2(D[:, 1], D[:, 0]) if angle is None else angle) - start, 2 * np.pi)
-    edge = np.searchsorted(rel, theta, side="right") - 1
-    h = V.shape[0]
-    # the candidate and its neighbours, to absorb rounding at the bracket's ends
-    best = np.full(D.shape[0], -np.inf)
-    for shift in (0, 1, 2):
-        v = V[(edge + shift) % h]
-        best = np.maximum(best, np.einsum("ij,ij->i", D, v))
-    return best
-
-
 def envelope(
     fields: UnitFields,
     C: np.ndarray,
     every_node: bool = True,
     steps: np.ndarray | None = None,
-    bounds: screen.SampledBounds | None = None,
+    bounds: screening.SampledBounds | None = None,
 ) -> Envelope:
     """The von Mises and tip-deflection envelope of the history ``C`` (steps, k). With
     ``every_node`` False only the peaks are found (:func:`screened_max`: the same values,
     steps and nodes, without each node's maximum) and ``node_envelope`` is None.
     ``steps``: the history's :func:`candidate_steps`, when already known; ``bounds``: the
-    nodes' :func:`fea.screen.history_bounds` for ``C[steps]``, when already known."""
+    nodes' :func:`railcheck.fea.screening.history_bounds` for ``C[steps]``, when already known."""
     steps = candidate_steps(C) if steps is None else steps
-    if bounds is None and not every_node and screen.applies(steps.size, C.shape[1]):
-        bounds = screen.history_bounds(fields.stress, C[steps])  # once for the verdict's and the support's peak
+    if bounds is None and not every_node and screening.applies(steps.size, C.shape[1]):
+        bounds = screening.history_bounds(fields.stress, C[steps])  # once for the verdict's and the support's peak
     mask = fields.verdict_mask if np.any(fields.verdict_mask) else np.ones_like(fields.verdict_mask)
     if every_node:
         best, where = von_mises_max(fields.stress, C[steps])
@@ -466,7 +393,7 @@ SCREEN_TOP = 64
 
 
 def screened_max(
-    S: np.ndarray, C: np.ndarray, mask: np.ndarray, bounds: screen.SampledBounds | None = None
+    S: np.ndarray, C: np.ndarray, mask: np.ndarray, bounds: screening.SampledBounds | None = None
 ) -> tuple[float, int, int, float]:
     """(largest von Mises Pa over the nodes ``mask``, its node, its step, the largest von
     Mises Pa over every node) over the steps of ``C``, as :func:`von_mises_max` would give
@@ -475,13 +402,13 @@ def screened_max(
     form) x the history's largest norm; the exact maximum over the nodes of largest
     eigenvalue is a lower bound, and only nodes whose bound reaches it are evaluated. A
     history of more than two coefficients is screened in its principal subspace instead
-    (:mod:`fea.screen`; ``bounds``: its :func:`fea.screen.history_bounds` over every node
+    (:mod:`fea.screen`; ``bounds``: its :func:`railcheck.fea.screening.history_bounds` over every node
     of ``S``, when already known). A node left out of a maximum's candidates is strictly
     below it, so evaluating the union of both candidate sets gives both exactly."""
     k = S.shape[2]
     everywhere = np.ones_like(mask)
-    if screen.applies(C.shape[0], k):  # many coefficients: the history's own subspace screens the nodes
-        b = screen.history_bounds(S, C) if bounds is None else bounds
+    if screening.applies(C.shape[0], k):  # many coefficients: the history's own subspace screens the nodes
+        b = screening.history_bounds(S, C) if bounds is None else bounds
         nodes = np.union1d(subspace_candidates(S, C, b, mask), subspace_candidates(S, C, b, everywhere))
         best, where = von_mises_max(S[:, nodes], C)
     elif k > 2:  # a few steps (a constant load: one): every node, directly (no k x k forms)
@@ -523,14 +450,14 @@ def _two_coefficient_candidates(S: np.ndarray, C: np.ndarray, mask: np.ndarray):
     return nodes, np.sqrt(np.maximum(best, 0.0)), where
 
 
-def subspace_candidates(S: np.ndarray, C: np.ndarray, b: screen.SampledBounds, mask: np.ndarray) -> np.ndarray:
+def subspace_candidates(S: np.ndarray, C: np.ndarray, b: screening.SampledBounds, mask: np.ndarray) -> np.ndarray:
     """Indices (ascending) of the nodes in ``mask`` of ``S`` (6, n, k) that can hold their
     largest von Mises over the history ``C`` (steps, k): the bounds ``b`` from its principal
     subspace (:mod:`fea.screen`), a lower bound from the nodes of largest sampled value."""
-    first = screen.first_nodes(np.where(mask, b.von_mises, -np.inf))
+    first = screening.first_nodes(np.where(mask, b.von_mises, -np.inf))
     first = first[mask[first]]
     lower = float(von_mises(stress_at(S[:, first], C)).max())
-    candidates = screen.peak_candidates(b, lower)  # ascending
+    candidates = screening.peak_candidates(b, lower)  # ascending
     return candidates[mask[candidates]]
 
 

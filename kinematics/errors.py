@@ -1,4 +1,4 @@
-"""Errors raised by the kinematics package (derived from :mod:`railcheck.errors`).
+"""Errors raised by the kinematics package (derived from :mod:`railcheck.base.errors`).
 
 Each carries ``field``, the scene field it is about (e.g. ``mechanism.ground``), so the
 application can print one line naming it.
@@ -6,7 +6,7 @@ application can print one line naming it.
 
 from __future__ import annotations
 
-from railcheck.errors import InputError
+from railcheck.base.errors import InputError
 
 __all__ = ["MechanismError", "SingularConfigurationError"]
 

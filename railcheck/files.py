@@ -25,7 +25,7 @@ import tempfile
 from pathlib import Path
 from typing import Any, Iterator
 
-from railcheck.errors import InputError
+from railcheck.base.errors import InputError
 
 STAGING_MARK = ".staging."
 RESERVED_MARK = ".railcheck-reserved-by."

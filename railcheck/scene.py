@@ -14,7 +14,7 @@ from pathlib import Path
 from typing import Any
 
 from railcheck import parts as registry
-from railcheck.errors import InputError
+from railcheck.base.errors import InputError
 from railcheck.fea.fatigue import CRITERIA, LOAD, RELIABILITY, SURFACE  # light module: numpy only
 from railcheck.fea.materials import MATERIALS  # light module: no skfem import
 from railcheck.geometry.catalogue import (

@@ -12,7 +12,7 @@ import math
 import re
 import unicodedata
 
-from railcheck.errors import InputError
+from railcheck.base.errors import InputError
 
 __all__ = ["parse_quantity", "UNITS", "format_quantity", "for_people"]
 

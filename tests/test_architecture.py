@@ -26,7 +26,7 @@ HEAVY = {
     "pypardiso",
 }
 #: what each domain package may import of ours (besides itself): the packages upstream of it
-BASE = {"railcheck.errors", "railcheck.machine"}  # the error base and the machine's memory: any layer
+BASE = {"railcheck.base"}  # the error base and the machine's memory: any layer
 UPSTREAM = {
     "railcheck.kinematics": BASE,
     "railcheck.loads": BASE | {"railcheck.kinematics"},

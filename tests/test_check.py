@@ -14,12 +14,12 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from railcheck.check.jobs import build_load_cases, part_geometries
-from railcheck.check.kinematics_stage import run_kinematics
 from railcheck.check.pipeline import run_pipeline
 from railcheck.check.summary import rail_masses
 from railcheck.fea.errors import ModelError
 from railcheck.loads.rotation import to_rail_axes
+from railcheck.model.jobs import build_load_cases, part_geometries
+from railcheck.model.kinematics_stage import run_kinematics
 from railcheck.parts import geometry_of
 from railcheck.scene import load_scene, parse_scene
 from scene_texts import FINAL_DESIGN, PLATE_LOADS, assert_picture, browse
@@ -293,7 +293,7 @@ def test_a_rail_without_grooves_is_a_solid_rectangle_of_its_width_and_height():
     rectangle's less the holes, to 1% (at 6 mm the holes' curved edges fold and are
     straightened: faceted holes, 8% of their volume, said in the mesh's warning); zero is
     still refused for any other dimension, and a negative radius too."""
-    from railcheck.errors import InputError
+    from railcheck.base.errors import InputError
     from railcheck.fea.elasticity import assemble, mass_matrix
     from railcheck.fea.materials import MATERIALS
     from railcheck.geometry import mesh_part
@@ -340,8 +340,8 @@ def test_each_part_is_resolved_once_into_a_picklable_job_without_the_scene():
     import dataclasses
     import pickle
 
-    from railcheck.check.jobs import build_load_cases, part_jobs
     from railcheck.fea.materials import MATERIALS
+    from railcheck.model.jobs import build_load_cases, part_jobs
     from railcheck.scene import Scene
 
     scene = load_scene(None)

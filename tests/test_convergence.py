@@ -4,8 +4,8 @@ import json
 
 import pytest
 
-from railcheck.check.jobs import mesh_sizes
 from railcheck.cli import main
+from railcheck.model.jobs import mesh_sizes
 from railcheck.parts import geometry_of
 from railcheck.scene import load_scene
 from railcheck.studies.convergence import HOLE_RATIO, kinematics_study, richardson, solve_row

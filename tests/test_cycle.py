@@ -9,16 +9,17 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from railcheck.check.jobs import bolt_holes
-from railcheck.check.kinematics_stage import run_kinematics
-from railcheck.check.loading import load_model, source_histories, unit_cases
 from railcheck.fea.elasticity import HoleLoad, Support, solve_elasticity, von_mises
 from railcheck.fea.fatigue import alternating_and_mean, endurance_limit, safety_factor
+from railcheck.fea.hull import candidate_steps
 from railcheck.fea.materials import MATERIALS
-from railcheck.fea.superpose import candidate_steps, component_range, envelope, stress_at, von_mises_max
+from railcheck.fea.superpose import component_range, envelope, stress_at, von_mises_max
 from railcheck.fea.unitcases import TractionCase, solve_unit_cases
 from railcheck.geometry.mesher import mesh_part
 from railcheck.geometry.models import bar
+from railcheck.model.jobs import bolt_holes
+from railcheck.model.kinematics_stage import run_kinematics
+from railcheck.model.loading import load_model, source_histories, unit_cases
 from railcheck.parts import geometry_of, kind_of
 from railcheck.scene import parse_scene
 from scene_texts import FINAL_DESIGN

@@ -10,9 +10,9 @@ import tomllib
 import numpy as np
 import pytest
 
+from railcheck.base.errors import InputError
 from railcheck.check.pipeline import run_pipeline
 from railcheck.check.summary import summary_of
-from railcheck.errors import InputError
 from railcheck.scene import parse_scene
 from scene_texts import FINAL_DESIGN
 
@@ -98,7 +98,7 @@ def test_a_part_above_its_amplification_limit_fails_naming_dynamic(one_hz):
         ),
         "t",
     )
-    from railcheck.check.jobs import dynamic_job
+    from railcheck.model.jobs import dynamic_job
 
     job = dynamic_job(scene, None)
     assert (job.max_amplification, job.damping, job.modes, job.speed) == (1.0, 0.05, 3, pytest.approx(2 * math.pi))
@@ -132,7 +132,7 @@ def test_bad_dynamic_settings_are_refused_naming_the_field(table, field):
 
 
 def test_a_still_rig_has_no_cycle_to_respond_to():
-    from railcheck.check.jobs import dynamic_job
+    from railcheck.model.jobs import dynamic_job
 
     scene = parse_scene(tomllib.loads(SCENE.replace("SPEED", "0 Hz").replace("EFFECTS", '["gravity", "dynamic"]')), "t")
     assert dynamic_job(scene, None) is None

@@ -6,8 +6,8 @@ import pickle
 
 import pytest
 
+from railcheck.base.errors import EXIT_INPUT, EXIT_NUMERICAL, InputError, NumericalError, RailcheckError
 from railcheck.cli import _report_error
-from railcheck.errors import EXIT_INPUT, EXIT_NUMERICAL, InputError, NumericalError, RailcheckError
 from railcheck.fea.errors import ModelError
 from railcheck.kinematics.errors import MechanismError, SingularConfigurationError
 

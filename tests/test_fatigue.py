@@ -9,11 +9,12 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from railcheck.check.cycle import fatigue_of
-from railcheck.fea import screen
+from railcheck.fea import screening
 from railcheck.fea.fatigue import alternating_and_mean, endurance_limit, safety_factor, size_factor
+from railcheck.fea.hull import candidate_steps
 from railcheck.fea.materials import MATERIALS
-from railcheck.fea.superpose import UnitFields, candidate_steps, component_range
+from railcheck.fea.superpose import UnitFields, component_range
+from railcheck.model.cycle import fatigue_of
 from railcheck.scene import parse_scene
 
 MPa = 1e6
@@ -155,8 +156,8 @@ def test_marin_load_reliability_and_the_ceiling_of_the_unmodified_limit():
 
 def _crank_job(fatigue_table: str):
     """The default scene's crank-rail job with a ``[fatigue]`` table, no FE."""
-    from railcheck.check.jobs import build_load_cases, part_geometries, part_jobs
-    from railcheck.check.kinematics_stage import run_kinematics
+    from railcheck.model.jobs import build_load_cases, part_geometries, part_jobs
+    from railcheck.model.kinematics_stage import run_kinematics
 
     text = (
         '[mechanism]\nkind = "four-bar"\ncrank = "480 mm"\ncoupler = "840 mm"\nrocker = "780 mm"\nground = "1020 mm"\n'
@@ -276,20 +277,20 @@ def test_without_node_fields_the_screened_minimum_is_every_nodes(criterion, k):
     assert full.node_factor.min() < full.min_safety_factor  # the minimum over all nodes is left out
     # what the screen rests on: at every node its bounds reach the exact alternating and mean stress
     Cs = C[candidate_steps(C)]
-    bounds = screen.history_bounds(S, Cs) if screen.applies(*Cs.shape) else screen.history_box_bounds(S, Cs)
-    sa_upper, sm_upper = screen.fatigue_bounds(bounds)
+    bounds = screening.history_bounds(S, Cs) if screening.applies(*Cs.shape) else screening.history_box_bounds(S, Cs)
+    sa_upper, sm_upper = screening.fatigue_bounds(bounds)
     sa, sm = alternating_and_mean(*component_range(S, Cs))
     assert np.all(sa_upper >= sa * (1 - 1e-12)) and np.all(sm_upper >= sm * (1 - 1e-12))
 
 
 def test_the_checks_bounds_sample_only_the_boxs_candidates_and_stay_exact():
-    """:func:`railcheck.check.cycle.verdict_bounds`: the box at every node, the sampled
+    """:func:`railcheck.model.cycle.verdict_bounds`: the box at every node, the sampled
     steps read only where the box leaves candidates. Its bounds reach every node's exact
     von Mises peak and alternating and mean stresses, fewer than a quarter of the nodes
     are read at the samples, and the peaks and fatigue minimum screened with them equal
     every node x every step's."""
-    from railcheck.check.cycle import verdict_bounds
     from railcheck.fea.superpose import envelope, von_mises_max
+    from railcheck.model.cycle import verdict_bounds
 
     job = replace(_crank_job(""), node_fields=False)
     rng = np.random.default_rng(8)
@@ -307,7 +308,7 @@ def test_the_checks_bounds_sample_only_the_boxs_candidates_and_stay_exact():
     peak = von_mises_max(S, C)[0]
     high, low = component_range(S, C)
     sa, sm = alternating_and_mean(high, low)
-    sa_upper, sm_upper = screen.fatigue_bounds(b)
+    sa_upper, sm_upper = screening.fatigue_bounds(b)
     assert np.all(b.von_mises_upper >= peak * (1 - 1e-12))
     reach = 1e-12 * np.abs(high).max()
     assert np.all(high <= b.high + b.slack + reach) and np.all(low >= b.low - b.slack - reach)
@@ -339,8 +340,8 @@ def test_fatigue_bounds_cover_every_stress_range_their_sampled_bounds_allow():
     low = high - np.abs(rng.normal(size=(6, n))) * rng.choice([1.0, 100.0], size=(1, n))
     slack = np.abs(rng.normal(size=(6, n))) * 20.0
     share = slack * rng.uniform(0.0, 1.0, size=(6, n))
-    b = screen.SampledBounds(np.zeros(n), np.zeros(n), high, low, slack, None, share)
-    sa_upper, sm_upper = screen.fatigue_bounds(b)
+    b = screening.SampledBounds(np.zeros(n), np.zeros(n), high, low, slack, None, share)
+    sa_upper, sm_upper = screening.fatigue_bounds(b)
     closest = 0.0
     for _ in range(40):
         top = np.where(rng.random((6, n)) < 0.5, high - share, high + slack)
@@ -363,9 +364,9 @@ def test_sampled_bounds_hold_each_component_s_extremes_inside_and_outside():
     t = np.linspace(0.0, 2.0 * np.pi, T, endpoint=False)
     C = np.column_stack([np.cos((j + 1) * t + rng.uniform(0, 6)) * rng.uniform(0.5, 2.0) for j in range(k)])
     S = rng.normal(size=(6, n, k))
-    p = screen.project_history(S, C)
+    p = screening.project_history(S, C)
     assert p.sub.eps > 0.05 * np.abs(C).max()  # a real residual
-    b = screen.sampled_bounds(p.SP, p.norms, p.vm_norm, p.sub)
+    b = screening.sampled_bounds(p.SP, p.norms, p.vm_norm, p.sub)
     high, low = component_range(S, C)
     tol = 1e-12 * np.abs(high).max()
     assert np.all(high <= b.high + b.slack + tol) and np.all(low >= b.low - b.slack - tol)

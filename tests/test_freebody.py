@@ -270,7 +270,7 @@ def test_free_body_superposition_equals_a_direct_solve(rail):
 def test_an_unknown_support_is_refused():
     import tomllib
 
-    from railcheck.errors import InputError
+    from railcheck.base.errors import InputError
     from railcheck.scene import parse_scene
 
     with pytest.raises(InputError, match="check.support"):

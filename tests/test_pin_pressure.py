@@ -8,13 +8,13 @@ import math
 import numpy as np
 import pytest
 
-from railcheck.check.loading import pin_pressure_map, with_pin_pressure
 from railcheck.fea import MATERIALS, assemble, recover_stress, resultant, solve_free_body, stress_nodes
 from railcheck.fea.mesh import scalar_basis, vector_dof_map
 from railcheck.fea.pin_pressure import bearing_vectors, bore_of, harmonic_names
 from railcheck.fea.unitcases import CoupleCase, PressureCase, TractionCase, case_vector
 from railcheck.geometry import mesh_part, rail
 from railcheck.loads.pin_pressure import HARMONICS, half_cosine_coefficient, harmonic_coefficients
+from railcheck.model.loading import pin_pressure_map, with_pin_pressure
 
 STEEL = MATERIALS["steel"]
 

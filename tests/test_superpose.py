@@ -6,17 +6,8 @@ form, the polygon's support function) on its own."""
 import numpy as np
 import pytest
 
-from railcheck.fea.superpose import (
-    UnitFields,
-    candidate_steps,
-    component_range,
-    envelope,
-    history_at_node,
-    hull_polygon,
-    stress_at,
-    support,
-    von_mises_max,
-)
+from railcheck.fea.hull import candidate_steps, hull_polygon, support
+from railcheck.fea.superpose import UnitFields, component_range, envelope, history_at_node, stress_at, von_mises_max
 
 
 def von_mises_by_definition(s: np.ndarray) -> np.ndarray:
@@ -172,7 +163,7 @@ def test_a_long_history_s_von_mises_max_equals_every_step(kind, steps, k):
 
 def test_a_long_history_with_a_nan_gives_nan_not_an_error():
     """A non-finite coefficient (a numerical failure upstream) reaches the caller as NaN,
-    which it refuses as a numerical failure (``railcheck.check.cycle``), not as the block
+    which it refuses as a numerical failure (``railcheck.model.cycle``), not as the block
     bounds' SVD error."""
     rng = np.random.default_rng(1)
     C = _long_history("smooth", 600, 6, rng)

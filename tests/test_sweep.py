@@ -303,7 +303,7 @@ def test_chunks_on_forked_processes_give_the_serial_tables(tmp_path, monkeypatch
     million workers it uses one per core, and says so."""
     import os
 
-    from railcheck.sweep import forked
+    from railcheck.parallel import forked
 
     # the forked executor itself: earlier tests of this pytest process may leave threads
     # (whether a process with threads forks: tests/test_sweep_forked.py)
@@ -464,7 +464,7 @@ def test_an_fe_sweep_on_local_workers_gives_the_serial_table(fe_sweep, tmp_path,
     """The FE sweep's chunks, a few settings with FE each, on two processes forked from
     this one, or on two threads of this process where it cannot fork (BLAS on one thread
     meanwhile), said so: the table equals the serial run's bit for bit."""
-    from railcheck.sweep import forked
+    from railcheck.parallel import forked
 
     if forks and not forked.available():
         pytest.skip("this platform does not fork")
@@ -549,7 +549,7 @@ def test_map_legend_lists_only_the_refusal_reasons_that_occur(tmp_path):
     """The legend's reasons are the first failing checks of the refused settings, read
     from the table independently; a narrowed sweep where only some checks fail lists
     only those."""
-    from railcheck.sweep.maps import REASON_ORDER, Aggregate, occurring_reasons
+    from railcheck.report.maps import REASON_ORDER, Aggregate, occurring_reasons
     from railcheck.sweep.run import sweep_settings
 
     text = KINEMATICS_ONLY + 'kind = "four-bar"\ncrank = ["360 mm", "540 mm"]\ncoupler = ["780 mm", "900 mm"]\n'
@@ -694,8 +694,9 @@ def test_a_chunk_s_fe_settings_screened_together_equal_each_group_s_alone(monkey
     sixteen settings, in groups of one, five and every setting, give the same FE columns
     to rounding (each a maximum or minimum of the same exact values) and the same
     verdicts and motor demand at the safe speed."""
+    from railcheck.fea.screening import tuning
     from railcheck.progress import Progress
-    from railcheck.sweep import chunk, fe
+    from railcheck.sweep import chunk
     from railcheck.sweep.run import _context, prepare_models, sweep_settings
 
     text = FE_SWEEP.replace("parts = [", 'support = "free-body"\nparts = [')
@@ -711,7 +712,7 @@ def test_a_chunk_s_fe_settings_screened_together_equal_each_group_s_alone(monkey
         monkeypatch.setattr(chunk, "group_size", lambda steps, size=size: size)
         results.append(chunk.evaluate_chunk(ctx, lengths, ids))
     with monkeypatch.context() as m:  # every hole pair's histories cut into groups of two
-        m.setattr(fe, "GROUP_MOST", 2)
+        m.setattr(tuning, "GROUP_MOST", 2)
         results.insert(0, chunk.evaluate_chunk(ctx, lengths, ids))
     whole = results[-1]
     assert np.isfinite(whole["crank-rail_stress_MPa"]).sum() >= 4  # settings with FE in several groups

@@ -7,7 +7,17 @@ from hypothesis import strategies as st
 
 from railcheck.fea.elasticity import von_mises
 from railcheck.fea.fatigue import alternating_and_mean, safety_factor
-from railcheck.sweep.fe import fatigue_min, make_screen, peak_and_fatigue, tip_peak, von_mises_peak
+from railcheck.fea.screening import (
+    box_union,
+    fatigue_min,
+    group_nodes,
+    group_thresholds,
+    make_screen,
+    peak_and_fatigue,
+    restricted_screen,
+    tip_peak,
+    von_mises_peak,
+)
 
 
 def _brute(stress, mask, C, se=200e6, sut=750e6, criterion="goodman"):
@@ -26,12 +36,12 @@ def group_prepass(request, monkeypatch):
     history's own screen must find the exact values by itself; the pre-pass must never be
     what makes a case exact."""
     if request.param == "each history alone":
-        import railcheck.sweep.fe as fe
+        from railcheck.fea.screening import groups
 
         def withheld(screen, C, *args, **kwargs):
             return np.zeros(C.shape[0]), np.full(C.shape[0], np.inf)
 
-        monkeypatch.setattr(fe, "_group_thresholds", withheld)
+        monkeypatch.setattr(groups, "group_thresholds", withheld)
     return request.param
 
 
@@ -133,7 +143,8 @@ def test_the_screens_of_many_hole_pairs_hold_each_pairs_columns_at_the_verdict_n
     """make_screens reads the fields in slabs of nodes for every key at once: each screen
     holds exactly its columns (any order, repeated) at the verdict nodes, across slab
     boundaries, as plain indexing gives, and its tip's columns."""
-    from railcheck.sweep.fe import GATHER_NODES, make_screens
+    from railcheck.fea.screening import make_screens
+    from railcheck.fea.screening.tuning import GATHER_NODES
 
     rng = np.random.default_rng(5)
     n = 3 * GATHER_NODES + 7
@@ -155,7 +166,8 @@ def test_the_screens_of_freshly_solved_fields_are_gathered_without_copying_them_
     gather's (np.take of such an array copies it whole, once per slab)."""
     import tracemalloc
 
-    from railcheck.sweep.fe import GATHER_NODES, make_screens
+    from railcheck.fea.screening import make_screens
+    from railcheck.fea.screening.tuning import GATHER_NODES
 
     rng = np.random.default_rng(11)
     n, cases = 4 * GATHER_NODES + 3, 60
@@ -214,7 +226,7 @@ def test_screens_stay_exact_when_the_largest_nodes_are_decoys(k):
 def test_hull_steps_keep_every_result():
     """Reducing each history to its hull's vertices (padded by repetition) leaves the peak,
     the fatigue factor and the tip unchanged, for histories of different hull sizes."""
-    from railcheck.sweep.fe import hull_steps
+    from railcheck.fea.screening import hull_steps
 
     rng = np.random.default_rng(8)
     stress = rng.normal(size=(6, 800, 2))
@@ -244,7 +256,7 @@ def test_hull_steps_keep_every_result():
 def test_steps_of_paths_equal_take_along_axis(shape):
     """The one gather of the screens' steps (whole rows of the flattened paths) picks each
     path's own steps, as take_along_axis does, for one path, many, and rows of any shape."""
-    from railcheck.fea.screen import steps_of
+    from railcheck.fea.screening import steps_of
 
     rng = np.random.default_rng(3)
     a = rng.normal(size=shape)
@@ -326,7 +338,7 @@ def _kicked_rank8(harmonic: float, mean: float, kick: float):
     rank 8 with the kick as the residual; ordinary nodes carry ``harmonic`` x the
     harmonics and ``mean`` x the constant, 20 hidden nodes ``kick`` x the kicked
     coefficient only (so their box value is nearly zero)."""
-    from railcheck.fea import screen as screen_
+    from railcheck.fea import screening
 
     rng = np.random.default_rng(5)
     n, T, k = 2000, 1440, 9
@@ -343,8 +355,8 @@ def _kicked_rank8(harmonic: float, mean: float, kick: float):
     stress[:, hidden, :] = 0.0
     stress[:, hidden, 8] = rng.normal(size=(6, 20)) * kick
     screen = make_screen(stress, np.ones(n, bool), np.zeros((3, k)), list(range(k)))
-    sub = screen_.principal_subspace(C[0] * screen.scale)
-    assert sub.P.shape[1] == screen_.MAX_RANK and sub.eps > 0.5 * np.linalg.norm(C[0] * screen.scale, axis=1).max()
+    sub = screening.principal_subspace(C[0] * screen.scale)
+    assert sub.P.shape[1] == screening.MAX_RANK and sub.eps > 0.5 * np.linalg.norm(C[0] * screen.scale, axis=1).max()
     return stress, C, hidden, screen
 
 
@@ -425,7 +437,7 @@ def test_the_coefficient_box_holds_every_step_and_is_reached_at_its_corners(rota
     exact)."""
     import itertools
 
-    from railcheck.fea.screen import BOX_WIDENING, CoefficientBox
+    from railcheck.fea.screening import BOX_WIDENING, CoefficientBox
 
     rng = np.random.default_rng(21)
     n, k, T = 500, 3, 200
@@ -483,7 +495,7 @@ def test_the_float32_box_stays_a_bound_where_its_rounding_matters(rotated):
     side of the box, at every node, bit for bit (no tolerance)."""
     import itertools
 
-    from railcheck.fea.screen import CoefficientBox, fatigue_bounds
+    from railcheck.fea.screening import CoefficientBox, fatigue_bounds
 
     rng = np.random.default_rng(5)
     n, k = 4000, 3
@@ -522,8 +534,8 @@ def test_the_float32_box_stays_a_bound_where_its_rounding_matters(rotated):
 def _fatigue_by_mean(box, C, lo, hi):
     """(sa, sm) bounds of each history of ``C`` from its box with its midranges bounded by
     its steps' mean (:func:`railcheck.fea.screen.fatigue_bounds_by_midranges`), as
-    :func:`railcheck.sweep.fe._screened_group` reads them: one (sa, sm) per history."""
-    from railcheck.fea.screen import SampledBounds, fatigue_bounds_by_midranges, midrange_box
+    :func:`railcheck.fea.screening.groups.screened_group` reads them: one (sa, sm) per history."""
+    from railcheck.fea.screening import SampledBounds, fatigue_bounds_by_midranges, midrange_box
 
     vm, mid, reach = box.box_arrays(lo, hi)
     b = SampledBounds.box(vm, mid.transpose(1, 0, 2), reach.transpose(1, 0, 2))
@@ -535,7 +547,7 @@ def _fatigue_by_mean(box, C, lo, hi):
 def _midrange_images(box, C, lo, hi):
     """(lo, hi) (6, n) per history: the image of its midrange box (the float32 box's
     component intervals, widened as :func:`railcheck.fea.screen.fatigue_bounds` widens them)."""
-    from railcheck.fea.screen import FLOAT32_EPS, midrange_box
+    from railcheck.fea.screening import FLOAT32_EPS, midrange_box
 
     mid, reach = box.products(*midrange_box(lo, hi, box.coordinates(C).mean(axis=1)))
     spread = reach + np.float32(4.0 * FLOAT32_EPS) * (2 * np.abs(mid) + reach)
@@ -548,7 +560,7 @@ def test_the_midrange_box_holds_a_swing_s_midrange_at_its_mean_within_half_its_r
     ranges only says it lies within ``|mid| + reach``, the midrange box within half the
     reach of the mean, and it holds every component's midrange of random histories (a
     mean, harmonics and a kick)."""
-    from railcheck.fea.screen import CoefficientBox, midrange_box
+    from railcheck.fea.screening import CoefficientBox, midrange_box
 
     rng = np.random.default_rng(8)
     n, k, T = 300, 4, 360
@@ -579,7 +591,7 @@ def test_the_von_mises_interval_bound_holds_inside_its_intervals_and_in_float32(
     of the same intervals (its widening covers its own rounding)."""
     import itertools
 
-    from railcheck.fea.screen import von_mises_interval_bound
+    from railcheck.fea.screening import von_mises_interval_bound
 
     rng = np.random.default_rng(8)
     mid = rng.normal(size=(6, 2000)) * np.exp(rng.normal(size=(1, 2000)))
@@ -609,7 +621,7 @@ def test_the_von_mises_bound_over_component_intervals_holds_inside_them_and_in_f
     added; computed in float32 it is not below the float64 value of the same intervals."""
     import itertools
 
-    from railcheck.fea.screen import BOX_WIDENING, interval_von_mises, von_mises_interval_bound
+    from railcheck.fea.screening import BOX_WIDENING, interval_von_mises, von_mises_interval_bound
 
     rng = np.random.default_rng(9)
     a, b = rng.normal(size=(2, 6, 2000)) * np.exp(rng.normal(size=(1, 1, 2000)))
@@ -641,7 +653,7 @@ def test_float32_fatigue_bounds_are_not_below_the_float64_bounds_of_the_same_val
     intervals' ends round by more than the von Mises they bound: the fatigue bounds in
     float32 stay at or above those of the same values in float64 (the ends widened by
     their own rounding)."""
-    from railcheck.fea.screen import SampledBounds, fatigue_bounds
+    from railcheck.fea.screening import SampledBounds, fatigue_bounds
 
     rng = np.random.default_rng(11)
     n = 5000
@@ -666,7 +678,7 @@ def test_fatigue_bounds_of_a_box_equal_those_of_the_same_bounds_read_as_steps():
     ``low`` the same array) has the fatigue bounds of the same values given as separate
     sampled extremes: the box's shortcut (the half-range from 0) is only a shortcut, in
     float64 and float32."""
-    from railcheck.fea.screen import SampledBounds, fatigue_bounds
+    from railcheck.fea.screening import SampledBounds, fatigue_bounds
 
     rng = np.random.default_rng(10)
     for dtype in (np.float64, np.float32):
@@ -684,7 +696,7 @@ def test_the_box_basis_follows_the_histories():
     """:func:`railcheck.fea.screen.box_basis`: a group whose 6 coefficients are 2 signals
     mixed (a rotating load seen through every coefficient) gets its principal axes;
     coefficients that move independently keep their own basis (None)."""
-    from railcheck.fea.screen import box_basis
+    from railcheck.fea.screening import box_basis
 
     rng = np.random.default_rng(4)
     stress = np.ascontiguousarray(rng.normal(size=(6, 1000, 6)))
@@ -703,9 +715,9 @@ def test_a_history_bounded_at_every_node_in_its_own_subspace_or_after_the_group_
     group's box kept too many: ``LOOSE_SHARE`` 0 forces it) or only at the nodes the
     group's box keeps (1 forces it); random fields with hot nodes and a group of histories
     with a mean, two harmonics and a kick: both equal every node x every step."""
-    import railcheck.sweep.fe as fe
+    from railcheck.fea.screening import tuning
 
-    monkeypatch.setattr(fe, "LOOSE_SHARE", loose_share)
+    monkeypatch.setattr(tuning, "LOOSE_SHARE", loose_share)
     rng = np.random.default_rng(31)
     n, k, T = 3000, 9, 240
     stress = rng.normal(size=(6, n, k)) * np.exp(1.5 * rng.normal(size=(1, n, 1)))
@@ -729,10 +741,9 @@ def test_a_group_keeps_the_fatigue_minimum_a_steady_load_holds(criterion):
     """Histories of very different sizes whose fatigue minima are held by their means (a
     steady load with a small swing; the swings' nodes elsewhere): each history's midrange
     box is scaled by its own fatigue threshold before the group's union
-    (:func:`railcheck.sweep.fe._group_nodes` with the means), so every node that can hold
+    (:func:`railcheck.fea.screening.passes.group_nodes` with the means), so every node that can hold
     a minimum is kept, and the screened results equal every node x every step."""
-    from railcheck.fea.screen import CoefficientBox, box_basis
-    from railcheck.sweep.fe import _group_nodes, _group_thresholds
+    from railcheck.fea.screening import CoefficientBox, box_basis
 
     rng = np.random.default_rng(17)
     n, k, T, S = 2500, 5, 240, 9
@@ -766,8 +777,8 @@ def test_a_group_keeps_the_fatigue_minimum_a_steady_load_holds(criterion):
         Cp = C[part]
         group = CoefficientBox(screen.stress, screen.scale, box_basis(screen.stress, screen.scale, Cp))
         lo, hi = group.ranges(Cp)
-        low, top = _group_thresholds(screen, Cp, group, lo, hi, factor)
-        kept = _group_nodes(group, lo, hi, low, top, factor, group.coordinates(Cp).mean(axis=1))
+        low, top = group_thresholds(screen, Cp, group, lo, hi, factor)
+        kept = group_nodes(group, lo, hi, low, top, factor, group.coordinates(Cp).mean(axis=1))
         needed = np.flatnonzero(np.any(exact[:, part] <= top, axis=1))
         assert np.isin(needed, kept).all()
     vm, n_min = _brute(stress, np.ones(n, bool), C, 2e8, 7.5e8, criterion)
@@ -778,14 +789,13 @@ def test_a_group_keeps_the_fatigue_minimum_a_steady_load_holds(criterion):
 
 @pytest.mark.parametrize("criterion", ["goodman", "gerber", "asme-elliptic"])
 def test_a_group_keeps_every_node_that_can_hold_a_history_s_peak_or_fatigue_minimum(criterion):
-    """The group's pre-pass (:func:`railcheck.sweep.fe._group_thresholds`,
-    :func:`railcheck.sweep.fe._group_nodes`): a part whose nodes are mostly cold, a few hot
+    """The group's pre-pass (:func:`railcheck.fea.screening.passes.group_thresholds`,
+    :func:`railcheck.fea.screening.passes.group_nodes`): a part whose nodes are mostly cold, a few hot
     ones each loaded by a different coefficient, and histories of very different sizes
     (x0.05 to x20) and directions. Its thresholds are a lower bound of each peak and an
     upper bound of each fatigue minimum (every node x every step); every node that reaches
     a history's threshold (either criterion) is kept, and the cold ones are not."""
-    from railcheck.fea.screen import CoefficientBox, box_basis
-    from railcheck.sweep.fe import _group_nodes, _group_thresholds
+    from railcheck.fea.screening import CoefficientBox, box_basis
 
     rng = np.random.default_rng(12)
     n, k, T = 3000, 6, 240
@@ -806,10 +816,10 @@ def test_a_group_keeps_every_node_that_can_hold_a_history_s_peak_or_fatigue_mini
     factor = lambda sa, sm: safety_factor(sa, sm, 2e8, 7.5e8, criterion, 4e8)  # noqa: E731
     group = CoefficientBox(screen.stress, screen.scale, box_basis(screen.stress, screen.scale, C))
     lo, hi = group.ranges(C)
-    low, top = _group_thresholds(screen, C, group, lo, hi, factor)
-    kept = _group_nodes(group, lo, hi, low, top, factor)
+    low, top = group_thresholds(screen, C, group, lo, hi, factor)
+    kept = group_nodes(group, lo, hi, low, top, factor)
     # the midranges bounded by the histories' means too (as the sweep reads them)
-    by_mean = _group_nodes(group, lo, hi, low, top, factor, group.coordinates(C).mean(axis=1))
+    by_mean = group_nodes(group, lo, hi, low, top, factor, group.coordinates(C).mean(axis=1))
 
     X = np.tensordot(screen.stress, C, axes=([2], [2]))  # (6, n, S, T)
     vm = von_mises(X).max(axis=2)  # (n, S)
@@ -830,12 +840,11 @@ def test_a_group_keeps_the_node_whose_bound_is_exactly_its_threshold():
     """Where the group's box is exact (one history visiting every corner of its box, nodes
     with one stress component) the node that holds the peak has a bound equal to its
     value, which is the threshold: it is kept (the pre-pass compares at 1, not beyond);
-    so is the fatigue minimum's. :func:`railcheck.sweep.fe._union` holds every scaled box
+    so is the fatigue minimum's. :func:`railcheck.fea.screening.passes.box_union` holds every scaled box
     and no more."""
     import itertools
 
-    from railcheck.fea.screen import CoefficientBox
-    from railcheck.sweep.fe import _group_nodes, _group_thresholds, _union
+    from railcheck.fea.screening import CoefficientBox
 
     rng = np.random.default_rng(3)
     n, k = 400, 3
@@ -847,40 +856,39 @@ def test_a_group_keeps_the_node_whose_bound_is_exactly_its_threshold():
     factor = lambda sa, sm: safety_factor(sa, sm, 2e8, 7.5e8, "goodman")  # noqa: E731
     group = CoefficientBox(screen.stress, screen.scale, None)
     lo, hi = group.ranges(C)
-    low, top = _group_thresholds(screen, C, group, lo, hi, factor)
+    low, top = group_thresholds(screen, C, group, lo, hi, factor)
     X = np.tensordot(screen.stress, C[0], axes=([2], [1]))  # (6, n, T)
     vm = von_mises(X).max(axis=1)
     exact = factor(*alternating_and_mean(X.max(axis=2), X.min(axis=2)))
     assert low[0] == pytest.approx(vm.max(), rel=1e-12) and top[0] == pytest.approx(exact.min(), rel=1e-12)
-    assert np.argmax(vm) in _group_nodes(group, lo, hi, low, top)  # the peak alone: its bound is exact
-    assert np.argmin(exact) in _group_nodes(group, lo, hi, low, top, factor)
+    assert np.argmax(vm) in group_nodes(group, lo, hi, low, top)  # the peak alone: its bound is exact
+    assert np.argmin(exact) in group_nodes(group, lo, hi, low, top, factor)
 
     lo3, hi3 = rng.normal(size=(5, k)) - 2.0, rng.normal(size=(5, k)) + 2.0
     scale = rng.uniform(0.1, 3.0, size=5)
-    ulo, uhi = _union(lo3, hi3, scale)
+    ulo, uhi = box_union(lo3, hi3, scale)
     assert np.all(ulo <= lo3 * scale[:, None]) and np.all(uhi >= hi3 * scale[:, None])
     np.testing.assert_array_equal(ulo[0], (lo3 * scale[:, None]).min(axis=0))
     np.testing.assert_array_equal(uhi[0], (hi3 * scale[:, None]).max(axis=0))
 
 
 def test_a_screen_and_its_box_restricted_to_some_nodes_are_the_same_at_those_nodes():
-    """:func:`railcheck.sweep.fe._restricted` and :meth:`CoefficientBox.restricted`: every
+    """:func:`railcheck.fea.screening.passes.restricted_screen` and :meth:`CoefficientBox.restricted`: every
     array the per-history screen reads, and every box bound, at the kept nodes equals the
     whole part's at those nodes (in their order)."""
-    from railcheck.fea.screen import CoefficientBox, box_basis
-    from railcheck.sweep.fe import _restricted
+    from railcheck.fea.screening import CoefficientBox, box_basis
 
     rng = np.random.default_rng(9)
     n, k = 700, 5
     stress = rng.normal(size=(6, n, k)) * np.exp(rng.normal(size=(1, n, 1)))
     screen = make_screen(stress, rng.random(n) > 0.2, rng.normal(size=(3, k)), list(range(k)))
     nodes = np.sort(rng.choice(screen.stress.shape[1], 90, replace=False))
-    part = _restricted(screen, nodes)
+    part = restricted_screen(screen, nodes)
     np.testing.assert_array_equal(part.stress, screen.stress[:, nodes])
-    np.testing.assert_array_equal(part.unit_rows, screen.unit_rows[:, nodes])
+    np.testing.assert_array_equal(part.bounds.unit_rows, screen.bounds.unit_rows[:, nodes])
     np.testing.assert_array_equal(part.vm_norm, screen.vm_norm[nodes])
-    for name in ("lam", "G", "Ga"):
-        np.testing.assert_array_equal(getattr(part, name), getattr(screen, name)[nodes])
+    for name in ("form_bound", "midrange_factor", "alternating_factor"):
+        np.testing.assert_array_equal(getattr(part.bounds, name), getattr(screen.bounds, name)[nodes])
     np.testing.assert_array_equal(part.scale, screen.scale)
     np.testing.assert_array_equal(part.tip, screen.tip)
     C = rng.normal(size=(3, 50, k)) + rng.normal(size=(3, 1, k))
@@ -939,7 +947,7 @@ def test_the_subspace_bounds_hold_at_every_step_and_the_midrange_bounds_are_tigh
     the share from either bound fails here). Every step lies within ``delta`` of the chord
     between its read steps (measured one step at a time), and ``delta`` is within the
     tolerance the steps were refined to."""
-    from railcheck.fea import screen
+    from railcheck.fea import screening
 
     rng = np.random.default_rng(31)
     n, T, k = 600, 720, 9
@@ -951,14 +959,14 @@ def test_the_subspace_bounds_hold_at_every_step_and_the_midrange_bounds_are_tigh
     S = rng.normal(size=(6, n, k)) * np.exp(rng.normal(size=(1, n, 1)))
     only = np.arange(20)  # loaded only on the constant
     S[:, only, :8] = 0.0
-    p = screen.project_history(S, C)
-    assert p.sub.P.shape[1] == screen.MAX_RANK and p.sub.eps > 0
+    p = screening.project_history(S, C)
+    assert p.sub.P.shape[1] == screening.MAX_RANK and p.sub.eps > 0
     X = np.tensordot(S, C, axes=([2], [1]))  # (6, n, T)
     high, low = X.max(axis=2), X.min(axis=2)
     midrange = 0.5 * (high + low)
     tol = 1e-12 * np.abs(X).max()
-    box = screen.box_bounds(p.SP, p.norms, p.vm_norm, p.sub)
-    read = screen.sampled_bounds(p.SP, p.norms, p.vm_norm, p.sub)
+    box = screening.box_bounds(p.SP, p.norms, p.vm_norm, p.sub)
+    read = screening.sampled_bounds(p.SP, p.norms, p.vm_norm, p.sub)
     for b in (box, read):
         assert np.all(high <= b.high + b.slack + tol) and np.all(low >= b.low - b.slack - tol)
         assert np.all(von_mises(X).max(axis=1) <= b.von_mises_upper * (1 + 1e-12))
@@ -969,7 +977,7 @@ def test_the_subspace_bounds_hold_at_every_step_and_the_midrange_bounds_are_tigh
     assert box.mid_upper[:, ordinary].sum() < 0.8 * loose[:, ordinary].sum()
     gaps = _chord_distance_brute(p.sub.a, p.sub.sampled)
     assert gaps.max() <= p.sub.delta * (1 + 1e-9) + 1e-12
-    assert p.sub.delta <= max(p.sub.eps, screen.CHORD_SHARE * np.linalg.norm(C * screen.column_scale(S), axis=1).max())
+    assert p.sub.delta <= max(p.sub.eps, screening.CHORD_SHARE * np.linalg.norm(C * screening.column_scale(S), axis=1).max())
     assert p.sub.sampled.size < 90  # fewer steps than the evenly spaced reading it replaced
 
 
@@ -982,7 +990,7 @@ def test_the_subspace_bounds_hold_against_the_worst_residual_on_a_jagged_path(se
     their chords' ends, components with midranges far from zero, either sign). Every
     component's maximum, minimum and midrange over every step lie within the bounds, and
     every step lies within ``delta`` of the segment between its read steps."""
-    from railcheck.fea import screen
+    from railcheck.fea import screening
 
     rng = np.random.default_rng(seed)
     n, T, r = 400, 720, 5
@@ -990,19 +998,19 @@ def test_the_subspace_bounds_hold_against_the_worst_residual_on_a_jagged_path(se
     SP = rng.normal(size=(6, n, r)) * np.exp(rng.normal(size=(1, n, 1)))
     norms = np.abs(rng.normal(size=(6, n))) * 5.0
     eps = 1.0
-    first = screen.path_samples(a, screen.FIRST_SAMPLES)
-    sampled, delta = screen.refined_samples(a, 0.5, first)
-    sub = screen.Subspace(np.eye(r), a, eps, sampled, delta, screen.touched_steps(a, first))
+    first = screening.path_samples(a, screening.FIRST_SAMPLES)
+    sampled, delta = screening.refined_samples(a, 0.5, first)
+    sub = screening.Subspace(np.eye(r), a, eps, sampled, delta, screening.touched_steps(a, first))
     sign = rng.choice([-1.0, 1.0], size=(6, n))
     X = np.einsum("jnr,tr->jnt", SP, a) + (sign * norms * eps)[..., None]  # the worst residual
     high, low = X.max(axis=2), X.min(axis=2)
     tol = 1e-12 * np.abs(X).max()
     vm_norm = np.full(n, np.inf)  # von Mises is not asked here
-    for b in (screen.box_bounds(SP, norms, vm_norm, sub), screen.sampled_bounds(SP, norms, vm_norm, sub)):
+    for b in (screening.box_bounds(SP, norms, vm_norm, sub), screening.sampled_bounds(SP, norms, vm_norm, sub)):
         assert np.all(high <= b.high + b.slack + tol) and np.all(low >= b.low - b.slack - tol)
         assert np.all(np.abs(0.5 * (high + low)) <= b.mid_upper + tol)
     brute = _chord_distance_brute(a, sampled)
-    np.testing.assert_allclose(screen.chord_gaps(a, sampled), brute, rtol=1e-9, atol=1e-12 * np.abs(a).max())
+    np.testing.assert_allclose(screening.chord_gaps(a, sampled), brute, rtol=1e-9, atol=1e-12 * np.abs(a).max())
     assert brute.max() <= delta * (1 + 1e-12)
 
 
@@ -1012,7 +1020,7 @@ def test_the_sampled_von_mises_bound_covers_the_steps_between_read_steps():
     both read values. The bound's chord term (``||L SP||_F delta``,
     :func:`railcheck.fea.screen.sampled_pairs`) covers it at every node and step; the
     read values alone do not. Planting the bound without that term fails."""
-    from railcheck.fea import screen
+    from railcheck.fea import screening
 
     rng = np.random.default_rng(3)
     n, T, k = 300, 720, 6
@@ -1020,8 +1028,8 @@ def test_the_sampled_von_mises_bound_covers_the_steps_between_read_steps():
     C = np.zeros((T, k))
     C[:, 0], C[:, 1], C[:, 2] = np.cos(t), np.sin(t), 0.3 * np.cos(3.0 * t)
     S = rng.normal(size=(6, n, k))
-    p = screen.project_history(S, C)
-    b = screen.sampled_bounds(p.SP, p.norms, p.vm_norm, p.sub)
+    p = screening.project_history(S, C)
+    b = screening.sampled_bounds(p.SP, p.norms, p.vm_norm, p.sub)
     vm = von_mises(np.einsum("jnk,tk->jnt", S, C)).max(axis=1)
     assert p.sub.eps < 1e-9 and p.sub.delta > 0.0
     assert np.all(vm <= b.von_mises_upper * (1.0 + 1e-12))
@@ -1035,7 +1043,7 @@ def test_the_group_box_s_midrange_bounds_of_many_histories_at_once_equal_each_al
     component's midrange over every step lies within it. Histories with different means
     and shapes, so that a pair read against another history's taken values would
     differ. Plant: every history's pairs read with the first history's values."""
-    from railcheck.fea.screen import CoefficientBox
+    from railcheck.fea.screening import CoefficientBox
 
     rng = np.random.default_rng(7)
     n, T, k, s = 200, 360, 5, 4
@@ -1067,7 +1075,7 @@ def test_histories_in_their_subspaces_together_equal_each_alone():
     alone. Histories of different reach and shape, so a tolerance or a chord taken from
     another history would differ. Plant: every path refined to the first one's
     tolerance."""
-    from railcheck.fea import screen
+    from railcheck.fea import screening
 
     rng = np.random.default_rng(11)
     T, k = 720, 12
@@ -1079,9 +1087,9 @@ def test_histories_in_their_subspaces_together_equal_each_alone():
             for i in range(4)
         ]
     )
-    together = screen.principal_subspaces(C)
+    together = screening.principal_subspaces(C)
     for i in range(C.shape[0]):
-        one, alone = together.one(i), screen.principal_subspace(C[i])
+        one, alone = together.one(i), screening.principal_subspace(C[i])
         np.testing.assert_allclose(one.a, alone.a, rtol=1e-12, atol=1e-12 * np.abs(alone.a).max())
         assert one.eps == pytest.approx(alone.eps, rel=1e-9, abs=1e-12 * 10.0**i)
         np.testing.assert_array_equal(one.sampled, alone.sampled)
@@ -1095,7 +1103,7 @@ def test_the_step_nearest_a_paths_box_centre_is_found_in_half_width_units():
     orders of magnitude, a constant coordinate and one of half-width about 1e-150 (no
     overflow, no NaN; which step a caller gets only tightens its bounds: any step the
     history takes is a valid one)."""
-    from railcheck.fea.screen import nearest_to_box_centre
+    from railcheck.fea.screening import nearest_to_box_centre
 
     rng = np.random.default_rng(3)
     d = rng.normal(size=(5, 300, 6)) * np.array([1e-5, 1.0, 1e5, 0.0, 1e-150, 3.0]) + np.array(
@@ -1120,12 +1128,12 @@ def test_a_pair_the_thresholds_read_but_did_not_evaluate_is_still_evaluated_when
     evaluated for the peak. The second history is larger than the first, its kick more so:
     a pair given another history's bounds loses its peak. Each history goes through the
     batch (a history screened alone is refused here)."""
-    import railcheck.sweep.fe as fe
+    from railcheck.fea.screening import batch
 
     def refused(*args, **kwargs):
         raise AssertionError("a history was screened alone")
 
-    monkeypatch.setattr(fe, "_screened", refused)
+    monkeypatch.setattr(batch, "screened_alone", refused)
     rng = np.random.default_rng(21)
     n, T, k = 3000, 1440, 9
     t = np.linspace(0, 2 * np.pi, T, endpoint=False)
@@ -1165,12 +1173,12 @@ def test_the_load_sources_of_one_setting_are_screened_as_one_set(monkeypatch):
     batches of two cut the sets, which must stay whole. Every history's results equal its
     set's over every node x every step; a threshold shared beyond its set, a set cut
     apart, a weak source dropped or a result left per history fails it."""
-    import railcheck.sweep.fe as fe
+    from railcheck.fea.screening import tuning
 
-    monkeypatch.setattr(fe, "GROUP_MOST", 5)
+    monkeypatch.setattr(tuning, "GROUP_MOST", 5)
     rng = np.random.default_rng(33)
     n, T, k = 1500, 360, 9
-    monkeypatch.setattr(fe, "BATCH_PAIRS", 2 * n)
+    monkeypatch.setattr(tuning, "BATCH_PAIRS", 2 * n)
     t = np.linspace(0, 2 * np.pi, T, endpoint=False)
     sizes = rng.integers(1, 4, size=14)
     sizes[:6] = 2 + (np.arange(6) % 2)  # the sets with a hidden peak have a weak source
@@ -1218,9 +1226,9 @@ def test_a_weaker_source_that_holds_its_set_s_fatigue_minimum_is_not_dropped(mon
     against 750 / 3 s). A source is skipped only when no node can pass either of its
     set's thresholds; skipping it on von Mises alone fails this. The group's thresholds
     come from one node per criterion, so they rarely settle a set by themselves."""
-    import railcheck.sweep.fe as fe
+    from railcheck.fea.screening import tuning
 
-    monkeypatch.setattr(fe, "GROUP_CANDIDATES", 1)
+    monkeypatch.setattr(tuning, "GROUP_CANDIDATES", 1)
     rng = np.random.default_rng(100 + seed)
     n, T, k, sets = 1200, 360, 6, 10
     t = np.linspace(0, 2 * np.pi, T, endpoint=False)
@@ -1257,7 +1265,7 @@ def _in_subspace(rng, s: int, T: int, k: int, r: int) -> np.ndarray:
 def test_history_span_finds_the_subspace_the_histories_lie_in():
     """Histories in a 7-dimensional subspace of 12 coefficients: 7 of the coefficients
     give back every step of every history to rounding, the others combinations of them."""
-    from railcheck.fea.screen import history_span
+    from railcheck.fea.screening import history_span
 
     rng = np.random.default_rng(3)
     C = _in_subspace(rng, 9, 240, 12, 7)
@@ -1272,7 +1280,7 @@ def test_history_span_is_none_unless_the_span_holds_every_step():
     """No span where the histories use every coefficient, where one step leaves the
     subspace (a step the rank is not read at: only the residual at every step catches
     it), where they are zero, or where they are not finite or their sizes overflow."""
-    from railcheck.fea.screen import SPAN_STRIDE, history_span
+    from railcheck.fea.screening import SPAN_STRIDE, history_span
 
     rng = np.random.default_rng(4)
     assert history_span(rng.normal(size=(3, 100, 6))) is None
@@ -1296,7 +1304,8 @@ def test_histories_in_a_subspace_are_screened_in_it_and_equal_brute_force(seed, 
     box drops most), hot nodes and nodes loaded mostly along the coefficients that are
     combinations of others: the peak and fatigue factor equal every node x every step,
     by set as well, and bit for bit what the same group gives without the span."""
-    import railcheck.sweep.fe as fe
+    from railcheck.fea import screening
+    from railcheck.fea.screening import groups
 
     rng = np.random.default_rng(seed)
     n, T, k, r = 2500, 360, 14, 9
@@ -1304,14 +1313,14 @@ def test_histories_in_a_subspace_are_screened_in_it_and_equal_brute_force(seed, 
     stress = rng.normal(size=(6, n, k)) * np.exp(1.5 * rng.normal(size=(1, n, 1))) / np.abs(C).max(axis=(0, 1))
     hot = rng.choice(n, 25, replace=False)
     stress[:, hot] *= 5.0
-    span = fe.screen_.history_span(C * make_screen(stress, np.ones(n, bool), np.zeros((3, k)), list(range(k))).scale)
+    span = screening.history_span(C * make_screen(stress, np.ones(n, bool), np.zeros((3, k)), list(range(k))).scale)
     assert span is not None and span.index.size == r
     dependent = np.setdiff1d(np.arange(k), span.index)
     stress[:, hot[:10][:, None], dependent[None, :]] *= 40.0  # hot only through the dependent coefficients
     mask = rng.random(n) > 0.05
     screen = make_screen(stress, mask, rng.normal(size=(3, k)), list(range(k)))
     used = []
-    monkeypatch.setattr(fe, "_in_span", lambda *a, _f=fe._in_span: used.append(1) or _f(*a))
+    monkeypatch.setattr(groups, "in_span", lambda *a, _f=groups.in_span: used.append(1) or _f(*a))
     vm, n_min = _brute(stress, mask, C)
     got = peak_and_fatigue(screen, C, 200e6, 750e6, "goodman", 400e6)
     assert used
@@ -1323,7 +1332,7 @@ def test_histories_in_a_subspace_are_screened_in_it_and_equal_brute_force(seed, 
     np.testing.assert_allclose(by_set[1], [n_min[sets == i].min() for i in sets], rtol=1e-12)
     # the exact values are taken in the original coefficients: the same bits as without the
     # span, so a table does not depend on how its settings were grouped
-    monkeypatch.setattr(fe.screen_, "history_span", lambda Cs: None)
+    monkeypatch.setattr(groups, "history_span", lambda Cs: None)
     without = peak_and_fatigue(screen, C, 200e6, 750e6, "goodman", 400e6)
     np.testing.assert_array_equal(got[0], without[0])
     np.testing.assert_array_equal(got[1], without[1])
@@ -1338,8 +1347,8 @@ def test_a_group_in_a_subspace_is_boxed_and_read_in_its_coordinates(axes):
     component's norm, von Mises' trace bound) those of its own stresses. Histories along
     mixed directions, boxed along their principal axes, and histories whose first seven
     coefficients move independently (the rest their combinations), boxed in those seven."""
-    import railcheck.sweep.fe as fe
-    from railcheck.fea.screen import component_norms, history_span, von_mises_norm_bound
+    from railcheck.fea import screening
+    from railcheck.fea.screening import component_norms, history_span, von_mises_norm_bound
 
     n, k, r = 800, 12, 7
     if axes == "principal":
@@ -1355,7 +1364,7 @@ def test_a_group_in_a_subspace_is_boxed_and_read_in_its_coordinates(axes):
     screen = make_screen(stress, np.ones(n, bool), rng.normal(size=(3, k)), list(range(k)))
     span = history_span(C * screen.scale)
     assert span is not None
-    group, d = fe._group_box(screen, C, span)
+    group, d = screening.group_box(screen, C, span)
     assert group.rows.shape == (6 * n, r)
     assert (group.B is span.basis) == (axes == "independent")
     np.testing.assert_allclose(group.coordinates(C), d, rtol=1e-12, atol=1e-12 * np.abs(d).max())
@@ -1363,9 +1372,9 @@ def test_a_group_in_a_subspace_is_boxed_and_read_in_its_coordinates(axes):
     scale = np.abs(exact).max()
     np.testing.assert_allclose(np.einsum("jr,str->stj", group.rows, d).reshape(exact.shape), exact, atol=1e-5 * scale)
     nodes = np.sort(rng.choice(n, 50, replace=False))
-    inside = fe._in_span(fe._restricted(screen, nodes), span)
+    inside = screening.in_span(screening.restricted_screen(screen, nodes), span)
     Cr = (C * screen.scale)[..., span.index]
     np.testing.assert_allclose(np.einsum("cnk,stk->stcn", inside.stress, Cr), exact[..., nodes], atol=1e-12 * scale)
-    np.testing.assert_allclose(inside.unit_rows, component_norms(inside.stress), rtol=1e-14)
-    np.testing.assert_allclose(inside.lam, von_mises_norm_bound(inside.stress) ** 2, rtol=1e-14)
+    np.testing.assert_allclose(inside.bounds.unit_rows, component_norms(inside.stress), rtol=1e-14)
+    np.testing.assert_allclose(inside.bounds.form_bound, von_mises_norm_bound(inside.stress) ** 2, rtol=1e-14)
     np.testing.assert_array_equal(inside.scale, np.ones(r))

@@ -1,4 +1,4 @@
-"""Chunks on forked processes (:mod:`railcheck.sweep.forked`; results in the items' order:
+"""Chunks on forked processes (:mod:`railcheck.parallel.forked`; results in the items' order:
 ``tests/test_sweep_threads.py``, for both): at most ``ahead`` started beyond the awaited
 one, an error at its turn (picklable or not), a child that dies is a one-line error, and
 no child outlives a stopped call."""
@@ -10,9 +10,9 @@ import time
 
 import pytest
 
-from railcheck.errors import InputError, RailcheckError
-from railcheck.sweep import forked
-from railcheck.sweep.forked import in_order_on_processes
+from railcheck.base.errors import InputError, RailcheckError
+from railcheck.parallel import forked
+from railcheck.parallel.forked import in_order_on_processes
 
 # slow tier (one pytest process): the tests fork and terminate children
 pytestmark = [pytest.mark.skipif(not forked.available(), reason="forks only on Linux"), pytest.mark.slow]
@@ -113,7 +113,7 @@ def test_the_children_are_stopped_at_once_when_the_caller_stops(tmp_path):
     script = tmp_path / "caller.py"
     script.write_text(
         "import json, multiprocessing, os, time\n"
-        "from railcheck.sweep.forked import in_order_on_processes\n"
+        "from railcheck.parallel.forked import in_order_on_processes\n"
         "pids = multiprocessing.Array('i', 100)\n"
         "def slow(i):\n"
         "    pids[i] = os.getpid()\n"
@@ -150,7 +150,7 @@ def test_stopped_children_do_not_kill_a_caller_whose_sigpipe_is_fatal(tmp_path):
     script.write_text(
         "import signal, time\n"
         "signal.signal(signal.SIGPIPE, signal.SIG_DFL)\n"
-        "from railcheck.sweep.forked import in_order_on_processes\n"
+        "from railcheck.parallel.forked import in_order_on_processes\n"
         "def fail_at_3(i):\n"
         "    if i == 3:\n"
         "        raise ValueError(i)\n"
@@ -226,7 +226,7 @@ def test_a_killed_caller_leaves_no_child(tmp_path):
     script = tmp_path / "caller.py"
     script.write_text(
         "import os, sys, time\n"
-        "from railcheck.sweep.forked import in_order_on_processes\n"
+        "from railcheck.parallel.forked import in_order_on_processes\n"
         "def slow(i):\n"
         "    if i == 0:\n"
         "        return os.getpid()\n"
@@ -256,7 +256,7 @@ def _alive(pid: int) -> bool:
 
 def test_without_semaphores_the_platform_does_not_fork(monkeypatch):
     """A container without ``/dev/shm``: a pool's queues cannot be made, so the sweep
-    keeps to threads (:func:`railcheck.sweep.forked.available` False)."""
+    keeps to threads (:func:`railcheck.parallel.forked.available` False)."""
     import multiprocessing.context
 
     def no_shm(self, *args, **kwargs):
@@ -290,7 +290,7 @@ except AttributeError:
 libc.mallopt(-3, 128 << 10)
 
 import numpy as np
-from railcheck.sweep.forked import in_order_on_processes
+from railcheck.parallel.forked import in_order_on_processes
 
 def mapped_by_a_20_mb_block(_):
     before = libc.mallinfo2().hblkhd
@@ -303,7 +303,7 @@ print(max(grown) < (20 << 20), mapped_by_a_20_mb_block(0)[0] >= (20 << 20))
 
 
 def test_a_child_takes_blocks_up_to_32_mib_from_the_heap(tmp_path):
-    """The children tune glibc's allocator (:func:`railcheck.sweep.forked._reuse_freed_memory`):
+    """The children tune glibc's allocator (:func:`railcheck.parallel.forked._reuse_freed_memory`):
     a 20 MB block comes from the heap (kept and reused once freed), not from fresh
     ``mmap`` pages as in the forking process, whose threshold is held at glibc's default
     (its own block, the control)."""

@@ -1,5 +1,5 @@
 """The sweep context shared by the local workers through one mapped file
-(:mod:`railcheck.sweep.shared`): what is read back equals what was written, its arrays
+(:mod:`railcheck.parallel.shared`): what is read back equals what was written, its arrays
 read-only views of the file at aligned offsets, and a refused write leaves nothing."""
 
 from __future__ import annotations
@@ -10,7 +10,7 @@ import pickle
 import numpy as np
 import pytest
 
-from railcheck.sweep.shared import ALIGN, head_path, read_shared, remove_shared, shared, write_shared
+from railcheck.parallel.shared import ALIGN, head_path, read_shared, remove_shared, shared, write_shared
 
 
 @dataclasses.dataclass(frozen=True)

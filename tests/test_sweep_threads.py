@@ -1,4 +1,4 @@
-"""Chunks on this process's threads (:mod:`railcheck.sweep.threads`): results in order,
+"""Chunks on this process's threads (:mod:`railcheck.parallel.threads`): results in order,
 at most ``ahead`` started beyond the awaited one, an error at its turn, nothing started
 once the caller stops; and a sweep on threads writes the serial run's tables."""
 
@@ -9,7 +9,7 @@ import time
 import numpy as np
 import pytest
 
-from railcheck.sweep.threads import blas_on_one_thread, in_order_on_threads
+from railcheck.parallel.threads import blas_on_one_thread, in_order_on_threads
 
 
 def _slow_square(i: int) -> int:
@@ -20,8 +20,8 @@ def _slow_square(i: int) -> int:
 @pytest.mark.parametrize("workers", [1, 2, 3])
 @pytest.mark.parametrize("forks", [False, pytest.param(True, marks=pytest.mark.slow)], ids=["threads", "forked"])
 def test_results_come_in_the_items_order_whatever_order_they_finish_in(workers, forks):
-    """On threads and on forked processes (:mod:`railcheck.sweep.forked`)."""
-    from railcheck.sweep import forked
+    """On threads and on forked processes (:mod:`railcheck.parallel.forked`)."""
+    from railcheck.parallel import forked
 
     if forks and not forked.available():
         pytest.skip("this platform does not fork")

@@ -220,7 +220,7 @@ def test_the_dynamic_verdict_is_inclusive_and_its_record_frozen():
     no FE: test_dynamic.py runs the response itself)."""
     import dataclasses
 
-    from railcheck.check.records import DynamicResult
+    from railcheck.model.records import DynamicResult
 
     d = DynamicResult(
         hz=np.array([30.0]),
@@ -244,7 +244,7 @@ def test_each_criterions_utilisation_by_hand(plate_result):
     allowed excess, unlimited above 1."""
     from dataclasses import replace
 
-    from railcheck.check.records import DynamicResult
+    from railcheck.model.records import DynamicResult
 
     part = plate_result.parts["PF_4b_003_v2"]
     c = part.cycle

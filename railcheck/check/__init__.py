@@ -8,11 +8,11 @@ cycle), :mod:`.records` (the frozen results), :mod:`.summary` (summary.json),
 :mod:`.run` (the results directory).
 """
 
-from railcheck.check.jobs import PartJob, part_jobs
 from railcheck.check.pipeline import run_pipeline
-from railcheck.check.records import CycleResult, PartResult, PipelineResult
 from railcheck.check.run import CheckRun, run_check
 from railcheck.check.summary import summary_of
+from railcheck.model.jobs import PartJob, part_jobs
+from railcheck.model.records import CycleResult, PartResult, PipelineResult
 
 __all__ = [
     "CheckRun",

@@ -6,7 +6,7 @@
 * A scene whose parts all have explicit [loads] never runs the linkage.
 * Gravity is applied only when check.effects lists it; inertia only with a non-zero speed.
 
-The scene is resolved here, once, into one :class:`~railcheck.check.jobs.PartJob` per
+The scene is resolved here, once, into one :class:`~railcheck.model.jobs.PartJob` per
 part; the parts' checks (:mod:`railcheck.check.workers`) take the jobs.
 ``stages_run`` records, in order, each stage that ran.
 """
@@ -17,11 +17,11 @@ import time
 
 import numpy as np
 
-from railcheck.check.jobs import build_load_cases, part_geometries, part_jobs, refuse_huge
-from railcheck.check.kinematics_stage import all_checks, kinematics_summary, run_kinematics
-from railcheck.check.records import PipelineResult
 from railcheck.check.workers import check_parts
 from railcheck.fea.materials import MATERIALS, limit_warning
+from railcheck.model.jobs import build_load_cases, part_geometries, part_jobs, refuse_huge
+from railcheck.model.kinematics_stage import all_checks, kinematics_summary, run_kinematics
+from railcheck.model.records import PipelineResult
 from railcheck.progress import Progress
 from railcheck.scene import Scene
 

@@ -18,14 +18,14 @@ from pathlib import Path
 
 import numpy as np
 
+from railcheck.base.errors import EXIT_FAIL, EXIT_PASS, InputError
 from railcheck.check.pipeline import run_pipeline
-from railcheck.check.records import PartResult, PipelineResult
 from railcheck.check.summary import summary_of
-from railcheck.errors import EXIT_FAIL, EXIT_PASS, InputError
 from railcheck.fea.stress import von_mises
 from railcheck.fea.superpose import node_envelope_of
 from railcheck.fea.vtk import pvd_text, write_vtu
 from railcheck.files import Staging, atomic_path, atomic_write_text, reserve_results_dir, to_json
+from railcheck.model.records import PartResult, PipelineResult
 from railcheck.progress import Progress
 from railcheck.report.html import write_report
 from railcheck.report.plots import write_campbell_plot, write_cycle_plot, write_kinematics_plots

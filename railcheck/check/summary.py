@@ -1,5 +1,5 @@
 """``summary.json`` of a check: the one place that maps the check's records
-(:mod:`railcheck.check.records`) to JSON keys, each key naming its unit (``_Pa``, ``_m``,
+(:mod:`railcheck.model.records`) to JSON keys, each key naming its unit (``_Pa``, ``_m``,
 ``_deg``, ``_N``, ``_kg``). Deterministic: no timings (those go to ``timings.json``), so the
 same scene gives a byte-identical summary.
 """
@@ -8,13 +8,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from railcheck.check.records import DynamicResult, FatigueResult, PartResult, PipelineResult, SeedMethod
 from railcheck.geometry.catalogue import (
     CATALOGUE_RAIL_MASS,
     rail_mass_per_metre,
     rail_mass_per_metre_with_holes,
     with_overrides,
 )
+from railcheck.model.records import DynamicResult, FatigueResult, PartResult, PipelineResult, SeedMethod
 from railcheck.parts import mass_model
 
 

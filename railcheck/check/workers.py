@@ -1,7 +1,7 @@
 """The parts of a check, two (or ``jobs``) at a time.
 
-Each part is independent once its :class:`~railcheck.check.jobs.PartJob` is resolved:
-mesh, unit cases, envelope, fatigue (:func:`railcheck.check.cycle.check_part`). With more
+Each part is independent once its :class:`~railcheck.model.jobs.PartJob` is resolved:
+mesh, unit cases, envelope, fatigue (:func:`railcheck.model.cycle.check_part`). With more
 than one part and more than one core the largest part (by its estimated element count) is
 checked in this process while the others run in ``jobs - 1`` worker processes (spawned,
 so no library state is forked); the workers' progress lines reach the console through a
@@ -13,20 +13,15 @@ process, one after another; the results are the same.
 from __future__ import annotations
 
 import dataclasses
-import multiprocessing
 import os
-import threading
 import time
-from concurrent.futures import ProcessPoolExecutor
-from contextlib import contextmanager
 
-from railcheck.check.cycle import check_part, in_store
-from railcheck.check.jobs import PartJob
-from railcheck.check.records import PartResult
 from railcheck.geometry.mesher import estimate_elements
+from railcheck.model.cycle import check_part, in_store
+from railcheck.model.jobs import PartJob
+from railcheck.model.records import PartResult
+from railcheck.parallel.spawned import relayed_pool, worker_say
 from railcheck.progress import Progress
-
-_QUEUE = None  # the worker's progress queue (set by _init_worker)
 
 
 def default_jobs(parts: int) -> int:
@@ -64,53 +59,8 @@ def _in_workers(
         return {name: here if name == largest else futures[name].result() for name in part_jobs}
 
 
-@contextmanager
-def relayed_pool(workers: int, progress: Progress):
-    """A pool of ``workers`` spawned processes (no library state forked) whose progress
-    lines (:func:`worker_say`) reach ``progress`` as they happen. An error, Ctrl-C or
-    SIGTERM in the block stops every worker at once."""
-    ctx = multiprocessing.get_context("spawn")
-    queue = ctx.SimpleQueue()
-    relay = threading.Thread(target=_relay, args=(queue, progress), daemon=True)
-    relay.start()
-    pool = ProcessPoolExecutor(workers, mp_context=ctx, initializer=_init_worker, initargs=(queue,))
-    try:
-        yield pool
-    except BaseException:
-        for process in list(getattr(pool, "_processes", {}).values()):
-            process.terminate()
-        pool.shutdown(wait=False, cancel_futures=True)
-        raise
-    finally:
-        queue.put(None)
-        relay.join(timeout=5)
-    pool.shutdown()
-
-
-def worker_say(message: str) -> None:
-    """A progress line from a :func:`relayed_pool` worker (printed by the main process)."""
-    _QUEUE.put(message)
-
-
 def _estimated_elements(job: PartJob) -> int:
     return estimate_elements(job.geometry, job.mesh.size, job.mesh.hole_size)
-
-
-def _relay(queue, progress: Progress) -> None:
-    """Print the workers' progress lines until the sentinel arrives."""
-    while True:
-        item = queue.get()
-        if item is None:
-            return
-        progress.say("solve", item)
-
-
-def _init_worker(queue) -> None:
-    """The worker's progress queue. Thread counts stay those of a serial run (a single
-    MKL thread here would be faster, but PARDISO's rounding depends on the thread count
-    and ``--jobs 1`` must give the same digits)."""
-    global _QUEUE
-    _QUEUE = queue
 
 
 def _check_one(job: PartJob, solver: str, label: str, part_done=None, say=None) -> PartResult:

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from railcheck.errors import EXIT_PASS
+from railcheck.base.errors import EXIT_PASS
 from railcheck.files import to_json
 from railcheck.report.text import bench_report
 from railcheck.studies.bench import run_bench

@@ -3,7 +3,7 @@ unit-field store, :mod:`railcheck.fea.store`), and clearing them."""
 
 from __future__ import annotations
 
-from railcheck.errors import EXIT_PASS
+from railcheck.base.errors import EXIT_PASS
 from railcheck.fea.store import clear_store, store_info
 from railcheck.files import to_json
 from railcheck.geometry.cache import default_cache_dir

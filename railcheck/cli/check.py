@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import argparse
 
+from railcheck.base.errors import InputError
 from railcheck.check.run import run_check
 from railcheck.cli.common import add_results_args, say_where
-from railcheck.errors import InputError
 from railcheck.fea.fatigue import CRITERIA, SURFACE
 from railcheck.fea.materials import MATERIALS
 from railcheck.files import to_json

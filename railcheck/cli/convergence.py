@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import sys
 
-from railcheck.errors import EXIT_PASS
+from railcheck.base.errors import EXIT_PASS
 from railcheck.files import to_json
 from railcheck.report.text import convergence_report
 from railcheck.studies.convergence import plot_study, run_convergence

@@ -5,7 +5,7 @@ from __future__ import annotations
 import tomllib
 from importlib import resources
 
-from railcheck.errors import EXIT_PASS, InputError
+from railcheck.base.errors import EXIT_PASS, InputError
 from railcheck.files import atomic_write_text, writable_file
 from railcheck.scene import parse_scene
 

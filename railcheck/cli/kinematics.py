@@ -5,9 +5,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from railcheck.check.kinematics_stage import kinematics_summary, run_kinematics
-from railcheck.errors import EXIT_FAIL, EXIT_PASS, InputError
+from railcheck.base.errors import EXIT_FAIL, EXIT_PASS, InputError
 from railcheck.files import to_json
+from railcheck.model.kinematics_stage import kinematics_summary, run_kinematics
 from railcheck.report.plots import write_kinematics_plots
 from railcheck.report.text import kinematics_table
 from railcheck.scene import load_scene

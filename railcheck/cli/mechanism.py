@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from railcheck.errors import EXIT_PASS
+from railcheck.base.errors import EXIT_PASS
 from railcheck.kinematics.planar.catalogue import CATALOGUE
 from railcheck.report.text import mechanism_report
 from railcheck.studies.mechanism import run_mechanism, write_mechanism_outputs

@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
+from railcheck.base.errors import InputError
 from railcheck.cli.common import add_results_args, say_where
-from railcheck.errors import InputError
 from railcheck.files import to_json
 from railcheck.progress import Progress
 from railcheck.report.text import sweep_report

@@ -12,7 +12,7 @@ import numpy as np
 from railcheck.files import atomic_path
 
 if TYPE_CHECKING:  # a type only: importing railcheck.check here would be circular
-    from railcheck.check.kinematics_stage import KinematicsResult
+    from railcheck.model.kinematics_stage import KinematicsResult
 
 
 def _figure():
@@ -137,7 +137,7 @@ def write_campbell_plot(parts: dict, path: str | Path) -> Path | None:
     """Campbell diagram: the crank harmonics n x crank speed against crank speed from 0 to
     3x the scene's, and each part's lowest natural frequencies as horizontal lines; where
     a harmonic line crosses a frequency the cycle excites that mode in resonance. ``parts``
-    maps a name to its :class:`~railcheck.check.records.PartResult` (those without a
+    maps a name to its :class:`~railcheck.model.records.PartResult` (those without a
     dynamic response are left out). None when no part has one."""
     dynamic = {n: p.cycle.dynamic for n, p in parts.items() if p.cycle.dynamic is not None}
     if not dynamic:

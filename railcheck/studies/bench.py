@@ -2,10 +2,10 @@
 
 from __future__ import annotations
 
-from railcheck.check.jobs import refuse_beyond_memory
-from railcheck.errors import InputError
+from railcheck.base.errors import InputError
 from railcheck.fea.cantilever import HEIGHT, LENGTH, LOAD, WIDTH, run_cantilever
 from railcheck.geometry.models import bar
+from railcheck.model.jobs import refuse_beyond_memory
 
 
 def run_bench(order: int = 2, size_mm: float = 4.0, solver: str = "auto") -> dict:

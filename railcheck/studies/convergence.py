@@ -18,9 +18,8 @@ import time
 
 import numpy as np
 
-from railcheck.check.jobs import build_load_cases, part_geometries, refuse_beyond_memory
-from railcheck.check.kinematics_stage import run_kinematics
-from railcheck.errors import InputError
+from railcheck.base.errors import InputError
+from railcheck.base.machine import refuse_kinematics_beyond_memory
 from railcheck.fea.cantilever import HEIGHT, LENGTH, LOAD, WIDTH, timoshenko_tip
 from railcheck.fea.elasticity import HoleLoad, Support, solve_elasticity
 from railcheck.fea.materials import MATERIALS
@@ -29,7 +28,8 @@ from railcheck.geometry.mesher import mesh_part
 from railcheck.geometry.models import bar
 from railcheck.kinematics.dynamics import inverse_dynamics
 from railcheck.kinematics.motion import solve_motion
-from railcheck.machine import refuse_kinematics_beyond_memory
+from railcheck.model.jobs import build_load_cases, part_geometries, refuse_beyond_memory
+from railcheck.model.kinematics_stage import run_kinematics
 from railcheck.parts import PARTS, geometry_of, kind_of
 from railcheck.scene import load_scene
 

@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from railcheck.errors import InputError
+from railcheck.base.errors import InputError
 from railcheck.files import atomic_path, atomic_write_text
 from railcheck.kinematics.planar.catalogue import CATALOGUE, SWEEPS, driver_values
 from railcheck.kinematics.planar.model import Prismatic, Revolute

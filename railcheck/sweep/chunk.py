@@ -24,16 +24,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from railcheck.check.kinematics_stage import joints_on_rails_flags
-from railcheck.check.loading import free_body_coefficients, source_coefficients
 from railcheck.fea.dynamic import modal_correction
+from railcheck.fea.screening import hull_steps, peak_and_fatigue, tip_peak, von_mises_peak
 from railcheck.kinematics import batch
 from railcheck.kinematics.checks import fourbar_checks_batch, slidercrank_checks_batch
 from railcheck.kinematics.dynamics import STANDARD_GRAVITY
 from railcheck.kinematics.motion import crank_angles
 from railcheck.loads.bearings import bearing_life_of_magnitude
+from railcheck.model.kinematics_stage import joints_on_rails_flags
+from railcheck.model.loading import free_body_coefficients, source_coefficients
 from railcheck.parts import BAR_INDEX, mass_model
-from railcheck.sweep.fe import hull_steps, peak_and_fatigue, tip_peak, von_mises_peak
 
 REVOLVE_MARGIN = 1e-7  # rad: closer to a toggle is singular (kinematics.motion)
 
@@ -276,7 +276,7 @@ def coefficients(ctx: SweepContext, name: str, loads: Loads, sel: np.ndarray) ->
 
 
 def free_coeffs(model, reactions: dict, torque: np.ndarray, motion, sel: np.ndarray) -> np.ndarray:
-    """(S_sel, T, k): a free rail's coefficients (:func:`railcheck.check.loading.free_body_coefficients`)
+    """(S_sel, T, k): a free rail's coefficients (:func:`railcheck.model.loading.free_body_coefficients`)
     for the settings ``sel`` from reactions (N), torque (N m) and the motion they come from."""
     by_bar = lambda a: {bar: a[i][sel] for bar, i in BAR_INDEX.items()}  # noqa: E731
     return free_body_coefficients(
@@ -582,7 +582,7 @@ def revolving_results(ctx: SweepContext, lengths: dict, idx: np.ndarray, passed:
     with_fe = [g for g in groups if "fe_sel" in g]
     if with_fe:
         # every group's FE settings at once: the settings that share a part's hole pair are
-        # screened together (:func:`railcheck.sweep.fe.peak_and_fatigue`); a chunk holds at
+        # screened together (:func:`railcheck.fea.screening.groups.peak_and_fatigue`); a chunk holds at
         # most :func:`railcheck.sweep.run.checked_chunk_size` of them
         res = fe_results(
             ctx,

@@ -23,7 +23,7 @@ import itertools
 
 import numpy as np
 
-from railcheck.errors import InputError
+from railcheck.base.errors import InputError
 from railcheck.geometry.catalogue import with_overrides
 from railcheck.kinematics.massmodel import MassModel
 
@@ -62,7 +62,7 @@ def rig_grid(overrides: dict | None = None) -> dict[str, dict[str, np.ndarray]]:
 
 def narrowed(grid: dict[str, np.ndarray], ranges: dict) -> dict[str, np.ndarray]:
     """The grid with each bar limited to its [min, max] range (m, inclusive to 1 um).
-    Raises :class:`~railcheck.errors.InputError` naming ``sweep.BAR`` and the nearest
+    Raises :class:`~railcheck.base.errors.InputError` naming ``sweep.BAR`` and the nearest
     settable lengths when a range holds none of them."""
     out = {}
     for bar, values in grid.items():

@@ -1,10 +1,10 @@
 """Each checked part of a sweep, prepared once: its mesh, one factorisation, the unit
 cases of every bolt-hole pair its joint can use, and the screens
-(:mod:`railcheck.sweep.fe`) that give any setting's cycle peak, fatigue factor and tip
+(:mod:`railcheck.fea.screening`) that give any setting's cycle peak, fatigue factor and tip
 deflection by superposition.
 
 The unit cases and their column order are those of ``railcheck check``
-(:func:`railcheck.check.cycle.unit_cases`), so a setting's result equals a check of that setting
+(:func:`railcheck.model.cycle.unit_cases`), so a setting's result equals a check of that setting
 with ``bolt_position = "actual"`` and the same mesh.
 """
 
@@ -16,15 +16,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from railcheck.check.cycle import use_store
-from railcheck.check.jobs import carried_masses, free_body_cases, mesh_sizes
-from railcheck.check.loading import LoadModel, load_model, pin_pressure_map, source_histories, unit_cases
 from railcheck.fea.fatigue import endurance_limit
+from railcheck.fea.screening import fatigue_min, make_screens, tip_peak, von_mises_peak
 from railcheck.fea.store import UnitRequest, is_stored, solve_stored
 from railcheck.geometry.mesher import cached_mesh, mesh_part
 from railcheck.loads.cases import rail_bolt_holes
+from railcheck.model.cycle import use_store
+from railcheck.model.jobs import carried_masses, free_body_cases, mesh_sizes
+from railcheck.model.loading import LoadModel, load_model, pin_pressure_map, source_histories, unit_cases
 from railcheck.parts import PARTS, geometry_of, kind_of
-from railcheck.sweep.fe import fatigue_min, make_screens, tip_peak, von_mises_peak
 
 
 @dataclass(frozen=True)
@@ -56,7 +56,7 @@ class PartModel:
 
     def with_pin_pressure(self, length: float | None, C: np.ndarray) -> np.ndarray:
         """Force coefficients ``C`` (..., k) completed with the pin pressures' harmonics of
-        the hole pair a bar of ``length`` m uses (:class:`~railcheck.check.loading.PinPressureMap`)."""
+        the hole pair a bar of ``length`` m uses (:class:`~railcheck.model.loading.PinPressureMap`)."""
         if self.pressure is None:
             return C
         return self.pressure[None if self.bar is None else self.pair_of[_um(length)]].extend(C)
@@ -288,7 +288,7 @@ def dynamic_in_sweep(scene) -> bool:
 
 def screens_of(fields, columns: dict) -> dict:
     """Hole-pair key -> the screen of its unit-case columns ``columns[key]`` in the part's
-    ``fields`` (:func:`railcheck.sweep.fe.make_screens`, each key's own tip operator)."""
+    ``fields`` (:func:`railcheck.fea.screening.screens.make_screens`, each key's own tip operator)."""
     return make_screens(fields.stress, fields.verdict_mask, {key: tip_of(fields, key) for key in columns}, columns)
 
 

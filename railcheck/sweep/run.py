@@ -2,7 +2,7 @@
 speed, motor and bearings (:mod:`railcheck.sweep.chunk` computes a chunk of settings).
 
 The settings are chunked so that a chunk's working arrays fit ``[sweep] memory``; the
-chunks run on processes forked from this one (:mod:`railcheck.sweep.forked`), serially, on
+chunks run on processes forked from this one (:mod:`railcheck.parallel.forked`), serially, on
 Dask (``--scheduler`` an existing cluster, or a local one where this process cannot fork),
 or on this process's threads (a small sweep that cannot fork), and
 their rows are written in order as they arrive (Parquet row groups or CSV), so a sweep
@@ -24,17 +24,22 @@ from pathlib import Path
 
 import numpy as np
 
-from railcheck.check.jobs import mesh_sizes, part_geometries, refuse_huge
+from railcheck.base.errors import EXIT_FAIL, EXIT_PASS, InputError
 from railcheck.check.run import say_target
-from railcheck.check.workers import relayed_pool, worker_say
-from railcheck.errors import EXIT_FAIL, EXIT_PASS, InputError
 from railcheck.fea.materials import MATERIALS
 from railcheck.files import Staging, atomic_write_text, reserve_results_dir, to_json
 from railcheck.geometry.catalogue import with_overrides
 from railcheck.geometry.mesher import estimate_elements
+from railcheck.model.jobs import mesh_sizes, part_geometries, refuse_huge
+from railcheck.parallel import forked
+from railcheck.parallel.forked import in_order_on_processes
+from railcheck.parallel.shared import remove_shared, shared, write_shared
+from railcheck.parallel.spawned import relayed_pool, worker_say
+from railcheck.parallel.threads import blas_on_one_thread, in_order_on_threads
 from railcheck.parts import PARTS, geometry_of, rail_length
 from railcheck.progress import Progress
-from railcheck.sweep import forked
+from railcheck.report.maps import Aggregate, summary_of, write_maps, write_motor_plot
+from railcheck.report.sweep_html import write_sweep_report
 from railcheck.sweep.chunk import (
     MOTOR_CURVE_KEY,
     SweepContext,
@@ -43,14 +48,9 @@ from railcheck.sweep.chunk import (
     group_size,
     motor_curve_speeds,
 )
-from railcheck.sweep.forked import in_order_on_processes
 from railcheck.sweep.grid import narrowed, rig_grid, settings
-from railcheck.sweep.maps import Aggregate, summary_of, write_maps, write_motor_plot
 from railcheck.sweep.parts import applicable, build_part_model, dynamic_in_sweep, is_free_rail, part_is_stored
-from railcheck.sweep.report import write_sweep_report
-from railcheck.sweep.shared import remove_shared, shared, write_shared
 from railcheck.sweep.table import TableWriter
-from railcheck.sweep.threads import blas_on_one_thread, in_order_on_threads
 
 #: bytes of working memory per setting and crank step of a group of revolving settings
 #: (kinematics, reactions at two speeds, FE coefficient histories; measured with
@@ -67,7 +67,7 @@ BYTES_PER_CHECKED_STEP = 2_000
 #: settings per chunk at most (a chunk is one row group of the table)
 MAX_CHUNK = 4096
 #: settings with FE per chunk at most. A chunk's settings that share a part's hole pair
-#: are screened together (:func:`railcheck.sweep.fe.peak_and_fatigue`), so more of them
+#: are screened together (:func:`railcheck.fea.screening.groups.peak_and_fatigue`), so more of them
 #: make larger groups (the rocker rail's hole pair changes every 41 settings of the grid);
 #: fewer share the FE out more evenly between workers (a setting with FE costs about
 #: 25 ms, the whole rig's 4,349 about two worker-minutes)
@@ -497,7 +497,7 @@ class _Executor:
     (a kind's last chunks share the workers with the next kind's first), two chunks per
     worker in flight, finished chunks held until the ones before them are done (a slow
     chunk does not idle the other workers). A local cluster's workers map each kind's
-    context from a file in ``scratch`` (:mod:`railcheck.sweep.shared`); an external
+    context from a file in ``scratch`` (:mod:`railcheck.parallel.shared`); an external
     scheduler's receive it scattered."""
 
     def __init__(
@@ -577,8 +577,8 @@ class _Executor:
 
     def _local_jobs(self, jobs: list, size: int, checked_size: int, held: int):
         """:meth:`map_jobs` on processes forked from this one when the executor
-        ``forks`` (:mod:`railcheck.sweep.forked`), else on this process's threads
-        (:mod:`railcheck.sweep.threads`): the same chunks as on as many Dask workers, the
+        ``forks`` (:mod:`railcheck.parallel.forked`), else on this process's threads
+        (:mod:`railcheck.parallel.threads`): the same chunks as on as many Dask workers, the
         same columns."""
         how = "processes forked from this one" if self.forks else "threads in this process"
         self.progress.say("sweep", f"{self.threads} {how}")
@@ -663,7 +663,7 @@ class _Executor:
 
     def _context_ref(self, j: int, ctx):
         """What a task is given for its context: a shared file's path (local cluster,
-        :mod:`railcheck.sweep.shared`), else the context scattered to every worker."""
+        :mod:`railcheck.parallel.shared`), else the context scattered to every worker."""
         if self.cluster is not None and self.scratch is not None:
             try:
                 return str(write_shared(ctx, self.scratch / f".context-{j}.bin"))

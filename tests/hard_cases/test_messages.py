@@ -8,7 +8,7 @@ import tomllib
 
 import pytest
 
-from railcheck.errors import InputError
+from railcheck.base.errors import InputError
 from railcheck.scene import load_scene, parse_scene
 from railcheck.units import parse_quantity
 from scene_texts import FINAL_DESIGN
@@ -123,12 +123,12 @@ def test_steps_beyond_this_machines_memory_are_refused_with_an_estimate(monkeypa
     """A step count whose kinematics would not fit is refused before any work, naming the
     field and the estimate (not a MemoryError), in `check`/`kinematics` and in
     `convergence kinematics --sizes`."""
-    from railcheck import machine
+    from railcheck.base import machine
     from railcheck.cli import main
 
     monkeypatch.setattr(machine, "available_memory", lambda: 1.0 * 2**30)  # a 1 GiB machine
     scene = parse_scene(tomllib.loads(FINAL_DESIGN + "steps = 2000000\n"), "t")
-    from railcheck.check.kinematics_stage import run_kinematics
+    from railcheck.model.kinematics_stage import run_kinematics
 
     with pytest.raises(InputError) as err:
         run_kinematics(scene)

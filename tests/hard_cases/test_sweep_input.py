@@ -5,7 +5,7 @@ import sys
 
 import pytest
 
-from railcheck.errors import InputError
+from railcheck.base.errors import InputError
 from railcheck.scene import parse_scene
 from railcheck.sweep.run import validate
 from scene_texts import one_line_exit_2

@@ -1,6 +1,6 @@
 """A sweep's chunks on this process's threads, when the sweep is too small for a Dask
 cluster to pay for its start-up (two processes importing the project: 2-3 s) and this
-process cannot fork its workers (elsewhere :mod:`railcheck.sweep.forked`).
+process cannot fork its workers (elsewhere :mod:`railcheck.parallel.forked`).
 
 numpy releases the GIL inside its loops, so two chunks on two threads run about 1.5x as
 fast as one after the other (a narrow FE sweep of 981 settings with FE: 25.1 s -> 15.5 s;

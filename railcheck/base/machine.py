@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import os
 
-from railcheck.errors import InputError
+from railcheck.base.errors import InputError
 
 #: the share of physical memory one run may plan to use
 MEMORY_FRACTION = 0.8

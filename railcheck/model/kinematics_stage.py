@@ -12,13 +12,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from railcheck.errors import InputError
+from railcheck.base.errors import InputError
+from railcheck.base.machine import refuse_kinematics_beyond_memory
 from railcheck.geometry.catalogue import with_overrides
 from railcheck.kinematics.checks import CheckResult, configuration_checks, transmission_extremes
 from railcheck.kinematics.dynamics import STANDARD_GRAVITY, Dynamics, inverse_dynamics
 from railcheck.kinematics.linkage import FourBar
 from railcheck.kinematics.motion import Motion, solve_motion
-from railcheck.machine import refuse_kinematics_beyond_memory
 from railcheck.parts import mass_model, rail_length
 from railcheck.scene import Scene
 

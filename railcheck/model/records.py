@@ -15,14 +15,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from railcheck.check.jobs import PartJob
-from railcheck.check.kinematics_stage import KinematicsResult
 from railcheck.fea.elasticity import Solution
 from railcheck.fea.fatigue import Marin
 from railcheck.fea.superpose import Envelope, UnitFields
 from railcheck.fea.unitcases import UnitSolve
 from railcheck.geometry.meshdata import MeshData
 from railcheck.kinematics.checks import CheckResult
+from railcheck.model.jobs import PartJob
+from railcheck.model.kinematics_stage import KinematicsResult
 from railcheck.scene import Scene
 
 

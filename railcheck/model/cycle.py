@@ -1,5 +1,5 @@
-"""One part over the whole crank cycle, from its :class:`~railcheck.check.jobs.PartJob`:
-mesh, unit load cases solved once (:mod:`railcheck.check.loading`), the stress at every
+"""One part over the whole crank cycle, from its :class:`~railcheck.model.jobs.PartJob`:
+mesh, unit load cases solved once (:mod:`railcheck.model.loading`), the stress at every
 step by superposition, the von Mises envelope, the seed method's single instant beside
 it, and high-cycle fatigue. A part with several load sources (a plate used at two joints)
 takes the worse source: the larger stress governs the stress verdict, the lower fatigue
@@ -17,27 +17,16 @@ from dataclasses import replace
 
 import numpy as np
 
-from railcheck.check.jobs import PartJob
-from railcheck.check.loading import SourceHistory, unit_cases
-from railcheck.check.records import (
-    ClampedComparison,
-    CycleHistory,
-    CycleResult,
-    DynamicResult,
-    FatigueResult,
-    PartResult,
-    SeedMethod,
-)
-from railcheck.errors import NumericalError
-from railcheck.fea import screen
+from railcheck.base.errors import NumericalError
+from railcheck.fea import screening
 from railcheck.fea.dynamic import modal_correction
 from railcheck.fea.elasticity import Solution
 from railcheck.fea.fatigue import alternating_and_mean, endurance_limit, safety_factor
+from railcheck.fea.hull import candidate_steps
 from railcheck.fea.store import UnitRequest, is_stored, solve_stored
 from railcheck.fea.stress import peak, von_mises
 from railcheck.fea.superpose import (
     UnitFields,
-    candidate_steps,
     component_range,
     envelope,
     history_at_node,
@@ -47,6 +36,17 @@ from railcheck.fea.superpose import (
 )
 from railcheck.fea.unitcases import UnitSolve
 from railcheck.geometry.mesher import mesh_part
+from railcheck.model.jobs import PartJob
+from railcheck.model.loading import SourceHistory, unit_cases
+from railcheck.model.records import (
+    ClampedComparison,
+    CycleHistory,
+    CycleResult,
+    DynamicResult,
+    FatigueResult,
+    PartResult,
+    SeedMethod,
+)
 from railcheck.units import for_people
 
 
@@ -186,7 +186,7 @@ def evaluate_cycle(job: PartJob, fields: UnitFields, histories: tuple[SourceHist
         few, C = reduced(fields, h.C)  # the same stresses in the fewest coefficients (exact)
         steps = candidate_steps(C)
         # the nodes' subspace bounds, once for the peaks and the fatigue minimum
-        bounds = verdict_bounds(job, few, C[steps]) if screen.applies(steps.size, C.shape[1]) else None
+        bounds = verdict_bounds(job, few, C[steps]) if screening.applies(steps.size, C.shape[1]) else None
         env = envelope(few, C, every_node=False, steps=steps, bounds=bounds)  # each node's maximum only for the VTU
         vm_seed = von_mises(stress_at(fields.stress, h.C[h.seed_step]))
         k = int(np.argmax(np.where(_verdict_mask(fields), vm_seed, -np.inf)))
@@ -276,21 +276,21 @@ def fatigue_of(
     fields: UnitFields,
     C: np.ndarray,
     steps: np.ndarray | None = None,
-    bounds: screen.SampledBounds | None = None,
+    bounds: screening.SampledBounds | None = None,
 ) -> FatigueResult:
     """The minimum fatigue safety factor over the verdict nodes of one history, where,
     its sigma_a / sigma_m (Pa), the endurance limit and Marin factors, and, when the job
     writes node fields (the VTU), the factor at every node. Without, the nodes of a
-    history of more than :data:`fea.screen.MIN_STEPS` candidate steps are screened
+    history of more than :data:`railcheck.fea.screening.MIN_STEPS` candidate steps are screened
     (:mod:`fea.screen`: many coefficients by their principal subspace's sampled steps, two
     or three by its box) and only those that can hold the minimum are evaluated: the same
     minimum, node and stresses (``bounds``: the nodes' :func:`verdict_bounds` or
-    :func:`fea.screen.history_bounds` for ``C[steps]``, when already known)."""
+    :func:`railcheck.fea.screening.history_bounds` for ``C[steps]``, when already known)."""
     spec = job.fatigue
     marin, factor = fatigue_factor(job)
     C = C[candidate_steps(C) if steps is None else steps]
     mask = _verdict_mask(fields)
-    if job.node_fields or C.shape[0] <= screen.MIN_STEPS:
+    if job.node_fields or C.shape[0] <= screening.MIN_STEPS:
         sa, sm = alternating_and_mean(*component_range(fields.stress, C))
         n = factor(sa, sm)
         k = int(np.argmin(np.where(mask, n, np.inf)))
@@ -298,10 +298,10 @@ def fatigue_of(
     else:
         if bounds is not None:
             b = bounds
-        elif screen.applies(*C.shape):
-            b = screen.history_bounds(fields.stress, C)
+        elif screening.applies(*C.shape):
+            b = screening.history_bounds(fields.stress, C)
         else:  # two coefficients (or an affine plane): the box screens, the polygon's support evaluates
-            b = screen.history_box_bounds(fields.stress, C)
+            b = screening.history_box_bounds(fields.stress, C)
         nodes = _fatigue_candidates(fields.stress, C, factor, b, mask)
         sa, sm = alternating_and_mean(*component_range(fields.stress[:, nodes], C))
         n = factor(sa, sm)
@@ -336,32 +336,32 @@ def fatigue_factor(job: PartJob):
     return marin, factor
 
 
-def verdict_bounds(job: PartJob, fields: UnitFields, C: np.ndarray) -> screen.SampledBounds:
+def verdict_bounds(job: PartJob, fields: UnitFields, C: np.ndarray) -> screening.SampledBounds:
     """The nodes' bounds over the many-coefficient history ``C`` (its candidate steps) for
     the peaks and the fatigue minimum: the box of its principal subspace at every node
-    (:func:`fea.screen.box_bounds`), and its sampled steps read only at the nodes that the
+    (:func:`railcheck.fea.screening.box_bounds`), and its sampled steps read only at the nodes that the
     box leaves as candidates for the verdict nodes' peak, every node's peak or the fatigue
     minimum (below 1% of the nodes on the default rig's free bodies, against 100% read
     before). Valid at every node, so the screens that use them stay exact."""
     S = fields.stress
-    p = screen.project_history(S, C)
-    box = screen.box_bounds(p.SP, p.norms, p.vm_norm, p.sub)
+    p = screening.project_history(S, C)
+    box = screening.box_bounds(p.SP, p.norms, p.vm_norm, p.sub)
     mask = _verdict_mask(fields)
     keep = np.union1d(subspace_candidates(S, C, box, mask), subspace_candidates(S, C, box, np.ones_like(mask)))
     keep = np.union1d(keep, _fatigue_candidates(S, C, fatigue_factor(job)[1], box, mask))
-    return screen.sampled_at(p, box, keep)
+    return screening.sampled_at(p, box, keep)
 
 
-def _fatigue_candidates(S: np.ndarray, C: np.ndarray, factor, b: screen.SampledBounds, mask: np.ndarray) -> np.ndarray:
+def _fatigue_candidates(S: np.ndarray, C: np.ndarray, factor, b: screening.SampledBounds, mask: np.ndarray) -> np.ndarray:
     """Indices (ascending) of the nodes in ``mask`` of ``S`` (6, n, k) that can hold their
     smallest fatigue factor over the history ``C`` (steps, k): a lower bound of each node's
-    factor from its sampled subspace bounds ``b`` (:func:`fea.screen.fatigue_bounds`), a
+    factor from its sampled subspace bounds ``b`` (:func:`railcheck.fea.screening.fatigue_bounds`), a
     threshold from the nodes of smallest sampled factor evaluated exactly."""
-    sa, sm = screen.fatigue_bounds(b)
-    first = screen.first_nodes(np.where(mask, factor(*screen.fatigue_sampled(b)), np.inf), largest=False)
+    sa, sm = screening.fatigue_bounds(b)
+    first = screening.first_nodes(np.where(mask, factor(*screening.fatigue_sampled(b)), np.inf), largest=False)
     first = first[mask[first]]
     top = float(factor(*alternating_and_mean(*component_range(S[:, first], C))).min())
-    return np.flatnonzero(mask & (factor(sa, sm) <= top * (1.0 + screen.SLACK)))
+    return np.flatnonzero(mask & (factor(sa, sm) <= top * (1.0 + screening.SLACK)))
 
 
 def solution_at(fields: UnitFields, c: np.ndarray, solve: UnitSolve, order: int, exclude: float) -> Solution:

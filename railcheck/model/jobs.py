@@ -1,7 +1,7 @@
 """Each checked part's work, resolved once from the scene into a picklable
 :class:`PartJob`: its geometry, support and tip groups, mesh sizes, bolt holes, load
 model and coefficient histories, material, limits and fatigue settings. Downstream stages
-(:mod:`railcheck.check.cycle`, the worker processes) take the job, never the scene.
+(:mod:`railcheck.model.cycle`, the worker processes) take the job, never the scene.
 
 Also here, because they resolve the scene before any meshing: the seed method's load
 cases, each part's mesh sizes, the bolt holes a bar length uses, and the refusals of a
@@ -14,17 +14,8 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from railcheck import machine
-from railcheck.check.kinematics_stage import KinematicsResult
-from railcheck.check.loading import (
-    LoadModel,
-    SourceHistory,
-    load_model,
-    source_histories,
-    unit_cases,
-    with_pressure_histories,
-)
-from railcheck.errors import InputError
+from railcheck.base import machine
+from railcheck.base.errors import InputError
 from railcheck.fea.materials import Material
 from railcheck.fea.mesh import estimate_dofs
 from railcheck.fea.unitcases import FreeBodyCases
@@ -32,6 +23,15 @@ from railcheck.geometry.mesher import estimate_elements
 from railcheck.geometry.models import PartGeometry
 from railcheck.kinematics.massmodel import carried_mass
 from railcheck.loads.cases import LoadCase, explicit_load_case, rail_bolt_holes, reaction_load_case
+from railcheck.model.kinematics_stage import KinematicsResult
+from railcheck.model.loading import (
+    LoadModel,
+    SourceHistory,
+    load_model,
+    source_histories,
+    unit_cases,
+    with_pressure_histories,
+)
 from railcheck.parts import BAR_INDEX, KINDS, PARTS, geometry_of, kind_of, mass_model
 from railcheck.scene import FatigueSpec, MeshSpec, Scene
 

@@ -37,7 +37,7 @@ from concurrent.futures import TimeoutError as FutureTimeout
 from concurrent.futures.process import BrokenProcessPool
 from typing import Any, TypeVar
 
-from railcheck.errors import RailcheckError
+from railcheck.base.errors import RailcheckError
 
 T = TypeVar("T")
 
@@ -80,7 +80,7 @@ def alone() -> bool:
     here: a caller whose thread ran 200 x 200 products hung in ``blas_thread_shutdown_``
     in 3 of 3 runs). A library caller with threads of its own gets its sweep where a
     process that cannot fork runs it: a Dask local cluster for a large sweep, else this
-    process's threads (:mod:`railcheck.sweep.threads`)."""
+    process's threads (:mod:`railcheck.parallel.threads`)."""
     return threading.active_count() == 1
 
 
@@ -90,7 +90,7 @@ def in_order_on_processes(function: Callable[[Any], T], items: Sequence, process
     caller waits for. ``function`` and ``items`` reach the children by the fork (neither is
     pickled); each result comes back pickled. An exception from ``function`` is raised here
     at its item's turn; a child that dies (killed, out of memory) is a
-    :class:`~railcheck.errors.RailcheckError` naming the sweep. Once the caller stops, the
+    :class:`~railcheck.base.errors.RailcheckError` naming the sweep. Once the caller stops, the
     children are terminated. Call it only when this process is :func:`alone`."""
     token = next(_TOKENS)
     _CALLS[token] = (function, items)

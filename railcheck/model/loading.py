@@ -28,7 +28,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from railcheck.check.kinematics_stage import KinematicsResult, effects_for
 from railcheck.fea.pin_pressure import harmonic_names
 from railcheck.fea.unitcases import BodyCase, CoupleCase, FoundationCase, PressureCase, TractionCase
 from railcheck.geometry.catalogue import plate_planar_inertia, with_overrides
@@ -37,6 +36,7 @@ from railcheck.kinematics.massmodel import carried_mass
 from railcheck.loads.histories import bolt_history, gravity_history, rail_inertia_history
 from railcheck.loads.pin_pressure import HARMONICS, harmonic_coefficients
 from railcheck.loads.rotation import to_rail_axes
+from railcheck.model.kinematics_stage import KinematicsResult, effects_for
 from railcheck.parts import BAR_INDEX, PARTS, FreeBody, FreePlate, LoadSource, mass_model, rail_length
 from railcheck.scene import ExplicitLoad, Scene
 
