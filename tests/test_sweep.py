@@ -273,7 +273,7 @@ def test_dask_and_serial_give_identical_tables(tmp_path, monkeypatch):
     files; and again with the shared files refused by the disk (the contexts scattered
     instead, said so): every table equals the serial run's, and no shared file is left
     in the results."""
-    import railcheck.sweep.run as run_module
+    import railcheck.parallel.executor as executor_module
 
     text = KINEMATICS_ONLY + 'crank = ["420 mm", "540 mm"]\ncoupler = ["780 mm", "900 mm"]\nspeeds = ["1 Hz", "1.5 Hz"]\n'
     text = text.replace('speeds = ["1 Hz"]\n', "")
@@ -284,7 +284,7 @@ def test_dask_and_serial_give_identical_tables(tmp_path, monkeypatch):
     def full_disk(obj, path):
         raise OSError(28, "No space left on device")
 
-    monkeypatch.setattr(run_module, "write_shared", full_disk)
+    monkeypatch.setattr(executor_module, "write_shared", full_disk)
     lines = []
     progress = type("P", (), {"say": lambda self, stage, msg: lines.append(msg)})()
     scattered = _sweep(tmp_path, small, "scattered", workers=2, serial=False, dask=True, progress=progress)
@@ -330,10 +330,10 @@ def test_an_external_scheduler_gets_the_context_scattered_and_the_serial_tables(
     tables equal the serial run's."""
     from dask.distributed import LocalCluster
 
-    import railcheck.sweep.run as run_module
+    import railcheck.parallel.executor as executor_module
 
     written = []
-    monkeypatch.setattr(run_module, "write_shared", lambda obj, path: written.append(path) or path)
+    monkeypatch.setattr(executor_module, "write_shared", lambda obj, path: written.append(path) or path)
     text = KINEMATICS_ONLY + 'crank = ["420 mm", "540 mm"]\ncoupler = ["780 mm", "900 mm"]\n'
     small = text.replace("[sweep]", '[sweep]\nmemory = "2 MB"')
     serial = _sweep(tmp_path, text, "serial", serial=True)
@@ -549,7 +549,8 @@ def test_map_legend_lists_only_the_refusal_reasons_that_occur(tmp_path):
     """The legend's reasons are the first failing checks of the refused settings, read
     from the table independently; a narrowed sweep where only some checks fail lists
     only those."""
-    from railcheck.report.maps import REASON_ORDER, Aggregate, occurring_reasons
+    from railcheck.report.maps import occurring_reasons
+    from railcheck.sweep.aggregate import REASON_ORDER, Aggregate
     from railcheck.sweep.run import sweep_settings
 
     text = KINEMATICS_ONLY + 'kind = "four-bar"\ncrank = ["360 mm", "540 mm"]\ncoupler = ["780 mm", "900 mm"]\n'
@@ -743,12 +744,12 @@ def test_chunks_hold_consecutive_settings_within_both_limits(seed):
     """A run's chunks cover every setting once, in order; each holds at most ``size``
     settings and at most ``checked_size`` settings checked by FE, and ends only where
     the next setting would break a limit (or the settings end)."""
-    from railcheck.sweep.run import _chunks
+    from railcheck.parallel.executor import chunk_ranges
 
     rng = np.random.default_rng(seed)
     checked = rng.random(int(rng.integers(1, 3000))) < rng.choice([0.0, 0.04, 0.5, 1.0])
     size, checked_size = int(rng.integers(1, 400)), int(rng.integers(1, 40))
-    chunks = list(_chunks(checked, size, checked_size))
+    chunks = list(chunk_ranges(checked, size, checked_size))
     assert np.concatenate(chunks).tolist() == list(range(checked.size))
     for ids in chunks:
         assert ids.size <= size and checked[ids].sum() <= checked_size
@@ -759,20 +760,21 @@ def test_chunks_hold_consecutive_settings_within_both_limits(seed):
 
 @pytest.mark.slow
 def test_the_local_cluster_s_workers_run_without_the_dask_profiler_and_with_their_heap_settings():
-    """The local cluster's workers get :data:`railcheck.sweep.run.WORKER_CONFIG` (no
+    """The local cluster's workers get :data:`railcheck.parallel.dask.WORKER_CONFIG` (no
     statistical profiler sampling the computing thread) and the glibc heap settings of
-    :data:`railcheck.sweep.run.WORKER_MALLOC` in their environment."""
+    :data:`railcheck.parallel.dask.WORKER_MALLOC` in their environment."""
     import os
 
     import dask
 
+    from railcheck.parallel.dask import WORKER_MALLOC
+    from railcheck.parallel.executor import ChunkExecutor
     from railcheck.progress import Progress
-    from railcheck.sweep.run import WORKER_MALLOC, _Executor
 
     def settings():
         return dask.config.get("distributed.worker.profile.enabled"), {k: os.environ.get(k) for k in WORKER_MALLOC}
 
-    with _Executor(None, 1, True, Progress(quiet=True)) as executor:
+    with ChunkExecutor(None, 1, True, Progress(quiet=True)) as executor:
         seen = list(executor.client.run(settings).values())
     assert seen == [(False, {k: str(v) for k, v in WORKER_MALLOC.items()})]
     assert dask.config.get("distributed.worker.profile.enabled")  # this process keeps its own
@@ -784,11 +786,11 @@ def test_a_cluster_left_half_started_by_an_interrupt_closes_quietly_at_exit(monk
     interrupted". The hook is replaced (once) by one that closes the clusters quietly."""
     from distributed.deploy import spec
 
-    from railcheck.sweep.run import _quiet_cluster_exit
+    from railcheck.parallel.dask import quiet_cluster_exit
 
-    _quiet_cluster_exit()
+    quiet_cluster_exit()
     quiet = spec.close_clusters._railcheck_quiet
-    _quiet_cluster_exit()  # once only
+    quiet_cluster_exit()  # once only
     assert spec.close_clusters._railcheck_quiet is quiet
 
     def half_started():
@@ -828,17 +830,17 @@ def test_parts_are_built_in_worker_processes_only_when_one_must_be_meshed_or_sol
 
     def workers_here(tasks, args, progress, jobs):  # records the call, builds in this process
         to_workers.append([t.name for t in tasks])
-        return [run_module._build_task(t, *args, say=lambda msg: None) for t in tasks]
+        return [run_module.build_task(t, *args, say=lambda msg: None) for t in tasks]
 
-    monkeypatch.setattr(run_module, "_build_in_workers", workers_here)
+    monkeypatch.setattr(run_module, "build_in_workers", workers_here)
     on_threads = []
-    threaded = run_module._build_on_threads
+    threaded = run_module.build_on_threads
 
     def threads_recorded(tasks, args, say, jobs):  # records the call, builds on the threads
         on_threads.append([t.name for t in tasks])
         return threaded(tasks, args, say, jobs)
 
-    monkeypatch.setattr(run_module, "_build_on_threads", threads_recorded)
+    monkeypatch.setattr(run_module, "build_on_threads", threads_recorded)
     scene = parse_scene(__import__("tomllib").loads(TWO_PLATES), "test")
     settings = run_module.sweep_settings(scene)
     tasks = run_module.part_tasks(scene, settings)

@@ -16,20 +16,17 @@ import functools
 from dataclasses import dataclass
 from pathlib import Path
 
-import numpy as np
-
 from railcheck.base.errors import EXIT_FAIL, EXIT_PASS, InputError
 from railcheck.check.pipeline import run_pipeline
 from railcheck.check.summary import summary_of
-from railcheck.fea.stress import von_mises
-from railcheck.fea.superpose import node_envelope_of
-from railcheck.fea.vtk import pvd_text, write_vtu
+from railcheck.fea.vtk import pvd_text
 from railcheck.files import Staging, atomic_path, atomic_write_text, reserve_results_dir, to_json
 from railcheck.model.records import PartResult, PipelineResult
 from railcheck.progress import Progress
 from railcheck.report.html import write_report
 from railcheck.report.plots import write_campbell_plot, write_cycle_plot, write_kinematics_plots
 from railcheck.report.render import render_part
+from railcheck.report.vtu import write_part_vtu
 from railcheck.scene import OutputSpec, Scene
 
 
@@ -113,48 +110,3 @@ def write_part_files(output: OutputSpec, name: str, p: PartResult, directory: Pa
     if output.png:
         render_part(directory / f"{name}.png", name, p)
     (directory / f"{name}.written").touch()
-
-
-def mode_shapes(p: PartResult) -> dict[str, np.ndarray]:
-    """The lowest mode shapes (nodes, 3), mass-normalised, as VTU point data named with
-    their frequency, when the part has a dynamic response."""
-    d = p.cycle.dynamic
-    if d is None:
-        return {}
-    k = p.cycle.load_C.shape[1]
-    return {f"mode_{i + 1}_{hz:.1f}Hz": p.cycle.fields.displacement[:, :, k + i] for i, hz in enumerate(d.hz)}
-
-
-def node_envelope(p: PartResult) -> np.ndarray:
-    """(nodes,) Pa: each node's largest von Mises over the governing history (computed
-    here: the check itself needs only the peaks)."""
-    env = p.cycle.envelope
-    return env.node_envelope if env.node_envelope is not None else node_envelope_of(p.cycle.fields, p.cycle.C)
-
-
-def write_part_vtu(path: Path, p: PartResult) -> None:
-    """The part's VTU on every node of its order: the governing instant's displacement,
-    stress and von Mises, the cycle envelope, the fatigue factor, and 0/1 masks of the
-    support, the loaded holes and the verdict zone (away from the support)."""
-    f, s = p.cycle.fields, p.solution
-    n = f.nodes.shape[0]
-    masks = {
-        name: np.isin(np.arange(n), idx).astype(float)
-        for name, idx in (("support_surface", f.support), ("loaded_holes", f.loaded))
-    }
-    with atomic_path(path) as tmp:
-        write_vtu(
-            tmp,
-            f.nodes,
-            f.cells,
-            s.node_displacement,
-            von_mises(s.stress),
-            {
-                "stress": s.stress.T,
-                "von_mises_envelope": node_envelope(p),
-                "fatigue_safety_factor": p.cycle.fatigue.node_factor,
-                "verdict_zone": f.verdict_mask.astype(float),
-                **masks,
-                **mode_shapes(p),
-            },
-        )

@@ -26,23 +26,23 @@ pre{background:#f7f7f7;padding:.6em;overflow:auto;font-size:12px} .note{color:#5
 """
 
 
-def _e(x) -> str:
+def html_escape(x) -> str:
     return html.escape(str(x))
 
 
-def _img(path: Path, alt: str) -> str:
+def html_image(path: Path, alt: str) -> str:
     if not path.exists():
         return ""
     data = base64.b64encode(path.read_bytes()).decode()
-    return f'<img alt="{_e(alt)}" src="data:image/png;base64,{data}">'
+    return f'<img alt="{html_escape(alt)}" src="data:image/png;base64,{data}">'
 
 
 def _verdict(ok: bool) -> str:
     return '<span class="pass">PASS</span>' if ok else '<span class="fail">FAIL</span>'
 
 
-def _table(head: list[str], rows: list[list], left: int = 1) -> str:
-    th = "".join(f'<th class="{"l" if i < left else ""}">{_e(h)}</th>' for i, h in enumerate(head))
+def html_table(head: list[str], rows: list[list], left: int = 1) -> str:
+    th = "".join(f'<th class="{"l" if i < left else ""}">{html_escape(h)}</th>' for i, h in enumerate(head))
     body = "".join(
         "<tr>" + "".join(f'<td class="{"l" if i < left else ""}">{c}</td>' for i, c in enumerate(r)) + "</tr>" for r in rows
     )
@@ -73,9 +73,11 @@ def write_report(path: Path, scene, result, summary: dict, directory: Path) -> N
 def _header(result, summary) -> str:
     reasons = "; ".join(result.failures)
     verdict = summary["verdict"]
-    title = _verdict(not result.failures) if verdict in ("PASS", "FAIL") else f'<span class="note">{_e(verdict)}</span>'
+    title = (
+        _verdict(not result.failures) if verdict in ("PASS", "FAIL") else f'<span class="note">{html_escape(verdict)}</span>'
+    )
     unloaded = (
-        f"<p>NO LOAD: {_e(', '.join(result.unloaded))}: no load at any step (no speed, no gravity, no explicit "
+        f"<p>NO LOAD: {html_escape(', '.join(result.unloaded))}: no load at any step (no speed, no gravity, no explicit "
         "load); nothing to check, so not meshed or solved</p>"
         if result.unloaded
         else ""
@@ -83,37 +85,41 @@ def _header(result, summary) -> str:
     passes = "<p>every check and part passes</p>" if result.parts else ""
     return (
         f"<h1>railcheck report: {title}</h1>"
-        + (f'<p class="fail">fails: {_e(reasons)}</p>' if reasons else passes)
+        + (f'<p class="fail">fails: {html_escape(reasons)}</p>' if reasons else passes)
         + unloaded
-        + f'<p class="note">scene: {_e(result.scene.source)}; stages run: {_e(", ".join(result.stages_run))}</p>'
-        + "".join(f'<p class="note">warning: {_e(w)}</p>' for w in summary.get("warnings", []))
+        + f'<p class="note">scene: {html_escape(result.scene.source)}; '
+        + f"stages run: {html_escape(', '.join(result.stages_run))}</p>"
+        + "".join(f'<p class="note">warning: {html_escape(w)}</p>' for w in summary.get("warnings", []))
     )
 
 
 def _scene(scene) -> str:
-    return f"<h2>Scene</h2><pre>{_e(json.dumps(scene.raw, indent=2, ensure_ascii=False))}</pre>"
+    return f"<h2>Scene</h2><pre>{html_escape(json.dumps(scene.raw, indent=2, ensure_ascii=False))}</pre>"
 
 
 def _checks(result) -> str:
     if not result.checks:
         return ""
-    rows = [[_e(n), _verdict(c.ok), f'<span class="l">{_e(c.message)}</span>'] for n, c in result.checks.items()]
-    return "<h2>Configuration checks</h2>" + _table(["check", "result", "detail"], rows, left=3)
+    rows = [
+        [html_escape(n), _verdict(c.ok), f'<span class="l">{html_escape(c.message)}</span>']
+        for n, c in result.checks.items()
+    ]
+    return "<h2>Configuration checks</h2>" + html_table(["check", "result", "detail"], rows, left=3)
 
 
 def _kinematics(result, directory: Path) -> str:
     k = result.kinematics_summary
     if k is None:
         return ""
-    rows = [[_e(j), f"{v:.1f}", f"{k['peak_crank_angle_deg'][j]:.1f}"] for j, v in k["peak_reactions_N"].items()]
+    rows = [[html_escape(j), f"{v:.1f}", f"{k['peak_crank_angle_deg'][j]:.1f}"] for j, v in k["peak_reactions_N"].items()]
     rows.append(["motor torque (N·m)", f"{k['peak_torque_Nm']:.1f}", f"{k['peak_crank_angle_deg']['torque']:.1f}"])
     return (
         "<h2>Kinematics and joint reactions</h2>"
-        f"<p>{_e(k['formulation'])}, effects: {_e(', '.join(k['effects']) or 'none')}; transmission angle "
+        f"<p>{html_escape(k['formulation'])}, effects: {html_escape(', '.join(k['effects']) or 'none')}; transmission angle "
         f"{k['transmission_angle_deg']['min']:.2f} to {k['transmission_angle_deg']['max']:.2f} deg</p>"
-        + _table(["joint", "peak (N)", "at crank angle (deg)"], rows)
-        + _img(directory / "reactions.png", "joint reactions")
-        + _img(directory / "torque.png", "motor torque")
+        + html_table(["joint", "peak (N)", "at crank angle (deg)"], rows)
+        + html_image(directory / "reactions.png", "joint reactions")
+        + html_image(directory / "torque.png", "motor torque")
     )
 
 
@@ -135,14 +141,14 @@ def _parts(result) -> str:
         dlim = f"{p.deflection_limit * 1e3:.3g}" if p.deflection_limit else "none"
         rows.append(
             [
-                _e(name),
+                html_escape(name),
                 f"{p.verdict_stress / 1e6:.1f}",
                 angle,
                 f"{c.seed_method.max_von_mises / 1e6:.1f}",
                 *([_clamped_cell(p.clamped)] if compared else []),
                 f"{p.limit / 1e6:.0f}",
                 f"{fos:.2f}",
-                f"{p.utilisation:.0%} ({_e(p.governing_criterion)})",
+                f"{p.utilisation:.0%} ({html_escape(p.governing_criterion)})",
                 f"{c.envelope.max_tip * 1e3:.3g}",
                 dlim,
                 f"{c.fatigue.min_safety_factor:.2f}",
@@ -171,12 +177,12 @@ def _parts(result) -> str:
     free = [n for n, p in result.parts.items() if p.job.free_body is not None]
     clamped = [n for n in result.parts if n not in free]
     models = (
-        f"clamped ({_e(', '.join(clamped))}): the peak away from the idealised support's singular edge, the "
+        f"clamped ({html_escape(', '.join(clamped))}): the peak away from the idealised support's singular edge, the "
         "deflection at the free end; "
         if clamped
         else ""
     ) + (
-        f"free bodies ({_e(', '.join(free))}): no support, every node in the verdict, the crank's deflection "
+        f"free bodies ({html_escape(', '.join(free))}): no support, every node in the verdict, the crank's deflection "
         "at A relative to its shaft and pin, a link's mid-span sag relative to its joints, a plate's seat "
         "relative to its bolts; "
         if free
@@ -184,10 +190,10 @@ def _parts(result) -> str:
     )
     return (
         "<h2>Parts</h2>"
-        + _table(head, rows)
+        + html_table(head, rows)
         + f'<p class="note">cycle max: the largest von Mises over the whole crank cycle; * {models}'
         f"seed method: at the instant of the peak reaction magnitude; "
-        f"factor of safety = limit / cycle max; fatigue: {_e(crit.criterion)}, endurance limit "
+        f"factor of safety = limit / cycle max; fatigue: {html_escape(crit.criterion)}, endurance limit "
         f"{crit.marin.endurance_limit / 1e6:.0f} MPa (Shigley ch. 6, Marin factors in summary.json).</p>"
     )
 
@@ -200,7 +206,7 @@ def _dynamic(result, directory: Path) -> str:
         return ""
     rows = [
         [
-            _e(name),
+            html_escape(name),
             ", ".join(f"{f:.3g}" for f in d.hz[:3]),
             ", ".join(str(n) for n in d.harmonics[:3]),
             f"{d.quasi_static_peak / 1e6:.1f}",
@@ -222,11 +228,11 @@ def _dynamic(result, directory: Path) -> str:
     ]
     return (
         "<h2>Dynamic response</h2>"
-        + _table(head, rows)
+        + html_table(head, rows)
         + f'<p class="note">steady state over one revolution at {d0.crank_hz:.3g} Hz by modal superposition with the '
         f"mode-acceleration correction; modal damping {d0.damping:g} (assumed); a part fails above an amplification "
         f"of {d0.max_amplification:.3g}; free bodies pinned at their joints, clamped parts at their clamp.</p>"
-        + _img(directory / "campbell.png", "Campbell diagram")
+        + html_image(directory / "campbell.png", "Campbell diagram")
     )
 
 
@@ -234,9 +240,9 @@ def _pictures(result, directory: Path) -> str:
     out = []
     for name in result.parts:
         out.append(
-            f"<h3>{_e(name)}</h3>"
-            + _img(directory / f"{name}.png", f"{name} von Mises")
-            + _img(directory / f"{name}-cycle.png", f"{name} over the cycle")
+            f"<h3>{html_escape(name)}</h3>"
+            + html_image(directory / f"{name}.png", f"{name} von Mises")
+            + html_image(directory / f"{name}-cycle.png", f"{name} over the cycle")
         )
     return "<h2>Pictures</h2>" + "".join(out) if out else ""
 
@@ -259,12 +265,12 @@ def _mesh_and_equilibrium(result) -> str:
             balance = f"{np.linalg.norm(applied + reaction) / scale:.1e}"
         rows.append(
             [
-                _e(name),
+                html_escape(name),
                 f"{solve.dofs}",
                 f"{solve.elements}",
                 f"{p.mesh.min_quality:.2f}",
                 f"{p.mesh.slivers}",
-                _e(solve.solver.get("solver")),
+                html_escape(solve.solver.get("solver")),
                 ", ".join(f"{v:.2f}" for v in applied),
                 held,
                 balance,
@@ -283,7 +289,7 @@ def _mesh_and_equilibrium(result) -> str:
     ]
     return (
         "<h2>Mesh and equilibrium</h2>"
-        + _table(head, rows)
+        + html_table(head, rows)
         + '<p class="note">at each part\'s governing instant. A supported part: the support reaction is the '
         "resultant of K u - f over the fixed nodes, and balances the applied bolt and body forces. A free body: "
         "the applied load is the resultant of its joint forces and its own inertia, which balance each other; "
@@ -292,17 +298,17 @@ def _mesh_and_equilibrium(result) -> str:
 
 
 def _timings(result) -> str:
-    rows = [[_e(k), f"{v:.2f}"] for k, v in result.timings.items()]
-    return "<h2>Timings</h2>" + _table(["stage", "seconds"], rows) if rows else ""
+    rows = [[html_escape(k), f"{v:.2f}"] for k, v in result.timings.items()]
+    return "<h2>Timings</h2>" + html_table(["stage", "seconds"], rows) if rows else ""
 
 
 def _versions() -> str:
     from importlib.metadata import PackageNotFoundError, version
 
-    rows = [["python", _e(platform.python_version())]]
+    rows = [["python", html_escape(platform.python_version())]]
     for pkg in ("railcheck", "numpy", "scipy", "scikit-fem", "gmsh", "meshio", "pyvista", "pyamg", "pypardiso", "mkl"):
         try:
-            rows.append([pkg, _e(version(pkg))])
+            rows.append([pkg, html_escape(version(pkg))])
         except PackageNotFoundError:
             rows.append([pkg, "not installed"])
-    return "<h2>Software</h2>" + _table(["package", "version"], rows, left=2)
+    return "<h2>Software</h2>" + html_table(["package", "version"], rows, left=2)

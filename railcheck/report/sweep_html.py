@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from railcheck.files import atomic_write_text
-from railcheck.report.html import CSS, _e, _img, _table
+from railcheck.report.html import CSS, html_escape, html_image, html_table
 from railcheck.sweep.table import read_table
 
 #: how many of the most utilised settings the report lists per kind
@@ -35,16 +35,16 @@ def write_sweep_report(path: Path, summary: dict, tables: dict, directory: Path)
     speed = summary["speeds_Hz"][0]
     sections = [
         "<h1>railcheck sweep</h1>",
-        f'<p class="note">speeds {_e(", ".join(f"{v:g}" for v in summary["speeds_Hz"]))} Hz, '
-        f"{summary['steps']} steps per revolution, {_e(summary['assembly'])} assembly, effects: "
-        f"{_e(', '.join(summary['effects']))}; scene: {_e(summary.get('scene_source', ''))}</p>",
+        f'<p class="note">speeds {html_escape(", ".join(f"{v:g}" for v in summary["speeds_Hz"]))} Hz, '
+        f"{summary['steps']} steps per revolution, {html_escape(summary['assembly'])} assembly, effects: "
+        f"{html_escape(', '.join(summary['effects']))}; scene: {html_escape(summary.get('scene_source', ''))}</p>",
         _counts(summary),
     ]
     for kind, path_k in tables.items():
         rows = _first_speed_rows(path_k, speed)
         sections += [
-            f"<h2>{_e(kind)}</h2>",
-            _img(directory / f"map-{kind}.png", f"{kind} maps"),
+            f"<h2>{html_escape(kind)}</h2>",
+            html_image(directory / f"map-{kind}.png", f"{kind} maps"),
             _worst(rows),
             _best(rows),
             _safe_criteria(summary["by_kind"][kind]),
@@ -71,7 +71,7 @@ def _counts(summary: dict) -> str:
     head = ["kind", "settings", "assemble", "revolve", "pass the configuration checks", "pass every check"]
     rows = [
         [
-            _e(kind),
+            html_escape(kind),
             f"{k['settings_total']:,}",
             f"{k['settings_assemblable']:,}",
             f"{k['settings_revolving']:,}",
@@ -80,7 +80,7 @@ def _counts(summary: dict) -> str:
         ]
         for kind, k in summary["by_kind"].items()
     ]
-    return "<h2>Settings</h2>" + _table(head, rows)
+    return "<h2>Settings</h2>" + html_table(head, rows)
 
 
 def _number(value, fmt: str) -> str:
@@ -100,18 +100,18 @@ def _worst(rows: dict) -> str:
         return ""
     body = [
         [
-            _e(_lengths(rows, i)),
+            html_escape(_lengths(rows, i)),
             f"{u[i]:.3f}",
-            _e(f"{rows['governing_part'][i]} {rows['governing_criterion'][i]}"),
+            html_escape(f"{rows['governing_part'][i]} {rows['governing_criterion'][i]}"),
             _number(rows["safe_speed_Hz"][i], ".3g"),
-            _e(f"{rows['safe_speed_part'][i] or '-'} {rows['safe_speed_criterion'][i] or ''}"),
+            html_escape(f"{rows['safe_speed_part'][i] or '-'} {rows['safe_speed_criterion'][i] or ''}"),
             _number(rows["torque_peak_Nm"][i], ".3g"),
-            _e(rows["verdict"][i]),
+            html_escape(rows["verdict"][i]),
         ]
         for i in order
     ]
     head = ["setting", "utilisation", "governs", "safe speed (Hz)", "set by", "peak torque (N·m)", "verdict"]
-    return f"<h3>The {len(order)} most utilised settings</h3>" + _table(head, body, left=1)
+    return f"<h3>The {len(order)} most utilised settings</h3>" + html_table(head, body, left=1)
 
 
 def _best(rows: dict) -> str:
@@ -129,10 +129,10 @@ def _best(rows: dict) -> str:
         pick = np.where(ok, values if sense == "max" else -values, -np.inf)
         i = int(np.argmax(pick))
         value = "unlimited" if np.isinf(values[i]) else f"{format(values[i], fmt)} {unit}".strip()
-        body.append([_e(title), _e(_lengths(rows, i)), _e(value)])
+        body.append([html_escape(title), html_escape(_lengths(rows, i)), html_escape(value)])
     if not body:
         return ""
-    return "<h3>The best passing setting per criterion</h3>" + _table(["criterion", "setting", "value"], body)
+    return "<h3>The best passing setting per criterion</h3>" + html_table(["criterion", "setting", "value"], body)
 
 
 def _safe_criteria(kind: dict) -> str:
@@ -140,7 +140,7 @@ def _safe_criteria(kind: dict) -> str:
     if not counts:
         return ""
     text = ", ".join(f"{c}: {n:,}" for c, n in counts.items())
-    return f"<p>what sets each setting's safe speed (settings per criterion): {_e(text)}</p>"
+    return f"<p>what sets each setting's safe speed (settings per criterion): {html_escape(text)}</p>"
 
 
 def _motor(summary: dict, directory: Path) -> str:
@@ -152,19 +152,26 @@ def _motor(summary: dict, directory: Path) -> str:
                 continue
             t, r, p = (entry[q] for q in ("torque_peak_Nm", "torque_rms_Nm", "power_peak_W"))
             rows.append(
-                [_e(kind), f"{float(speed):g} Hz", f"{t['value']:.3g}", f"{r['value']:.3g}", f"{p['value']:.3g}", _e(_mm(t))]
+                [
+                    html_escape(kind),
+                    f"{float(speed):g} Hz",
+                    f"{t['value']:.3g}",
+                    f"{r['value']:.3g}",
+                    f"{p['value']:.3g}",
+                    html_escape(_mm(t)),
+                ]
             )
         safe = sizing.get("at_safe_speed", {})
         if "torque_peak_Nm" in safe:
             t, r, p = (safe[q] for q in ("torque_peak_Nm", "torque_rms_Nm", "power_peak_W"))
             rows.append(
                 [
-                    _e(kind),
+                    html_escape(kind),
                     f"each setting's safe speed (largest at {t['safe_speed_Hz']:.3g} Hz)",
                     f"{t['value']:.3g}",
                     f"{r['value']:.3g}",
                     f"{p['value']:.3g}",
-                    _e(_mm(t)),
+                    html_escape(_mm(t)),
                 ]
             )
     if not rows:
@@ -173,7 +180,9 @@ def _motor(summary: dict, directory: Path) -> str:
     return (
         "<h2>The motor a rig needs</h2><p>The 2013 design study estimated at least 200 N·m. Each row is the largest "
         "over the settings that pass at that speed; the curve is the largest over the settings still safe at each "
-        "speed.</p>" + _table(head, rows, left=2) + _img(directory / "motor.png", "motor torque against crank speed")
+        "speed.</p>"
+        + html_table(head, rows, left=2)
+        + html_image(directory / "motor.png", "motor torque against crank speed")
     )
 
 
@@ -187,8 +196,14 @@ def _hypotheses(summary: dict) -> str:
         return ""
     mark = {True: "holds", False: "does not hold", None: "not tested here"}
     rows = [
-        [_e(h["id"]), f'<span class="l">{_e(h["statement"])}</span>', _e(mark[h["holds"]]), _e(h["evidence"])] for h in hyps
+        [
+            html_escape(h["id"]),
+            f'<span class="l">{html_escape(h["statement"])}</span>',
+            html_escape(mark[h["holds"]]),
+            html_escape(h["evidence"]),
+        ]
+        for h in hyps
     ]
-    return "<h2>The 2013 study's hypotheses (chapter 3.3), on this sweep</h2>" + _table(
+    return "<h2>The 2013 study's hypotheses (chapter 3.3), on this sweep</h2>" + html_table(
         ["section", "hypothesis", "on this sweep", "evidence"], rows, left=4
     )

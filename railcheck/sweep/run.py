@@ -13,7 +13,6 @@ into a staging directory that is renamed into place at the end (nothing half-wri
 
 from __future__ import annotations
 
-import math
 import os
 import threading
 import time
@@ -32,14 +31,14 @@ from railcheck.geometry.catalogue import with_overrides
 from railcheck.geometry.mesher import estimate_elements
 from railcheck.model.jobs import mesh_sizes, part_geometries, refuse_huge
 from railcheck.parallel import forked
-from railcheck.parallel.forked import in_order_on_processes
-from railcheck.parallel.shared import remove_shared, shared, write_shared
+from railcheck.parallel.executor import ChunkExecutor
 from railcheck.parallel.spawned import relayed_pool, worker_say
-from railcheck.parallel.threads import blas_on_one_thread, in_order_on_threads
+from railcheck.parallel.threads import blas_on_one_thread
 from railcheck.parts import PARTS, geometry_of, rail_length
 from railcheck.progress import Progress
-from railcheck.report.maps import Aggregate, summary_of, write_maps, write_motor_plot
+from railcheck.report.maps import write_maps, write_motor_plot
 from railcheck.report.sweep_html import write_sweep_report
+from railcheck.sweep.aggregate import Aggregate, summary_of
 from railcheck.sweep.chunk import (
     MOTOR_CURVE_KEY,
     SweepContext,
@@ -56,16 +55,24 @@ from railcheck.sweep.table import TableWriter
 #: (kinematics, reactions at two speeds, FE coefficient histories; measured with
 #: tracemalloc, rounded up)
 BYTES_PER_SETTING_STEP = 3_000
+
+
 #: bytes per setting and speed of a chunk's table rows and motor curve (1.4 kB measured
 #: with tracemalloc at the peak of a 4,096-setting kinematic chunk, rounded up)
 BYTES_PER_ROW = 4_000
+
+
 #: bytes per crank step of a setting with FE held in its chunk until the chunk's FE
 #: settings are screened together (every part's coefficient histories, the motor torque,
 #: the screens' temporaries; 1.5 kB measured with tracemalloc at the peak of a whole-rig
 #: chunk of 192 of them, rounded up)
 BYTES_PER_CHECKED_STEP = 2_000
+
+
 #: settings per chunk at most (a chunk is one row group of the table)
 MAX_CHUNK = 4096
+
+
 #: settings with FE per chunk at most. A chunk's settings that share a part's hole pair
 #: are screened together (:func:`railcheck.fea.screening.groups.peak_and_fatigue`), so more of them
 #: make larger groups (the rocker rail's hole pair changes every 41 settings of the grid);
@@ -108,6 +115,7 @@ def sweep_settings(scene) -> dict[str, dict[str, np.ndarray]]:
 #: started: the whole rig's 115,456 settings at 720 steps, about 2 s on two threads, 3.7 s
 #: on two Dask workers with their start-up)
 KINEMATIC_DASK_CHUNKS = 64
+
 
 #: settings per chunk at most with a dynamic response (each setting's safe-speed search
 #: costs seconds: small chunks keep every worker busy)
@@ -197,8 +205,8 @@ def validate(scene) -> None:
 
 def prepare_models(scene, by_kind: dict, progress, jobs: int = 1) -> dict[str, dict]:
     """kind -> part -> PartModel: each checked part meshed, factorised and solved once,
-    in ``jobs`` processes (:func:`_build_in_workers`) when some part must be meshed or
-    solved, else on ``jobs`` threads of this one (:func:`_build_on_threads`: read from the
+    in ``jobs`` processes (:func:`build_in_workers`) when some part must be meshed or
+    solved, else on ``jobs`` threads of this one (:func:`build_on_threads`: read from the
     cache and the store, where the processes' start-up and the models pickled back cost
     more than they share out; the whole rig's parts: 4.6-5.2 s on two threads, 8.2-10.3 s
     on one, 12.1 s in two processes)."""
@@ -213,11 +221,11 @@ def prepare_models(scene, by_kind: dict, progress, jobs: int = 1) -> dict[str, d
     say = lambda msg: progress.say("solve", msg)  # noqa: E731
     if jobs > 1 and len(tasks) > 1:
         if all(part_is_stored(scene, t.name, t.lengths, material, t.kinds[0]) for t in tasks):
-            built = _build_on_threads(tasks, args, say, jobs)
+            built = build_on_threads(tasks, args, say, jobs)
         else:
-            built = _build_in_workers(tasks, args, progress, jobs)
+            built = build_in_workers(tasks, args, progress, jobs)
     else:
-        built = [_build_task(task, *args, say=say) for task in tasks]
+        built = [build_task(task, *args, say=say) for task in tasks]
     models: dict[str, dict] = {kind: {} for kind in by_kind}
     for task, model in zip(tasks, built):
         for k in task.kinds:
@@ -258,7 +266,7 @@ def part_tasks(scene, by_kind: dict) -> list[PartTask]:
     return tasks
 
 
-def _build_task(task: PartTask, scene, material, limit: float, say=None):
+def build_task(task: PartTask, scene, material, limit: float, say=None):
     """Build one task's PartModel (progress lines to ``say``, or in a worker to the main
     process), with a summary line."""
     say = say or worker_say
@@ -275,16 +283,16 @@ def _build_task(task: PartTask, scene, material, limit: float, say=None):
     return model
 
 
-def _build_on_threads(tasks: list[PartTask], args: tuple, say, jobs: int) -> list:
+def build_on_threads(tasks: list[PartTask], args: tuple, say, jobs: int) -> list:
     """The tasks' models built on ``jobs`` threads of this process, every part's mesh
     cached and unit fields stored: reading the store and gathering the screens are numpy
     copies that release the GIL, and nothing is pickled back (BLAS on one thread each
     meanwhile). In the tasks' order."""
     with blas_on_one_thread(), ThreadPoolExecutor(jobs, thread_name_prefix="railcheck-parts") as pool:
-        return list(pool.map(lambda task: _build_task(task, *args, say=say), tasks))
+        return list(pool.map(lambda task: build_task(task, *args, say=say), tasks))
 
 
-def _build_in_workers(tasks: list[PartTask], args: tuple, progress, jobs: int) -> list:
+def build_in_workers(tasks: list[PartTask], args: tuple, progress, jobs: int) -> list:
     """The tasks' models built in ``jobs`` spawned processes (meshing and assembly are
     single-threaded: two parts at once nearly halve a cold start). A free worker takes a
     task whose reused fields are done (cheap: read from the store) before any other, then
@@ -301,7 +309,7 @@ def _build_in_workers(tasks: list[PartTask], args: tuple, progress, jobs: int) -
         while pending or running:
             ready = [i for i in pending if tasks[i].after is None or built[tasks[i].after] is not None]
             for i in sorted(ready, key=lambda i: tasks[i].after is None)[: jobs - len(running)]:
-                running[pool.submit(_build_task, tasks[i], *args)] = i
+                running[pool.submit(build_task, tasks[i], *args)] = i
                 pending.remove(i)
             done, _ = wait(running, return_when=FIRST_COMPLETED)
             for future in done:
@@ -404,7 +412,9 @@ def _run_into(scene, directory: Path, scheduler, workers, serial, progress, dask
     jobs = [(lambda kind=kind: _context(scene, kind, models[kind]), by_kind[kind], kind, checked[kind]) for kind in kinds]
     threads = 1 if serial else workers or os.cpu_count() or 1
     with (
-        _Executor(scheduler, workers, use_dask and not serial, progress, directory, threads, forks) as executor,
+        ChunkExecutor(
+            scheduler, workers, use_dask and not serial, progress, directory, threads, forks, evaluate_chunk
+        ) as executor,
         ExitStack() as stack,
     ):
         writers = {kind: stack.enter_context(TableWriter(tables[kind], scene.sweep.format)) for kind in kinds}
@@ -450,278 +460,3 @@ def _context(scene, kind: str, models: dict):
     return SweepContext(
         scene, kind, tuple(scene.sweep.speeds), scene.sweep.steps, models, density, with_overrides(scene.geometry)[0]
     )
-
-
-#: glibc's heap settings of the local cluster's workers. Dask starts its workers with
-#: MALLOC_TRIM_THRESHOLD_ = 64 kB (memory back to the system as soon as it is freed), which
-#: makes every settings x steps temporary fault its pages in afresh: the kinematics-only sweep
-#: of the whole rig ran at half speed on the workers (a pass of the four-bar grid: 3.2-3.9 s
-#: wall on two workers, 1.5-1.6 s with a trim threshold of 128 MiB). Any explicit value turns
-#: glibc's adaptive thresholds off, so both are set: a worker keeps up to 256 MiB of freed
-#: heap and maps only blocks above 32 MiB (glibc's largest threshold), so a part's stresses
-#: per basis coordinate (up to 26 MB, one per group of settings) reuse the heap: with 4 MiB
-#: the whole rig's workers spent 101 s of 575 core-seconds in the kernel, and the captured
-#: near-default histories ran 2.36 s against 2.62 s (sys 0.35 against 1.37 s).
-WORKER_MALLOC = {"MALLOC_TRIM_THRESHOLD_": 256 << 20, "MALLOC_MMAP_THRESHOLD_": 32 << 20}
-#: Dask settings of the local cluster's workers. Their statistical profiler (for a dashboard
-#: this cluster does not start) samples the computing thread's stack every 10 ms, holding the
-#: GIL that the screens' many small numpy calls need: the whole rig's settings took 73.1 and
-#: 86.5 s without it against 80.0 and 90.6 s with it (two pairs, alternated).
-WORKER_CONFIG = {"distributed.worker.profile.enabled": False}
-
-
-def _quiet_cluster_exit() -> None:
-    """Replace distributed's exit hook that closes the local clusters still open by one
-    that closes them quietly: a run interrupted while its cluster starts or stops (Ctrl-C)
-    ends with ``railcheck: interrupted``, not with the hook's traceback (an assertion on a
-    worker still starting); the workers end with this process either way."""
-    import atexit
-    import contextlib
-
-    from distributed.deploy import spec
-
-    def close_quietly():
-        with contextlib.suppress(Exception):
-            spec.close_clusters()
-
-    if getattr(spec.close_clusters, "_railcheck_quiet", None) is None:
-        atexit.unregister(spec.close_clusters)
-        atexit.register(close_quietly)
-        spec.close_clusters._railcheck_quiet = close_quietly  # type: ignore[attr-defined]
-
-
-class _Executor:
-    """Chunks of settings -> their columns, in order: serially, on ``threads`` local
-    workers (forked processes when ``forks``, else threads), or on Dask (a local cluster
-    unless ``scheduler`` names one). On Dask every kind's chunks form one queue
-    (a kind's last chunks share the workers with the next kind's first), two chunks per
-    worker in flight, finished chunks held until the ones before them are done (a slow
-    chunk does not idle the other workers). A local cluster's workers map each kind's
-    context from a file in ``scratch`` (:mod:`railcheck.parallel.shared`); an external
-    scheduler's receive it scattered."""
-
-    def __init__(
-        self,
-        scheduler,
-        workers,
-        use_dask: bool,
-        progress,
-        scratch: Path | None = None,
-        threads: int = 1,
-        forks: bool = False,
-    ):
-        self.progress = progress
-        self.use_dask = use_dask
-        self.threads = threads
-        self.forks = forks
-        self.scheduler, self.workers = scheduler, workers
-        self.scratch = scratch
-        self.client = self.cluster = None
-
-    def __enter__(self):
-        if self.use_dask:
-            self._start()
-        return self
-
-    def _start(self):
-        import logging
-        import os
-
-        from dask.distributed import Client, LocalCluster
-
-        _quiet_cluster_exit()
-        if self.scheduler:
-            try:
-                self.client = Client(self.scheduler, timeout="5s")
-            except (OSError, TimeoutError) as exc:
-                raise InputError("--scheduler", f"cannot reach {self.scheduler}: {exc}") from None
-        else:
-            import dask
-
-            n = self.workers or os.cpu_count() or 1
-            environ = {f"distributed.nanny.pre-spawn-environ.{k}": v for k, v in WORKER_MALLOC.items()}
-            with dask.config.set(environ | WORKER_CONFIG):
-                self.cluster = LocalCluster(
-                    n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None, silence_logs=logging.ERROR
-                )
-            self.client = Client(self.cluster)
-        self.progress.say(
-            "sweep", f"Dask: {len(self.client.scheduler_info()['workers'])} workers ({self.scheduler or 'local cluster'})"
-        )
-
-    def __exit__(self, *exc):
-        if self.client is not None:
-            self.client.close()
-        if self.cluster is not None:
-            self.cluster.close()
-        return False
-
-    def map_jobs(self, jobs: list, size: int, checked_size: int, held: int = HELD_CHUNKS):
-        """Yield ``(job index, columns)`` of every chunk of every job ``(make_context,
-        lengths, kind, checked)`` in order, job by job, with a progress line every few
-        seconds (``make_context()`` builds the job's context when its first chunk is due;
-        chunks as :func:`_chunks`; on Dask at most ``held`` finished chunks wait for an
-        earlier one)."""
-        if self.use_dask:
-            yield from self._dask_jobs(jobs, size, checked_size, held)
-        elif self.threads > 1:
-            yield from self._local_jobs(jobs, size, checked_size, held)
-        else:
-            for j, (make_context, lengths, kind, checked) in enumerate(jobs):
-                ctx, total = make_context(), lengths["crank"].size
-                meter = _Meter(self.progress, kind, total)
-                for ids in _chunks(checked, size, checked_size):
-                    cols = evaluate_chunk(ctx, {b: v[ids] for b, v in lengths.items()}, ids)
-                    meter.done(ids.size)
-                    yield j, cols
-
-    def _local_jobs(self, jobs: list, size: int, checked_size: int, held: int):
-        """:meth:`map_jobs` on processes forked from this one when the executor
-        ``forks`` (:mod:`railcheck.parallel.forked`), else on this process's threads
-        (:mod:`railcheck.parallel.threads`): the same chunks as on as many Dask workers, the
-        same columns."""
-        how = "processes forked from this one" if self.forks else "threads in this process"
-        self.progress.say("sweep", f"{self.threads} {how}")
-        tasks = _shared_out(jobs, size, checked_size, self.threads)
-        with blas_on_one_thread():
-            if self.forks:
-                yield from self._forked_jobs(jobs, tasks, held)
-            else:
-                yield from self._threaded_jobs(jobs, tasks, held)
-
-    def _forked_jobs(self, jobs: list, tasks: list[tuple[int, np.ndarray]], held: int):
-        """Each job's chunks on processes forked once its context is built: they share it
-        (and the settings) copy on write; it is released when the job is done."""
-        for j, (make_context, lengths, kind, _) in enumerate(jobs):
-            context = make_context()
-            mine = [ids for i, ids in tasks if i == j]
-
-            def run(ids, context=context, lengths=lengths):
-                return evaluate_chunk(context, {b: v[ids] for b, v in lengths.items()}, ids)
-
-            meter = _Meter(self.progress, kind, lengths["crank"].size)
-            for ids, cols in zip(mine, in_order_on_processes(run, mine, self.threads, max(held, self.threads))):
-                meter.done(ids.size)
-                yield j, cols
-            del context, run
-
-    def _threaded_jobs(self, jobs: list, tasks: list[tuple[int, np.ndarray]], held: int):
-        """Every job's chunks in one queue on this process's threads (each job's context
-        built first)."""
-        contexts = [make_context() for make_context, *_ in jobs]
-        started: dict[int, float] = {}  # job index -> when its first chunk started
-
-        def run(task):
-            j, ids = task
-            started.setdefault(j, time.perf_counter())
-            return evaluate_chunk(contexts[j], {b: v[ids] for b, v in jobs[j][1].items()}, ids)
-
-        meters: dict[int, _Meter] = {}
-        for (j, ids), cols in zip(tasks, in_order_on_threads(run, tasks, self.threads, max(held, self.threads))):
-            if j not in meters:
-                meters[j] = _Meter(self.progress, jobs[j][2], jobs[j][1]["crank"].size, started[j])
-            meters[j].done(ids.size)
-            yield j, cols
-
-    def _dask_jobs(self, jobs: list, size: int, checked_size: int, held: int):
-        from dask.distributed import wait as wait_for
-
-        workers = max(1, len(self.client.scheduler_info()["workers"]))
-        tasks = _shared_out(jobs, size, checked_size, workers)
-        meters: dict[int, _Meter] = {}
-        contexts: dict[int, object] = {}
-        running: dict = {}  # future -> task index
-        finished: dict[int, dict] = {}
-        submitted = done = 0
-        try:
-            while done < len(tasks):
-                while submitted < len(tasks) and len(running) < 2 * workers and len(finished) < held:
-                    j, ids = tasks[submitted]
-                    if j not in contexts:
-                        contexts[j] = self._context_ref(j, jobs[j][0]())
-                        meters[j] = _Meter(self.progress, jobs[j][2], jobs[j][1]["crank"].size)
-                    lengths = {b: v[ids] for b, v in jobs[j][1].items()}
-                    running[self.client.submit(_evaluate, contexts[j], lengths, ids, pure=False)] = submitted
-                    submitted += 1
-                if done not in finished:
-                    if not running:  # cannot happen: the next chunk is either finished or running
-                        raise RuntimeError(f"sweep chunk {done} was neither finished nor running")
-                    for future in wait_for(list(running), return_when="FIRST_COMPLETED").done:
-                        finished[running.pop(future)] = future.result()
-                    continue
-                j, ids = tasks[done]
-                meters[j].done(ids.size)
-                yield j, finished.pop(done)
-                done += 1
-                if done == len(tasks) or tasks[done][0] != j:
-                    self._release(contexts.pop(j))
-        finally:
-            for future in running:
-                future.cancel()
-            for ref in contexts.values():
-                self._release(ref)
-
-    def _context_ref(self, j: int, ctx):
-        """What a task is given for its context: a shared file's path (local cluster,
-        :mod:`railcheck.parallel.shared`), else the context scattered to every worker."""
-        if self.cluster is not None and self.scratch is not None:
-            try:
-                return str(write_shared(ctx, self.scratch / f".context-{j}.bin"))
-            except OSError as exc:
-                self.progress.say("sweep", f"cannot share the context through {self.scratch} ({exc}): scattering it")
-        return self.client.scatter(ctx, broadcast=True)
-
-    @staticmethod
-    def _release(ref) -> None:
-        if isinstance(ref, str):
-            remove_shared(Path(ref))
-
-
-def _shared_out(jobs: list, size: int, checked_size: int, workers: int) -> list[tuple[int, np.ndarray]]:
-    """(job index, settings' indices) of every chunk of every job, in order, for
-    ``workers`` running at once: each kind in at least two chunks per worker, so that none
-    runs alone (chunks as :func:`_chunks`)."""
-    share = lambda n, most: max(1, min(most, -(-n // (2 * workers))))  # noqa: E731
-    return [
-        (j, ids)
-        for j, (_, lengths, _, checked) in enumerate(jobs)
-        for ids in _chunks(checked, share(checked.size, size), share(int(checked.sum()), checked_size))
-    ]
-
-
-def _chunks(checked: np.ndarray, size: int, checked_size: int):
-    """The settings' indices of each chunk: consecutive settings, at most ``size`` of them
-    and at most ``checked_size`` checked by FE (``checked`` (N,) bool, one per setting)."""
-    count = np.concatenate([[0], np.cumsum(checked)])  # checked settings before each
-    a = 0
-    while a < checked.size:
-        # the last end b whose chunk [a, b) holds at most checked_size checked settings
-        b = int(np.searchsorted(count, count[a] + checked_size, side="right")) - 1
-        b = max(a + 1, min(b, a + size))
-        yield np.arange(a, b)
-        a = b
-
-
-def _evaluate(context, lengths: dict, ids: np.ndarray) -> dict:
-    """:func:`railcheck.sweep.chunk.evaluate_chunk` in a worker, its context a shared
-    file's path or the context itself."""
-    return evaluate_chunk(shared(context) if isinstance(context, str) else context, lengths, ids)
-
-
-class _Meter:
-    """Progress of one kind: settings done, rate and elapsed time, every 5 s at most."""
-
-    def __init__(self, progress, kind: str, total: int, t0: float | None = None):
-        self.progress, self.kind, self.total = progress, kind, total
-        self.count, self.t0, self.last = 0, time.perf_counter() if t0 is None else t0, -math.inf
-
-    def done(self, n: int) -> None:
-        self.count += n
-        now = time.perf_counter()
-        if now - self.last >= 5.0 or self.count == self.total:
-            self.last = now
-            rate = self.count / max(now - self.t0, 1e-9)
-            bar = "#" * int(30 * self.count / max(self.total, 1))
-            self.progress.say(
-                "sweep", f"{self.kind:<12} [{bar:<30}] {self.count}/{self.total} settings, {rate:,.0f} settings/s"
-            )
