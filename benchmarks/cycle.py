@@ -42,14 +42,12 @@ def main() -> None:
         cases = unit_cases(job.loads, geo, holes)
         t = time.perf_counter()
         fields, meta = solve_unit_cases(
-            mesh.points, mesh.tets, mesh.groups, steel, [kind.support], cases, 2, kind.tip, kind.exclusion(geo)
+            mesh, steel, [kind.support], cases, order=2, tip_group=kind.tip, exclude_distance=kind.exclusion(geo)
         )
         unit_s[name] = time.perf_counter() - t
         t = time.perf_counter()
         solve_elasticity(
-            mesh.points,
-            mesh.tets,
-            mesh.groups,
+            mesh,
             steel,
             [Support(kind.support)],
             [HoleLoad(h, (100.0, 100.0, 0.0)) for h in holes],

@@ -73,9 +73,7 @@ def railcheck_solve(problem: str, size: float, solver: str = "direct") -> dict:
         loads = [HoleLoad(b.group, b.force) for b in case.bolts]
         probe = np.array([0.3, 0.0115, 0.011])  # mid-length, on the side face, mid-height
     t = time.perf_counter()
-    sol = solve_elasticity(
-        mesh.points, mesh.tets, mesh.groups, MATERIALS["steel"], supports, loads, order=2, tip_group=tip, solver=solver
-    )
+    sol = solve_elasticity(mesh, MATERIALS["steel"], supports, loads, order=2, tip_group=tip, solver=solver)
     seconds = time.perf_counter() - t
     # what only this comparison needs, from the FE API: consistent nodal forces and the fixed nodes
     K, basis = assemble(mesh.points, mesh.tets, MATERIALS["steel"], 2)

@@ -67,9 +67,7 @@ def run_cantilever(
     force = np.zeros(3)
     force[direction] = load
     sol = solve_elasticity(
-        mesh.points,
-        mesh.tets,
-        mesh.groups,
+        mesh,
         material,
         [Support("clamp")],
         [HoleLoad("tip", tuple(force))],

@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -53,6 +54,9 @@ from .mesh import dof_components, estimate_dofs, group_nodes, node_displacement,
 from .solvers import Solver, rigid_body_modes
 from .stress import away_from, mean_over, peak, recover_stress, von_mises
 from .system import free_submatrix, solve, supports
+
+if TYPE_CHECKING:
+    from railcheck.geometry.meshdata import MeshData
 
 __all__ = [
     "HoleLoad",
@@ -118,12 +122,11 @@ class Solution:
 
 
 def solve_elasticity(
-    points: np.ndarray,
-    tets: np.ndarray,
-    groups: dict[str, np.ndarray],
+    mesh: MeshData,
     material: Material,
     supports_: list[Support],
     loads: list[HoleLoad],
+    *,
     order: int = 2,
     tip_group: str | None = None,
     solver: str | Solver = "auto",
@@ -136,7 +139,9 @@ def solve_elasticity(
     """Solve one static problem (see the module doc). ``body_force`` (3,) N/m^3;
     ``exclude_distance`` (m): the peak von Mises is also reported over the stress nodes
     farther than this from the supports (``max_von_mises_away``), away from the
-    singularity an idealised clamped surface creates at its edges."""
+    singularity an idealised clamped surface creates at its edges. ``mesh``: its points
+    (m), tets and named groups (:class:`railcheck.geometry.meshdata.MeshData`)."""
+    points, tets, groups = mesh.points, mesh.tets, mesh.groups
     warnings = _model_warnings(groups, supports_, loads, tip_group, material, order)
     t = [time.perf_counter()]
     K, basis = assemble(points, tets, material, order, curved)

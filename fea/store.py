@@ -38,6 +38,7 @@ import numpy as np
 
 from railcheck.base.errors import InputError
 from railcheck.geometry.cache import default_cache_dir
+from railcheck.geometry.meshdata import MeshData
 
 from .dynamic import DynamicModel
 from .superpose import UnitFields
@@ -307,8 +308,9 @@ def solve_stored(request: UnitRequest, solver: str = "auto", report=None, store:
     (fields, solve, origin): ``origin`` says where the fields came from ("stored",
     "solved", or why a stored entry was solved again)."""
     r = request
-    args = (r.points, r.tets, r.groups, r.material, r.supports, r.cases, r.order, r.tip_group, r.exclude, solver, report)
-    kw = {"curved": r.curved, "free_body": r.free_body, "modes": r.modes}
+    args = (MeshData.of(r.points, r.tets, r.groups), r.material, r.supports, r.cases)
+    kw = {"order": r.order, "tip_group": r.tip_group, "exclude_distance": r.exclude, "solver": solver, "report": report}
+    kw |= {"curved": r.curved, "free_body": r.free_body, "modes": r.modes}
     if not store:
         return (*solve_unit_cases(*args, **kw), "solved")
     t = time.perf_counter()

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -38,6 +39,9 @@ from .pin_pressure import bearing_vectors, harmonic_names
 from .relief import foundation_reaction, solve_free_body
 from .stress import relative_deflection
 from .superpose import UnitFields
+
+if TYPE_CHECKING:
+    from railcheck.geometry.meshdata import MeshData
 
 
 @dataclass(frozen=True)
@@ -209,12 +213,11 @@ def _pressure_vectors(basis, groups: dict, group: str, harmonics: tuple[int, ...
 
 
 def solve_unit_cases(
-    points: np.ndarray,
-    tets: np.ndarray,
-    groups: dict,
+    mesh: MeshData,
     material: Material,
     support_groups: list[str],
     cases: dict[str, object],
+    *,
     order: int = 2,
     tip_group: str | None = None,
     exclude_distance: float = 0.0,
@@ -224,8 +227,9 @@ def solve_unit_cases(
     free_body: FreeBodyCases | None = None,
     modes: tuple[int, list | None, tuple] | dict | None = None,
 ) -> tuple[UnitFields, UnitSolve]:
-    """Unit fields of every case (one factorisation) and its :class:`UnitSolve` (timings, solver info, balances)
-    (``curved``: the mesh's curved edges for isoparametric P2, :func:`railcheck.fea.elasticity.assemble`).
+    """Unit fields of every case of ``cases`` on ``mesh`` (its points, tets and groups; one
+    factorisation) and its :class:`UnitSolve` (timings, solver info, balances); ``curved``:
+    the mesh's curved edges for isoparametric P2 (:func:`railcheck.fea.elasticity.assemble`).
     With ``free_body`` the part has no support: each case is solved by inertia relief
     (:mod:`railcheck.fea.relief`), the body cases carry ``free_body.mass`` kg spread
     uniformly, every node is in the verdict, and the "tip" is the deflection that
@@ -236,63 +240,21 @@ def solve_unit_cases(
     ``modes`` may also be a dict key -> (count, pins, lumped masses): one mode set per key
     (a rail's hole pairs carry their far joint's mass at different holes), columns
     "mode 1@key", ..., key by key, and ``UnitSolve.mode_sets`` key -> its modes."""
+    points, groups = mesh.points, mesh.groups
     t = [time.perf_counter()]
-    K, basis = assemble(points, tets, material, order, curved)
-    F = np.column_stack([case_vector(basis, groups, c) for c in cases.values()])
-    nodes = stress_nodes(basis)
+    K, basis = assemble(points, mesh.tets, material, order, curved)
+    F = _case_matrix(basis, groups, cases, free_body)
+    t.append(time.perf_counter())
     if free_body is not None:
-        body = np.array([isinstance(c, BodyCase) for c in cases.values()])
-        if free_body.mass is None:  # the body cases' coefficients carry the material's density
-            pass
-        elif free_body.inertia is None:
-            F[:, body] *= free_body.mass / body_force_vectors(basis)[:, 0].sum()  # kg / m^3: the FE body weighs mass
-        elif body.any():
-            rho = graded_density(basis, free_body.mass, free_body.centre, free_body.inertia)
-            F[:, body] = np.column_stack(
-                [case_vector(basis, groups, c, rho) for c in cases.values() if isinstance(c, BodyCase)]
-            )
-        t.append(time.perf_counter())
-        relieved = solve_free_body(K, F, basis, material.density, solver, report)
-        U, info, fixed, imbalance = relieved.U, relieved.info, np.zeros(0, dtype=np.int64), relieved.imbalance
-        reactions = -imbalance[:3]
-        mask = np.ones(nodes.shape[0], dtype=bool)
-        per_key = free_body.deflection if isinstance(free_body.deflection, dict) else None
-        tip_op = None if per_key else relative_deflection(basis, groups, *free_body.deflection)
+        held = _free_body_solve(K, F, basis, groups, material, solver, report, free_body)
     else:
-        fixed = supports(basis, groups, support_groups)
-        t.append(time.perf_counter())
-        U, info = solve(K, F, fixed, solver, basis, report=report)
-        imbalance, reactions = None, _support_reactions(basis, K, U, F, fixed)
-        support_pts = points[np.unique(np.concatenate([groups[g].ravel() for g in support_groups]))]
-        mask = away_from(nodes, support_pts, exclude_distance)
-        tip_op = mean_over(basis, groups, tip_group) if tip_group else None
-    model = None
+        held = _supported_solve(K, F, basis, points, groups, support_groups, solver, report, exclude_distance, tip_group)
+    U, info, fixed, imbalance, reactions, mask, tip_op = held
     names = tuple(cases)
     t.append(time.perf_counter())
-    sets = None
+    sets = model = None
     if modes is not None:
-        requests = modes if isinstance(modes, dict) else {None: modes}
-        held_modes = free_body is not None and bool(free_body.held)
-        density = material.density
-        if free_body is not None and free_body.mass is not None:  # the FE body carries the dynamics' mass
-            density = free_body.mass / body_force_vectors(basis)[:, 0].sum()
-        sets, shared = {}, {}
-        for key, (count, pins, lumped) in requests.items():
-            found = part_modes(
-                K,
-                basis,
-                density,
-                F,
-                count,
-                fixed=None if pins else (supports(basis, groups, list(free_body.held)) if held_modes else fixed),
-                pins=pins,
-                groups=groups,
-                lumped=lumped,
-                shared=shared,
-            )
-            U = np.hstack([U, found.shapes])
-            names += tuple(f"mode {i + 1}" + ("" if key is None else f"@{key}") for i in range(count))
-            sets[key] = DynamicModel(hz=found.hz, shapes=np.zeros((0, count)), modal_loads=found.modal_loads)
+        U, names, sets = _with_modes(K, F, U, names, basis, groups, material, fixed, free_body, modes)
         model = sets[None] if not isinstance(modes, dict) else None
     tip = tip_op @ U if tip_op is not None else np.zeros((3, U.shape[1]))
     tips = None
@@ -300,17 +262,11 @@ def solve_unit_cases(
         tips = {key: relative_deflection(basis, groups, *d) @ U for key, d in free_body.deflection.items()}
     t.append(time.perf_counter())
     S = recover_stress(basis, U, material)
-    inner = [c.case if isinstance(c, FoundationCase) else c for c in cases.values()]
-    loaded = sorted({g for c in inner if isinstance(c, (TractionCase, CoupleCase)) for g in c.groups})
-    extras = {
-        "cells": node_cells(basis),
-        "support": group_nodes(basis, groups, support_groups) if support_groups else np.zeros(0, dtype=np.int64),
-        "loaded": group_nodes(basis, groups, loaded) if loaded else np.zeros(0, dtype=np.int64),
-    }
+    extras = _node_sets(basis, groups, support_groups, cases)
     t.append(time.perf_counter())
     meta = UnitSolve(
         dofs=int(basis.N),
-        elements=int(tets.shape[0]),
+        elements=int(mesh.tets.shape[0]),
         vertices=int(points.shape[0]),
         solver=info,
         seconds={
@@ -322,7 +278,81 @@ def solve_unit_cases(
         modes=model,
         mode_sets=sets if isinstance(modes, dict) else None,
     )
-    return UnitFields(S, tip, node_displacement(basis, U), nodes, mask, names, **extras, tips=tips), meta
+    return UnitFields(S, tip, node_displacement(basis, U), stress_nodes(basis), mask, names, **extras, tips=tips), meta
+
+
+def _case_matrix(basis, groups: dict, cases: dict, free_body: FreeBodyCases | None) -> np.ndarray:
+    """(dofs, cases) N: each case's load vector; a free body's body cases carry its mass
+    (spread uniformly, or graded to its centre and inertia) unless their coefficients
+    carry the material's density."""
+    F = np.column_stack([case_vector(basis, groups, c) for c in cases.values()])
+    if free_body is None:
+        return F
+    body = np.array([isinstance(c, BodyCase) for c in cases.values()])
+    if free_body.mass is None:  # the body cases' coefficients carry the material's density
+        pass
+    elif free_body.inertia is None:
+        F[:, body] *= free_body.mass / body_force_vectors(basis)[:, 0].sum()  # kg / m^3: the FE body weighs mass
+    elif body.any():
+        rho = graded_density(basis, free_body.mass, free_body.centre, free_body.inertia)
+        F[:, body] = np.column_stack([case_vector(basis, groups, c, rho) for c in cases.values() if isinstance(c, BodyCase)])
+    return F
+
+
+def _free_body_solve(K, F: np.ndarray, basis, groups: dict, material: Material, solver, report, free_body: FreeBodyCases):
+    """(U, info, fixed, imbalance, reactions, verdict mask, tip operator) of a free body
+    solved by inertia relief: no fixed DOF, every node in the verdict, the reactions the
+    negative imbalance."""
+    relieved = solve_free_body(K, F, basis, material.density, solver, report)
+    mask = np.ones(stress_nodes(basis).shape[0], dtype=bool)
+    per_key = free_body.deflection if isinstance(free_body.deflection, dict) else None
+    tip_op = None if per_key else relative_deflection(basis, groups, *free_body.deflection)
+    fixed = np.zeros(0, dtype=np.int64)
+    return relieved.U, relieved.info, fixed, relieved.imbalance, -relieved.imbalance[:3], mask, tip_op
+
+
+def _supported_solve(K, F, basis, points, groups: dict, support_groups, solver, report, exclude_distance, tip_group):
+    """(U, info, fixed, imbalance None, support reactions, verdict mask, tip operator) of a
+    part held at ``support_groups``: the verdict away from them by ``exclude_distance`` m."""
+    fixed = supports(basis, groups, support_groups)
+    U, info = solve(K, F, fixed, solver, basis, report=report)
+    reactions = _support_reactions(basis, K, U, F, fixed)
+    support_pts = points[np.unique(np.concatenate([groups[g].ravel() for g in support_groups]))]
+    mask = away_from(stress_nodes(basis), support_pts, exclude_distance)
+    tip_op = mean_over(basis, groups, tip_group) if tip_group else None
+    return U, info, fixed, None, reactions, mask, tip_op
+
+
+def _with_modes(K, F, U, names: tuple, basis, groups: dict, material: Material, fixed, free_body, modes):
+    """(U with the modes' shapes as extra columns, names with theirs, key -> DynamicModel):
+    each requested mode set (:func:`solve_unit_cases`' ``modes``), held at the supports,
+    at a free body's held groups, or at its pins."""
+    requests = modes if isinstance(modes, dict) else {None: modes}
+    held_modes = free_body is not None and bool(free_body.held)
+    density = material.density
+    if free_body is not None and free_body.mass is not None:  # the FE body carries the dynamics' mass
+        density = free_body.mass / body_force_vectors(basis)[:, 0].sum()
+    sets: dict = {}
+    shared: dict = {}
+    for key, (count, pins, lumped) in requests.items():
+        held = None if pins else (supports(basis, groups, list(free_body.held)) if held_modes else fixed)
+        found = part_modes(K, basis, density, F, count, fixed=held, pins=pins, groups=groups, lumped=lumped, shared=shared)
+        U = np.hstack([U, found.shapes])
+        names += tuple(f"mode {i + 1}" + ("" if key is None else f"@{key}") for i in range(count))
+        sets[key] = DynamicModel(hz=found.hz, shapes=np.zeros((0, count)), modal_loads=found.modal_loads)
+    return U, names, sets
+
+
+def _node_sets(basis, groups: dict, support_groups: list[str], cases: dict) -> dict:
+    """The fields' node sets: ``cells`` (the P2 cells' nodes), ``support`` and ``loaded``
+    (the nodes of the support groups and of the groups a traction or couple loads)."""
+    inner = [c.case if isinstance(c, FoundationCase) else c for c in cases.values()]
+    loaded = sorted({g for c in inner if isinstance(c, (TractionCase, CoupleCase)) for g in c.groups})
+    return {
+        "cells": node_cells(basis),
+        "support": group_nodes(basis, groups, support_groups) if support_groups else np.zeros(0, dtype=np.int64),
+        "loaded": group_nodes(basis, groups, loaded) if loaded else np.zeros(0, dtype=np.int64),
+    }
 
 
 def _support_reactions(basis, K, U: np.ndarray, F: np.ndarray, fixed: np.ndarray) -> np.ndarray:

@@ -28,6 +28,12 @@ class MeshData:
     curved_edges: np.ndarray = field(default_factory=lambda: np.zeros((0, 2), dtype=np.int64))
     curved_points: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
 
+    @classmethod
+    def of(cls, points: np.ndarray, tets: np.ndarray, groups: dict[str, np.ndarray]) -> MeshData:
+        """A mesh of these arrays alone (quality unknown: NaN; no slivers counted; no
+        meshing time), for the FE API where a mesh comes from elsewhere."""
+        return cls(points, tets, groups, min_quality=float("nan"), slivers=0, seconds=0.0)
+
     @property
     def curved(self) -> tuple[np.ndarray, np.ndarray]:
         """(edges (k, 2), mid-edge points (k, 3) m): the quadratic mesh's curved edges

@@ -197,6 +197,40 @@ def test_each_public_name_imports(package):
         assert getattr(module, name) is not None
 
 
+#: the house's sizes: a module a reader can hold, a function that does one job
+MAX_MODULE_LINES = 600
+MAX_FUNCTION_LINES = 60
+
+
+def oversized(path: Path) -> list[str]:
+    """What in one module is over the house's sizes: the module itself (lines) and each
+    function or method (from its ``def`` to its last line, docstring included)."""
+    text = path.read_text()
+    out = [f"{path.name}: {len(text.splitlines())} lines"] if len(text.splitlines()) > MAX_MODULE_LINES else []
+    for node in ast.walk(ast.parse(text)):
+        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+            lines = node.end_lineno - node.lineno + 1
+            if lines > MAX_FUNCTION_LINES:
+                out.append(f"{path.name}:{node.lineno} {node.name}: {lines} lines")
+    return out
+
+
+def test_the_size_rule_finds_a_planted_long_function_and_module(tmp_path):
+    body = "\n".join(f"    x{i} = {i}" for i in range(MAX_FUNCTION_LINES))
+    long = tmp_path / "long.py"
+    long.write_text(f"def f():\n{body}\n" + "\n" * MAX_MODULE_LINES)
+    assert [s.split(":")[0] for s in oversized(long)] == ["long.py", "long.py"]
+    short = tmp_path / "short.py"
+    short.write_text("def f():\n    return 1\n")
+    assert oversized(short) == []
+
+
+def test_no_module_over_600_lines_and_no_function_over_60():
+    """Every module of the installed package (the domain packages and the application)."""
+    bad = [s for path in our_modules().values() for s in oversized(path)]
+    assert not bad, bad
+
+
 def test_no_second_copy_of_the_package_and_no_tests_inside_it():
     for name in ("railcheck.railcheck", "railcheck.tests", "railcheck.benchmarks"):
         with pytest.raises(ModuleNotFoundError):

@@ -57,7 +57,14 @@ def crank():
     cases = unit_cases(load_model(scene, "crank-rail", STEEL.density), geo, holes)
     kind = kind_of("crank-rail")
     fields, meta = solve_unit_cases(
-        mesh.points, mesh.tets, mesh.groups, STEEL, [kind.support], cases, 2, kind.tip, kind.exclusion(geo), "direct"
+        mesh,
+        STEEL,
+        [kind.support],
+        cases,
+        order=2,
+        tip_group=kind.tip,
+        exclude_distance=kind.exclusion(geo),
+        solver="direct",
     )
     return scene, geo, mesh, holes, fields, meta
 
@@ -67,9 +74,7 @@ def direct_stress(mesh, holes, c, body=(0.0, 0.0)):
     and a uniform body force (N/m^3)."""
     per_hole = (c[0] / len(holes), c[1] / len(holes), 0.0)
     return solve_elasticity(
-        mesh.points,
-        mesh.tets,
-        mesh.groups,
+        mesh,
         STEEL,
         [Support("shaft_hole")],
         [HoleLoad(g, per_hole) for g in holes],
@@ -198,7 +203,7 @@ def cantilever():
     L, w, hgt = 0.7, 0.023, 0.020
     mesh = mesh_part(bar(L, w, hgt), 8e-3, hole_size=8e-3)
     fields, _ = solve_unit_cases(
-        mesh.points, mesh.tets, mesh.groups, STEEL, ["clamp"], {"tip_z": TractionCase(("tip",), 2)}, 2, "tip", 0.0, "direct"
+        mesh, STEEL, ["clamp"], {"tip_z": TractionCase(("tip",), 2)}, order=2, tip_group="tip", solver="direct"
     )
     return (L, w, hgt), fields
 

@@ -94,9 +94,7 @@ def test_plain_rail_profile_matches_beam_theory_with_its_own_section():
     mesh = mesh_part(rail(L, holes=False), 8e-3, hole_size=8e-3)
     P = 100.0
     sol = solve_elasticity(
-        mesh.points,
-        mesh.tets,
-        mesh.groups,
+        mesh,
         STEEL,
         [Support("end_pivot")],
         [HoleLoad("end_free", (0.0, P, 0.0))],
@@ -120,9 +118,7 @@ def test_holed_rail_is_more_flexible_and_the_difference_is_measured():
     for holes in (False, True):
         mesh = mesh_part(rail(L, holes=holes), 8e-3, hole_size=3e-3)
         sol = solve_elasticity(
-            mesh.points,
-            mesh.tets,
-            mesh.groups,
+            mesh,
             STEEL,
             [Support("end_pivot")],
             [HoleLoad("end_free", (0.0, 0.0, -P))],
@@ -145,7 +141,7 @@ def rail_mesh():
 @pytest.mark.slow
 def test_tractions_sum_to_the_requested_force_and_linearity(rail_mesh):
     F = (123.0, -45.6, 7.8)
-    args = (rail_mesh.points, rail_mesh.tets, rail_mesh.groups, STEEL, [Support("shaft_hole")])
+    args = (rail_mesh, STEEL, [Support("shaft_hole")])
     s1 = solve_elasticity(*args, [HoleLoad("hole_11", F)], order=2, tip_group="end_free")
     np.testing.assert_allclose(s1.applied_forces["hole_11"], F, rtol=1e-10, atol=1e-10 * np.linalg.norm(F))
     s2 = solve_elasticity(*args, [HoleLoad("hole_11", tuple(2 * np.array(F)))], order=2, tip_group="end_free")
@@ -156,9 +152,7 @@ def test_tractions_sum_to_the_requested_force_and_linearity(rail_mesh):
 @pytest.mark.slow
 def test_amg_and_direct_agree(rail_mesh):
     args = (
-        rail_mesh.points,
-        rail_mesh.tets,
-        rail_mesh.groups,
+        rail_mesh,
         STEEL,
         [Support("shaft_hole")],
         [HoleLoad("hole_10", (200.0, 50.0, 0.0)), HoleLoad("hole_11", (200.0, 50.0, 0.0))],
@@ -175,9 +169,7 @@ def test_amg_and_direct_agree(rail_mesh):
 def test_unconverged_iterative_solve_raises(rail_mesh):
     with pytest.raises(NumericalError, match="did not converge"):
         solve_elasticity(
-            rail_mesh.points,
-            rail_mesh.tets,
-            rail_mesh.groups,
+            rail_mesh,
             STEEL,
             [Support("shaft_hole")],
             [HoleLoad("hole_11", (100.0, 100.0, 0.0))],
@@ -189,9 +181,7 @@ def test_unconverged_iterative_solve_raises(rail_mesh):
 
 def test_zero_load_is_exactly_zero(rail_mesh):
     s = solve_elasticity(
-        rail_mesh.points,
-        rail_mesh.tets,
-        rail_mesh.groups,
+        rail_mesh,
         STEEL,
         [Support("shaft_hole")],
         [HoleLoad("hole_11", (0.0, 0.0, 0.0))],
@@ -202,7 +192,7 @@ def test_zero_load_is_exactly_zero(rail_mesh):
 
 
 def test_missing_group_and_missing_support_are_errors(rail_mesh):
-    args = (rail_mesh.points, rail_mesh.tets, rail_mesh.groups, STEEL)
+    args = (rail_mesh, STEEL)
     with pytest.raises(ModelError, match="hole_99"):
         solve_elasticity(*args, [Support("shaft_hole")], [HoleLoad("hole_99", (1.0, 0, 0))])
     with pytest.raises(ModelError, match="no support"):
@@ -214,9 +204,7 @@ def test_vtu_round_trip(tmp_path, rail_mesh):
     import meshio
 
     s = solve_elasticity(
-        rail_mesh.points,
-        rail_mesh.tets,
-        rail_mesh.groups,
+        rail_mesh,
         STEEL,
         [Support("shaft_hole")],
         [HoleLoad("hole_11", (10.0, 20.0, 0.0))],
@@ -284,9 +272,7 @@ def test_pair_pattern_equals_a_global_sort_of_the_pair_keys():
 @pytest.mark.slow
 def test_amg_is_deterministic(rail_mesh):
     args = (
-        rail_mesh.points,
-        rail_mesh.tets,
-        rail_mesh.groups,
+        rail_mesh,
         STEEL,
         [Support("shaft_hole")],
         [HoleLoad("hole_11", (150.0, 80.0, 0.0))],

@@ -44,59 +44,80 @@ def screened_alone(
     ``screen`` and ``c``."""
     if not np.any(c):  # unloaded: no stress anywhere (and no screen to build on a zero box)
         return 0.0, np.inf
-    ex_screen, ex_c = (screen, c) if exact is None else exact
-    sub = principal_subspace(c * screen.scale)
-    norms, vm_norm = screen.bounds.unit_rows, screen.vm_norm
+    one = OneHistory(screen, c, factor, enough, (screen, c) if exact is None else exact)
+    box_factor = one.fatigue_bound(box)
+    more_low2, less_top = one.thresholds(box, box_factor)
+    low2, top = max(low2, more_low2), min(top, less_top)  # each an exact value at some node
+    nodes = np.flatnonzero(one.beats(box, low2, top, box_factor))
+    if tighter is not None and factor is not None and nodes.size:
+        # the box's midrange bounds from the values the history takes, at these nodes only
+        nodes = nodes[one.beats(tighter(nodes, box), low2, top)]
+    if nodes.size > (tuning.LOOSE_SHARE * box.von_mises.size if loose is None else loose):  # the group's box is loose here
+        SP = project(screen.stress, screen.scale, one.sub)
+        own = box_bounds(SP, one.norms, one.vm_norm, one.sub)
+        own_factor = one.fatigue_bound(own)
+        more_low2, less_top = one.thresholds(own, own_factor)
+        low2, top = max(low2, more_low2), min(top, less_top)  # each an exact value at some node
+        nodes = np.flatnonzero(one.beats(own, low2, top, own_factor))
+        SP = SP[:, nodes]
+    else:
+        SP = one.projected(nodes)
+        keep = one.beats(box_bounds(SP, one.norms[:, nodes], one.vm_norm[nodes], one.sub), low2, top)
+        nodes, SP = nodes[keep], SP[:, keep]
+    return one.exact_values(nodes, SP, low2, top)
 
-    def projected(nodes):
-        return project(screen.stress[:, nodes], screen.scale, sub)
 
-    def sampled(nodes, SP):
-        return sampled_bounds(SP, norms[:, nodes], vm_norm[nodes], sub)
+class OneHistory:
+    """One history ``c`` (T, k) (unscaled) on a ``screen``, in its own principal subspace:
+    the stages of :func:`screened_alone`. ``factor`` (sa, sm) -> safety factor or None;
+    ``enough`` as in :func:`railcheck.fea.screening.groups.fatigue_min`; ``exact`` (screen,
+    history) where the exact values are taken. Pa throughout."""
 
-    def beats(bounds, low2, top, bound=None):
+    def __init__(self, screen: Screen, c: np.ndarray, factor, enough, exact: tuple[Screen, np.ndarray]):
+        self.screen, self.factor, self.enough = screen, factor, enough
+        self.ex_screen, self.ex_c = exact
+        self.sub = principal_subspace(c * screen.scale)
+        self.norms, self.vm_norm = screen.bounds.unit_rows, screen.vm_norm
+
+    def projected(self, nodes: np.ndarray) -> np.ndarray:
+        """(6, q, R) Pa per unit subspace coordinate at ``nodes``."""
+        return project(self.screen.stress[:, nodes], self.screen.scale, self.sub)
+
+    def sampled(self, nodes: np.ndarray, SP: np.ndarray) -> SampledBounds:
+        """The sampled bounds at ``nodes`` from their projected stresses ``SP``."""
+        return sampled_bounds(SP, self.norms[:, nodes], self.vm_norm[nodes], self.sub)
+
+    def beats(self, bounds: SampledBounds, low2: float, top: float, bound=None) -> np.ndarray:
         """Nodes whose bounds can reach the peak's lower bound or the fatigue minimum's
         upper one (``bound``: their fatigue factor's lower bound, when already known)."""
-        return can_beat(bounds, np.sqrt(low2), top, factor, enough, bound)
+        return can_beat(bounds, np.sqrt(low2), top, self.factor, self.enough, bound)
 
-    def thresholds(bounds, bound):
+    def fatigue_bound(self, bounds: SampledBounds) -> np.ndarray | None:
+        """The fatigue factor's lower bound from ``bounds``, or None without a factor."""
+        return self.factor(*fatigue_bounds(bounds)) if self.factor is not None else None
+
+    def thresholds(self, bounds: SampledBounds, bound) -> tuple[float, float]:
         """(Pa^2, factor): exact values at the nodes of best sampled value among the
         :data:`tuning.BOX_FIRST` of best ``bounds`` (von Mises) and ``bound`` (fatigue factor)."""
         first = first_nodes(bounds.von_mises_upper, count=tuning.BOX_FIRST)
-        if factor is not None:
+        if self.factor is not None:
             first = np.union1d(first, first_nodes(bound, largest=False, count=tuning.BOX_FIRST))
-        b = sampled(first, projected(first))
-        low2 = exact_von_mises2(ex_screen, first[first_nodes(b.von_mises)], ex_c)
-        if factor is None:
+        b = self.sampled(first, self.projected(first))
+        low2 = exact_von_mises2(self.ex_screen, first[first_nodes(b.von_mises)], self.ex_c)
+        if self.factor is None:
             return low2, np.inf
-        f = factor(*fatigue_sampled(b))
-        return low2, fatigue_exact(ex_screen, first[first_nodes(f, largest=False)], ex_c[None], factor)[0]
+        f = self.factor(*fatigue_sampled(b))
+        return low2, fatigue_exact(self.ex_screen, first[first_nodes(f, largest=False)], self.ex_c[None], self.factor)[0]
 
-    def fatigue_bound(bounds):
-        return factor(*fatigue_bounds(bounds)) if factor is not None else None
-
-    box_factor = fatigue_bound(box)
-    more_low2, less_top = thresholds(box, box_factor)
-    low2, top = max(low2, more_low2), min(top, less_top)  # each an exact value at some node
-    nodes = np.flatnonzero(beats(box, low2, top, box_factor))
-    if tighter is not None and factor is not None and nodes.size:
-        # the box's midrange bounds from the values the history takes, at these nodes only
-        nodes = nodes[beats(tighter(nodes, box), low2, top)]
-    if nodes.size > (tuning.LOOSE_SHARE * box.von_mises.size if loose is None else loose):  # the group's box is loose here
-        SP = project(screen.stress, screen.scale, sub)
-        own = box_bounds(SP, norms, vm_norm, sub)
-        own_factor = fatigue_bound(own)
-        more_low2, less_top = thresholds(own, own_factor)
-        low2, top = max(low2, more_low2), min(top, less_top)  # each an exact value at some node
-        nodes = np.flatnonzero(beats(own, low2, top, own_factor))
-        SP = SP[:, nodes]
-    else:
-        SP = projected(nodes)
-        keep = beats(box_bounds(SP, norms[:, nodes], vm_norm[nodes], sub), low2, top)
-        nodes, SP = nodes[keep], SP[:, keep]
-    b = sampled(nodes, SP)
-    peak = float(np.sqrt(max(low2, exact_von_mises2(ex_screen, nodes[peak_candidates(b, np.sqrt(low2))], ex_c))))
-    if factor is None:
-        return peak, np.inf
-    rest = nodes[fatigue_may_pass(factor(*fatigue_bounds(b)), top, enough)]
-    return peak, min(float(top), float(fatigue_exact(ex_screen, rest, ex_c[None], factor)[0])) if rest.size else float(top)
+    def exact_values(self, nodes: np.ndarray, SP: np.ndarray, low2: float, top: float) -> tuple[float, float]:
+        """(Pa, factor): the exact peak and fatigue minimum, from the sampled bounds at the
+        ``nodes`` left (their projected stresses ``SP``) and the thresholds so far."""
+        b = self.sampled(nodes, SP)
+        ex_screen, ex_c = self.ex_screen, self.ex_c
+        peak = float(np.sqrt(max(low2, exact_von_mises2(ex_screen, nodes[peak_candidates(b, np.sqrt(low2))], ex_c))))
+        if self.factor is None:
+            return peak, np.inf
+        rest = nodes[fatigue_may_pass(self.factor(*fatigue_bounds(b)), top, self.enough)]
+        if not rest.size:
+            return peak, float(top)
+        return peak, min(float(top), float(fatigue_exact(ex_screen, rest, ex_c[None], self.factor)[0]))

@@ -54,6 +54,8 @@ bounded by :data:`CHUNK_VALUES`.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from ..fatigue import safety_factor
@@ -170,13 +172,44 @@ def screened_group(
         by_node_k = np.ascontiguousarray(screen.stress.transpose(1, 0, 2))
         exact = ExactSource(screen, by_node_k, C)
         screen, C = in_span(screen, span), Cr
+    bounds = GroupBounds(group, taken, lo, hi, mean, low, top)
+    out[:] = batched(screen, C, bounds, factor, enough, labels, exact, loose)
+    return np.stack([over_sets(out[:, 0], labels, np.maximum), over_sets(out[:, 1], labels, np.minimum)], axis=1)
+
+
+@dataclass(frozen=True)
+class GroupBounds:
+    """What a group's first pass found, per history (s,): the group's box ``group``, the
+    coordinates ``taken`` (s, p, k) at a few steps, their ranges ``lo``, ``hi`` (s, k),
+    their means ``mean`` (s, k) (fatigue only, else None), and the thresholds ``low`` (a
+    lower bound of the peak, Pa) and ``top`` (an upper bound of the fatigue minimum)."""
+
+    group: CoefficientBox
+    taken: np.ndarray
+    lo: np.ndarray
+    hi: np.ndarray
+    mean: np.ndarray | None
+    low: np.ndarray
+    top: np.ndarray
+
+
+def batched(
+    screen: Screen, C: np.ndarray, b: GroupBounds, factor, enough, labels: np.ndarray, exact, loose: float
+) -> np.ndarray:
+    """(s, 2): each history's exact peak (Pa) and fatigue minimum, its group's histories
+    screened together in batches of at most :data:`tuning.BATCH_PAIRS` nodes x histories
+    (:class:`Batch`), a set never split; a history none of whose nodes can pass its set's
+    thresholds takes them as its values, an unloaded one (0, inf)."""
     by_node = np.ascontiguousarray(screen.stress.transpose(1, 0, 2))  # (n, 6, k): a node's rows together
     loaded = np.flatnonzero(np.any(C != 0.0, axis=(1, 2)))
+    out = np.empty((C.shape[0], 2))
     out[:] = 0.0, np.inf  # an unloaded history: no stress anywhere
     size = max(1, tuning.BATCH_PAIRS // screen.stress.shape[1])
+    low, top = b.low, b.top
     for run in set_cuts(labels[loaded], size):
         g = loaded[run]
-        vm, mid, reach, box_factor = box_and_factor(group, lo[g], hi[g], None if mean is None else mean[g], factor)
+        mean = None if b.mean is None else b.mean[g]
+        vm, mid, reach, box_factor = box_and_factor(b.group, b.lo[g], b.hi[g], mean, factor)
         peak_can = peak_may_pass(vm, low[g][:, None])
         fatigue_can = fatigue_may_pass(box_factor, top[g][:, None], enough) if box_factor is not None else None
         # a history none of whose nodes can pass its set's thresholds has them as its values
@@ -185,13 +218,13 @@ def screened_group(
         if not live.any():
             continue
         some = None if exact is None else exact.of(g[live])
-        batch = Batch(screen, by_node, group, C[g[live]], taken[g[live]], factor, enough, labels[g[live]], some)
+        batch = Batch(screen, by_node, b.group, C[g[live]], b.taken[g[live]], factor, enough, labels[g[live]], some)
         can = (peak_can[live], None if fatigue_can is None else fatigue_can[live])
         box_factor = None if box_factor is None else box_factor[live]
         out[g[live]] = batch.screened(
             vm[live], mid[live], reach[live], box_factor, can, low[g[live]] ** 2, top[g[live]], loose
         )
-    return np.stack([over_sets(out[:, 0], labels, np.maximum), over_sets(out[:, 1], labels, np.minimum)], axis=1)
+    return out
 
 
 def group_box(

@@ -61,32 +61,11 @@ def run_pipeline(
         checks = all_checks(scene)
     else:
         checks = {}
-    parts: dict = {}
-    unloaded: tuple[str, ...] = ()
+    parts, unloaded = {}, ()
     if scene.check is not None:
-        material = MATERIALS[scene.check.material]
-        limit = scene.check.limit or material.fatigue_limit
-        w = limit_warning(material, scene.check.limit)
-        if w:
-            warnings.append(w)
-        geometries = part_geometries(scene)
-        cases = build_load_cases(scene, kin, geometries)
-        stages.append("loads")
-        progress.say("loads", f"{len(cases)} load cases, factor {scene.check.factor:g}, support {scene.check.support}")
-        refuse_huge(scene, geometries)
-        stages.append("geometry")
-        all_jobs = part_jobs(scene, kin, geometries, cases, material, limit)
-        unloaded = tuple(name for name, job in all_jobs.items() if not carries_load(job))
-        for name in unloaded:
-            warnings.append(f"{name}: {NO_LOAD}")
-            progress.say("loads", f"{name}: {NO_LOAD}")
-        loaded = {name: job for name, job in all_jobs.items() if name not in unloaded}
-        if loaded:
-            parts = check_parts(loaded, solver, progress, jobs, part_done)
-            stages += ["mesh", "solve", "stress"]
+        parts, unloaded = _check_stage(scene, kin, progress, solver, jobs, part_done, stages, warnings)
         for name, part in parts.items():
             timings.update({f"{k}:{name}": v for k, v in part.seconds.items()})
-            warnings += [f"{name}: {w}" for w in part.warnings]
     stages.append("report")
     return PipelineResult(
         scene=scene,
@@ -99,6 +78,38 @@ def run_pipeline(
         checks=checks,
         unloaded=unloaded,
     )
+
+
+def _check_stage(
+    scene: Scene, kin, progress: Progress, solver: str, jobs: int | None, part_done, stages: list, warnings: list
+) -> tuple[dict, tuple[str, ...]]:
+    """(parts, unloaded): the loads, geometry and FE stages of the scene's [check], each
+    part resolved into its job and checked (those that carry no load are named in
+    ``warnings`` and left out); the stages run and the warnings appended to ``stages``
+    and ``warnings``."""
+    material = MATERIALS[scene.check.material]
+    limit = scene.check.limit or material.fatigue_limit
+    w = limit_warning(material, scene.check.limit)
+    if w:
+        warnings.append(w)
+    geometries = part_geometries(scene)
+    cases = build_load_cases(scene, kin, geometries)
+    stages.append("loads")
+    progress.say("loads", f"{len(cases)} load cases, factor {scene.check.factor:g}, support {scene.check.support}")
+    refuse_huge(scene, geometries)
+    stages.append("geometry")
+    all_jobs = part_jobs(scene, kin, geometries, cases, material, limit)
+    unloaded = tuple(name for name, job in all_jobs.items() if not carries_load(job))
+    for name in unloaded:
+        warnings.append(f"{name}: {NO_LOAD}")
+        progress.say("loads", f"{name}: {NO_LOAD}")
+    loaded = {name: job for name, job in all_jobs.items() if name not in unloaded}
+    parts: dict = {}
+    if loaded:
+        parts = check_parts(loaded, solver, progress, jobs, part_done)
+        stages += ["mesh", "solve", "stress"]
+    warnings += [f"{name}: {w}" for name, part in parts.items() for w in part.warnings]
+    return parts, unloaded
 
 
 #: why a part is not meshed or solved

@@ -80,38 +80,14 @@ def part_summary(p: PartResult) -> dict:
         },
         "seed_method": seed_summary(cyc.seed_method, env.max_von_mises),
         "fatigue": fatigue_summary(cyc.fatigue),
-        "load_case": {
-            "support": p.load_case.support,
-            "tip": p.load_case.tip_group,
-            "factor": p.load_case.factor,
-            **p.load_case.origin,
-            "bolts": {b.group: list(b.force) for b in p.load_case.bolts},
-        },
+        "load_case": load_case_summary(p),
         "unit_cases": list(cyc.fields.names),
-        "mesh": {
-            "order": s.order,
-            "size_m": job.mesh.size,
-            "hole_size_m": job.mesh.hole_size,
-            "dofs": s.dofs,
-            "elements": s.elements,
-            "min_quality": p.mesh.min_quality,
-            "slivers": p.mesh.slivers,
-            "solver": cyc.solve.solver.get("solver"),
-        },
+        "mesh": mesh_summary(p),
     }
     if cyc.dynamic is not None:
         out["dynamic"] = dynamic_summary(cyc.dynamic)
     if p.clamped is not None:
-        k = p.clamped
-        out["clamped_2013"] = {
-            "note": "the 2013 study's model (a rail clamped at its first hole, a plate at its seat, the joint's "
-            "reaction at the bolts), for comparison: not part of the verdict",
-            "max_von_mises_Pa": k.max_von_mises,
-            "support_peak_von_mises_Pa": k.support_peak,
-            "crank_angle_deg": k.crank_angle_deg,
-            "fatigue_factor": k.fatigue_factor,
-            "max_tip_deflection_m": k.max_tip,
-        }
+        out["clamped_2013"] = clamped_summary(p.clamped)
     if job.free_body is not None:
         out["support"] = {
             "model": "free-body",
@@ -119,6 +95,45 @@ def part_summary(p: PartResult) -> dict:
             "imbalance": imbalance_summary(p),
         }
     return out
+
+
+def load_case_summary(p: PartResult) -> dict:
+    """The part's load case in summary.json: support, tip group, factor, origin, bolt forces (N)."""
+    return {
+        "support": p.load_case.support,
+        "tip": p.load_case.tip_group,
+        "factor": p.load_case.factor,
+        **p.load_case.origin,
+        "bolts": {b.group: list(b.force) for b in p.load_case.bolts},
+    }
+
+
+def mesh_summary(p: PartResult) -> dict:
+    """The part's mesh in summary.json: order, sizes (m), DOFs, elements, quality, solver."""
+    s, job = p.solution, p.job
+    return {
+        "order": s.order,
+        "size_m": job.mesh.size,
+        "hole_size_m": job.mesh.hole_size,
+        "dofs": s.dofs,
+        "elements": s.elements,
+        "min_quality": p.mesh.min_quality,
+        "slivers": p.mesh.slivers,
+        "solver": p.cycle.solve.solver.get("solver"),
+    }
+
+
+def clamped_summary(k) -> dict:
+    """The 2013 study's clamped model of the part in summary.json (for comparison)."""
+    return {
+        "note": "the 2013 study's model (a rail clamped at its first hole, a plate at its seat, the joint's "
+        "reaction at the bolts), for comparison: not part of the verdict",
+        "max_von_mises_Pa": k.max_von_mises,
+        "support_peak_von_mises_Pa": k.support_peak,
+        "crank_angle_deg": k.crank_angle_deg,
+        "fatigue_factor": k.fatigue_factor,
+        "max_tip_deflection_m": k.max_tip,
+    }
 
 
 def free_deflection_words(job) -> str:

@@ -1,6 +1,6 @@
 """A sweep context shared by the local Dask workers through one file they map.
 
-The context of a kind (:class:`railcheck.sweep.chunk.SweepContext`: the parts' screens,
+The context of a kind (:class:`railcheck.sweep.context.SweepContext`: the parts' screens,
 about 1.3 GB of unit stresses for the default four-bar) is pickled once with protocol 5,
 its arrays' buffers out of band: the pickle stream (tens of kB) goes to ``PATH.head``,
 the buffers to ``PATH``, each at a 64-byte aligned offset. Every worker maps ``PATH``

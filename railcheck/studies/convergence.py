@@ -109,9 +109,7 @@ def solve_row(target: str, element: str, size: float) -> dict:
     t_mesh = time.perf_counter() - t
     order, curved = element_order(element)
     sol = solve_elasticity(
-        mesh.points,
-        mesh.tets,
-        mesh.groups,
+        mesh,
         steel,
         supports,
         loads,

@@ -20,7 +20,6 @@ Units: SI inside; the table's column names carry their units (mm, Hz, N, N m, W,
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
 
@@ -34,25 +33,26 @@ from railcheck.loads.bearings import bearing_life_of_magnitude
 from railcheck.model.kinematics_stage import joints_on_rails_flags
 from railcheck.model.loading import free_body_coefficients, source_coefficients
 from railcheck.parts import BAR_INDEX, mass_model
+from railcheck.sweep.context import Loads, SweepContext
+from railcheck.sweep.motor import (
+    MOTOR_CURVE_KEY,
+    demand_at_safe,
+    motor_columns,
+    motor_curve_speeds,
+    motor_demand,
+    torque_parts,
+)
+from railcheck.sweep.verdicts import (
+    SAFE_SPEED_SCAN,
+    failed_criteria,
+    governing_of,
+    safe_s_bisect,
+    safe_s_closed,
+    scaled_results,
+    utilisation,
+)
 
 REVOLVE_MARGIN = 1e-7  # rad: closer to a toggle is singular (kinematics.motion)
-
-
-@dataclass(frozen=True)
-class SweepContext:
-    """What every chunk of one kind needs (picklable: sent to Dask workers once)."""
-
-    scene: object
-    kind: str
-    speeds: tuple  # rad/s
-    steps: int
-    models: dict  # part name -> railcheck.sweep.parts.PartModel
-    density: float
-    rail: object  # geometry.catalogue.RailSpec
-
-    @property
-    def effects(self) -> tuple[str, ...]:
-        return self.scene.check.effects if self.scene.check else ("inertia",)
 
 
 def configuration_flags(ctx: SweepContext, lengths: dict) -> dict:
@@ -119,17 +119,6 @@ def dynamics_of(ctx: SweepContext, motion, gravity: float):
     return batch.newton_euler(motion, masses, gravity=gravity)
 
 
-@dataclass(frozen=True)
-class Loads:
-    """The revolving settings' loads at the first speed: ``inertial`` and ``constant``
-    (gravity) parts of the reactions and torque, and the two motions they come from."""
-
-    motion: object  # at the first speed
-    static: object | None  # at rest (gravity), or None
-    inertial: object | None  # BatchDynamics of the inertia at the first speed (no gravity)
-    constant: object | None  # BatchDynamics of gravity at rest
-
-
 def loads_of(ctx: SweepContext, lengths: dict) -> Loads:
 
     motion = motion_of(ctx, lengths, ctx.speeds[0])
@@ -179,53 +168,6 @@ def motor_and_bearings(ctx: SweepContext, loads: Loads, speed: float) -> dict:
     out["bearing_life_h"] = np.min(lives, axis=0)
     out["bearing_static_safety"] = np.min(statics, axis=0)
     return out
-
-
-#: points of the motor curve (required torque against crank speed), evenly spaced from
-#: 0 to ``MOTOR_CURVE_SPAN`` x the largest listed speed
-MOTOR_CURVE_POINTS = 61
-MOTOR_CURVE_SPAN = 3.0
-
-
-def motor_curve_speeds(speeds) -> np.ndarray:
-    """(G,) rad/s: the speeds at which the sweep records every setting's motor demand."""
-    return np.linspace(0.0, MOTOR_CURVE_SPAN * max(speeds), MOTOR_CURVE_POINTS)
-
-
-def torque_parts(loads: Loads, rows: np.ndarray) -> tuple[np.ndarray | None, np.ndarray | None]:
-    """(gravity part, inertial part at the first speed) of the motor torque (R, T) N m over
-    the cycle of the revolving settings ``rows``, each None without that effect."""
-    return tuple(None if d is None else d.torque[rows] for d in (loads.constant, loads.inertial))  # type: ignore[return-value]
-
-
-def torque_at(parts: tuple[np.ndarray | None, np.ndarray | None], s: np.ndarray) -> np.ndarray:
-    """(R, T) N m: the motor torque over the cycle at speed ratios squared ``s`` (R,) from
-    its :func:`torque_parts`: the gravity part plus ``s`` times the inertial part."""
-    constant, inertial = parts
-    out = np.zeros(next(p for p in parts if p is not None).shape)
-    if constant is not None:
-        out += constant
-    if inertial is not None:
-        out += s[:, None] * inertial
-    return out
-
-
-def motor_demand(loads: Loads, speed0: float, speeds: np.ndarray) -> dict:
-    """Per setting (S, G) at each crank speed of ``speeds`` (rad/s): ``torque_peak_Nm``,
-    ``torque_rms_Nm`` and ``power_peak_W`` (peak torque x speed: the speed is constant).
-    Without gravity the torque is ``s`` times the first speed's (every acceleration scales
-    with omega^2), so its peak and RMS scale too; with gravity each speed is evaluated."""
-    s = (speeds / speed0) ** 2
-    if loads.constant is None:
-        Ti = loads.inertial.torque  # (S, T)
-        peak = np.abs(Ti).max(axis=1)[:, None] * s[None, :]
-        rms = np.sqrt(np.mean(Ti**2, axis=1))[:, None] * s[None, :]
-    else:
-        Tg = loads.constant.torque
-        Ti = loads.inertial.torque if loads.inertial is not None else np.zeros_like(Tg)
-        T = Tg[:, None, :] + s[None, :, None] * Ti[:, None, :]  # (S, G, T)
-        peak, rms = np.abs(T).max(axis=-1), np.sqrt(np.mean(T**2, axis=-1))
-    return {"torque_peak_Nm": peak, "torque_rms_Nm": rms, "power_peak_W": peak * speeds}
 
 
 def kinematic_columns(ctx: SweepContext) -> list[str]:
@@ -347,37 +289,6 @@ def _source_history(model, length, s: np.ndarray, idx: np.ndarray, Cg, Ci: np.nd
     return model.with_pin_pressure(length, s[idx, None, None] * Ci[idx] + (Cg[idx] if Cg is not None else 0.0))
 
 
-def criterion_utilisations(model, vm, fat, tip, amp=None) -> dict[str, np.ndarray]:
-    """criterion -> (S,) its share of the limit: stress / limit, required / fatigue factor,
-    (with a limit) tip / deflection limit and (with a dynamic response) the amplification's
-    excess over 1 as a share of the allowed excess; the words of ``railcheck check``."""
-    with np.errstate(divide="ignore"):
-        out = {"stress": vm / model.limit, "fatigue": model.required / fat}
-    if model.deflection_limit:
-        out["deflection"] = tip / model.deflection_limit
-    if model.dynamic is not None and amp is not None:
-        out["dynamic"] = (amp - 1.0) / (model.max_amplification - 1.0)
-    return out
-
-
-def utilisation(model, vm, fat, tip, amp=None) -> np.ndarray:
-    """The largest of :func:`criterion_utilisations`."""
-    return np.max(list(criterion_utilisations(model, vm, fat, tip, amp).values()), axis=0)
-
-
-def governing_of(ctx: SweepContext, results: dict) -> tuple[np.ndarray, np.ndarray]:
-    """(part, criterion) (S,) object arrays: what has the largest utilisation in
-    ``results`` (part -> (vm, fatigue, tip, utilisation))."""
-    names, crits, values = [], [], []
-    for name, (vm, fat, tip, amp, _) in results.items():
-        for crit, u in criterion_utilisations(ctx.models[name], vm, fat, tip, amp).items():
-            names.append(name)
-            crits.append(crit)
-            values.append(np.where(np.isnan(u), -np.inf, u))
-    k = np.argmax(np.array(values), axis=0)
-    return np.array(names, dtype=object)[k], np.array(crits, dtype=object)[k]
-
-
 def fe_histories(ctx: SweepContext, loads: Loads, sel: np.ndarray) -> dict[str, list[tuple]]:
     """part -> :func:`coefficients` of the settings ``sel`` (every part not of constant result)."""
     return {name: coefficients(ctx, name, loads, sel) for name, m in ctx.models.items() if m.constant is None}
@@ -418,115 +329,14 @@ def fe_results(ctx: SweepContext, histories: dict, lengths: dict, speeds_s: list
     dynamic = any(m.dynamic is not None for m in ctx.models.values())
     exact = "gravity" in ctx.effects or dynamic
     base = at(1.0)
-    per_speed = [base if s == 1.0 else (at(s) if exact else _scaled(ctx, base, s)) for s in speeds_s]
+    per_speed = [base if s == 1.0 else (at(s) if exact else scaled_results(ctx, base, s)) for s in speeds_s]
     if exact:
-        safe = _safe_s_bisect(ctx, lambda s: at(s, decide=True), n_sel, scan=SAFE_SPEED_SCAN if dynamic else 0)
+        safe = safe_s_bisect(ctx, lambda s: at(s, decide=True), n_sel, scan=SAFE_SPEED_SCAN if dynamic else 0)
     else:
-        safe = _safe_s_closed(ctx, base, n_sel)
+        safe = safe_s_closed(ctx, base, n_sel)
     finite = np.where(np.isfinite(safe), safe, 1.0)  # unlimited: what governs at the reference speed
-    at_safe = at(finite) if exact else _scaled(ctx, base, finite)
+    at_safe = at(finite) if exact else scaled_results(ctx, base, finite)
     return {"per_speed": per_speed, "safe_s": safe, "safe_governs": governing_of(ctx, at_safe)}
-
-
-def _scaled(ctx: SweepContext, base: dict, s) -> dict:
-    """Results at speed ratio squared ``s`` from those at 1, without gravity and without
-    a dynamic response (module doc)."""
-    out = {}
-    for name, (vm, fat, tip, amp, _) in base.items():
-        m = ctx.models[name]
-        if m.constant is None:
-            vm, fat, tip = s * vm, fat / s, s * tip
-        out[name] = (vm, fat, tip, amp, utilisation(m, vm, fat, tip, amp))
-    return out
-
-
-def _safe_s_closed(ctx: SweepContext, base: dict, n: int) -> np.ndarray:
-    """Without gravity: every speed-dependent utilisation is ``s u(1)``; constant parts
-    (explicit loads) do not change. 0 where a constant part already fails; inf where no
-    part depends on speed."""
-    u_var = np.zeros(n)
-    u_const = np.zeros(n)
-    for name, (*_, u) in base.items():
-        if ctx.models[name].constant is None:
-            u_var = np.maximum(u_var, u)
-        else:
-            u_const = np.maximum(u_const, u)
-    with np.errstate(divide="ignore"):
-        safe = np.where(u_var > 0, 1.0 / u_var, np.inf)
-    return np.where(u_const > 1.0, 0.0, safe)
-
-
-#: speeds scanned below the bracketing speed before the root is refined, with a dynamic response
-SAFE_SPEED_SCAN = 8
-#: regula falsi (Illinois) iterations refining a bracketed crossing with a dynamic response
-SAFE_SPEED_REFINE = 10
-
-
-def _safe_s_bisect(ctx: SweepContext, at, n: int, iterations: int = 60, scan: int = 0) -> np.ndarray:
-    """The ``s`` where the largest utilisation first reaches 1 (vectorised over the
-    settings): doubling from 1 until it is exceeded, then bisection; 0 where the rig fails
-    at rest, inf where no ``s`` up to 2^60 reaches 1.
-
-    With gravity alone the utilisation grows with ``s`` once inertia dominates (it is
-    convex in the loads), so the bracket holds the first crossing. A dynamic response is
-    not monotonic in the speed (a harmonic of the crank meets a mode): with ``scan`` > 0
-    the first of ``scan`` speeds evenly spaced up to the bracketing one that exceeds 1
-    brackets the crossing, and regula falsi (Illinois) refines it. A resonance narrower
-    than the scan's spacing (1/``scan`` of the bracketing speed) below that crossing can be
-    missed; docs/sweep.md states this."""
-
-    def worst(s):
-        return np.max([u for *_, u in at(s).values()], axis=0)
-
-    fails_at_rest = worst(np.zeros(n)) > 1.0
-    lo, hi = np.zeros(n), np.ones(n)
-    u_hi = worst(hi)
-    for _ in range(60):
-        over = u_hi > 1.0
-        if np.all(over | fails_at_rest):
-            break
-        lo, hi = np.where(over, lo, hi), np.where(over, hi, 2.0 * hi)
-        u_hi = np.where(over, u_hi, worst(hi))
-    unbounded = ~(u_hi > 1.0)
-    if not scan:
-        for _ in range(iterations):
-            mid = 0.5 * (lo + hi)
-            over = worst(mid) > 1.0
-            lo, hi = np.where(over, lo, mid), np.where(over, mid, hi)
-        return np.where(fails_at_rest, 0.0, np.where(unbounded, np.inf, 0.5 * (lo + hi)))
-    top = np.sqrt(hi)  # speed ratios from here on: the bracket [a, b] of the first crossing
-    a, u_a, b, u_b = np.zeros(n), np.zeros(n), top.copy(), u_hi.copy()
-    found = np.zeros(n, dtype=bool)
-    for j in range(1, scan + 1):
-        r = top * j / scan
-        u = worst(r**2)
-        over = ~found & (u > 1.0)
-        b, u_b = np.where(over, r, b), np.where(over, u, u_b)
-        found |= over
-        a, u_a = np.where(found, a, r), np.where(found, u_a, u)
-    r = _illinois(lambda r: worst(r**2), a, u_a, b, u_b, SAFE_SPEED_REFINE)
-    return np.where(fails_at_rest, 0.0, np.where(unbounded, np.inf, r**2))
-
-
-def _illinois(u_of, a, u_a, b, u_b, iterations: int):
-    """Refine brackets ``[a, b]`` (u(a) <= 1 < u(b), vectorised) of ``u(x) = 1`` by regula
-    falsi with the Illinois modification (superlinear on smooth crossings, never leaving
-    the bracket); returns the end whose utilisation is nearer 1."""
-    fa, fb, side = u_a - 1.0, u_b - 1.0, np.zeros(a.shape, dtype=int)
-    ga, gb = fa.copy(), fb.copy()  # the ends' true values (fa, fb may be halved)
-    for _ in range(iterations):
-        with np.errstate(invalid="ignore", divide="ignore"):
-            x = np.where(fb != fa, b - fb * (b - a) / (fb - fa), 0.5 * (a + b))
-        x = np.where((x > a) & (x < b), x, 0.5 * (a + b))
-        fx = u_of(x) - 1.0
-        over = fx > 0.0
-        # the end that stays twice in a row has its value halved (Illinois)
-        fa = np.where(over & (side == -1), 0.5 * fa, fa)
-        fb = np.where(~over & (side == 1), 0.5 * fb, fb)
-        a, fa, ga = np.where(over, a, x), np.where(over, fa, fx), np.where(over, ga, fx)
-        b, fb, gb = np.where(over, x, b), np.where(over, fx, fb), np.where(over, fx, gb)
-        side = np.where(over, -1, 1)
-    return np.where(np.abs(gb) < np.abs(ga), b, a)
 
 
 def evaluate_chunk(ctx: SweepContext, lengths: dict, ids: np.ndarray) -> dict:
@@ -540,7 +350,7 @@ def evaluate_chunk(ctx: SweepContext, lengths: dict, ids: np.ndarray) -> dict:
     rev = revolving_results(ctx, lengths, idx, passed)
     fe = (rev["fe_at"], rev["fe"]) if "fe" in rev else None
     rows = []
-    motor = _motor_columns(ctx, n, idx, rev, passed)
+    motor = motor_columns(ctx, n, idx, rev, passed)
     for j, w in enumerate(ctx.speeds):
         col = {"setting": ids, "kind": np.full(n, ctx.kind, dtype=object)}
         col |= {f"{b}_mm": v * 1e3 for b, v in lengths.items()}
@@ -595,7 +405,7 @@ def revolving_results(ctx: SweepContext, lengths: dict, idx: np.ndarray, passed:
         out |= {
             "fe_at": np.concatenate([g["fe_at"] for g in with_fe]),
             "fe": res,
-            "at_safe": concat_trees([_demand_at_safe(ctx, g["fe_torque"], s) for g, s in zip(with_fe, safe)]),
+            "at_safe": concat_trees([demand_at_safe(ctx, g["fe_torque"], s) for g, s in zip(with_fe, safe)]),
         }
     return out
 
@@ -624,22 +434,6 @@ def _revolving_group(ctx: SweepContext, lengths: dict, rows: np.ndarray, passed:
     return out
 
 
-def _demand_at_safe(ctx: SweepContext, torque: tuple, safe_s: np.ndarray) -> dict:
-    """The motor's peak and RMS torque (N m) and peak power (W) of settings whose
-    :func:`torque_parts` are ``torque`` at their safe speed ratio squared ``safe_s``: NaN
-    where the safe speed is not finite."""
-    out = {
-        k: np.full(safe_s.size, np.nan) for k in ("torque_peak_at_safe_Nm", "torque_rms_at_safe_Nm", "power_peak_at_safe_W")
-    }
-    finite = np.isfinite(safe_s)
-    T = torque_at(tuple(None if p is None else p[finite] for p in torque), safe_s[finite])  # type: ignore[arg-type]
-    peak = np.abs(T).max(axis=1)
-    out["torque_peak_at_safe_Nm"][finite] = peak
-    out["torque_rms_at_safe_Nm"][finite] = np.sqrt(np.mean(T**2, axis=1))
-    out["power_peak_at_safe_W"][finite] = peak * ctx.speeds[0] * np.sqrt(safe_s[finite])
-    return out
-
-
 def concat_trees(trees: list):
     """Join trees of the same shape (dicts, lists, tuples of arrays) leaf by leaf along
     the arrays' first axis."""
@@ -651,48 +445,9 @@ def concat_trees(trees: list):
     return first if len(trees) == 1 else np.concatenate(trees, axis=0)
 
 
-#: the chunk's per-setting motor curve travels with its columns under this key (the
-#: aggregate takes it; it is not a table column)
-MOTOR_CURVE_KEY = "_motor_curve"
-
-
-def _motor_columns(ctx: SweepContext, n: int, idx: np.ndarray, rev: dict, passed: np.ndarray) -> dict:
-    """``columns``: the motor's demand at each setting's safe speed (peak and RMS torque
-    N m, peak power W; null without a finite safe speed); ``curve``: ``rows``, the
-    settings that pass the configuration checks (the only ones the motor curve counts; a
-    chunk's other settings' curves never leave it), and quantity -> (rows, G) their
-    demand at :func:`motor_curve_speeds` (NaN where a setting does not revolve)."""
-    grid = motor_curve_speeds(ctx.speeds)
-    rows = np.flatnonzero(passed)
-    curve: dict = {k: np.full((rows.size, grid.size), np.nan) for k in ("torque_peak_Nm", "torque_rms_Nm", "power_peak_W")}
-    cols = {k: np.full(n, np.nan) for k in ("torque_peak_at_safe_Nm", "torque_rms_at_safe_Nm", "power_peak_at_safe_W")}
-    position = np.full(n, -1)
-    position[rows] = np.arange(rows.size)
-    at = position[idx]  # each revolving setting's row in the curve, -1 if it fails a check
-    for k, v in rev.get("curve", {}).items():
-        curve[k][at[at >= 0]] = v[at >= 0]
-    curve["rows"] = rows
-    for k, v in rev.get("at_safe", {}).items():
-        cols[k][rev["fe_at"]] = v
-    return {"columns": cols, "curve": curve}
-
-
 def _scatter(n: int, idx: np.ndarray, values: np.ndarray, fill=np.nan) -> np.ndarray:
     out = np.full(n, fill, dtype=float)
     out[idx] = values
-    return out
-
-
-def failed_criteria(model, vm: np.ndarray, fat: np.ndarray, tip: np.ndarray, amp=None) -> dict[str, np.ndarray]:
-    """criterion -> (S,) True where that criterion fails: ``stress`` above the limit,
-    ``fatigue`` below the required factor, ``deflection`` above the limit (when one is set),
-    ``dynamic`` an amplification above the largest allowed (with a dynamic response); the
-    words of ``railcheck check``'s failures."""
-    out = {"stress": vm > model.limit, "fatigue": fat < model.required}
-    if model.deflection_limit:
-        out["deflection"] = tip > model.deflection_limit
-    if model.dynamic is not None and amp is not None:
-        out["dynamic"] = amp > model.max_amplification
     return out
 
 

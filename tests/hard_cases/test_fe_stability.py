@@ -9,6 +9,7 @@ from railcheck.fea.elasticity import HoleLoad, Support, solve_elasticity
 from railcheck.fea.errors import ModelError
 from railcheck.fea.materials import MATERIALS, Material
 from railcheck.geometry.catalogue import RAIL
+from railcheck.geometry.meshdata import MeshData
 from railcheck.geometry.mesher import mesh_part
 from railcheck.geometry.models import bar, joint_plate, rail
 
@@ -24,9 +25,7 @@ def test_coarse_2500_mm_rail_amg_converges_to_direct():
     mesh = mesh_part(rail(2.5, replace(RAIL, groove_radius=0.0)), 25e-3, hole_size=6e-3)
     assert 2.5 / 0.022 > 100  # the part's aspect ratio
     args = (
-        mesh.points,
-        mesh.tets,
-        mesh.groups,
+        mesh,
         STEEL,
         [Support("shaft_hole")],
         [HoleLoad("hole_40", (300.0, 150.0, 0.0)), HoleLoad("hole_41", (300.0, 150.0, 0.0))],
@@ -42,9 +41,7 @@ def test_coarse_2500_mm_rail_amg_converges_to_direct():
 def test_same_problem_in_mm_and_m_gives_the_same_stresses(order):
     mesh = mesh_part(bar(0.2, 0.02, 0.02), 8e-3, hole_size=8e-3)
     si = solve_elasticity(
-        mesh.points,
-        mesh.tets,
-        mesh.groups,
+        mesh,
         STEEL,
         [Support("clamp")],
         [HoleLoad("tip", (10.0, 50.0, -30.0))],
@@ -62,9 +59,7 @@ def test_same_problem_in_mm_and_m_gives_the_same_stresses(order):
         "same steel in N/mm^2",
     )
     smm = solve_elasticity(
-        mesh.points * 1e3,
-        mesh.tets,
-        mesh.groups,
+        MeshData.of(mesh.points * 1e3, mesh.tets, mesh.groups),
         mm,
         [Support("clamp")],
         [HoleLoad("tip", (10.0, 50.0, -30.0))],
@@ -81,7 +76,7 @@ def test_same_problem_in_mm_and_m_gives_the_same_stresses(order):
 def test_nearly_incompressible_p1_locks_and_warns():
     mesh = mesh_part(bar(0.3, 0.03, 0.03), 10e-3, hole_size=10e-3)
     rubbery = replace(STEEL, name="nu049", poisson_ratio=0.49)
-    args = (mesh.points, mesh.tets, mesh.groups, rubbery, [Support("clamp")], [HoleLoad("tip", (0.0, 0.0, -100.0))])
+    args = (mesh, rubbery, [Support("clamp")], [HoleLoad("tip", (0.0, 0.0, -100.0))])
     p1 = solve_elasticity(*args, order=1, tip_group="tip")
     p2 = solve_elasticity(*args, order=2, tip_group="tip")
     assert any("lock" in w for w in p1.warnings)
@@ -103,9 +98,7 @@ def plate():
 
 def test_zero_load_gives_exactly_zero(plate):
     s = solve_elasticity(
-        plate.points,
-        plate.tets,
-        plate.groups,
+        plate,
         STEEL,
         [Support("bearing_seat")],
         [HoleLoad("hole_0", (0.0, 0.0, 0.0)), HoleLoad("hole_1", (0.0, 0.0, 0.0))],
@@ -117,11 +110,9 @@ def test_zero_load_gives_exactly_zero(plate):
 
 def test_load_on_a_hole_not_in_the_mesh_is_an_error(plate):
     with pytest.raises(ModelError, match="hole_7: no such group"):
-        solve_elasticity(
-            plate.points, plate.tets, plate.groups, STEEL, [Support("bearing_seat")], [HoleLoad("hole_7", (10.0, 0.0, 0.0))]
-        )
+        solve_elasticity(plate, STEEL, [Support("bearing_seat")], [HoleLoad("hole_7", (10.0, 0.0, 0.0))])
 
 
 def test_unsupported_part_is_detected_before_the_solve(plate):
     with pytest.raises(ModelError, match="no support"):
-        solve_elasticity(plate.points, plate.tets, plate.groups, STEEL, [], [HoleLoad("hole_0", (10.0, 0.0, 0.0))])
+        solve_elasticity(plate, STEEL, [], [HoleLoad("hole_0", (10.0, 0.0, 0.0))])
