@@ -234,12 +234,9 @@ def solve_unit_cases(
     (:mod:`railcheck.fea.relief`), the body cases carry ``free_body.mass`` kg spread
     uniformly, every node is in the verdict, and the "tip" is the deflection that
     ``free_body.deflection`` defines (:func:`railcheck.fea.stress.relative_deflection`).
-    With ``modes`` = (count, pins, lumped masses) the part's lowest modes are computed too
-    (:func:`railcheck.fea.dynamic.part_modes`: held at its supports, or at ``pins`` for a
-    free body) and their fields follow the unit cases' as extra columns ("mode 1", ...).
-    ``modes`` may also be a dict key -> (count, pins, lumped masses): one mode set per key
-    (a rail's hole pairs carry their far joint's mass at different holes), columns
-    "mode 1@key", ..., key by key, and ``UnitSolve.mode_sets`` key -> its modes."""
+    With ``modes`` the part's lowest modes follow the unit cases' as extra columns
+    (:func:`_with_modes`: (count, pins, lumped masses), or a dict of them per key, then
+    ``UnitSolve.mode_sets`` key -> its modes)."""
     points, groups = mesh.points, mesh.groups
     t = [time.perf_counter()]
     K, basis = assemble(points, mesh.tets, material, order, curved)
@@ -252,33 +249,39 @@ def solve_unit_cases(
     U, info, fixed, imbalance, reactions, mask, tip_op = held
     names = tuple(cases)
     t.append(time.perf_counter())
-    sets = model = None
+    sets = None
     if modes is not None:
         U, names, sets = _with_modes(K, F, U, names, basis, groups, material, fixed, free_body, modes)
-        model = sets[None] if not isinstance(modes, dict) else None
     tip = tip_op @ U if tip_op is not None else np.zeros((3, U.shape[1]))
-    tips = None
-    if free_body is not None and isinstance(free_body.deflection, dict):
-        tips = {key: relative_deflection(basis, groups, *d) @ U for key, d in free_body.deflection.items()}
+    per_key = free_body is not None and isinstance(free_body.deflection, dict)
+    tips = {key: relative_deflection(basis, groups, *d) @ U for key, d in free_body.deflection.items()} if per_key else None
     t.append(time.perf_counter())
     S = recover_stress(basis, U, material)
     extras = _node_sets(basis, groups, support_groups, cases)
     t.append(time.perf_counter())
-    meta = UnitSolve(
+    meta = _solve_meta(basis, mesh, info, np.diff(t), F, reactions, imbalance, sets, modes)
+    return UnitFields(S, tip, node_displacement(basis, U), stress_nodes(basis), mask, names, **extras, tips=tips), meta
+
+
+def _solve_meta(basis, mesh: MeshData, info: dict, seconds, F, reactions, imbalance, sets, modes) -> UnitSolve:
+    """The solve's :class:`UnitSolve`: sizes, solver info, the ``seconds`` of its four
+    stages (assembly, solve, modes, stress; modes only when asked), the cases'
+    resultants and balances, and the modes (one set, or ``sets`` by key when ``modes``
+    was a dict)."""
+    return UnitSolve(
         dofs=int(basis.N),
         elements=int(mesh.tets.shape[0]),
-        vertices=int(points.shape[0]),
+        vertices=int(mesh.points.shape[0]),
         solver=info,
         seconds={
-            k: v for k, v in zip(("assembly", "solve", "modes", "stress"), np.diff(t)) if k != "modes" or modes is not None
+            k: v for k, v in zip(("assembly", "solve", "modes", "stress"), seconds) if k != "modes" or sets is not None
         },
         resultants=resultant(basis, F),
         support_reactions=reactions,
         imbalance=imbalance,
-        modes=model,
+        modes=sets[None] if sets is not None and not isinstance(modes, dict) else None,
         mode_sets=sets if isinstance(modes, dict) else None,
     )
-    return UnitFields(S, tip, node_displacement(basis, U), stress_nodes(basis), mask, names, **extras, tips=tips), meta
 
 
 def _case_matrix(basis, groups: dict, cases: dict, free_body: FreeBodyCases | None) -> np.ndarray:
@@ -324,9 +327,12 @@ def _supported_solve(K, F, basis, points, groups: dict, support_groups, solver, 
 
 
 def _with_modes(K, F, U, names: tuple, basis, groups: dict, material: Material, fixed, free_body, modes):
-    """(U with the modes' shapes as extra columns, names with theirs, key -> DynamicModel):
-    each requested mode set (:func:`solve_unit_cases`' ``modes``), held at the supports,
-    at a free body's held groups, or at its pins."""
+    """(U with the modes' shapes as extra columns, names with theirs, key -> DynamicModel).
+    ``modes`` = (count, pins, lumped masses): the part's lowest modes
+    (:func:`railcheck.fea.dynamic.part_modes`: held at its supports, at a free body's held
+    groups, or at ``pins``), columns "mode 1", ...; or a dict key -> (count, pins, lumped
+    masses): one mode set per key (a rail's hole pairs carry their far joint's mass at
+    different holes), columns "mode 1@key", ..., key by key."""
     requests = modes if isinstance(modes, dict) else {None: modes}
     held_modes = free_body is not None and bool(free_body.held)
     density = material.density

@@ -171,12 +171,9 @@ def plate_planar_inertia(spec: JointPlateSpec = JOINT_PLATE) -> tuple[float, flo
     return centroid, polar
 
 
-def validate(overrides: dict[str, float]) -> tuple[str, str] | None:
-    """(field, message) for overrides that cannot make a valid part, else None: holes
-    wider than the section, counterbores not around their hole or deeper than the rail,
-    holes that overlap or leave the plate, a web or fillet that does not fit."""
-    rail, plate, ipr = with_overrides(overrides)
-    checks = [
+def _rail_checks(rail) -> list[tuple[str, bool, str]]:
+    """(field, holds, message) of the rail's dimensions: holes, counterbores, grooves, pitch."""
+    return [
         (
             "rail_hole_diameter",
             rail.hole_diameter < 0.8 * rail.width,
@@ -211,6 +208,12 @@ def validate(overrides: dict[str, float]) -> tuple[str, str] | None:
             "the first hole must lie on the rail, within one pitch of its end",
         ),
         ("rail_hole_pitch", rail.hole_pitch > 1.2 * rail.counterbore_diameter, "neighbouring counterbores overlap"),
+    ]
+
+
+def _plate_checks(plate) -> list[tuple[str, bool, str]]:
+    """(field, holds, message) of the joint plate's seat and bolt holes."""
+    return [
         (
             "plate_seat_diameter",
             plate.seat_diameter < 0.9 * plate.width
@@ -225,6 +228,12 @@ def validate(overrides: dict[str, float]) -> tuple[str, str] | None:
             and max(plate.bolt_x) + plate.bolt_diameter / 2 < plate.length,
             "the bolt holes must fit on the plate",
         ),
+    ]
+
+
+def _iprofile_checks(ipr) -> list[tuple[str, bool, str]]:
+    """(field, holds, message) of the I-profile's web, flanges and bolt holes."""
+    return [
         (
             "iprofile_web_thickness",
             ipr.web_thickness + 2 * ipr.root_radius < ipr.flange_width,
@@ -242,6 +251,14 @@ def validate(overrides: dict[str, float]) -> tuple[str, str] | None:
             "the bolt holes must fit on the top flange",
         ),
     ]
+
+
+def validate(overrides: dict[str, float]) -> tuple[str, str] | None:
+    """(field, message) for overrides that cannot make a valid part, else None: holes
+    wider than the section, counterbores not around their hole or deeper than the rail,
+    holes that overlap or leave the plate, a web or fillet that does not fit."""
+    rail, plate, ipr = with_overrides(overrides)
+    checks = _rail_checks(rail) + _plate_checks(plate) + _iprofile_checks(ipr)
     for name, ok, message in checks:
         if not ok:
             return f"geometry.{name}", message

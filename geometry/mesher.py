@@ -194,6 +194,52 @@ def _child_main() -> None:
         out.write(pickle.dumps(reply))
 
 
+def _size_field(gmsh, size: float, hole_size: float, optimize: bool, refine, fine: dict) -> None:
+    """gmsh's mesh options and size field (m): ``hole_size`` on the ``refine`` surfaces,
+    at most each cap of ``fine`` (cap -> surfaces) on its surfaces, growing to ``size``;
+    Delaunay, one thread (deterministic meshes), optimised when ``optimize``."""
+    # size field: hole_size on the refined surfaces, growing to size
+    gmsh.option.setNumber("Mesh.MeshSizeMax", size)
+    gmsh.option.setNumber("Mesh.MeshSizeMin", min(size, hole_size) * 0.5)
+    gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
+    gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
+    gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
+    gmsh.option.setNumber("Mesh.Algorithm3D", 1)  # Delaunay
+    gmsh.option.setNumber("Mesh.Optimize", 1 if optimize else 0)
+    gmsh.option.setNumber("General.NumThreads", 1)  # deterministic meshes
+    fields = []
+    if refine and hole_size < size:
+        fields.append(_threshold_field(gmsh, refine, hole_size, size))
+    for cap, tags in fine.items():  # surfaces whose curvature asks for at most ``cap``
+        if min(cap, hole_size) < size:
+            gmsh.option.setNumber("Mesh.MeshSizeMin", min(size, hole_size, cap) * 0.5)
+            fields.append(_threshold_field(gmsh, tags, min(cap, hole_size), size))
+    if len(fields) == 1:
+        gmsh.model.mesh.field.setAsBackgroundMesh(fields[0])
+    elif fields:
+        fm = gmsh.model.mesh.field.add("Min")
+        gmsh.model.mesh.field.setNumbers(fm, "FieldsList", fields)
+        gmsh.model.mesh.field.setAsBackgroundMesh(fm)
+
+
+def _second_order(gmsh, grooved: bool) -> None:
+    """The mesh made quadratic with its mid-edge nodes on the CAD surfaces; a grooved
+    part's untangled where the grooves' mid nodes would fold thin elements."""
+    gmsh.model.mesh.setOrder(2)  # mid-edge nodes on the CAD surfaces
+    if grooved:
+        # long concave grooves: the mid-edge nodes on them bulge into the thin
+        # elements beside them, which would fold; gmsh's optimisation-based
+        # untangling moves the mid nodes of those elements and one layer round
+        # them (without it a sixth of the curved edges straighten, the section
+        # gains 3.5% of area at its extreme fibres: benchmarks/groove_mesh.py)
+        if UNTANGLE_GROOVES:
+            gmsh.option.setNumber("Mesh.HighOrderNumLayers", 1)
+            # 10 iterations per pass instead of 100: a third of the time, the same
+            # section (66 instead of 51 of the crank rail's 17k curved edges straightened)
+            gmsh.option.setNumber("Mesh.HighOrderIterMax", 10)
+            gmsh.model.mesh.optimize("HighOrder")
+
+
 def _build_here(part: PartGeometry, size: float, hole_size: float, verbose: bool, optimize: bool) -> MeshData:
     """Build and mesh ``part`` with gmsh in this process."""
     t0 = time.perf_counter()
@@ -214,45 +260,12 @@ def _build_here(part: PartGeometry, size: float, hole_size: float, verbose: bool
             if not tags:
                 raise RuntimeError(f"geometry: group {name!r} found no surface")
             gmsh.model.addPhysicalGroup(2, sorted(set(tags)), name=name)
-        # size field: hole_size on the refined surfaces, growing to size
-        gmsh.option.setNumber("Mesh.MeshSizeMax", size)
-        gmsh.option.setNumber("Mesh.MeshSizeMin", min(size, hole_size) * 0.5)
-        gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
-        gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
-        gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
-        gmsh.option.setNumber("Mesh.Algorithm3D", 1)  # Delaunay
-        gmsh.option.setNumber("Mesh.Optimize", 1 if optimize else 0)
-        gmsh.option.setNumber("General.NumThreads", 1)  # deterministic meshes
-        fields = []
-        if refine and hole_size < size:
-            fields.append(_threshold_field(gmsh, refine, hole_size, size))
-        for cap, tags in fine.items():  # surfaces whose curvature asks for at most ``cap``
-            if min(cap, hole_size) < size:
-                gmsh.option.setNumber("Mesh.MeshSizeMin", min(size, hole_size, cap) * 0.5)
-                fields.append(_threshold_field(gmsh, tags, min(cap, hole_size), size))
-        if len(fields) == 1:
-            gmsh.model.mesh.field.setAsBackgroundMesh(fields[0])
-        elif fields:
-            fm = gmsh.model.mesh.field.add("Min")
-            gmsh.model.mesh.field.setNumbers(fm, "FieldsList", fields)
-            gmsh.model.mesh.field.setAsBackgroundMesh(fm)
+        _size_field(gmsh, size, hole_size, optimize, refine, fine)
         gmsh.model.mesh.generate(3)
         qualities = _qualities(gmsh)
         curved = _has_curved_surfaces(gmsh)
         if curved:
-            gmsh.model.mesh.setOrder(2)  # mid-edge nodes on the CAD surfaces
-            if fine:
-                # long concave grooves: the mid-edge nodes on them bulge into the thin
-                # elements beside them, which would fold; gmsh's optimisation-based
-                # untangling moves the mid nodes of those elements and one layer round
-                # them (without it a sixth of the curved edges straighten, the section
-                # gains 3.5% of area at its extreme fibres: benchmarks/groove_mesh.py)
-                if UNTANGLE_GROOVES:
-                    gmsh.option.setNumber("Mesh.HighOrderNumLayers", 1)
-                    # 10 iterations per pass instead of 100: a third of the time, the same
-                    # section (66 instead of 51 of the crank rail's 17k curved edges straightened)
-                    gmsh.option.setNumber("Mesh.HighOrderIterMax", 10)
-                    gmsh.model.mesh.optimize("HighOrder")
+            _second_order(gmsh, bool(fine))
         data, index = _extract(gmsh, surfaces, qualities)
         if curved:
             data = _with_curved_edges(gmsh, data, index)

@@ -205,67 +205,97 @@ def evaluate(mech: Mechanism, q: np.ndarray, qd: np.ndarray | None = None, s: fl
     velocities and accelerations come out per unit of s and per unit of s squared.
     """
     fr = _Frame(mech, q, qd)
-    phi, rows, nu, gamma = [], [], [], []
+    acc: tuple[list, list, list, list] = ([], [], [], [])  # phi, rows, nu, gamma
     for c in mech.constraints(with_driver):
-        if isinstance(c, Revolute):
-            Pi, Ji, Vi, Ai = fr.point(c.i, c.pi)
-            Pj, Jj, Vj, Aj = fr.point(c.j, c.pj)
-            phi += list(Pi - Pj)
-            rows += list(Ji - Jj)
-            nu += [0.0, 0.0]
-            gamma += list(-(Ai - Aj))
-        elif isinstance(c, Prismatic):
-            di = fr.direction(c.i, c.pi, c.qi)
-            dj = fr.direction(c.j, c.pj, c.qj)
-            v, r, g = _cross_terms(di, dj)
-            _add((phi, rows, nu, gamma), v, r, 0.0, g)
-            Pi, Pj = fr.point(c.i, c.pi), fr.point(c.j, c.pj)
-            h = (Pj[0] - Pi[0], Pj[1] - Pi[1], Pj[2] - Pi[2], Pj[3] - Pi[3])
-            v, r, g = _cross_terms(di, h)
-            _add((phi, rows, nu, gamma), v, r, 0.0, g)
-        elif isinstance(c, Fixed):
-            bi, bj = mech.body(c.i), mech.body(c.j)
-            xi = np.array(bi.initial) if c.i else np.zeros(3)
-            xj = np.array(bj.initial)
-            # the relative pose at the initial placement is kept
-            rel_th = xj[2] - xi[2]
-            rel = _rot(-xi[2]) @ (xj[:2] - xi[:2])
-            ri, thi, vi, wi = fr._body(c.i)
-            rj, thj, vj, wj = fr._body(c.j)
-            Ar = _rot(thi) @ rel
-            phi += list(rj - ri - Ar) + [thj - thi - rel_th]
-            J = np.zeros((3, mech.n))
-            J[0:2, 3 * c.j - 3 : 3 * c.j - 1] = np.eye(2)
-            J[2, 3 * c.j - 1] = 1.0
-            if c.i:
-                J[0:2, 3 * c.i - 3 : 3 * c.i - 1] = -np.eye(2)
-                J[0:2, 3 * c.i - 1] = -_perp(Ar)
-                J[2, 3 * c.i - 1] = -1.0
-            rows += list(J)
-            nu += [0.0, 0.0, 0.0]
-            gamma += list(-(wi**2 * Ar)) + [0.0]
-        elif isinstance(c, RotationDriver):
-            f, f1, f2 = c.f(s)
-            th = q[3 * c.body - 1]
-            row = np.zeros(mech.n)
-            row[3 * c.body - 1] = 1.0
-            _add((phi, rows, nu, gamma), th - f, row, f1, f2)
-        elif isinstance(c, TranslationDriver):
-            f, f1, f2 = c.f(s)
-            di = fr.direction(c.i, c.pi, c.qi)
-            length = float(np.hypot(*np.subtract(mech.body(c.i).points[c.qi], mech.body(c.i).points[c.pi])))
-            Pi, Pj = fr.point(c.i, c.pi), fr.point(c.j, c.pj)
-            h = tuple(Pj[k] - Pi[k] for k in range(4))
-            # dot(d, h) / |u| = f(s)
-            va, Ja, da, aa = di
-            vb, Jb, db, ab = h
-            value = float(va @ vb) / length
-            row = (va @ Jb + vb @ Ja) / length
-            g = -(float(aa @ vb) + 2 * float(da @ db) + float(va @ ab)) / length
-            _add((phi, rows, nu, gamma), value - f, row, f1, g + f2)
-        else:
+        rows_of = _CONSTRAINT_ROWS.get(type(c))
+        if rows_of is None:
             raise TypeError(f"unknown constraint {c!r}")
+        rows_of(mech, fr, q, s, c, acc)
+    phi, rows, nu, gamma = acc
     return np.array(phi), np.array(rows).reshape(len(phi), mech.n), np.array(nu), np.array(gamma)
+
+
+def _revolute_rows(mech: Mechanism, fr: _Frame, q, s: float, c: Revolute, acc: tuple) -> None:
+    """A revolute joint's two rows: its two bodies' points coincide."""
+    phi, rows, nu, gamma = acc
+    Pi, Ji, Vi, Ai = fr.point(c.i, c.pi)
+    Pj, Jj, Vj, Aj = fr.point(c.j, c.pj)
+    phi += list(Pi - Pj)
+    rows += list(Ji - Jj)
+    nu += [0.0, 0.0]
+    gamma += list(-(Ai - Aj))
+
+
+def _prismatic_rows(mech: Mechanism, fr: _Frame, q, s: float, c: Prismatic, acc: tuple) -> None:
+    """A prismatic joint's two rows: the two directions parallel, and the second body's
+    point on the first's line."""
+    di = fr.direction(c.i, c.pi, c.qi)
+    dj = fr.direction(c.j, c.pj, c.qj)
+    v, r, g = _cross_terms(di, dj)
+    _add(acc, v, r, 0.0, g)
+    Pi, Pj = fr.point(c.i, c.pi), fr.point(c.j, c.pj)
+    h = (Pj[0] - Pi[0], Pj[1] - Pi[1], Pj[2] - Pi[2], Pj[3] - Pi[3])
+    v, r, g = _cross_terms(di, h)
+    _add(acc, v, r, 0.0, g)
+
+
+def _fixed_rows(mech: Mechanism, fr: _Frame, q, s: float, c: Fixed, acc: tuple) -> None:
+    """A fixed joint's three rows: the relative pose at the initial placement is kept."""
+    phi, rows, nu, gamma = acc
+    bi, bj = mech.body(c.i), mech.body(c.j)
+    xi = np.array(bi.initial) if c.i else np.zeros(3)
+    xj = np.array(bj.initial)
+    rel_th = xj[2] - xi[2]
+    rel = _rot(-xi[2]) @ (xj[:2] - xi[:2])
+    ri, thi, vi, wi = fr._body(c.i)
+    rj, thj, vj, wj = fr._body(c.j)
+    Ar = _rot(thi) @ rel
+    phi += list(rj - ri - Ar) + [thj - thi - rel_th]
+    J = np.zeros((3, mech.n))
+    J[0:2, 3 * c.j - 3 : 3 * c.j - 1] = np.eye(2)
+    J[2, 3 * c.j - 1] = 1.0
+    if c.i:
+        J[0:2, 3 * c.i - 3 : 3 * c.i - 1] = -np.eye(2)
+        J[0:2, 3 * c.i - 1] = -_perp(Ar)
+        J[2, 3 * c.i - 1] = -1.0
+    rows += list(J)
+    nu += [0.0, 0.0, 0.0]
+    gamma += list(-(wi**2 * Ar)) + [0.0]
+
+
+def _rotation_driver_rows(mech: Mechanism, fr: _Frame, q, s: float, c: RotationDriver, acc: tuple) -> None:
+    """A rotation driver's row: the body's angle is f(s)."""
+    f, f1, f2 = c.f(s)
+    th = q[3 * c.body - 1]
+    row = np.zeros(mech.n)
+    row[3 * c.body - 1] = 1.0
+    _add(acc, th - f, row, f1, f2)
+
+
+def _translation_driver_rows(mech: Mechanism, fr: _Frame, q, s: float, c: TranslationDriver, acc: tuple) -> None:
+    """A translation driver's row: the distance along the first body's line is f(s)."""
+    f, f1, f2 = c.f(s)
+    di = fr.direction(c.i, c.pi, c.qi)
+    length = float(np.hypot(*np.subtract(mech.body(c.i).points[c.qi], mech.body(c.i).points[c.pi])))
+    Pi, Pj = fr.point(c.i, c.pi), fr.point(c.j, c.pj)
+    h = tuple(Pj[k] - Pi[k] for k in range(4))
+    # dot(d, h) / |u| = f(s)
+    va, Ja, da, aa = di
+    vb, Jb, db, ab = h
+    value = float(va @ vb) / length
+    row = (va @ Jb + vb @ Ja) / length
+    g = -(float(aa @ vb) + 2 * float(da @ db) + float(va @ ab)) / length
+    _add(acc, value - f, row, f1, g + f2)
+
+
+#: each constraint's rows (:func:`evaluate`)
+_CONSTRAINT_ROWS = {
+    Revolute: _revolute_rows,
+    Prismatic: _prismatic_rows,
+    Fixed: _fixed_rows,
+    RotationDriver: _rotation_driver_rows,
+    TranslationDriver: _translation_driver_rows,
+}
 
 
 def _add(lists, *values) -> None:

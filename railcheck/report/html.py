@@ -129,34 +129,13 @@ def _clamped_cell(k) -> str:
 
 
 def _parts(result) -> str:
+    """The parts table: each part's cycle peak, seed method, limit, utilisation,
+    deflection, fatigue and verdict, and a note on the support models."""
     if not result.parts:
         return ""
-    rows = []
     dynamic = any(p.cycle.dynamic is not None for p in result.parts.values())
     compared = any(p.clamped is not None for p in result.parts.values())
-    for name, p in result.parts.items():
-        c = p.cycle
-        angle = f"{c.history.crank_angle_deg:.1f}" if c.C.shape[0] > 1 else "constant"
-        fos = p.limit / p.verdict_stress if p.verdict_stress > 0 else np.inf
-        dlim = f"{p.deflection_limit * 1e3:.3g}" if p.deflection_limit else "none"
-        rows.append(
-            [
-                html_escape(name),
-                f"{p.verdict_stress / 1e6:.1f}",
-                angle,
-                f"{c.seed_method.max_von_mises / 1e6:.1f}",
-                *([_clamped_cell(p.clamped)] if compared else []),
-                f"{p.limit / 1e6:.0f}",
-                f"{fos:.2f}",
-                f"{p.utilisation:.0%} ({html_escape(p.governing_criterion)})",
-                f"{c.envelope.max_tip * 1e3:.3g}",
-                dlim,
-                f"{c.fatigue.min_safety_factor:.2f}",
-                f"{c.fatigue.sigma_a / 1e6:.1f} / {c.fatigue.sigma_m / 1e6:.1f}",
-                *([f"{c.dynamic.amplification:.4f}" if c.dynamic else "—"] if dynamic else []),
-                _verdict(p.passed),
-            ]
-        )
+    rows = [_part_row(name, p, dynamic, compared) for name, p in result.parts.items()]
     head = [
         "part",
         "cycle max von Mises (MPa)",
@@ -174,9 +153,46 @@ def _parts(result) -> str:
         "verdict",
     ]
     crit = next(iter(result.parts.values())).cycle.fatigue
+    return (
+        "<h2>Parts</h2>"
+        + html_table(head, rows)
+        + f'<p class="note">cycle max: the largest von Mises over the whole crank cycle; * {_support_models(result)}'
+        f"seed method: at the instant of the peak reaction magnitude; "
+        f"factor of safety = limit / cycle max; fatigue: {html_escape(crit.criterion)}, endurance limit "
+        f"{crit.marin.endurance_limit / 1e6:.0f} MPa (Shigley ch. 6, Marin factors in summary.json).</p>"
+    )
+
+
+def _part_row(name: str, p, dynamic: bool, compared: bool) -> list:
+    """One part's row of the parts table (MPa, mm, deg)."""
+    c = p.cycle
+    angle = f"{c.history.crank_angle_deg:.1f}" if c.C.shape[0] > 1 else "constant"
+    fos = p.limit / p.verdict_stress if p.verdict_stress > 0 else np.inf
+    dlim = f"{p.deflection_limit * 1e3:.3g}" if p.deflection_limit else "none"
+    return [
+        html_escape(name),
+        f"{p.verdict_stress / 1e6:.1f}",
+        angle,
+        f"{c.seed_method.max_von_mises / 1e6:.1f}",
+        *([_clamped_cell(p.clamped)] if compared else []),
+        f"{p.limit / 1e6:.0f}",
+        f"{fos:.2f}",
+        f"{p.utilisation:.0%} ({html_escape(p.governing_criterion)})",
+        f"{c.envelope.max_tip * 1e3:.3g}",
+        dlim,
+        f"{c.fatigue.min_safety_factor:.2f}",
+        f"{c.fatigue.sigma_a / 1e6:.1f} / {c.fatigue.sigma_m / 1e6:.1f}",
+        *([f"{c.dynamic.amplification:.4f}" if c.dynamic else "—"] if dynamic else []),
+        _verdict(p.passed),
+    ]
+
+
+def _support_models(result) -> str:
+    """The parts table's footnote: what the peak and the deflection mean for the clamped
+    parts and for the free bodies."""
     free = [n for n, p in result.parts.items() if p.job.free_body is not None]
     clamped = [n for n in result.parts if n not in free]
-    models = (
+    return (
         f"clamped ({html_escape(', '.join(clamped))}): the peak away from the idealised support's singular edge, the "
         "deflection at the free end; "
         if clamped
@@ -187,14 +203,6 @@ def _parts(result) -> str:
         "relative to its bolts; "
         if free
         else ""
-    )
-    return (
-        "<h2>Parts</h2>"
-        + html_table(head, rows)
-        + f'<p class="note">cycle max: the largest von Mises over the whole crank cycle; * {models}'
-        f"seed method: at the instant of the peak reaction magnitude; "
-        f"factor of safety = limit / cycle max; fatigue: {html_escape(crit.criterion)}, endurance limit "
-        f"{crit.marin.endurance_limit / 1e6:.0f} MPa (Shigley ch. 6, Marin factors in summary.json).</p>"
     )
 
 

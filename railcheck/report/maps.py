@@ -26,77 +26,31 @@ def write_maps(aggregates: dict, directory: Path) -> None:
             _map_figure(agg, directory / f"map-{kind}.png")
 
 
+#: one colour per refusal reason of REASON_ORDER
+REASON_COLOURS = ["#bdbdbd", "#fdae6b", "#9ecae1", "#f781bf", "#cab2d6", "#a1d99b", "#ffffb3"]
+
+
 def _map_figure(agg: Aggregate, path: Path) -> None:
     """One row per map (each part whose loads depend on the setting: its utilisation at the
     first speed; then the lowest safe speed), one column per pair of bars (the worst over
     the other bars); utilisation on a scale from 0 with the utilisation-1 contour; refused
     cells coloured by their first failing check, with only the checks that occur in the
     legend; constant-load parts listed in the title."""
-    import warnings
-
     import matplotlib.pyplot as plt
-    from matplotlib.colors import ListedColormap
     from matplotlib.patches import Patch
 
     pairs = [(0, 1), (2, 3)] if len(agg.bars) == 4 else [(0, 1)]
     has_fe = not np.all(np.isnan(agg.util))
-    if has_fe:
-        panels = [(g, np.nanmax, f"{n}: utilisation (1 = limit)", "viridis", True) for n, g in agg.part_util.items()]
-        panels.append((agg.safe, np.nanmin, "lowest safe crank speed (Hz)", "viridis_r", False))
-    else:  # no FE parts: the loads instead
-        panels = [
-            (agg.reaction, np.nanmax, "largest peak joint reaction (N)", "viridis", False),
-            (agg.torque, np.nanmax, "largest peak motor torque (N·m)", "viridis", False),
-        ]
+    panels = _panels(agg, has_fe)
     fig, axes = plt.subplots(
         len(panels), len(pairs), figsize=(max(9.0, 6.5 * len(pairs)), 3.6 * len(panels) + 1.6), squeeze=False
     )
-    colours = ["#bdbdbd", "#fdae6b", "#9ecae1", "#f781bf", "#cab2d6", "#a1d99b", "#ffffb3"]  # one per REASON_ORDER
-    reason_colors = ListedColormap(colours)
     for col, (a, b) in enumerate(pairs):
-        others = tuple(i for i in range(len(agg.bars)) if i not in (a, b))
-        reasons = np.max(agg.reason, axis=others) if others else agg.reason
-        xs, ys = agg.grid[agg.bars[a]] * 1e3, agg.grid[agg.bars[b]] * 1e3
-        extent = _extent(xs, ys)
-        for row, (data, reduce, label, cmap, is_util) in enumerate(panels):
-            ax = axes[row, col]
-            with np.errstate(all="ignore"), warnings.catch_warnings():
-                warnings.simplefilter("ignore", RuntimeWarning)
-                grid = reduce(data, axis=others) if others else data
-            refused = np.ma.masked_where(~np.isnan(grid) | (reasons < 0), reasons)
-            ax.imshow(
-                refused.T,
-                origin="lower",
-                extent=extent,
-                aspect="auto",
-                cmap=reason_colors,
-                vmin=0,
-                vmax=len(REASON_ORDER) - 1,
-                interpolation="nearest",
-            )
-            finite = grid[np.isfinite(grid)]
-            top = max(1.0, float(finite.max())) if is_util and finite.size else (finite.max() if finite.size else 1)
-            im = ax.imshow(
-                np.ma.masked_invalid(grid).T,
-                origin="lower",
-                extent=extent,
-                aspect="auto",
-                cmap=cmap,
-                interpolation="nearest",
-                vmin=0,
-                vmax=top,
-            )
-            fig.colorbar(im, ax=ax, label=label.split(": ")[-1])
-            if is_util and finite.size and finite.min() < 1 < finite.max() and min(grid.shape) > 1:
-                ax.contour(xs, ys, np.where(np.isfinite(grid), grid, 0).T, levels=[1.0], colors="red", linewidths=1.5)
-            if data is agg.safe and agg.safe_dynamic.any():
-                _mark_dynamic(ax, agg, others, xs, ys)
-            ax.set_xlabel(f"{agg.bars[a]} (mm)")
-            ax.set_ylabel(f"{agg.bars[b]} (mm)")
-            over = f", worst over {' and '.join(agg.bars[i] for i in others)}" if others else ""
-            ax.set_title(f"{label.split(' (')[0]}{over}", fontsize=9)
+        for row, panel in enumerate(panels):
+            _map_panel(fig, axes[row, col], agg, a, b, panel)
     handles = [
-        Patch(color=colours[REASON_ORDER.index(r)], label=f"refused: {r.replace('_', ' ')}") for r in occurring_reasons(agg)
+        Patch(color=REASON_COLOURS[REASON_ORDER.index(r)], label=f"refused: {r.replace('_', ' ')}")
+        for r in occurring_reasons(agg)
     ]
     if handles:
         fig.legend(handles=handles, loc="lower center", ncol=min(4, len(handles)), fontsize=8)
@@ -115,6 +69,53 @@ def _map_figure(agg: Aggregate, path: Path) -> None:
     with atomic_path(path) as tmp:
         fig.savefig(tmp, dpi=100)
     plt.close(fig)
+
+
+def _panels(agg: Aggregate, has_fe: bool) -> list[tuple]:
+    """(data, reduction, label, colour map, is a utilisation) of each row of maps: each
+    part's utilisation and the lowest safe speed, or without FE the loads."""
+    if not has_fe:  # no FE parts: the loads instead
+        return [
+            (agg.reaction, np.nanmax, "largest peak joint reaction (N)", "viridis", False),
+            (agg.torque, np.nanmax, "largest peak motor torque (N·m)", "viridis", False),
+        ]
+    panels = [(g, np.nanmax, f"{n}: utilisation (1 = limit)", "viridis", True) for n, g in agg.part_util.items()]
+    panels.append((agg.safe, np.nanmin, "lowest safe crank speed (Hz)", "viridis_r", False))
+    return panels
+
+
+def _map_panel(fig, ax, agg: Aggregate, a: int, b: int, panel: tuple) -> None:
+    """One map over bars ``a`` and ``b`` (mm), the worst over the others: refused cells by
+    their reason, the panel's quantity in colour, the utilisation-1 contour, the settings
+    whose safe speed the dynamic response sets."""
+    import warnings
+
+    from matplotlib.colors import ListedColormap
+
+    data, reduce, label, cmap, is_util = panel
+    others = tuple(i for i in range(len(agg.bars)) if i not in (a, b))
+    reasons = np.max(agg.reason, axis=others) if others else agg.reason
+    xs, ys = agg.grid[agg.bars[a]] * 1e3, agg.grid[agg.bars[b]] * 1e3
+    extent = _extent(xs, ys)
+    with np.errstate(all="ignore"), warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        grid = reduce(data, axis=others) if others else data
+    refused = np.ma.masked_where(~np.isnan(grid) | (reasons < 0), reasons)
+    style = {"origin": "lower", "extent": extent, "aspect": "auto", "interpolation": "nearest"}
+    reason_colours = ListedColormap(REASON_COLOURS)
+    ax.imshow(refused.T, cmap=reason_colours, vmin=0, vmax=len(REASON_ORDER) - 1, **style)
+    finite = grid[np.isfinite(grid)]
+    top = max(1.0, float(finite.max())) if is_util and finite.size else (finite.max() if finite.size else 1)
+    im = ax.imshow(np.ma.masked_invalid(grid).T, cmap=cmap, vmin=0, vmax=top, **style)
+    fig.colorbar(im, ax=ax, label=label.split(": ")[-1])
+    if is_util and finite.size and finite.min() < 1 < finite.max() and min(grid.shape) > 1:
+        ax.contour(xs, ys, np.where(np.isfinite(grid), grid, 0).T, levels=[1.0], colors="red", linewidths=1.5)
+    if data is agg.safe and agg.safe_dynamic.any():
+        _mark_dynamic(ax, agg, others, xs, ys)
+    ax.set_xlabel(f"{agg.bars[a]} (mm)")
+    ax.set_ylabel(f"{agg.bars[b]} (mm)")
+    over = f", worst over {' and '.join(agg.bars[i] for i in others)}" if others else ""
+    ax.set_title(f"{label.split(' (')[0]}{over}", fontsize=9)
 
 
 #: inches around and between a map figure's panels (:func:`_fixed_layout`): left of the

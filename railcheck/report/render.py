@@ -81,22 +81,45 @@ def _pyvista():
 
 
 def render_part(path: str | Path, name: str, part) -> Path:
+    """A PNG of the part's deformed shape coloured by von Mises at the governing instant,
+    with its support, peak, joint forces and a caption; written atomically to ``path``."""
     pv = _pyvista()
     mesh, sol, cycle = part.mesh, part.solution, part.cycle
-    pts = mesh.points
-    extent = np.ptp(pts, axis=0)
+    extent = np.ptp(mesh.points, axis=0)
     umax = float(np.abs(sol.displacement).max())
     scale = DEFORMATION_FRACTION * extent.max() / umax if umax > 0 else 0.0
-    cells = np.hstack([np.full((mesh.tets.shape[0], 1), 4), mesh.tets]).ravel()
-    grid = pv.UnstructuredGrid(
-        cells, np.full(mesh.tets.shape[0], pv.CellType.TETRA, dtype=np.uint8), pts + scale * sol.displacement
-    )
-    grid.point_data["von Mises (MPa)"] = sol.von_mises / 1e6
     slender = extent.max() > 6 * np.sort(extent)[1]
     size = (1600, 500) if slender else (1200, 1000)
     plotter = pv.Plotter(off_screen=True, window_size=size)
     font = caption_font_size(size[1])
-    top = max(part.verdict_stress / 1e6, 1e-9)
+    _stress_surface(pv, plotter, mesh, sol, scale, max(part.verdict_stress / 1e6, 1e-9), slender, font)
+    if part.job.free_body is None:
+        _support(pv, plotter, mesh, sol, scale, part)
+    _peak_marker(pv, plotter, cycle, sol, scale, extent.max(), part, font)
+    lines = fit_caption(plotter, _caption(name, part, scale), size, font)
+
+    plotter.enable_parallel_projection()  # "xy": from above, the plane the mechanism moves in
+    plotter.camera.tight(padding=0.05 if slender else 0.12, view=kind_of(name).view, adjust_render_window=False)
+    toward = np.array(plotter.camera.position) - np.array(plotter.camera.focal_point)
+    arrow_size = min(extent.max(), 8 * np.sort(extent)[1])
+    _bolt_arrows(pv, plotter, mesh, sol, scale, part, cycle, arrow_size, font, toward / np.linalg.norm(toward))
+    caption_share = 1.7 * font * (lines + 0.6) / size[1]  # of the height, above the part
+    _leave_room(plotter, caption_share, 0.2 if slender else 0.04, 0.0 if slender else 0.16)
+    path = Path(path)
+    with atomic_path(path) as tmp:
+        plotter.screenshot(str(tmp))
+    plotter.close()
+    return path
+
+
+def _stress_surface(pv, plotter, mesh, sol, scale: float, top: float, slender: bool, font: int) -> None:
+    """The part's surface displaced ``scale`` x its displacement, coloured by von Mises
+    from 0 to ``top`` MPa, with its colour bar (below a slender part, else beside it)."""
+    cells = np.hstack([np.full((mesh.tets.shape[0], 1), 4), mesh.tets]).ravel()
+    grid = pv.UnstructuredGrid(
+        cells, np.full(mesh.tets.shape[0], pv.CellType.TETRA, dtype=np.uint8), mesh.points + scale * sol.displacement
+    )
+    grid.point_data["von Mises (MPa)"] = sol.von_mises / 1e6
     plotter.add_mesh(
         grid.extract_surface(algorithm="dataset_surface"),
         scalars="von Mises (MPa)",
@@ -118,9 +141,12 @@ def render_part(path: str | Path, name: str, part) -> Path:
             ),
         },
     )
-    if part.job.free_body is None:
-        _support(pv, plotter, mesh, sol, scale, part)
-    _peak_marker(pv, plotter, cycle, sol, scale, extent.max(), part, font)
+
+
+def _caption(name: str, part, scale: float) -> str:
+    """The picture's caption: the cycle peak and when, the limit, the deflection and what
+    it means for this part's support, the shape's scale and what the colours mark."""
+    cycle = part.cycle
     when = (
         f"at crank {cycle.history.crank_angle_deg:.1f} deg" if cycle.C.shape[0] > 1 else "under its constant explicit loads"
     )
@@ -133,7 +159,7 @@ def render_part(path: str | Path, name: str, part) -> Path:
         if part.job.loads.is_on_foundation
         else "deflection relative to the joints"
     )
-    caption = (
+    return (
         f"{name}: cycle peak {part.verdict_stress / 1e6:.1f} MPa {when}\n"
         f"limit {part.limit / 1e6:.0f} MPa, FoS {part.limit / max(part.verdict_stress, 1e-9):.3g}; "
         f"largest {deflection} {cycle.envelope.max_tip * 1e3:.3g} mm\n"
@@ -146,20 +172,6 @@ def render_part(path: str | Path, name: str, part) -> Path:
             else "black: the clamp; magenta: its singular zone; red: joint force"
         )
     )
-    lines = fit_caption(plotter, caption, size, font)
-
-    plotter.enable_parallel_projection()  # "xy": from above, the plane the mechanism moves in
-    plotter.camera.tight(padding=0.05 if slender else 0.12, view=kind_of(name).view, adjust_render_window=False)
-    toward = np.array(plotter.camera.position) - np.array(plotter.camera.focal_point)
-    arrow_size = min(extent.max(), 8 * np.sort(extent)[1])
-    _bolt_arrows(pv, plotter, mesh, sol, scale, part, cycle, arrow_size, font, toward / np.linalg.norm(toward))
-    caption_share = 1.7 * font * (lines + 0.6) / size[1]  # of the height, above the part
-    _leave_room(plotter, caption_share, 0.2 if slender else 0.04, 0.0 if slender else 0.16)
-    path = Path(path)
-    with atomic_path(path) as tmp:
-        plotter.screenshot(str(tmp))
-    plotter.close()
-    return path
 
 
 def _group_points(mesh, sol, scale, groups) -> np.ndarray:

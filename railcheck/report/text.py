@@ -72,33 +72,7 @@ def parts_table(result) -> str:
         "peak at x, y, z (mm)",
         "at support* (MPa)",
     ]
-    rows = []
-    for name, p in result.parts.items():
-        c = p.cycle
-        loc = ", ".join(f"{x * 1e3:.1f}" for x in c.envelope.location)
-        fos = p.limit / p.verdict_stress if p.verdict_stress > 0 else math.inf
-        why = [] if p.stress_passed else ["stress"]
-        why += [] if p.fatigue_passed else ["fatigue"]
-        why += [] if p.deflection_passed else ["deflection"]
-        why += [] if p.dynamic_passed else ["dynamic"]
-        verdict = ("PASS" if p.passed else "FAIL " + "+".join(why)) if np.any(c.C) else "NO LOAD"
-        rows.append(
-            [
-                name,
-                f"{p.verdict_stress / 1e6:.1f}",
-                f"{c.history.crank_angle_deg:.1f}" if c.C.shape[0] > 1 else "constant",
-                f"{c.seed_method.max_von_mises / 1e6:.1f}",
-                f"{c.envelope.max_tip * 1e3:.2f}",
-                f"{p.limit / 1e6:.0f}",
-                _factor(fos),
-                _factor(c.fatigue.min_safety_factor),
-                f"{p.utilisation:.0%}",
-                p.governing_criterion,
-                verdict,
-                loc,
-                f"{c.envelope.support_peak / 1e6:.1f}",
-            ]
-        )
+    rows = [_part_row(name, p) for name, p in result.parts.items()]
     lines = aligned(header, rows, left=frozenset({0, 9, 10, 11}))
     lines.append(
         "  cycle max vM: the largest von Mises over the whole crank cycle (superposed unit cases); 2013 inst.: "
@@ -107,6 +81,42 @@ def parts_table(result) -> str:
         "of stress / limit, required / fatigue n, deflection / its limit and (amplification - 1) / (its limit - 1)"
     )
     lines += dynamic_lines(result)
+    lines += _model_notes(result)
+    return "\n".join(lines)
+
+
+def _part_row(name: str, p) -> list[str]:
+    """One part's row of the console table (MPa, mm, deg), its verdict naming every
+    failed criterion."""
+    c = p.cycle
+    loc = ", ".join(f"{x * 1e3:.1f}" for x in c.envelope.location)
+    fos = p.limit / p.verdict_stress if p.verdict_stress > 0 else math.inf
+    why = [] if p.stress_passed else ["stress"]
+    why += [] if p.fatigue_passed else ["fatigue"]
+    why += [] if p.deflection_passed else ["deflection"]
+    why += [] if p.dynamic_passed else ["dynamic"]
+    verdict = ("PASS" if p.passed else "FAIL " + "+".join(why)) if np.any(c.C) else "NO LOAD"
+    return [
+        name,
+        f"{p.verdict_stress / 1e6:.1f}",
+        f"{c.history.crank_angle_deg:.1f}" if c.C.shape[0] > 1 else "constant",
+        f"{c.seed_method.max_von_mises / 1e6:.1f}",
+        f"{c.envelope.max_tip * 1e3:.2f}",
+        f"{p.limit / 1e6:.0f}",
+        _factor(fos),
+        _factor(c.fatigue.min_safety_factor),
+        f"{p.utilisation:.0%}",
+        p.governing_criterion,
+        verdict,
+        loc,
+        f"{c.envelope.support_peak / 1e6:.1f}",
+    ]
+
+
+def _model_notes(result) -> list[str]:
+    """The parts table's notes on the models: the clamped parts' singular support, what
+    a free body's verdict and deflection mean, and the 2013 clamped model's figures."""
+    lines: list[str] = []
     free = [n for n, p in result.parts.items() if p.job.free_body is not None]
     clamped = [n for n in result.parts if n not in free]
     if clamped:
@@ -135,7 +145,7 @@ def parts_table(result) -> str:
                 for n, k in compared.items()
             )
         )
-    return "\n".join(lines)
+    return lines
 
 
 def dynamic_lines(result) -> list[str]:
