@@ -70,7 +70,7 @@ def run_cantilever(
         mesh,
         material,
         [Support("clamp")],
-        [HoleLoad("tip", tuple(force))],
+        [HoleLoad("tip", (float(force[0]), float(force[1]), float(force[2])))],
         order=order,
         tip_group="tip",
         solver=solver,

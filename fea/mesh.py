@@ -200,7 +200,7 @@ def vector_dof_map(basis, sbasis) -> np.ndarray:
     for name in ("nodal_dofs", "edge_dofs", "facet_dofs", "interior_dofs"):
         sd = getattr(sbasis, name, None)
         vd = getattr(basis, name, None)
-        if sd is None or sd.size == 0:
+        if sd is None or vd is None or sd.size == 0:
             continue
         for k in range(sd.shape[0]):
             for c in range(3):

@@ -50,7 +50,7 @@ class MklProduct:
         self._indptr = np.ascontiguousarray(A.indptr, dtype=np.int32)
         self._indices = np.ascontiguousarray(A.indices, dtype=np.int32)
         self._data = np.ascontiguousarray(A.data, dtype=np.float64)
-        self._handle = ctypes.c_void_p()
+        self._handle: ctypes.c_void_p | None = ctypes.c_void_p()
         status = self._lib.mkl_sparse_d_create_csr(
             ctypes.byref(self._handle),
             _ZERO_BASED,

@@ -91,10 +91,10 @@ class Factor:
 
     K: sp.csr_matrix
     backend: str
-    _solve: object
-    _free: object = None
+    _solve: Callable[[np.ndarray], np.ndarray]
+    _free: Callable[[], None] | None = None
     info: dict = field(default_factory=dict)
-    _K_extended: object = None
+    _K_extended: RowBlocks | None = None
 
     @property
     def n(self) -> int:

@@ -41,6 +41,7 @@ from railcheck.geometry.cache import default_cache_dir
 from railcheck.geometry.meshdata import MeshData
 
 from .dynamic import DynamicModel
+from .materials import Material
 from .superpose import UnitFields
 from .unitcases import UnitSolve, solve_unit_cases
 
@@ -95,7 +96,7 @@ class UnitRequest:
     points: np.ndarray
     tets: np.ndarray
     groups: dict
-    material: object
+    material: Material
     supports: list
     cases: dict
     order: int = 2
@@ -190,7 +191,7 @@ def write_entry(path: Path, payload: str, fields, solve) -> None:
     tmp = path.with_name(f".{path.stem}.{os.getpid()}.tmp.npz")
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
-        np.savez(tmp, payload=np.array(payload), meta=np.array(meta), **arrays)
+        np.savez(tmp, payload=np.array(payload), meta=np.array(meta), **arrays)  # type: ignore[arg-type]  # numpy stubs type **kwds as allow_pickle
         os.replace(tmp, path)
     except OSError:  # a full disk, a read-only store, a file where its folder should be
         try:  # nothing half-written is left (and no folder may exist to hold any)

@@ -4,6 +4,8 @@ zero for one or several load columns (one factorisation). Units SI."""
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 
 from .errors import ModelError, NumericalError
@@ -27,7 +29,7 @@ def solve(
     K,
     F: np.ndarray,
     fixed: np.ndarray,
-    method: str = "auto",
+    method: str | Callable = "auto",
     basis=None,
     maxiter: int = 2000,
     memory_limit: float | None = None,

@@ -186,7 +186,10 @@ def case_vector(basis, groups: dict, case, density=None) -> np.ndarray:
     if isinstance(case, TractionCase):
         weights = case.weights or (1.0 / len(case.groups),) * len(case.groups)
         spread = _pressure_vectors if case.pressure else unit_traction_vectors
-        return sum(w * spread(basis, groups, g)[:, case.direction] for g, w in zip(case.groups, weights))
+        total = np.zeros(basis.N)
+        for g, w in zip(case.groups, weights):  # in order, from 0: the same sum as Python's
+            total = total + w * spread(basis, groups, g)[:, case.direction]
+        return total
     if isinstance(case, CoupleCase):
         spread = _pressure_vectors if case.pressure else unit_traction_vectors
         first, second = (spread(basis, groups, g)[:, 1] for g in case.groups)
@@ -253,8 +256,8 @@ def solve_unit_cases(
     if modes is not None:
         U, names, sets = _with_modes(K, F, U, names, basis, groups, material, fixed, free_body, modes)
     tip = tip_op @ U if tip_op is not None else np.zeros((3, U.shape[1]))
-    per_key = free_body is not None and isinstance(free_body.deflection, dict)
-    tips = {key: relative_deflection(basis, groups, *d) @ U for key, d in free_body.deflection.items()} if per_key else None
+    per_key = free_body.deflection if free_body is not None and isinstance(free_body.deflection, dict) else None
+    tips = {key: relative_deflection(basis, groups, *d) @ U for key, d in per_key.items()} if per_key else None
     t.append(time.perf_counter())
     S = recover_stress(basis, U, material)
     extras = _node_sets(basis, groups, support_groups, cases)
@@ -297,6 +300,7 @@ def _case_matrix(basis, groups: dict, cases: dict, free_body: FreeBodyCases | No
     elif free_body.inertia is None:
         F[:, body] *= free_body.mass / body_force_vectors(basis)[:, 0].sum()  # kg / m^3: the FE body weighs mass
     elif body.any():
+        assert free_body.centre is not None  # given with the inertia (FreeBodyCases)
         rho = graded_density(basis, free_body.mass, free_body.centre, free_body.inertia)
         F[:, body] = np.column_stack([case_vector(basis, groups, c, rho) for c in cases.values() if isinstance(c, BodyCase)])
     return F

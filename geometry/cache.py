@@ -103,7 +103,7 @@ def write_cached(path: Path, data: MeshData, payload: str) -> None:
                     data.points, data.tets, data.groups, data.curved, (data.min_quality, data.slivers, data.warning or "")
                 )
             ),
-            **{f"g_{k}": v for k, v in data.groups.items()},
+            **{f"g_{k}": v for k, v in data.groups.items()},  # type: ignore[arg-type]  # numpy stubs: **kwds as allow_pickle
         )
         os.replace(tmp, path)
     except OSError:

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, fields, replace
+from typing import Any
 
 STEEL_DENSITY = 7850.0  # kg/m^3
 
@@ -89,7 +90,7 @@ OVERRIDABLE |= {f"iprofile_{f.name}": ("iprofile", f.name) for f in fields(IProf
 
 def with_overrides(overrides: dict[str, float]) -> tuple[RailSpec, JointPlateSpec, IProfileSpec]:
     """The three specs with the scene's [geometry] overrides (SI) applied."""
-    specs = {"rail": RAIL, "plate": JOINT_PLATE, "iprofile": I_PROFILE}
+    specs: dict[str, Any] = {"rail": RAIL, "plate": JOINT_PLATE, "iprofile": I_PROFILE}
     for key, value in overrides.items():
         which, name = OVERRIDABLE[key]
         specs[which] = replace(specs[which], **{name: value})

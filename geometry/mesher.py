@@ -27,6 +27,7 @@ import os
 import threading
 import time
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -79,7 +80,7 @@ def estimate_elements(part: PartGeometry, size: float, hole_size: float) -> int:
     before meshing): about 6 V / h^3, plus the refined shells around the holes."""
     n = 6.0 * part.volume / size**3
     holes = sum(1 for g in part.groups if g.startswith("hole_") or g in ("bearing_seat",))
-    p = dict(part.params)
+    p: dict[str, Any] = dict(part.params)
     thickness = p.get("height", p.get("thickness", p.get("depth", size)))
     shell = math.pi * (size**2) * thickness  # a shell about one size thick round each hole
     n += holes * 6.0 * shell / hole_size**3
@@ -187,7 +188,7 @@ def _child_main() -> None:
     os.dup2(2, 1)
     part, size, hole_size, verbose, optimize = pickle.loads(sys.stdin.buffer.read())
     try:
-        reply = (True, _build_here(part, size, hole_size, verbose, optimize))
+        reply: tuple[bool, object] = (True, _build_here(part, size, hole_size, verbose, optimize))
     except Exception as exc:  # noqa: BLE001 - handed to the parent, which raises it
         reply = (False, exc)
     with os.fdopen(result_fd, "wb") as out:
@@ -372,12 +373,12 @@ def _extract(gmsh, surfaces, qualities: np.ndarray) -> tuple[MeshData, np.ndarra
     index = np.full(int(tags.max()) + 1, -1, dtype=np.int64)
     index[tags] = np.arange(tags.size)
     etypes, etags, enodes = gmsh.model.mesh.getElements(3)
-    tets = []
+    blocks = []
     for et, nn in zip(etypes, enodes):
         if et not in TET_NODES:
             raise RuntimeError(f"unexpected 3D element type {et}")
-        tets.append(index[nn.astype(np.int64)].reshape(-1, TET_NODES[et])[:, :4])
-    tets = np.concatenate(tets)
+        blocks.append(index[nn.astype(np.int64)].reshape(-1, TET_NODES[et])[:, :4])
+    tets = np.concatenate(blocks)
     groups = {}
     for name, stags in surfaces.items():
         tris = []

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Any
 
 from .catalogue import I_PROFILE, JOINT_PLATE, RAIL, IProfileSpec, JointPlateSpec, RailSection, RailSpec, rail_section
 
@@ -44,7 +45,7 @@ class PartGeometry:
     @property
     def volume(self) -> float:
         """Approximate solid volume (m^3), for mesh-size estimates."""
-        p = dict(self.params)
+        p: dict[str, Any] = dict(self.params)
         if self.kind == "bar":
             return p["length"] * p["width"] * p["height"]
         if self.kind == "rail":

@@ -219,6 +219,7 @@ class Batch:
         peak = peak_may_pass(upper, np.sqrt(low2)[h])
         fatigue = np.zeros_like(peak)
         if self.factor is not None:
+            assert read.factor_bound is not None  # the thresholds read fatigue when there is a factor
             factor_bound[~new] = read.factor_bound[at[~new]]
             factor_bound[new] = self.fatigue_bound(b)
             fatigue = fatigue_may_pass(factor_bound, top[h], self.enough)

@@ -167,7 +167,11 @@ def sampled_at(p: Projected, box: SampledBounds, nodes: np.ndarray) -> SampledBo
     everywhere, tight where the box left candidates."""
     s = sampled_bounds(p.SP[:, nodes], p.norms[:, nodes], p.vm_norm[nodes], p.sub)
     out = SampledBounds(
-        *(np.array(a, copy=True) for a in (box.von_mises, box.von_mises_upper, box.high, box.low, box.slack)),
+        np.array(box.von_mises, copy=True),
+        np.array(box.von_mises_upper, copy=True),
+        np.array(box.high, copy=True),
+        np.array(box.low, copy=True),
+        np.array(box.slack, copy=True),
         mid_upper=None if box.mid_upper is None else np.array(box.mid_upper, copy=True),
         share=np.array(box.slack if box.share is None else box.share, copy=True),  # the box's centre: +- its reach
     )
@@ -197,7 +201,9 @@ def midrange_box(lo: np.ndarray, hi: np.ndarray, mean: np.ndarray) -> tuple[np.n
     return 0.5 * (mean + lo) - pad, 0.5 * (mean + hi) + pad
 
 
-def fatigue_bounds_by_midranges(box: SampledBounds, mid: np.ndarray, reach: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def fatigue_bounds_by_midranges(
+    box: SampledBounds, mid: np.ndarray, reach: np.ndarray
+) -> tuple[np.ndarray | None, np.ndarray]:
     """(sa_upper, sm_upper) (..., n) Pa: :func:`fatigue_bounds` of the boxes ``box``, the
     midrange bound tightened by the products (:meth:`CoefficientBox.products`, components
     first: ``mid``, ``reach`` (6, ..., n)) of boxes whose image holds each component's

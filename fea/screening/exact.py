@@ -80,6 +80,7 @@ def exact_at(screen: Screen, nodes: np.ndarray, C: np.ndarray, factor=None, peak
 
 def fatigue_exact_planar(screen: Screen, nodes: np.ndarray, C: np.ndarray, factor, polygons=None) -> np.ndarray:
 
+    assert screen.angle is not None  # two coefficients: the screen has each component's angle
     D = screen.stress[:, nodes, :].reshape(-1, 2)
     angle = screen.angle[:, nodes].reshape(-1)
     out = np.empty(C.shape[0])

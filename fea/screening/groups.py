@@ -85,6 +85,7 @@ def von_mises_peak(screen: Screen, C: np.ndarray) -> np.ndarray:
     C = C * screen.scale if screen.scale is not None else C  # the coefficients of Q
     CC = (C[..., :, None] * C[..., None, :]).reshape(S_, T, k * k)
     R2 = np.einsum("stk,stk->st", C, C).max(axis=1)
+    assert screen.Q is not None  # two coefficients: the screen has its quadratic forms
     top = screen.bounds.by_form_bound[: tuning.TOP_NODES]
     L2 = np.zeros(S_)
     for g in value_slices(S_, top.size * T):
@@ -123,8 +124,8 @@ def peak_and_fatigue(
     labels = np.arange(S_) if sets is None else np.asarray(sets)
     if not applies(T, k):
         vm = von_mises_peak(screen, C)
-        factor = fatigue_min(screen, C, endurance, ultimate, criterion, yield_strength, enough)
-        return over_sets(vm, labels, np.maximum), over_sets(factor, labels, np.minimum)
+        least = fatigue_min(screen, C, endurance, ultimate, criterion, yield_strength, enough)
+        return over_sets(vm, labels, np.maximum), over_sets(least, labels, np.minimum)
     factor = lambda sa, sm: safety_factor(sa, sm, endurance, ultimate, criterion, yield_strength)  # noqa: E731
     order = np.argsort(labels, kind="stable")  # each set's histories consecutive
     out = np.empty((S_, 2))
@@ -167,10 +168,11 @@ def screened_group(
     restrict = nodes.size < tuning.GROUP_SHARE * screen.stress.shape[1]
     if restrict:
         screen, group = restricted_screen(screen, nodes), group.restricted(nodes)
-    exact = None
+    exact: ExactSource | None = None
     if span is not None:  # bounded in the span's independent coefficients from here on, evaluated in all k
         by_node_k = np.ascontiguousarray(screen.stress.transpose(1, 0, 2))
         exact = ExactSource(screen, by_node_k, C)
+        assert Cr is not None  # taken with the span
         screen, C = in_span(screen, span), Cr
     bounds = GroupBounds(group, taken, lo, hi, mean, low, top)
     out[:] = batched(screen, C, bounds, factor, enough, labels, exact, loose)

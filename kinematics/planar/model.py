@@ -289,7 +289,7 @@ def _translation_driver_rows(mech: Mechanism, fr: _Frame, q, s: float, c: Transl
 
 
 #: each constraint's rows (:func:`evaluate`)
-_CONSTRAINT_ROWS = {
+_CONSTRAINT_ROWS: dict[type, Callable[..., None]] = {
     Revolute: _revolute_rows,
     Prismatic: _prismatic_rows,
     Fixed: _fixed_rows,
