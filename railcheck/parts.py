@@ -81,7 +81,7 @@ class PartKind:
     mesh: tuple[float, float]
     section: Callable
     bolts_on_rail: bool = False  # bolt holes chosen along a rail by the bar length
-    bolt_groups: Callable = None  # geometry -> the bolt-hole groups (default: every "hole_K")
+    bolt_groups: Callable | None = None  # geometry -> the bolt-hole groups (default: every "hole_K")
     view: str = "xy"  # the picture's view axis pair (pyvista camera.tight): "xy" from above
 
     def bolts(self, geometry) -> list[str]:

@@ -166,8 +166,24 @@ class Scene:
     sweep: SweepSpec = SweepSpec()
     dynamic: DynamicSpec = DynamicSpec()
 
+    @property
+    def checked(self) -> CheckSpec:
+        """[check], for the stages that run only when the scene has one (an InputError
+        naming it otherwise)."""
+        if self.check is None:
+            raise InputError("check", "the scene has no [check] table")
+        return self.check
 
-_ALLOWED = {
+    @property
+    def linkage_spec(self) -> MechanismSpec:
+        """[mechanism], for the stages that run only when the scene has one (an InputError
+        naming it otherwise)."""
+        if self.mechanism is None:
+            raise InputError("mechanism", "the scene has no [mechanism] table")
+        return self.mechanism
+
+
+_ALLOWED: dict[str, set[str] | None] = {
     "mechanism": {"kind", "crank", "coupler", "rocker", "ground", "speed", "steps", "assembly"},
     "dynamics": {"formulation"},
     "check": {"parts", "factor", "bolt_position", "material", "limit", "effects", "max_deflection", "support"},
@@ -194,7 +210,10 @@ _ALLOWED = {
 }
 
 
-def _unknown(table: dict, allowed: set[str], prefix: str) -> None:
+def _unknown(table: dict, allowed: set[str] | None, prefix: str) -> None:
+    """An InputError naming the first key of ``table`` not in ``allowed`` (None: any key)."""
+    if allowed is None:
+        return
     for key in table:
         if key not in allowed:
             raise InputError(f"{prefix}{key}", f"unknown key (allowed: {', '.join(sorted(allowed))})")
@@ -244,7 +263,9 @@ def _mechanism(table: dict) -> MechanismSpec:
         raise InputError(p + "steps", f"{steps} steps is more than this tool runs (10 000 000 at most)")
     assembly = _string_choice(table.get("assembly", "open"), ("open", "crossed"), p + "assembly")
     if kind == "four-bar":
-        linkage = FourBar(length("crank"), length("coupler"), length("rocker"), length("ground"), assembly)
+        linkage: FourBar | SliderCrank = FourBar(
+            length("crank"), length("coupler"), length("rocker"), length("ground"), assembly
+        )
     else:
         if "rocker" in table:
             raise InputError(p + "rocker", "a slider-crank has no rocker (remove the key)")

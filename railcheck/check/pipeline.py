@@ -32,7 +32,7 @@ def needs_linkage(scene: Scene) -> bool:
     """True when some requested output depends on the linkage's reactions."""
     if scene.check is None:
         return scene.mechanism is not None
-    return any(p not in scene.check.loads for p in scene.check.parts)
+    return any(p not in scene.checked.loads for p in scene.checked.parts)
 
 
 def run_pipeline(
@@ -53,7 +53,7 @@ def run_pipeline(
         stages.append("kinematics")
         progress.say(
             "kinematics",
-            f"{scene.mechanism.steps} steps, {kin.dynamics.formulation}, effects: {', '.join(kin.effects) or 'none'}",
+            f"{scene.linkage_spec.steps} steps, {kin.dynamics.formulation}, effects: {', '.join(kin.effects) or 'none'}",
         )
     if kin is not None:
         checks = dict(kin.checks)
@@ -61,7 +61,8 @@ def run_pipeline(
         checks = all_checks(scene)
     else:
         checks = {}
-    parts, unloaded = {}, ()
+    parts: dict = {}
+    unloaded: tuple[str, ...] = ()
     if scene.check is not None:
         parts, unloaded = _check_stage(scene, kin, progress, solver, jobs, part_done, stages, warnings)
         for name, part in parts.items():
@@ -87,15 +88,15 @@ def _check_stage(
     part resolved into its job and checked (those that carry no load are named in
     ``warnings`` and left out); the stages run and the warnings appended to ``stages``
     and ``warnings``."""
-    material = MATERIALS[scene.check.material]
-    limit = scene.check.limit or material.fatigue_limit
-    w = limit_warning(material, scene.check.limit)
+    material = MATERIALS[scene.checked.material]
+    limit = scene.checked.limit or material.fatigue_limit
+    w = limit_warning(material, scene.checked.limit)
     if w:
         warnings.append(w)
     geometries = part_geometries(scene)
     cases = build_load_cases(scene, kin, geometries)
     stages.append("loads")
-    progress.say("loads", f"{len(cases)} load cases, factor {scene.check.factor:g}, support {scene.check.support}")
+    progress.say("loads", f"{len(cases)} load cases, factor {scene.checked.factor:g}, support {scene.checked.support}")
     refuse_huge(scene, geometries)
     stages.append("geometry")
     all_jobs = part_jobs(scene, kin, geometries, cases, material, limit)

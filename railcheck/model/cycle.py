@@ -193,7 +193,7 @@ def evaluate_cycle(job: PartJob, fields: UnitFields, histories: tuple[SourceHist
         seed = SeedMethod(
             max_von_mises=float(vm_seed[k]),
             crank_angle_deg=_deg(h.crank_angle[h.seed_step]),
-            location=tuple(float(x) for x in fields.nodes[k]),
+            location=_point(fields.nodes[k]),
             joint=h.joint,
         )
         results.append((h, env, seed, fatigue_of(job, few, C, steps, bounds)))
@@ -228,6 +228,7 @@ def with_dynamics(job: PartJob, solve: UnitSolve, h: SourceHistory) -> SourceHis
     if solve.modes is None:
         return h
     d = job.dynamic
+    assert d is not None  # modes were solved because the job asks for its dynamic response
     dq = modal_correction(solve.modes.modal_loads, solve.modes.hz, h.C, d.speed, d.damping)
     return replace(h, C=np.hstack([h.C, dq]))
 
@@ -239,6 +240,7 @@ def dynamic_result(job: PartJob, fields: UnitFields, solve: UnitSolve, histories
     if solve.modes is None:
         return None
     d, hz = job.dynamic, solve.modes.hz
+    assert d is not None  # modes were solved because the job asks for its dynamic response
     m = hz.size
     ratios = []
     for h in histories:
@@ -260,6 +262,11 @@ def dynamic_result(job: PartJob, fields: UnitFields, solve: UnitSolve, histories
         damping=d.damping,
         max_amplification=d.max_amplification,
     )
+
+
+def _point(x: np.ndarray) -> tuple[float, float, float]:
+    """A node's (3,) coordinates (m) as a tuple of floats."""
+    return float(x[0]), float(x[1]), float(x[2])
 
 
 def _deg(angle: float) -> float:
@@ -314,7 +321,7 @@ def fatigue_of(
         surface=spec.surface,
         reliability=spec.reliability,
         min_safety_factor=float(n_k),
-        location=tuple(float(x) for x in fields.nodes[k]),
+        location=_point(fields.nodes[k]),
         sigma_a=float(sa_k),
         sigma_m=float(sm_k),
         required=spec.min_safety,

@@ -112,7 +112,7 @@ def mesh_sizes(mesh: MeshSpec, kind: str) -> tuple[float, float]:
 
 def part_geometries(scene: Scene) -> dict[str, PartGeometry]:
     """PartGeometry for each part the scene checks (light: no gmsh import)."""
-    return {name: geometry_of(name, scene.geometry) for name in scene.check.parts}
+    return {name: geometry_of(name, scene.geometry) for name in scene.checked.parts}
 
 
 def bolt_holes(scene: Scene, name: str, geo: PartGeometry) -> list[str]:
@@ -121,11 +121,11 @@ def bolt_holes(scene: Scene, name: str, geo: PartGeometry) -> list[str]:
     if not kind_of(name).bolts_on_rail:
         return kind_of(name).bolts(geo)
     xs = list(geo.get("hole_x"))
-    explicit = name in scene.check.loads
+    explicit = name in scene.checked.loads
     bar = PARTS[name].bar
-    length = 0.0 if explicit else scene.mechanism.linkage.lengths[bar]
-    position = "worst" if explicit else scene.check.bolt_position
-    if not explicit and scene.check.support == "free-body" and PARTS[name].free_body is not None:
+    length = 0.0 if explicit or bar is None else scene.linkage_spec.linkage.lengths[bar]
+    position = "worst" if explicit else scene.checked.bolt_position
+    if not explicit and scene.checked.support == "free-body" and PARTS[name].free_body is not None:
         position = "actual"  # a free body's joint force acts where the joint is
     try:
         idx = rail_bolt_holes(xs, xs[0], length, position)
@@ -138,12 +138,13 @@ def build_load_cases(scene: Scene, kin: KinematicsResult | None, geometries: dic
     """The seed method's load case of every checked part: the factored reaction at the
     instant its magnitude peaks, over the joint with the largest peak (loads stage)."""
     cases = {}
-    for name in scene.check.parts:
+    for name in scene.checked.parts:
         kind, holes = kind_of(name), bolt_holes(scene, name, geometries[name])
-        if name in scene.check.loads:
-            load = scene.check.loads[name]
+        if name in scene.checked.loads:
+            load = scene.checked.loads[name]
             cases[name] = explicit_load_case(name, load.longitudinal, load.transverse, holes, kind.support, kind.tip)
             continue
+        assert kin is not None  # the linkage's loads need its kinematics
         dyn, motion = kin.dynamics, kin.motion
         sources = [s for s in PARTS[name].sources if s.joint in dyn.reactions]
         if not sources:
@@ -159,7 +160,7 @@ def build_load_cases(scene: Scene, kin: KinematicsResult | None, geometries: dic
             src.sign * dyn.reactions[src.joint],
             angle,
             motion.theta2,
-            scene.check.factor,
+            scene.checked.factor,
             holes,
             kind.support,
             kind.tip,
@@ -193,7 +194,7 @@ def part_jobs(
             material=material,
             limit=limit,
             fatigue=scene.fatigue,
-            max_deflection=scene.check.max_deflection,
+            max_deflection=scene.checked.max_deflection,
             free_body=free,
             dynamic=dynamic_job(scene, free, name, holes),
             node_fields=scene.output.vtk,
@@ -207,7 +208,7 @@ def clamped_job(
     """The free rail ``name`` as the 2013 study checked it (``support = "clamped"``: clamped
     at its first hole, the far joint's reaction at the bolts ``bolt_position`` picks),
     quasi-static; the report shows its peak beside the free body's verdict."""
-    clamped = replace(scene, check=replace(scene.check, support="clamped", parts=(name,)))
+    clamped = replace(scene, check=replace(scene.checked, support="clamped", parts=(name,)))
     return replace(part_jobs(clamped, kin, {name: geo}, cases, material, limit)[name], dynamic=None)
 
 
@@ -219,12 +220,12 @@ def dynamic_job(
     part held at its base). A rail's
     joints carry the mass model's point masses (plates, carriages, coupling), lumped on
     their holes: the near joint's on its first hole, the far joint's on its bolt holes."""
-    if "dynamic" not in scene.check.effects or scene.mechanism is None or scene.mechanism.speed <= 0:
+    if "dynamic" not in scene.checked.effects or scene.mechanism is None or scene.linkage_spec.speed <= 0:
         return None
     d = scene.dynamic
     pins = (tuple(free.deflection[0]), tuple(free.deflection[1])) if free is not None and not free.held else None
     lumped = carried_masses(scene, name, holes)
-    return DynamicJob(scene.mechanism.speed, d.damping, d.max_amplification, d.modes, pins, lumped)
+    return DynamicJob(scene.linkage_spec.speed, d.damping, d.max_amplification, d.modes, pins, lumped)
 
 
 def carried_masses(scene: Scene, name: str, holes: list[str] | tuple, kind: str | None = None) -> tuple:
@@ -234,10 +235,10 @@ def carried_masses(scene: Scene, name: str, holes: list[str] | tuple, kind: str 
     ``holes``; () for a plate or a part with explicit loads."""
     part = PARTS.get(name)
     fb = part.free_body if part is not None else None
-    if fb is None or not holes or name in scene.check.loads:
+    if part is None or fb is None or part.bar is None or not holes or name in scene.checked.loads:
         return ()
     masses = mass_model(scene.formulation, scene.geometry)
-    kind = kind or scene.mechanism.linkage.kind
+    kind = kind or scene.linkage_spec.linkage.kind
     kg = [carried_mass(masses, kind, part.bar, joint.joint) for joint in (fb.near, fb.far)]
     return tuple((g, m) for g, m in ((("hole_0",), kg[0]), (tuple(holes), kg[1])) if m > 0)
 
@@ -254,10 +255,12 @@ def free_body_cases(loads: LoadModel, geo: PartGeometry, holes: list[str]) -> Fr
     line through its two joints. A free plate's body cases carry its mass; its deflection
     is the seat's displacement relative to the line through its two bolts."""
     if loads.is_on_foundation:  # its top's displacement relative to its base; body cases at the material's density
+        assert loads.foundation is not None  # is_on_foundation
         return FreeBodyCases(
             mass=None, deflection=([loads.foundation], [loads.foundation], ["end_free"]), held=(loads.foundation,)
         )
     if loads.is_free_plate:
+        assert loads.free_plate is not None and loads.plate is not None  # is_free_plate
         mass, offset, polar = loads.plate  # about the seat
         return FreeBodyCases(
             mass=mass,
@@ -267,6 +270,7 @@ def free_body_cases(loads: LoadModel, geo: PartGeometry, holes: list[str]) -> Fr
         )
     xs = geo.get("hole_x")
     far_x = float(np.mean([xs[int(h.split("_")[1])] for h in holes]))
+    assert loads.free_body is not None  # a free rail
     if loads.free_body.motor:
         deflection = (["hole_0"], ["hole_1"], list(holes))
     else:

@@ -39,9 +39,9 @@ class KinematicsResult:
 def effects_for(scene: Scene) -> tuple[str, ...]:
     """The effects simulated: "inertia" only with a non-zero speed, "gravity" only when
     the scene lists it."""
-    requested = scene.check.effects if scene.check else ("inertia",)
+    requested = scene.checked.effects if scene.check else ("inertia",)
     out = []
-    if "inertia" in requested and scene.mechanism and scene.mechanism.speed > 0:
+    if "inertia" in requested and scene.mechanism and scene.linkage_spec.speed > 0:
         out.append("inertia")
     if "gravity" in requested:
         out.append("gravity")
@@ -67,7 +67,7 @@ def run_kinematics(scene: Scene) -> KinematicsResult:
 
 def all_checks(scene: Scene) -> dict[str, CheckResult]:
     """The linkage's configuration checks plus :func:`joints_on_rails`."""
-    return {**configuration_checks(scene.mechanism.linkage), **joints_on_rails(scene)}
+    return {**configuration_checks(scene.linkage_spec.linkage), **joints_on_rails(scene)}
 
 
 def joint_reach(rail, bar: str) -> tuple[float, float]:
@@ -94,7 +94,7 @@ def joints_on_rails(scene: Scene) -> dict[str, CheckResult]:
     least one hole pitch from the pivot. Independent of check.bolt_position."""
 
     rail = with_overrides(scene.geometry)[0]
-    lengths = scene.mechanism.linkage.lengths
+    lengths = scene.linkage_spec.linkage.lengths
     problems, notes = [], []
     for bar in ("crank", "coupler", "rocker"):
         if bar not in lengths:
@@ -117,7 +117,7 @@ def joints_on_rails(scene: Scene) -> dict[str, CheckResult]:
 
 def kinematics_summary(scene: Scene, result: KinematicsResult) -> dict:
     """The JSON-ready summary of the kinematics stage (units in the key names)."""
-    lk = scene.mechanism.linkage
+    lk = scene.linkage_spec.linkage
     dyn = result.dynamics
     peaks, angles = {}, {}
     for joint in dyn.reactions:
@@ -130,8 +130,8 @@ def kinematics_summary(scene: Scene, result: KinematicsResult) -> dict:
         "kind": lk.kind,
         "assembly": lk.assembly,
         **{f"{k}_mm": v * 1e3 for k, v in lk.lengths.items()},
-        "speed_Hz": scene.mechanism.speed / (2 * math.pi),
-        "steps": scene.mechanism.steps,
+        "speed_Hz": scene.linkage_spec.speed / (2 * math.pi),
+        "steps": scene.linkage_spec.steps,
     }
     return {
         "mechanism": mechanism,
@@ -147,4 +147,4 @@ def kinematics_summary(scene: Scene, result: KinematicsResult) -> dict:
 
 
 def is_fourbar(scene: Scene) -> bool:
-    return scene.mechanism is not None and isinstance(scene.mechanism.linkage, FourBar)
+    return scene.mechanism is not None and isinstance(scene.linkage_spec.linkage, FourBar)

@@ -110,35 +110,36 @@ def load_model(
     rail's bar length (m), whether inertia acts and the linkage ``kind`` (which sets the
     masses its joints carry) come from the scene's [mechanism] unless given (a sweep
     gives each setting's)."""
-    effects, explicit = scene.check.effects, scene.check.loads.get(name)
+    effects, explicit = scene.checked.effects, scene.checked.loads.get(name)
     part = PARTS[name]
     bar = part.bar
     model = LoadModel(
         part=name,
         bar=bar,
         sources=part.sources,
-        factor=scene.check.factor,
+        factor=scene.checked.factor,
         gravity="gravity" in effects,
         rail_inertia="rail-inertia" in effects and bar is not None and explicit is None,
         explicit=explicit,
         density=density,
     )
-    if scene.check.support == "free-body" and part.free_plate is not None and explicit is None:
+    if scene.checked.support == "free-body" and part.free_plate is not None and explicit is None:
         return free_plate_model(scene, model, part.free_plate, inertia)
-    if scene.check.support == "free-body" and part.foundation is not None:
+    if scene.checked.support == "free-body" and part.foundation is not None:
         return dataclasses.replace(model, foundation=part.foundation)
-    if not (scene.check.support == "free-body" and part.free_body is not None and explicit is None):
+    if not (scene.checked.support == "free-body" and part.free_body is not None and explicit is None):
         return model
+    assert bar is not None  # a free body is a rail: it has a bar
     if bar_length is None:
-        bar_length = scene.mechanism.linkage.lengths[bar]
-    kind = kind or scene.mechanism.linkage.kind
+        bar_length = scene.linkage_spec.linkage.lengths[bar]
+    kind = kind or scene.linkage_spec.linkage.kind
     masses, fb = mass_model(scene.formulation, scene.geometry), part.free_body
     return dataclasses.replace(
         model,
         rail_inertia=False,
         free_body=fb,
         inertia="inertia" in effects_for(scene) if inertia is None else inertia,
-        joint_masses=tuple(carried_mass(masses, kind, bar, j.joint) for j in (fb.near, fb.far)),
+        joint_masses=(carried_mass(masses, kind, bar, fb.near.joint), carried_mass(masses, kind, bar, fb.far.joint)),
         rail_mass=masses.rail_mass_per_m * rail_length(bar),
         bar_length=bar_length,
         rail_body=rail_body(masses, bar, geo_first_hole(scene)),
@@ -182,8 +183,9 @@ def unit_cases(model: LoadModel, geo, holes: list[str]) -> dict:
         return with_pin_pressure(free_plate_cases(model, geo, holes))
     if model.is_on_foundation:
         clamped = unit_cases(dataclasses.replace(model, foundation=None), geo, holes)
+        assert model.foundation is not None  # is_on_foundation
         return {n: FoundationCase(c, model.foundation) for n, c in with_pin_pressure(clamped).items()}
-    cases = {"bolt_x": TractionCase(tuple(holes), 0), "bolt_y": TractionCase(tuple(holes), 1)}
+    cases: dict[str, object] = {"bolt_x": TractionCase(tuple(holes), 0), "bolt_y": TractionCase(tuple(holes), 1)}
     if model.gravity or model.rail_inertia:
         cases.update(body_x=BodyCase("uniform", 0), body_y=BodyCase("uniform", 1))
     if model.rail_inertia:
@@ -274,6 +276,7 @@ def free_body_cases(model: LoadModel, geo, holes: list[str]) -> dict:
     """A free rail's unit cases (module doc): first-hole pin, motor couple, far bolts, body."""
     xs = geo.get("hole_x")
     cases: dict = {"pin_x": TractionCase(("hole_0",), 0), "pin_y": TractionCase(("hole_0",), 1)}
+    assert model.free_body is not None  # a free rail's cases
     if model.free_body.motor:
         cases["torque"] = CoupleCase(("hole_0", "hole_1"), float(xs[1] - xs[0]))
     cases.update(bolt_x=TractionCase(tuple(holes), 0), bolt_y=TractionCase(tuple(holes), 1, lever_rule(geo, holes, model)))
@@ -292,6 +295,7 @@ def free_plate_cases(model: LoadModel, geo, holes: list[str]) -> dict:
     moment of the plate's own inertia about the seat; its body cases about the seat."""
     seat = float(geo.get("seat_x"))
     x1, x2 = (float(x) for x in geo.get("bolt_x"))
+    assert model.free_plate is not None  # a free plate's cases
     seat_group = model.free_plate.seat
     cases: dict = {"seat_x": TractionCase((seat_group,), 0), "seat_y": TractionCase((seat_group,), 1)}
     shares = ((x2 - seat) / (x2 - x1), (seat - x1) / (x2 - x1))
@@ -354,6 +358,7 @@ def free_body_coefficients(
     """(..., k): a free rail's coefficients in the order of :func:`free_body_cases` (module
     doc), arrays as :func:`source_coefficients`; ``torque`` (...) N m the motor's on the crank."""
     fb, bar, f = model.free_body, model.bar, model.factor
+    assert fb is not None and bar is not None  # a free rail's coefficients
     angle = angles[bar]
     down = np.array([0.0, -GRAVITY]) if model.gravity else np.zeros(2)
 
@@ -392,6 +397,7 @@ def source_coefficients(
         cols.append(gravity_history(angle, model.density, GRAVITY) if model.gravity else np.zeros(force.shape))
     if model.rail_inertia:
         bar = model.bar
+        assert bar is not None  # a rail's own inertia follows its bar
         rigid = rail_inertia_history(accelerations[PIVOT_JOINT[bar]], angle, omega[bar], alpha[bar], model.density)
         cols[-1] = cols[-1] + rigid[..., :2]
         cols.append(rigid[..., 2:])
@@ -407,9 +413,11 @@ def source_histories(model: LoadModel, kin: KinematicsResult | None, holes: list
         if model.gravity:
             c += list(gravity_history(np.zeros(1), model.density, GRAVITY)[0])
         return (SourceHistory("explicit", np.array([c]), np.zeros(1), 0),)
+    assert kin is not None  # the linkage's loads need its kinematics
     dyn, motion = kin.dynamics, kin.motion
     by_bar = lambda a: {bar: a[:, i] for bar, i in BAR_INDEX.items()}  # noqa: E731
     if model.is_free_body:
+        assert model.free_body is not None  # is_free_body
         far = model.free_body.far.joint
         C = free_body_coefficients(
             model,

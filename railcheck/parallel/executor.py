@@ -13,6 +13,7 @@ import math
 import os
 import time
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -51,7 +52,8 @@ class ChunkExecutor:
         self.forks = forks
         self.scheduler, self.workers = scheduler, workers
         self.scratch = scratch
-        self.client = self.cluster = None
+        self.client: Any = None  # dask.distributed.Client once started
+        self.cluster: Any = None  # dask.distributed.LocalCluster when started here
 
     def __enter__(self):
         if self.use_dask:

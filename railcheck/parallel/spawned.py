@@ -44,6 +44,8 @@ def relayed_pool(workers: int, progress: Progress):
 
 def worker_say(message: str) -> None:
     """A progress line from a :func:`relayed_pool` worker (printed by the main process)."""
+    if _QUEUE is None:
+        raise RuntimeError("worker_say is for relayed_pool's workers")
     _QUEUE.put(message)
 
 

@@ -268,7 +268,7 @@ def _mesh_and_equilibrium(result) -> str:
             scale = max(float(np.abs(c[joints]).max()), 1e-300)
             held, balance = "none: inertia relief", f"{np.linalg.norm(applied) / scale:.1e} of the largest joint force"
         else:
-            scale = max(np.linalg.norm(applied), 1e-300)
+            scale = max(float(np.linalg.norm(applied)), 1e-300)
             held = ", ".join(f"{v:.2f}" for v in reaction)
             balance = f"{np.linalg.norm(applied + reaction) / scale:.1e}"
         rows.append(

@@ -182,8 +182,8 @@ def check_report(run) -> str:
         lines += [kinematics_table(result.kinematics_summary), ""]
     if result.parts:
         c = scene.check
-        sizes = sorted({(p.job.mesh.size, p.job.mesh.hole_size) for p in result.parts.values()}, reverse=True)
-        sizes = ", ".join(f"{a * 1e3:g} mm (holes {b * 1e3:.3g} mm)" for a, b in sizes)
+        pairs = sorted({(p.job.mesh.size, p.job.mesh.hole_size) for p in result.parts.values()}, reverse=True)
+        sizes = ", ".join(f"{a * 1e3:g} mm (holes {b * 1e3:.3g} mm)" for a, b in pairs)
         lines.append(
             f"FE check: material {c.material}, factor {c.factor:g}, {support_words(result)}, "
             f"P{scene.mesh.order} tetrahedra, size {sizes}"

@@ -38,9 +38,12 @@ def write_part_vtu(path: Path, p: PartResult) -> None:
     stress and von Mises, the cycle envelope, the fatigue factor, and 0/1 masks of the
     support, the loaded holes and the verdict zone (away from the support)."""
     f, s = p.cycle.fields, p.solution
+    assert f.cells is not None and s.stress is not None and s.node_displacement is not None  # a checked part's
+    assert p.cycle.fatigue.node_factor is not None  # node fields are kept when a VTU is written
     n = f.nodes.shape[0]
+    none = np.zeros(0, dtype=np.int64)
     masks = {
-        name: np.isin(np.arange(n), idx).astype(float)
+        name: np.isin(np.arange(n), none if idx is None else idx).astype(float)
         for name, idx in (("support_surface", f.support), ("loaded_holes", f.loaded))
     }
     with atomic_path(path) as tmp:

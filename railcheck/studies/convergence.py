@@ -95,9 +95,10 @@ def solve_row(target: str, element: str, size: float) -> dict:
         from dataclasses import replace
 
         scene = load_scene(None)  # the 2013 load case: clamped, the peak reaction at the worst bolts
+        assert scene.check is not None  # the built-in scene checks its parts
         scene = replace(scene, check=replace(scene.check, parts=(target,), support="clamped"))
         geos = part_geometries(scene)
-        kin = run_kinematics(scene) if target not in scene.check.loads else None
+        kin = run_kinematics(scene) if target not in scene.checked.loads else None
         case = build_load_cases(scene, kin, geos)[target]
         geo = geos[target]
         hole = size * HOLE_RATIO
@@ -130,7 +131,7 @@ def solve_row(target: str, element: str, size: float) -> dict:
         "peak_memory_bytes": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024,
         "tip_deflection_m": sol.tip_deflection,
         "max_von_mises_Pa": sol.max_von_mises_away,
-        "max_von_mises_location_m": [float(x) for x in sol.max_von_mises_away_location],
+        "max_von_mises_location_m": [float(x) for x in sol.max_von_mises_away_location],  # type: ignore[union-attr]  # set by every solve
         "support_peak_von_mises_Pa": sol.max_von_mises,
         "solver": sol.solver.get("solver"),
     }
@@ -210,6 +211,7 @@ def kinematics_study(steps_list: list[int], reference_steps: int = 200_000) -> t
     and the median time of a full cycle, for the default scene."""
 
     scene = load_scene(None)
+    assert scene.mechanism is not None  # the built-in scene has its linkage
     lk, speed = scene.mechanism.linkage, scene.mechanism.speed
 
     def peaks(n):

@@ -42,11 +42,11 @@ class Aggregate:
             "settings_passing_checks": 0,
             "settings_passing": 0,
         }
-        self.passing_by_speed = {}
-        self.worst = None
-        self.motor = None
-        self.min_safe = None
-        self.min_life = None
+        self.passing_by_speed: dict[str, int] = {}
+        self.worst: dict[str, object] | None = None
+        self.motor: dict[str, object] | None = None
+        self.min_safe: dict[str, object] | None = None
+        self.min_life: dict[str, object] | None = None
         shape = tuple(v.size for v in self.grid.values())
         self.util = np.full(shape, np.nan)  # per grid setting: utilisation at the first speed
         self.safe = np.full(shape, np.nan)  # Hz
@@ -171,7 +171,7 @@ class MotorSizing:
     def __init__(self, speeds, curve_speeds: np.ndarray | None):
         self.speeds_hz = [w / (2 * math.pi) for w in speeds]
         self.curve_hz = np.zeros(0) if curve_speeds is None else curve_speeds / (2 * math.pi)
-        self.by_speed = {f"{v:.6g}": {} for v in self.speeds_hz}
+        self.by_speed: dict[str, dict] = {f"{v:.6g}": {} for v in self.speeds_hz}
         self.at_safe: dict = {}
         self.curve = {q: np.full(self.curve_hz.size, -np.inf) for q in self.QUANTITIES}  # -inf: no setting
         self.curve_settings = np.zeros(self.curve_hz.size, dtype=np.int64)

@@ -134,10 +134,11 @@ def reactions_at(loads: Loads, s: float) -> tuple[dict, np.ndarray]:
     """(joint -> (S, T, 2) N, torque (S, T) N m) at speed ratio squared ``s``."""
     parts = [(d, w) for d, w in ((loads.constant, 1.0), (loads.inertial, s)) if d is not None]
     ref = loads.inertial or loads.constant
-    if not parts:
+    if not parts or ref is None:
         raise ValueError("no effect to simulate")
     R = {j: sum(w * d.reactions[j] for d, w in parts) for j in ref.reactions}
-    return R, sum(w * d.torque for d, w in parts)
+    torque: np.ndarray = sum(w * d.torque for d, w in parts)  # type: ignore[assignment]  # a sum of arrays
+    return R, torque
 
 
 def motor_and_bearings(ctx: SweepContext, loads: Loads, speed: float) -> dict:
@@ -212,8 +213,11 @@ def coefficients(ctx: SweepContext, name: str, loads: Loads, sel: np.ndarray) ->
         if src.joint not in total:
             continue
         Ct = coeffs(src, total, loads.motion)
-        Cg = coeffs(src, loads.constant.reactions, loads.static) if loads.constant is not None else None
-        out.append((Cg, Ct if Cg is None else Ct - Cg))
+        if loads.constant is None:
+            out.append((None, Ct))
+        else:
+            Cg = coeffs(src, loads.constant.reactions, loads.static)
+            out.append((Cg, Ct - Cg))
     return out
 
 
@@ -251,6 +255,7 @@ def evaluate_part(
     if model.bar is None:
         groups = [(np.arange(n_set), model.screens[None], model.modes_for(0.0))]
     else:
+        assert bar_lengths is not None  # a part on a bar: its hole pair follows the bar's length
         keys, inverse = np.unique(np.round(bar_lengths * 1e6).astype(np.int64), return_inverse=True)
         groups = [
             (np.flatnonzero(inverse == i), model.screen_for(key / 1e6), model.modes_for(key / 1e6))
@@ -453,16 +458,17 @@ def _scatter(n: int, idx: np.ndarray, values: np.ndarray, fill=np.nan) -> np.nda
 
 def _fe_columns(ctx: SweepContext, n: int, fe, j: int, speed: float, passed: np.ndarray, checks: dict) -> dict:
     """Per-part columns, the utilisation, governing part, safe speed, verdict and reason."""
-    col, worst, governing = {}, np.full(n, np.nan), np.full(n, "", dtype=object)
+    col: dict[str, np.ndarray] = {}
+    worst, governing = np.full(n, np.nan), np.full(n, "", dtype=object)
     failing: dict[int, list[str]] = {}  # setting -> its failed criteria, in the parts' order
     for name, m in ctx.models.items():
         vm, fat, tip, amp, u = (np.full(n, np.nan) for _ in range(5))
         if fe is not None:
             at, res = fe
             vm[at], fat[at], tip[at], amp[at], u[at] = res["per_speed"][j][name]
-            for criterion, fails in failed_criteria(m, vm[at], fat[at], tip[at], amp[at]).items():
+            for failed, fails in failed_criteria(m, vm[at], fat[at], tip[at], amp[at]).items():
                 for i in at[fails]:
-                    failing.setdefault(int(i), []).append(f"{name} {criterion}")
+                    failing.setdefault(int(i), []).append(f"{name} {failed}")
         col[f"{name}_stress_MPa"], col[f"{name}_fatigue"] = vm / 1e6, fat
         col[f"{name}_tip_mm"], col[f"{name}_utilisation"] = tip * 1e3, u
         if m.dynamic is not None:

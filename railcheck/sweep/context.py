@@ -6,18 +6,22 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from railcheck.geometry.catalogue import RailSpec
+from railcheck.kinematics.batch import BatchDynamics, BatchMotion
+from railcheck.scene import Scene
+
 
 @dataclass(frozen=True)
 class SweepContext:
     """What every chunk of one kind needs (picklable: sent to Dask workers once)."""
 
-    scene: object
+    scene: Scene
     kind: str
     speeds: tuple  # rad/s
     steps: int
     models: dict  # part name -> railcheck.sweep.parts.PartModel
     density: float
-    rail: object  # geometry.catalogue.RailSpec
+    rail: RailSpec
 
     @property
     def effects(self) -> tuple[str, ...]:
@@ -29,7 +33,7 @@ class Loads:
     """The revolving settings' loads at the first speed: ``inertial`` and ``constant``
     (gravity) parts of the reactions and torque, and the two motions they come from."""
 
-    motion: object  # at the first speed
-    static: object | None  # at rest (gravity), or None
-    inertial: object | None  # BatchDynamics of the inertia at the first speed (no gravity)
-    constant: object | None  # BatchDynamics of gravity at rest
+    motion: BatchMotion  # at the first speed
+    static: BatchMotion | None  # at rest (gravity), or None
+    inertial: BatchDynamics | None  # of the inertia at the first speed (no gravity)
+    constant: BatchDynamics | None  # of gravity at rest

@@ -44,6 +44,7 @@ def motor_demand(loads: Loads, speed0: float, speeds: np.ndarray) -> dict:
     with omega^2), so its peak and RMS scale too; with gravity each speed is evaluated."""
     s = (speeds / speed0) ** 2
     if loads.constant is None:
+        assert loads.inertial is not None  # a sweep simulates gravity, inertia or both
         Ti = loads.inertial.torque  # (S, T)
         peak = np.abs(Ti).max(axis=1)[:, None] * s[None, :]
         rms = np.sqrt(np.mean(Ti**2, axis=1))[:, None] * s[None, :]

@@ -59,20 +59,20 @@ class PartModel:
         the hole pair a bar of ``length`` m uses (:class:`~railcheck.model.loading.PinPressureMap`)."""
         if self.pressure is None:
             return C
-        return self.pressure[None if self.bar is None else self.pair_of[_um(length)]].extend(C)
+        return self.pressure[None if self.bar is None else self.pair_of[micrometres(length)]].extend(C)
 
     def modes_for(self, length: float):
         """The :class:`PairModes` of the hole pair a bar of ``length`` m uses (like
         :meth:`screen_for`), or None without a dynamic response."""
         if self.dynamic is None:
             return None
-        return self.dynamic[None] if self.bar is None else self.dynamic[self.pair_of[_um(length)]]
+        return self.dynamic[None] if self.bar is None else self.dynamic[self.pair_of[micrometres(length)]]
 
     def screen_for(self, length: float):
         """The screen of the hole pair a bar of ``length`` m uses (rails), else the only one."""
         if self.bar is None:
             return self.screens[None]
-        return self.screens[self.pair_of[_um(length)]]
+        return self.screens[self.pair_of[micrometres(length)]]
 
 
 @dataclass(frozen=True)
@@ -88,7 +88,10 @@ class PairModes:
     screen: object
 
 
-def _um(length: float) -> int:
+def micrometres(length: float | None) -> int:
+    """A bar length (m) as whole micrometres: the key of its hole pair (a part on no bar has none)."""
+    if length is None:
+        raise ValueError("a part on a bar needs the bar's length")
     return int(round(length * 1e6))
 
 
@@ -145,9 +148,9 @@ def hole_groups(scene, name: str, geo, lengths: np.ndarray) -> tuple[dict, dict]
             pair = tuple(rail_bolt_holes(xs, xs[0], float(length), "actual"))
         except ValueError:
             continue
-        key = (*pair, _um(length)) if is_free_rail(scene, name) else pair
+        key = (*pair, micrometres(length)) if is_free_rail(scene, name) else pair
         groups[key] = [f"hole_{k}" for k in pair]
-        pair_of[_um(length)] = key
+        pair_of[micrometres(length)] = key
     return groups, pair_of
 
 
@@ -204,7 +207,10 @@ def _part_setup(scene, name: str, geo, mesh, lengths: np.ndarray, material, link
     if plate:
         loads = load_model(scene, name, material.density, inertia=inertia)
     groups, pair_of = hole_groups(scene, name, geo, lengths)
-    cases, columns, deflections, pressure = {}, {}, {}, {}
+    cases: dict[str, dict] = {}
+    columns: dict[str, list] = {}
+    deflections: dict[str, tuple | dict] = {}
+    pressure: dict = {}
     for key, holes in groups.items():
         names = []
         loads_key = dataclasses.replace(loads, bar_length=key[2] / 1e6) if free else loads

@@ -289,7 +289,8 @@ def build_on_threads(tasks: list[PartTask], args: tuple, say, jobs: int) -> list
     copies that release the GIL, and nothing is pickled back (BLAS on one thread each
     meanwhile). In the tasks' order."""
     with blas_on_one_thread(), ThreadPoolExecutor(jobs, thread_name_prefix="railcheck-parts") as pool:
-        return list(pool.map(lambda task: build_task(task, *args, say=say), tasks))
+        scene, material, limit = args
+        return list(pool.map(lambda task: build_task(task, scene, material, limit, say=say), tasks))
 
 
 def build_in_workers(tasks: list[PartTask], args: tuple, progress, jobs: int) -> list:
@@ -307,7 +308,7 @@ def build_in_workers(tasks: list[PartTask], args: tuple, progress, jobs: int) ->
     with relayed_pool(jobs, progress) as pool:
         running: dict = {}
         while pending or running:
-            ready = [i for i in pending if tasks[i].after is None or built[tasks[i].after] is not None]
+            ready = [i for i in pending if _reuses_done(tasks[i], built)]
             for i in sorted(ready, key=lambda i: tasks[i].after is None)[: jobs - len(running)]:
                 running[pool.submit(build_task, tasks[i], *args)] = i
                 pending.remove(i)
@@ -315,6 +316,11 @@ def build_in_workers(tasks: list[PartTask], args: tuple, progress, jobs: int) ->
             for future in done:
                 built[running.pop(future)] = future.result()
     return built
+
+
+def _reuses_done(task: PartTask, built: list) -> bool:
+    """Whether the task whose fields ``task`` reuses (if any) is built."""
+    return task.after is None or built[task.after] is not None
 
 
 def kind_groups(scene, name: str, kinds: list[str]) -> list[list[str]]:

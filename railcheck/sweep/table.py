@@ -5,6 +5,7 @@ batches (:func:`read_table`). pyarrow is imported inside the functions only."""
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -20,7 +21,7 @@ class TableWriter:
     def __init__(self, path: Path, fmt: str):
         self.path, self.fmt = Path(path), fmt
         self.tmp = self.path.with_name(f".{self.path.name}.part")
-        self.writer = None
+        self.writer: Any = None  # a pyarrow Parquet or CSV writer once the first rows arrive
         self.rows = 0
 
     def __enter__(self):
