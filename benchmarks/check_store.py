@@ -31,7 +31,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from railcheck.geometry.cache import default_cache_dir
+from railcheck.environment import cache_dir
 
 DEFAULT = Path(__file__).resolve().parents[1] / "railcheck" / "scenes" / "default.toml"
 
@@ -106,7 +106,7 @@ def main():
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
         cache = tmp / "cache"
-        shutil.copytree(default_cache_dir(), cache, ignore=shutil.ignore_patterns("unit-fields", ".*"))
+        shutil.copytree(cache_dir(), cache, ignore=shutil.ignore_patterns("unit-fields", ".*"))
         env = {**os.environ, "RAILCHECK_CACHE": str(cache)}
         quiet = tmp / "json-only.toml"
         quiet.write_text(

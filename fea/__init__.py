@@ -62,7 +62,6 @@ _WHERE = {
     "three_two_one": "relief",
     "SOLVERS": "solvers",
     "Solver": "solvers",
-    "available_memory": "solvers",
     "factorise": "solvers",
     "solve_reduced": "solvers",
     "solver_of": "solvers",

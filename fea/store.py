@@ -17,8 +17,9 @@ per-process temporary name and are renamed into place, so two runs filling the s
 both read whole files (the last rename wins; both wrote the same fields). A read touches
 the entry; after a write the least recently used entries beyond the size cap are removed.
 
-The directory is ``$RAILCHECK_CACHE/unit-fields`` (``~/.cache/railcheck/unit-fields``);
-the cap ``$RAILCHECK_STORE_MB`` MB (default 2048). ``railcheck cache`` shows and clears it.
+A store is a folder and a size cap (:class:`UnitStore`), given by the caller: the
+application's is ``$RAILCHECK_CACHE/unit-fields`` capped at ``$RAILCHECK_STORE_MB`` MB
+(:mod:`railcheck.environment`). ``railcheck cache`` shows and clears it.
 Units: the fields' own (Pa, m, N).
 """
 
@@ -27,7 +28,6 @@ from __future__ import annotations
 import functools
 import hashlib
 import json
-import math
 import os
 import stat
 import time
@@ -36,8 +36,6 @@ from pathlib import Path
 
 import numpy as np
 
-from railcheck.base.errors import InputError
-from railcheck.geometry.cache import default_cache_dir
 from railcheck.geometry.meshdata import MeshData
 
 from .dynamic import DynamicModel
@@ -45,34 +43,23 @@ from .materials import Material
 from .superpose import UnitFields
 from .unitcases import UnitSolve, solve_unit_cases
 
-__all__ = ["StoreInfo", "UnitRequest", "clear_store", "is_stored", "solve_stored", "store_dir", "store_info"]
+__all__ = ["StoreInfo", "UnitRequest", "UnitStore", "clear_store", "is_stored", "solve_stored", "store_info"]
+
 
 #: the entry format; bump it when what an entry holds or means changes
 #: (3: pin pressures, graded density, deflection relative to a face's rigid motion;
 #: 4: the stresses projected by a direct factor of the mass matrix; 5: no SHA-256 of the
 #: arrays (each zip member's CRC-32 checks them) but the list of their names)
 FORMAT = "5"
-DEFAULT_CAP_MB = 2048
 
 
-def store_dir() -> Path:
-    """The store's directory (created on first write), in the mesh cache's folder."""
-    return default_cache_dir() / "unit-fields"
+@dataclass(frozen=True)
+class UnitStore:
+    """Where solved unit fields are kept: ``directory`` (created on first write) and
+    ``cap`` bytes, beyond which the least recently used entries are removed."""
 
-
-def store_cap_bytes() -> int:
-    """The store's size cap in bytes: ``RAILCHECK_STORE_MB`` megabytes (unset or empty:
-    :data:`DEFAULT_CAP_MB`); anything but a finite number of at least 0 is refused."""
-    text = os.environ.get("RAILCHECK_STORE_MB", "").strip()
-    if not text:
-        return int(DEFAULT_CAP_MB * 1e6)
-    try:
-        mb = float(text)
-    except ValueError:
-        mb = math.nan
-    if not (math.isfinite(mb) and 0.0 <= mb * 1e6 < 2.0**62):
-        raise InputError("RAILCHECK_STORE_MB", f"must be a size in megabytes, 0 or more, got {text!r}")
-    return int(mb * 1e6)
+    directory: Path
+    cap: int
 
 
 @functools.lru_cache(maxsize=1)
@@ -131,9 +118,9 @@ class UnitRequest:
             )
         )
 
-    def path(self, payload: str | None = None) -> Path:
-        """The entry's file."""
-        return store_dir() / f"{_key(payload or self.payload())}.npz"
+    def path(self, store: UnitStore, payload: str | None = None) -> Path:
+        """The entry's file in ``store``."""
+        return store.directory / f"{_key(payload or self.payload())}.npz"
 
 
 def _key(payload: str) -> str:
@@ -183,7 +170,7 @@ def _meta(solve, arrays: dict[str, np.ndarray]) -> str:
     )
 
 
-def write_entry(path: Path, payload: str, fields, solve) -> None:
+def write_entry(path: Path, payload: str, fields, solve, cap: int) -> None:
     """Write an entry atomically (per-process temporary name, then a rename); a store that
     cannot be written only costs time."""
     arrays = _arrays(fields, solve)
@@ -199,7 +186,7 @@ def write_entry(path: Path, payload: str, fields, solve) -> None:
         except OSError:
             pass
         return
-    _evict(path.parent, store_cap_bytes(), keep=path)
+    _evict(path.parent, cap, keep=path)
 
 
 def read_entry(path: Path, payload: str):
@@ -303,32 +290,34 @@ def _evict(directory: Path, cap: int, keep: Path | None = None) -> None:
             continue
 
 
-def solve_stored(request: UnitRequest, solver: str = "auto", report=None, store: bool = True):
-    """:func:`railcheck.fea.unitcases.solve_unit_cases` through the store: the stored
-    fields when an entry for ``request`` is sound, else solved and stored. Returns
+def solve_stored(request: UnitRequest, solver: str = "auto", report=None, store: UnitStore | None = None):
+    """:func:`railcheck.fea.unitcases.solve_unit_cases` through ``store``: the stored
+    fields when an entry for ``request`` is sound, else solved and stored (``store``
+    None: solved, nothing stored). Returns
     (fields, solve, origin): ``origin`` says where the fields came from ("stored",
     "solved", or why a stored entry was solved again)."""
     r = request
     args = (MeshData.of(r.points, r.tets, r.groups), r.material, r.supports, r.cases)
     kw = {"order": r.order, "tip_group": r.tip_group, "exclude_distance": r.exclude, "solver": solver, "report": report}
     kw |= {"curved": r.curved, "free_body": r.free_body, "modes": r.modes}
-    if not store:
+    if store is None:
         return (*solve_unit_cases(*args, **kw), "solved")
     t = time.perf_counter()
     payload = r.payload()
-    path = r.path(payload)
+    path = r.path(store, payload)
     found, why = read_entry(path, payload)
     if found is not None:
         fields, solve = found
         return fields, replace(solve, seconds={"store": time.perf_counter() - t}), "stored"
     fields, solve = solve_unit_cases(*args, **kw)
-    write_entry(path, payload, fields, solve)
+    write_entry(path, payload, fields, solve, store.cap)
     return fields, solve, (f"stored unit fields {why}: solved again" if why else "solved")
 
 
-def is_stored(request: UnitRequest) -> bool:
-    """Whether an entry for ``request`` is on disk (not yet verified: reading verifies)."""
-    return request.path().is_file()
+def is_stored(request: UnitRequest, store: UnitStore | None) -> bool:
+    """Whether an entry for ``request`` is on disk in ``store`` (not yet verified:
+    reading verifies); never without a store."""
+    return store is not None and request.path(store).is_file()
 
 
 @dataclass(frozen=True)
@@ -341,15 +330,16 @@ class StoreInfo:
     cap: int
 
 
-def store_info() -> StoreInfo:
-    directory = store_dir()
+def store_info(store: UnitStore) -> StoreInfo:
+    """What ``store`` holds: its folder, entries, bytes and cap."""
+    directory = store.directory
     entries = _entries(directory)
-    return StoreInfo(directory, len(entries), sum(p.stat().st_size for p in entries), store_cap_bytes())
+    return StoreInfo(directory, len(entries), sum(p.stat().st_size for p in entries), store.cap)
 
 
-def clear_store() -> int:
-    """Remove every entry (and leftover temporary file); returns how many entries."""
-    directory = store_dir()
+def clear_store(store: UnitStore) -> int:
+    """Remove every entry of ``store`` (and leftover temporary files); returns how many entries."""
+    directory = store.directory
     count = 0
     if directory.is_dir():
         for p in directory.glob("*.npz"):

@@ -19,9 +19,9 @@ __all__ = ["default_cache_dir", "read_cached", "write_cached"]
 
 
 def default_cache_dir() -> Path:
-    """The folder of the mesh cache and the unit-field store: ``RAILCHECK_CACHE``, or
-    ~/.cache/railcheck when it is unset or empty."""
-    return Path(os.environ.get("RAILCHECK_CACHE") or Path.home() / ".cache" / "railcheck")
+    """The mesh cache's folder when the caller names none: ~/.cache/railcheck (the
+    application passes ``RAILCHECK_CACHE``'s, :mod:`railcheck.environment`)."""
+    return Path.home() / ".cache" / "railcheck"
 
 
 def _digest(

@@ -93,7 +93,7 @@ def mesh_part(
     hole_size: float | None = None,
     cache: bool = True,
     cache_dir: Path | None = None,
-    verbose: bool | None = None,
+    verbose: bool = False,
     optimize: bool = True,
 ) -> MeshData:
     """Mesh ``part`` with element size ``size`` (m), ``hole_size`` at the holes (default
@@ -101,9 +101,8 @@ def mesh_part(
     stores its parameters (gmsh version included) and a content hash, both verified on
     load: a damaged or mismatched entry is rebuilt and ``MeshData.warning`` says why.
     ``optimize`` False skips gmsh's tetrahedron optimisation (slivers may remain; they are
-    counted). gmsh prints nothing unless ``verbose`` or ``RAILCHECK_GMSH_VERBOSE=1``."""
-    if verbose is None:
-        verbose = os.environ.get("RAILCHECK_GMSH_VERBOSE", "") not in ("", "0")
+    counted). gmsh prints nothing unless ``verbose``. ``cache_dir``: the cache's folder
+    (default :func:`~railcheck.geometry.cache.default_cache_dir`)."""
     hole_size = hole_size or size / 3.0
     path, payload = _cache_entry(part, size, hole_size, optimize, cache_dir)
     why = None
@@ -121,10 +120,17 @@ def mesh_part(
     return data
 
 
-def cached_mesh(part: PartGeometry, size: float, hole_size: float | None = None, optimize: bool = True) -> MeshData | None:
-    """The mesh :func:`mesh_part` would read from the cache, or None when it would have to
-    build it (no entry, or a damaged or stale one): a probe that never meshes."""
-    return read_cached(*_cache_entry(part, size, hole_size or size / 3.0, optimize))[0]
+def cached_mesh(
+    part: PartGeometry,
+    size: float,
+    hole_size: float | None = None,
+    optimize: bool = True,
+    cache_dir: Path | None = None,
+) -> MeshData | None:
+    """The mesh :func:`mesh_part` would read from the cache in ``cache_dir``, or None when
+    it would have to build it (no entry, or a damaged or stale one): a probe that never
+    meshes."""
+    return read_cached(*_cache_entry(part, size, hole_size or size / 3.0, optimize, cache_dir))[0]
 
 
 def _cache_entry(

@@ -156,6 +156,40 @@ def test_a_domain_package_imports_only_what_is_upstream_of_it(package):
     assert not bad
 
 
+def railcheck_variables(path: Path) -> list[str]:
+    """The application's environment variables (string constants RAILCHECK_*) a module names."""
+    return [
+        node.value
+        for node in ast.walk(ast.parse(path.read_text()))
+        if isinstance(node, ast.Constant) and isinstance(node.value, str) and node.value.startswith("RAILCHECK_")
+    ]
+
+
+@pytest.mark.parametrize("package", sorted(UPSTREAM))
+def test_a_domain_package_reads_no_application_variable(package):
+    """The application resolves RAILCHECK_* (railcheck.environment) and passes the values."""
+    bad = {name: railcheck_variables(path) for name, path in our_modules().items() if name.startswith(package + ".")}
+    assert not {name: v for name, v in bad.items() if v}
+
+
+def test_the_variable_finder_finds_a_planted_read(tmp_path):
+    planted = tmp_path / "m.py"
+    planted.write_text('import os\nx = os.environ.get("RAILCHECK_CACHE")\n')
+    assert railcheck_variables(planted) == ["RAILCHECK_CACHE"]
+
+
+def test_the_base_imports_nothing_of_ours():
+    """railcheck.base is below every layer: errors and machine limits, nothing else of ours."""
+    bad = {
+        (name, t)
+        for name, targets in import_graph().items()
+        if name.startswith("railcheck.base")
+        for t in targets
+        if not t.startswith("railcheck.base")
+    }
+    assert not bad
+
+
 def test_heavy_packages_are_imported_only_inside_functions():
     modules = our_modules()
     bad = [

@@ -13,20 +13,23 @@ import textwrap
 import numpy as np
 import pytest
 
+from railcheck.environment import unit_store
 from railcheck.fea import MATERIALS
-from railcheck.fea.store import UnitRequest, is_stored, read_entry, solve_stored, store_info
+from railcheck.fea.store import UnitRequest, UnitStore, is_stored, read_entry, solve_stored, store_info
 from railcheck.fea.unitcases import TractionCase
 from railcheck.geometry import bar, mesh_part
 
 
 @pytest.fixture
 def store(tmp_path, monkeypatch):
+    """A store in this test's folder, the one the environment names too (RAILCHECK_CACHE,
+    for `railcheck cache` and the subprocesses)."""
     monkeypatch.setenv("RAILCHECK_CACHE", str(tmp_path / "cache"))
-    return tmp_path / "cache" / "unit-fields"
+    return UnitStore(tmp_path / "cache" / "unit-fields", int(2048e6))
 
 
 def _request(length=0.1, force_dir=1):
-    mesh = mesh_part(bar(length, 0.02, 0.02), 10e-3, 10e-3)
+    mesh = mesh_part(bar(length, 0.02, 0.02), 10e-3, 10e-3, cache=False)
     cases = {"tip_x": TractionCase(("tip",), 0), "tip_y": TractionCase(("tip",), force_dir)}
     return UnitRequest(mesh.points, mesh.tets, mesh.groups, MATERIALS["steel"], ["clamp"], cases, 2, "tip", 0.0, mesh.curved)
 
@@ -39,24 +42,24 @@ def _same(a, b):
 
 def test_a_stored_entry_gives_back_the_solved_fields_bit_for_bit(store):
     request = _request()
-    assert not is_stored(request)
-    fields, solve, origin = solve_stored(request)
-    assert origin == "solved" and is_stored(request)
-    again, solve2, origin2 = solve_stored(request)
+    assert not is_stored(request, store)
+    fields, solve, origin = solve_stored(request, store=store)
+    assert origin == "solved" and is_stored(request, store)
+    again, solve2, origin2 = solve_stored(request, store=store)
     assert origin2 == "stored" and set(solve2.seconds) == {"store"}
     _same(fields, again)
     np.testing.assert_array_equal(solve.resultants, solve2.resultants)
     assert (solve.dofs, solve.elements, solve.solver) == (solve2.dofs, solve2.elements, solve2.solver)
-    other, _, origin3 = solve_stored(_request(force_dir=2))  # another case: another entry
-    assert origin3 == "solved" and store_info().entries == 2
+    other, _, origin3 = solve_stored(_request(force_dir=2), store=store)  # another case: another entry
+    assert origin3 == "solved" and store_info(store).entries == 2
     assert not np.array_equal(other.stress, fields.stress)
 
 
 @pytest.mark.parametrize("damage", ["truncate", "flip", "swap"])
 def test_a_damaged_entry_is_detected_and_solved_again(store, damage):
     request = _request()
-    fields, _, _ = solve_stored(request)
-    path = request.path()
+    fields, _, _ = solve_stored(request, store=store)
+    path = request.path(store)
     data = bytearray(path.read_bytes())
     if damage == "truncate":
         path.write_bytes(bytes(data[: len(data) // 2]))
@@ -65,12 +68,12 @@ def test_a_damaged_entry_is_detected_and_solved_again(store, damage):
         path.write_bytes(bytes(data))
     else:  # another request's entry under this name
         other = _request(force_dir=2)
-        solve_stored(other)
-        os.replace(other.path(), path)
-    again, _, origin = solve_stored(request)
+        solve_stored(other, store=store)
+        os.replace(other.path(store), path)
+    again, _, origin = solve_stored(request, store=store)
     assert origin.startswith("stored unit fields") and origin.endswith("solved again"), origin
     _same(fields, again)
-    assert solve_stored(request)[2] == "stored"  # rewritten whole
+    assert solve_stored(request, store=store)[2] == "stored"  # rewritten whole
 
 
 def test_no_single_bit_flip_anywhere_in_an_entry_gives_other_fields(store):
@@ -78,8 +81,8 @@ def test_no_single_bit_flip_anywhere_in_an_entry_gives_other_fields(store):
     central directory at the end) is either reported as damage or leaves the fields
     exactly as stored; it never raises and never gives other numbers."""
     request = _request()
-    fields, _, _ = solve_stored(request)
-    path, payload = request.path(), request.payload()
+    fields, _, _ = solve_stored(request, store=store)
+    path, payload = request.path(store), request.payload()
     original = path.read_bytes()
     n = len(original)
     places = sorted({*range(0, n, max(1, n // 160)), *range(max(0, n - 2000), n, 23), n - 1})
@@ -105,30 +108,30 @@ def test_two_processes_filling_one_entry_both_get_correct_fields(store, tmp_path
         import sys, numpy as np
         sys.path.insert(0, %r)
         from test_store import _request
+        from railcheck.environment import unit_store
         from railcheck.fea.store import solve_stored
-        fields, _, origin = solve_stored(_request())
+        fields, _, origin = solve_stored(_request(), store=unit_store())
         np.save(sys.argv[1], fields.stress)
         """
         % os.path.dirname(__file__)
     )
-    env = {**os.environ, "RAILCHECK_CACHE": str(store.parent)}
+    env = {**os.environ, "RAILCHECK_CACHE": str(store.directory.parent)}
     procs = [subprocess.Popen([sys.executable, "-P", "-c", script, str(tmp_path / f"s{i}.npy")], env=env) for i in range(2)]
     assert [p.wait(timeout=300) for p in procs] == [0, 0]
-    reference, _, origin = solve_stored(_request())
+    reference, _, origin = solve_stored(_request(), store=store)
     assert origin == "stored"  # whichever rename won, the entry is whole
     for i in range(2):
         np.testing.assert_array_equal(np.load(tmp_path / f"s{i}.npy"), reference.stress)
-    assert not [p for p in store.iterdir() if p.name.startswith(".")]  # no temporary left
+    assert not [p for p in store.directory.iterdir() if p.name.startswith(".")]  # no temporary left
 
 
-def test_the_size_cap_evicts_the_least_recently_used_entry(store, monkeypatch):
+def test_the_size_cap_evicts_the_least_recently_used_entry(store):
     first, second = _request(), _request(force_dir=2)
-    solve_stored(first)
-    size = first.path().stat().st_size
-    os.utime(first.path(), (1, 1))  # long unused
-    monkeypatch.setenv("RAILCHECK_STORE_MB", str(1.5 * size / 1e6))
-    solve_stored(second)
-    assert is_stored(second) and not is_stored(first)
+    solve_stored(first, store=store)
+    size = first.path(store).stat().st_size
+    os.utime(first.path(store), (1, 1))  # long unused
+    solve_stored(second, store=UnitStore(store.directory, int(1.5 * size)))
+    assert is_stored(second, store) and not is_stored(first, store)
 
 
 def test_a_store_that_cannot_be_written_only_costs_time(store, monkeypatch):
@@ -141,9 +144,9 @@ def test_a_store_that_cannot_be_written_only_costs_time(store, monkeypatch):
 
     monkeypatch.setattr(np, "savez", full)
     request = _request()
-    fields, _, origin = solve_stored(request)
+    fields, _, origin = solve_stored(request, store=store)
     assert origin == "solved" and fields.stress.size
-    assert not store.exists() or not list(store.iterdir())
+    assert not store.directory.exists() or not list(store.directory.iterdir())
 
 
 def test_a_store_under_a_file_only_costs_time(tmp_path, monkeypatch):
@@ -152,7 +155,7 @@ def test_a_store_under_a_file_only_costs_time(tmp_path, monkeypatch):
     blocker = tmp_path / "a-file"
     blocker.write_text("not a folder")
     monkeypatch.setenv("RAILCHECK_CACHE", str(blocker / "cache"))
-    fields, _, origin = solve_stored(_request())
+    fields, _, origin = solve_stored(_request(), store=unit_store())
     assert origin == "solved" and fields.stress.size
     assert sorted(p.name for p in tmp_path.iterdir()) == ["a-file"] and blocker.read_text() == "not a folder"
 
@@ -160,12 +163,12 @@ def test_a_store_under_a_file_only_costs_time(tmp_path, monkeypatch):
 def test_railcheck_cache_shows_and_clears(store, capsys):
     from railcheck.cli import main
 
-    solve_stored(_request())
+    solve_stored(_request(), store=store)
     assert main(["cache"]) == 0
     assert "unit-field store: 1 entries" in capsys.readouterr().out
     assert main(["cache", "--clear"]) == 0
     assert "1 unit-field entries" in capsys.readouterr().out
-    assert store_info().entries == 0
+    assert store_info(store).entries == 0
 
 
 @pytest.mark.parametrize("cap", ["abc", "-5", "nan", "inf", "1e309", "2e60"])
@@ -176,12 +179,12 @@ def test_a_bad_store_cap_is_one_line_naming_the_variable_before_any_work(store, 
     assert main(["kinematics", "--plots", str(tmp_path / "plots")]) == 2
     err = capsys.readouterr().err
     assert err == f"railcheck: error: RAILCHECK_STORE_MB: must be a size in megabytes, 0 or more, got {cap!r}\n"
-    assert not (tmp_path / "plots").exists() and not store.parent.exists()
+    assert not (tmp_path / "plots").exists() and not store.directory.parent.exists()
 
 
 @pytest.mark.parametrize("cap, expected", [("", 2048e6), (" 1.5 ", 1.5e6), ("0", 0)])
 def test_the_store_cap_reads_megabytes_and_an_empty_variable_is_the_default(monkeypatch, cap, expected):
-    from railcheck.fea.store import store_cap_bytes
+    from railcheck.environment import store_cap_bytes
 
     monkeypatch.setenv("RAILCHECK_STORE_MB", cap)
     assert store_cap_bytes() == expected
@@ -189,13 +192,14 @@ def test_the_store_cap_reads_megabytes_and_an_empty_variable_is_the_default(monk
 
 def test_an_empty_cache_variable_is_the_default_folder(monkeypatch, tmp_path):
     """RAILCHECK_CACHE="" is unset (not the current folder), for the meshes and the store alike."""
-    from railcheck.fea.store import store_dir
-    from railcheck.geometry.cache import default_cache_dir
+    from railcheck.environment import cache_dir
 
     monkeypatch.setenv("HOME", str(tmp_path))
     monkeypatch.setenv("RAILCHECK_CACHE", "")
-    assert default_cache_dir() == tmp_path / ".cache" / "railcheck"
-    assert store_dir() == default_cache_dir() / "unit-fields"
+    assert cache_dir() == tmp_path / ".cache" / "railcheck"
+    assert unit_store().directory == cache_dir() / "unit-fields"
+    monkeypatch.setenv("RAILCHECK_STORE", "0")
+    assert unit_store() is None  # bypassed
 
 
 @pytest.mark.slow

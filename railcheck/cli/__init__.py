@@ -18,7 +18,7 @@ from importlib.metadata import PackageNotFoundError, version
 
 from railcheck.base.errors import EXIT_INPUT, EXIT_PASS, RailcheckError
 from railcheck.cli import bench, cache, check, convergence, init, kinematics, mechanism, sweep
-from railcheck.fea.store import store_cap_bytes
+from railcheck.environment import store_cap_bytes
 from railcheck.files import writable_dir, writable_file
 
 DESCRIPTION = (

@@ -3,10 +3,10 @@ unit-field store, :mod:`railcheck.fea.store`), and clearing them."""
 
 from __future__ import annotations
 
+from railcheck import environment
 from railcheck.base.errors import EXIT_PASS
-from railcheck.fea.store import clear_store, store_info
+from railcheck.fea.store import UnitStore, clear_store, store_info
 from railcheck.files import to_json
-from railcheck.geometry.cache import default_cache_dir
 
 HELP = "show or clear the mesh cache and the unit-field store"
 
@@ -17,8 +17,14 @@ def add_args(p) -> None:
 
 
 def _mesh_entries():
-    root = default_cache_dir()
+    root = environment.cache_dir()
     return root, ([p for p in root.glob("*.npz") if not p.name.startswith(".")] if root.is_dir() else [])
+
+
+def _store() -> UnitStore:
+    """The unit-field store the environment names (shown and cleared even when
+    ``RAILCHECK_STORE=0`` bypasses it)."""
+    return UnitStore(environment.cache_dir() / "unit-fields", environment.store_cap_bytes())
 
 
 def run(args) -> int:
@@ -31,10 +37,10 @@ def run(args) -> int:
                 removed_meshes += 1
             except OSError:
                 pass
-        removed_fields = clear_store()
+        removed_fields = clear_store(_store())
         print(f"removed {removed_meshes} mesh entries and {removed_fields} unit-field entries from {root}")
         return EXIT_PASS
-    info = store_info()
+    info = store_info(_store())
     out = {
         "mesh_cache": {"directory": str(root), "entries": len(meshes), "bytes": sum(p.stat().st_size for p in meshes)},
         "unit_field_store": {

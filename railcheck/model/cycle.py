@@ -11,12 +11,12 @@ response, and the result states the amplification over the quasi-static one.
 from __future__ import annotations
 
 import math
-import os
 import time
 from dataclasses import replace
 
 import numpy as np
 
+from railcheck import environment
 from railcheck.base.errors import NumericalError
 from railcheck.fea import screening
 from railcheck.fea.dynamic import modal_correction
@@ -55,7 +55,14 @@ def check_part(job: PartJob, solver: str, report) -> PartResult:
     ``report(message)`` prints a progress line."""
     seconds, warnings = {}, []
     t = time.perf_counter()
-    mesh = mesh_part(job.geometry, job.mesh.size, job.mesh.hole_size, optimize=job.mesh.optimize)
+    mesh = mesh_part(
+        job.geometry,
+        job.mesh.size,
+        job.mesh.hole_size,
+        optimize=job.mesh.optimize,
+        cache_dir=environment.cache_dir(),
+        verbose=environment.gmsh_verbose(),
+    )
     seconds["mesh"] = time.perf_counter() - t
     if mesh.warning:
         warnings.append(mesh.warning)
@@ -66,7 +73,7 @@ def check_part(job: PartJob, solver: str, report) -> PartResult:
         )
     report(f"{mesh.tets.shape[0]} tetrahedra{' (cached)' if mesh.cached else ''}, min quality {mesh.min_quality:.2f}")
     cases = unit_cases(job.loads, job.geometry, list(job.holes))
-    fields, solve, origin = solve_stored(unit_request(job, mesh, cases), solver, report, store=use_store())
+    fields, solve, origin = solve_stored(unit_request(job, mesh, cases), solver, report, store=environment.unit_store())
     seconds.update(solve.seconds)
     if origin == "stored":
         report(f"unit fields from the store ({solve.dofs} DOFs; not assembled or solved)")
@@ -103,7 +110,9 @@ def clamped_comparison(job: PartJob, mesh, solver: str, report) -> tuple[Clamped
     unit fields through the store like any part's, and where those came from
     (:func:`railcheck.fea.store.solve_stored`'s ``origin``)."""
     cases = unit_cases(job.loads, job.geometry, list(job.holes))
-    fields, solve, origin = solve_stored(unit_request(job, mesh, cases), solver, lambda msg: None, store=use_store())
+    fields, solve, origin = solve_stored(
+        unit_request(job, mesh, cases), solver, lambda msg: None, store=environment.unit_store()
+    )
     cycle = evaluate_cycle(job, fields, job.histories, solve)
     _refuse_non_finite(job.name, cycle)
     env = cycle.envelope
@@ -141,12 +150,6 @@ def _mode_request(job: PartJob):
     return (d.modes, list(d.pins) if d.pins else None, d.lumped) if d else None
 
 
-def use_store() -> bool:
-    """Whether unit fields go through the store (:mod:`railcheck.fea.store`): yes unless
-    ``RAILCHECK_STORE=0``."""
-    return os.environ.get("RAILCHECK_STORE", "1") != "0"
-
-
 def unit_request(job: PartJob, mesh, cases: dict) -> UnitRequest:
     """What the part's unit solve depends on (:class:`railcheck.fea.store.UnitRequest`)."""
     return UnitRequest(
@@ -168,12 +171,20 @@ def unit_request(job: PartJob, mesh, cases: dict) -> UnitRequest:
 def in_store(job: PartJob) -> bool:
     """True when the store holds an entry for the part's unit fields (its mesh read from
     the mesh cache; the entry itself is verified when it is read)."""
-    if not use_store():
+    store = environment.unit_store()
+    if store is None:
         return False
-    mesh = mesh_part(job.geometry, job.mesh.size, job.mesh.hole_size, optimize=job.mesh.optimize)
+    mesh = mesh_part(
+        job.geometry,
+        job.mesh.size,
+        job.mesh.hole_size,
+        optimize=job.mesh.optimize,
+        cache_dir=environment.cache_dir(),
+        verbose=environment.gmsh_verbose(),
+    )
     jobs = [job] + ([job.clamped] if job.clamped is not None else [])
     return mesh.cached and all(
-        is_stored(unit_request(j, mesh, unit_cases(j.loads, j.geometry, list(j.holes)))) for j in jobs
+        is_stored(unit_request(j, mesh, unit_cases(j.loads, j.geometry, list(j.holes))), store) for j in jobs
     )
 
 

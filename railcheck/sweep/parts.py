@@ -16,12 +16,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from railcheck import environment
 from railcheck.fea.fatigue import endurance_limit
 from railcheck.fea.screening import fatigue_min, make_screens, tip_peak, von_mises_peak
 from railcheck.fea.store import UnitRequest, is_stored, solve_stored
 from railcheck.geometry.mesher import cached_mesh, mesh_part
 from railcheck.loads.cases import rail_bolt_holes
-from railcheck.model.cycle import use_store
 from railcheck.model.jobs import carried_masses, free_body_cases, mesh_sizes
 from railcheck.model.loading import LoadModel, load_model, pin_pressure_map, source_histories, unit_cases
 from railcheck.parts import PARTS, geometry_of, kind_of
@@ -162,9 +162,15 @@ def build_part_model(
     ``linkage``: its kind, which sets the point masses a rail's joints carry)."""
 
     geo = geometry_of(name, scene.geometry)
-    mesh = mesh_part(geo, *mesh_sizes(scene.mesh, geo.kind), optimize=scene.mesh.optimize)
+    mesh = mesh_part(
+        geo,
+        *mesh_sizes(scene.mesh, geo.kind),
+        optimize=scene.mesh.optimize,
+        cache_dir=environment.cache_dir(),
+        verbose=environment.gmsh_verbose(),
+    )
     setup = _part_setup(scene, name, geo, mesh, lengths, material, linkage)
-    fields, meta, origin = solve_stored(setup.request, "auto", report, store=use_store())
+    fields, meta, origin = solve_stored(setup.request, "auto", report, store=environment.unit_store())
     if origin != "solved":
         report(f"unit fields: {origin}")
     return _part_model(scene, name, setup, fields, meta, material, limit)
@@ -174,11 +180,16 @@ def part_is_stored(scene, name: str, lengths: np.ndarray, material, linkage: str
     """Whether :func:`build_part_model` of these arguments would find the part's mesh in
     the cache and its unit fields in the store (on disk: reading verifies them), so that
     it neither meshes nor solves; a probe that never meshes."""
-    if not use_store():
+    store = environment.unit_store()
+    if store is None:
         return False
     geo = geometry_of(name, scene.geometry)
-    mesh = cached_mesh(geo, *mesh_sizes(scene.mesh, geo.kind), optimize=scene.mesh.optimize)
-    return mesh is not None and is_stored(_part_setup(scene, name, geo, mesh, lengths, material, linkage).request)
+    mesh = cached_mesh(
+        geo, *mesh_sizes(scene.mesh, geo.kind), optimize=scene.mesh.optimize, cache_dir=environment.cache_dir()
+    )
+    if mesh is None:
+        return False
+    return is_stored(_part_setup(scene, name, geo, mesh, lengths, material, linkage).request, store)
 
 
 @dataclass(frozen=True)
