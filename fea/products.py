@@ -24,7 +24,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .mkl import MatrixDescr
-from .mkl import sparse_blas as _mkl
+from .mkl import sparse_blas as mkl_sparse_library
 
 _GENERAL, _NON_TRANSPOSE, _ROW_MAJOR, _ZERO_BASED = 20, 10, 101, 0  # MKL's sparse enums
 
@@ -32,7 +32,7 @@ _GENERAL, _NON_TRANSPOSE, _ROW_MAJOR, _ZERO_BASED = 20, 10, 101, 0  # MKL's spar
 def sparse_product(A: sp.spmatrix, dtype=float):
     """The fastest installed product with the sparse matrix ``A`` (``product @ X``)."""
     A = sp.csr_matrix(A)
-    if np.dtype(dtype) == np.float64 and 0 < A.nnz < 2**31 and max(A.shape) < 2**31 and _mkl() is not None:
+    if np.dtype(dtype) == np.float64 and 0 < A.nnz < 2**31 and max(A.shape) < 2**31 and mkl_sparse_library() is not None:
         try:
             return MklProduct(A)
         except RuntimeError:  # MKL refused the matrix: scipy takes it
@@ -46,7 +46,7 @@ class MklProduct:
 
     def __init__(self, A: sp.csr_matrix):
         self.shape = A.shape
-        self._lib = _mkl()
+        self._lib = mkl_sparse_library()
         self._indptr = np.ascontiguousarray(A.indptr, dtype=np.int32)
         self._indices = np.ascontiguousarray(A.indices, dtype=np.int32)
         self._data = np.ascontiguousarray(A.data, dtype=np.float64)

@@ -5,12 +5,12 @@ our own modules imported at module top, and each package's public API importable
 
 import ast
 import importlib
-import tomllib
 from pathlib import Path
 
 import pytest
 
-ROOT = Path(__file__).resolve().parents[1]
+from helpers import ROOT, package_dirs
+
 HEAVY = {
     "gmsh",
     "skfem",
@@ -33,16 +33,6 @@ UPSTREAM = {
     "railcheck.geometry": BASE | {"railcheck.kinematics", "railcheck.loads"},
     "railcheck.fea": BASE | {"railcheck.kinematics", "railcheck.loads", "railcheck.geometry"},
 }
-
-
-def package_dirs() -> dict[str, Path]:
-    """Dotted package -> source folder, from pyproject.toml's setuptools mapping."""
-    config = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]
-    mapping = config["package-dir"]
-    return {
-        pkg: ROOT / mapping.get(pkg, mapping.get(pkg.split(".")[0], "") and pkg.replace(".", "/"))
-        for pkg in config["packages"]
-    }
 
 
 def our_modules() -> dict[str, Path]:

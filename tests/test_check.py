@@ -14,6 +14,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from helpers import FINAL_DESIGN, PLATE_LOADS, assert_picture, browse
 from railcheck.check.pipeline import run_pipeline
 from railcheck.check.summary import rail_masses
 from railcheck.fea.errors import ModelError
@@ -22,7 +23,6 @@ from railcheck.model.jobs import build_load_cases, part_geometries
 from railcheck.model.kinematics_stage import run_kinematics
 from railcheck.parts import geometry_of
 from railcheck.scene import load_scene, parse_scene
-from scene_texts import FINAL_DESIGN, PLATE_LOADS, assert_picture, browse
 
 KINEMATICS_ONLY = FINAL_DESIGN + 'speed = "1 Hz"\n'
 

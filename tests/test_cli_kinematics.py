@@ -6,8 +6,8 @@ import sys
 
 import pytest
 
+from helpers import FINAL_DESIGN, assert_picture
 from railcheck.cli import main
-from scene_texts import FINAL_DESIGN, assert_picture
 
 GOOD = (
     FINAL_DESIGN

@@ -4,12 +4,12 @@ import json
 
 import pytest
 
+from helpers import FINAL_DESIGN
 from railcheck.cli import main
 from railcheck.model.jobs import mesh_sizes
 from railcheck.parts import geometry_of
 from railcheck.scene import load_scene
 from railcheck.studies.convergence import HOLE_RATIO, kinematics_study, richardson, solve_row
-from scene_texts import FINAL_DESIGN
 
 
 @pytest.mark.parametrize("p", [1.0, 2.0, 3.5])

@@ -9,6 +9,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from helpers import FINAL_DESIGN
 from railcheck.fea.elasticity import HoleLoad, Support, solve_elasticity, von_mises
 from railcheck.fea.fatigue import alternating_and_mean, endurance_limit, safety_factor
 from railcheck.fea.hull import candidate_steps
@@ -22,7 +23,6 @@ from railcheck.model.kinematics_stage import run_kinematics
 from railcheck.model.loading import load_model, source_histories, unit_cases
 from railcheck.parts import geometry_of, kind_of
 from railcheck.scene import parse_scene
-from scene_texts import FINAL_DESIGN
 
 STEEL = MATERIALS["steel"]
 

@@ -10,11 +10,11 @@ import tomllib
 import numpy as np
 import pytest
 
+from helpers import FINAL_DESIGN
 from railcheck.base.errors import InputError
 from railcheck.check.pipeline import run_pipeline
 from railcheck.check.summary import summary_of
 from railcheck.scene import parse_scene
-from scene_texts import FINAL_DESIGN
 
 SCENE = (
     FINAL_DESIGN
@@ -144,8 +144,8 @@ def test_the_report_and_the_files_carry_the_dynamic_response(tmp_path):
     the mode shapes in the VTU, from `railcheck check`."""
     import meshio
 
+    from helpers import assert_picture
     from railcheck.cli import main
-    from scene_texts import assert_picture
 
     scene = tmp_path / "scene.toml"
     scene.write_text(SCENE.replace("SPEED", "1 Hz").replace("EFFECTS", '["inertia", "dynamic"]') + "[output]\npng = false\n")

@@ -7,7 +7,7 @@ import pickle
 import pytest
 
 from railcheck.base.errors import EXIT_INPUT, EXIT_NUMERICAL, InputError, NumericalError, RailcheckError
-from railcheck.cli import _report_error
+from railcheck.cli import report_error
 from railcheck.fea.errors import ModelError
 from railcheck.kinematics.errors import MechanismError, SingularConfigurationError
 
@@ -27,7 +27,7 @@ def test_every_error_pickles_whole_and_maps_to_its_status(error, status, label, 
     assert (back.field, back.message, str(back), back.args) == (error.field, error.message, str(error), error.args)
     assert vars(back) == vars(error)
     assert back.exit_status == status
-    assert _report_error(back) == status
+    assert report_error(back) == status
     err = capsys.readouterr().err
     assert err == f"railcheck: {label}: {error}\n"
 
@@ -44,6 +44,6 @@ def test_domain_errors_are_input_errors_with_a_field():
 
 
 def test_interrupts_and_disk_errors_map_to_their_statuses(capsys):
-    assert _report_error(KeyboardInterrupt()) == 130
-    assert _report_error(OSError(28, "No space left on device", "results/summary.json")) == EXIT_INPUT
+    assert report_error(KeyboardInterrupt()) == 130
+    assert report_error(OSError(28, "No space left on device", "results/summary.json")) == EXIT_INPUT
     assert "cannot write results/summary.json: No space left on device" in capsys.readouterr().err

@@ -443,18 +443,18 @@ def test_sparse_products_equal_scipy_and_fall_back_without_mkl(monkeypatch):
     rng = np.random.default_rng(5)
     x, X = rng.normal(size=2000), rng.normal(size=(2000, 7))
     fast = products.sparse_product(A)
-    if products._mkl() is not None:
+    if products.mkl_sparse_library() is not None:
         assert isinstance(fast, products.MklProduct)
     for v in (x, X):
         exact = A @ v
         assert (fast @ v).shape == exact.shape
         np.testing.assert_allclose(fast @ v, exact, rtol=0, atol=1e-13 * np.abs(exact).max())
-    if products._mkl() is not None:
+    if products.mkl_sparse_library() is not None:
         with pytest.raises(ValueError):
             products.MklProduct(A) @ np.ones(3000)  # rows of A, not columns
     empty = products.sparse_product(sp.csr_matrix((0, 5)))
     assert (empty @ np.ones(5)).shape == (0,)
-    monkeypatch.setattr(products, "_mkl", lambda: None)
+    monkeypatch.setattr(products, "mkl_sparse_library", lambda: None)
     slow = products.sparse_product(A)
     assert isinstance(slow, products.RowBlocks)
     np.testing.assert_allclose(slow @ X, A @ X, rtol=0, atol=1e-13 * np.abs(A @ X).max())

@@ -93,10 +93,10 @@ def test_the_ground_bracket_is_a_free_body_on_its_foundation_with_every_node_in_
     top deflection within 10% (a rigid foundation's linear reaction is a clamp's statics)."""
     import tomllib
 
+    from helpers import PLATE_LOADS
     from railcheck.check.pipeline import run_pipeline
     from railcheck.check.summary import imbalance_summary
     from railcheck.scene import parse_scene
-    from scene_texts import PLATE_LOADS
 
     result = run_pipeline(parse_scene(tomllib.loads(PLATE_LOADS), "bracket"), jobs=1)
     part = result.parts["PF_4b_003_v2"]

@@ -7,6 +7,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
+from helpers import FINAL_DESIGN
 from railcheck.fea import (
     MATERIALS,
     assemble,
@@ -21,7 +22,6 @@ from railcheck.fea.unitcases import BodyCase, case_vector
 from railcheck.geometry import mesh_part
 from railcheck.geometry.catalogue import RAIL
 from railcheck.geometry.models import rail as rail_part
-from scene_texts import FINAL_DESIGN
 
 STEEL = MATERIALS["steel"]
 

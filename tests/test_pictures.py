@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from railcheck.report.plots import cycle_axis_top
-from railcheck.report.render import _pyvista, caption_box, caption_font_size, colour_bar_format, fit_caption
+from railcheck.report.render import caption_box, caption_font_size, colour_bar_format, fit_caption, offscreen_pyvista
 
 LONG = (
     "PF_4b_006: cycle peak 2.9 MPa at crank 13.5 deg\nlimit 375 MPa, FoS 131; largest tip deflection 0.000878 mm\n"
@@ -16,7 +16,7 @@ LONG = (
 
 @pytest.mark.parametrize("size", [(1600, 500), (1200, 1000)])
 def test_caption_is_large_enough_and_inside_the_picture(size):
-    pv = _pyvista()
+    pv = offscreen_pyvista()
     plotter = pv.Plotter(off_screen=True, window_size=size)
     plotter.add_mesh(pv.Cube())
     font = caption_font_size(size[1])

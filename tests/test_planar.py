@@ -7,6 +7,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
+from helpers import assert_picture, browse
 from railcheck.cli import main
 from railcheck.kinematics.dynamics import inverse_dynamics
 from railcheck.kinematics.errors import MechanismError, SingularConfigurationError
@@ -16,7 +17,6 @@ from railcheck.kinematics.planar.catalogue import CATALOGUE, a_z_1066, a_z_1139,
 from railcheck.kinematics.planar.model import Body, Mechanism, Revolute, RotationDriver
 from railcheck.kinematics.planar.solver import inverse_dynamics as lagrange
 from railcheck.kinematics.planar.solver import mobility, solve
-from scene_texts import assert_picture, browse
 
 
 def tracer_polar(mech, steps=721):

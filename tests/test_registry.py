@@ -6,11 +6,11 @@ import tomllib
 import numpy as np
 import pytest
 
+from helpers import FINAL_DESIGN
 from railcheck import parts
 from railcheck.check.pipeline import run_pipeline
 from railcheck.geometry.models import bar
 from railcheck.scene import parse_scene
-from scene_texts import FINAL_DESIGN
 
 
 @pytest.fixture

@@ -207,7 +207,7 @@ def test_a_warm_check_equals_a_cold_one_byte_for_byte(tmp_path):
     """The crank rail at 20 mm: a cold check fills the store, a warm one reads it (no
     assembly, no solve) and writes the same summary.json; with RAILCHECK_STORE=0 the
     store is bypassed and the summary is the same again."""
-    from scene_texts import FINAL_DESIGN
+    from helpers import FINAL_DESIGN
 
     scene = tmp_path / "s.toml"
     scene.write_text(

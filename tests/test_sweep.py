@@ -7,14 +7,13 @@ import tracemalloc
 import numpy as np
 import pytest
 
+from helpers import FE_SWEEP, FINAL_DESIGN_SWEEP, check_scene_of_row, run_sweep_text, table_rows
 from railcheck.check.pipeline import run_pipeline
 from railcheck.kinematics import batch
 from railcheck.kinematics.massmodel import MassModel, fourbar_bodies
 from railcheck.loads.bearings import BEARING_6205, bearing_life
 from railcheck.scene import parse_scene
-from railcheck.sweep.run import run_sweep
 from railcheck.sweep.table import read_table
-from scene_texts import FINAL_DESIGN_SWEEP
 
 # seed 000, 3.3.6: (b2, b3, b4, d) mm -> mu_max, mu_min (deg) and the seed's label
 SEED_336 = [
@@ -24,24 +23,14 @@ SEED_336 = [
 ]
 
 
-def _sweep(tmp_path, text: str, name: str = "out", **kw):
-    scene = parse_scene(__import__("tomllib").loads(text), "test")
-    return run_sweep(scene, str(tmp_path / name), **kw)
-
-
-def _rows(run, kind="four-bar"):
-    table = read_table(run.tables[kind])
-    return {k: np.asarray(v.to_numpy(zero_copy_only=False)) for k, v in zip(table.column_names, table.columns)}
-
-
 def _assert_same_tables(one_run, other_run):
     """Every kind's table of ``other_run`` equals ``one_run``'s bit for bit (NaN where NaN)."""
     for kind in one_run.tables:
-        _assert_same_rows(_rows(one_run, kind), _rows(other_run, kind), kind)
+        _assert_same_rows(table_rows(one_run, kind), table_rows(other_run, kind), kind)
 
 
 def _assert_same_rows(one: dict, other: dict, kind: str = "four-bar") -> None:
-    """The columns ``other`` (:func:`_rows`) equal ``one`` bit for bit (NaN where NaN)."""
+    """The columns ``other`` (:func:`table_rows`) equal ``one`` bit for bit (NaN where NaN)."""
     assert one.keys() == other.keys()
     for k in one:
         assert np.array_equal(one[k], other[k], equal_nan=one[k].dtype.kind == "f"), (kind, k)
@@ -81,7 +70,7 @@ steps = 90
 
 @pytest.fixture(scope="module")
 def kinematic_sweep(tmp_path_factory):
-    return _sweep(tmp_path_factory.mktemp("sweep"), KINEMATICS_ONLY, serial=True)
+    return run_sweep_text(tmp_path_factory.mktemp("sweep"), KINEMATICS_ONLY, serial=True)
 
 
 def test_grid_counts_equal_an_independent_enumeration(kinematic_sweep):
@@ -94,7 +83,7 @@ def test_grid_counts_equal_an_independent_enumeration(kinematic_sweep):
     assert s["by_kind"]["slider-crank"]["settings_total"] == len(crank) * len(coupler)
     passing = sum(_independent_checks(a, b, c, d) for a in crank for b in coupler for c in rocker for d in ground)
     assert s["by_kind"]["four-bar"]["settings_passing_checks"] == passing
-    rows = _rows(kinematic_sweep)
+    rows = table_rows(kinematic_sweep)
     assert rows["setting"].size == total and np.array_equal(np.sort(rows["setting"]), np.arange(total))
 
 
@@ -102,7 +91,7 @@ def test_seed_336_cases_are_found_with_the_seeds_check_results(tmp_path):
     """540/900/780/1058 (off the hole grid: given as an extra setting) cannot be mounted;
     540/840/780/1020 fails the transmission angle; 480/840/780/1020 passes; the
     transmission angles are the seed's to its 4 decimals."""
-    run = _sweep(
+    run = run_sweep_text(
         tmp_path,
         KINEMATICS_ONLY
         + """
@@ -119,7 +108,7 @@ ground = "1058 mm"
 """,
         serial=True,
     )
-    rows = _rows(run)
+    rows = table_rows(run)
     for (b2, b3, b4, d), mu_max, mu_min, label in SEED_336:
         i = np.flatnonzero(
             (rows["crank_mm"] == b2)
@@ -277,9 +266,9 @@ def test_dask_and_serial_give_identical_tables(tmp_path, monkeypatch):
 
     text = KINEMATICS_ONLY + 'crank = ["420 mm", "540 mm"]\ncoupler = ["780 mm", "900 mm"]\nspeeds = ["1 Hz", "1.5 Hz"]\n'
     text = text.replace('speeds = ["1 Hz"]\n', "")
-    serial = _sweep(tmp_path, text, "serial", serial=True)
+    serial = run_sweep_text(tmp_path, text, "serial", serial=True)
     small = text.replace("[sweep]", '[sweep]\nmemory = "2 MB"')
-    parallel = _sweep(tmp_path, small, "dask", workers=2, serial=False, dask=True)
+    parallel = run_sweep_text(tmp_path, small, "dask", workers=2, serial=False, dask=True)
 
     def full_disk(obj, path):
         raise OSError(28, "No space left on device")
@@ -287,7 +276,7 @@ def test_dask_and_serial_give_identical_tables(tmp_path, monkeypatch):
     monkeypatch.setattr(executor_module, "write_shared", full_disk)
     lines = []
     progress = type("P", (), {"say": lambda self, stage, msg: lines.append(msg)})()
-    scattered = _sweep(tmp_path, small, "scattered", workers=2, serial=False, dask=True, progress=progress)
+    scattered = run_sweep_text(tmp_path, small, "scattered", workers=2, serial=False, dask=True, progress=progress)
     assert any("scattering it" in line for line in lines)
     assert set(serial.tables) == {"four-bar", "slider-crank"}
     for run in (parallel, scattered):
@@ -311,10 +300,10 @@ def test_chunks_on_forked_processes_give_the_serial_tables(tmp_path, monkeypatch
 
     cores = os.cpu_count() or 1
     text = KINEMATICS_ONLY + 'crank = ["420 mm", "540 mm"]\ncoupler = ["780 mm", "900 mm"]\n'
-    serial = _sweep(tmp_path, text, "serial", serial=True)
+    serial = run_sweep_text(tmp_path, text, "serial", serial=True)
     lines = []
     progress = type("P", (), {"say": lambda self, stage, msg: lines.append(msg)})()
-    local = _sweep(tmp_path, text, "local", workers=10**6, progress=progress)
+    local = run_sweep_text(tmp_path, text, "local", workers=10**6, progress=progress)
     assert f"--workers 1000000: this machine has {cores} cores; using {cores}" in lines
     how = "processes forked from this one" if forked.available() else "threads in this process"
     assert f"{cores} {how}" in lines or cores == 1
@@ -336,9 +325,9 @@ def test_an_external_scheduler_gets_the_context_scattered_and_the_serial_tables(
     monkeypatch.setattr(executor_module, "write_shared", lambda obj, path: written.append(path) or path)
     text = KINEMATICS_ONLY + 'crank = ["420 mm", "540 mm"]\ncoupler = ["780 mm", "900 mm"]\n'
     small = text.replace("[sweep]", '[sweep]\nmemory = "2 MB"')
-    serial = _sweep(tmp_path, text, "serial", serial=True)
+    serial = run_sweep_text(tmp_path, text, "serial", serial=True)
     with LocalCluster(n_workers=2, threads_per_worker=1, processes=False, protocol="tcp", dashboard_address=None) as cluster:
-        external = _sweep(tmp_path, small, "external", scheduler=cluster.scheduler_address)
+        external = run_sweep_text(tmp_path, small, "external", scheduler=cluster.scheduler_address)
     assert not written and not list(external.target.glob(".context*"))
     _assert_same_tables(serial, external)
 
@@ -361,10 +350,10 @@ ground = ["660 mm", "2460 mm"]
 speeds = ["0.25 Hz", "0.5 Hz", "0.75 Hz", "1 Hz", "1.25 Hz", "1.5 Hz", "1.75 Hz", "2 Hz", "2.25 Hz", "2.5 Hz",
           "2.75 Hz", "3 Hz", "3.25 Hz", "3.5 Hz", "3.75 Hz", "4 Hz"]
 """
-    _sweep(tmp_path, text.replace('"2460 mm"', '"720 mm"'), "warm", serial=True)  # imports, not measured
+    run_sweep_text(tmp_path, text.replace('"2460 mm"', '"720 mm"'), "warm", serial=True)  # imports, not measured
     tracemalloc.start()
     try:
-        run = _sweep(tmp_path, text, serial=True)
+        run = run_sweep_text(tmp_path, text, serial=True)
         _, peak = tracemalloc.get_traced_memory()
     finally:
         tracemalloc.stop()
@@ -377,8 +366,10 @@ speeds = ["0.25 Hz", "0.5 Hz", "0.75 Hz", "1 Hz", "1.25 Hz", "1.5 Hz", "1.75 Hz"
 
 def test_csv_table_equals_parquet(tmp_path):
     text = KINEMATICS_ONLY + 'kind = "slider-crank"\n'
-    a = _rows(_sweep(tmp_path, text, "pq", serial=True), "slider-crank")
-    b = _rows(_sweep(tmp_path, text.replace("[sweep]", '[sweep]\nformat = "csv"'), "csv", serial=True), "slider-crank")
+    a = table_rows(run_sweep_text(tmp_path, text, "pq", serial=True), "slider-crank")
+    b = table_rows(
+        run_sweep_text(tmp_path, text.replace("[sweep]", '[sweep]\nformat = "csv"'), "csv", serial=True), "slider-crank"
+    )
     for k in a:
         if a[k].dtype.kind == "f":
             np.testing.assert_allclose(b[k].astype(float), a[k], rtol=1e-15, equal_nan=True)
@@ -386,47 +377,9 @@ def test_csv_table_equals_parquet(tmp_path):
             assert [str(x) for x in a[k]] == [str(x) for x in b[k]], k
 
 
-FE_SWEEP = """
-[sweep]
-kind = "four-bar"
-speeds = ["1 Hz"]
-steps = 360
-crank = ["480 mm", "540 mm"]
-coupler = ["840 mm", "840 mm"]
-rocker = ["780 mm", "840 mm"]
-ground = ["1020 mm", "1080 mm"]
-
-[check]
-parts = ["crank-rail", "coupler-rail", "rocker-rail", "PF_4b_006", "PF_4b_003_v2"]
-
-[loads.PF_4b_003_v2]
-longitudinal = "250 N"
-transverse = "250 N"
-"""
-# no [mesh]: every part at its kind's default mesh, the one `railcheck check` of the default
-# scene (CI's main job) meshes and stores, so the sweep tests share its meshes and unit fields
-
-
-def _check_scene(row: dict, speed_hz: float, sweep_text: str = FE_SWEEP, steps: int = 360):
-    """The scene of `railcheck check` of a sweep row's setting (four-bar or slider-crank)
-    at ``speed_hz``: the sweep's [check] and everything after it, with the bolts at the
-    setting's own holes (as the sweep loads them)."""
-    bars = ("crank", "coupler", "offset") if row.get("kind") == "slider-crank" else ("crank", "coupler", "rocker", "ground")
-    lengths = "\n".join(f'{"ground" if b == "offset" else b} = "{row[f"{b}_mm"]:.6f} mm"' for b in bars)
-    text = f"""
-[mechanism]
-kind = "{row.get("kind", "four-bar")}"
-{lengths}
-speed = "{speed_hz:.17g} Hz"
-steps = {steps}
-
-[check]""" + sweep_text.split("[check]")[1].replace("parts = [", 'bolt_position = "actual"\nparts = [')
-    return parse_scene(__import__("tomllib").loads(text), "check")
-
-
 @pytest.fixture(scope="module")
 def fe_sweep(tmp_path_factory):
-    return _rows(_sweep(tmp_path_factory.mktemp("fe"), FE_SWEEP, serial=True))
+    return table_rows(run_sweep_text(tmp_path_factory.mktemp("fe"), FE_SWEEP, serial=True))
 
 
 @pytest.mark.slow
@@ -440,7 +393,7 @@ def test_a_sweep_row_equals_railcheck_check_of_that_setting(fe_sweep):
     assert passing.size >= 2
     for i in passing[[0, -1]]:
         row = {k: v[i] for k, v in rows.items()}
-        result = run_pipeline(_check_scene(row, 1.0))
+        result = run_pipeline(check_scene_of_row(row, 1.0))
         for name, part in result.parts.items():
             env, fat = part.cycle.envelope, part.cycle.fatigue
             assert row[f"{name}_stress_MPa"] * 1e6 == pytest.approx(env.max_von_mises, rel=1e-9), name
@@ -454,7 +407,7 @@ def test_parts_prepared_in_two_processes_give_the_serial_table(fe_sweep, tmp_pat
     """With Dask the parts' models are built in two spawned processes (each task reading
     or solving its unit fields, pickled back whole): the table equals the serial run's
     bit for bit."""
-    parallel = _rows(_sweep(tmp_path, FE_SWEEP, "dask", workers=2, serial=False, dask=True))
+    parallel = table_rows(run_sweep_text(tmp_path, FE_SWEEP, "dask", workers=2, serial=False, dask=True))
     _assert_same_rows(fe_sweep, parallel)
 
 
@@ -472,9 +425,9 @@ def test_an_fe_sweep_on_local_workers_gives_the_serial_table(fe_sweep, tmp_path,
     monkeypatch.setattr(forked, "alone", lambda: True)  # earlier tests may leave threads in this process
     lines = []
     progress = type("P", (), {"say": lambda self, stage, msg: lines.append(msg)})()
-    run = _sweep(tmp_path, FE_SWEEP, "local", workers=2, dask=False, progress=progress)
+    run = run_sweep_text(tmp_path, FE_SWEEP, "local", workers=2, dask=False, progress=progress)
     assert ("2 processes forked from this one" if forks else "2 threads in this process") in lines
-    _assert_same_rows(fe_sweep, _rows(run))
+    _assert_same_rows(fe_sweep, table_rows(run))
 
 
 def test_a_part_is_built_after_the_one_whose_unit_fields_it_reuses():
@@ -516,10 +469,10 @@ def test_motor_sizing_at_every_speed_and_its_curve_from_the_table(kinematic_swee
     with the square of the speed (inertia alone: every acceleration scales with omega^2),
     checked at every curve point against the table's 1 Hz torque x (f / 1 Hz)^2; the console
     names the figures and motor.png is drawn."""
+    from helpers import assert_picture
     from railcheck.report.text import sweep_report
-    from scene_texts import assert_picture
 
-    rows = _rows(kinematic_sweep)
+    rows = table_rows(kinematic_sweep)
     sizing = kinematic_sweep.summary["by_kind"]["four-bar"]["motor_sizing"]
     passing = rows["verdict"] == "pass"
     at_1hz = sizing["at_listed_speeds"]["1"]
@@ -555,8 +508,8 @@ def test_map_legend_lists_only_the_refusal_reasons_that_occur(tmp_path):
 
     text = KINEMATICS_ONLY + 'kind = "four-bar"\ncrank = ["360 mm", "540 mm"]\ncoupler = ["780 mm", "900 mm"]\n'
     text += 'rocker = ["660 mm", "900 mm"]\nground = ["960 mm", "1080 mm"]\n'
-    run = _sweep(tmp_path, text, serial=True)
-    rows = _rows(run)
+    run = run_sweep_text(tmp_path, text, serial=True)
+    rows = table_rows(run)
     expected = set()
     for i in np.flatnonzero(~rows["checks_passed"]):
         expected.add(next(r for r in REASON_ORDER if f"check_{r}" in rows and not rows[f"check_{r}"][i]))
@@ -574,7 +527,7 @@ def test_checking_at_the_safe_speed_gives_utilisation_one(fe_sweep):
     rows = fe_sweep
     i = np.flatnonzero(rows["checks_passed"])[0]
     row = {k: v[i] for k, v in rows.items()}
-    result = run_pipeline(_check_scene(row, row["safe_speed_Hz"]))
+    result = run_pipeline(check_scene_of_row(row, row["safe_speed_Hz"]))
     u = max(
         max(p.verdict_stress / p.limit, p.cycle.fatigue.required / p.cycle.fatigue.min_safety_factor)
         for p in result.parts.values()
@@ -598,11 +551,11 @@ def test_safe_speed_with_gravity_by_bisection(tmp_path):
         .replace('ground = ["1020 mm", "1080 mm"]', 'ground = ["1020 mm", "1020 mm"]')
         .replace("parts = [", 'effects = ["inertia", "gravity"]\nparts = [')
     )
-    first = _rows(_sweep(tmp_path, text, "g1", serial=True))
+    first = table_rows(run_sweep_text(tmp_path, text, "g1", serial=True))
     safe = float(first["safe_speed_Hz"][0])
     assert 0.5 < safe < 10
-    again = _rows(
-        _sweep(
+    again = table_rows(
+        run_sweep_text(
             tmp_path,
             text.replace(
                 'speeds = ["1 Hz"]', f'speeds = ["{safe:.17g} Hz", "{0.9 * safe:.17g} Hz", "{1.1 * safe:.17g} Hz"]'
@@ -622,13 +575,13 @@ def test_a_chunk_in_groups_of_one_setting_equals_one_group(monkeypatch):
     columns and motor curve bit for bit, over settings that fail checks, do not revolve or
     pass, at two speeds."""
     from railcheck.sweep import chunk
-    from railcheck.sweep.run import _context, sweep_settings
+    from railcheck.sweep.run import sweep_context, sweep_settings
 
     text = KINEMATICS_ONLY.replace('speeds = ["1 Hz"]', 'speeds = ["1 Hz", "2 Hz"]')
     text += 'crank = ["360 mm", "480 mm"]\ncoupler = ["780 mm", "900 mm"]\nrocker = ["720 mm", "840 mm"]\n'
     scene = parse_scene(__import__("tomllib").loads(text), "test")
     lengths = sweep_settings(scene)["four-bar"]
-    ctx = _context(scene, "four-bar", {})
+    ctx = sweep_context(scene, "four-bar", {})
     ids = np.arange(lengths["crank"].size)
     results = []
     for size in (1, 2, 10**6):
@@ -698,7 +651,7 @@ def test_a_chunk_s_fe_settings_screened_together_equal_each_group_s_alone(monkey
     from railcheck.fea.screening import tuning
     from railcheck.progress import Progress
     from railcheck.sweep import chunk
-    from railcheck.sweep.run import _context, prepare_models, sweep_settings
+    from railcheck.sweep.run import prepare_models, sweep_context, sweep_settings
 
     text = FE_SWEEP.replace("parts = [", 'support = "free-body"\nparts = [')
     text = text.replace('crank = ["480 mm", "540 mm"]', 'crank = ["300 mm", "480 mm"]')  # 4 x 1 x 2 x 2 settings
@@ -706,7 +659,7 @@ def test_a_chunk_s_fe_settings_screened_together_equal_each_group_s_alone(monkey
     settings = sweep_settings(scene)
     lengths = settings["four-bar"]
     models = prepare_models(scene, settings, Progress(quiet=True))["four-bar"]
-    ctx = _context(scene, "four-bar", models)
+    ctx = sweep_context(scene, "four-bar", models)
     ids = np.arange(lengths["crank"].size)
     results = []
     for size in (1, 5, 10**6):

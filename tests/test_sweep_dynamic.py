@@ -13,8 +13,8 @@ import math
 
 import numpy as np
 import pytest
-from test_sweep import FE_SWEEP, _check_scene, _rows, _sweep
 
+from helpers import FE_SWEEP, check_scene_of_row, run_sweep_text, table_rows
 from railcheck.check.pipeline import run_pipeline
 
 ONE_SETTING = (
@@ -33,12 +33,12 @@ ONE_SETTING = (
 def _check(row: dict, speed_hz: float):
     """`railcheck check` of the row's setting at ``speed_hz``: clamped, bolts at the
     setting's holes, the sweep's mesh, steps, parts and effects."""
-    return run_pipeline(_check_scene(row, speed_hz, ONE_SETTING), jobs=1)
+    return run_pipeline(check_scene_of_row(row, speed_hz, ONE_SETTING), jobs=1)
 
 
 @pytest.fixture(scope="module")
 def rows(tmp_path_factory):
-    return _rows(_sweep(tmp_path_factory.mktemp("dyn"), ONE_SETTING, serial=True))
+    return table_rows(run_sweep_text(tmp_path_factory.mktemp("dyn"), ONE_SETTING, serial=True))
 
 
 def _row(rows: dict, speed_hz: float) -> dict:

@@ -303,7 +303,7 @@ print(max(grown) < (20 << 20), mapped_by_a_20_mb_block(0)[0] >= (20 << 20))
 
 
 def test_a_child_takes_blocks_up_to_32_mib_from_the_heap(tmp_path):
-    """The children tune glibc's allocator (:func:`railcheck.parallel.forked._reuse_freed_memory`):
+    """The children tune glibc's allocator (:func:`railcheck.parallel.forked.reuse_freed_memory`):
     a 20 MB block comes from the heap (kept and reused once freed), not from fresh
     ``mmap`` pages as in the forking process, whose threshold is held at glibc's default
     (its own block, the control)."""

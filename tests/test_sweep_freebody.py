@@ -7,8 +7,8 @@ model, unit cases, solve, modes and cycle)."""
 
 import numpy as np
 import pytest
-from test_sweep import FE_SWEEP, _check_scene, _rows, _sweep
 
+from helpers import FE_SWEEP, check_scene_of_row, run_sweep_text, table_rows
 from railcheck.check.pipeline import run_pipeline
 
 
@@ -20,12 +20,12 @@ def _text(effects: str) -> str:
 @pytest.mark.parametrize("effects", ['["inertia"]', '["inertia", "dynamic"]'])
 def test_a_free_body_sweep_row_equals_the_free_body_check_of_that_setting(tmp_path, effects):
     text = _text(effects)
-    rows = _rows(_sweep(tmp_path, text, serial=True))
+    rows = table_rows(run_sweep_text(tmp_path, text, serial=True))
     passing = np.flatnonzero(rows["checks_passed"])
     assert passing.size >= 2
     for i in passing[[0, -1]]:
         row = {k: v[i] for k, v in rows.items()}
-        result = run_pipeline(_check_scene(row, 1.0, text), jobs=1)
+        result = run_pipeline(check_scene_of_row(row, 1.0, text), jobs=1)
         free = [n for n, p in result.parts.items() if p.job.free_body is not None]
         # the plate too, and the ground bracket on its foundation
         assert free == ["crank-rail", "coupler-rail", "rocker-rail", "PF_4b_006", "PF_4b_003_v2"]
@@ -70,13 +70,13 @@ def test_a_both_kinds_free_body_sweep_equals_the_check_of_each_kind(tmp_path, ef
     coupler (its joint loads and, with dynamic, its modes): a row of either kind equals
     the free-body check of its setting."""
     text = SLIDER_CRANK.replace("EFFECTS", effects)
-    run = _sweep(tmp_path, text, serial=True)
+    run = run_sweep_text(tmp_path, text, serial=True)
     for kind in ("four-bar", "slider-crank"):
-        rows = _rows(run, kind)
+        rows = table_rows(run, kind)
         passing = np.flatnonzero(rows["checks_passed"])
         assert passing.size >= 1, kind
         row = {k: v[passing[-1]] for k, v in rows.items()}
-        result = run_pipeline(_check_scene(row, 1.0, text), jobs=1)
+        result = run_pipeline(check_scene_of_row(row, 1.0, text), jobs=1)
         assert result.scene.mechanism.linkage.kind == kind
         for name, part in result.parts.items():
             assert part.job.free_body is not None

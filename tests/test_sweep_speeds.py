@@ -7,8 +7,8 @@ import tomllib
 
 import numpy as np
 import pytest
-from test_sweep import _check_scene
 
+from helpers import check_scene_of_row
 from railcheck.check.pipeline import run_pipeline
 from railcheck.scene import parse_scene
 from railcheck.sweep.run import run_sweep
@@ -40,7 +40,7 @@ parts = ["crank-rail"]
 def _check(row: dict, speed_hz: float):
     """``railcheck check`` of a sweep row's setting at ``speed_hz``: bolts at the
     setting's holes, as the sweep loads them, and the sweep's mesh and steps."""
-    return run_pipeline(_check_scene(row, speed_hz, SWEEP, steps=90)).parts["crank-rail"]
+    return run_pipeline(check_scene_of_row(row, speed_hz, SWEEP, steps=90)).parts["crank-rail"]
 
 
 @pytest.fixture(scope="module")

@@ -9,7 +9,8 @@ import subprocess
 import sys
 
 import pytest
-from test_architecture import ROOT, package_dirs
+
+from helpers import ROOT, package_dirs
 
 
 def installed_layout(site) -> None:

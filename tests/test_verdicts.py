@@ -11,11 +11,11 @@ import tomllib
 import numpy as np
 import pytest
 
+from helpers import FINAL_DESIGN_SWEEP
 from railcheck.cli import main
 from railcheck.scene import parse_scene
 from railcheck.sweep.run import run_sweep
 from railcheck.sweep.table import read_table
-from scene_texts import FINAL_DESIGN_SWEEP
 
 #: PF_4b_003_v2 under the seed's constant explicit loads (4.2.1) on the default mesh, as
 #: in the default scene (whose check, CI's main job, leaves its mesh and unit fields

@@ -110,12 +110,12 @@ def main(argv: list[str] | None = None) -> int:
         _check_output_options(args)
         return int(args.func(args))
     except (RailcheckError, OSError, KeyboardInterrupt) as exc:
-        return _report_error(exc)
+        return report_error(exc)
     finally:
         signal.signal(signal.SIGTERM, previous)
 
 
-def _report_error(exc: BaseException) -> int:
+def report_error(exc: BaseException) -> int:
     """One line on stderr for an error that ends a run, and its exit status."""
     if isinstance(exc, BrokenPipeError):  # `railcheck ... | head`: end quietly
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())

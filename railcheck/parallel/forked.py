@@ -52,7 +52,7 @@ _TOKENS = itertools.count()
 PR_SET_PDEATHSIG = 1
 
 #: glibc ``mallopt`` parameters (malloc.h) and the values a forked child sets
-#: (:func:`_reuse_freed_memory`): blocks up to 32 MiB (the largest glibc takes) from the
+#: (:func:`reuse_freed_memory`): blocks up to 32 MiB (the largest glibc takes) from the
 #: heap, and freed memory kept for the next ones
 M_TRIM_THRESHOLD, M_TOP_PAD, M_MMAP_THRESHOLD = -1, -2, -3
 CHILD_MALLOPT = ((M_MMAP_THRESHOLD, 32 << 20), (M_TRIM_THRESHOLD, 1 << 30), (M_TOP_PAD, 64 << 20))
@@ -154,7 +154,7 @@ def _died() -> RailcheckError:
 def _child_signals(parent: int) -> None:
     """In a child: Ctrl-C is the parent's to handle, SIGTERM (from the parent) ends it, and
     so does the parent's death (Linux ``PR_SET_PDEATHSIG``: a killed run leaves no child
-    waiting for tasks); then its allocator is tuned (:func:`_reuse_freed_memory`)."""
+    waiting for tasks); then its allocator is tuned (:func:`reuse_freed_memory`)."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
     signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGPIPE})  # forked while held
@@ -165,10 +165,10 @@ def _child_signals(parent: int) -> None:
         pass
     if os.getppid() != parent:  # the parent died before the request took effect
         os._exit(1)
-    _reuse_freed_memory()
+    reuse_freed_memory()
 
 
-def _reuse_freed_memory() -> None:
+def reuse_freed_memory() -> None:
     """In a child: glibc's allocator keeps freed blocks of up to 32 MiB for the next ones
     (:data:`CHILD_MALLOPT`). A chunk's screens allocate and free thousands of temporary
     arrays of 0.1-30 MB; by default each comes from fresh ``mmap`` pages, zeroed by the

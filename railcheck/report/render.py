@@ -67,7 +67,7 @@ def colour_bar_format(top: float) -> str:
     return f"%.{min(max(0, int(np.ceil(-np.log10(step)))), 4)}f"
 
 
-def _pyvista():
+def offscreen_pyvista():
     os.environ.setdefault("PYVISTA_OFF_SCREEN", "true")
     if not os.environ.get("DISPLAY"):
         os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
@@ -83,7 +83,7 @@ def _pyvista():
 def render_part(path: str | Path, name: str, part) -> Path:
     """A PNG of the part's deformed shape coloured by von Mises at the governing instant,
     with its support, peak, joint forces and a caption; written atomically to ``path``."""
-    pv = _pyvista()
+    pv = offscreen_pyvista()
     mesh, sol, cycle = part.mesh, part.solution, part.cycle
     extent = np.ptp(mesh.points, axis=0)
     umax = float(np.abs(sol.displacement).max())

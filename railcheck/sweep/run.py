@@ -415,7 +415,9 @@ def _run_into(scene, directory: Path, scheduler, workers, serial, progress, dask
     aggregates = {
         kind: Aggregate(scene, kind, by_kind[kind], motor_curve_speeds(scene.sweep.speeds), models[kind]) for kind in kinds
     }
-    jobs = [(lambda kind=kind: _context(scene, kind, models[kind]), by_kind[kind], kind, checked[kind]) for kind in kinds]
+    jobs = [
+        (lambda kind=kind: sweep_context(scene, kind, models[kind]), by_kind[kind], kind, checked[kind]) for kind in kinds
+    ]
     threads = 1 if serial else workers or os.cpu_count() or 1
     with (
         ChunkExecutor(
@@ -457,11 +459,12 @@ def _checked(scene, kind: str, lengths: dict) -> np.ndarray:
     (:func:`railcheck.sweep.chunk.checked_settings`; none without parts to check)."""
     if scene.check is None:
         return np.zeros(lengths["crank"].size, dtype=bool)
-    return checked_settings(_context(scene, kind, {}), lengths)
+    return checked_settings(sweep_context(scene, kind, {}), lengths)
 
 
-def _context(scene, kind: str, models: dict):
-
+def sweep_context(scene, kind: str, models: dict):
+    """What every chunk of ``kind`` shares (:class:`~railcheck.sweep.context.SweepContext`):
+    the scene, its speeds and steps, the parts' ``models``, the material's density."""
     density = MATERIALS[scene.check.material].density if scene.check else 0.0
     return SweepContext(
         scene, kind, tuple(scene.sweep.speeds), scene.sweep.steps, models, density, with_overrides(scene.geometry)[0]

@@ -6,7 +6,7 @@ import sys
 
 import pytest
 
-from scene_texts import FINAL_DESIGN, PLATE_LOADS, one_line_exit_2
+from helpers import FINAL_DESIGN, PLATE_LOADS, one_line_exit_2
 
 PLATE = (
     PLATE_LOADS

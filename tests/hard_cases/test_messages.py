@@ -8,10 +8,10 @@ import tomllib
 
 import pytest
 
+from helpers import FINAL_DESIGN
 from railcheck.base.errors import InputError
 from railcheck.scene import load_scene, parse_scene
 from railcheck.units import parse_quantity
-from scene_texts import FINAL_DESIGN
 
 
 def test_a_byte_order_mark_is_not_part_of_the_scene(tmp_path):

@@ -11,11 +11,11 @@ import tomllib
 import numpy as np
 import pytest
 
+from helpers import FINAL_DESIGN
 from railcheck.check.pipeline import run_pipeline
 from railcheck.scene import parse_scene
 from railcheck.sweep.run import run_sweep
 from railcheck.sweep.table import read_table
-from scene_texts import FINAL_DESIGN
 
 NON_FINITE = re.compile(r"\b(nan|inf|infinity|none)\b", re.IGNORECASE)
 

@@ -5,10 +5,10 @@ import sys
 
 import pytest
 
+from helpers import one_line_exit_2
 from railcheck.base.errors import InputError
 from railcheck.scene import parse_scene
 from railcheck.sweep.run import validate
-from scene_texts import one_line_exit_2
 
 BASE = '[sweep]\nsteps = 16\nkind = "slider-crank"\n'
 

@@ -1,0 +1,172 @@
+"""What the tests share: scene texts (TOML) and the one factory of [sweep] tables, the
+sweep's runs and rows, the check of a sweep row's setting, and the pictures' and pages'
+checks. Test modules import these from here, never from each other."""
+
+import tomllib
+from pathlib import Path
+
+import numpy as np
+
+#: the repository's top folder
+ROOT = Path(__file__).resolve().parents[1]
+
+#: seed 000's final design ("CUMPLE Y MONTABLE", 3.3.6), mechanism only
+FINAL_DESIGN = """
+[mechanism]
+kind = "four-bar"
+crank = "480 mm"
+coupler = "840 mm"
+rocker = "780 mm"
+ground = "1020 mm"
+"""
+
+
+def sweep_table(kind: str = "four-bar", speeds=("1 Hz",), steps: int = 90, **ranges) -> str:
+    """A [sweep] table: ``kind``, ``speeds`` (with units), ``steps`` and each bar's range
+    ``bar=(low, high)`` in mm (a bar not named keeps the rails' whole range)."""
+    lines = ["", "[sweep]", f'kind = "{kind}"', "speeds = [" + ", ".join(f'"{s}"' for s in speeds) + "]", f"steps = {steps}"]
+    lines += [f'{bar} = ["{low} mm", "{high} mm"]' for bar, (low, high) in ranges.items()]
+    return "\n".join(lines) + "\n"
+
+
+#: seed 000's final design's bar lengths (mm), a range of one setting each
+FINAL_DESIGN_RANGES = {"crank": (480, 480), "coupler": (840, 840), "rocker": (780, 780), "ground": (1020, 1020)}
+
+#: a sweep of seed 000's final design alone (one setting), at 1 Hz and 90 steps
+FINAL_DESIGN_SWEEP = sweep_table(**FINAL_DESIGN_RANGES)
+
+#: a four-bar sweep of 8 settings round the final design with every part checked by FE at
+#: its kind's default mesh (the one `railcheck check` of the default scene, CI's main job,
+#: meshes and stores, so the sweep tests share its meshes and unit fields)
+FE_SWEEP = (
+    sweep_table(steps=360, crank=(480, 540), coupler=(840, 840), rocker=(780, 840), ground=(1020, 1080))
+    + """
+[check]
+parts = ["crank-rail", "coupler-rail", "rocker-rail", "PF_4b_006", "PF_4b_003_v2"]
+
+[loads.PF_4b_003_v2]
+longitudinal = "250 N"
+transverse = "250 N"
+"""
+)
+
+#: PF_4b_003_v2 alone with the seed's explicit loads (4.2.1): no linkage runs
+PLATE_LOADS = """
+[check]
+parts = ["PF_4b_003_v2"]
+[loads.PF_4b_003_v2]
+longitudinal = "250 N"
+transverse = "250 N"
+"""
+
+
+def assert_picture(path, min_size=(400, 300), min_colours=20):
+    """The image at ``path`` decodes, is at least ``min_size`` (width, height) pixels and
+    is not blank: many distinct colours and a spread of intensities."""
+    import numpy as np
+    from PIL import Image
+
+    with Image.open(path) as im:
+        im.load()
+        width, height = im.size
+        frame = np.asarray(im.convert("RGB"), dtype=float)
+    assert width >= min_size[0] and height >= min_size[1], (path, im.size)
+    colours = np.unique(frame.reshape(-1, 3)[::7], axis=0).shape[0]
+    assert colours >= min_colours, (path, colours)
+    assert frame.std() > 5.0, path
+
+
+def chromium():
+    """Path of a headless Chromium, or None (CI must have one: .ci/run installs it)."""
+    import os
+    import shutil
+
+    import pytest
+
+    for name in ("chromium", "chromium-browser", "google-chrome"):
+        path = shutil.which(name)
+        if path:
+            return path
+    if os.environ.get("CI"):
+        pytest.fail("headless Chromium is needed in CI (.ci/run installs it)")
+    pytest.skip("no Chromium on this machine")
+
+
+def browse(page, tmp_path, *args):
+    """Run headless Chromium on a local page with the given output flags; returns the process."""
+    import subprocess
+
+    return subprocess.run(
+        [
+            chromium(),
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--disable-background-networking",
+            "--disable-component-update",
+            "--disable-sync",
+            "--no-first-run",
+            f"--user-data-dir={tmp_path / 'profile'}",
+            *args,
+            f"file://{page}",
+        ],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+
+
+def one_line_exit_2(proc, *needles):
+    """A CLI run refused its input: exit 2, one ``railcheck:`` line holding every needle,
+    no traceback."""
+    assert proc.returncode == 2, (proc.returncode, proc.stderr)
+    errors = [l for l in proc.stderr.splitlines() if l.startswith("railcheck:")]
+    assert len(errors) == 1 and "Traceback" not in proc.stderr, proc.stderr
+    for n in needles:
+        assert n in errors[0], errors[0]
+
+
+def run_sweep_text(tmp_path, text: str, name: str = "out", **kw):
+    """`railcheck sweep` of the scene ``text`` into ``tmp_path``/``name`` (keywords as
+    :func:`railcheck.sweep.run.run_sweep`)."""
+    from railcheck.scene import parse_scene
+    from railcheck.sweep.run import run_sweep
+
+    return run_sweep(parse_scene(tomllib.loads(text), "test"), str(tmp_path / name), **kw)
+
+
+def table_rows(run, kind: str = "four-bar") -> dict:
+    """A sweep's table of ``kind`` as column -> numpy array."""
+    from railcheck.sweep.table import read_table
+
+    table = read_table(run.tables[kind])
+    return {k: np.asarray(v.to_numpy(zero_copy_only=False)) for k, v in zip(table.column_names, table.columns)}
+
+
+def check_scene_of_row(row: dict, speed_hz: float, sweep_text: str = FE_SWEEP, steps: int = 360):
+    """The scene of `railcheck check` of a sweep row's setting (four-bar or slider-crank)
+    at ``speed_hz``: the sweep's [check] and everything after it, with the bolts at the
+    setting's own holes (as the sweep loads them)."""
+    from railcheck.scene import parse_scene
+
+    bars = ("crank", "coupler", "offset") if row.get("kind") == "slider-crank" else ("crank", "coupler", "rocker", "ground")
+    lengths = "\n".join(f'{"ground" if b == "offset" else b} = "{row[f"{b}_mm"]:.6f} mm"' for b in bars)
+    text = f"""
+[mechanism]
+kind = "{row.get("kind", "four-bar")}"
+{lengths}
+speed = "{speed_hz:.17g} Hz"
+steps = {steps}
+
+[check]""" + sweep_text.split("[check]")[1].replace("parts = [", 'bolt_position = "actual"\nparts = [')
+    return parse_scene(tomllib.loads(text), "check")
+
+
+def package_dirs() -> dict[str, Path]:
+    """Dotted package -> source folder, from pyproject.toml's setuptools mapping."""
+    config = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]
+    mapping = config["package-dir"]
+    return {
+        pkg: ROOT / mapping.get(pkg, mapping.get(pkg.split(".")[0], "") and pkg.replace(".", "/"))
+        for pkg in config["packages"]
+    }
