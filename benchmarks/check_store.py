@@ -15,7 +15,10 @@ local cluster where it cannot fork) and, for the kinematics, serially too. The
 kinematics' rate is its settings over its settings stage (``timings.json`` ``chunks``,
 the workers' start-up included).
 
-    python benchmarks/check_store.py [--repeat 3] [--sweeps]
+    python benchmarks/check_store.py [--repeat 3] [--sweeps] [--write docs/performance.md]
+
+``--write FILE`` puts the run's figures as one table between FILE's ``<!-- timings -->``
+and ``<!-- /timings -->`` lines: the one place the docs quote them.
 """
 
 from __future__ import annotations
@@ -74,7 +77,7 @@ def settings_of(summary: dict) -> int:
     return sum(k["settings_total"] for k in summary["by_kind"].values())
 
 
-def sweeps(tmp: Path, env: dict, cold: dict[str, float]) -> None:
+def sweeps(tmp: Path, env: dict, cold: dict[str, float]) -> dict[str, str]:
     """The whole rig and its kinematics alone, against the cold checks ``cold``. The
     whole rig runs twice: the first (not measured) puts in the store whatever unit fields
     the rig needs and the store has not kept (other runs' entries evict the least recently
@@ -82,6 +85,11 @@ def sweeps(tmp: Path, env: dict, cold: dict[str, float]) -> None:
     fill, _, fill_timings, _ = sweep(None, tmp / "rig-fill", env)
     print(f"  whole rig, filling the store first: {fill:.1f} s (unit fields {fill_timings['prepare']:.1f} s), not counted")
     wall, summary, timings, ran = sweep(None, tmp / "rig", env)
+    rows = {
+        "whole rig, store warm (s)": f"{wall:.1f} (unit fields {timings['prepare']:.1f}, settings "
+        f"{timings['chunks']:.1f}, report {timings['report']:.1f}; {settings_of(summary)} settings, {ran})",
+        "whole rig / cold check, json only": f"{wall / cold['json only']:.2f}",
+    }
     print(
         f"  whole rig ({ran}): {wall:.1f} s (unit fields {timings['prepare']:.1f} s, settings {timings['chunks']:.1f} s, "
         f"report {timings['report']:.1f} s), {settings_of(summary)} settings; "
@@ -92,16 +100,31 @@ def sweeps(tmp: Path, env: dict, cold: dict[str, float]) -> None:
     for extra in ((), ("--serial",)):
         wall, summary, timings, ran = sweep(kinematic, tmp / "kin", env, *extra)
         n = settings_of(summary)
+        rows[f"kinematics only, {ran} (settings/s)"] = f"{n / timings['chunks']:,.0f}"
         print(
             f"  kinematics only ({ran}): {n} settings in {timings['chunks']:.2f} s = "
             f"{n / timings['chunks']:,.0f} settings/s (wall {wall:.1f} s with start-up and report)"
         )
+    return rows
+
+
+def write_table(path: Path, rows: dict[str, str], header: str) -> None:
+    """Replace the lines between ``<!-- timings -->`` and ``<!-- /timings -->`` of ``path``
+    by ``header`` and a two-column table of ``rows``."""
+    text = path.read_text()
+    start, end = "<!-- timings -->\n", "<!-- /timings -->"
+    if start not in text or end not in text:
+        raise SystemExit(f"{path}: no {start.strip()} ... {end} block to fill")
+    table = "| figure | value |\n| --- | --- |\n" + "".join(f"| {k} | {v} |\n" for k, v in rows.items())
+    before, rest = text.split(start, 1)
+    path.write_text(before + start + header + "\n\n" + table + end + rest.split(end, 1)[1])
 
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--sweeps", action="store_true", help="also the whole rig and the kinematics-only sweep")
+    parser.add_argument("--write", type=Path, help="a Markdown file whose timings block gets this run's table")
     args = parser.parse_args()
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
@@ -125,11 +148,23 @@ def main():
     for label in ("json only", "every file"):
         print(f"  warm / cold, {label}: {med[f'warm, {label}'] / med[f'cold, {label}']:.3f}")
     print(f"  warm json only / cold every file: {med['warm, json only'] / med['cold, every file']:.3f}")
+    rows = {f"check, {k} (s)": f"{v:.2f}" for k, v in med.items()}
+    rows |= {
+        f"warm / cold, {label}": f"{med[f'warm, {label}'] / med[f'cold, {label}']:.3f}"
+        for label in ("json only", "every file")
+    }
     if args.sweeps:
         with tempfile.TemporaryDirectory() as tmp:
             env = {**os.environ}  # the user's own store and meshes, which the checks above do not touch
             run(DEFAULT, Path(tmp) / "fill", env)  # the default scene's unit fields in the user's store
-            sweeps(Path(tmp), env, {label: med[f"cold, {label}"] for label in ("json only", "every file")})
+            rows |= sweeps(Path(tmp), env, {label: med[f"cold, {label}"] for label in ("json only", "every file")})
+    if args.write:
+        header = (
+            f"`python benchmarks/check_store.py --repeat {args.repeat}{' --sweeps' if args.sweeps else ''}`, "
+            f"{time.strftime('%Y-%m-%d')}, {os.cpu_count()} cores: medians of {args.repeat} fresh processes, "
+            'meshes cached ("cold": the unit-field store empty).'
+        )
+        write_table(args.write, rows, header)
 
 
 if __name__ == "__main__":

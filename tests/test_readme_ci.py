@@ -31,3 +31,24 @@ def test_the_readme_is_a_front_door_whose_links_resolve():
     for page in [readme, *sorted((ROOT / "docs").glob("*.md"))]:
         for target in re.findall(r"\]\(([^)#:]+)(?:#[^)]*)?\)", page.read_text()):
             assert (page.parent / target).exists(), f"{page.name} links to a missing {target}"
+
+
+def test_the_timings_are_one_table_the_benchmark_writes(tmp_path):
+    """docs/performance.md is the current figures (about 300 lines at most) with one
+    timings block, which benchmarks/check_store.py --write fills with its own table."""
+    import importlib.util
+
+    text = (ROOT / "docs" / "performance.md").read_text()
+    assert len(text.splitlines()) <= 300
+    assert text.count("<!-- timings -->\n") == 1 and text.count("<!-- /timings -->") == 1
+    spec = importlib.util.spec_from_file_location("check_store", ROOT / "benchmarks" / "check_store.py")
+    bench = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bench)
+    page = tmp_path / "p.md"
+    page.write_text(text)
+    bench.write_table(page, {"check, cold, json only (s)": "47.20", "warm / cold, json only": "0.048"}, "one run.")
+    inside = lambda s: s.split("<!-- timings -->\n")[1].split("<!-- /timings -->")[0]  # noqa: E731
+    table = "| figure | value |\n| --- | --- |\n"
+    table += "| check, cold, json only (s) | 47.20 |\n| warm / cold, json only | 0.048 |\n"
+    assert inside(page.read_text()) == "one run.\n\n" + table
+    assert page.read_text().replace(inside(page.read_text()), "") == text.replace(inside(text), "")  # nothing else
