@@ -9,6 +9,7 @@ from __future__ import annotations
 import math
 import tomllib
 from dataclasses import dataclass, field
+from functools import cached_property
 from importlib import resources
 from pathlib import Path
 from typing import Any
@@ -22,6 +23,7 @@ from railcheck.geometry.catalogue import (
     validate,  # light module
 )
 from railcheck.kinematics.linkage import FourBar, SliderCrank
+from railcheck.kinematics.massmodel import MassModel
 from railcheck.units import parse_quantity
 
 EFFECTS = ("inertia", "gravity", "rail-inertia", "dynamic")
@@ -165,6 +167,24 @@ class Scene:
     fatigue: FatigueSpec = FatigueSpec()
     sweep: SweepSpec = SweepSpec()
     dynamic: DynamicSpec = DynamicSpec()
+
+    @cached_property
+    def masses(self) -> MassModel:
+        """The run's one mass model (:func:`railcheck.parts.mass_model` of the formulation
+        and the geometry overrides), resolved once for every stage."""
+        return registry.mass_model(self.formulation, self.geometry)
+
+    @cached_property
+    def effects(self) -> tuple[str, ...]:
+        """The effects simulated: "inertia" only with a non-zero speed, "gravity" only when
+        the scene lists it (the dynamic response is :attr:`DynamicSpec`'s)."""
+        requested = self.check.effects if self.check else ("inertia",)
+        out = []
+        if "inertia" in requested and self.mechanism and self.mechanism.speed > 0:
+            out.append("inertia")
+        if "gravity" in requested:
+            out.append("gravity")
+        return tuple(out)
 
     @property
     def checked(self) -> CheckSpec:

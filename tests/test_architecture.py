@@ -212,6 +212,8 @@ def test_our_own_modules_are_imported_at_module_top():
         "railcheck.kinematics.planar",
         "railcheck.check",
         "railcheck.sweep",
+        "railcheck.parallel",
+        "railcheck.fea.screening",
     ],
 )
 def test_each_public_name_imports(package):

@@ -32,7 +32,7 @@ from railcheck.model.loading import (
     unit_cases,
     with_pressure_histories,
 )
-from railcheck.parts import BAR_INDEX, KINDS, PARTS, geometry_of, kind_of, mass_model
+from railcheck.parts import BAR_INDEX, KINDS, PARTS, geometry_of, kind_of
 from railcheck.scene import FatigueSpec, MeshSpec, Scene
 
 #: peak memory per DOF of a P2 solve on the iterative path (assembly, AMG hierarchy, stress
@@ -237,7 +237,7 @@ def carried_masses(scene: Scene, name: str, holes: list[str] | tuple, kind: str 
     fb = part.free_body if part is not None else None
     if part is None or fb is None or part.bar is None or not holes or name in scene.checked.loads:
         return ()
-    masses = mass_model(scene.formulation, scene.geometry)
+    masses = scene.masses
     kind = kind or scene.linkage_spec.linkage.kind
     kg = [carried_mass(masses, kind, part.bar, joint.joint) for joint in (fb.near, fb.far)]
     return tuple((g, m) for g, m in ((("hole_0",), kg[0]), (tuple(holes), kg[1])) if m > 0)

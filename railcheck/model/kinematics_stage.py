@@ -19,7 +19,7 @@ from railcheck.kinematics.checks import CheckResult, configuration_checks, trans
 from railcheck.kinematics.dynamics import STANDARD_GRAVITY, Dynamics, inverse_dynamics
 from railcheck.kinematics.linkage import FourBar
 from railcheck.kinematics.motion import Motion, solve_motion
-from railcheck.parts import mass_model, rail_length
+from railcheck.parts import rail_length
 from railcheck.scene import Scene
 
 
@@ -36,18 +36,6 @@ class KinematicsResult:
         return tuple(self.dynamics.reactions)
 
 
-def effects_for(scene: Scene) -> tuple[str, ...]:
-    """The effects simulated: "inertia" only with a non-zero speed, "gravity" only when
-    the scene lists it."""
-    requested = scene.checked.effects if scene.check else ("inertia",)
-    out = []
-    if "inertia" in requested and scene.mechanism and scene.linkage_spec.speed > 0:
-        out.append("inertia")
-    if "gravity" in requested:
-        out.append("gravity")
-    return tuple(out)
-
-
 def run_kinematics(scene: Scene) -> KinematicsResult:
     """Kinematics and inverse dynamics of the scene's mechanism (raises InputError for an
     impossible mechanism, naming the field)."""
@@ -55,11 +43,11 @@ def run_kinematics(scene: Scene) -> KinematicsResult:
     if spec is None:
         raise InputError("mechanism", "missing: this run needs the linkage")
     refuse_kinematics_beyond_memory(spec.steps, "mechanism.steps")
-    effects = effects_for(scene)
+    effects = scene.effects
     motion = solve_motion(spec.linkage, spec.speed, spec.steps)
     dyn_motion = motion if "inertia" in effects else solve_motion(spec.linkage, 0.0, spec.steps)
     gravity = STANDARD_GRAVITY if "gravity" in effects else 0.0
-    masses = mass_model(scene.formulation, scene.geometry)
+    masses = scene.masses
     dynamics = inverse_dynamics(dyn_motion, scene.formulation, masses, gravity=gravity)
     mu_min, mu_max = transmission_extremes(spec.linkage)
     return KinematicsResult(motion, dynamics, all_checks(scene), effects, (math.degrees(mu_min), math.degrees(mu_max)))

@@ -36,8 +36,8 @@ from railcheck.kinematics.massmodel import carried_mass
 from railcheck.loads.histories import bolt_history, gravity_history, rail_inertia_history
 from railcheck.loads.pin_pressure import HARMONICS, harmonic_coefficients
 from railcheck.loads.rotation import to_rail_axes
-from railcheck.model.kinematics_stage import KinematicsResult, effects_for
-from railcheck.parts import BAR_INDEX, PARTS, FreeBody, FreePlate, LoadSource, mass_model, rail_length
+from railcheck.model.kinematics_stage import KinematicsResult
+from railcheck.parts import BAR_INDEX, PARTS, FreeBody, FreePlate, LoadSource, rail_length
 from railcheck.scene import ExplicitLoad, Scene
 
 GRAVITY = 9.80665  # m/s^2
@@ -133,12 +133,12 @@ def load_model(
     if bar_length is None:
         bar_length = scene.linkage_spec.linkage.lengths[bar]
     kind = kind or scene.linkage_spec.linkage.kind
-    masses, fb = mass_model(scene.formulation, scene.geometry), part.free_body
+    masses, fb = scene.masses, part.free_body
     return dataclasses.replace(
         model,
         rail_inertia=False,
         free_body=fb,
-        inertia="inertia" in effects_for(scene) if inertia is None else inertia,
+        inertia="inertia" in scene.effects if inertia is None else inertia,
         joint_masses=(carried_mass(masses, kind, bar, fb.near.joint), carried_mass(masses, kind, bar, fb.far.joint)),
         rail_mass=masses.rail_mass_per_m * rail_length(bar),
         bar_length=bar_length,
@@ -162,14 +162,14 @@ def rail_body(masses, bar: str, first_hole: float) -> tuple[float, float]:
 def free_plate_model(scene: Scene, model: LoadModel, plate: FreePlate, inertia: bool | None) -> LoadModel:
     """A joint plate's free-body load model: its mass from the mass model, its centre of
     mass and polar moment about the seat from its outline (holes cut through)."""
-    mass = getattr(mass_model(scene.formulation, scene.geometry), plate.mass)
+    mass = getattr(scene.masses, plate.mass)
     spec = with_overrides(scene.geometry)[1]
     centroid, polar = plate_planar_inertia(spec)
     return dataclasses.replace(
         model,
         rail_inertia=False,
         free_plate=plate,
-        inertia="inertia" in effects_for(scene) if inertia is None else inertia,
+        inertia="inertia" in scene.effects if inertia is None else inertia,
         plate=(mass, centroid - spec.seat_x, mass * polar),
     )
 

@@ -4,6 +4,11 @@ quiet exit, and a client to a local cluster or an existing scheduler.
 
 from __future__ import annotations
 
+from collections.abc import Callable, Iterable, Iterator
+from typing import Any, TypeVar
+
+T = TypeVar("T")
+
 #: glibc's heap settings of the local cluster's workers. Dask starts its workers with
 #: MALLOC_TRIM_THRESHOLD_ = 64 kB (memory back to the system as soon as it is freed), which
 #: makes every settings x steps temporary fault its pages in afresh: the kinematics-only sweep
@@ -42,3 +47,42 @@ def quiet_cluster_exit() -> None:
         atexit.unregister(spec.close_clusters)
         atexit.register(close_quietly)
         spec.close_clusters._railcheck_quiet = close_quietly  # type: ignore[attr-defined]
+
+
+def in_order_on_dask(client, function: Callable[[Any], T], items: Iterable, running_at_most: int, held: int) -> Iterator[T]:
+    """``function(item)`` on ``client``'s workers for each of ``items`` (drawn lazily, when
+    a place frees, so an item may be built as it is due), yielded in the items' order: at
+    most ``running_at_most`` running and ``held`` finished ahead of the one due (a slow
+    item does not idle the other workers). Closing the iterator cancels what still runs."""
+    from dask.distributed import wait as wait_for
+
+    items = iter(items)
+    running: dict = {}  # future -> item index
+    finished: dict[int, T] = {}
+    submitted = done = 0
+    exhausted = False
+    try:
+        while True:
+            while not exhausted and len(running) < running_at_most and len(finished) < held:
+                item = next(items, _END)
+                if item is _END:
+                    exhausted = True
+                    break
+                running[client.submit(function, item, pure=False)] = submitted
+                submitted += 1
+            if exhausted and done == submitted:
+                return
+            if done not in finished:
+                if not running:  # cannot happen: the next item is either finished or running
+                    raise RuntimeError(f"item {done} was neither finished nor running")
+                for future in wait_for(list(running), return_when="FIRST_COMPLETED").done:
+                    finished[running.pop(future)] = future.result()
+                continue
+            yield finished.pop(done)
+            done += 1
+    finally:
+        for future in running:
+            future.cancel()
+
+
+_END = object()  # the end of an items iterator

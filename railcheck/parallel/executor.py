@@ -160,41 +160,30 @@ class ChunkExecutor:
             yield j, cols
 
     def _dask_jobs(self, jobs: list, size: int, checked_size: int, held: int):
-        from dask.distributed import wait as wait_for
-
+        """:meth:`map_jobs` on Dask: every job's chunks in one ordered map (:func:`in_order`
+        on the client), two chunks per worker running, a job's context built when its
+        first chunk is submitted and released when its last is yielded."""
         workers = max(1, len(self.client.scheduler_info()["workers"]))
         tasks = shared_out(jobs, size, checked_size, workers)
         meters: dict[int, Meter] = {}
         contexts: dict[int, object] = {}
-        running: dict = {}  # future -> task index
-        finished: dict[int, dict] = {}
-        submitted = done = 0
+
+        def submitted():
+            for j, ids in tasks:
+                if j not in contexts:
+                    contexts[j] = self._context_ref(j, jobs[j][0]())
+                    meters[j] = Meter(self.progress, jobs[j][2], jobs[j][1]["crank"].size)
+                yield self.evaluate, contexts[j], {b: v[ids] for b, v in jobs[j][1].items()}, ids
+
+        results = in_order(evaluate_shared, submitted(), on="dask", client=self.client, workers=2 * workers, ahead=held)
         try:
-            while done < len(tasks):
-                while submitted < len(tasks) and len(running) < 2 * workers and len(finished) < held:
-                    j, ids = tasks[submitted]
-                    if j not in contexts:
-                        contexts[j] = self._context_ref(j, jobs[j][0]())
-                        meters[j] = Meter(self.progress, jobs[j][2], jobs[j][1]["crank"].size)
-                    lengths = {b: v[ids] for b, v in jobs[j][1].items()}
-                    future = self.client.submit(evaluate_shared, self.evaluate, contexts[j], lengths, ids, pure=False)
-                    running[future] = submitted
-                    submitted += 1
-                if done not in finished:
-                    if not running:  # cannot happen: the next chunk is either finished or running
-                        raise RuntimeError(f"sweep chunk {done} was neither finished nor running")
-                    for future in wait_for(list(running), return_when="FIRST_COMPLETED").done:
-                        finished[running.pop(future)] = future.result()
-                    continue
-                j, ids = tasks[done]
+            for done, ((j, ids), cols) in enumerate(zip(tasks, results), 1):
                 meters[j].done(ids.size)
-                yield j, finished.pop(done)
-                done += 1
+                yield j, cols
                 if done == len(tasks) or tasks[done][0] != j:
                     self._release(contexts.pop(j))
         finally:
-            for future in running:
-                future.cancel()
+            results.close()  # cancels the chunks still running
             for ref in contexts.values():
                 self._release(ref)
 
@@ -239,9 +228,10 @@ def chunk_ranges(checked: np.ndarray, size: int, checked_size: int):
         a = b
 
 
-def evaluate_shared(evaluate, context, lengths: dict, ids: np.ndarray) -> dict:
-    """:func:`railcheck.sweep.chunk.evaluate_chunk` in a worker, its context a shared
-    file's path or the context itself."""
+def evaluate_shared(task: tuple) -> dict:
+    """One chunk in a worker: ``task`` = (evaluate, context, lengths, ids), the context a
+    shared file's path or the context itself; ``evaluate(context, lengths, ids)``."""
+    evaluate, context, lengths, ids = task
     return evaluate(shared(context) if isinstance(context, str) else context, lengths, ids)
 
 

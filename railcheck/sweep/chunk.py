@@ -32,7 +32,7 @@ from railcheck.kinematics.motion import crank_angles
 from railcheck.loads.bearings import bearing_life_of_magnitude
 from railcheck.model.kinematics_stage import joints_on_rails_flags
 from railcheck.model.loading import free_body_coefficients, source_coefficients
-from railcheck.parts import BAR_INDEX, mass_model
+from railcheck.parts import BAR_INDEX
 from railcheck.sweep.context import Loads, SweepContext
 from railcheck.sweep.motor import (
     MOTOR_CURVE_KEY,
@@ -113,7 +113,7 @@ def motion_of(ctx: SweepContext, lengths: dict, speed: float):
 def dynamics_of(ctx: SweepContext, motion, gravity: float):
     """The settings' inverse dynamics with the check's one mass model (a free-body check
     places the rails as they are meshed: :func:`railcheck.parts.mass_model`)."""
-    masses = mass_model(ctx.scene.formulation, ctx.scene.geometry)
+    masses = ctx.scene.masses
     if ctx.scene.formulation == "seed-2013":
         return batch.seed_2013(motion, masses)
     return batch.newton_euler(motion, masses, gravity=gravity)
