@@ -85,18 +85,18 @@ def von_mises_peak(screen: Screen, C: np.ndarray) -> np.ndarray:
     C = C * screen.scale if screen.scale is not None else C  # the coefficients of Q
     CC = (C[..., :, None] * C[..., None, :]).reshape(S_, T, k * k)
     R2 = np.einsum("stk,stk->st", C, C).max(axis=1)
-    assert screen.Q is not None  # two coefficients: the screen has its quadratic forms
+    assert screen.forms is not None  # two coefficients: the screen has its quadratic forms
     top = screen.bounds.by_form_bound[: tuning.TOP_NODES]
     L2 = np.zeros(S_)
     for g in value_slices(S_, top.size * T):
-        vm2 = screen.Q[top] @ CC[g].reshape(-1, k * k).T
+        vm2 = screen.forms[top] @ CC[g].reshape(-1, k * k).T
         L2[g] = vm2.reshape(top.size, -1, T).max(axis=(0, 2))
     best = L2.copy()
     can = screen.bounds.form_bound[:, None] * R2[None, :] * (1.0 + tuning.SLACK) >= L2[None, :]  # (n, S)
     for g in value_slices(S_, max(1, int(can.sum(axis=0).max())) * T):
         nodes = np.flatnonzero(can[:, g].any(axis=1))
         if nodes.size:
-            vm2 = screen.Q[nodes] @ CC[g].reshape(-1, k * k).T
+            vm2 = screen.forms[nodes] @ CC[g].reshape(-1, k * k).T
             best[g] = np.maximum(best[g], vm2.reshape(nodes.size, -1, T).max(axis=(0, 2)))
     return np.sqrt(np.maximum(best, 0.0))
 

@@ -53,7 +53,7 @@ def screen_bounds(S: np.ndarray, scale: np.ndarray, form_bound: np.ndarray | Non
 @dataclass(frozen=True)
 class Screen:
     """One column set of a part's unit fields, at its verdict nodes: ``stress`` (6, n, k)
-    Pa per unit coefficient; ``Q`` (n, k*k) the von Mises quadratic forms in the scaled
+    Pa per unit coefficient; ``forms`` (n, k*k) the von Mises quadratic forms in the scaled
     coefficients ``c * scale`` (Pa^2; two coefficients only, else None: a many-coefficient
     history's von Mises is read from the stresses); ``tip`` (3, k) m; ``scale`` (k,) the
     coefficients' scale w; ``known_bounds`` the :class:`ScreenBounds` when the maker has
@@ -63,7 +63,7 @@ class Screen:
     own (:func:`in_span`), so the rig's parts skip them (1.8 s of its serial preparation)."""
 
     stress: np.ndarray
-    Q: np.ndarray | None
+    forms: np.ndarray | None
     tip: np.ndarray
     scale: np.ndarray
     known_bounds: ScreenBounds | None = field(repr=False, default=None)
