@@ -257,6 +257,32 @@ def test_no_module_over_600_lines_and_no_function_over_60():
     assert not bad, bad
 
 
+def private_reaches(path: Path) -> list[str]:
+    """What a test module reaches that is private to railcheck: ``from railcheck... import
+    _name``, and ``monkeypatch.setattr(module, "_name", ...)``."""
+    out = []
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.ImportFrom) and (node.module or "").startswith("railcheck"):
+            out += [f"import {node.module}.{a.name}" for a in node.names if a.name.startswith("_")]
+        elif isinstance(node, ast.Call) and ast.unparse(node.func).endswith("setattr") and len(node.args) >= 2:
+            name = node.args[1]
+            if isinstance(name, ast.Constant) and isinstance(name.value, str) and name.value.startswith("_"):
+                out.append(f"setattr {ast.unparse(node.args[0])}.{name.value}")
+    return out
+
+
+def test_the_private_finder_finds_a_planted_import_and_patch(tmp_path):
+    planted = tmp_path / "test_x.py"
+    planted.write_text('from railcheck.sweep.run import _hidden\nmonkeypatch.setattr(run, "_hidden", 1)\n')
+    assert private_reaches(planted) == ["import railcheck.sweep.run._hidden", "setattr run._hidden"]
+
+
+def test_no_test_reaches_a_private_name_of_railcheck():
+    """The tests use public seams; a private name a test needs is an API hiding there."""
+    bad = {p.name: private_reaches(p) for p in sorted((ROOT / "tests").rglob("test_*.py"))}
+    assert not {name: found for name, found in bad.items() if found}
+
+
 def test_no_second_copy_of_the_package_and_no_tests_inside_it():
     for name in ("railcheck.railcheck", "railcheck.tests", "railcheck.benchmarks"):
         with pytest.raises(ModuleNotFoundError):
