@@ -416,7 +416,9 @@ def screened_max(
         vm = von_mises(stress_at(S, C))  # (nodes, steps)
         where = np.argmax(vm, axis=1)
         best = np.take_along_axis(vm, where[:, None], axis=1)[:, 0]
-    else:
+    else:  # one coefficient (a part loaded by one source, e.g. no inertia) as two, the second zero: exact
+        if k == 1:
+            S, C = np.concatenate([S, np.zeros_like(S)], axis=2), np.concatenate([C, np.zeros_like(C)], axis=1)
         nodes, best, where = _two_coefficient_candidates(S, C, mask)
     inside = mask[nodes]
     j = int(np.argmax(np.where(inside, best, -np.inf)))

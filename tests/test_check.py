@@ -377,3 +377,24 @@ def test_each_part_is_resolved_once_into_a_picklable_job_without_the_scene():
     assert crank.limit == 375e6 and crank.loads.factor == 1.4 and crank.histories[0].C.shape == (5000, 9 + 4 * per_hole)
     assert crank.free_body is not None and crank.loads.is_free_body
     assert jobs["PF_4b_006"].mesh.size == 6e-3 and len(jobs["PF_4b_006"].histories) == 2
+
+
+@pytest.mark.slow  # two crank-rail checks, 10-20 s
+@pytest.mark.parametrize("effects", ["[]", '["rail-inertia"]', '["rail-inertia", "rail-inertia"]'])
+def test_a_check_without_inertia_runs_and_gives_a_verdict(tmp_path, effects):
+    """A scene whose effects include no inertia loads each part by one source (issue 61:
+    an IndexError before, exit 1 read as a FAIL): the check runs, exit 0 or 1 with a
+    finite peak in summary.json."""
+    import json
+
+    from helpers import FINAL_DESIGN
+    from railcheck.cli import main
+
+    scene = tmp_path / "s.toml"
+    scene.write_text(
+        FINAL_DESIGN + f'steps = 360\n[check]\nparts = ["crank-rail"]\neffects = {effects}\n'
+        "[output]\nvtk = false\npng = false\nplots = false\n"
+    )
+    assert main(["check", str(scene), "--out", str(tmp_path / "out")]) in (0, 1)
+    part = json.loads((tmp_path / "out" / "summary.json").read_text())["parts"]["crank-rail"]
+    assert np.isfinite(part["max_von_mises_Pa"]) and part["max_von_mises_Pa"] >= 0.0

@@ -369,3 +369,22 @@ def test_a_smooth_long_history_is_read_in_a_few_blocks_per_row(monkeypatch, read
     monkeypatch.setattr(superpose, name, lambda *args: pairs.append(args[-2].size) or read(*args))  # args[-2]: the rows
     pruned(S, C)
     assert 1.0 <= sum(pairs) / searches < 8.0
+
+
+@pytest.mark.parametrize("k", [1, 2])
+def test_screened_max_of_one_or_two_coefficients_equals_every_node_at_every_step(k):
+    """One load source alone (a check without inertia: one coefficient) is screened as two,
+    the second zero: the same maximum, node and step as evaluating everything, over the
+    verdict nodes and over all of them (issue 61: an IndexError before)."""
+    from railcheck.fea.superpose import screened_max
+
+    rng = np.random.default_rng(61 + k)
+    S = rng.normal(size=(6, 300, k)) * 1e6
+    C = rng.normal(size=(90, k))
+    mask = rng.random(300) > 0.3
+    vm = von_mises_by_definition(np.einsum("cnk,tk->cnt", S, C))  # (nodes, steps)
+    inside = np.where(mask[:, None], vm, -np.inf)
+    node = int(np.argmax(inside.max(axis=1)))
+    peak, at, step, everywhere = screened_max(S, C, mask)
+    assert peak == pytest.approx(inside.max(), rel=1e-12) and at == node
+    assert step == int(np.argmax(vm[node])) and everywhere == pytest.approx(vm.max(), rel=1e-12)
