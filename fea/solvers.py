@@ -417,11 +417,17 @@ def solve_auto(
         return solve_factorised(K, F, memory_limit=limit, report=report, capped=True)
     except MemoryError as exc:
         if report:
-            report(
-                f"the factor would need {exc.args[0] / 2**30:.1f} GiB: iterative "
-                f"{'PMG' if prolongation is not None else 'AMG'}-CG instead"
-            )
+            report(f"{_memory_words(exc)}: iterative {'PMG' if prolongation is not None else 'AMG'}-CG instead")
     return iterative(K, F, B, prolongation, maxiter, memory_limit, report)
+
+
+def _memory_words(exc: MemoryError) -> str:
+    """Why a factorisation was given up: its estimate (bytes, from the memory cap) in GiB,
+    or numpy's own allocation failure (an array's shape, not a size)."""
+    need = exc.args[0] if exc.args else None
+    if isinstance(need, (int, float)) and not isinstance(need, bool):
+        return f"the factor would need {need / 2**30:.1f} GiB"
+    return f"the factorisation ran out of memory ({exc})"
 
 
 #: the solvers by name (``[solver]``, ``--solver``); a caller may pass any :data:`Solver` instead

@@ -550,3 +550,23 @@ def test_a_torque_as_a_traction_twists_a_bar_as_saint_venant_says():
     rate = torque / (G * saint_venant_torsion_constant(a, b))
     measured = (twist_at(0.2) - twist_at(0.1)) / 0.1
     assert measured == pytest.approx(rate, rel=0.005)
+
+
+@pytest.mark.parametrize("failure", [MemoryError(3 * 2**30), MemoryError((40000, 40000), np.dtype(float))])
+def test_a_factor_out_of_memory_falls_back_to_cg_and_says_why(monkeypatch, failure):
+    """The cap's estimate (bytes) or numpy's own failure (an array's shape: issue 61, a
+    TypeError before): either way one line saying why, then the iterative solve."""
+    import scipy.sparse as sp
+
+    from railcheck.fea import solvers
+
+    def refused(*args, **kwargs):
+        raise failure
+
+    monkeypatch.setattr(solvers, "solve_factorised", refused)
+    n = 60
+    K = sp.diags([-np.ones(n - 1), 2.1 * np.ones(n), -np.ones(n - 1)], [-1, 0, 1], format="csr")
+    said: list[str] = []
+    U, info = solvers.solve_auto(K, np.ones(n), B=np.ones((n, 1)), report=said.append)
+    np.testing.assert_allclose(K @ U, np.ones(n), rtol=1e-6, atol=1e-8)
+    assert len(said) >= 1 and ("GiB" in said[0] or "ran out of memory" in said[0]) and "AMG-CG instead" in said[0]
