@@ -203,12 +203,12 @@ def _rail_checks(rail) -> list[tuple[str, bool, str]]:
             and rail.upper_groove_z + rail.groove_radius < rail.height,
             "the grooves must lie within the rail's height and apart from each other",
         ),
+        ("rail_hole_pitch", rail.hole_pitch > 1.2 * rail.counterbore_diameter, "neighbouring counterbores overlap"),
         (
             "rail_end_distance",
             rail.hole_diameter / 2 < rail.end_distance < rail.hole_pitch,
             "the first hole must lie on the rail, within one pitch of its end",
         ),
-        ("rail_hole_pitch", rail.hole_pitch > 1.2 * rail.counterbore_diameter, "neighbouring counterbores overlap"),
     ]
 
 

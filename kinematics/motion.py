@@ -85,6 +85,16 @@ def fourbar_toggle_margins(linkage: FourBar) -> tuple[float, float]:
     return mu_min, mu_max
 
 
+def distinct_mm(a: float, b: float) -> tuple[str, str]:
+    """Two lengths (m) in mm with the fewest significant digits (at least 6) that tell them
+    apart, so a message never says that 200 mm is below 200 mm."""
+    for digits in range(6, 18):
+        x, y = f"{a * 1e3:.{digits}g}", f"{b * 1e3:.{digits}g}"
+        if x != y:
+            return x, y
+    return x, y
+
+
 def _fourbar_revolvability(linkage: FourBar) -> None:
     """Raise unless the crank can make a full revolution away from any toggle."""
     b2, b3, b4, d = linkage.crank, linkage.coupler, linkage.rocker, linkage.ground
@@ -101,14 +111,14 @@ def _fourbar_revolvability(linkage: FourBar) -> None:
     if r_max > b3 + b4 + tol:
         raise MechanismError(
             "mechanism",
-            f"the crank cannot make a full revolution: at crank angle 180 deg the distance A-O4 = "
-            f"{r_max * 1e3:.6g} mm exceeds coupler + rocker = {(b3 + b4) * 1e3:.6g} mm",
+            "the crank cannot make a full revolution: at crank angle 180 deg the distance A-O4 = "
+            "{} mm exceeds coupler + rocker = {} mm".format(*distinct_mm(r_max, b3 + b4)),
         )
     if r_min < abs(b3 - b4) - tol:
         raise MechanismError(
             "mechanism",
-            f"the crank cannot make a full revolution: at crank angle 0 deg the distance A-O4 = "
-            f"{r_min * 1e3:.6g} mm is below |coupler - rocker| = {abs(b3 - b4) * 1e3:.6g} mm",
+            "the crank cannot make a full revolution: at crank angle 0 deg the distance A-O4 = "
+            "{} mm is below |coupler - rocker| = {} mm".format(*distinct_mm(r_min, abs(b3 - b4))),
         )
     mu_min, mu_max = fourbar_toggle_margins(linkage)
     # collinear to rounding (a change point): the margin's arccos falls outside [-1, 1]

@@ -33,10 +33,17 @@ def refuse_beyond_memory(need: float, field: str, what: str, advice: str) -> Non
     if need > MEMORY_FRACTION * avail:
         raise InputError(
             field,
-            f"{what} needs about {need / 2**30:.1f} GiB, more than this machine's {avail / 2**30:.1f} GiB allow: {advice}",
+            f"{what} needs about {short(need / 2**30)} GiB, "
+            f"more than this machine's {short(avail / 2**30)} GiB allow: {advice}",
         )
 
 
 def refuse_kinematics_beyond_memory(steps: int, field: str) -> None:
     """Refuse a crank step count whose kinematics would not fit in memory."""
     refuse_beyond_memory(steps * BYTES_PER_KINEMATICS_STEP, field, f"{steps} crank steps", "use fewer steps")
+
+
+def short(x: float) -> str:
+    """A size for a message: one decimal (1.0, 23.5), or three significant digits once it
+    is beyond 100,000 (an absurd request's estimate is not printed with hundreds of digits)."""
+    return f"{x:.1f}" if abs(x) < 1e5 else f"{x:.3g}"

@@ -302,4 +302,6 @@ def refuse_beyond_memory(geo: PartGeometry, size: float, hole_size: float, order
     need more memory than this machine has (estimated before meshing)."""
     tets = estimate_elements(geo, size, hole_size)
     dofs = estimate_dofs(tets // 5, tets, order)
-    machine.refuse_beyond_memory(dofs * BYTES_PER_DOF_AMG, field, f"about {dofs / 1e6:.1f} M DOFs", "use a larger mesh size")
+    machine.refuse_beyond_memory(
+        dofs * BYTES_PER_DOF_AMG, field, f"about {machine.short(dofs / 1e6)} M DOFs", "use a larger mesh size"
+    )

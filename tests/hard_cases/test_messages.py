@@ -138,3 +138,43 @@ def test_steps_beyond_this_machines_memory_are_refused_with_an_estimate(monkeypa
     assert "--sizes" in line and "1.0 GiB" in line
     # what fits runs: 1000 steps need well under a MB
     run_kinematics(parse_scene(tomllib.loads(FINAL_DESIGN + "steps = 1000\n"), "t"))
+
+
+@pytest.mark.parametrize("hole", ["1e-300 mm", "1e-100 mm", "0.01 mm"])
+def test_an_absurdly_small_hole_size_is_one_short_line_under_its_own_name(hole):
+    """Issue 61: a ZeroDivisionError, or two 300-digit numbers under mesh.size, before."""
+    text = FINAL_DESIGN + f'[check]\nparts = ["crank-rail"]\n[mesh]\nsize = "20 mm"\nhole_size = "{hole}"\n'
+    with pytest.raises(InputError) as err:
+        parse_scene(tomllib.loads(text), "t")
+    assert err.value.field == "mesh.hole_size" and "below the 0.1 mm" in str(err.value)
+    assert len(str(err.value)) < 100
+
+
+def test_a_memory_refusal_prints_short_numbers():
+    """Issue 61: huge estimates printed as hundreds of digits before."""
+    from railcheck.base import machine
+
+    with pytest.raises(InputError) as err:
+        machine.refuse_beyond_memory(1e300, "mesh.size", "about 1e+290 M DOFs", "use a larger mesh size")
+    assert len(str(err.value)) < 160 and "e+" in str(err.value)
+
+
+def test_a_tiny_hole_pitch_is_blamed_on_the_pitch():
+    """Issue 61: rail_hole_pitch = 0.5 mm was blamed on rail_end_distance."""
+    with pytest.raises(InputError) as err:
+        parse_scene(tomllib.loads(FINAL_DESIGN + '[geometry]\nrail_hole_pitch = "0.5 mm"\n'), "t")
+    assert err.value.field == "geometry.rail_hole_pitch"
+
+
+def test_lengths_that_round_alike_are_printed_apart():
+    """Issue 61: "A-O4 = 200 mm is below |coupler - rocker| = 200 mm" (300/700.000001/500/500)."""
+    from railcheck.kinematics.errors import MechanismError
+
+    text = FINAL_DESIGN.replace('coupler = "840 mm"', 'coupler = "700.000001 mm"')
+    text = text.replace('crank = "480 mm"', 'crank = "300 mm"').replace('rocker = "780 mm"', 'rocker = "500 mm"')
+    text = text.replace('ground = "1020 mm"', 'ground = "500 mm"')
+    from railcheck.model.kinematics_stage import run_kinematics
+
+    with pytest.raises(MechanismError) as err:
+        run_kinematics(parse_scene(tomllib.loads(text), "t"))
+    assert "200 mm is below |coupler - rocker| = 200.000001 mm" in str(err.value)
