@@ -266,7 +266,24 @@ def _literal(text: str):
 
 
 def _entries(directory: Path) -> list[Path]:
-    return [p for p in directory.glob("*.npz") if not p.name.startswith(".")] if directory.is_dir() else []
+    """The store's entries: regular files named *.npz, not temporaries (a dangling link, a
+    folder or an entry that cannot be looked at is none)."""
+    return [p for p in directory.glob("*.npz") if not p.name.startswith(".") and _is_file(p)] if directory.is_dir() else []
+
+
+def _is_file(path: Path) -> bool:
+    try:
+        return path.is_file()
+    except OSError:
+        return False
+
+
+def file_size(path: Path) -> int:
+    """``path``'s size in bytes, 0 when it cannot be read (gone, a dangling link, no access)."""
+    try:
+        return path.stat().st_size
+    except OSError:
+        return 0
 
 
 def _evict(directory: Path, cap: int, keep: Path | None = None) -> None:
@@ -334,7 +351,7 @@ def store_info(store: UnitStore) -> StoreInfo:
     """What ``store`` holds: its folder, entries, bytes and cap."""
     directory = store.directory
     entries = _entries(directory)
-    return StoreInfo(directory, len(entries), sum(p.stat().st_size for p in entries), store.cap)
+    return StoreInfo(directory, len(entries), sum(file_size(p) for p in entries), store.cap)
 
 
 def clear_store(store: UnitStore) -> int:

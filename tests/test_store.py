@@ -247,3 +247,20 @@ def test_a_warm_check_equals_a_cold_one_byte_for_byte(tmp_path):
     assert any(w.startswith("crank-rail: 2013 clamped model: stored unit fields") for w in said), said
     warm.pop("warnings")
     assert damaged == warm
+
+
+def test_railcheck_cache_survives_any_entry(store, capsys):
+    """Issue 61: a dangling link in the store made `railcheck cache` fail. A dangling link,
+    a folder named like an entry and a temporary file are not entries: shown and cleared
+    without an error."""
+    from railcheck.cli import main
+
+    solve_stored(_request(), store=store)
+    (store.directory / "0000dangling.npz").symlink_to(store.directory / "gone.npz")
+    (store.directory / "folder.npz").mkdir()
+    (store.directory.parent / "1111dangling.npz").symlink_to(store.directory / "gone.npz")
+    assert main(["cache", "--json"]) == 0
+    shown = json.loads(capsys.readouterr().out)
+    assert shown["unit_field_store"]["entries"] == 1 and shown["unit_field_store"]["bytes"] > 0
+    assert main(["cache", "--clear"]) == 0
+    assert store_info(store).entries == 0

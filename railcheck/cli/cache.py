@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from railcheck import environment
 from railcheck.base.errors import EXIT_PASS
-from railcheck.fea.store import UnitStore, clear_store, store_info
+from railcheck.fea.store import UnitStore, clear_store, file_size, store_info
 from railcheck.files import to_json
 
 HELP = "show or clear the mesh cache and the unit-field store"
@@ -18,7 +18,7 @@ def add_args(p) -> None:
 
 def _mesh_entries():
     root = environment.cache_dir()
-    return root, ([p for p in root.glob("*.npz") if not p.name.startswith(".")] if root.is_dir() else [])
+    return root, ([p for p in root.glob("*.npz") if not p.name.startswith(".") and p.is_file()] if root.is_dir() else [])
 
 
 def _store() -> UnitStore:
@@ -42,7 +42,7 @@ def run(args) -> int:
         return EXIT_PASS
     info = store_info(_store())
     out = {
-        "mesh_cache": {"directory": str(root), "entries": len(meshes), "bytes": sum(p.stat().st_size for p in meshes)},
+        "mesh_cache": {"directory": str(root), "entries": len(meshes), "bytes": sum(file_size(p) for p in meshes)},
         "unit_field_store": {
             "directory": str(info.directory),
             "entries": info.entries,
