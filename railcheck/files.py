@@ -178,6 +178,24 @@ def _alive(pid: int) -> bool:
     return True
 
 
+def results_dir(requested: str | Path, field: str) -> Path:
+    """The results folder a run may claim, or an InputError naming ``field``: a name, and
+    not the current folder or one above it (a results folder is replaced whole with
+    --force, and without it a "-2" folder would appear beside it)."""
+    text = str(requested)
+    if not text.strip():
+        raise InputError(field, "an empty name: give a folder for the results (e.g. results)")
+    path = Path(requested)
+    try:
+        resolved, here = path.resolve(), Path.cwd().resolve()
+    except (OSError, RuntimeError, ValueError) as exc:
+        raise _unusable(field, path, exc) from None
+    if resolved == here or resolved in here.parents:
+        where = "the current folder" if resolved == here else "above the current folder"
+        raise InputError(field, f"{text} is {where}: name a new folder for the results (e.g. results)")
+    return path
+
+
 def writable_dir(path: str | Path, option: str) -> Path:
     """Create (if needed) and return a directory the run may write into, or raise
     InputError naming ``option``; called before any work starts."""

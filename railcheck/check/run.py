@@ -20,7 +20,7 @@ from railcheck.base.errors import EXIT_FAIL, EXIT_PASS, InputError
 from railcheck.check.pipeline import run_pipeline
 from railcheck.check.summary import summary_of
 from railcheck.fea.vtk import pvd_text
-from railcheck.files import Staging, atomic_path, atomic_write_text, reserve_results_dir, to_json
+from railcheck.files import Staging, atomic_path, atomic_write_text, reserve_results_dir, results_dir, to_json
 from railcheck.model.records import PartResult, PipelineResult
 from railcheck.progress import Progress
 from railcheck.report.html import write_report
@@ -58,7 +58,7 @@ def run_check(
     """Reserve the results directory, run the pipeline, write every output into a staging
     directory and rename it into place (see :mod:`railcheck.files`). ``jobs``: parts
     checked at once (:mod:`railcheck.check.workers`)."""
-    requested = Path(out or scene.output.dir)
+    requested = results_dir(scene.output.dir if out is None else out, "output.dir" if out is None else "--out")
     try:
         target, replaces = reserve_results_dir(requested, force)
         staging = Staging(target, replaces)

@@ -16,7 +16,7 @@ import signal
 import sys
 from importlib.metadata import PackageNotFoundError, version
 
-from railcheck.base.errors import EXIT_INPUT, EXIT_PASS, RailcheckError
+from railcheck.base.errors import EXIT_INPUT, EXIT_PASS, InputError, RailcheckError
 from railcheck.cli import bench, cache, check, convergence, init, kinematics, mechanism, sweep
 from railcheck.environment import store_cap_bytes
 from railcheck.files import writable_dir, writable_file
@@ -79,6 +79,8 @@ def _check_output_options(args) -> None:
     store_cap_bytes()
     for attr, (option, is_dir, suffix) in OUTPUT_OPTIONS.items():
         value = getattr(args, attr, None)
+        if value is not None and not str(value).strip():
+            raise InputError(option, "an empty name: give a file or folder, or leave the option out")
         if value:
             if is_dir:
                 writable_dir(value, option)

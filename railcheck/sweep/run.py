@@ -26,7 +26,7 @@ import numpy as np
 from railcheck.base.errors import EXIT_FAIL, EXIT_PASS, InputError
 from railcheck.check.run import say_target
 from railcheck.fea.materials import MATERIALS
-from railcheck.files import Staging, atomic_write_text, reserve_results_dir, to_json
+from railcheck.files import Staging, atomic_write_text, reserve_results_dir, results_dir, to_json
 from railcheck.geometry.catalogue import with_overrides
 from railcheck.geometry.mesher import estimate_elements
 from railcheck.model.jobs import mesh_sizes, part_geometries, refuse_huge
@@ -363,7 +363,7 @@ def run_sweep(
         check_scheduler(scheduler)
     progress = progress or Progress(quiet=True)
     t0 = time.perf_counter()
-    requested = Path(out or _default_dir(scene))
+    requested = results_dir(_default_dir(scene) if out is None else out, "output.dir" if out is None else "--out")
     try:
         target, replaces = reserve_results_dir(requested, force)
         staging = Staging(target, replaces)

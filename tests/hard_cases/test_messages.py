@@ -178,3 +178,27 @@ def test_lengths_that_round_alike_are_printed_apart():
     with pytest.raises(MechanismError) as err:
         run_kinematics(parse_scene(tomllib.loads(text), "t"))
     assert "200 mm is below |coupler - rocker| = 200.000001 mm" in str(err.value)
+
+
+@pytest.mark.parametrize("out, words", [("", "an empty name"), (".", "is the current folder"), ("..", "above the current")])
+def test_a_results_folder_that_is_empty_or_here_is_refused_in_one_line(tmp_path, monkeypatch, capsys, out, words):
+    """Issue 61: `--out ''` was ignored, `--out .` wrote `.-2/` (and with --force tried to
+    replace the current folder). Refused before any work, nothing written."""
+    from railcheck.cli import main
+
+    here = tmp_path / "here"
+    here.mkdir()
+    monkeypatch.chdir(here)
+    (here / "s.toml").write_text(FINAL_DESIGN)
+    for command in ("check", "sweep"):
+        assert main([command, "s.toml", "--out", out, "--force"]) == 2
+        err = capsys.readouterr().err
+        assert err.startswith("railcheck: error: --out: ") and words in err and err.count("\n") == 1
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["here"] and sorted(p.name for p in here.iterdir()) == ["s.toml"]
+
+
+def test_an_empty_output_option_is_refused(capsys):
+    from railcheck.cli import main
+
+    assert main(["kinematics", "--plots", ""]) == 2
+    assert "--plots: an empty name" in capsys.readouterr().err
