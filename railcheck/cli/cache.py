@@ -3,6 +3,8 @@ unit-field store, :mod:`railcheck.fea.store`), and clearing them."""
 
 from __future__ import annotations
 
+from typing import Any
+
 from railcheck import environment
 from railcheck.base.errors import EXIT_PASS
 from railcheck.fea.store import UnitStore, clear_store, file_size, store_info
@@ -53,7 +55,8 @@ def run(args) -> int:
     if args.json:
         print(to_json(out))
         return EXIT_PASS
-    m, u = out["mesh_cache"], out["unit_field_store"]
+    m: dict[str, Any] = out["mesh_cache"]
+    u: dict[str, Any] = out["unit_field_store"]
     print(f"mesh cache:       {m['entries']} entries, {m['bytes'] / 1e6:.1f} MB in {m['directory']}")
     print(
         f"unit-field store: {u['entries']} entries, {u['bytes'] / 1e6:.1f} MB of {u['cap_bytes'] / 1e6:.0f} MB "

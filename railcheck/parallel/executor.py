@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 import os
 import time
+from collections.abc import Generator
 from pathlib import Path
 from typing import Any
 
@@ -183,7 +184,8 @@ class ChunkExecutor:
                 if done == len(tasks) or tasks[done][0] != j:
                     self._release(contexts.pop(j))
         finally:
-            results.close()  # cancels the chunks still running
+            if isinstance(results, Generator):
+                results.close()  # cancels the chunks still running
             for ref in contexts.values():
                 self._release(ref)
 
