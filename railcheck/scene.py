@@ -6,6 +6,7 @@ fields, missing fields and impossible values raise :class:`InputError` naming th
 
 from __future__ import annotations
 
+import difflib
 import math
 import tomllib
 from dataclasses import dataclass, field
@@ -236,7 +237,9 @@ def _unknown(table: dict, allowed: set[str] | None, prefix: str) -> None:
         return
     for key in table:
         if key not in allowed:
-            raise InputError(f"{prefix}{key}", f"unknown key (allowed: {', '.join(sorted(allowed))})")
+            close = difflib.get_close_matches(str(key), sorted(allowed), n=1)
+            guess = f'did you mean "{close[0]}"? ' if close else ""
+            raise InputError(f"{prefix}{key}", f"unknown key ({guess}allowed: {', '.join(sorted(allowed))})")
 
 
 def _require(table: dict, key: str, prefix: str) -> Any:

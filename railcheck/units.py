@@ -80,12 +80,11 @@ def parse_quantity(value: object, dimension: str, field: str, *, positive: bool 
         raise InputError(field, f'write a decimal point, not a comma: "{number}.{unit[1:]}" (got {value!r})')
     if not unit:
         raise InputError(field, f'needs a unit, e.g. "{number} {PREFERRED[dimension]}"')
+    unit = _by_case(unit, units)
     if unit not in units:
         wrong = [dim for dim, table in UNITS.items() if unit in table]
-        hint = f" ({unit!r} is a {wrong[0].replace('_', ' ')} unit)" if wrong else ""
-        raise InputError(
-            field, f"unit {unit!r} is not a {dimension.replace('_', ' ')} unit{hint}; use one of: {', '.join(units)}"
-        )
+        hint = f" ({unit!r} is {_a(wrong[0])} unit)" if wrong else ""
+        raise InputError(field, f"unit {unit!r} is not {_a(dimension)} unit{hint}; use one of: {', '.join(units)}")
     x = float(number)
     if not math.isfinite(x):
         raise InputError(field, f"must be finite, got {value!r}")
@@ -95,6 +94,21 @@ def parse_quantity(value: object, dimension: str, field: str, *, positive: bool 
     if positive and not allow_zero and si == 0:
         raise InputError(field, f"must be greater than zero, got {value!r}")
     return si
+
+
+def _by_case(unit: str, units: dict[str, float]) -> str:
+    """``unit`` as the table writes it when only its letters' case differs ("RPM" is rpm,
+    "mpa" MPa); unchanged otherwise (every table's units differ in more than case)."""
+    if unit in units:
+        return unit
+    same = [u for u in units if u.lower() == unit.lower()]
+    return same[0] if len(same) == 1 else unit
+
+
+def _a(dimension: str) -> str:
+    """ "a length", "an angular speed": a dimension's name with its article."""
+    words = dimension.replace("_", " ")
+    return f"{'an' if words[0] in 'aeiou' else 'a'} {words}"
 
 
 def format_quantity(si: float, unit: str, dimension: str, digits: int = 4) -> str:

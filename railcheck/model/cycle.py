@@ -55,14 +55,7 @@ def check_part(job: PartJob, solver: str, report) -> PartResult:
     ``report(message)`` prints a progress line."""
     seconds, warnings = {}, []
     t = time.perf_counter()
-    mesh = mesh_part(
-        job.geometry,
-        job.mesh.size,
-        job.mesh.hole_size,
-        optimize=job.mesh.optimize,
-        cache_dir=environment.cache_dir(),
-        verbose=environment.gmsh_verbose(),
-    )
+    mesh = job_mesh(job)
     seconds["mesh"] = time.perf_counter() - t
     if mesh.warning:
         warnings.append(mesh.warning)
@@ -168,13 +161,10 @@ def unit_request(job: PartJob, mesh, cases: dict) -> UnitRequest:
     )
 
 
-def in_store(job: PartJob) -> bool:
-    """True when the store holds an entry for the part's unit fields (its mesh read from
-    the mesh cache; the entry itself is verified when it is read)."""
-    store = environment.unit_store()
-    if store is None:
-        return False
-    mesh = mesh_part(
+def job_mesh(job: PartJob):
+    """The part's mesh (:func:`railcheck.geometry.mesher.mesh_part`: from the mesh cache in
+    the environment's folder, or built and cached), at the job's sizes."""
+    return mesh_part(
         job.geometry,
         job.mesh.size,
         job.mesh.hole_size,
@@ -182,6 +172,15 @@ def in_store(job: PartJob) -> bool:
         cache_dir=environment.cache_dir(),
         verbose=environment.gmsh_verbose(),
     )
+
+
+def in_store(job: PartJob) -> bool:
+    """True when the store holds an entry for the part's unit fields (its mesh read from
+    the mesh cache; the entry itself is verified when it is read)."""
+    store = environment.unit_store()
+    if store is None:
+        return False
+    mesh = job_mesh(job)
     jobs = [job] + ([job.clamped] if job.clamped is not None else [])
     return mesh.cached and all(
         is_stored(unit_request(j, mesh, unit_cases(j.loads, j.geometry, list(j.holes))), store) for j in jobs

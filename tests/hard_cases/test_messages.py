@@ -202,3 +202,17 @@ def test_an_empty_output_option_is_refused(capsys):
 
     assert main(["kinematics", "--plots", ""]) == 2
     assert "--plots: an empty name" in capsys.readouterr().err
+
+
+def test_a_unit_in_other_letter_case_is_read_and_a_wrong_one_named_with_its_article():
+    """Issue 60: "60 RPM" was refused as "not a angular speed unit"."""
+    assert parse_quantity("60 RPM", "angular_speed", "mechanism.speed") == pytest.approx(2 * 3.141592653589793)
+    assert parse_quantity("375 mpa", "stress", "check.limit") == pytest.approx(375e6)
+    with pytest.raises(InputError, match="is not an angular speed unit"):
+        parse_quantity("3 kg", "angular_speed", "mechanism.speed")
+
+
+def test_a_misspelt_table_gets_a_suggestion():
+    """Issue 60: `[chek]` got no "did you mean"."""
+    with pytest.raises(InputError, match='did you mean "check"'):
+        parse_scene(tomllib.loads(FINAL_DESIGN + '[chek]\nparts = ["crank-rail"]\n'), "t")
