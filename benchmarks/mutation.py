@@ -40,19 +40,31 @@ ROOT = Path(__file__).resolve().parent.parent
 TARGETS: dict[str, tuple[str, tuple[str, ...] | None, tuple[str, ...]]] = {
     "railcheck.fea.fatigue": ("fea/fatigue.py", None, ("tests/test_fatigue.py",)),
     "railcheck.model.records": (
-        "railcheck/check/records.py",
+        "railcheck/model/records.py",
         None,
         ("tests/test_verdicts.py", "tests/test_fatigue.py"),
     ),
     "railcheck.fea.superpose": ("fea/superpose.py", None, ("tests/test_superpose.py",)),
-    "railcheck.fea.screening": (  # the screens' entry points (their helpers run inside them)
-        "railcheck/fea/screening/",
-        ("make_screen", "hull_steps", "von_mises_peak", "fatigue_min", "tip_peak"),
+    # the screens' entry points (their helpers run inside them)
+    "railcheck.fea.screening.screens": (
+        "fea/screening/screens.py",
+        ("make_screen", "hull_steps"),
         ("tests/test_sweep_fe.py",),
     ),
+    "railcheck.fea.screening.groups": (
+        "fea/screening/groups.py",
+        ("von_mises_peak", "fatigue_min"),
+        ("tests/test_sweep_fe.py",),
+    ),
+    "railcheck.fea.screening.exact": ("fea/screening/exact.py", ("tip_peak",), ("tests/test_sweep_fe.py",)),
     "railcheck.sweep.chunk": (
         "railcheck/sweep/chunk.py",
-        ("evaluate_part", "utilisation", "fe_results", "_scaled", "_safe_s_closed", "failed_criteria", "_fe_columns"),
+        ("evaluate_part", "fe_results", "_fe_columns"),
+        ("tests/test_sweep_speeds.py", "tests/test_verdicts.py", "tests/test_sweep.py", "-k", "sweep or speed"),
+    ),
+    "railcheck.sweep.verdicts": (
+        "railcheck/sweep/verdicts.py",
+        ("utilisation", "scaled_results", "safe_s_closed", "failed_criteria"),
         ("tests/test_sweep_speeds.py", "tests/test_verdicts.py", "tests/test_sweep.py", "-k", "sweep or speed"),
     ),
     "railcheck.loads.bearings": ("loads/bearings.py", None, ("tests/test_sweep.py", "-k", "bearing")),

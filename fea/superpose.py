@@ -402,7 +402,7 @@ def screened_max(
     form) x the history's largest norm; the exact maximum over the nodes of largest
     eigenvalue is a lower bound, and only nodes whose bound reaches it are evaluated. A
     history of more than two coefficients is screened in its principal subspace instead
-    (:mod:`fea.screen`; ``bounds``: its :func:`railcheck.fea.screening.history_bounds` over every node
+    (:mod:`railcheck.fea.screening`; ``bounds``: its :func:`railcheck.fea.screening.history_bounds` over every node
     of ``S``, when already known). A node left out of a maximum's candidates is strictly
     below it, so evaluating the union of both candidate sets gives both exactly."""
     k = S.shape[2]
@@ -455,7 +455,7 @@ def _two_coefficient_candidates(S: np.ndarray, C: np.ndarray, mask: np.ndarray):
 def subspace_candidates(S: np.ndarray, C: np.ndarray, b: screening.SampledBounds, mask: np.ndarray) -> np.ndarray:
     """Indices (ascending) of the nodes in ``mask`` of ``S`` (6, n, k) that can hold their
     largest von Mises over the history ``C`` (steps, k): the bounds ``b`` from its principal
-    subspace (:mod:`fea.screen`), a lower bound from the nodes of largest sampled value."""
+    subspace (:mod:`railcheck.fea.screening`), a lower bound from the nodes of largest sampled value."""
     first = screening.first_nodes(np.where(mask, b.von_mises, -np.inf))
     first = first[mask[first]]
     lower = float(von_mises(stress_at(S[:, first], C)).max())

@@ -327,7 +327,7 @@ def test_the_checks_bounds_sample_only_the_boxs_candidates_and_stay_exact():
 
 
 def test_fatigue_bounds_cover_every_stress_range_their_sampled_bounds_allow():
-    """:func:`fea.screen.fatigue_bounds` of sampled bounds: each component's maximum may lie
+    """:func:`railcheck.fea.screening.fatigue_bounds` of sampled bounds: each component's maximum may lie
     anywhere in ``[high - share, high + slack]`` and its minimum in ``[low - slack, low +
     share]`` (read values within the residual's share inside, the chords' slack outside).
     At every corner of those intervals, drawn at random per component over many nodes, the
@@ -354,10 +354,10 @@ def test_fatigue_bounds_cover_every_stress_range_their_sampled_bounds_allow():
 
 
 def test_sampled_bounds_hold_each_component_s_extremes_inside_and_outside():
-    """:func:`fea.screen.sampled_bounds` on a history with a residual outside its largest
+    """:func:`railcheck.fea.screening.sampled_bounds` on a history with a residual outside its largest
     subspace (12 independent harmonics, rank 8): every node's component maximum over every
     step lies in ``[high - share, high + slack]`` and its minimum in ``[low - slack, low +
-    share]``, what :func:`fea.screen.fatigue_bounds` rests on. Planted: the share a tenth
+    share]``, what :func:`railcheck.fea.screening.fatigue_bounds` rests on. Planted: the share a tenth
     of the residual's, the test fails."""
     rng = np.random.default_rng(4)
     n, T, k = 3000, 720, 12

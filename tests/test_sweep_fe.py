@@ -427,7 +427,7 @@ def test_the_box_keeps_a_fatigue_minimum_that_the_peak_does_not_hold():
 
 @pytest.mark.parametrize("rotated", [False, True])
 def test_the_coefficient_box_holds_every_step_and_is_reached_at_its_corners(rotated):
-    """:class:`railcheck.fea.screen.CoefficientBox`, in the coefficients themselves or in a
+    """:class:`railcheck.fea.screening.CoefficientBox`, in the coefficients themselves or in a
     rotated basis of the scaled coefficients, bounds every node's components and von
     Mises over every step of each history of a group (random fields, histories with a
     mean, harmonics and a kick), though it reads its matrices in float32; for a history
@@ -487,7 +487,7 @@ def test_the_coefficient_box_holds_every_step_and_is_reached_at_its_corners(rota
 
 @pytest.mark.parametrize("rotated", [False, True])
 def test_the_float32_box_stays_a_bound_where_its_rounding_matters(rotated):
-    """The float32 :class:`railcheck.fea.screen.CoefficientBox` is still a bound where
+    """The float32 :class:`railcheck.fea.screening.CoefficientBox` is still a bound where
     float32 rounding is as large as the quantity bounded: coefficients of large mean whose
     fields nearly cancel (a component of 1e-4 of its terms), and one-component nodes whose
     bounds a corner-visiting history reaches exactly. Every step's components, von Mises
@@ -533,7 +533,7 @@ def test_the_float32_box_stays_a_bound_where_its_rounding_matters(rotated):
 
 def _fatigue_by_mean(box, C, lo, hi):
     """(sa, sm) bounds of each history of ``C`` from its box with its midranges bounded by
-    its steps' mean (:func:`railcheck.fea.screen.fatigue_bounds_by_midranges`), as
+    its steps' mean (:func:`railcheck.fea.screening.fatigue_bounds_by_midranges`), as
     :func:`railcheck.fea.screening.groups.screened_group` reads them: one (sa, sm) per history."""
     from railcheck.fea.screening import SampledBounds, fatigue_bounds_by_midranges, midrange_box
 
@@ -546,7 +546,7 @@ def _fatigue_by_mean(box, C, lo, hi):
 
 def _midrange_images(box, C, lo, hi):
     """(lo, hi) (6, n) per history: the image of its midrange box (the float32 box's
-    component intervals, widened as :func:`railcheck.fea.screen.fatigue_bounds` widens them)."""
+    component intervals, widened as :func:`railcheck.fea.screening.fatigue_bounds` widens them)."""
     from railcheck.fea.screening import FLOAT32_EPS, midrange_box
 
     mid, reach = box.products(*midrange_box(lo, hi, box.coordinates(C).mean(axis=1)))
@@ -555,7 +555,7 @@ def _midrange_images(box, C, lo, hi):
 
 
 def test_the_midrange_box_holds_a_swing_s_midrange_at_its_mean_within_half_its_reach():
-    """:func:`railcheck.fea.screen.midrange_box`: a harmonic about its mean (a link's
+    """:func:`railcheck.fea.screening.midrange_box`: a harmonic about its mean (a link's
     fully reversed swing) has its midrange at the mean; the box of the coordinates'
     ranges only says it lies within ``|mid| + reach``, the midrange box within half the
     reach of the mean, and it holds every component's midrange of random histories (a
@@ -585,7 +585,7 @@ def test_the_midrange_box_holds_a_swing_s_midrange_at_its_mean_within_half_its_r
 
 
 def test_the_von_mises_interval_bound_holds_inside_its_intervals_and_in_float32():
-    """:func:`railcheck.fea.screen.von_mises_interval_bound`: no stress whose components lie
+    """:func:`railcheck.fea.screening.von_mises_interval_bound`: no stress whose components lie
     in the intervals (random points and every corner) exceeds it; a single component's
     bound is its largest magnitude; computed in float32 it is not below the float64 value
     of the same intervals (its widening covers its own rounding)."""
@@ -614,7 +614,7 @@ def test_the_von_mises_interval_bound_holds_inside_its_intervals_and_in_float32(
 
 
 def test_the_von_mises_bound_over_component_intervals_holds_inside_them_and_in_float32():
-    """:func:`railcheck.fea.screen.interval_von_mises` (the fatigue screens' bound of the
+    """:func:`railcheck.fea.screening.interval_von_mises` (the fatigue screens' bound of the
     alternating and midrange von Mises): no stress whose components lie in the intervals
     (random points and every corner) exceeds it; a single component's bound is its
     largest magnitude; same-signed normal intervals give less than their magnitudes
@@ -674,7 +674,7 @@ def test_float32_fatigue_bounds_are_not_below_the_float64_bounds_of_the_same_val
 
 
 def test_fatigue_bounds_of_a_box_equal_those_of_the_same_bounds_read_as_steps():
-    """A box (:meth:`railcheck.fea.screen.SampledBounds.box`: no step read, ``high`` and
+    """A box (:meth:`railcheck.fea.screening.SampledBounds.box`: no step read, ``high`` and
     ``low`` the same array) has the fatigue bounds of the same values given as separate
     sampled extremes: the box's shortcut (the half-range from 0) is only a shortcut, in
     float64 and float32."""
@@ -693,7 +693,7 @@ def test_fatigue_bounds_of_a_box_equal_those_of_the_same_bounds_read_as_steps():
 
 
 def test_the_box_basis_follows_the_histories():
-    """:func:`railcheck.fea.screen.box_basis`: a group whose 6 coefficients are 2 signals
+    """:func:`railcheck.fea.screening.box_basis`: a group whose 6 coefficients are 2 signals
     mixed (a rotating load seen through every coefficient) gets its principal axes;
     coefficients that move independently keep their own basis (None)."""
     from railcheck.fea.screening import box_basis
@@ -925,7 +925,7 @@ def test_stresses_beyond_float32_range_are_screened_exactly():
 
 def _chord_distance_brute(a, sampled):
     """Each step's distance from the segment between the read steps around it, one step
-    at a time (no shared code with :func:`railcheck.fea.screen.chord_gaps`)."""
+    at a time (no shared code with :func:`railcheck.fea.screening.chord_gaps`)."""
     out = np.zeros(a.shape[0])
     for t in range(a.shape[0]):
         i = min(int(np.searchsorted(sampled, t, side="right")) - 1, sampled.size - 2)
@@ -937,7 +937,7 @@ def _chord_distance_brute(a, sampled):
 
 
 def test_the_subspace_bounds_hold_at_every_step_and_the_midrange_bounds_are_tight():
-    """The bounds of one history in its principal subspace (:mod:`railcheck.fea.screen`):
+    """The bounds of one history in its principal subspace (:mod:`railcheck.fea.screening`):
     a history of eight harmonics (the subspace, rank 8 at most) and a small constant in a
     ninth coefficient, orthogonal to them and left out of the subspace (its residual). Every node's components,
     von Mises and midranges over every step lie within the box's and the samples' bounds.
@@ -983,8 +983,8 @@ def test_the_subspace_bounds_hold_at_every_step_and_the_midrange_bounds_are_tigh
 
 @pytest.mark.parametrize("seed", [0, 1, 2])
 def test_the_subspace_bounds_hold_against_the_worst_residual_on_a_jagged_path(seed):
-    """The box's and the samples' bounds (:func:`railcheck.fea.screen.box_bounds`,
-    :func:`~railcheck.fea.screen.sampled_bounds`) against the worst a residual of size
+    """The box's and the samples' bounds (:func:`railcheck.fea.screening.box_bounds`,
+    :func:`~railcheck.fea.screening.sampled_bounds`) against the worst a residual of size
     ``eps`` can do: each component carries its full share ``norms * eps`` with a fixed
     sign at every step, on a random-walk path with a mean (steps that run back past
     their chords' ends, components with midranges far from zero, either sign). Every
@@ -1018,7 +1018,7 @@ def test_the_sampled_von_mises_bound_covers_the_steps_between_read_steps():
     """A history inside its principal subspace (no residual) on a closed curve: between
     two read steps the path bulges outside their chord, so von Mises there can exceed
     both read values. The bound's chord term (``||L SP||_F delta``,
-    :func:`railcheck.fea.screen.sampled_pairs`) covers it at every node and step; the
+    :func:`railcheck.fea.screening.sampled_pairs`) covers it at every node and step; the
     read values alone do not. Planting the bound without that term fails."""
     from railcheck.fea import screening
 
@@ -1037,9 +1037,9 @@ def test_the_sampled_von_mises_bound_covers_the_steps_between_read_steps():
 
 
 def test_the_group_box_s_midrange_bounds_of_many_histories_at_once_equal_each_alone():
-    """:meth:`railcheck.fea.screen.CoefficientBox.midrange_at` over (history, node) pairs
+    """:meth:`railcheck.fea.screening.CoefficientBox.midrange_at` over (history, node) pairs
     of several histories at once (one product per history) equals
-    :meth:`~railcheck.fea.screen.CoefficientBox.at_nodes` of each history alone, and every
+    :meth:`~railcheck.fea.screening.CoefficientBox.at_nodes` of each history alone, and every
     component's midrange over every step lies within it. Histories with different means
     and shapes, so that a pair read against another history's taken values would
     differ. Plant: every history's pairs read with the first history's values."""
@@ -1069,7 +1069,7 @@ def test_the_group_box_s_midrange_bounds_of_many_histories_at_once_equal_each_al
 
 
 def test_histories_in_their_subspaces_together_equal_each_alone():
-    """:func:`railcheck.fea.screen.principal_subspaces` of several histories at once (the
+    """:func:`railcheck.fea.screening.principal_subspaces` of several histories at once (the
     read steps of every path refined together) gives each history the same rank,
     coordinates, residual, read steps, chord distance and touched steps as that history
     alone. Histories of different reach and shape, so a tolerance or a chord taken from

@@ -299,7 +299,7 @@ def fatigue_of(
     its sigma_a / sigma_m (Pa), the endurance limit and Marin factors, and, when the job
     writes node fields (the VTU), the factor at every node. Without, the nodes of a
     history of more than :data:`railcheck.fea.screening.MIN_STEPS` candidate steps are screened
-    (:mod:`fea.screen`: many coefficients by their principal subspace's sampled steps, two
+    (:mod:`railcheck.fea.screening`: many coefficients by their principal subspace's sampled steps, two
     or three by its box) and only those that can hold the minimum are evaluated: the same
     minimum, node and stresses (``bounds``: the nodes' :func:`verdict_bounds` or
     :func:`railcheck.fea.screening.history_bounds` for ``C[steps]``, when already known)."""
