@@ -24,8 +24,13 @@ from dataclasses import replace
 
 import numpy as np
 
-from railcheck.fea import MATERIALS, assemble, recover_stress, solve_free_body, stress_nodes, unit_traction_vectors
+from railcheck.fea.assembly import assemble
 from railcheck.fea.elasticity import mass_matrix
+from railcheck.fea.loading import unit_traction_vectors
+from railcheck.fea.materials import MATERIALS
+from railcheck.fea.mesh import stress_nodes
+from railcheck.fea.relief import solve_free_body
+from railcheck.fea.stress import recover_stress
 from railcheck.geometry import mesher, shapes
 from railcheck.geometry.catalogue import RAIL
 from railcheck.geometry.models import rail

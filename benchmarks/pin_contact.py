@@ -32,21 +32,14 @@ import argparse
 import numpy as np
 import scipy.sparse as sp
 
-from railcheck.fea import (
-    MATERIALS,
-    assemble,
-    factorise,
-    free_submatrix,
-    peak,
-    recover_stress,
-    stress_nodes,
-    supports,
-    unit_traction_vectors,
-    von_mises,
-)
-from railcheck.fea.loading import surface_node_weights, traction_vector
-from railcheck.fea.mesh import scalar_basis, vector_dof_map
+from railcheck.fea.assembly import assemble
+from railcheck.fea.loading import surface_node_weights, traction_vector, unit_traction_vectors
+from railcheck.fea.materials import MATERIALS
+from railcheck.fea.mesh import scalar_basis, stress_nodes, vector_dof_map
 from railcheck.fea.pin_pressure import bearing_vectors
+from railcheck.fea.solvers import factorise
+from railcheck.fea.stress import peak, recover_stress, von_mises
+from railcheck.fea.system import free_submatrix, supports
 from railcheck.geometry import mesh_part, rail
 from railcheck.loads.pin_pressure import HARMONICS, harmonic_coefficients
 

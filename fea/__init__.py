@@ -1,103 +1,60 @@
-"""railcheck.fea: scikit-fem linear elasticity for the rig's parts, as small functions.
+"""railcheck.fea: scikit-fem linear elasticity for the rig's parts, as small modules.
 
-One flat public namespace, as scikit-fem's own: the mesh adaptor (:mod:`.mesh`), assembly
-(:mod:`.assembly`), loads (:mod:`.loading`: supports, hole loads, tractions as functions of
-position, body force fields), the constrained solve (:mod:`.system`, solvers as callables
-in :mod:`.solvers`), stress recovery (:mod:`.stress`), :func:`solve_elasticity` composing
-them (:mod:`.elasticity`), unit load cases and their superposition over a cycle, fatigue,
-materials and VTK output. Each name is imported from its module on first use (PEP 562),
-and scikit-fem inside the functions that need it, so importing this package, or one
-of its modules, costs only what is used. Units SI: m, N, Pa.
+Each name is imported from the module that defines it (``from railcheck.fea.elasticity
+import solve_elasticity``), by the application and the tests alike, so every import says
+where its name lives and the layering test sees every dependency. The modules: the mesh
+adaptor (:mod:`.mesh`), assembly (:mod:`.assembly`), loads (:mod:`.loading`: supports,
+hole loads, tractions as functions of position, body force fields), the constrained solve
+(:mod:`.system`, solvers as callables in :mod:`.solvers`), stress recovery
+(:mod:`.stress`), :func:`~.elasticity.solve_elasticity` composing them
+(:mod:`.elasticity`), unit load cases (:mod:`.unitcases`) and their superposition over a
+cycle (:mod:`.superpose`, :mod:`.hull`, :mod:`.screening`), inertia relief
+(:mod:`.relief`), modes and the dynamic response (:mod:`.modes`, :mod:`.dynamic`),
+fatigue, materials, the unit-field store and VTK output. scikit-fem is imported inside
+the functions that need it, so importing a module costs only what it uses. Units SI:
+m, N, Pa.
 """
 
 from importlib import import_module
 
-#: public name -> the module that defines it
-_WHERE = {
-    "assemble": "assembly",
-    "mass_matrix": "assembly",
-    "stiffness_matrix": "assembly",
-    "CantileverResult": "cantilever",
-    "run_cantilever": "cantilever",
-    "timoshenko_tip": "cantilever",
-    "Solution": "elasticity",
-    "check_rigid_modes": "elasticity",
-    "solve_elasticity": "elasticity",
-    "ModelError": "errors",
-    "NumericalError": "errors",
-    "CRITERIA": "fatigue",
-    "SURFACE": "fatigue",
-    "Marin": "fatigue",
-    "alternating_and_mean": "fatigue",
-    "endurance_limit": "fatigue",
-    "safety_factor": "fatigue",
-    "HoleLoad": "loading",
-    "Support": "loading",
-    "SurfaceDofs": "loading",
-    "body_force_vector": "loading",
-    "body_force_vectors": "loading",
-    "group_area": "loading",
-    "load_vector": "loading",
-    "resultant": "loading",
-    "surface_dofs": "loading",
-    "surface_node_weights": "loading",
-    "traction_vector": "loading",
-    "unit_traction_vectors": "loading",
-    "MATERIALS": "materials",
-    "Material": "materials",
-    "limit_warning": "materials",
-    "dof_components": "mesh",
-    "estimate_dofs": "mesh",
-    "group_nodes": "mesh",
-    "stress_nodes": "mesh",
-    "vector_dof_map": "mesh",
-    "Modes": "modes",
-    "natural_modes": "modes",
-    "vector_mass_matrix": "modes",
-    "FreeBodySolve": "relief",
-    "RigidModes": "relief",
-    "relieve": "relief",
-    "rigid_modes": "relief",
-    "solve_free_body": "relief",
-    "three_two_one": "relief",
-    "SOLVERS": "solvers",
-    "Solver": "solvers",
-    "factorise": "solvers",
-    "solve_reduced": "solvers",
-    "solver_of": "solvers",
-    "away_from": "stress",
-    "mean_over": "stress",
-    "peak": "stress",
-    "recover_stress": "stress",
-    "von_mises": "stress",
-    "Envelope": "superpose",
-    "UnitFields": "superpose",
-    "envelope": "superpose",
-    "stress_at": "superpose",
-    "free_submatrix": "system",
-    "solve": "system",
-    "supports": "system",
-    "BodyCase": "unitcases",
-    "TractionCase": "unitcases",
-    "PressureCase": "unitcases",
-    "bearing_vectors": "pin_pressure",
-    "UnitSolve": "unitcases",
-    "solve_unit_cases": "unitcases",
-    "pvd_text": "vtk",
-    "write_vtu": "vtk",
-}
-
-__all__ = sorted(_WHERE)
+#: the package's modules
+__all__ = [
+    "assembly",
+    "cantilever",
+    "dynamic",
+    "elasticity",
+    "errors",
+    "fatigue",
+    "hull",
+    "invariants",
+    "loading",
+    "materials",
+    "mesh",
+    "mkl",
+    "modes",
+    "pin_pressure",
+    "products",
+    "progress",
+    "relief",
+    "screening",
+    "solvers",
+    "store",
+    "stress",
+    "superpose",
+    "system",
+    "unitcases",
+    "vtk",
+]
 
 
 def __getattr__(name: str):
-    """The public name from its module, imported on first use."""
-    if name not in _WHERE:
+    """A module of the package, imported on first use (``railcheck.fea.elasticity``)."""
+    if name not in __all__:
         raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(import_module(f".{_WHERE[name]}", __name__), name)
-    globals()[name] = value
-    return value
+    module = import_module(f".{name}", __name__)
+    globals()[name] = module
+    return module
 
 
 def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(_WHERE))
+    return sorted(set(globals()) | set(__all__))

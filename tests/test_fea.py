@@ -465,7 +465,7 @@ def test_sparse_products_equal_scipy_and_fall_back_without_mkl(monkeypatch):
 def test_solvers_are_callables_a_caller_may_pass_its_own():
     """The solvers are a registry of callables: a user-supplied one is called with the
     reduced system and its answer is used; an unknown name is refused."""
-    from railcheck.fea import SOLVERS, solve_reduced, solver_of
+    from railcheck.fea.solvers import SOLVERS, solve_reduced, solver_of
 
     K = sp.diags([4.0, 5.0, 6.0]).tocsr()
     F = np.array([4.0, 10.0, 18.0])
@@ -499,20 +499,11 @@ def test_a_torque_as_a_traction_twists_a_bar_as_saint_venant_says():
     a body force field; the twist angle between two sections far from the ends equals
     T L / (G J) with J from Saint-Venant's series (the ends' warping restraint stays
     local)."""
-    from railcheck.fea import (
-        MATERIALS,
-        assemble,
-        body_force_vector,
-        body_force_vectors,
-        dof_components,
-        resultant,
-        solve,
-        supports,
-        surface_dofs,
-        traction_vector,
-        vector_dof_map,
-    )
-    from railcheck.fea.mesh import scalar_basis
+    from railcheck.fea.assembly import assemble
+    from railcheck.fea.loading import body_force_vector, body_force_vectors, resultant, surface_dofs, traction_vector
+    from railcheck.fea.materials import MATERIALS
+    from railcheck.fea.mesh import dof_components, scalar_basis, vector_dof_map
+    from railcheck.fea.system import solve, supports
     from railcheck.geometry import bar, mesh_part
 
     steel = MATERIALS["steel"]

@@ -5,10 +5,12 @@ against statics, beam theory away from the base, and the 2013 clamp on PF_4b_003
 import numpy as np
 import pytest
 
-from railcheck.fea import MATERIALS, assemble, recover_stress, solve_free_body, stress_nodes, unit_traction_vectors
-from railcheck.fea.mesh import scalar_basis, vector_dof_map
-from railcheck.fea.relief import foundation_reaction, imbalance, rigid_modes
-from railcheck.fea.stress import relative_to_face
+from railcheck.fea.assembly import assemble
+from railcheck.fea.loading import unit_traction_vectors
+from railcheck.fea.materials import MATERIALS
+from railcheck.fea.mesh import scalar_basis, stress_nodes, vector_dof_map
+from railcheck.fea.relief import foundation_reaction, imbalance, rigid_modes, solve_free_body
+from railcheck.fea.stress import recover_stress, relative_to_face
 from railcheck.geometry import mesh_part, rail
 from railcheck.parts import geometry_of
 

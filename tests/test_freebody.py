@@ -8,16 +8,12 @@ import numpy as np
 import pytest
 
 from helpers import FINAL_DESIGN
-from railcheck.fea import (
-    MATERIALS,
-    assemble,
-    recover_stress,
-    resultant,
-    solve_free_body,
-    stress_nodes,
-    surface_dofs,
-    unit_traction_vectors,
-)
+from railcheck.fea.assembly import assemble
+from railcheck.fea.loading import resultant, surface_dofs, unit_traction_vectors
+from railcheck.fea.materials import MATERIALS
+from railcheck.fea.mesh import stress_nodes
+from railcheck.fea.relief import solve_free_body
+from railcheck.fea.stress import recover_stress
 from railcheck.fea.unitcases import BodyCase, case_vector
 from railcheck.geometry import mesh_part
 from railcheck.geometry.catalogue import RAIL

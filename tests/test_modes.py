@@ -4,8 +4,11 @@
 import numpy as np
 import pytest
 
-from railcheck.fea import MATERIALS, assemble, dof_components, supports
+from railcheck.fea.assembly import assemble
+from railcheck.fea.materials import MATERIALS
+from railcheck.fea.mesh import dof_components
 from railcheck.fea.modes import natural_modes, vector_mass_matrix
+from railcheck.fea.system import supports
 from railcheck.geometry import bar, mesh_part
 
 STEEL = MATERIALS["steel"]
@@ -71,8 +74,8 @@ def test_mode_acceleration_equals_a_direct_harmonic_solve(beam, ratio):
     harmonic of it on a natural frequency)."""
     import scipy.sparse.linalg as spla
 
-    from railcheck.fea import unit_traction_vectors
     from railcheck.fea.dynamic import modal_correction, part_modes
+    from railcheck.fea.loading import unit_traction_vectors
     from railcheck.fea.system import free_submatrix
 
     mesh, K, basis, M = beam
@@ -123,8 +126,8 @@ def coarse_cantilever():
     free system, the static solution and its six lowest modes."""
     import scipy.sparse.linalg as spla
 
-    from railcheck.fea import unit_traction_vectors
     from railcheck.fea.dynamic import part_modes
+    from railcheck.fea.loading import unit_traction_vectors
     from railcheck.fea.system import free_submatrix
 
     mesh = mesh_part(bar(L, W, H), 12e-3, 12e-3)

@@ -8,9 +8,13 @@ import math
 import numpy as np
 import pytest
 
-from railcheck.fea import MATERIALS, assemble, recover_stress, resultant, solve_free_body, stress_nodes
-from railcheck.fea.mesh import scalar_basis, vector_dof_map
+from railcheck.fea.assembly import assemble
+from railcheck.fea.loading import resultant
+from railcheck.fea.materials import MATERIALS
+from railcheck.fea.mesh import scalar_basis, stress_nodes, vector_dof_map
 from railcheck.fea.pin_pressure import bearing_vectors, bore_of, harmonic_names
+from railcheck.fea.relief import solve_free_body
+from railcheck.fea.stress import recover_stress
 from railcheck.fea.unitcases import CoupleCase, PressureCase, TractionCase, case_vector
 from railcheck.geometry import mesh_part, rail
 from railcheck.loads.pin_pressure import HARMONICS, half_cosine_coefficient, harmonic_coefficients

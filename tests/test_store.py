@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from railcheck.environment import unit_store
-from railcheck.fea import MATERIALS
+from railcheck.fea.materials import MATERIALS
 from railcheck.fea.store import UnitRequest, UnitStore, is_stored, read_entry, solve_stored, store_info
 from railcheck.fea.unitcases import TractionCase
 from railcheck.geometry import bar, mesh_part
