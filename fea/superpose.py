@@ -73,6 +73,18 @@ class Envelope:
     support_peak: float
 
 
+def first_columns(fields: UnitFields, k: int) -> UnitFields:
+    """The fields of the first ``k`` unit cases only (a part's modes dropped)."""
+    return replace(
+        fields,
+        stress=fields.stress[..., :k],
+        tip=fields.tip[:, :k],
+        displacement=fields.displacement[..., :k],
+        names=fields.names[:k],
+        tips=None if fields.tips is None else {key: v[:, :k] for key, v in fields.tips.items()},
+    )
+
+
 def reduced(fields: UnitFields, C: np.ndarray, rtol: float = 1e-12) -> tuple[UnitFields, np.ndarray]:
     """The same history in the fewest coefficients, exactly: ``C = A B^T`` with the first
     column of ``A`` all ones (B's first column the history's mean) and the others its

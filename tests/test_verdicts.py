@@ -241,7 +241,7 @@ def test_the_dynamic_verdict_is_inclusive_and_its_record_frozen():
 def test_each_criterions_utilisation_by_hand(plate_result):
     """stress / limit; required / fatigue factor (a factor below 1 too, and 0: unlimited);
     deflection / its limit; dynamic: (A - 1) / (A_max - 1), 0 for A = 1 and, with no
-    allowed excess, unlimited above 1."""
+    allowed excess, unlimited above 1; yield: peak / sigma_y, failing above 1."""
     from dataclasses import replace
 
     from railcheck.model.records import DynamicResult
@@ -262,4 +262,9 @@ def test_each_criterions_utilisation_by_hand(plate_result):
     assert replace(part, cycle=replace(c, dynamic=none_allowed)).utilisations["dynamic"] == float("inf")
     exact = replace(none_allowed, amplification=1.0)
     assert replace(part, cycle=replace(c, dynamic=exact)).utilisations["dynamic"] == 0.0
-    assert set(part.utilisations) == {"stress", "fatigue"}  # no limit, no response: not criteria
+    assert set(part.utilisations) == {"stress", "fatigue", "yield"}  # no limit, no response: not criteria
+    assert part.utilisations["yield"] == pytest.approx(part.verdict_stress / 490e6, rel=1e-12)
+    # a linear peak above yield fails the part even under a limit set above yield
+    beyond = replace(part, job=replace(part.job, limit=1e9), cycle=replace(c, envelope=replace(c.envelope, max_von_mises=5e8)))
+    assert beyond.stress_passed and not beyond.within_yield and not beyond.passed
+    assert beyond.governing_criterion == "yield" and beyond.utilisations["yield"] == pytest.approx(5e8 / 490e6)

@@ -14,6 +14,7 @@ from railcheck.geometry.catalogue import (
     rail_mass_per_metre_with_holes,
     with_overrides,
 )
+from railcheck.model.assumptions import assumptions
 from railcheck.model.records import DynamicResult, FatigueResult, PartResult, PipelineResult, SeedMethod
 from railcheck.parts import mass_model
 
@@ -32,6 +33,7 @@ def summary_of(result: PipelineResult) -> dict:
     if scene.check is not None:
         out["material"] = scene.check.material
         out["effects"] = list(scene.check.effects)
+        out["assumptions"] = assumptions(scene, result.parts)
     if any(p.geometry.kind == "rail" for p in result.parts.values()):
         out["rail_mass_per_m_kg"] = rail_masses(scene.geometry, scene.formulation)
     if result.kinematics_summary is not None:
@@ -84,8 +86,10 @@ def part_summary(p: PartResult) -> dict:
         "unit_cases": list(cyc.fields.names),
         "mesh": mesh_summary(p),
     }
+    if job.certificate is not None:
+        out["quasi_static"] = certificate_summary(job)
     if cyc.dynamic is not None:
-        out["dynamic"] = dynamic_summary(cyc.dynamic)
+        out["dynamic"] = dynamic_summary(cyc.dynamic) | {"reason": job.dynamic.reason if job.dynamic else ""}
     if p.clamped is not None:
         out["clamped_2013"] = clamped_summary(p.clamped)
     if job.free_body is not None:
@@ -145,6 +149,21 @@ def free_deflection_words(job) -> str:
     if job.loads.free_body.motor:
         return "at A's bolts relative to the line through the shaft and the driving pin"
     return "sag at mid-span relative to the line through the two joints"
+
+
+def certificate_summary(job) -> dict:
+    """Where quasi-static holds (:mod:`railcheck.model.certificate`): the one-mode estimate
+    of the part's dynamic amplification, its lowest frequency and where it came from."""
+    c = job.certificate
+    return {
+        "holds": bool(c.holds),
+        "amplification_estimate": c.estimate,
+        "tolerance": c.tolerance,
+        "lowest_frequency_Hz": c.lowest_hz,
+        "lowest_frequency_from": c.source,
+        "crank_Hz": c.crank_hz,
+        "then": "quasi-static verdict" if c.holds else "the dynamic response is computed (see dynamic)",
+    }
 
 
 def dynamic_summary(d: DynamicResult) -> dict:

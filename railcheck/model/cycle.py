@@ -29,6 +29,7 @@ from railcheck.fea.superpose import (
     UnitFields,
     component_range,
     envelope,
+    first_columns,
     history_at_node,
     reduced,
     stress_at,
@@ -36,6 +37,7 @@ from railcheck.fea.superpose import (
 )
 from railcheck.fea.unitcases import UnitSolve
 from railcheck.geometry.mesher import mesh_part
+from railcheck.model.certificate import certificate
 from railcheck.model.jobs import PartJob
 from railcheck.model.loading import SourceHistory, unit_cases
 from railcheck.model.records import (
@@ -72,6 +74,9 @@ def check_part(job: PartJob, solver: str, report) -> PartResult:
         report(f"unit fields from the store ({solve.dofs} DOFs; not assembled or solved)")
     elif origin != "solved":
         warnings.append(origin)
+    job, solve, fields = settle_dynamics(job, solve, fields, cases)
+    if job.certificate is not None:
+        report(job.certificate.sentence())
     t = time.perf_counter()
     cycle = evaluate_cycle(job, fields, job.histories, solve)
     seconds["cycle"] = time.perf_counter() - t
@@ -96,6 +101,20 @@ def check_part(job: PartJob, solver: str, report) -> PartResult:
     return PartResult(
         job=job, mesh=mesh, solution=solution, cycle=cycle, seconds=seconds, warnings=tuple(warnings), clamped=clamped
     )
+
+
+def settle_dynamics(job: PartJob, solve: UnitSolve, fields: UnitFields, cases: dict) -> tuple[PartJob, UnitSolve, UnitFields]:
+    """A part whose modes were solved for its certificate only (no beam model): its
+    certificate from its lowest FE mode, and the exact response kept when it does not hold
+    (else the modes are dropped: the quasi-static verdict stands, the estimate beside it)."""
+    d = job.dynamic
+    if d is None or d.exact or solve.modes is None:
+        return job, solve, fields
+    cert = certificate([h.C for h in job.histories], list(cases), d.speed, float(solve.modes.hz[0]), "FE modes", d.damping)
+    if cert.holds:
+        return replace(job, dynamic=None, certificate=cert), replace(solve, modes=None), first_columns(fields, len(cases))
+    reason = f"the certificate does not hold ({cert.estimate:.3f} > {cert.tolerance:.2f})"
+    return replace(job, dynamic=replace(d, exact=True, reason=reason), certificate=cert), solve, fields
 
 
 def clamped_comparison(job: PartJob, mesh, solver: str, report) -> tuple[ClampedComparison, str]:

@@ -23,6 +23,7 @@ from railcheck.geometry.mesher import estimate_elements
 from railcheck.geometry.models import PartGeometry
 from railcheck.kinematics.massmodel import carried_mass
 from railcheck.loads.cases import LoadCase, explicit_load_case, rail_bolt_holes, reaction_load_case
+from railcheck.model.certificate import Certificate, certificate, rail_lowest_hz
 from railcheck.model.kinematics_stage import KinematicsResult
 from railcheck.model.loading import (
     LoadModel,
@@ -66,6 +67,8 @@ class DynamicJob:
     modes: int
     pins: tuple[tuple[str, ...], ...] | None
     lumped: tuple[tuple[tuple[str, ...], float], ...] = ()  # (hole groups, kg): masses the joints carry
+    exact: bool = True  # False: the modes only give the certificate its lowest frequency (a part with no beam model)
+    reason: str = "listed in [check] effects"  # why the response is computed
 
 
 @dataclass(frozen=True)
@@ -94,6 +97,7 @@ class PartJob:
     max_deflection: float | None
     free_body: FreeBodyCases | None = None
     dynamic: DynamicJob | None = None
+    certificate: Certificate | None = None  # where quasi-static holds (a rail's, from its beam model)
     clamped: PartJob | None = None  # a free rail's 2013 clamped model, checked beside it
     node_fields: bool = True  # each node's envelope and fatigue factor are wanted (the VTU)
 
@@ -178,6 +182,8 @@ def part_jobs(
         holes = bolt_holes(scene, name, geo)
         loads = load_model(scene, name, material.density)
         free = free_body_cases(loads, geo, holes) if is_free(loads) else None
+        histories = with_pressure_histories(unit_cases(loads, geo, holes), source_histories(loads, kin, holes))
+        dynamic, cert = speed_validity(scene, free, name, geo, holes, histories, unit_cases(loads, geo, holes), material)
         jobs[name] = PartJob(
             clamped=clamped_job(scene, kin, name, geo, cases, material, limit) if free is not None else None,
             name=name,
@@ -189,14 +195,15 @@ def part_jobs(
             mesh=MeshJob(*mesh_sizes(scene.mesh, geo.kind), scene.mesh.order, scene.mesh.curved, scene.mesh.optimize),
             holes=tuple(holes),
             loads=loads,
-            histories=with_pressure_histories(unit_cases(loads, geo, holes), source_histories(loads, kin, holes)),
+            histories=histories,
             load_case=cases[name],
             material=material,
             limit=limit,
             fatigue=scene.fatigue,
             max_deflection=scene.checked.max_deflection,
             free_body=free,
-            dynamic=dynamic_job(scene, free, name, holes),
+            dynamic=dynamic,
+            certificate=cert,
             node_fields=scene.output.vtk,
         )
     return jobs
@@ -209,7 +216,7 @@ def clamped_job(
     at its first hole, the far joint's reaction at the bolts ``bolt_position`` picks),
     quasi-static; the report shows its peak beside the free body's verdict."""
     clamped = replace(scene, check=replace(scene.checked, support="clamped", parts=(name,)))
-    return replace(part_jobs(clamped, kin, {name: geo}, cases, material, limit)[name], dynamic=None)
+    return replace(part_jobs(clamped, kin, {name: geo}, cases, material, limit)[name], dynamic=None, certificate=None)
 
 
 def dynamic_job(
@@ -222,6 +229,35 @@ def dynamic_job(
     their holes: the near joint's on its first hole, the far joint's on its bolt holes."""
     if "dynamic" not in scene.checked.effects or scene.mechanism is None or scene.linkage_spec.speed <= 0:
         return None
+    return _modal_template(scene, free, name, holes)
+
+
+def speed_validity(
+    scene: Scene, free, name: str, geo, holes, histories, names, material: Material
+) -> tuple[DynamicJob | None, Certificate | None]:
+    """(the part's dynamic request, its certificate): with ``dynamic`` listed, the exact
+    response; else, for a part whose loads vary over the cycle of a turning crank, a rail's
+    certificate from its beam model (the exact response when it does not hold) or, for
+    any other part, its modes for the certificate (decided once they are solved)."""
+    job = dynamic_job(scene, free, name, holes)
+    moving = scene.mechanism is not None and scene.linkage_spec.speed > 0 and any(h.C.shape[0] >= 3 for h in histories)
+    if not moving or name in scene.checked.loads:
+        return job, None
+    cert = None
+    if geo.kind == "rail":
+        template = job or _modal_template(scene, free, name, holes)
+        clamp = None if template.pins else kind_of(name).support
+        hz = rail_lowest_hz(geo, material, template.pins, template.lumped, clamp)
+        cert = certificate([h.C for h in histories], names, template.speed, hz, "beam model", scene.dynamic.damping)
+        if job is None and not cert.holds:
+            job = replace(template, reason=f"the certificate does not hold ({cert.estimate:.3f} > {cert.tolerance:.2f})")
+    elif job is None:
+        job = replace(_modal_template(scene, free, name, holes), exact=False)
+    return job, cert
+
+
+def _modal_template(scene: Scene, free, name: str, holes) -> DynamicJob:
+    """The dynamic request the part would make with ``dynamic`` listed."""
     d = scene.dynamic
     pins = (tuple(free.deflection[0]), tuple(free.deflection[1])) if free is not None and not free.held else None
     lumped = carried_masses(scene, name, holes)

@@ -189,7 +189,9 @@ class PartResult:
     @property
     def utilisations(self) -> dict[str, float]:
         """Each criterion's share of its limit (1 = at the limit): ``stress`` (cycle peak /
-        limit), ``fatigue`` (required / fatigue factor), ``deflection`` (when limited) and
+        limit), ``fatigue`` (required / fatigue factor), ``deflection`` (when limited),
+        ``yield`` (cycle peak / the material's yield strength: beyond 1 the linear-elastic
+        result is not physical) and
         ``dynamic`` (with a dynamic response: the amplification's excess over 1 as a share of
         the allowed excess, (A - 1) / (A_max - 1))."""
         fat = self.cycle.fatigue
@@ -199,6 +201,8 @@ class PartResult:
         }
         if self.deflection_limit is not None:
             out["deflection"] = self.cycle.envelope.max_tip / self.deflection_limit
+        if self.job.material.yield_strength > 0:  # a linear stress beyond yield is not physical
+            out["yield"] = self.verdict_stress / self.job.material.yield_strength
         d = self.cycle.dynamic
         if d is not None:  # the share of the allowed excess over quasi-static: 0 at 1.0, 1 at the limit
             out["dynamic"] = (
@@ -225,8 +229,20 @@ class PartResult:
         return self.cycle.dynamic is None or self.cycle.dynamic.passed
 
     @property
+    def within_yield(self) -> bool:
+        """True while the linear-elastic peak stays at or below the material's yield
+        strength (beyond it the linear result is not physical and the part fails)."""
+        return self.utilisations.get("yield", 0.0) <= 1.0
+
+    @property
     def passed(self) -> bool:
-        return self.stress_passed and self.fatigue_passed and self.deflection_passed and self.dynamic_passed
+        return (
+            self.stress_passed
+            and self.fatigue_passed
+            and self.deflection_passed
+            and self.dynamic_passed
+            and self.within_yield
+        )
 
 
 @dataclass(frozen=True)
@@ -255,6 +271,7 @@ class PipelineResult:
             out += [f"{name} fatigue"] if not p.fatigue_passed else []
             out += [f"{name} deflection"] if not p.deflection_passed else []
             out += [f"{name} dynamic"] if not p.dynamic_passed else []
+            out += [f"{name} beyond yield"] if not p.within_yield else []
         return out
 
     @property

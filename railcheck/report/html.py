@@ -54,6 +54,7 @@ def write_report(path: Path, scene, result, summary: dict, directory: Path) -> N
     sections = [
         _header(result, summary),
         _parts(result),
+        _assumptions(summary),
         _dynamic(result, directory),
         _checks(result),
         _pictures(result, directory),
@@ -90,6 +91,28 @@ def _header(result, summary) -> str:
         + f'<p class="note">scene: {html_escape(result.scene.source)}; '
         + f"stages run: {html_escape(', '.join(result.stages_run))}</p>"
         + "".join(f'<p class="note">warning: {html_escape(w)}</p>' for w in summary.get("warnings", []))
+    )
+
+
+def _assumptions(summary: dict) -> str:
+    """Every default and assumption behind the verdict, and where quasi-static holds."""
+    items = "".join(f"<li>{html_escape(a)}</li>" for a in summary.get("assumptions", []))
+    certs = [
+        f"<li>{html_escape(name)}: {html_escape(_certificate_words(p['quasi_static']))}</li>"
+        for name, p in summary.get("parts", {}).items()
+        if "quasi_static" in p
+    ]
+    out = f"<h2>Assumptions</h2><ul>{items}</ul>" if items else ""
+    return out + (f"<h3>Where quasi-static holds</h3><ul>{''.join(certs)}</ul>" if certs else "")
+
+
+def _certificate_words(c: dict) -> str:
+    """A part's certificate (summary.json's ``quasi_static``) in one sentence."""
+    relation = "<=" if c["holds"] else ">"
+    return (
+        f"one-mode amplification estimate {c['amplification_estimate']:.3f} {relation} {c['tolerance']:.2f} "
+        f"(lowest mode {c['lowest_frequency_Hz']:.3g} Hz by {c['lowest_frequency_from']}, crank {c['crank_Hz']:.3g} Hz): "
+        f"{c['then']}"
     )
 
 

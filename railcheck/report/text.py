@@ -6,6 +6,7 @@ import math
 
 import numpy as np
 
+from railcheck.model.assumptions import assumptions
 from railcheck.units import for_people
 
 
@@ -80,8 +81,10 @@ def parts_table(result) -> str:
         "minimum fatigue safety factor (Shigley 6-14 with the [fatigue] criterion); utilisation: the largest "
         "of stress / limit, required / fatigue n, deflection / its limit and (amplification - 1) / (its limit - 1)"
     )
+    lines += certificate_lines(result)
     lines += dynamic_lines(result)
     lines += _model_notes(result)
+    lines += ["  assumptions:"] + [f"    - {a}" for a in assumptions(result.scene, result.parts)]
     return "\n".join(lines)
 
 
@@ -95,6 +98,7 @@ def _part_row(name: str, p) -> list[str]:
     why += [] if p.fatigue_passed else ["fatigue"]
     why += [] if p.deflection_passed else ["deflection"]
     why += [] if p.dynamic_passed else ["dynamic"]
+    why += [] if p.within_yield else ["beyond-yield"]
     verdict = ("PASS" if p.passed else "FAIL " + "+".join(why)) if np.any(c.C) else "NO LOAD"
     return [
         name,
@@ -145,6 +149,21 @@ def _model_notes(result) -> list[str]:
                 for n, k in compared.items()
             )
         )
+    return lines
+
+
+def certificate_lines(result) -> list[str]:
+    """Per part whose loads vary with a turning crank: whether quasi-static holds (the
+    one-mode estimate against its tolerance) and what was done about it."""
+    certs = {n: p.job.certificate for n, p in result.parts.items() if p.job.certificate is not None}
+    if not certs:
+        return []
+    c0 = next(iter(certs.values()))
+    lines = [
+        f"  where quasi-static holds (one-mode estimate of the dynamic amplification from each part's lowest "
+        f"mode and the load cycle's harmonics, tolerance {c0.tolerance:.2f}; above it the dynamic response is computed):"
+    ]
+    lines += [f"    {name:<14} {c.sentence()}" for name, c in certs.items()]
     return lines
 
 

@@ -42,6 +42,7 @@ from railcheck.sweep.motor import (
     motor_demand,
     torque_parts,
 )
+from railcheck.sweep.validity import certifying, estimates, with_estimates, with_margin
 from railcheck.sweep.verdicts import (
     SAFE_SPEED_SCAN,
     failed_criteria,
@@ -335,12 +336,23 @@ def fe_results(ctx: SweepContext, histories: dict, lengths: dict, speeds_s: list
     exact = "gravity" in ctx.effects or dynamic
     base = at(1.0)
     per_speed = [base if s == 1.0 else (at(s) if exact else scaled_results(ctx, base, s)) for s in speeds_s]
-    if exact:
-        safe = safe_s_bisect(ctx, lambda s: at(s, decide=True), n_sel, scan=SAFE_SPEED_SCAN if dynamic else 0)
+    if certifying(ctx):  # each speed's rows carry the estimate; the safe speed takes it as a margin
+        per_speed = [with_estimates(ctx, r, estimates(ctx, histories, lengths, s)) for r, s in zip(per_speed, speeds_s)]
+
+        def margin(s, decide: bool = False) -> dict:
+            qs = at(s, decide) if exact else scaled_results(ctx, base, s)
+            return with_margin(ctx, qs, estimates(ctx, histories, lengths, s))
+
+        safe = safe_s_bisect(ctx, margin, n_sel, scan=SAFE_SPEED_SCAN)
+        finite = np.where(np.isfinite(safe), safe, 1.0)
+        at_safe = margin(finite)
     else:
-        safe = safe_s_closed(ctx, base, n_sel)
-    finite = np.where(np.isfinite(safe), safe, 1.0)  # unlimited: what governs at the reference speed
-    at_safe = at(finite) if exact else scaled_results(ctx, base, finite)
+        if exact:
+            safe = safe_s_bisect(ctx, lambda s: at(s, decide=True), n_sel, scan=SAFE_SPEED_SCAN if dynamic else 0)
+        else:
+            safe = safe_s_closed(ctx, base, n_sel)
+        finite = np.where(np.isfinite(safe), safe, 1.0)  # unlimited: what governs at the reference speed
+        at_safe = at(finite) if exact else scaled_results(ctx, base, finite)
     return {"per_speed": per_speed, "safe_s": safe, "safe_governs": governing_of(ctx, at_safe)}
 
 
@@ -473,6 +485,8 @@ def _fe_columns(ctx: SweepContext, n: int, fe, j: int, speed: float, passed: np.
         col[f"{name}_tip_mm"], col[f"{name}_utilisation"] = tip * 1e3, u
         if m.dynamic is not None:
             col[f"{name}_amplification"] = amp
+        elif m.certified and m.constant is None:
+            col[f"{name}_amplification_estimate"] = amp
         better = np.isfinite(u) & ~(u <= worst)
         worst, governing = np.where(better, u, worst), np.where(better, name, governing)
     safe = np.full(n, np.nan)

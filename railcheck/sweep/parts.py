@@ -22,6 +22,7 @@ from railcheck.fea.screening import fatigue_min, make_screens, tip_peak, von_mis
 from railcheck.fea.store import UnitRequest, is_stored, solve_stored
 from railcheck.geometry.mesher import cached_mesh, mesh_part
 from railcheck.loads.cases import rail_bolt_holes
+from railcheck.model.certificate import rail_lowest_hz
 from railcheck.model.jobs import carried_masses, free_body_cases, mesh_sizes
 from railcheck.model.loading import LoadModel, load_model, pin_pressure_map, source_histories, unit_cases
 from railcheck.parts import PARTS, geometry_of, kind_of
@@ -53,6 +54,18 @@ class PartModel:
     damping: float = 0.0
     max_amplification: float = math.inf
     pressure: dict | None = None  # hole-pair key -> PinPressureMap (free bodies: pins bear on their holes)
+    lowest_hz: dict | None = None  # hole-pair key -> the certificate's lowest frequency (Hz), without ``dynamic``
+    case_names: dict | None = None  # hole-pair key -> its unit cases' names, in its columns' order
+
+    @property
+    def certified(self) -> bool:
+        """Whether the part's quasi-static results carry the certificate's estimate
+        (:mod:`railcheck.model.certificate`) instead of a dynamic response."""
+        return self.lowest_hz is not None and self.dynamic is None
+
+    def key_for(self, length: float | None):
+        """The hole-pair key a bar of ``length`` m uses (rails), else None."""
+        return None if self.bar is None else self.pair_of[micrometres(length)]
 
     def with_pin_pressure(self, length: float | None, C: np.ndarray) -> np.ndarray:
         """Force coefficients ``C`` (..., k) completed with the pin pressures' harmonics of
@@ -207,6 +220,8 @@ class _PartSetup:
     pressure: dict
     modes: object
     request: UnitRequest
+    names: dict
+    linkage: str
 
 
 def _part_setup(scene, name: str, geo, mesh, lengths: np.ndarray, material, linkage: str) -> _PartSetup:
@@ -222,11 +237,13 @@ def _part_setup(scene, name: str, geo, mesh, lengths: np.ndarray, material, link
     columns: dict[str, list] = {}
     deflections: dict[str, tuple | dict] = {}
     pressure: dict = {}
+    names_of: dict = {}
     for key, holes in groups.items():
         names = []
         loads_key = dataclasses.replace(loads, bar_length=key[2] / 1e6) if free else loads
         key_cases = unit_cases(loads_key, geo, holes)
         pressure[key] = pin_pressure_map(key_cases)
+        names_of[key] = list(key_cases)
         for case_name, case in key_cases.items():
             full = (
                 f"{case_name}@{'-'.join(map(str, key))}" if key is not None and case_name.startswith("bolt") else case_name
@@ -253,7 +270,7 @@ def _part_setup(scene, name: str, geo, mesh, lengths: np.ndarray, material, link
         else None,
         modes,
     )
-    return _PartSetup(geo, free, plate, loads, groups, pair_of, cases, columns, pressure, modes, request)
+    return _PartSetup(geo, free, plate, loads, groups, pair_of, cases, columns, pressure, modes, request, names_of, linkage)
 
 
 def _part_model(scene, name: str, setup: _PartSetup, fields, meta, material, limit: float) -> PartModel:
@@ -263,7 +280,7 @@ def _part_model(scene, name: str, setup: _PartSetup, fields, meta, material, lim
     free, plate, loads, groups, pair_of = setup.free, setup.plate, setup.loads, setup.groups, setup.pair_of
     cases, columns, pressure, modes = setup.cases, setup.columns, setup.pressure, setup.modes
     screens = screens_of(fields, columns)
-    dynamic = pair_modes(fields, meta, columns, len(cases)) if modes else None
+    dynamic = pair_modes(fields, meta, columns, len(cases)) if modes and dynamic_in_sweep(scene) else None
     spec = scene.fatigue
     marin = endurance_limit(material.ultimate_strength, spec.surface, kind.section(geo), spec.load, spec.reliability)
     model = PartModel(
@@ -284,6 +301,8 @@ def _part_model(scene, name: str, setup: _PartSetup, fields, meta, material, lim
         damping=scene.dynamic.damping,
         max_amplification=scene.dynamic.max_amplification,
         pressure=pressure if free or plate else None,
+        lowest_hz=None if dynamic is not None else certificate_frequencies(scene, name, setup, meta, material),
+        case_names=setup.names,
     )
     if name not in scene.check.loads:
         return model
@@ -295,6 +314,34 @@ def _part_model(scene, name: str, setup: _PartSetup, fields, meta, material, lim
         float(tip_peak(scr, C)[0]),
     )
     return PartModel(**{**model.__dict__, "constant": constant})
+
+
+def certificate_frequencies(scene, name: str, setup: _PartSetup, meta, material) -> dict | None:
+    """Hole-pair key -> the lowest frequency (Hz) the part's certificate reads: a rail's
+    beam model per hole pair, any other
+    part's lowest FE mode; None without a turning crank or for explicit loads."""
+    if not certificate_in_sweep(scene) or name in scene.check.loads:
+        return None
+    if setup.geo.kind != "rail":
+        return {key: float(m.hz[0]) for key, m in meta.mode_sets.items()} if meta.mode_sets else None
+    pins = setup.request.free_body.deflection if setup.free else {}
+    clamp = None if setup.free else kind_of(name).support
+    return {
+        key: rail_lowest_hz(
+            setup.geo,
+            material,
+            (tuple(pins[key][0]), tuple(pins[key][1])) if setup.free else None,
+            carried_masses(scene, name, holes, setup.linkage),
+            clamp,
+        )
+        for key, holes in setup.groups.items()
+    }
+
+
+def certificate_in_sweep(scene) -> bool:
+    """Whether a sweep certifies quasi-static: some [sweep] speed above zero, no
+    ``dynamic`` listed (that computes the exact response)."""
+    return scene.check is not None and any(w > 0 for w in scene.sweep.speeds) and not dynamic_in_sweep(scene)
 
 
 def dynamic_in_sweep(scene) -> bool:
@@ -318,7 +365,8 @@ def mode_requests(scene, name: str, groups: dict, deflections: dict | None = Non
     """Hole-pair key -> (modes, pins, carried masses) for
     :func:`railcheck.fea.unitcases.solve_unit_cases`, or None: without ``dynamic``, and
     for a part with explicit loads (constant over the cycle: nothing to respond to)."""
-    if not dynamic_in_sweep(scene) or name in scene.check.loads:
+    certificate_modes = certificate_in_sweep(scene) and kind_of(name).bolts_on_rail is False
+    if not (dynamic_in_sweep(scene) or certificate_modes) or name in scene.check.loads:
         return None
     held = PARTS[name].foundation is not None  # a bolted-down part: its modes held at its base
     pins = (

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from railcheck.model.certificate import QUASI_STATIC_TOLERANCE
 from railcheck.sweep.context import SweepContext
 
 
@@ -20,8 +21,12 @@ def criterion_utilisations(model, vm, fat, tip, amp=None) -> dict[str, np.ndarra
         out = {"stress": vm / model.limit, "fatigue": model.required / fat}
     if model.deflection_limit:
         out["deflection"] = tip / model.deflection_limit
+    if model.yield_strength > 0:  # a linear stress beyond yield is not physical
+        out["yield"] = vm / model.yield_strength
     if model.dynamic is not None and amp is not None:
         out["dynamic"] = (amp - 1.0) / (model.max_amplification - 1.0)
+    elif getattr(model, "certified", False) and model.constant is None and amp is not None:
+        out["quasi-static"] = (amp - 1.0) / (QUASI_STATIC_TOLERANCE - 1.0)
     return out
 
 
@@ -50,7 +55,8 @@ def scaled_results(ctx: SweepContext, base: dict, s) -> dict:
     for name, (vm, fat, tip, amp, _) in base.items():
         m = ctx.models[name]
         if m.constant is None:
-            vm, fat, tip = s * vm, fat / s, s * tip
+            with np.errstate(divide="ignore"):  # at rest (s = 0) the fatigue factor is infinite
+                vm, fat, tip = s * vm, fat / s, s * tip
         out[name] = (vm, fat, tip, amp, utilisation(m, vm, fat, tip, amp))
     return out
 
@@ -149,11 +155,16 @@ def illinois(u_of, a, u_a, b, u_b, iterations: int):
 def failed_criteria(model, vm: np.ndarray, fat: np.ndarray, tip: np.ndarray, amp=None) -> dict[str, np.ndarray]:
     """criterion -> (S,) True where that criterion fails: ``stress`` above the limit,
     ``fatigue`` below the required factor, ``deflection`` above the limit (when one is set),
-    ``dynamic`` an amplification above the largest allowed (with a dynamic response); the
-    words of ``railcheck check``'s failures."""
+    ``dynamic`` an amplification above the largest allowed (with a dynamic response),
+    ``quasi-static`` an estimate above the certificate's tolerance (no verdict from the
+    quasi-static model there); the words of ``railcheck check``'s failures."""
     out = {"stress": vm > model.limit, "fatigue": fat < model.required}
     if model.deflection_limit:
         out["deflection"] = tip > model.deflection_limit
+    if model.yield_strength > 0:
+        out["beyond yield"] = vm > model.yield_strength
     if model.dynamic is not None and amp is not None:
         out["dynamic"] = amp > model.max_amplification
+    elif getattr(model, "certified", False) and model.constant is None and amp is not None:
+        out["quasi-static"] = amp > QUASI_STATIC_TOLERANCE
     return out

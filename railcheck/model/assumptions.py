@@ -1,0 +1,44 @@
+"""Every default and assumption that shaped a check's verdict, in words: the one list the
+console, the report and summary.json state (issue "defaults an engineer signs")."""
+
+from __future__ import annotations
+
+from railcheck.fea.fatigue import RELIABILITY
+from railcheck.fea.materials import MATERIALS
+from railcheck.model.certificate import QUASI_STATIC_TOLERANCE
+
+
+def assumptions(scene, parts: dict) -> list[str]:
+    """The assumptions behind a check of ``scene`` whose part results are ``parts``
+    (name -> PartResult); empty without a [check]."""
+    if scene.check is None:
+        return []
+    c, f = scene.checked, scene.fatigue
+    m = MATERIALS[c.material]
+    out = [
+        f"material {m.name}: sigma_u {m.ultimate_strength / 1e6:.0f} MPa, sigma_y {m.yield_strength / 1e6:.0f} MPa, "
+        f"E {m.youngs_modulus / 1e9:.0f} GPa, density {m.density:.0f} kg/m^3 ({m.source})",
+        (
+            f"stress limit {c.limit / 1e6:.0f} MPa (set in [check] limit)"
+            if c.limit
+            else f"stress limit {m.fatigue_limit / 1e6:.0f} MPa = sigma_u / 2 (seed 000's rule)"
+        ),
+        "a linear-elastic peak above sigma_y fails the part: beyond yield the linear result is not physical",
+        f"load factor {c.factor:g} on every joint force and inertia load (seed 000, chapter 4)",
+        f"fatigue: {f.criterion} criterion, {f.surface} surface, {f.load} loading, reliability {f.reliability:g} "
+        f"(k_e = {RELIABILITY[f.reliability]:g}, Shigley table 6-5), required factor {f.min_safety:g}",
+        (
+            f"deflection limit {c.max_deflection * 1e3:g} mm ([check] max_deflection)"
+            if c.max_deflection is not None
+            else "deflection limit: none (no catalogue or code gives one for this rig; [check] max_deflection sets one)"
+        ),
+        f"effects: {', '.join(c.effects) or 'none'}; support: {c.support}",
+    ]
+    if "gravity" not in c.effects:
+        out.append("no weight: the rig's own weight is not applied (a vertical rig lists gravity in [check] effects)")
+    if any(p.job.certificate is not None or p.cycle.dynamic is not None for p in parts.values()):
+        out.append(
+            f"dynamics: quasi-static where the one-mode amplification estimate is at most {QUASI_STATIC_TOLERANCE:.2f}, "
+            f"else the modal response (mode-acceleration, modal damping {scene.dynamic.damping:g}, assumed)"
+        )
+    return out
