@@ -34,7 +34,16 @@ import scipy.sparse as sp
 from .loading import surface_dofs
 from .modes import natural_modes, stiffness_factor, vector_mass_matrix
 
-__all__ = ["DynamicModel", "lumped_masses", "modal_correction", "one_mode_amplification", "part_modes", "pin_constraints"]
+__all__ = [
+    "DynamicModel",
+    "harmonic_spectrum",
+    "lumped_masses",
+    "modal_correction",
+    "one_mode_amplification",
+    "one_mode_peak",
+    "part_modes",
+    "pin_constraints",
+]
 
 #: penalty stiffness of a pin, relative to the largest diagonal entry of K
 PIN_PENALTY = 1e4
@@ -133,26 +142,36 @@ def modal_correction(modal_loads: np.ndarray, hz: np.ndarray, C: np.ndarray, spe
     return np.concatenate([dq, dq[..., :1, :]], axis=-2)
 
 
+def harmonic_spectrum(C: np.ndarray) -> np.ndarray:
+    """(..., H, k): the harmonics of periodic histories ``C`` (..., steps, k) over one
+    revolution (the repeated end point left out), harmonic n in row n."""
+    return np.fft.rfft(C[..., :-1, :], axis=-2)
+
+
+def one_mode_peak(P: np.ndarray, steps: int, speed, hz, damping: float) -> np.ndarray:
+    """(..., k): the largest absolute value over the cycle of each history of spectrum
+    ``P`` (:func:`harmonic_spectrum` of ``steps`` steps) filtered harmonic by harmonic by
+    the one-mode response ``H(r) = 1 / (1 - r^2 + 2 i zeta r)``, ``r = n Omega / omega_1``
+    (crank ``speed`` rad/s, lowest natural frequency ``hz`` Hz, scalars or one per history)."""
+    lead = P.shape[:-2]
+    speed = np.broadcast_to(np.asarray(speed, float), lead)
+    hz = np.broadcast_to(np.asarray(hz, float), lead)
+    n = np.arange(P.shape[-2])[:, None]
+    r = n * (speed / (2 * np.pi * hz))[..., None, None]  # (..., H, 1)
+    return np.abs(np.fft.irfft(P / (1.0 - r**2 + 2j * damping * r), n=steps - 1, axis=-2)).max(axis=-2)
+
+
 def one_mode_amplification(C: np.ndarray, speed, hz, damping: float) -> tuple[np.ndarray, np.ndarray]:
     """(ratio, peak), each (..., k): the one-mode estimate of each coefficient column's
-    dynamic amplification (DESIGN.md section 12) and the column's peak. Each column of
-    ``C`` (..., steps, k) is filtered harmonic by harmonic by ``H(r) = 1 / (1 - r^2 + 2 i
-    zeta r)``, ``r = n Omega / omega_1`` (crank ``speed`` rad/s, lowest natural frequency
-    ``hz`` Hz, scalars or one per history); ``ratio`` is its largest absolute value over the
-    cycle over the column's own (1 for a column that is zero). The first and last steps
-    are the same instant."""
+    dynamic amplification (DESIGN.md section 12) and the column's peak: each column of
+    ``C`` (..., steps, k) filtered as :func:`one_mode_peak` says, its peak over the
+    column's own (1 for a column that is zero). The first and last steps are the same
+    instant."""
     steps = C.shape[-2]
     lead = C.shape[:-2]
     peak = np.abs(C).max(axis=-2) if steps else np.zeros((*lead, C.shape[-1]))
     if steps < 3:
         return np.ones_like(peak), peak
-    speed = np.broadcast_to(np.asarray(speed, float), lead)
-    hz = np.broadcast_to(np.asarray(hz, float), lead)
-    p = C[..., :-1, :]
-    P = np.fft.rfft(p, axis=-2)
-    n = np.arange(P.shape[-2])[:, None]
-    r = n * (speed / (2 * np.pi * hz))[..., None, None]  # (..., H, 1)
-    y = np.fft.irfft(P / (1.0 - r**2 + 2j * damping * r), n=steps - 1, axis=-2)
+    filtered = one_mode_peak(harmonic_spectrum(C), steps, speed, hz, damping)
     with np.errstate(invalid="ignore", divide="ignore"):
-        ratio = np.where(peak > 0, np.abs(y).max(axis=-2) / np.where(peak > 0, peak, 1.0), 1.0)
-    return ratio, peak
+        return np.where(peak > 0, filtered / np.where(peak > 0, peak, 1.0), 1.0), peak

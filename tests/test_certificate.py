@@ -117,27 +117,14 @@ def test_at_8_hz_the_certificate_fails_and_the_check_computes_the_dynamic_respon
 
 def test_the_beam_frequency_is_below_the_rails_fe_modes_of_the_default_scene():
     """The certificate's frequency (95 % of the beam's) against the FE's pinned modes of
-    the default scene (railcheck check with ``dynamic``: 26.34, 62.37, 70.55 Hz, the
-    figures DESIGN.md section 12 quotes): conservative, and within 10 %."""
+    the default scene (railcheck check with ``dynamic``: 26.34, 62.37, 70.55 Hz; the
+    crank's is computed afresh in test_dynamic.py): conservative, and within 10 %."""
     jobs = _jobs(1.0, ("inertia", "dynamic"))
     fe = {"crank-rail": 26.34, "coupler-rail": 62.37, "rocker-rail": 70.55}
     for name, hz in fe.items():
         j = jobs[name]
         beam = rail_lowest_hz(j.geometry, j.material, j.dynamic.pins, j.dynamic.lumped)
         assert 0.9 * hz < beam < hz, name
-
-
-@pytest.mark.slow
-def test_the_beam_frequency_is_below_the_fe_modes_it_stands_for():
-    """The FE's own lowest pinned mode of the default scene's rails (computed here, effect
-    ``dynamic``) is above the certificate's beam frequency, within 10 %."""
-    from railcheck.check.pipeline import run_pipeline
-
-    result = run_pipeline(_scene(1.0, ("inertia", "dynamic")))
-    for name in ("crank-rail", "coupler-rail", "rocker-rail"):
-        part = result.parts[name]
-        fe, beam = float(part.cycle.dynamic.hz[0]), part.job.certificate.lowest_hz
-        assert 0.9 * fe < beam < fe, name
 
 
 NEIGHBOURHOOD = """

@@ -44,6 +44,17 @@ def one_hz():
         return _crank()
 
 
+@pytest.mark.slow  # the fixture's cost
+def test_the_certificates_beam_frequency_is_below_the_fe_mode_it_stands_for(one_hz):
+    """The crank rail's lowest FE mode (pinned at its shaft and driving pin, A's masses
+    lumped) is above the certificate's beam frequency, within 10 %; the certificate's
+    estimate exceeds the exact amplification (conservative) and both are within 1.05."""
+    part = one_hz.parts["crank-rail"]
+    fe, cert = float(part.cycle.dynamic.hz[0]), part.job.certificate
+    assert 0.9 * fe < cert.lowest_hz < fe
+    assert part.cycle.dynamic.amplification < cert.estimate <= cert.tolerance
+
+
 @pytest.mark.slow  # pin pressures doubled its cost (cold: 6.8 s): out of the fast tier
 def test_the_dynamic_response_is_reported_and_quasi_static_holds_at_1_hz(one_hz):
     part = one_hz.parts["crank-rail"]

@@ -85,13 +85,21 @@ def amplification_estimate(C: np.ndarray, names, speed, hz, damping: float) -> n
     joint-force columns whose peak is at least :data:`SIGNIFICANT` of the largest's, and
     the couples; at least 1."""
     forces, couples = force_columns(names)
-    nf = len(forces)
     if not forces + couples:
         return np.ones(C.shape[:-2])
     ratio, peak = one_mode_amplification(C[..., forces + couples], speed, hz, damping)
-    largest = peak[..., :nf].max(axis=-1, keepdims=True, initial=0.0)
-    counts = np.concatenate([(peak[..., :nf] >= SIGNIFICANT * largest) & (largest > 0), peak[..., nf:] > 0], axis=-1)
-    return np.maximum(np.where(counts, ratio, 1.0).max(axis=-1), 1.0)
+    return largest_significant(ratio, peak, len(forces))
+
+
+def largest_significant(ratio: np.ndarray, peak: np.ndarray, n_forces: int) -> np.ndarray:
+    """(...,): the largest ``ratio`` (..., k) over the first ``n_forces`` columns (joint
+    forces) whose ``peak`` is at least :data:`SIGNIFICANT` of the largest's and the other
+    columns (couples) that are not zero; at least 1."""
+    largest = peak[..., :n_forces].max(axis=-1, keepdims=True, initial=0.0)
+    counts = np.concatenate(
+        [(peak[..., :n_forces] >= SIGNIFICANT * largest) & (largest > 0), peak[..., n_forces:] > 0], axis=-1
+    )
+    return np.maximum(np.where(counts, ratio, 1.0).max(axis=-1, initial=1.0), 1.0)
 
 
 def estimate(histories, names, speed: float, lowest_hz: float, damping: float) -> float:

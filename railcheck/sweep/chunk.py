@@ -42,7 +42,7 @@ from railcheck.sweep.motor import (
     motor_demand,
     torque_parts,
 )
-from railcheck.sweep.validity import certifying, estimates, with_estimates, with_margin
+from railcheck.sweep.validity import Spectra, certifying, safe_s_with_margin, with_estimates, with_margin
 from railcheck.sweep.verdicts import (
     SAFE_SPEED_SCAN,
     failed_criteria,
@@ -336,21 +336,20 @@ def fe_results(ctx: SweepContext, histories: dict, lengths: dict, speeds_s: list
     exact = "gravity" in ctx.effects or dynamic
     base = at(1.0)
     per_speed = [base if s == 1.0 else (at(s) if exact else scaled_results(ctx, base, s)) for s in speeds_s]
-    if certifying(ctx):  # each speed's rows carry the estimate; the safe speed takes it as a margin
-        per_speed = [with_estimates(ctx, r, estimates(ctx, histories, lengths, s)) for r, s in zip(per_speed, speeds_s)]
-
-        def margin(s, decide: bool = False) -> dict:
-            qs = at(s, decide) if exact else scaled_results(ctx, base, s)
-            return with_margin(ctx, qs, estimates(ctx, histories, lengths, s))
-
-        safe = safe_s_bisect(ctx, margin, n_sel, scan=SAFE_SPEED_SCAN)
-        finite = np.where(np.isfinite(safe), safe, 1.0)
-        at_safe = margin(finite)
+    if exact:
+        safe = safe_s_bisect(ctx, lambda s: at(s, decide=True), n_sel, scan=SAFE_SPEED_SCAN if dynamic else 0)
     else:
-        if exact:
-            safe = safe_s_bisect(ctx, lambda s: at(s, decide=True), n_sel, scan=SAFE_SPEED_SCAN if dynamic else 0)
-        else:
-            safe = safe_s_closed(ctx, base, n_sel)
+        safe = safe_s_closed(ctx, base, n_sel)
+    if certifying(ctx):  # each speed's rows carry the estimate; the safe speed takes it as a margin
+        spectra = Spectra(ctx, histories, lengths)
+        per_speed = [with_estimates(ctx, r, spectra.at(s)) for r, s in zip(per_speed, speeds_s)]
+
+        def margin(s) -> dict:
+            return with_margin(ctx, at(s) if exact else scaled_results(ctx, base, s), spectra.at(s))
+
+        safe = safe_s_with_margin(margin, safe, n_sel)
+        at_safe = margin(np.where(np.isfinite(safe), safe, 1.0))
+    else:
         finite = np.where(np.isfinite(safe), safe, 1.0)  # unlimited: what governs at the reference speed
         at_safe = at(finite) if exact else scaled_results(ctx, base, finite)
     return {"per_speed": per_speed, "safe_s": safe, "safe_governs": governing_of(ctx, at_safe)}

@@ -9,16 +9,22 @@ verdict is not given (the row fails on ``quasi-static``: check the setting with 
 ``dynamic`` effect). The safe speed is the largest at which every criterion, the
 quasi-static results amplified by the estimate (stress and deflection times it, fatigue
 factor over it), stays within its limit and the estimate within the tolerance: the exact
-dynamic response there is within it (the certificate is conservative, tested). SI.
+dynamic response there is within it (the certificate is conservative, tested).
+
+The load histories' harmonics are taken once per part and setting (:class:`Spectra`); each
+speed then costs one inverse transform. SI.
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
-from railcheck.model.certificate import amplification_estimate
+from railcheck.fea.dynamic import harmonic_spectrum, one_mode_peak
+from railcheck.model.certificate import force_columns, largest_significant
 from railcheck.sweep.context import SweepContext
-from railcheck.sweep.verdicts import utilisation
+from railcheck.sweep.verdicts import illinois, utilisation
 
 
 def certifying(ctx: SweepContext) -> bool:
@@ -26,25 +32,83 @@ def certifying(ctx: SweepContext) -> bool:
     return any(m.certified and m.constant is None for m in ctx.models.values())
 
 
-def estimates(ctx: SweepContext, histories: dict, lengths: dict, s) -> dict:
-    """part -> (S,) the one-mode amplification estimate of every certified part at speed
-    ratio squared ``s`` (scalar or (S,)), the largest over its load sources."""
-    out = {}
-    for name, m in ctx.models.items():
-        if not m.certified or m.constant is not None:
-            continue
-        sources = histories[name]
-        n_set = sources[0][1].shape[0]
-        ss = np.broadcast_to(np.asarray(s, float), (n_set,))
-        amp = np.ones(n_set)
-        for idx, key in _key_groups(m, lengths[m.bar] if m.bar else None, n_set):
-            speed = ctx.speeds[0] * np.sqrt(ss[idx])
-            for Cg, Ci in sources:
-                C = ss[idx, None, None] * Ci[idx] + (Cg[idx] if Cg is not None else 0.0)
-                est = amplification_estimate(C, m.case_names[key], speed, m.lowest_hz[key], m.damping)
-                amp[idx] = np.maximum(amp[idx], est)
-        out[name] = amp
-    return out
+@dataclass(frozen=True)
+class _Source:
+    """One load source of the settings ``idx`` sharing a hole pair: the joint-force and
+    couple columns' spectra of the inertia (per unit ``s``) and gravity histories, their
+    histories (for the peaks with gravity), the number of force columns, the pair's
+    lowest frequency (Hz) and the steps per revolution."""
+
+    idx: np.ndarray
+    Pi: np.ndarray
+    Pg: np.ndarray | None
+    Ci: np.ndarray
+    Cg: np.ndarray | None
+    n_forces: int
+    hz: float
+    steps: int
+
+
+class Spectra:
+    """The certified parts' load harmonics for a group of settings, taken once; :meth:`at`
+    gives each part's estimate at any speed ratio squared."""
+
+    def __init__(self, ctx: SweepContext, histories: dict, lengths: dict):
+        self.ctx = ctx
+        self.parts: dict[str, list[_Source]] = {}
+        self.n = next(iter(lengths.values())).size
+        for name, m in ctx.models.items():
+            if not m.certified or m.constant is not None:
+                continue
+            bar = lengths[m.bar] if m.bar else None
+            self.parts[name] = [
+                self._source(m, idx, key, Cg, Ci) for idx, key in _key_groups(m, bar, self.n) for Cg, Ci in histories[name]
+            ]
+
+    @staticmethod
+    def _source(m, idx: np.ndarray, key, Cg, Ci) -> _Source:
+        forces, couples = force_columns(m.case_names[key])
+        cols = forces + couples
+        ci = Ci[idx][..., cols]
+        cg = None if Cg is None else Cg[idx][..., cols]
+        return _Source(
+            idx,
+            harmonic_spectrum(ci),
+            None if cg is None else harmonic_spectrum(cg),
+            ci,
+            cg,
+            len(forces),
+            m.lowest_hz[key],
+            ci.shape[-2],
+        )
+
+    def at(self, s) -> dict:
+        """part -> (S,) its estimate at speed ratio squared ``s`` (scalar or (S,))."""
+        ss = np.broadcast_to(np.asarray(s, float), (self.n,))
+        out = {}
+        for name, sources in self.parts.items():
+            m = self.ctx.models[name]
+            amp = np.ones(self.n)
+            for src in sources:
+                amp[src.idx] = np.maximum(amp[src.idx], _estimate(src, ss[src.idx], self.ctx.speeds[0], m.damping))
+            out[name] = amp
+        return out
+
+
+def _estimate(src: _Source, s: np.ndarray, speed0: float, damping: float) -> np.ndarray:
+    """(len(idx),): one source's estimate at speed ratios squared ``s``: without gravity
+    the ratio does not depend on the histories' scale, so the unit spectra serve."""
+    speed = speed0 * np.sqrt(s)
+    if src.Pg is None:
+        peak = np.abs(src.Ci).max(axis=-2)
+        filtered = one_mode_peak(src.Pi, src.steps, speed, src.hz, damping)
+    else:
+        assert src.Cg is not None  # a gravity spectrum comes with its history
+        peak = np.abs(s[:, None, None] * src.Ci + src.Cg).max(axis=-2)
+        filtered = one_mode_peak(s[:, None, None] * src.Pi + src.Pg, src.steps, speed, src.hz, damping)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        ratio = np.where(peak > 0, filtered / np.where(peak > 0, peak, 1.0), 1.0)
+    return largest_significant(ratio, peak, src.n_forces)
 
 
 def _key_groups(model, bar_lengths: np.ndarray | None, n_set: int) -> list[tuple[np.ndarray, object]]:
@@ -77,3 +141,32 @@ def with_margin(ctx: SweepContext, results: dict, amps: dict) -> dict:
         vm, fat, tip = vm * amp, fat / amp, tip * amp
         out[name] = (vm, fat, tip, amp, utilisation(ctx.models[name], vm, fat, tip, amp))
     return out
+
+
+#: Illinois iterations refining the safe speed with the estimate's margin
+MARGIN_REFINE = 14
+
+
+def safe_s_with_margin(margin, upper: np.ndarray, n: int) -> np.ndarray:
+    """The speed ratio squared ``s`` at which the largest utilisation of ``margin(s)``
+    (:func:`with_margin` results) reaches 1, vectorised over the settings: 0 where the rig
+    fails at rest, inf where no ``s`` up to 2^40 reaches it. ``upper``: the quasi-static
+    safe ``s`` (inf where unlimited), where the margin's utilisation is already at least 1
+    (the estimate is at least 1), so the crossing lies in [0, upper]; below the first
+    resonance the estimate grows with the speed, and the tolerance is reached well before
+    it, so the crossing is single and regula falsi (Illinois) refines it."""
+
+    def worst(s):
+        return np.max([u for *_, u in margin(s).values()], axis=0)
+
+    u0 = worst(np.zeros(n))
+    hi = np.where(np.isfinite(upper) & (upper > 0), upper, 1.0)
+    u_hi = worst(hi)
+    for _ in range(40):  # unlimited quasi-statically: the estimate's tolerance bounds the speed
+        short = ~(u_hi > 1.0)
+        if not np.any(short):
+            break
+        hi = np.where(short, 2.0 * hi, hi)
+        u_hi = np.where(short, worst(hi), u_hi)
+    r = illinois(lambda r: worst(r**2), np.zeros(n), u0, np.sqrt(hi), u_hi, MARGIN_REFINE)
+    return np.where(u0 > 1.0, 0.0, np.where(u_hi > 1.0, r**2, np.inf))
