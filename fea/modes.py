@@ -55,7 +55,10 @@ def natural_modes(K, M, fixed: np.ndarray, count: int, shift: float | None = Non
     sigma = shift if shift is not None else (0.0 if free.size < N else -((2 * np.pi) ** 2))
     factor = factor or factorise((Kf - sigma * Mf).tocsr(), "direct")
     inverse = spla.LinearOperator(Kf.shape, matvec=factor.solve_once, dtype=float)
-    values, vectors = spla.eigsh(Kf, k=count, M=Mf, sigma=sigma, which="LM", OPinv=inverse)
+    # a fixed start vector (ARPACK's default is random: the last bits of the frequencies
+    # would change from run to run); random-like so that no mode is orthogonal to it
+    v0 = np.random.default_rng(0).standard_normal(Kf.shape[0])
+    values, vectors = spla.eigsh(Kf, k=count, M=Mf, sigma=sigma, which="LM", OPinv=inverse, v0=v0)
     order = np.argsort(values)
     shapes = np.zeros((N, count))
     shapes[free] = vectors[:, order]

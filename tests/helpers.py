@@ -170,3 +170,17 @@ def package_dirs() -> dict[str, Path]:
         pkg: ROOT / mapping.get(pkg, mapping.get(pkg.split(".")[0], "") and pkg.replace(".", "/"))
         for pkg in config["packages"]
     }
+
+
+def utilisation_at_safe_speed(part, criterion: str | None = None) -> float:
+    """A checked part's utilisation as the sweep's safe speed reads it: its stress,
+    fatigue and deflection utilisations times its certificate's estimate, and the
+    estimate's share of its tolerance (``quasi-static``); ``criterion`` one of them, else
+    the largest. (A check at the safe speed gives the quasi-static verdict with the
+    estimate beside it; the sweep's safe speed takes the estimate as a margin.)"""
+    c = part.job.certificate
+    est = 1.0 if c is None else c.estimate
+    u = {k: v * est for k, v in part.utilisations.items() if k in ("stress", "fatigue", "deflection")}
+    if c is not None:
+        u["quasi-static"] = (est - 1.0) / (c.tolerance - 1.0)
+    return u[criterion] if criterion else max(u.values())

@@ -12,8 +12,8 @@ import tomllib
 
 import numpy as np
 import pytest
-from helpers import ROOT, check_scene_of_row, run_sweep_text, table_rows
 
+from helpers import ROOT, check_scene_of_row, run_sweep_text, table_rows
 from railcheck.fea.beam import beam_lowest_frequency
 from railcheck.fea.dynamic import one_mode_amplification
 from railcheck.model.certificate import QUASI_STATIC_TOLERANCE, amplification_estimate, rail_lowest_hz
@@ -187,3 +187,56 @@ def test_the_sweeps_safe_speed_passes_a_check_with_the_dynamic_response(tmp_path
     assert result.passed, result.failures
     assert max(p.utilisation for p in result.parts.values()) <= 1.0
     assert all(p.cycle.dynamic is not None for p in result.parts.values())
+
+
+def test_the_sweeps_quasi_static_criterion_fails_only_beyond_the_tolerance():
+    """Within the tolerance the estimate is stated, not a utilisation (0); beyond it the
+    row fails on ``quasi-static`` with the share (A - 1) / (A_tol - 1) above 1."""
+    from types import SimpleNamespace
+
+    from railcheck.sweep.verdicts import criterion_utilisations, failed_criteria
+
+    model = SimpleNamespace(
+        limit=375e6, required=1.0, deflection_limit=None, yield_strength=490e6, dynamic=None, certified=True, constant=None
+    )
+    vm, fat, tip = np.array([100e6, 100e6]), np.array([2.0, 2.0]), np.zeros(2)
+    amp = np.array([1.04, 1.06])
+    u = criterion_utilisations(model, vm, fat, tip, amp)
+    assert u["quasi-static"][0] == 0.0 and u["quasi-static"][1] == pytest.approx(1.2)
+    assert list(failed_criteria(model, vm, fat, tip, amp)["quasi-static"]) == [False, True]
+    assert list(failed_criteria(model, np.array([500e6, 1e6]), fat, tip, amp)["beyond yield"]) == [True, False]
+
+
+def test_the_safe_speed_with_margin_solves_a_known_crossing():
+    """u(s) = 0.5 s A(s), A(s) = 1 + 0.01 s (quasi-static safe s = 2): the margin's
+    crossing solves 0.5 s (1 + 0.01 s) = 1 (s = 1.9615...) unless the estimate's share,
+    (A - 1) / 0.05, reaches 1 first (at s = 5: not here); a rig failing at rest gives 0."""
+    from railcheck.sweep.validity import safe_s_with_margin
+    from railcheck.sweep.verdicts import quasi_static_share
+
+    def margin(s, base=0.5):
+        a = 1 + 0.01 * s
+        return {"p": (None, None, None, a, np.maximum(base * s * a, quasi_static_share(a)))}
+
+    got = safe_s_with_margin(margin, np.array([2.0, 2.0]), 2)
+    want = (-1 + math.sqrt(1 + 4 * 0.01 * 2)) / (2 * 0.01)
+    assert got == pytest.approx([want, want], rel=1e-6)
+    steep = safe_s_with_margin(lambda s: margin(s, base=0.01), np.array([100.0]), 1)
+    assert steep[0] == pytest.approx(5.0, rel=1e-6)  # the estimate's tolerance sets it
+
+
+def test_every_default_that_shapes_the_verdict_is_stated():
+    from railcheck.model.assumptions import assumptions
+
+    words = " | ".join(assumptions(_scene(1.0), {}))
+    for needle in (
+        "sigma_y 490 MPa",
+        "sigma_u / 2",
+        "load factor 1.4",
+        "reliability 0.99",
+        "k_e = 0.814",
+        "deflection limit: none",
+        "no weight",
+        "beyond yield",
+    ):
+        assert needle in words, needle

@@ -111,6 +111,8 @@ steps = 720
 [check]
 parts = ["crank-rail", "coupler-rail", "rocker-rail"]
 support = "free-body"
+[fatigue]
+reliability = 0.5  # the references' fatigue factors were computed at 0.5 (ke = 1), the default then
 """
 )
 

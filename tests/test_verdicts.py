@@ -265,6 +265,8 @@ def test_each_criterions_utilisation_by_hand(plate_result):
     assert set(part.utilisations) == {"stress", "fatigue", "yield"}  # no limit, no response: not criteria
     assert part.utilisations["yield"] == pytest.approx(part.verdict_stress / 490e6, rel=1e-12)
     # a linear peak above yield fails the part even under a limit set above yield
-    beyond = replace(part, job=replace(part.job, limit=1e9), cycle=replace(c, envelope=replace(c.envelope, max_von_mises=5e8)))
+    beyond = replace(
+        part, job=replace(part.job, limit=1e9), cycle=replace(c, envelope=replace(c.envelope, max_von_mises=5e8))
+    )
     assert beyond.stress_passed and not beyond.within_yield and not beyond.passed
     assert beyond.governing_criterion == "yield" and beyond.utilisations["yield"] == pytest.approx(5e8 / 490e6)

@@ -134,4 +134,6 @@ def rail_lowest_hz(geo, material, pins, lumped, clamp: str | None = None) -> flo
     masses = [(_x_of(geo, groups), kg) for groups, kg in lumped]
     pins_x = [_x_of(geo, groups) for groups in pins or ()]
     clamps = [_x_of(geo, [clamp])] if clamp and not pins_x else []
-    return BEAM_MARGIN * beam_lowest_frequency(geo.get("length"), EI, section.area * material.density, pins_x, masses, clamps)
+    return BEAM_MARGIN * beam_lowest_frequency(
+        geo.get("length"), EI, section.area * material.density, pins_x, masses, clamps
+    )

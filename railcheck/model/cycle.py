@@ -103,7 +103,9 @@ def check_part(job: PartJob, solver: str, report) -> PartResult:
     )
 
 
-def settle_dynamics(job: PartJob, solve: UnitSolve, fields: UnitFields, cases: dict) -> tuple[PartJob, UnitSolve, UnitFields]:
+def settle_dynamics(
+    job: PartJob, solve: UnitSolve, fields: UnitFields, cases: dict
+) -> tuple[PartJob, UnitSolve, UnitFields]:
     """A part whose modes were solved for its certificate only (no beam model): its
     certificate from its lowest FE mode, and the exact response kept when it does not hold
     (else the modes are dropped: the quasi-static verdict stands, the estimate beside it)."""

@@ -42,7 +42,14 @@ from railcheck.sweep.motor import (
     motor_demand,
     torque_parts,
 )
-from railcheck.sweep.validity import Spectra, certifying, safe_s_with_margin, with_estimates, with_margin
+from railcheck.sweep.validity import (
+    Spectra,
+    certifying,
+    margin_governs,
+    safe_s_with_margin,
+    with_estimates,
+    with_margin,
+)
 from railcheck.sweep.verdicts import (
     SAFE_SPEED_SCAN,
     failed_criteria,
@@ -348,11 +355,11 @@ def fe_results(ctx: SweepContext, histories: dict, lengths: dict, speeds_s: list
             return with_margin(ctx, at(s) if exact else scaled_results(ctx, base, s), spectra.at(s))
 
         safe = safe_s_with_margin(margin, safe, n_sel)
-        at_safe = margin(np.where(np.isfinite(safe), safe, 1.0))
+        governs = margin_governs(ctx, margin(np.where(np.isfinite(safe), safe, 1.0)))
     else:
         finite = np.where(np.isfinite(safe), safe, 1.0)  # unlimited: what governs at the reference speed
-        at_safe = at(finite) if exact else scaled_results(ctx, base, finite)
-    return {"per_speed": per_speed, "safe_s": safe, "safe_governs": governing_of(ctx, at_safe)}
+        governs = governing_of(ctx, at(finite) if exact else scaled_results(ctx, base, finite))
+    return {"per_speed": per_speed, "safe_s": safe, "safe_governs": governs}
 
 
 def evaluate_chunk(ctx: SweepContext, lengths: dict, ids: np.ndarray) -> dict:

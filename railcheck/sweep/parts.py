@@ -21,6 +21,7 @@ from railcheck.fea.fatigue import endurance_limit
 from railcheck.fea.screening import fatigue_min, make_screens, tip_peak, von_mises_peak
 from railcheck.fea.store import UnitRequest, is_stored, solve_stored
 from railcheck.geometry.mesher import cached_mesh, mesh_part
+from railcheck.geometry.models import PartGeometry
 from railcheck.loads.cases import rail_bolt_holes
 from railcheck.model.certificate import rail_lowest_hz
 from railcheck.model.jobs import carried_masses, free_body_cases, mesh_sizes
@@ -209,7 +210,7 @@ def part_is_stored(scene, name: str, lengths: np.ndarray, material, linkage: str
 class _PartSetup:
     """What a part model derives from the scene and the mesh before its unit fields."""
 
-    geo: object  # PartGeometry
+    geo: PartGeometry
     free: bool
     plate: bool
     loads: LoadModel
@@ -222,6 +223,7 @@ class _PartSetup:
     request: UnitRequest
     names: dict
     linkage: str
+    deflections: dict  # hole-pair key -> a free body's deflection groups (its modal pins: the first two)
 
 
 def _part_setup(scene, name: str, geo, mesh, lengths: np.ndarray, material, linkage: str) -> _PartSetup:
@@ -270,7 +272,9 @@ def _part_setup(scene, name: str, geo, mesh, lengths: np.ndarray, material, link
         else None,
         modes,
     )
-    return _PartSetup(geo, free, plate, loads, groups, pair_of, cases, columns, pressure, modes, request, names_of, linkage)
+    return _PartSetup(
+        geo, free, plate, loads, groups, pair_of, cases, columns, pressure, modes, request, names_of, linkage, deflections
+    )
 
 
 def _part_model(scene, name: str, setup: _PartSetup, fields, meta, material, limit: float) -> PartModel:
@@ -318,13 +322,13 @@ def _part_model(scene, name: str, setup: _PartSetup, fields, meta, material, lim
 
 def certificate_frequencies(scene, name: str, setup: _PartSetup, meta, material) -> dict | None:
     """Hole-pair key -> the lowest frequency (Hz) the part's certificate reads: a rail's
-    beam model per hole pair, any other
-    part's lowest FE mode; None without a turning crank or for explicit loads."""
+    beam model per hole pair, any other part's lowest FE mode; None without a turning
+    crank or for explicit loads."""
     if not certificate_in_sweep(scene) or name in scene.check.loads:
         return None
     if setup.geo.kind != "rail":
         return {key: float(m.hz[0]) for key, m in meta.mode_sets.items()} if meta.mode_sets else None
-    pins = setup.request.free_body.deflection if setup.free else {}
+    pins = setup.deflections
     clamp = None if setup.free else kind_of(name).support
     return {
         key: rail_lowest_hz(

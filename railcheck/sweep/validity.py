@@ -24,7 +24,7 @@ import numpy as np
 from railcheck.fea.dynamic import harmonic_spectrum, one_mode_peak
 from railcheck.model.certificate import force_columns, largest_significant
 from railcheck.sweep.context import SweepContext
-from railcheck.sweep.verdicts import illinois, utilisation
+from railcheck.sweep.verdicts import criterion_utilisations, governing_of, illinois, quasi_static_share, utilisation
 
 
 def certifying(ctx: SweepContext) -> bool:
@@ -139,8 +139,34 @@ def with_margin(ctx: SweepContext, results: dict, amps: dict) -> dict:
     for name, amp in amps.items():
         vm, fat, tip, _, _ = results[name]
         vm, fat, tip = vm * amp, fat / amp, tip * amp
-        out[name] = (vm, fat, tip, amp, utilisation(ctx.models[name], vm, fat, tip, amp))
+        u = np.maximum(utilisation(ctx.models[name], vm, fat, tip, amp), quasi_static_share(amp))
+        out[name] = (vm, fat, tip, amp, u)
     return out
+
+
+def margin_governs(ctx: SweepContext, results: dict) -> tuple[np.ndarray, np.ndarray]:
+    """(part, criterion) that sets the safe speed in :func:`with_margin` ``results``: the
+    part whose estimate is nearest its tolerance when that share exceeds every other
+    criterion's utilisation (``quasi-static``), else :func:`governing_of`'s."""
+    part, criterion = governing_of(ctx, results)
+    shares = {n: quasi_static_share(r[3]) for n, r in results.items() if ctx.models[n].certified}
+    if not shares:
+        return part, criterion
+    names = list(shares)
+    stacked = np.array([shares[n] for n in names])
+    k = np.argmax(stacked, axis=0)
+    best = stacked[k, np.arange(stacked.shape[1])]
+    others = np.max([governing_value(ctx, r, n) for n, r in results.items()], axis=0)
+    validity = best >= others
+    return np.where(validity, np.array(names, dtype=object)[k], part), np.where(validity, "quasi-static", criterion)
+
+
+def governing_value(ctx: SweepContext, result: tuple, name: str) -> np.ndarray:
+    """(S,) a part's largest utilisation without the certificate's share."""
+    vm, fat, tip, amp, _ = result
+    crits = criterion_utilisations(ctx.models[name], vm, fat, tip, amp)
+    crits.pop("quasi-static", None)
+    return np.max([np.where(np.isnan(u), -np.inf, u) for u in crits.values()], axis=0)
 
 
 #: Illinois iterations refining the safe speed with the estimate's margin

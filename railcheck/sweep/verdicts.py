@@ -15,8 +15,10 @@ from railcheck.sweep.context import SweepContext
 
 def criterion_utilisations(model, vm, fat, tip, amp=None) -> dict[str, np.ndarray]:
     """criterion -> (S,) its share of the limit: stress / limit, required / fatigue factor,
-    (with a limit) tip / deflection limit and (with a dynamic response) the amplification's
-    excess over 1 as a share of the allowed excess; the words of ``railcheck check``."""
+    (with a limit) tip / deflection limit, peak / yield strength, (with a dynamic response)
+    the amplification's excess over 1 as a share of the allowed excess and (with the
+    certificate) ``quasi-static``, the estimate's share where it is beyond the tolerance
+    (no quasi-static verdict there); the words of ``railcheck check``."""
     with np.errstate(divide="ignore"):
         out = {"stress": vm / model.limit, "fatigue": model.required / fat}
     if model.deflection_limit:
@@ -26,8 +28,16 @@ def criterion_utilisations(model, vm, fat, tip, amp=None) -> dict[str, np.ndarra
     if model.dynamic is not None and amp is not None:
         out["dynamic"] = (amp - 1.0) / (model.max_amplification - 1.0)
     elif getattr(model, "certified", False) and model.constant is None and amp is not None:
-        out["quasi-static"] = (amp - 1.0) / (QUASI_STATIC_TOLERANCE - 1.0)
+        out["quasi-static"] = quasi_static_share(amp, beyond_only=True)
     return out
+
+
+def quasi_static_share(amp, beyond_only: bool = False) -> np.ndarray:
+    """The certificate's estimate ``amp`` as a share of its tolerance's excess over 1,
+    ``(A - 1) / (A_tol - 1)``; ``beyond_only``: 0 where the estimate is within the
+    tolerance (there the quasi-static verdict stands and the share is no utilisation)."""
+    share = (amp - 1.0) / (QUASI_STATIC_TOLERANCE - 1.0)
+    return np.where(amp > QUASI_STATIC_TOLERANCE, share, 0.0) if beyond_only else share
 
 
 def utilisation(model, vm, fat, tip, amp=None) -> np.ndarray:
