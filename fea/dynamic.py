@@ -31,6 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
+from .errors import NumericalError
 from .loading import surface_dofs
 from .modes import natural_modes, stiffness_factor, vector_mass_matrix
 
@@ -94,14 +95,25 @@ def lumped_masses(basis, groups: dict, lumped) -> sp.csr_matrix:
 
 
 def part_modes(
-    K, basis, density: float, F: np.ndarray, count: int, fixed=None, pins=None, groups=None, lumped=(), shared=None
+    K,
+    basis,
+    density: float,
+    F: np.ndarray,
+    count: int,
+    fixed=None,
+    pins=None,
+    groups=None,
+    lumped=(),
+    shared=None,
+    progress=None,
 ) -> DynamicModel:
     """The ``count`` lowest modes of a part with its ``fixed`` DOFs held (a clamped part)
     or its ``pins`` (lists of hole surfaces, :func:`pin_constraints`) held by penalty (a
     free body), the masses ``lumped`` on hole surfaces ([(surfaces, kg)]) added to the
     consistent mass, and each unit load vector's modal load (``F`` (N, k)). ``shared``: a
     dict reused across calls on one part (its consistent mass matrix and, for a part held
-    at ``fixed`` DOFs, its stiffness factorisation: both independent of the lumped masses)."""
+    at ``fixed`` DOFs, its stiffness factorisation: both independent of the lumped masses).
+    ``progress``: told a long eigensolve's estimate and progress (one line at a time)."""
     shared = {} if shared is None else shared
     if "M" not in shared:
         shared["M"] = vector_mass_matrix(basis, density)
@@ -116,7 +128,10 @@ def part_modes(
     held = np.zeros(0, dtype=np.int64) if fixed is None else fixed
     if not pins and "factor" not in shared:
         shared["factor"] = stiffness_factor(K, held)
-    modes = natural_modes(Kd, M, held, count, shift=0.0, factor=None if pins else shared["factor"])
+    factor = None if pins else shared["factor"]
+    modes = natural_modes(Kd, M, held, count, shift=0.0, factor=factor, progress=progress)
+    if not np.all(modes.hz > 0.0):  # held at supports or pins, every mode is elastic: a zero one is spurious
+        raise NumericalError(f"the eigensolver gave a mode at 0 Hz among {count}: ask for fewer", "dynamic.modes")
     return DynamicModel(hz=modes.hz, shapes=modes.shapes, modal_loads=modes.shapes.T @ F)
 
 
@@ -130,6 +145,8 @@ def modal_correction(modal_loads: np.ndarray, hz: np.ndarray, C: np.ndarray, spe
     lead = C.shape[:-2]
     if steps < 3:
         return np.zeros((*lead, steps, hz.size))
+    if not np.all(np.isfinite(hz) & (hz > 0.0)):  # a held part's modes are elastic
+        raise NumericalError(f"a mode at {np.min(hz):g} Hz: the eigensolve failed; ask for fewer modes", "dynamic.modes")
     speed = np.broadcast_to(np.asarray(speed, float), lead)
     p = C[..., :-1, :] @ modal_loads.T  # (..., T, m): one period without the repeated end point
     P = np.fft.rfft(p, axis=-2)

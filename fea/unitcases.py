@@ -254,7 +254,7 @@ def solve_unit_cases(
     t.append(time.perf_counter())
     sets = None
     if modes is not None:
-        U, names, sets = _with_modes(K, F, U, names, basis, groups, material, fixed, free_body, modes)
+        U, names, sets = _with_modes(K, F, U, names, basis, groups, material, fixed, free_body, modes, report)
     tip = tip_op @ U if tip_op is not None else np.zeros((3, U.shape[1]))
     per_key = free_body.deflection if free_body is not None and isinstance(free_body.deflection, dict) else None
     tips = {key: relative_deflection(basis, groups, *d) @ U for key, d in per_key.items()} if per_key else None
@@ -330,7 +330,7 @@ def _supported_solve(K, F, basis, points, groups: dict, support_groups, solver, 
     return U, info, fixed, None, reactions, mask, tip_op
 
 
-def _with_modes(K, F, U, names: tuple, basis, groups: dict, material: Material, fixed, free_body, modes):
+def _with_modes(K, F, U, names: tuple, basis, groups: dict, material: Material, fixed, free_body, modes, report=None):
     """(U with the modes' shapes as extra columns, names with theirs, key -> DynamicModel).
     ``modes`` = (count, pins, lumped masses): the part's lowest modes
     (:func:`railcheck.fea.dynamic.part_modes`: held at its supports, at a free body's held
@@ -346,7 +346,9 @@ def _with_modes(K, F, U, names: tuple, basis, groups: dict, material: Material, 
     shared: dict = {}
     for key, (count, pins, lumped) in requests.items():
         held = None if pins else (supports(basis, groups, list(free_body.held)) if held_modes else fixed)
-        found = part_modes(K, basis, density, F, count, fixed=held, pins=pins, groups=groups, lumped=lumped, shared=shared)
+        found = part_modes(
+            K, basis, density, F, count, fixed=held, pins=pins, groups=groups, lumped=lumped, shared=shared, progress=report
+        )
         U = np.hstack([U, found.shapes])
         names += tuple(f"mode {i + 1}" + ("" if key is None else f"@{key}") for i in range(count))
         sets[key] = DynamicModel(hz=found.hz, shapes=np.zeros((0, count)), modal_loads=found.modal_loads)

@@ -31,6 +31,8 @@ from typing import Any
 
 import numpy as np
 
+from railcheck.base.errors import NumericalError
+
 from . import shapes
 from .cache import default_cache_dir, read_cached, write_cached
 from .curving import curved_from_tet10, straighten_folded
@@ -151,10 +153,28 @@ def build_mesh(part: PartGeometry, size: float, hole_size: float, verbose: bool 
     from a child process, where gmsh cannot touch the caller's handlers; the child costs
     about 0.2 s. So does a caller in another thread than the main one, where the caller's
     handlers (and Python's ignored SIGPIPE) cannot be put back. Any other caller meshes in
-    this process."""
-    if _handles_sigterm() or threading.current_thread() is not threading.main_thread():
+    this process.
+
+    A grooved rail is always meshed in a child: gmsh's untangling of its curved elements
+    can end in ``std::terminate`` (its error raised inside an OpenMP region, no exception
+    to catch), which would take this process with it. When the untangling fails the
+    child's mesh is built again without it and the folded elements' curved edges are
+    straightened instead (:func:`_build_in_child`); a mesh gmsh cannot build at all is a
+    :class:`MeshFailure`."""
+    if _handles_sigterm() or threading.current_thread() is not threading.main_thread() or _untangles(part):
         return _build_in_child(part, size, hole_size, verbose, optimize)
     return _build_here(part, size, hole_size, verbose, optimize)
+
+
+class MeshFailure(NumericalError):
+    """gmsh could not mesh a part with the scene's mesh sizes (exit 3); the field is the
+    ``[mesh]`` table, whose sizes are what the user can change."""
+
+
+def _untangles(part: PartGeometry) -> bool:
+    """Whether meshing ``part`` runs gmsh's high-order untangling (a grooved rail)."""
+    radius: Any = dict(part.params).get("groove_radius", 0.0)
+    return UNTANGLE_GROOVES and radius > 0.0
 
 
 def _handles_sigterm() -> bool:
@@ -165,22 +185,55 @@ def _handles_sigterm() -> bool:
 
 def _build_in_child(part: PartGeometry, size: float, hole_size: float, verbose: bool, optimize: bool) -> MeshData:
     """:func:`_build_here` in a child process; its exception, if any, is raised here. An
-    exception here (SIGTERM, Ctrl-C) kills the child (``subprocess.run``)."""
+    exception here (SIGTERM, Ctrl-C) kills the child (``subprocess.run``). A child that
+    dies in gmsh's high-order untangling is run again without it (the mesh's warning
+    says so); any other death is a :class:`MeshFailure`."""
+    proc = _run_child(part, size, hole_size, verbose, optimize, untangle=UNTANGLE_GROOVES)
+    if (proc.returncode != 0 or not proc.stdout) and _untangles(part):
+        first = _last_line(proc)
+        proc = _run_child(part, size, hole_size, verbose, optimize, untangle=False)
+        if proc.returncode == 0 and proc.stdout:
+            return _child_result(proc, verbose, untangle_failed=first)
+    return _child_result(proc, verbose)
+
+
+def _run_child(part: PartGeometry, size: float, hole_size: float, verbose: bool, optimize: bool, untangle: bool):
+    """The finished child process meshing ``part`` (``subprocess.CompletedProcess``)."""
     import pickle
     import subprocess
     import sys
 
-    request = pickle.dumps((part, size, hole_size, verbose, optimize))
+    tunables = {"GROOVE_ELEMENT_PER_RADIUS": shapes.GROOVE_ELEMENT_PER_RADIUS}  # as a benchmark may have set them
+    request = pickle.dumps((part, size, hole_size, verbose, optimize, untangle, tunables))
     code = "from railcheck.geometry.mesher import _child_main; _child_main()"
-    proc = subprocess.run([sys.executable, "-P", "-c", code], input=request, capture_output=True, check=False)
+    return subprocess.run([sys.executable, "-P", "-c", code], input=request, capture_output=True, check=False)
+
+
+def _last_line(proc) -> str:
+    """The last line a dead child printed (gmsh's error), or its exit status."""
+    lines = proc.stderr.decode(errors="replace").strip().splitlines()
+    return lines[-1].strip() if lines else f"exit status {proc.returncode}"
+
+
+def _child_result(proc, verbose: bool, untangle_failed: str | None = None) -> MeshData:
+    """The mesh a child sent back, its exception raised here, or a :class:`MeshFailure`
+    for a child that died; ``untangle_failed``: gmsh's error from the first attempt."""
+    import pickle
+    import sys
+
     if proc.returncode != 0 or not proc.stdout:
-        detail = proc.stderr.decode(errors="replace").strip().splitlines()[-1:] or [f"exit status {proc.returncode}"]
-        raise RuntimeError(f"gmsh failed on {part.kind}: {detail[0]}")
+        why = _last_line(proc)
+        raise MeshFailure(f"gmsh could not mesh the part with these sizes ({why}); try another size or hole_size", "mesh")
     if verbose and proc.stderr:
         sys.stderr.write(proc.stderr.decode(errors="replace"))
     ok, value = pickle.loads(proc.stdout)
     if not ok:
         raise value
+    if untangle_failed:
+        from dataclasses import replace
+
+        why = f"gmsh's untangling of the curved elements failed ({untangle_failed}): meshed without it"
+        value = replace(value, warning=f"{why}; {value.warning}" if value.warning else why)
     return value
 
 
@@ -192,9 +245,11 @@ def _child_main() -> None:
 
     result_fd = os.dup(1)
     os.dup2(2, 1)
-    part, size, hole_size, verbose, optimize = pickle.loads(sys.stdin.buffer.read())
+    part, size, hole_size, verbose, optimize, untangle, tunables = pickle.loads(sys.stdin.buffer.read())
+    for name, value in tunables.items():
+        setattr(shapes, name, value)
     try:
-        reply: tuple[bool, object] = (True, _build_here(part, size, hole_size, verbose, optimize))
+        reply: tuple[bool, object] = (True, _build_here(part, size, hole_size, verbose, optimize, untangle))
     except Exception as exc:  # noqa: BLE001 - handed to the parent, which raises it
         reply = (False, exc)
     with os.fdopen(result_fd, "wb") as out:
@@ -247,8 +302,11 @@ def _second_order(gmsh, grooved: bool) -> None:
             gmsh.model.mesh.optimize("HighOrder")
 
 
-def _build_here(part: PartGeometry, size: float, hole_size: float, verbose: bool, optimize: bool) -> MeshData:
-    """Build and mesh ``part`` with gmsh in this process."""
+def _build_here(
+    part: PartGeometry, size: float, hole_size: float, verbose: bool, optimize: bool, untangle: bool = True
+) -> MeshData:
+    """Build and mesh ``part`` with gmsh in this process (``untangle``: gmsh's high-order
+    untangling beside a rail's grooves)."""
     t0 = time.perf_counter()
     with _callers_signal_handlers() as restore:
         import gmsh
@@ -272,7 +330,7 @@ def _build_here(part: PartGeometry, size: float, hole_size: float, verbose: bool
         qualities = _qualities(gmsh)
         curved = _has_curved_surfaces(gmsh)
         if curved:
-            _second_order(gmsh, bool(fine))
+            _second_order(gmsh, bool(fine) and untangle)
         data, index = _extract(gmsh, surfaces, qualities)
         if curved:
             data = _with_curved_edges(gmsh, data, index)

@@ -5,8 +5,9 @@
   file gets the user's umask (not mkstemp's 0600).
 * :func:`reserve_results_dir`: a run claims its results directory atomically (``mkdir``
   succeeds for one process only), so two runs never share one: the second gets ``DIR-2``.
-  The reservation holds a mark naming its process; a reservation whose process is gone
-  (a run killed with SIGKILL) is reclaimed by the next run.
+  The reservation holds a mark naming its process (its id and start time, so a process
+  id the system has given to another process since does not count as the run's); a
+  reservation whose process is gone (a run killed with SIGKILL) is reclaimed by the next run.
   ``force`` replaces an existing directory, but only when the run has succeeded.
 * :class:`Staging`: the run writes into a hidden staging directory beside the target,
   named with its process id; :meth:`Staging.commit` renames it onto the reserved target,
@@ -94,9 +95,38 @@ def reserve_results_dir(requested: Path, force: bool = False) -> tuple[Path, boo
                 k += 1
 
 
-def _reservation_mark(target: Path, pid: int | None = None) -> Path:
+def _reservation_mark(target: Path, tag: str | None = None) -> Path:
     """The file that says which process reserved ``target`` (removed when it commits)."""
-    return Path(target) / f"{RESERVED_MARK}{os.getpid() if pid is None else pid}"
+    return Path(target) / f"{RESERVED_MARK}{process_tag() if tag is None else tag}"
+
+
+def _start_time(pid: int) -> str | None:
+    """A process's start time (clock ticks since boot, /proc/PID/stat field 22), None
+    where the system does not say (no /proc, or no such process)."""
+    try:
+        stat = Path(f"/proc/{pid}/stat").read_text()
+    except (OSError, ValueError):
+        return None
+    return stat.rsplit(")", 1)[-1].split()[19]
+
+
+def process_tag(pid: int | None = None) -> str:
+    """ "PID-START" naming a running process (this one by default): its id and start time,
+    so that a later process given the same id is told apart; "PID" where the start time
+    is unknown."""
+    pid = os.getpid() if pid is None else pid
+    start = _start_time(pid)
+    return f"{pid}-{start}" if start else str(pid)
+
+
+def tag_alive(tag: str) -> bool:
+    """Whether the process a :func:`process_tag` names still runs (the same process: a
+    reused id with another start time does not count)."""
+    pid_text, _, start = tag.partition("-")
+    pid = int(pid_text)
+    if not _alive(pid):
+        return False
+    return not start or _start_time(pid) in (None, start)
 
 
 def _reclaim_dead_reservation(candidate: Path) -> bool:
@@ -108,11 +138,11 @@ def _reclaim_dead_reservation(candidate: Path) -> bool:
         return False
     if len(entries) != 1 or not entries[0].name.startswith(RESERVED_MARK):
         return False
+    tag = entries[0].name[len(RESERVED_MARK) :]
     try:
-        pid = int(entries[0].name[len(RESERVED_MARK) :])
+        if tag == process_tag() or tag_alive(tag):
+            return False
     except ValueError:
-        return False
-    if pid == os.getpid() or _alive(pid):
         return False
     try:
         entries[0].unlink()
@@ -129,7 +159,8 @@ class Staging:
         self.target = Path(target)
         self.replaces = replaces
         remove_dead_staging(self.target.parent)
-        self.path = Path(tempfile.mkdtemp(prefix=f".{self.target.name}{STAGING_MARK}{os.getpid()}.", dir=self.target.parent))
+        prefix = f".{self.target.name}{STAGING_MARK}{process_tag()}."
+        self.path = Path(tempfile.mkdtemp(prefix=prefix, dir=self.target.parent))
         os.chmod(self.path, 0o777 & ~_umask())
 
     def commit(self) -> Path:
@@ -159,10 +190,11 @@ def remove_dead_staging(directory: Path) -> list[Path]:
     removed = []
     for p in Path(directory).glob(f".*{STAGING_MARK}*"):
         try:
-            pid = int(p.name.split(STAGING_MARK, 1)[1].split(".", 1)[0])
+            tag = p.name.split(STAGING_MARK, 1)[1].split(".", 1)[0]
+            gone = tag != process_tag() and not tag_alive(tag)
         except (IndexError, ValueError):
             continue
-        if pid != os.getpid() and not _alive(pid):
+        if gone:
             shutil.rmtree(p, ignore_errors=True)
             removed.append(p)
     return removed

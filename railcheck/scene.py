@@ -577,14 +577,16 @@ def load_scene(path: str | Path | None) -> Scene:
         source = f"built-in {DEFAULT_SCENE}"
     else:
         p = Path(path)
-        if not p.exists():
-            raise InputError("scene", f"file not found: {p}")
-        if not p.is_file():
-            raise InputError("scene", f"not a file: {p}")
         try:
+            if not p.exists():
+                raise InputError("scene", f"file not found: {p}")
+            if not p.is_file():
+                raise InputError("scene", f"not a file: {p}")
             text = p.read_text(encoding="utf-8-sig")  # a byte-order mark is not part of the scene
         except (OSError, UnicodeDecodeError) as exc:
-            raise InputError("scene", f"cannot read {p}: {exc}") from None
+            why = exc.strerror if isinstance(exc, OSError) and exc.strerror else exc
+            name = str(p) if len(str(p)) <= 80 else f"{str(p)[:38]}...{str(p)[-39:]}"  # a name too long: its ends
+            raise InputError("scene", f"cannot read {name}: {why}") from None
         source = str(p)
     try:
         data = tomllib.loads(text)

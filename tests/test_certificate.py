@@ -197,7 +197,14 @@ def test_the_sweeps_quasi_static_criterion_fails_only_beyond_the_tolerance():
     from railcheck.sweep.verdicts import criterion_utilisations, failed_criteria
 
     model = SimpleNamespace(
-        limit=375e6, required=1.0, deflection_limit=None, yield_strength=490e6, dynamic=None, certified=True, constant=None
+        limit=375e6,
+        required=1.0,
+        deflection_limit=None,
+        yield_strength=490e6,
+        dynamic=None,
+        certified=True,
+        constant=None,
+        length=0.5,
     )
     vm, fat, tip = np.array([100e6, 100e6]), np.array([2.0, 2.0]), np.zeros(2)
     amp = np.array([1.04, 1.06])
@@ -205,6 +212,10 @@ def test_the_sweeps_quasi_static_criterion_fails_only_beyond_the_tolerance():
     assert u["quasi-static"][0] == 0.0 and u["quasi-static"][1] == pytest.approx(1.2)
     assert list(failed_criteria(model, vm, fat, tip, amp)["quasi-static"]) == [False, True]
     assert list(failed_criteria(model, np.array([500e6, 1e6]), fat, tip, amp)["beyond yield"]) == [True, False]
+    # small displacements: a deflection beyond 2 % of the part's length (10 mm of 0.5 m) fails the row
+    sag = np.array([0.0099, 0.0101])
+    assert list(failed_criteria(model, vm, fat, sag, amp)["beyond small displacements"]) == [False, True]
+    assert criterion_utilisations(model, vm, fat, sag, amp)["small-displacement"] == pytest.approx([0.99, 1.01])
 
 
 def test_the_safe_speed_with_margin_solves_a_known_crossing():
@@ -238,5 +249,6 @@ def test_every_default_that_shapes_the_verdict_is_stated():
         "deflection limit: none",
         "no weight",
         "beyond yield",
+        "small displacements",
     ):
         assert needle in words, needle

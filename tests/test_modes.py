@@ -183,3 +183,36 @@ def test_a_lightly_damped_mode_amplifies_as_one_over_one_minus_r_squared(coarse_
     dq = modal_correction(model.modal_loads, model.hz, C, ratio * 2 * np.pi * model.hz[0], 0.001)
     dynamic = C[:, 0] * static[tip] + dq @ model.shapes[tip]
     assert np.abs(dynamic).max() / np.abs(static[tip]) == pytest.approx(expected, rel=tolerance)
+
+
+def test_a_long_eigensolve_says_what_it_costs_and_a_failed_one_is_refused_naming_the_count():
+    """A spring-mass chain (n = 400, stiffness tridiagonal, unit masses, one end held):
+    asking for 12 modes prints an estimate after the first solve; the frequencies equal the
+    chain's closed form 2 sqrt(k/m) sin((2j - 1) pi / (2 (2n + 1))) / (2 pi). A spectrum
+    clustered within 1e-6 of itself does not converge in two restarts: refused under
+    ``dynamic.modes``; a modal correction handed a 0 Hz mode refuses instead of dividing
+    by it."""
+    import scipy.sparse as sp
+
+    from railcheck.fea import modes as modes_module
+    from railcheck.fea.dynamic import modal_correction
+    from railcheck.fea.errors import NumericalError
+
+    n = 400
+    K = sp.diags([-np.ones(n - 1), np.r_[2.0 * np.ones(n - 1), 1.0], -np.ones(n - 1)], [-1, 0, 1]).tocsr()
+    lines: list[str] = []
+    got = natural_modes(K, sp.identity(n, format="csr"), np.zeros(0, dtype=np.int64), 12, shift=0.0, progress=lines.append)
+    j = np.arange(1, 13)
+    want = 2 * np.sin((2 * j - 1) * np.pi / (2 * (2 * n + 1))) / (2 * np.pi)
+    assert np.allclose(got.hz, want, rtol=1e-9)
+    assert lines and "12 modes" in lines[0] and "at least" in lines[0]
+    restarts = modes_module.MAX_RESTARTS
+    try:
+        modes_module.MAX_RESTARTS = 2
+        clustered = sp.diags(1.0 + 1e-6 * np.arange(n)).tocsr()
+        with pytest.raises(NumericalError, match=r"dynamic\.modes: the lowest 12 modes did not converge"):
+            natural_modes(clustered, sp.identity(n, format="csr"), np.zeros(0, dtype=np.int64), 12, shift=0.0)
+    finally:
+        modes_module.MAX_RESTARTS = restarts
+    with pytest.raises(NumericalError, match=r"dynamic\.modes"):
+        modal_correction(np.ones((2, 1)), np.array([0.0, 30.0]), np.ones((9, 1)), 2 * np.pi, 0.02)

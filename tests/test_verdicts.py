@@ -262,7 +262,7 @@ def test_each_criterions_utilisation_by_hand(plate_result):
     assert replace(part, cycle=replace(c, dynamic=none_allowed)).utilisations["dynamic"] == float("inf")
     exact = replace(none_allowed, amplification=1.0)
     assert replace(part, cycle=replace(c, dynamic=exact)).utilisations["dynamic"] == 0.0
-    assert set(part.utilisations) == {"stress", "fatigue", "yield"}  # no limit, no response: not criteria
+    assert set(part.utilisations) == {"stress", "fatigue", "yield", "small-displacement"}  # no limit, no response
     assert part.utilisations["yield"] == pytest.approx(part.verdict_stress / 490e6, rel=1e-12)
     # a linear peak above yield fails the part even under a limit set above yield
     beyond = replace(
@@ -270,3 +270,11 @@ def test_each_criterions_utilisation_by_hand(plate_result):
     )
     assert beyond.stress_passed and not beyond.within_yield and not beyond.passed
     assert beyond.governing_criterion == "yield" and beyond.utilisations["yield"] == pytest.approx(5e8 / 490e6)
+    # small displacements: the largest deflection over 2 % of the part's length
+    length = part.geometry.get("length")
+    assert part.utilisations["small-displacement"] == pytest.approx(c.envelope.max_tip / (0.02 * length), rel=1e-12)
+    for share, holds in ((0.0199, True), (0.0201, False)):
+        sagging = replace(part, cycle=replace(c, envelope=replace(c.envelope, max_tip=share * length)))
+        assert sagging.small_displacements is holds and sagging.passed is holds
+        failures = replace(plate_result, parts={"PF_4b_003_v2": sagging}).failures
+        assert ("PF_4b_003_v2 beyond small displacements" in failures) is (not holds)

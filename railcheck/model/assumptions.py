@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from railcheck.fea.fatigue import RELIABILITY
 from railcheck.fea.materials import MATERIALS
-from railcheck.model.certificate import QUASI_STATIC_TOLERANCE
+from railcheck.model.certificate import QUASI_STATIC_TOLERANCE, SMALL_DISPLACEMENT_SHARE
 
 
 def assumptions(scene, parts: dict) -> list[str]:
@@ -24,6 +24,8 @@ def assumptions(scene, parts: dict) -> list[str]:
             else f"stress limit {m.fatigue_limit / 1e6:.0f} MPa = sigma_u / 2 (seed 000's rule)"
         ),
         "a linear-elastic peak above sigma_y fails the part: beyond yield the linear result is not physical",
+        f"small displacements: a deflection beyond {SMALL_DISPLACEMENT_SHARE:.0%} of the part's length (slopes of "
+        "3-4 deg) fails the part: beyond it the linear result is not valid",
         f"load factor {c.factor:g} on every joint force and inertia load (seed 000, chapter 4)",
         f"fatigue: {f.criterion} criterion, {f.surface} surface, {f.load} loading, reliability {f.reliability:g} "
         f"(k_e = {RELIABILITY[f.reliability]:g}, Shigley table 6-5), required factor {f.min_safety:g}",

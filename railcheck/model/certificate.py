@@ -39,6 +39,19 @@ FORCE_PREFIXES = ("pin_", "bolt_", "seat_", "torque")
 #: to 2 % above their beam models' (holes and the pins' finite size; tested)
 BEAM_MARGIN = 0.95
 
+#: small displacements hold while a part's largest deflection stays within this share of
+#: its length: slopes of about 3-4 degrees (a beam's largest slope is about 3.2 x its sag
+#: over its span), where tan and sin differ from the angle by about 0.1-0.2 %; beyond it the
+#: linear result is not valid and the part fails ("beyond small displacements")
+SMALL_DISPLACEMENT_SHARE = 0.02
+
+
+def small_displacement_limit(length: float) -> float:
+    """m: the largest deflection for which a part ``length`` m long is in small
+    displacements (:data:`SMALL_DISPLACEMENT_SHARE` of it)."""
+    return SMALL_DISPLACEMENT_SHARE * length
+
+
 #: a joint-force column counts when its peak is at least this share of the largest one's
 SIGNIFICANT = 0.05
 

@@ -21,6 +21,7 @@ from railcheck.fea.superpose import Envelope, UnitFields
 from railcheck.fea.unitcases import UnitSolve
 from railcheck.geometry.meshdata import MeshData
 from railcheck.kinematics.checks import CheckResult
+from railcheck.model.certificate import small_displacement_limit
 from railcheck.model.jobs import PartJob
 from railcheck.model.kinematics_stage import KinematicsResult
 from railcheck.scene import Scene
@@ -191,7 +192,9 @@ class PartResult:
         """Each criterion's share of its limit (1 = at the limit): ``stress`` (cycle peak /
         limit), ``fatigue`` (required / fatigue factor), ``deflection`` (when limited),
         ``yield`` (cycle peak / the material's yield strength: beyond 1 the linear-elastic
-        result is not physical) and
+        result is not physical), ``small-displacement`` (largest deflection / its share of the
+        part's length, :data:`~railcheck.model.certificate.SMALL_DISPLACEMENT_SHARE`: beyond 1
+        the linear result is not valid) and
         ``dynamic`` (with a dynamic response: the amplification's excess over 1 as a share of
         the allowed excess, (A - 1) / (A_max - 1))."""
         fat = self.cycle.fatigue
@@ -203,6 +206,7 @@ class PartResult:
             out["deflection"] = self.cycle.envelope.max_tip / self.deflection_limit
         if self.job.material.yield_strength > 0:  # a linear stress beyond yield is not physical
             out["yield"] = self.verdict_stress / self.job.material.yield_strength
+        out["small-displacement"] = self.cycle.envelope.max_tip / small_displacement_limit(self.geometry.get("length"))
         d = self.cycle.dynamic
         if d is not None:  # the share of the allowed excess over quasi-static: 0 at 1.0, 1 at the limit
             out["dynamic"] = (
@@ -235,6 +239,12 @@ class PartResult:
         return self.utilisations.get("yield", 0.0) <= 1.0
 
     @property
+    def small_displacements(self) -> bool:
+        """True while the largest deflection stays within small displacements (beyond them
+        the linear result is not valid and the part fails)."""
+        return self.utilisations["small-displacement"] <= 1.0
+
+    @property
     def passed(self) -> bool:
         return (
             self.stress_passed
@@ -242,6 +252,7 @@ class PartResult:
             and self.deflection_passed
             and self.dynamic_passed
             and self.within_yield
+            and self.small_displacements
         )
 
 
@@ -272,6 +283,7 @@ class PipelineResult:
             out += [f"{name} deflection"] if not p.deflection_passed else []
             out += [f"{name} dynamic"] if not p.dynamic_passed else []
             out += [f"{name} beyond yield"] if not p.within_yield else []
+            out += [f"{name} beyond small displacements"] if not p.small_displacements else []
         return out
 
     @property

@@ -99,6 +99,7 @@ def _part_row(name: str, p) -> list[str]:
     why += [] if p.deflection_passed else ["deflection"]
     why += [] if p.dynamic_passed else ["dynamic"]
     why += [] if p.within_yield else ["beyond-yield"]
+    why += [] if p.small_displacements else ["beyond-small-displacements"]
     verdict = ("PASS" if p.passed else "FAIL " + "+".join(why)) if np.any(c.C) else "NO LOAD"
     return [
         name,

@@ -57,6 +57,7 @@ class PartModel:
     pressure: dict | None = None  # hole-pair key -> PinPressureMap (free bodies: pins bear on their holes)
     lowest_hz: dict | None = None  # hole-pair key -> the certificate's lowest frequency (Hz), without ``dynamic``
     case_names: dict | None = None  # hole-pair key -> its unit cases' names, in its columns' order
+    length: float = 0.0  # m: the part's length (small displacements' limit; 0: none)
 
     @property
     def certified(self) -> bool:
@@ -307,6 +308,7 @@ def _part_model(scene, name: str, setup: _PartSetup, fields, meta, material, lim
         pressure=pressure if free or plate else None,
         lowest_hz=None if dynamic is not None else certificate_frequencies(scene, name, setup, meta, material),
         case_names=setup.names,
+        length=geo.get("length"),
     )
     if name not in scene.check.loads:
         return model

@@ -9,13 +9,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from railcheck.model.certificate import QUASI_STATIC_TOLERANCE
+from railcheck.model.certificate import QUASI_STATIC_TOLERANCE, small_displacement_limit
 from railcheck.sweep.context import SweepContext
 
 
 def criterion_utilisations(model, vm, fat, tip, amp=None) -> dict[str, np.ndarray]:
     """criterion -> (S,) its share of the limit: stress / limit, required / fatigue factor,
-    (with a limit) tip / deflection limit, peak / yield strength, (with a dynamic response)
+    (with a limit) tip / deflection limit, peak / yield strength, tip / the small
+    displacements' limit on the part's length, (with a dynamic response)
     the amplification's excess over 1 as a share of the allowed excess and (with the
     certificate) ``quasi-static``, the estimate's share where it is beyond the tolerance
     (no quasi-static verdict there); the words of ``railcheck check``."""
@@ -25,6 +26,8 @@ def criterion_utilisations(model, vm, fat, tip, amp=None) -> dict[str, np.ndarra
         out["deflection"] = tip / model.deflection_limit
     if model.yield_strength > 0:  # a linear stress beyond yield is not physical
         out["yield"] = vm / model.yield_strength
+    if model.length > 0:  # beyond small displacements the linear result is not valid
+        out["small-displacement"] = tip / small_displacement_limit(model.length)
     if model.dynamic is not None and amp is not None:
         out["dynamic"] = (amp - 1.0) / (model.max_amplification - 1.0)
     elif getattr(model, "certified", False) and model.constant is None and amp is not None:
@@ -173,6 +176,8 @@ def failed_criteria(model, vm: np.ndarray, fat: np.ndarray, tip: np.ndarray, amp
         out["deflection"] = tip > model.deflection_limit
     if model.yield_strength > 0:
         out["beyond yield"] = vm > model.yield_strength
+    if model.length > 0:
+        out["beyond small displacements"] = tip > small_displacement_limit(model.length)
     if model.dynamic is not None and amp is not None:
         out["dynamic"] = amp > model.max_amplification
     elif getattr(model, "certified", False) and model.constant is None and amp is not None:

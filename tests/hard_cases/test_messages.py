@@ -216,3 +216,14 @@ def test_a_misspelt_table_gets_a_suggestion():
     """Issue 60: `[chek]` got no "did you mean"."""
     with pytest.raises(InputError, match='did you mean "check"'):
         parse_scene(tomllib.loads(FINAL_DESIGN + '[chek]\nparts = ["crank-rail"]\n'), "t")
+
+
+def test_a_scene_name_too_long_for_the_file_system_is_a_read_error_not_a_write_error(tmp_path, capsys):
+    """A scene path longer than the file system allows: "cannot read" the scene under the
+    field ``scene``, the name shortened (it said "cannot write <300 characters>")."""
+    from railcheck.cli import main
+
+    code = main(["check", str(tmp_path / ("a" * 300 + ".toml"))])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and err.startswith("railcheck: error: scene: cannot read ") and "File name too long" in err
+    assert len(err) < 200 and "write" not in err
