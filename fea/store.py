@@ -36,6 +36,7 @@ from pathlib import Path
 
 import numpy as np
 
+from railcheck.base.temporaries import remove_dead_temporaries, temporary_name
 from railcheck.geometry.meshdata import MeshData
 
 from .dynamic import DynamicModel
@@ -175,9 +176,10 @@ def write_entry(path: Path, payload: str, fields, solve, cap: int) -> None:
     cannot be written only costs time."""
     arrays = _arrays(fields, solve)
     meta = _meta(solve, arrays)
-    tmp = path.with_name(f".{path.stem}.{os.getpid()}.tmp.npz")
+    tmp = temporary_name(path)
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
+        remove_dead_temporaries(path.parent)
         np.savez(tmp, payload=np.array(payload), meta=np.array(meta), **arrays)  # type: ignore[arg-type]  # numpy stubs type **kwds as allow_pickle
         os.replace(tmp, path)
     except OSError:  # a full disk, a read-only store, a file where its folder should be

@@ -6,12 +6,15 @@ runs never read half a file and a damaged entry is rebuilt. The directory is
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import os
 import stat
 from pathlib import Path
 
 import numpy as np
+
+from railcheck.base.temporaries import remove_dead_temporaries, temporary_name
 
 from .meshdata import MeshData
 
@@ -85,9 +88,10 @@ def read_cached(path: Path, payload: str) -> tuple[MeshData | None, str | None]:
 def write_cached(path: Path, data: MeshData, payload: str) -> None:
     """Write a cache entry atomically (a per-process temporary name, then a rename), so
     concurrent runs never read half a file; an unwritable cache only costs time."""
+    tmp = temporary_name(path)
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
-        tmp = path.with_name(f".{path.stem}.{os.getpid()}.tmp.npz")
+        remove_dead_temporaries(path.parent)
         np.savez(
             tmp,
             points=data.points,
@@ -106,5 +110,6 @@ def write_cached(path: Path, data: MeshData, payload: str) -> None:
             **{f"g_{k}": v for k, v in data.groups.items()},  # type: ignore[arg-type]  # numpy stubs: **kwds as allow_pickle
         )
         os.replace(tmp, path)
-    except OSError:
-        pass
+    except OSError:  # a full disk, a read-only cache: nothing half-written is left
+        with contextlib.suppress(OSError):
+            tmp.unlink(missing_ok=True)

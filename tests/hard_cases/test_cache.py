@@ -167,3 +167,32 @@ except BrokenPipeError:
     proc = subprocess.run([sys.executable, "-P", "-c", script], capture_output=True, text=True, timeout=120)
     assert proc.returncode == 0, f"status {proc.returncode}: {proc.stderr}"
     assert proc.stdout.split() == ["ignored", "error"]
+
+
+def test_a_full_disk_leaves_no_temporary_and_a_killed_writers_is_removed(cache, monkeypatch):
+    """A mesh-cache write that fills the disk half way (np.savez writes, then ENOSPC) leaves
+    no temporary (it kept every run's ``.rail-*.tmp.npz``); the mesh is still returned. A
+    temporary of a process that no longer runs (a run killed while writing) is removed by
+    the next write into the folder; a live process's is kept."""
+    import errno
+    import subprocess
+    import sys
+
+    real_savez = np.savez
+
+    def half_then_full(file, *args, **kwargs):
+        with open(file, "wb") as f:
+            f.write(b"PK half an entry")
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(np, "savez", half_then_full)
+    got = mesh_part(bar(0.1, 0.02, 0.02), 8e-3, 8e-3, cache_dir=cache)
+    assert got.points.size and not list(cache.glob("*"))  # nothing stored, nothing half-written
+    monkeypatch.setattr(np, "savez", real_savez)
+    dead = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"], capture_output=True, text=True)
+    killed = cache / f".bar-abc.{int(dead.stdout)}.tmp.npz"
+    alive = cache / f".bar-def.{os.getppid()}.tmp.npz"
+    killed.write_bytes(b"PK half")
+    alive.write_bytes(b"PK half")
+    mesh_part(bar(0.1, 0.02, 0.02), 8e-3, 8e-3, cache_dir=cache)
+    assert not killed.exists() and alive.exists() and len(entries(cache)) == 1

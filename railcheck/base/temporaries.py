@@ -1,0 +1,43 @@
+"""Temporary files of the caches (the mesh cache, the unit-field store): each written under
+a name that carries its process id beside its entry and renamed onto it, so a reader never
+sees half an entry. A write that fails (a full disk) removes its temporary; one whose
+process was killed is removed by the next write into that folder."""
+
+from __future__ import annotations
+
+import contextlib
+import os
+from pathlib import Path
+
+SUFFIX = ".tmp.npz"
+
+
+def temporary_name(path: Path) -> Path:
+    """The temporary name this process writes ``path`` under (hidden, with its id)."""
+    return path.with_name(f".{path.stem}.{os.getpid()}{SUFFIX}")
+
+
+def remove_dead_temporaries(directory: Path) -> list[Path]:
+    """Remove the temporaries in ``directory`` whose process no longer runs (a run killed
+    while it wrote); the removed paths."""
+    removed = []
+    for p in Path(directory).glob(f".*{SUFFIX}"):
+        try:
+            pid = int(p.name[: -len(SUFFIX)].rsplit(".", 1)[1])
+        except (IndexError, ValueError):
+            continue
+        if pid != os.getpid() and not _running(pid):
+            with contextlib.suppress(OSError):
+                p.unlink()
+                removed.append(p)
+    return removed
+
+
+def _running(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except (PermissionError, OverflowError):
+        return True
+    return True
