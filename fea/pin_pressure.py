@@ -60,7 +60,11 @@ def bore_of(basis, groups: dict, group: str) -> Bore:
     d = points[:, :2] - centre
     radius = np.hypot(d[:, 0], d[:, 1])
     if radius.min() < 0.2 * radius.max():  # a coarse mesh makes a polygon of the bore; a face is no bore
-        raise ModelError(group, "is not a bore (a cylinder about an axis along z): cannot carry a bearing pressure")
+        raise ModelError(  # the scene's field that makes the bore: the mesh at the holes
+            "mesh.hole_size",
+            f"the mesh makes a polygon of {group}'s bore (a node {radius.min() * 1e3:.2f} mm from its axis, "
+            f"radius {radius.max() * 1e3:.2f} mm): the pins cannot bear on it; use a smaller hole_size",
+        )
     return Bore(nodes, weights, points, centre, np.arctan2(d[:, 1], d[:, 0]))
 
 

@@ -203,7 +203,10 @@ def _run_child(part: PartGeometry, size: float, hole_size: float, verbose: bool,
     import subprocess
     import sys
 
-    tunables = {"GROOVE_ELEMENT_PER_RADIUS": shapes.GROOVE_ELEMENT_PER_RADIUS}  # as a benchmark may have set them
+    tunables = {  # as a benchmark or a test may have set them
+        "shapes.GROOVE_ELEMENT_PER_RADIUS": shapes.GROOVE_ELEMENT_PER_RADIUS,
+        "mesher.UNTANGLE_PASSES": UNTANGLE_PASSES,
+    }
     request = pickle.dumps((part, size, hole_size, verbose, optimize, untangle, tunables))
     code = "from railcheck.geometry.mesher import _child_main; _child_main()"
     return subprocess.run([sys.executable, "-P", "-c", code], input=request, capture_output=True, check=False)
@@ -247,7 +250,8 @@ def _child_main() -> None:
     os.dup2(2, 1)
     part, size, hole_size, verbose, optimize, untangle, tunables = pickle.loads(sys.stdin.buffer.read())
     for name, value in tunables.items():
-        setattr(shapes, name, value)
+        module, attribute = name.split(".")
+        setattr(shapes if module == "shapes" else sys.modules[__name__], attribute, value)
     try:
         reply: tuple[bool, object] = (True, _build_here(part, size, hole_size, verbose, optimize, untangle))
     except Exception as exc:  # noqa: BLE001 - handed to the parent, which raises it
@@ -299,6 +303,7 @@ def _second_order(gmsh, grooved: bool) -> None:
             # 10 iterations per pass instead of 100: a third of the time, the same
             # section (66 instead of 51 of the crank rail's 17k curved edges straightened)
             gmsh.option.setNumber("Mesh.HighOrderIterMax", 10)
+            gmsh.option.setNumber("Mesh.HighOrderPassMax", UNTANGLE_PASSES)
             gmsh.model.mesh.optimize("HighOrder")
 
 
@@ -345,6 +350,8 @@ def _build_here(
 
 #: untangle the elements beside grooves (False only to measure what it buys)
 UNTANGLE_GROOVES = True
+#: gmsh's untangling passes (``Mesh.HighOrderPassMax``, its default; 1 makes it fail on a rail)
+UNTANGLE_PASSES = 25
 
 
 def _threshold_field(gmsh, surfaces, near: float, far: float) -> int:

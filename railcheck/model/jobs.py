@@ -10,6 +10,7 @@ mesh too coarse for a part or too large for this machine's memory.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -329,8 +330,22 @@ def refuse_huge(scene: Scene, geometries: dict) -> None:
                     f"{scene.mesh.size * 1e3:g} mm is more than twice {name}'s "
                     f"{side * 1e3:g} mm section: too coarse to resolve its stress",
                 )
-    for geo in geometries.values():
+    for name, geo in geometries.items():
+        refuse_coarse_holes(name, geo, mesh_sizes(scene.mesh, geo.kind)[1])
         refuse_beyond_memory(geo, *mesh_sizes(scene.mesh, geo.kind), scene.mesh.order, "mesh.size")
+
+
+def refuse_coarse_holes(name: str, geo: PartGeometry, hole_size: float) -> None:
+    """Refuse a hole size (m) that puts fewer than three elements round the part's
+    smallest hole: its bore would be a polygon the pins cannot bear on (the FE said
+    "hole_0: is not a bore" under no field the user wrote)."""
+    diameters = [float(v) for k, v in geo.params if k.endswith("diameter") and isinstance(v, (int, float))]
+    if diameters and hole_size > math.pi * min(diameters) / 3:
+        raise InputError(
+            "mesh.hole_size",
+            f"{hole_size * 1e3:g} mm puts fewer than three elements round {name}'s {min(diameters) * 1e3:g} mm holes "
+            f"(at most {math.pi * min(diameters) / 3 * 1e3:.3g} mm)",
+        )
 
 
 def refuse_beyond_memory(geo: PartGeometry, size: float, hole_size: float, order: int, field: str) -> None:

@@ -207,3 +207,83 @@ def test_generated_sweep_scenes_and_arguments_never_crash(tmp_path, capsys, swee
     assert not re.search(r"\b(nan|inf)\b", out, re.IGNORECASE), out
     left = {p.name for p in tmp_path.iterdir()} - before
     assert not [n for n in left if n.startswith(".")], left  # no staging, no temporary
+
+
+SUBSETS = st.lists(st.sampled_from(["inertia", "rail-inertia", "gravity", "dynamic"]), max_size=3, unique=True)
+PART_SETS = st.lists(
+    st.sampled_from(["crank-rail", "coupler-rail", "rocker-rail", "PF_4b_006", "PF_4b_003_v2"]),
+    min_size=1,
+    max_size=3,
+    unique=True,
+)
+LINKAGE = {
+    "crank": st.just("120 mm"),  # one length per bar: few meshes, cached after the first examples
+    "coupler": st.just("300 mm"),
+    "speed": st.sampled_from(["0 Hz", "1 Hz", "3 Hz", "120 rpm"]),
+    "steps": st.integers(24, 60),
+    "assembly": st.sampled_from(["open", "crossed"]),
+}
+CHECK_SCENES = st.fixed_dictionaries(
+    {
+        "mechanism": st.one_of(
+            st.fixed_dictionaries(
+                {
+                    "kind": st.just("four-bar"),
+                    "rocker": st.just("240 mm"),
+                    "ground": st.sampled_from(["300 mm", "360 mm"]),
+                    **LINKAGE,
+                }
+            ),
+            st.fixed_dictionaries(
+                {"kind": st.just("slider-crank"), "ground": st.sampled_from(["0 mm", "30 mm"]), **LINKAGE}
+            ),
+        ),
+        "dynamics": st.fixed_dictionaries({"formulation": st.sampled_from(["newton-euler", "seed-2013"])}),
+        "check": st.fixed_dictionaries(
+            {"parts": PART_SETS, "effects": SUBSETS},
+            optional={
+                "support": st.sampled_from(["free-body", "clamped"]),
+                "bolt_position": st.sampled_from(["worst", "actual"]),
+                "material": st.sampled_from(["steel", "S235", "ABS"]),
+            },
+        ),
+        "mesh": st.just({"size": "30 mm", "hole_size": "6.5 mm"}),
+        "geometry": st.fixed_dictionaries(
+            {"rail_groove_radius": st.just("0 mm")},
+            optional={"rail_width": st.sampled_from(["23 mm", "25 mm"]), "plate_thickness": st.sampled_from(["12 mm"])},
+        ),
+        "output": st.just({"vtk": False, "png": False, "plots": False}),
+    }
+)
+
+
+def _valid_check_scene_runs_or_refuses_in_one_line(tmp_path, capsys, doc):
+    code = run(tmp_path, doc, "check", "--out", str(tmp_path / "r"), "--force", "--json")
+    out, err = capsys.readouterr()
+    event(f"exit {code}")
+    assert code in (0, 1, 2, 3), (code, err)
+    assert "Traceback" not in err and not re.search(r"\b(nan|inf)\b", out, re.IGNORECASE)
+    if code in (2, 3):
+        last = err.strip().splitlines()[-1]
+        event(last[:90])
+        tables = "mechanism|dynamics|check|mesh|geometry|output|loads|fatigue|dynamic|scene"
+        assert re.match(rf"railcheck: (error|numerical failure): ({tables})(\.[A-Za-z_0-9]+)*: ", last), last
+
+
+@settings(max_examples=10, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(doc=CHECK_SCENES)
+def test_generated_valid_check_scenes_run_or_refuse_in_one_line(tmp_path, capsys, doc):
+    """Accepted scenes over every combination of effects, supports, parts, formulations,
+    kinds, speeds (0 included), materials and geometry overrides in their validated
+    ranges, on small meshes (solid rails, 30 mm): exit 0, 1, 2 or 3, never a traceback,
+    and a refusal is one line naming a field of the scene (it found "hole_1: is not a
+    bore", a mesh group's name, for PF_4b_006 at hole_size 6.5 mm). Ten examples in the
+    fast tier (about 7 s), sixty in the slow one."""
+    _valid_check_scene_runs_or_refuses_in_one_line(tmp_path, capsys, doc)
+
+
+@pytest.mark.slow  # sixty examples, about 60 s
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(doc=CHECK_SCENES)
+def test_many_generated_valid_check_scenes_run_or_refuse_in_one_line(tmp_path, capsys, doc):
+    _valid_check_scene_runs_or_refuses_in_one_line(tmp_path, capsys, doc)
