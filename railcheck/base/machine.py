@@ -5,6 +5,7 @@ layer may use it."""
 
 from __future__ import annotations
 
+import math
 import os
 
 from railcheck.base.errors import InputError
@@ -19,11 +20,39 @@ BYTES_PER_KINEMATICS_STEP = 800.0
 
 
 def available_memory() -> float:
-    """Bytes of physical memory on this machine (8 GiB when it cannot be read)."""
+    """Bytes of memory this process may use: the machine's physical memory (8 GiB when it
+    cannot be read), or less under an address-space limit (``ulimit -v``: the limit less
+    what the process has already mapped) or a container's memory limit (cgroup v2)."""
     try:
-        return float(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES"))
+        physical = float(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES"))
     except (ValueError, OSError, AttributeError):
-        return 8.0 * 2**30
+        physical = 8.0 * 2**30
+    return min(physical, _address_space_left(), _container_limit())
+
+
+def _address_space_left() -> float:
+    """Bytes the address-space limit leaves this process (inf without one)."""
+    try:
+        import resource
+
+        limit = resource.getrlimit(resource.RLIMIT_AS)[0]
+        if limit == resource.RLIM_INFINITY:
+            return math.inf
+        with open("/proc/self/status", encoding="ascii") as f:
+            mapped = next((int(line.split()[1]) * 1024 for line in f if line.startswith("VmSize:")), 0)
+        return float(max(limit - mapped, 0))
+    except (ImportError, OSError, ValueError):
+        return math.inf
+
+
+def _container_limit() -> float:
+    """Bytes of a cgroup v2 memory limit (inf without one)."""
+    try:
+        with open("/sys/fs/cgroup/memory.max", encoding="ascii") as f:
+            text = f.read().strip()
+        return math.inf if text == "max" else float(int(text))
+    except (OSError, ValueError):
+        return math.inf
 
 
 def refuse_beyond_memory(need: float, field: str, what: str, advice: str) -> None:
@@ -34,7 +63,7 @@ def refuse_beyond_memory(need: float, field: str, what: str, advice: str) -> Non
         raise InputError(
             field,
             f"{what} needs about {short(need / 2**30)} GiB, "
-            f"more than this machine's {short(avail / 2**30)} GiB allow: {advice}",
+            f"more than this run may use ({short(avail / 2**30)} GiB of memory): {advice}",
         )
 
 

@@ -246,3 +246,31 @@ def test_a_bore_the_mesh_makes_a_polygon_of_is_blamed_on_the_hole_size(tmp_path,
         code = main(["check", str(scene), "--out", str(tmp_path / "r"), "--force", "--json"])
         err = capsys.readouterr().err.strip().splitlines()[-1]
         assert code == 2 and err.startswith("railcheck: error: mesh.hole_size: ") and words in err, err
+
+
+@pytest.mark.slow  # a subprocess, about 2 s
+def test_steps_beyond_an_address_space_limit_are_refused_not_a_memory_error(tmp_path):
+    """Under ``ulimit -v`` 4 GB, 10 million crank steps: one line under mechanism.steps with
+    the estimate (the physical memory, 24 GB, let it start: a numpy MemoryError and a
+    traceback)."""
+    import resource
+
+    scene = tmp_path / "scene.toml"
+    scene.write_text(FINAL_DESIGN.replace("steps = ", "steps_was = ") + "steps = 10000000\n")
+
+    def limited():
+        resource.setrlimit(resource.RLIMIT_AS, (4 * 10**9, resource.RLIM_INFINITY))
+
+    proc = subprocess.run(
+        [sys.executable, "-P", "-m", "railcheck.cli", "kinematics", str(scene), "--json"],
+        capture_output=True,
+        text=True,
+        preexec_fn=limited,
+        timeout=120,
+    )
+    assert proc.returncode == 2 and "Traceback" not in proc.stderr, proc.stderr
+    last = proc.stderr.strip().splitlines()[-1]
+    assert (
+        last.startswith("railcheck: error: mechanism.steps: 10000000 crank steps needs about 7.5 GiB")
+        and "GiB of memory" in last
+    )
