@@ -79,7 +79,7 @@ def reserve_results_dir(requested: Path, force: bool = False) -> tuple[Path, boo
     requested = Path(requested)
     if requested.exists() and not requested.is_dir():
         raise NotADirectoryError(20, f"{requested} exists and is not a directory")
-    requested.parent.mkdir(parents=True, exist_ok=True)
+    created = _make_parents(requested)
     if force and requested.is_dir():
         return requested, True
     k = 1
@@ -89,10 +89,32 @@ def reserve_results_dir(requested: Path, force: bool = False) -> tuple[Path, boo
             candidate.mkdir()
             os.chmod(candidate, 0o777 & ~_umask())
             _reservation_mark(candidate).touch()
+            _CREATED_PARENTS[candidate] = created
             return candidate, False
         except FileExistsError:
             if not _reclaim_dead_reservation(candidate):
                 k += 1
+
+
+#: results directory -> the folders above it its reservation created (deepest first), which
+#: an abandoned run removes again when they are still empty
+_CREATED_PARENTS: dict[Path, list[Path]] = {}
+
+
+def _make_parents(requested: Path) -> list[Path]:
+    """Create the folders above ``requested`` that do not exist; those folders, deepest first."""
+    missing = [p for p in requested.parents if not p.exists()]
+    requested.parent.mkdir(parents=True, exist_ok=True)
+    return missing
+
+
+def _remove_created_parents(target: Path) -> None:
+    """Remove the still-empty folders the reservation of ``target`` created."""
+    for p in _CREATED_PARENTS.pop(target, []):
+        try:
+            p.rmdir()
+        except OSError:
+            break
 
 
 def _reservation_mark(target: Path, tag: str | None = None) -> Path:
@@ -183,6 +205,7 @@ class Staging:
             with contextlib.suppress(OSError):
                 _reservation_mark(self.target).unlink()
                 self.target.rmdir()  # only if still empty
+            _remove_created_parents(self.target)
 
 
 def remove_dead_staging(directory: Path) -> list[Path]:

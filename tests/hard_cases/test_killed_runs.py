@@ -79,3 +79,18 @@ def test_a_check_killed_at_any_moment_leaves_nothing_the_next_run_trips_on(tmp_p
         assert (tmp_path / "r" / "summary.json").exists()
         assert not [p for p in (tmp_path / "r").iterdir() if p.name.startswith(".")], delay
         subprocess.run(["rm", "-rf", str(tmp_path / "r")], check=True)
+
+
+@pytest.mark.slow  # two refused checks in this process, about 2 s
+def test_a_refused_run_removes_the_folders_it_created_for_its_results(tmp_path, capsys):
+    """A run refused after it reserved ``a/b/r`` (a mesh refusal comes after the reservation)
+    leaves neither ``r`` nor the ``a/b`` it created; a folder that was there before stays."""
+    from railcheck.cli import main
+
+    scene = tmp_path / "scene.toml"
+    scene.write_text(FINAL_DESIGN + '[check]\nparts = ["PF_4b_006"]\n[mesh]\nsize = "30 mm"\nhole_size = "8 mm"\n')
+    (tmp_path / "kept").mkdir()
+    for out in (tmp_path / "a" / "b" / "r", tmp_path / "kept" / "c" / "r"):
+        assert main(["check", str(scene), "--out", str(out)]) == 2
+        assert "mesh.hole_size" in capsys.readouterr().err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["kept", "scene.toml"] and not list((tmp_path / "kept").iterdir())
