@@ -19,10 +19,7 @@ from railcheck import parts as registry
 from railcheck.base.errors import InputError
 from railcheck.fea.fatigue import CRITERIA, LOAD, RELIABILITY, SURFACE  # light module: numpy only
 from railcheck.fea.materials import MATERIALS  # light module: no skfem import
-from railcheck.geometry.catalogue import (
-    OVERRIDABLE,  # light module: no gmsh import
-    validate,  # light module
-)
+from railcheck.geometry.catalogue import OVERRIDABLE, validate  # light module: no gmsh import
 from railcheck.kinematics.linkage import FourBar, SliderCrank
 from railcheck.kinematics.massmodel import MassModel
 from railcheck.units import parse_quantity
@@ -48,15 +45,14 @@ def _in_range(value: float, kind: str, name: str, magnitude: bool = False) -> fl
     lo, hi, lo_text, hi_text = RANGES[kind]
     v = abs(value) if magnitude else value
     if not lo <= v <= hi:
-        raise InputError(
-            name,
-            f"{'|value|' if magnitude else 'value'} outside the physical range {lo_text} to {hi_text} this tool accepts",
-        )
+        shown = "|value|" if magnitude else "value"
+        raise InputError(name, f"{shown} outside the physical range {lo_text} to {hi_text} this tool accepts")
     return value
 
 
 BOLT_POSITIONS = ("worst", "actual")
 SUPPORTS = ("clamped", "free-body")
+COMPARISONS = ("2013",)  # [check] compare: the 2013 clamped model beside each free rail
 SWEEP_KINDS = ("four-bar", "slider-crank")
 SWEEP_BARS = {"four-bar": ("crank", "coupler", "rocker", "ground"), "slider-crank": ("crank", "coupler", "offset")}
 SWEEP_FORMATS = ("parquet", "csv")
@@ -91,6 +87,7 @@ class CheckSpec:
     loads: dict[str, ExplicitLoad] = field(default_factory=dict)
     max_deflection: float | None = None  # m; a part whose tip deflects more fails
     support: str = "free-body"  # "free-body" (inertia relief, rails) or "clamped" (the 2013 cantilever)
+    compare: tuple[str, ...] = ()  # "2013": each free rail's clamped 2013 model beside it, for comparison
 
 
 #: the fatigue verdict's reliability: 99 % of such parts reach the computed life (Shigley,
@@ -214,7 +211,7 @@ class Scene:
 _ALLOWED: dict[str, set[str] | None] = {
     "mechanism": {"kind", "crank", "coupler", "rocker", "ground", "speed", "steps", "assembly"},
     "dynamics": {"formulation"},
-    "check": {"parts", "factor", "bolt_position", "material", "limit", "effects", "max_deflection", "support"},
+    "check": {"parts", "factor", "bolt_position", "material", "limit", "effects", "max_deflection", "support", "compare"},
     "mesh": {"order", "size", "hole_size", "optimize", "curved"},
     "output": {"dir", "vtk", "png", "plots"},
     "loads": None,  # part names, checked below
@@ -333,12 +330,8 @@ def _check(table: dict, loads_table: dict, formulation: str = "newton-euler") ->
         limit = _in_range(
             parse_quantity(table["limit"], "stress", p + "limit", positive=True, allow_zero=False), "limit", p + "limit"
         )
-    effects = table.get("effects", ["inertia"])
-    if not isinstance(effects, list) or not all(isinstance(x, str) for x in effects):
-        raise InputError(p + "effects", f"must be a list drawn from {', '.join(EFFECTS)}")
-    for e in effects:
-        if e not in EFFECTS:
-            raise InputError(p + "effects", f"unknown effect {e!r} (known: {', '.join(EFFECTS)}; nothing else is simulated)")
+    effects = _names(table.get("effects", ["inertia"]), EFFECTS, p + "effects", "effect", "; nothing else is simulated")
+    compare = _names(table.get("compare", []), COMPARISONS, p + "compare", "comparison", "")
     loads: dict[str, ExplicitLoad] = {}
     for part, spec in loads_table.items():
         lp = f"loads.{part}."
@@ -364,7 +357,17 @@ def _check(table: dict, loads_table: dict, formulation: str = "newton-euler") ->
         )
     default_support = "clamped" if formulation == "seed-2013" else "free-body"  # seed-2013: the 2013 study's model
     support = _string_choice(table.get("support", default_support), SUPPORTS, p + "support")
-    return CheckSpec(tuple(parts), float(factor), bolt, material, limit, tuple(effects), loads, max_deflection, support)
+    return CheckSpec(tuple(parts), float(factor), bolt, material, limit, effects, loads, max_deflection, support, compare)
+
+
+def _names(value: Any, choices: tuple[str, ...], name: str, what: str, note: str) -> tuple[str, ...]:
+    """A list of names each one of ``choices`` (an InputError naming ``name`` otherwise)."""
+    if not isinstance(value, list) or not all(isinstance(x, str) for x in value):
+        raise InputError(name, f"must be a list drawn from {', '.join(choices)}")
+    for x in value:
+        if x not in choices:
+            raise InputError(name, f"unknown {what} {x!r} (known: {', '.join(choices)}{note})")
+    return tuple(value)
 
 
 #: the smallest element size at the holes railcheck meshes (m): a tenth of a millimetre

@@ -100,7 +100,8 @@ def test_the_ground_bracket_is_a_free_body_on_its_foundation_with_every_node_in_
     from railcheck.check.summary import imbalance_summary
     from railcheck.scene import parse_scene
 
-    result = run_pipeline(parse_scene(tomllib.loads(PLATE_LOADS), "bracket"), jobs=1)
+    compared = PLATE_LOADS.replace("[loads.", 'compare = ["2013"]\n[loads.')
+    result = run_pipeline(parse_scene(tomllib.loads(compared), "bracket"), jobs=1)
     part = result.parts["PF_4b_003_v2"]
     assert part.job.loads.is_on_foundation and part.job.exclusion == 0.0
     assert np.all(part.cycle.fields.verdict_mask)

@@ -134,6 +134,7 @@ FREE_BODY_SCENE = (
 [check]
 parts = ["crank-rail", "coupler-rail", "rocker-rail"]
 support = "free-body"
+compare = ["2013"]
 """
 )
 
@@ -340,15 +341,16 @@ def test_a_free_joint_plate_balances_its_pin_force_bolts_and_own_inertia():
     weight. The assembled loads' resultants (independent of the coefficient algebra)
     balance before relief in the plane to 1e-9 of the largest joint force (its density
     graded to the outline's mass, centroid and polar moment; without the bolts' couple the
-    moment is off by 1.4e-3), out of it to 2e-4; the seat is in the verdict and the clamped
-    model is reported beside it."""
+    moment is off by 1.4e-3), out of it to 2e-4; the seat is in the verdict and, with
+    ``compare = ["2013"]``, the clamped model is reported beside it."""
     import tomllib
 
     from railcheck.check.pipeline import run_pipeline
     from railcheck.check.summary import imbalance_summary, summary_of
     from railcheck.scene import parse_scene
 
-    result = run_pipeline(parse_scene(tomllib.loads(PLATE_SCENE), "plate"), jobs=1)
+    compared = PLATE_SCENE.replace("[mesh]", 'compare = ["2013"]\n[mesh]')
+    result = run_pipeline(parse_scene(tomllib.loads(compared), "plate"), jobs=1)
     part = result.parts["PF_4b_006"]
     assert part.job.free_body is not None and part.job.exclusion == 0.0 and part.job.supports == []
     assert {h.joint for h in part.job.histories} == {"A", "B"}

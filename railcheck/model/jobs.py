@@ -186,7 +186,7 @@ def part_jobs(
         histories = with_pressure_histories(unit_cases(loads, geo, holes), source_histories(loads, kin, holes))
         dynamic, cert = speed_validity(scene, free, name, geo, holes, histories, unit_cases(loads, geo, holes), material)
         jobs[name] = PartJob(
-            clamped=clamped_job(scene, kin, name, geo, cases, material, limit) if free is not None else None,
+            clamped=clamped_job(scene, kin, name, geo, cases, material, limit) if compared(scene, free) else None,
             name=name,
             geometry=geo,
             support=kind.support,
@@ -208,6 +208,12 @@ def part_jobs(
             node_fields=scene.output.vtk,
         )
     return jobs
+
+
+def compared(scene: Scene, free) -> bool:
+    """Whether a part's 2013 clamped model runs beside it: a free part of a scene whose
+    ``[check] compare`` lists "2013"."""
+    return free is not None and "2013" in scene.checked.compare
 
 
 def clamped_job(

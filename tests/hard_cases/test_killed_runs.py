@@ -61,23 +61,33 @@ def _run(tmp_path, scene):
     )
 
 
-@pytest.mark.slow  # five runs of a one-plate check, about 20 s
+@pytest.mark.slow  # a timed run, then five killed and five complete runs of a one-plate check, about 30 s
 def test_a_check_killed_at_any_moment_leaves_nothing_the_next_run_trips_on(tmp_path):
-    """SIGKILL at 0.3 s (imports), 1.5 s (kinematics or meshing), 3 s (the solve) and 5 s
-    (the files), each followed by a complete run into the same --out: the results land in
-    ``r`` and nothing else is left."""
+    """A complete run is timed first; then SIGKILL at 10, 30, 50, 70 and 90% of that time
+    (imports, kinematics, meshing or the store, the solve, the files), each followed by a
+    complete run into the same --out: the results land in ``r`` and nothing else is left."""
     scene = tmp_path / "scene.toml"
     scene.write_text(CHECK)
-    for delay in (0.3, 1.5, 3.0, 5.0):
+    start = time.perf_counter()
+    assert _run(tmp_path, scene).wait(timeout=300) in (0, 1)
+    whole = time.perf_counter() - start
+    subprocess.run(["rm", "-rf", str(tmp_path / "r")], check=True)
+    for share in (0.1, 0.3, 0.5, 0.7, 0.9):
         proc = _run(tmp_path, scene)
-        time.sleep(delay)
+        time.sleep(share * whole)
         os.kill(proc.pid, signal.SIGKILL)
         proc.wait(timeout=60)
+        left = {p.name for p in (tmp_path / "r").iterdir()} if (tmp_path / "r").exists() else set()
+        if "summary.json" in left:  # it finished before the signal: complete results, nothing reserved
+            assert not [n for n in left if n.startswith(".")], share
+            subprocess.run(["rm", "-rf", str(tmp_path / "r")], check=True)
+        else:  # killed: at most its reservation (the staging directory is beside it)
+            assert all(n.startswith(".railcheck-reserved-by.") for n in left), (share, left)
         again = _run(tmp_path, scene)
-        assert again.wait(timeout=300) in (0, 1), delay
-        assert sorted(p.name for p in tmp_path.iterdir()) == ["r", "scene.toml"], delay
+        assert again.wait(timeout=300) in (0, 1), share
+        assert sorted(p.name for p in tmp_path.iterdir()) == ["r", "scene.toml"], share
         assert (tmp_path / "r" / "summary.json").exists()
-        assert not [p for p in (tmp_path / "r").iterdir() if p.name.startswith(".")], delay
+        assert not [p for p in (tmp_path / "r").iterdir() if p.name.startswith(".")], share
         subprocess.run(["rm", "-rf", str(tmp_path / "r")], check=True)
 
 

@@ -274,3 +274,17 @@ def test_steps_beyond_an_address_space_limit_are_refused_not_a_memory_error(tmp_
         last.startswith("railcheck: error: mechanism.steps: 10000000 crank steps needs about 7.5 GiB")
         and "GiB of memory" in last
     )
+
+
+def test_the_2013_comparison_runs_only_when_the_scene_asks_for_it():
+    """``[check] compare``: empty by default (the 2013 clamped model cost a quarter of a cold
+    check), ["2013"] runs it beside each free part, anything else is refused naming it."""
+    from railcheck.model.jobs import compared
+
+    base = FINAL_DESIGN + '[check]\nparts = ["crank-rail"]\n'
+    assert parse_scene(tomllib.loads(base), "t").checked.compare == ()
+    assert not compared(parse_scene(tomllib.loads(base), "t"), free=object())
+    asked = parse_scene(tomllib.loads(base + 'compare = ["2013"]\n'), "t")
+    assert compared(asked, free=object()) and not compared(asked, free=None)  # a clamped part is the 2013 model
+    with pytest.raises(InputError, match=r"check\.compare: unknown comparison '2014' \(known: 2013\)"):
+        parse_scene(tomllib.loads(base + 'compare = ["2014"]\n'), "t")
