@@ -208,7 +208,7 @@ class Scene:
         return self.mechanism
 
 
-_ALLOWED: dict[str, set[str] | None] = {
+ALLOWED_KEYS: dict[str, set[str] | None] = {
     "mechanism": {"kind", "crank", "coupler", "rocker", "ground", "speed", "steps", "assembly"},
     "dynamics": {"formulation"},
     "check": {"parts", "factor", "bolt_position", "material", "limit", "effects", "max_deflection", "support", "compare"},
@@ -267,7 +267,7 @@ def _string_choice(value: Any, choices: tuple[str, ...], name: str) -> str:
 
 def _mechanism(table: dict) -> MechanismSpec:
     p = "mechanism."
-    _unknown(table, _ALLOWED["mechanism"], p)
+    _unknown(table, ALLOWED_KEYS["mechanism"], p)
     kind = _string_choice(_require(table, "kind", p), ("four-bar", "slider-crank"), p + "kind")
     length = lambda key: _in_range(
         parse_quantity(
@@ -305,7 +305,7 @@ def _mechanism(table: dict) -> MechanismSpec:
 
 def _check(table: dict, loads_table: dict, formulation: str = "newton-euler") -> CheckSpec:
     p = "check."
-    _unknown(table, _ALLOWED["check"], p)
+    _unknown(table, ALLOWED_KEYS["check"], p)
     known = tuple(registry.PARTS)
     parts = table.get("parts", list(known))
     if not isinstance(parts, list) or not parts or not all(isinstance(x, str) for x in parts):
@@ -377,7 +377,7 @@ MIN_HOLE_SIZE = 0.1e-3
 
 def _mesh(table: dict) -> MeshSpec:
     p = "mesh."
-    _unknown(table, _ALLOWED["mesh"], p)
+    _unknown(table, ALLOWED_KEYS["mesh"], p)
     order = table.get("order", 2)
     if isinstance(order, bool) or order not in (1, 2):
         raise InputError(p + "order", f"must be 1 or 2, got {order!r}")
@@ -402,7 +402,7 @@ def _mesh(table: dict) -> MeshSpec:
 
 def _output(table: dict) -> OutputSpec:
     p = "output."
-    _unknown(table, _ALLOWED["output"], p)
+    _unknown(table, ALLOWED_KEYS["output"], p)
     d = table.get("dir", "results")
     if not isinstance(d, str) or not d.strip() or "\0" in d:  # no file system takes a NUL
         raise InputError(p + "dir", f"must be a directory name, got {d!r}")
@@ -431,7 +431,7 @@ def _geometry(table: dict) -> dict[str, float]:
 def _fatigue(table: dict) -> FatigueSpec:
 
     p = "fatigue."
-    _unknown(table, _ALLOWED["fatigue"], p)
+    _unknown(table, ALLOWED_KEYS["fatigue"], p)
     surface = _string_choice(table.get("surface", "machined"), tuple(SURFACE), p + "surface")
     load = _string_choice(table.get("load", "bending"), tuple(LOAD), p + "load")
     criterion = _string_choice(table.get("criterion", "goodman"), CRITERIA, p + "criterion")
@@ -446,7 +446,7 @@ def _fatigue(table: dict) -> FatigueSpec:
 
 def _dynamic(table: dict) -> DynamicSpec:
     p = "dynamic."
-    _unknown(table, _ALLOWED["dynamic"], p)
+    _unknown(table, ALLOWED_KEYS["dynamic"], p)
     damping = _number(table.get("damping", 0.02), p + "damping", 1e-4, 0.5, "a ratio of critical damping")
     amplification = _number(table.get("max_amplification", 1.10), p + "max_amplification", 1.0, 10.0, "a ratio")
     modes = table.get("modes", 6)
@@ -464,7 +464,7 @@ def _number(value: Any, name: str, lo: float, hi: float, what: str) -> float:
 
 def _sweep(table: dict) -> SweepSpec:
     p = "sweep."
-    _unknown(table, _ALLOWED["sweep"], p)
+    _unknown(table, ALLOWED_KEYS["sweep"], p)
     kind = table.get("kind", "both")
     kinds = SWEEP_KINDS if kind == "both" else (_string_choice(kind, SWEEP_KINDS + ("both",), p + "kind"),)
     ranges = {}
@@ -531,13 +531,13 @@ def _sweep_settings(items: Any, kinds: tuple[str, ...]) -> dict:
 
 def parse_scene(data: dict[str, Any], source: str = "<scene>") -> Scene:
     """Build a :class:`Scene` from a parsed TOML mapping."""
-    _unknown(data, set(_ALLOWED), "")
+    _unknown(data, set(ALLOWED_KEYS), "")
     for key, value in data.items():
         if not isinstance(value, dict):
             raise InputError(key, "must be a table ([" + key + "])")
     mechanism = _mechanism(data["mechanism"]) if "mechanism" in data else None
     dyn = data.get("dynamics", {})
-    _unknown(dyn, _ALLOWED["dynamics"], "dynamics.")
+    _unknown(dyn, ALLOWED_KEYS["dynamics"], "dynamics.")
     formulation = _string_choice(dyn.get("formulation", "newton-euler"), FORMULATIONS, "dynamics.formulation")
     check = None
     if "check" in data:

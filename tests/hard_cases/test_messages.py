@@ -288,3 +288,28 @@ def test_the_2013_comparison_runs_only_when_the_scene_asks_for_it():
     assert compared(asked, free=object()) and not compared(asked, free=None)  # a clamped part is the 2013 model
     with pytest.raises(InputError, match=r"check\.compare: unknown comparison '2014' \(known: 2013\)"):
         parse_scene(tomllib.loads(base + 'compare = ["2014"]\n'), "t")
+
+
+def test_the_scene_reference_lists_every_key_and_reads_as_a_scene():
+    """docs/scenes.md's TOML block holds every key of every table the scene reader accepts
+    and every [geometry] key at its catalogue default, and is itself a scene the reader
+    accepts (it omitted check.max_deflection, output.plots and the geometry keys)."""
+    from pathlib import Path
+
+    from railcheck.geometry import catalogue
+    from railcheck.scene import ALLOWED_KEYS
+
+    text = (Path(__file__).parents[2] / "docs" / "scenes.md").read_text()
+    block = text.split("```toml\n", 1)[1].split("```", 1)[0]
+    doc = tomllib.loads(block)
+    for table, keys in ALLOWED_KEYS.items():
+        assert table in doc, table
+        if keys is not None:
+            assert set(doc[table]) >= keys, (table, keys - set(doc[table]))
+    assert set(doc["geometry"]) == set(catalogue.OVERRIDABLE)
+    scene = parse_scene(doc, "docs/scenes.md")
+    assert set(scene.geometry) == set(catalogue.OVERRIDABLE)
+    specs = {"rail": catalogue.RAIL, "plate": catalogue.JOINT_PLATE, "iprofile": catalogue.I_PROFILE}
+    for key, value in scene.geometry.items():
+        which, name = catalogue.OVERRIDABLE[key]
+        assert value == pytest.approx(getattr(specs[which], name), rel=1e-12), key
