@@ -86,6 +86,14 @@ def test_a_part_fails_on_each_criterion_alone(tmp_path, passing, extra, fatigue,
     # the same figures as the passing run: only the verdict moved
     assert part["max_von_mises_Pa"] == pytest.approx(base["max_von_mises_Pa"], rel=1e-12)
     assert f"PF_4b_003_v2 {criterion}" in stdout.strip().splitlines()[-1]
+    # the figure against its limit, the words to act on: the console, summary.json
+    figures = {
+        "stress": f"stress {part['max_von_mises_Pa'] / 1e6:.1f} MPa > 40 MPa",
+        "fatigue": f"fatigue n {part['fatigue']['min_safety_factor']:.2f} < 20.00",
+        "deflection": f"deflection {part['tip_deflection_m'] * 1e3:.2f} mm > 0.05 mm",
+    }
+    assert summary["failures_with_figures"] == [f"PF_4b_003_v2 {figures[criterion]}"]
+    assert f"PF_4b_003_v2 {figures[criterion]}" in stdout.strip().splitlines()[-1]
 
 
 SWEEP = (

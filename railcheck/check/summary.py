@@ -25,6 +25,7 @@ def summary_of(result: PipelineResult) -> dict:
     out = {
         "verdict": verdict_of(result),
         "failures": result.failures,
+        "failures_with_figures": result.failures_with_figures,
         "parts": {name: part_summary(p) for name, p in result.parts.items()},
         "unloaded_parts": list(result.unloaded),
         "stages_run": list(result.stages_run),

@@ -11,6 +11,7 @@ response, and the result states the amplification over the quasi-static one.
 from __future__ import annotations
 
 import math
+import re
 import time
 from dataclasses import replace
 
@@ -51,6 +52,17 @@ from railcheck.model.records import (
 )
 from railcheck.units import for_people
 
+#: curved edges straightened below this share of them are a note on the mesh's progress line,
+#: not a warning: the surface is faceted on a few edges, nothing to act on
+MINOR_STRAIGHTENING = 1.0  # per cent
+
+
+def minor_straightening(warning: str | None) -> str | None:
+    """The mesh's warning when it only says that fewer than :data:`MINOR_STRAIGHTENING` per
+    cent of the curved edges were straightened (a note then), else None."""
+    found = re.fullmatch(r"\d+ curved edges straightened .*\(([\d.]+)% of the curved edges; .*\)", warning or "")
+    return warning if found and float(found.group(1)) < MINOR_STRAIGHTENING else None
+
 
 def check_part(job: PartJob, solver: str, report) -> PartResult:
     """Mesh, unit cases, envelope, seed method and fatigue of one part -> PartResult;
@@ -59,14 +71,18 @@ def check_part(job: PartJob, solver: str, report) -> PartResult:
     t = time.perf_counter()
     mesh = job_mesh(job)
     seconds["mesh"] = time.perf_counter() - t
-    if mesh.warning:
+    note = minor_straightening(mesh.warning)
+    if mesh.warning and not note:
         warnings.append(mesh.warning)
     if mesh.slivers:
         warnings.append(
             f"{mesh.slivers} sliver elements (gmsh minSICN < 0.05, worst {mesh.min_quality:.3f}); "
             "stresses near them are unreliable"
         )
-    report(f"{mesh.tets.shape[0]} tetrahedra{' (cached)' if mesh.cached else ''}, min quality {mesh.min_quality:.2f}")
+    report(
+        f"{mesh.tets.shape[0]} tetrahedra{' (cached)' if mesh.cached else ''}, min quality {mesh.min_quality:.2f}"
+        + (f"; {note}" if note else "")
+    )
     cases = unit_cases(job.loads, job.geometry, list(job.holes))
     fields, solve, origin = solve_stored(unit_request(job, mesh, cases), solver, report, store=environment.unit_store())
     seconds.update(solve.seconds)

@@ -287,5 +287,31 @@ class PipelineResult:
         return out
 
     @property
+    def failures_with_figures(self) -> list[str]:
+        """:attr:`failures` with the figure and the limit of each (MPa, mm), the words an
+        engineer acts on: "crank-rail stress 638.8 MPa > 375 MPa"."""
+        out = [f"check {name}: {c.message}" for name, c in self.checks.items() if not c.ok]
+        for name, p in self.parts.items():
+            out += part_failures_with_figures(name, p)
+        return out
+
+    @property
     def passed(self) -> bool:
         return not self.failures
+
+
+def part_failures_with_figures(name: str, p: PartResult) -> list[str]:
+    """Each failed criterion of part ``p`` with its figure against its limit."""
+    c, fat, yield_strength = p.cycle, p.cycle.fatigue, p.job.material.yield_strength
+    out = [f"{name} stress {p.verdict_stress / 1e6:.1f} MPa > {p.limit / 1e6:.0f} MPa"] if not p.stress_passed else []
+    out += [f"{name} fatigue n {fat.min_safety_factor:.2f} < {fat.required:.2f}"] if not p.fatigue_passed else []
+    if not p.deflection_passed and p.deflection_limit is not None:
+        out.append(f"{name} deflection {c.envelope.max_tip * 1e3:.2f} mm > {p.deflection_limit * 1e3:g} mm")
+    if not p.dynamic_passed and c.dynamic is not None:
+        out.append(f"{name} dynamic amplification {c.dynamic.amplification:.3f} > {c.dynamic.max_amplification:.2f}")
+    if not p.within_yield:
+        out.append(f"{name} beyond yield {p.verdict_stress / 1e6:.1f} MPa > sigma_y {yield_strength / 1e6:.0f} MPa")
+    if not p.small_displacements:
+        limit = small_displacement_limit(p.geometry.get("length"))
+        out.append(f"{name} beyond small displacements {c.envelope.max_tip * 1e3:.1f} mm > {limit * 1e3:.1f} mm")
+    return out

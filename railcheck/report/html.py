@@ -72,7 +72,7 @@ def write_report(path: Path, scene, result, summary: dict, directory: Path) -> N
 
 
 def _header(result, summary) -> str:
-    reasons = "; ".join(result.failures)
+    reasons = "; ".join(result.failures_with_figures)
     verdict = summary["verdict"]
     title = (
         _verdict(not result.failures) if verdict in ("PASS", "FAIL") else f'<span class="note">{html_escape(verdict)}</span>'

@@ -22,7 +22,7 @@ def kinematics_table(summary: dict) -> str:
     lines.append(f"{m['kind']} ({m['assembly']}): {lengths}; {_fmt(m['speed_Hz'])} Hz, {m['steps']} steps")
     lines.append(f"inverse dynamics: {summary['formulation']}; effects: {', '.join(summary['effects']) or 'none (statics)'}")
     ta = summary["transmission_angle_deg"]
-    lines.append(f"transmission angle: min {ta['min']:.4f} deg, max {ta['max']:.4f} deg")
+    lines.append(f"transmission angle: min {ta['min']:.2f} deg, max {ta['max']:.2f} deg")
     lines.append("")
     lines.append("checks")
     for name, c in summary["checks"].items():
@@ -30,8 +30,8 @@ def kinematics_table(summary: dict) -> str:
     lines.append("")
     lines.append(f"  {'joint':<8}{'peak reaction (N)':>20}{'at crank angle (deg)':>24}")
     for joint, value in summary["peak_reactions_N"].items():
-        lines.append(f"  {joint:<8}{value:>20.4f}{summary['peak_crank_angle_deg'][joint]:>24.2f}")
-    lines.append(f"  {'torque':<8}{summary['peak_torque_Nm']:>17.4f} N·m{summary['peak_crank_angle_deg']['torque']:>24.2f}")
+        lines.append(f"  {joint:<8}{value:>20.1f}{summary['peak_crank_angle_deg'][joint]:>24.2f}")
+    lines.append(f"  {'torque':<8}{summary['peak_torque_Nm']:>16.2f} N·m{summary['peak_crank_angle_deg']['torque']:>24.2f}")
     for w in summary.get("warnings", []):
         lines.append(f"warning: {w}")
     return "\n".join(lines)
@@ -226,7 +226,7 @@ def check_report(run) -> str:
         known = (result.kinematics_summary or {}).get("warnings", [])
         lines += [f"warning: {w}" for w in result.warnings if w not in known]
     lines.append(f"stages run: {', '.join(result.stages_run)}")
-    reasons = f" ({'; '.join(result.failures)})" if result.failures else ""
+    reasons = f" ({'; '.join(result.failures_with_figures)})" if result.failures else ""
     lines.append(f"verdict: {summary['verdict']}{reasons}; results in {run.target}/")
     return "\n".join(lines)
 
