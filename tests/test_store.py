@@ -211,7 +211,7 @@ def test_a_warm_check_equals_a_cold_one_byte_for_byte(tmp_path):
 
     scene = tmp_path / "s.toml"
     scene.write_text(
-        FINAL_DESIGN + 'speed = "1 Hz"\nsteps = 720\n[check]\nparts = ["crank-rail", "PF_4b_006"]\n'
+        FINAL_DESIGN + 'speed = "1 Hz"\nsteps = 720\n[check]\nparts = ["crank-rail", "PF_4b_006"]\ncompare = ["2013"]\n'
         '[mesh]\nsize = "20 mm"\nhole_size = "6 mm"\n[output]\nvtk = false\npng = false\nplots = false\n'
     )
     env = {**os.environ, "RAILCHECK_CACHE": str(tmp_path / "cache")}

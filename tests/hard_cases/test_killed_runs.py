@@ -61,10 +61,10 @@ def _run(tmp_path, scene):
     )
 
 
-@pytest.mark.slow  # a timed run, then five killed and five complete runs of a one-plate check, about 30 s
+@pytest.mark.slow  # a timed run, then three killed and three complete runs of a one-plate check, about 20 s
 def test_a_check_killed_at_any_moment_leaves_nothing_the_next_run_trips_on(tmp_path):
-    """A complete run is timed first; then SIGKILL at 10, 30, 50, 70 and 90% of that time
-    (imports, kinematics, meshing or the store, the solve, the files), each followed by a
+    """A complete run is timed first; then SIGKILL at 20, 50 and 80% of that time (imports,
+    kinematics and the store, the solve and the files), each followed by a
     complete run into the same --out: the results land in ``r`` and nothing else is left."""
     scene = tmp_path / "scene.toml"
     scene.write_text(CHECK)
@@ -72,7 +72,7 @@ def test_a_check_killed_at_any_moment_leaves_nothing_the_next_run_trips_on(tmp_p
     assert _run(tmp_path, scene).wait(timeout=300) in (0, 1)
     whole = time.perf_counter() - start
     subprocess.run(["rm", "-rf", str(tmp_path / "r")], check=True)
-    for share in (0.1, 0.3, 0.5, 0.7, 0.9):
+    for share in (0.2, 0.5, 0.8):
         proc = _run(tmp_path, scene)
         time.sleep(share * whole)
         os.kill(proc.pid, signal.SIGKILL)
