@@ -163,12 +163,12 @@ def _parts(result) -> str:
         "part",
         "cycle max von Mises (MPa)",
         "at crank (deg)",
-        "seed method (MPa)",
+        "2013 inst. (MPa)",
         *(["2013 clamp: peak (at the clamp) MPa, not the verdict"] if compared else []),
         "limit (MPa)",
         "factor of safety",
         "utilisation (governs)",
-        "max deflection* (mm)",
+        "tip defl.* (mm)",
         "deflection limit (mm)",
         "fatigue factor",
         "σa / σm (MPa)",
@@ -180,7 +180,7 @@ def _parts(result) -> str:
         "<h2>Parts</h2>"
         + html_table(head, rows)
         + f'<p class="note">cycle max: the largest von Mises over the whole crank cycle; * {_support_models(result)}'
-        f"seed method: at the instant of the peak reaction magnitude; "
+        f"2013 inst.: at the instant of the peak reaction magnitude (the 2013 study's method); "
         f"factor of safety = limit / cycle max; fatigue: {html_escape(crit.criterion)}, endurance limit "
         f"{crit.marin.endurance_limit / 1e6:.0f} MPa (Shigley ch. 6, Marin factors in summary.json).</p>"
     )
