@@ -27,6 +27,7 @@ from pathlib import Path
 from typing import Any, Iterator
 
 from railcheck.base.errors import InputError
+from railcheck.base.temporaries import process_running
 
 STAGING_MARK = ".staging."
 RESERVED_MARK = ".railcheck-reserved-by."
@@ -146,7 +147,7 @@ def tag_alive(tag: str) -> bool:
     reused id with another start time does not count)."""
     pid_text, _, start = tag.partition("-")
     pid = int(pid_text)
-    if not _alive(pid):
+    if not process_running(pid):
         return False
     return not start or _start_time(pid) in (None, start)
 
@@ -221,16 +222,6 @@ def remove_dead_staging(directory: Path) -> list[Path]:
             shutil.rmtree(p, ignore_errors=True)
             removed.append(p)
     return removed
-
-
-def _alive(pid: int) -> bool:
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    except PermissionError:
-        return True
-    return True
 
 
 def results_dir(requested: str | Path, field: str) -> Path:

@@ -1,4 +1,4 @@
-"""Temporary files of the caches (the mesh cache, the unit-field store): each written under
+"""Whether a process runs, and the temporary files of the caches (the mesh cache, the unit-field store): each written under
 a name that carries its process id beside its entry and renamed onto it, so a reader never
 sees half an entry. A write that fails (a full disk) removes its temporary; one whose
 process was killed is removed by the next write into that folder."""
@@ -26,14 +26,15 @@ def remove_dead_temporaries(directory: Path) -> list[Path]:
             pid = int(p.name[: -len(SUFFIX)].rsplit(".", 1)[1])
         except (IndexError, ValueError):
             continue
-        if pid != os.getpid() and not _running(pid):
+        if pid != os.getpid() and not process_running(pid):
             with contextlib.suppress(OSError):
                 p.unlink()
                 removed.append(p)
     return removed
 
 
-def _running(pid: int) -> bool:
+def process_running(pid: int) -> bool:
+    """Whether a process with this id runs (one of another user's counts as running)."""
     try:
         os.kill(pid, 0)
     except ProcessLookupError:
