@@ -6,10 +6,11 @@ fields, missing fields and impossible values raise :class:`InputError` naming th
 
 from __future__ import annotations
 
+import dataclasses
 import difflib
 import math
 import tomllib
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from functools import cached_property
 from importlib import resources
 from pathlib import Path
@@ -22,6 +23,19 @@ from railcheck.fea.materials import MATERIALS  # light module: no skfem import
 from railcheck.geometry.catalogue import OVERRIDABLE, validate  # light module: no gmsh import
 from railcheck.kinematics.linkage import FourBar, SliderCrank
 from railcheck.kinematics.massmodel import MassModel
+from railcheck.specs import (  # noqa: F401  the scene's records, re-exported
+    DEFAULT_RELIABILITY,
+    PLANES,
+    SWEEP_KINDS,
+    CheckSpec,
+    DynamicSpec,
+    ExplicitLoad,
+    FatigueSpec,
+    MechanismSpec,
+    MeshSpec,
+    OutputSpec,
+    SweepSpec,
+)
 from railcheck.units import parse_quantity
 
 EFFECTS = ("inertia", "gravity", "rail-inertia", "dynamic")
@@ -53,108 +67,10 @@ def _in_range(value: float, kind: str, name: str, magnitude: bool = False) -> fl
 BOLT_POSITIONS = ("worst", "actual")
 SUPPORTS = ("clamped", "free-body")
 COMPARISONS = ("2013",)  # [check] compare: the 2013 clamped model beside each free rail
-SWEEP_KINDS = ("four-bar", "slider-crank")
 SWEEP_BARS = {"four-bar": ("crank", "coupler", "rocker", "ground"), "slider-crank": ("crank", "coupler", "offset")}
 SWEEP_FORMATS = ("parquet", "csv")
 FORMULATIONS = ("newton-euler", "seed-2013")
 DEFAULT_SCENE = "default.toml"
-
-
-@dataclass(frozen=True)
-class MechanismSpec:
-    linkage: FourBar | SliderCrank
-    speed: float  # rad/s
-    steps: int
-
-
-@dataclass(frozen=True)
-class ExplicitLoad:
-    """A force applied on every bolt hole of a part, in the part's frame (N):
-    ``longitudinal`` along the part's long axis, ``transverse`` across it in-plane."""
-
-    longitudinal: float
-    transverse: float
-
-
-@dataclass(frozen=True)
-class CheckSpec:
-    parts: tuple[str, ...]
-    factor: float = 1.4
-    bolt_position: str = "worst"
-    material: str = "steel"
-    limit: float | None = None  # Pa; None = sigma_u / 2
-    effects: tuple[str, ...] = ("inertia",)
-    loads: dict[str, ExplicitLoad] = field(default_factory=dict)
-    max_deflection: float | None = None  # m; a part whose tip deflects more fails
-    support: str = "free-body"  # "free-body" (inertia relief, rails) or "clamped" (the 2013 cantilever)
-    compare: tuple[str, ...] = ()  # "2013": each free rail's clamped 2013 model beside it, for comparison
-
-
-#: the fatigue verdict's reliability: 99 % of such parts reach the computed life (Shigley,
-#: Mechanical Engineering Design, table 6-5: ke = 0.814), the reliability Shigley's design
-#: examples take for machine parts; 0.5 (ke = 1) would be the mean endurance limit, at
-#: which half of such parts fail before the computed life
-DEFAULT_RELIABILITY = 0.99
-
-
-@dataclass(frozen=True)
-class FatigueSpec:
-    """High-cycle fatigue settings (fea.fatigue): each default from Shigley, chapter 6."""
-
-    surface: str = "machined"  # table 6-2; precision rails are ground, plates machined
-    reliability: float = DEFAULT_RELIABILITY  # table 6-5; see DEFAULT_RELIABILITY
-    load: str = "bending"  # kc: the parts bend under the transverse bolt loads
-    criterion: str = "goodman"  # modified Goodman (eq. 6-41); gerber, asme-elliptic
-    min_safety: float = 1.0  # a part fails below it
-
-
-@dataclass(frozen=True)
-class DynamicSpec:
-    """The dynamic response (effect ``dynamic``; fea.dynamic): the modal damping ratio
-    (0.02, assumed for a bolted steel frame with carriages and bearings; EN 1991-1-4 table
-    F.2 gives a structural logarithmic decrement of 0.05 for ordinary-bolted steel, zeta =
-    0.05 / 2 pi = 0.008, so near a resonance the real peak may be up to 2.5x what 0.02
-    gives: the report states the damping used), the largest dynamic amplification a part may
-    show (1.10: dynamics that raise a part's stress by more than 10% mean the quasi-static
-    check does not hold, and the part fails), and how many modes."""
-
-    damping: float = 0.02
-    max_amplification: float = 1.10
-    modes: int = 6
-
-
-@dataclass(frozen=True)
-class MeshSpec:
-    order: int = 2
-    size: float | None = None  # m; None = each part kind's default (parts.KINDS)
-    hole_size: float | None = None  # m; None = the kind's default, or 0.3 x size
-    optimize: bool = True  # gmsh's tetrahedron optimisation
-    curved: bool = True  # P2: mid-edge nodes on the true surfaces (isoparametric)
-
-
-@dataclass(frozen=True)
-class OutputSpec:
-    dir: str = "results"
-    vtk: bool = True
-    png: bool = True
-    plots: bool = True
-
-
-@dataclass(frozen=True)
-class SweepSpec:
-    """``railcheck sweep`` settings (SI): the kinds swept, each bar's [min, max] range (m)
-    narrowing the rig's grid, the crank speeds (rad/s), steps per revolution, the
-    assembly, ``settings`` extra settings per kind (dicts of bar -> m, on the grid or not),
-    the working-memory budget (bytes) and the table format."""
-
-    kinds: tuple[str, ...] = SWEEP_KINDS
-    ranges: dict = field(default_factory=dict)
-    speeds: tuple[float, ...] = (2 * math.pi,)
-    steps: int = 720
-    assembly: str = "open"
-    settings: dict = field(default_factory=dict)
-    memory: float = 512e6
-    format: str = "parquet"
 
 
 @dataclass(frozen=True)
@@ -192,6 +108,14 @@ class Scene:
         return tuple(out)
 
     @property
+    def plane(self) -> str:
+        """The rig's plane (:data:`railcheck.specs.PLANES`): [mechanism]'s, or without one
+        "vertical" when [check] effects lists "gravity", else "horizontal"."""
+        if self.mechanism is not None:
+            return self.mechanism.plane
+        return "vertical" if self.check is not None and "gravity" in self.check.effects else "horizontal"
+
+    @property
     def checked(self) -> CheckSpec:
         """[check], for the stages that run only when the scene has one (an InputError
         naming it otherwise)."""
@@ -209,7 +133,7 @@ class Scene:
 
 
 ALLOWED_KEYS: dict[str, set[str] | None] = {
-    "mechanism": {"kind", "crank", "coupler", "rocker", "ground", "speed", "steps", "assembly"},
+    "mechanism": {"kind", "crank", "coupler", "rocker", "ground", "speed", "steps", "assembly", "plane"},
     "dynamics": {"formulation"},
     "check": {"parts", "factor", "bolt_position", "material", "limit", "effects", "max_deflection", "support", "compare"},
     "mesh": {"order", "size", "hole_size", "optimize", "curved"},
@@ -301,6 +225,26 @@ def _mechanism(table: dict) -> MechanismSpec:
             _in_range(offset, "length", p + "ground", magnitude=True)
         linkage = SliderCrank(length("crank"), length("coupler"), offset, assembly)
     return MechanismSpec(linkage, speed, steps)
+
+
+def _oriented(mechanism: MechanismSpec, check: CheckSpec | None, plane: Any) -> tuple[MechanismSpec, CheckSpec | None]:
+    """The rig's plane (:data:`PLANES`): "vertical" when [check] effects lists "gravity"
+    (the weight in the mechanism's plane), else "horizontal" (the table-top rig, its weight
+    out of plane, always applied), unless the scene says; a vertical rig's weight is the
+    ``gravity`` effect, always on."""
+    gravity = check is not None and "gravity" in check.effects
+    if plane is None:
+        plane = "vertical" if gravity else "horizontal"
+    plane = _string_choice(plane, PLANES, "mechanism.plane")
+    if plane == "horizontal" and gravity:
+        raise InputError(
+            "check.effects",
+            '"gravity" is the weight in the mechanism\'s plane (a vertical rig); with [mechanism] plane = '
+            '"horizontal" the weight acts out of plane and is always applied: remove "gravity" or set plane = "vertical"',
+        )
+    if plane == "vertical" and check is not None and not gravity:
+        check = dataclasses.replace(check, effects=check.effects + ("gravity",))
+    return dataclasses.replace(mechanism, plane=plane), check
 
 
 def _check(table: dict, loads_table: dict, formulation: str = "newton-euler") -> CheckSpec:
@@ -554,6 +498,9 @@ def parse_scene(data: dict[str, Any], source: str = "<scene>") -> Scene:
                 f"missing: parts {', '.join(needs_linkage)} take their loads from the "
                 "linkage (or give them explicit [loads.PART])",
             )
+    if mechanism is not None:
+        mechanism, check = _oriented(mechanism, check, data["mechanism"].get("plane"))
+    if check is not None:
         if "gravity" in check.effects and formulation == "seed-2013":
             raise InputError(
                 "check.effects",

@@ -247,7 +247,7 @@ def test_every_default_that_shapes_the_verdict_is_stated():
         "reliability 0.99",
         "k_e = 0.814",
         "deflection limit: none",
-        "no weight",
+        "weight: a table-top rig",
         "beyond yield",
         "small displacements",
     ):

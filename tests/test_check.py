@@ -368,13 +368,13 @@ def test_each_part_is_resolved_once_into_a_picklable_job_without_the_scene():
             np.testing.assert_array_equal(h.C, g.C)
     crank = jobs["crank-rail"]
     assert (crank.mesh.size, crank.mesh.hole_size, crank.mesh.order) == (20e-3, 6e-3, 2)
-    # the default free body: pin x/y, motor torque, bolts x/y, body x/y, rotational, radial, then the pin
-    # pressures' harmonics on its four loaded holes (the shaft's and the driving pin's, the far joint's two bolts)
+    # the default free body: pin x/y, motor torque, bolts x/y, body x/y, rotational, radial, the table-top
+    # rig's weight out of plane (body z, pin z, driving pin z, bolts z), then the pin pressures' harmonics on its four loaded holes (the shaft's and the driving pin's, the far joint's two bolts)
     from railcheck.fea.pin_pressure import harmonic_names
     from railcheck.loads.pin_pressure import HARMONICS
 
     per_hole = len(harmonic_names(HARMONICS))
-    assert crank.limit == 375e6 and crank.loads.factor == 1.4 and crank.histories[0].C.shape == (5000, 9 + 4 * per_hole)
+    assert crank.limit == 375e6 and crank.loads.factor == 1.4 and crank.histories[0].C.shape == (5000, 9 + 4 + 4 * per_hole)
     assert crank.free_body is not None and crank.loads.is_free_body
     assert jobs["PF_4b_006"].mesh.size == 6e-3 and len(jobs["PF_4b_006"].histories) == 2
 

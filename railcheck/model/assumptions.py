@@ -5,7 +5,9 @@ from __future__ import annotations
 
 from railcheck.fea.fatigue import RELIABILITY
 from railcheck.fea.materials import MATERIALS
+from railcheck.loads.weight import CANTILEVERED, shaft_moment
 from railcheck.model.certificate import QUASI_STATIC_TOLERANCE, SMALL_DISPLACEMENT_SHARE
+from railcheck.model.loading import linkage_lengths
 
 
 def assumptions(scene, parts: dict) -> list[str]:
@@ -36,11 +38,35 @@ def assumptions(scene, parts: dict) -> list[str]:
         ),
         f"effects: {', '.join(c.effects) or 'none'}; support: {c.support}",
     ]
-    if "gravity" not in c.effects:
-        out.append("no weight: the rig's own weight is not applied (a vertical rig lists gravity in [check] effects)")
+    out.append(weight_assumption(scene, parts))
     if any(p.job.certificate is not None or p.cycle.dynamic is not None for p in parts.values()):
         out.append(
             f"dynamics: quasi-static where the one-mode amplification estimate is at most {QUASI_STATIC_TOLERANCE:.2f}, "
             f"else the modal response (mode-acceleration, modal damping {scene.dynamic.damping:g}, assumed)"
         )
     return out
+
+
+def weight_assumption(scene, parts: dict) -> str:
+    """How the rig's weight is applied: in plane (a vertical rig), out of plane on the free
+    rails (a table-top rig, with the bound it takes and the shafts' moments), or not at all."""
+    if scene.plane == "vertical":
+        return "weight: a vertical rig ([mechanism] plane): every part's weight acts in the mechanism's plane"
+    weighed = [p.job.loads for p in parts.values() if p.job.loads.weight is not None]
+    if not weighed:
+        return (
+            "weight: a table-top rig ([mechanism] plane = horizontal), its weight out of plane; "
+            "no part checked here carries it (it loads free-body rails)"
+        )
+    shafts = "; ".join(
+        f"{w.weight.bar} shaft {shaft_moment(w.weight, linkage_lengths(scene.linkage_spec.linkage)):.1f} N m"
+        for w in weighed
+        if w.weight.bar in CANTILEVERED
+    )
+    return (
+        "weight: a table-top rig ([mechanism] plane = horizontal): each rail's weight and carried masses act out of "
+        "plane (-z, rail base down), constant over the cycle, load factor on it; bound: links simply supported at their "
+        "joints, crank and rocker cantilevered from their shafts, clamped at their first two holes"
+        + (f" (unfactored {shafts})" if shafts else "")
+        + "; the other bound, joints rigid out of plane, is not modelled; joint plates and the bracket carry no weight"
+    )

@@ -36,6 +36,7 @@ from railcheck.kinematics.massmodel import carried_mass
 from railcheck.loads.histories import bolt_history, gravity_history, rail_inertia_history
 from railcheck.loads.pin_pressure import HARMONICS, harmonic_coefficients
 from railcheck.loads.rotation import to_rail_axes
+from railcheck.loads.weight import CANTILEVERED, RailWeight, joint_forces
 from railcheck.model.kinematics_stage import KinematicsResult
 from railcheck.parts import BAR_INDEX, PARTS, FreeBody, FreePlate, LoadSource, rail_length
 from railcheck.scene import ExplicitLoad, Scene
@@ -69,6 +70,7 @@ class LoadModel:
     plate: tuple[float, float, float] = (0.0, 0.0, 0.0)  # (kg, centroid - seat m, polar moment about the seat kg m^2)
     rail_body: tuple[float, float] = (0.0, 0.0)  # the dynamics' rail: centre of mass x (m, part frame), inertia (kg m^2)
     foundation: str | None = None  # a bolted-down part as a free body: the face a rigid foundation's reaction acts on
+    weight: RailWeight | None = None  # a table-top rig's rail: its weight out of plane (loads.weight)
 
     @property
     def is_free_body(self) -> bool:
@@ -143,7 +145,20 @@ def load_model(
         rail_mass=masses.rail_mass_per_m * rail_length(bar),
         bar_length=bar_length,
         rail_body=rail_body(masses, bar, geo_first_hole(scene)),
+        weight=rail_weight(scene, bar, kind) if scene.plane == "horizontal" else None,
     )
+
+
+def rail_weight(scene: Scene, bar: str, kind: str) -> RailWeight:
+    """What ``bar``'s rail needs for its out-of-plane weight (:mod:`railcheck.loads.weight`),
+    from the one mass model: the rails' masses and centres of mass, the point masses each
+    bar carries at its joints (:data:`railcheck.kinematics.massmodel.CARRIED`) and the
+    clamp's length, the rail's hole pitch."""
+    masses = scene.masses
+    rod, coupler = massmodel.rail_body(masses, bar, []), massmodel.rail_body(masses, "coupler", [])
+    carried = {b: {j: carried_mass(masses, kind, b, j) for j in joints} for b, joints in massmodel.CARRIED[kind].items()}
+    pitch = float(with_overrides(scene.geometry)[0].hole_pitch)
+    return RailWeight(bar, rod.mass, rod.com, carried, (coupler.mass, coupler.com), pitch)
 
 
 def geo_first_hole(scene: Scene) -> float:
@@ -285,7 +300,39 @@ def free_body_cases(model: LoadModel, geo, holes: list[str]) -> dict:
     if model.inertia:
         pivot = (float(xs[0]), 0.0)
         cases.update(body_rot=BodyCase("rotational", pivot=pivot), body_rad=BodyCase("radial", pivot=pivot))
+    if model.weight is not None:
+        cases.update(weight_cases(model, geo, holes))
     return cases
+
+
+def weight_cases(model: LoadModel, geo, holes: list[str]) -> dict:
+    """A table-top rig's rail, out of plane (:mod:`railcheck.loads.weight`): its weight
+    (``body_z``, carrying the dynamics' rail mass), the z forces at the first joint
+    (``pin_z``), at the clamp's second hole of a cantilevered bar (``drive_z``) and at the
+    far joint's bolts, shared so that it acts at the joint (``bolt_z``)."""
+    assert model.weight is not None  # a rail's out-of-plane weight
+    cases: dict = {"body_z": BodyCase("uniform", 2), "pin_z": TractionCase(("hole_0",), 2)}
+    if model.weight.bar in CANTILEVERED:
+        cases["drive_z"] = TractionCase(("hole_1",), 2)
+    cases["bolt_z"] = TractionCase(tuple(holes), 2, lever_rule(geo, holes, model))
+    return cases
+
+
+def weight_cases_names(model: LoadModel) -> tuple[str, ...]:
+    """The names of :func:`weight_cases`, in order (the last columns of a free rail's cases)."""
+    assert model.weight is not None  # a rail's out-of-plane weight
+    drive = ("drive_z",) if model.weight.bar in CANTILEVERED else ()
+    return ("body_z", "pin_z", *drive, "bolt_z")
+
+
+def weight_columns(model: LoadModel, lengths: dict, shape: tuple) -> np.ndarray:
+    """(*shape, k): the coefficients of :func:`weight_cases`, constant over the cycle:
+    the load factor times -g (body, m/s^2) and the joints' z forces (N); ``lengths`` bar ->
+    m, scalars or arrays broadcasting to ``shape`` (a sweep's settings)."""
+    assert model.weight is not None  # a rail's out-of-plane weight
+    near, drive, far = (np.asarray(v, float) for v in joint_forces(model.weight, lengths))
+    cols = [np.full(near.shape, -GRAVITY), near] + ([drive] if model.weight.bar in CANTILEVERED else []) + [far]
+    return model.factor * np.broadcast_to(np.stack(np.broadcast_arrays(*cols), axis=-1), (*shape, len(cols)))
 
 
 def free_plate_cases(model: LoadModel, geo, holes: list[str]) -> dict:
@@ -353,10 +400,18 @@ def lever_rule(geo, holes: list[str], model: LoadModel) -> tuple[float, ...]:
 
 
 def free_body_coefficients(
-    model: LoadModel, reactions: dict, torque, angles: dict, accelerations: dict, omega: dict, alpha: dict
+    model: LoadModel,
+    reactions: dict,
+    torque,
+    angles: dict,
+    accelerations: dict,
+    omega: dict,
+    alpha: dict,
+    lengths: dict | None = None,
 ) -> np.ndarray:
     """(..., k): a free rail's coefficients in the order of :func:`free_body_cases` (module
-    doc), arrays as :func:`source_coefficients`; ``torque`` (...) N m the motor's on the crank."""
+    doc), arrays as :func:`source_coefficients`; ``torque`` (...) N m the motor's on the crank;
+    ``lengths`` bar -> m (broadcasting to ``...``) for a table-top rig's weight."""
     fb, bar, f = model.free_body, model.bar, model.factor
     assert fb is not None and bar is not None  # a free rail's coefficients
     angle = angles[bar]
@@ -378,7 +433,15 @@ def free_body_coefficients(
         cols.append(f * body)
         if model.inertia:
             cols.append(f * rigid[..., 2:])
+    if model.weight is not None:
+        assert lengths is not None  # the out-of-plane weight follows the bar lengths
+        cols.append(weight_columns(model, lengths, angle.shape))
     return np.concatenate(cols, axis=-1)
+
+
+def linkage_lengths(linkage) -> dict:
+    """bar -> m: a linkage's crank, coupler and (a four-bar's) rocker."""
+    return {bar: float(getattr(linkage, bar, 0.0)) for bar in ("crank", "coupler", "rocker")}
 
 
 def source_coefficients(
@@ -427,6 +490,7 @@ def source_histories(model: LoadModel, kin: KinematicsResult | None, holes: list
             motion.accelerations,
             by_bar(motion.omega),
             by_bar(motion.alpha),
+            linkage_lengths(motion.linkage),
         )
         step = int(np.argmax(np.hypot(dyn.reactions[far][:, 0], dyn.reactions[far][:, 1])))
         return (SourceHistory(far, C, motion.theta2, step),)

@@ -31,7 +31,7 @@ from railcheck.kinematics.dynamics import STANDARD_GRAVITY
 from railcheck.kinematics.motion import crank_angles
 from railcheck.loads.bearings import bearing_life_of_magnitude
 from railcheck.model.kinematics_stage import joints_on_rails_flags
-from railcheck.model.loading import free_body_coefficients, source_coefficients
+from railcheck.model.loading import free_body_coefficients, source_coefficients, weight_cases_names, weight_columns
 from railcheck.parts import BAR_INDEX
 from railcheck.sweep.context import Loads, SweepContext
 from railcheck.sweep.motor import (
@@ -212,10 +212,13 @@ def coefficients(ctx: SweepContext, name: str, loads: Loads, sel: np.ndarray) ->
     total, torque = reactions_at(loads, 1.0)
     if loads_model.is_free_body:  # one history: both joints' forces, the motor's torque, the rail's own inertia
         Ct = free_coeffs(loads_model, total, torque, loads.motion, sel)
-        if loads.constant is None:
+        if loads.constant is not None:
+            Cg = free_coeffs(loads_model, loads.constant.reactions, loads.constant.torque, loads.static, sel)
+            return [(Cg, Ct - Cg)]
+        if loads_model.weight is None:
             return [(None, Ct)]
-        Cg = free_coeffs(loads_model, loads.constant.reactions, loads.constant.torque, loads.static, sel)
-        return [(Cg, Ct - Cg)]
+        Cw = weight_part(loads_model, loads.motion, sel, Ct.shape)  # the table-top rig's weight: constant
+        return [(Cw, Ct - Cw)]
     out = []
     for src in loads_model.sources:
         if src.joint not in total:
@@ -241,7 +244,24 @@ def free_coeffs(model, reactions: dict, torque: np.ndarray, motion, sel: np.ndar
         {j: a[sel] for j, a in motion.accelerations.items()},
         by_bar(motion.omega),
         by_bar(motion.alpha),
+        setting_lengths(motion, sel),
     )
+
+
+def setting_lengths(motion, sel: np.ndarray) -> dict:
+    """bar -> (S_sel, 1) m: the settings' crank, coupler and rocker lengths (a slider-crank's
+    rocker 0), shaped to broadcast over steps."""
+    n = np.size(motion.lengths["crank"])
+    get = lambda bar: np.broadcast_to(np.reshape(motion.lengths.get(bar, 0.0), -1), (n,))  # noqa: E731
+    return {bar: get(bar)[sel][:, None] for bar in ("crank", "coupler", "rocker")}
+
+
+def weight_part(model, motion, sel: np.ndarray, shape: tuple) -> np.ndarray:
+    """(S_sel, T, k): a free rail's coefficients of the table-top rig's weight alone (every
+    other column zero), constant over steps and speeds."""
+    out = np.zeros(shape)
+    out[..., shape[-1] - len(weight_cases_names(model)) :] = weight_columns(model, setting_lengths(motion, sel), shape[:-1])
+    return out
 
 
 def evaluate_part(
@@ -340,7 +360,8 @@ def fe_results(ctx: SweepContext, histories: dict, lengths: dict, speeds_s: list
         return out
 
     dynamic = any(m.dynamic is not None for m in ctx.models.values())
-    exact = "gravity" in ctx.effects or dynamic
+    weight = any(m.loads.weight is not None for m in ctx.models.values())
+    exact = "gravity" in ctx.effects or dynamic or weight
     base = at(1.0)
     per_speed = [base if s == 1.0 else (at(s) if exact else scaled_results(ctx, base, s)) for s in speeds_s]
     if exact:

@@ -73,14 +73,16 @@ def test_hypotheses_a_sweep_does_not_cover_say_so_in_words(tmp_path):
 
 
 def test_a_part_with_no_load_is_reported_without_fe():
-    """Speed 0, no gravity: every reaction is zero. NO LOAD, and no mesh, solve or stress
-    stage ran (gmsh is not even imported)."""
+    """Speed 0, no in-plane weight, clamped rails (the 2013 model: no out-of-plane weight):
+    every load is zero. NO LOAD, and no mesh, solve or stress stage ran (gmsh is not even
+    imported)."""
     before = "gmsh" in sys.modules
     text = (
         FINAL_DESIGN
         + """speed = "0 Hz"
 [check]
 parts = ["crank-rail", "PF_4b_006"]
+support = "clamped"
 """
     )
     result = run_pipeline(parse_scene(tomllib.loads(text), "t"))
@@ -102,6 +104,7 @@ def test_a_loaded_part_beside_an_unloaded_one_is_still_checked():
         + """speed = "0 Hz"
 [check]
 parts = ["crank-rail", "PF_4b_003_v2"]
+support = "clamped"
 [loads.PF_4b_003_v2]
 longitudinal = "250 N"
 transverse = "250 N"
