@@ -154,3 +154,36 @@ def test_a_rail_cantilevered_under_its_own_weight_bends_as_beam_theory(cantileve
     tip = surface_dofs(basis, mesh.groups, "end_free")
     sag = -(tip.weights @ U[tip.dofs[:, 2]]) / tip.weights.sum()
     assert sag == pytest.approx(w * length**4 / (8 * STEEL.youngs_modulus * section.inertia_out_of_plane), rel=0.02)
+
+
+# --- the weight in a check ---
+
+
+@pytest.mark.slow  # a crank-rail check (mesh and solve, about 10 s cold)
+def test_a_standing_table_top_rig_bends_its_crank_as_the_statics_of_its_weight_say():
+    """At 0 Hz the horizontal rig's crank rail carries its weight alone (a vertical rig's
+    would carry nothing in plane): the FE's out-of-plane bending at a section between holes
+    4 and 5 times I_y equals the factored moment of the loads beyond it (the far joint's
+    weight and the rail beyond the section) within 3%, the holes every 60 mm disturbing
+    the section's stress by a few per cent (as the in-plane check of test_freebody)."""
+    import tomllib
+
+    from railcheck.check.pipeline import run_pipeline
+
+    text = FINAL_DESIGN + 'speed = "0 Hz"\nsteps = 3\n[check]\nparts = ["crank-rail"]\n'
+    scene = parse_scene(tomllib.loads(text))
+    assert scene.linkage_spec.speed == 0.0
+    result = run_pipeline(scene, jobs=1)
+    part = result.parts["crank-rail"]
+    cyc, geo = part.cycle, part.geometry
+    S = cyc.fields.stress @ cyc.C[0]
+    xs = geo.get("hole_x")
+    x0 = 0.5 * (xs[4] + xs[5])  # part frame: the shaft (O2) at xs[0]
+    per_m = scene.masses.rail_mass_per_m * GRAVITY  # N/m, the dynamics' rail (the FE's graded density carries it)
+    at_a = (1.155 + 0.68 + 0.577) * GRAVITY + per_m * 1.0 * (0.84 - 0.48) / 0.84  # by hand, as above
+    beyond = geo.get("length") - x0
+    moment = 1.4 * (at_a * (xs[0] + 0.48 - x0) + per_m * beyond**2 / 2)  # hogging: top in tension
+    from test_freebody import section_fit
+
+    _, _, c = section_fit(S, cyc.fields.nodes, x0)
+    assert c * geo.section.inertia_out_of_plane == pytest.approx(moment, rel=0.03)
