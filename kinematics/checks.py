@@ -156,7 +156,7 @@ def _fourbar_messages(linkage: FourBar, limits: CheckLimits, mm: dict) -> dict[s
     transmission = (
         "the linkage does not close at crank angle 0 or 180 deg"
         if math.isnan(mu_min) or math.isnan(mu_max)
-        else f"min {math.degrees(mu_min):.4f} deg, max {math.degrees(mu_max):.4f} deg "
+        else f"min {math.degrees(mu_min):.2f} deg, max {math.degrees(mu_max):.2f} deg "
         f"(limits {math.degrees(limits.mu_min):g} < mu < {math.degrees(limits.mu_max):g} deg)"
     )
     return {
@@ -175,8 +175,8 @@ def _slidercrank_messages(linkage: SliderCrank, limits: CheckLimits, mm: dict) -
     return {
         "assembly": f"crank + |offset| {(b2 + abs(linkage.offset)) * 1e3:.6g} mm vs coupler {b3 * 1e3:.6g} mm",
         "crank_shorter_than_coupler": f"crank {mm['crank']:.6g} mm < coupler {mm['coupler']:.6g} mm (seed 3.3.1)",
-        "transmission_angle": f"min {math.degrees(mu_min):.4f} deg = acos((crank + |offset|)/coupler), max "
-        f"{math.degrees(mu_max):.4f} deg (limit mu > {math.degrees(limits.mu_min):g} deg)",
+        "transmission_angle": f"min {math.degrees(mu_min):.2f} deg = acos((crank + |offset|)/coupler), max "
+        f"{math.degrees(mu_max):.2f} deg (limit mu > {math.degrees(limits.mu_min):g} deg)",
     }
 
 

@@ -212,10 +212,23 @@ def test_the_2013_clamped_model_beside_the_verdict_equals_a_clamped_check(free_r
 
 @pytest.mark.slow  # pin pressures doubled its cost (cold: the shared fixture): out of the fast tier
 def test_free_links_bend_a_tenth_of_what_the_clamp_says(free_run):
+    """The joints' and the inertia's loads (the table-top rig's out-of-plane weight, which
+    the 2013 clamp does not carry, left out: its columns zeroed) bend the free links less
+    than 15% of what the clamp says, and the free crank less than the clamped one."""
+    from railcheck.fea.invariants import von_mises
+
     free, clamped = free_run
+
+    def without_weight(part) -> float:
+        cyc = part.cycle
+        C = cyc.C.copy()
+        C[:, [i for i, n in enumerate(cyc.fields.names) if n.endswith("_z")]] = 0.0
+        return max(float(von_mises(cyc.fields.stress @ C[a : a + 30].T).max()) for a in range(0, C.shape[0], 30))
+
     for name in ("coupler-rail", "rocker-rail"):
-        assert free.parts[name].verdict_stress < 0.15 * clamped.parts[name].verdict_stress
-    assert free.parts["crank-rail"].verdict_stress < clamped.parts["crank-rail"].verdict_stress
+        assert without_weight(free.parts[name]) < 0.15 * clamped.parts[name].verdict_stress
+        assert without_weight(free.parts[name]) < free.parts[name].verdict_stress  # the weight adds to them
+    assert without_weight(free.parts["crank-rail"]) < clamped.parts["crank-rail"].verdict_stress
 
 
 @pytest.mark.slow  # pin pressures doubled its cost (cold: the shared fixture): out of the fast tier

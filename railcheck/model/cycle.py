@@ -37,7 +37,7 @@ from railcheck.fea.superpose import (
     subspace_candidates,
 )
 from railcheck.fea.unitcases import UnitSolve
-from railcheck.geometry.mesher import mesh_part
+from railcheck.geometry.mesher import cached_mesh, mesh_part
 from railcheck.model.certificate import certificate
 from railcheck.model.jobs import PartJob
 from railcheck.model.loading import SourceHistory, unit_cases
@@ -69,6 +69,8 @@ def check_part(job: PartJob, solver: str, report) -> PartResult:
     ``report(message)`` prints a progress line."""
     seconds, warnings = {}, []
     t = time.perf_counter()
+    if cached_mesh(job.geometry, job.mesh.size, job.mesh.hole_size, job.mesh.optimize, environment.cache_dir()) is None:
+        report(f"meshing (gmsh, {job.mesh.size * 1e3:g} mm, {job.mesh.hole_size * 1e3:g} mm at the holes)")
     mesh = job_mesh(job)
     seconds["mesh"] = time.perf_counter() - t
     note = minor_straightening(mesh.warning)
@@ -217,11 +219,11 @@ def in_store(job: PartJob) -> bool:
     store = environment.unit_store()
     if store is None:
         return False
-    mesh = job_mesh(job)
+    mesh = cached_mesh(job.geometry, job.mesh.size, job.mesh.hole_size, job.mesh.optimize, environment.cache_dir())
+    if mesh is None:  # a probe: never meshes (a cold part is meshed where its progress is shown)
+        return False
     jobs = [job] + ([job.clamped] if job.clamped is not None else [])
-    return mesh.cached and all(
-        is_stored(unit_request(j, mesh, unit_cases(j.loads, j.geometry, list(j.holes))), store) for j in jobs
-    )
+    return all(is_stored(unit_request(j, mesh, unit_cases(j.loads, j.geometry, list(j.holes))), store) for j in jobs)
 
 
 def evaluate_cycle(job: PartJob, fields: UnitFields, histories: tuple[SourceHistory, ...], solve: UnitSolve) -> CycleResult:

@@ -1,0 +1,48 @@
+"""The same scene gives the same summary.json bytes from an empty cache, every time (issue
+61): gmsh's high-order untangling leaves a grooved rail's nodes a few ulps apart from run to
+run, which the solve amplifies to 3e-11 of a stress; the mesher rounds every node to a
+2^-22 m grid (railcheck.geometry.mesher.NODE_GRID) so two cold runs agree to the byte."""
+
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from helpers import FINAL_DESIGN
+from railcheck.geometry import mesher
+
+
+@pytest.mark.slow  # two cold crank-rail checks in their own processes, about 30 s
+def test_two_cold_checks_write_the_same_summary_bytes(tmp_path):
+    scene = tmp_path / "s.toml"
+    scene.write_text(
+        FINAL_DESIGN + 'steps = 360\n[check]\nparts = ["crank-rail"]\n[output]\nvtk = false\npng = false\nplots = false\n'
+    )
+    out = []
+    for run in ("a", "b"):
+        env = {**os.environ, "RAILCHECK_CACHE": str(tmp_path / f"cache-{run}")}
+        proc = subprocess.run(
+            [sys.executable, "-P", "-m", "railcheck.cli", "check", str(scene), "--out", str(tmp_path / run)],
+            capture_output=True,
+            text=True,
+            env=env,
+        )
+        assert proc.returncode == 0, proc.stderr
+        assert "(cached)" not in proc.stderr  # each from an empty cache
+        out.append((tmp_path / run / "summary.json").read_bytes())
+    assert out[0] == out[1]
+
+
+def test_the_node_grid_rounds_ulp_noise_away_and_moves_nothing_far():
+    """Values a few ulps apart round to one grid point; no node moves more than half the
+    grid; the grid is exact in binary (a rounded value rounds to itself)."""
+    rng = np.random.default_rng(61)
+    x = rng.uniform(-1.0, 1.0, (1000, 3))
+    noisy = x + rng.integers(-4, 5, x.shape) * np.spacing(x)
+    a, b = mesher.snapped(x), mesher.snapped(noisy)
+    assert np.count_nonzero(a != b) <= 2  # only a value within 4 ulps of a grid line's midpoint may differ
+    assert np.abs(a - x).max() <= mesher.NODE_GRID / 2
+    np.testing.assert_array_equal(mesher.snapped(a), a)
+    assert mesher.NODE_GRID <= 0.25e-6
