@@ -369,7 +369,8 @@ def test_each_part_is_resolved_once_into_a_picklable_job_without_the_scene():
     crank = jobs["crank-rail"]
     assert (crank.mesh.size, crank.mesh.hole_size, crank.mesh.order) == (20e-3, 6e-3, 2)
     # the default free body: pin x/y, motor torque, bolts x/y, body x/y, rotational, radial, the table-top
-    # rig's weight out of plane (body z, pin z, driving pin z, bolts z), then the pin pressures' harmonics on its four loaded holes (the shaft's and the driving pin's, the far joint's two bolts)
+    # rig's weight out of plane (body z, pin z, driving pin z, bolts z), then the pin pressures' harmonics
+    # on its four loaded holes (the shaft's and the driving pin's, the far joint's two bolts)
     from railcheck.fea.pin_pressure import harmonic_names
     from railcheck.loads.pin_pressure import HARMONICS
 
