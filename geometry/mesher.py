@@ -40,7 +40,7 @@ from .meshdata import MeshData
 from .models import PartGeometry
 from .shapes import BUILDERS
 
-MESHER_VERSION = 12  # 10: grooved rails, untangled beside the grooves; 11: 10 untangling iterations; 12: nodes on a grid
+MESHER_VERSION = 13  # 10: grooved rails, untangled beside the grooves; 11: 10 untangling iterations; 13: an untangled mesh's nodes on a grid
 SLIVER_SICN = 0.05  # elements whose signed inverse condition number is below this are slivers
 
 
@@ -334,27 +334,29 @@ def _build_here(
         gmsh.model.mesh.generate(3)
         qualities = _qualities(gmsh)
         curved = _has_curved_surfaces(gmsh)
+        untangled = curved and bool(fine) and untangle
         if curved:
-            _second_order(gmsh, bool(fine) and untangle)
+            _second_order(gmsh, untangled)
         data, index = _extract(gmsh, surfaces, qualities)
         if curved:
             data = _with_curved_edges(gmsh, data, index)
         from dataclasses import replace
 
-        return replace(
-            data, points=snapped(data.points), curved_points=snapped(data.curved_points), seconds=time.perf_counter() - t0
-        )
+        if untangled:  # the one nondeterministic step: its nodes rounded (NODE_GRID)
+            data = replace(data, points=snapped(data.points), curved_points=snapped(data.curved_points))
+        return replace(data, seconds=time.perf_counter() - t0)
     finally:
         with _callers_signal_handlers() as restore:
             gmsh.finalize()
             restore()
 
 
-#: m: the grid every node is rounded to, 2^-22 m (0.24 um; at most 0.12 um moved, 0.12% of
-#: the smallest element railcheck meshes). gmsh's high-order untangling leaves its nodes a
-#: few ulps (1e-16 m) apart from run to run, which the solve amplifies to 3e-11 of a stress:
-#: rounded, two cold runs give the same bytes unless a node lies within those ulps of a
-#: grid line (about 1 in 10^4 meshes)
+#: m: the grid an untangled (grooved) mesh's nodes are rounded to, 2^-22 m (0.24 um; at most
+#: 0.21 um moved, 0.2% of the smallest element railcheck meshes). gmsh's high-order
+#: untangling leaves the nodes a few ulps (1e-16 m) apart from run to run, which the solve
+#: amplifies to 3e-11 of a stress: rounded, two cold runs give the same bytes unless a node
+#: lies within those ulps of a grid line's midpoint (about 1 in 10^4 meshes). Meshes that
+#: are not untangled are deterministic as gmsh makes them, and are left exact
 NODE_GRID = 2.0**-22
 
 

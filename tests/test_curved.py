@@ -23,7 +23,7 @@ from railcheck.fea.elasticity import (
 from railcheck.fea.materials import MATERIALS
 from railcheck.fea.mesh import curved_elements, group_facets, skfem_mesh
 from railcheck.fea.stress import affine_stress_moments, quadrature_stress_moments
-from railcheck.geometry import curving
+from railcheck.geometry import curving, mesher
 from railcheck.geometry.catalogue import RAIL
 from railcheck.geometry.mesher import mesh_part
 from railcheck.geometry.models import rail
@@ -52,7 +52,8 @@ def tiny_rail():
 
 def test_grooves_are_curved_and_no_element_folds():
     """The grooved profile (default mesh sizes): the mid nodes of the edges whose ends both
-    lie on a groove lie on its cylinder (1e-9 of the radius), the elastic high-order
+    lie on a groove lie on its cylinder (to the node grid an untangled mesh is rounded to,
+    0.24 um, 7e-5 of the radius: a chord's midpoint misses it by tens of um), the high-order
     optimisation leaves every element's Jacobian positive, and nearly every curved edge
     stays curved (straightening one loses the groove's arc there)."""
     geo = rail(0.12)
@@ -76,13 +77,14 @@ def test_grooves_are_curved_and_no_element_folds():
     faces = np.sort(mesh.tets[:, [[0, 1, 2], [0, 1, 3], [0, 2, 3], [1, 2, 3]]].reshape(-1, 3), axis=1)
     unique, count = np.unique(faces, axis=0, return_counts=True)
     boundary = unique[count == 1]
-    on_groove = groove_distance(mesh.points) < 1e-9 * r
+    grid = mesher.NODE_GRID  # an untangled mesh's nodes are rounded to it (two cold runs agree)
+    on_groove = groove_distance(mesh.points) < grid
     groove_faces = boundary[on_groove[boundary].all(axis=1)]
     surface_edges = np.unique(np.sort(groove_faces[:, [[0, 1], [1, 2], [0, 2]]].reshape(-1, 2), axis=1), axis=0)
     keys = curving.edge_keys(edges, mesh.points.shape[0])
     on_surface = np.isin(keys, curving.edge_keys(surface_edges, mesh.points.shape[0]))
     assert on_surface.sum() > 0.8 * surface_edges.shape[0] > 100  # curved, bar the few straightened
-    assert np.all(groove_distance(mids[on_surface]) < 1e-6 * r)
+    assert np.all(groove_distance(mids[on_surface]) < grid)
     d = curving.edge_offsets(mesh.points, mesh.tets, edges, mids)
     assert curving.jacobian_ratios(mesh.points, mesh.tets, d).min() > 0
     straightened = int(mesh.warning.split()[0]) if mesh.warning else 0
