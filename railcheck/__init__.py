@@ -5,6 +5,18 @@ The application layer: the part registry (:mod:`railcheck.parts`), scenes
 ``report/``, ``studies/`` and ``cli/`` below. The domain packages ``railcheck.kinematics``,
 ``railcheck.loads``, ``railcheck.geometry`` and ``railcheck.fea`` are installed into this
 namespace from the repository's top-level folders (see pyproject.toml).
+
+Python API (:mod:`railcheck.api`): ``railcheck.check(scene)`` and ``railcheck.sweep(scene)``.
 """
 
 __version__ = "0.1.0"
+
+
+def __getattr__(name: str):
+    """``railcheck.check`` and ``railcheck.sweep``, imported when first used: callable
+    packages (:mod:`railcheck.api`), so ``import railcheck`` stays light."""
+    if name in ("check", "sweep", "api"):
+        import importlib
+
+        return importlib.import_module(f"railcheck.{name}")
+    raise AttributeError(f"module 'railcheck' has no attribute {name!r}")

@@ -8,6 +8,9 @@ cycle), :mod:`.records` (the frozen results), :mod:`.summary` (summary.json),
 :mod:`.run` (the results directory).
 """
 
+import sys
+import types
+
 from railcheck.check.pipeline import run_pipeline
 from railcheck.check.run import CheckRun, run_check
 from railcheck.check.summary import summary_of
@@ -25,3 +28,16 @@ __all__ = [
     "run_pipeline",
     "summary_of",
 ]
+
+
+import railcheck.api as _api  # noqa: E402  last: the API imports this package
+
+
+class _Callable(types.ModuleType):
+    """``railcheck.check(scene, ...)`` is :func:`railcheck.api.check` (the package stays importable)."""
+
+    def __call__(self, *args, **kwargs):
+        return _api.check(*args, **kwargs)
+
+
+sys.modules[__name__].__class__ = _Callable

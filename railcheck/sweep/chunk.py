@@ -56,6 +56,7 @@ from railcheck.sweep.verdicts import (
     governing_of,
     safe_s_bisect,
     safe_s_closed,
+    safe_s_convex,
     scaled_results,
     utilisation,
 )
@@ -315,6 +316,11 @@ def evaluate_part(
     return vm, fat, tip, np.where(np.isfinite(amp), amp, 1.0)
 
 
+def _worst(results: dict) -> np.ndarray:
+    """(S,) the largest utilisation over the parts of ``at(s)``-shaped results."""
+    return np.max([u for *_, u in results.values()], axis=0)
+
+
 def _source_history(model, length, s: np.ndarray, idx: np.ndarray, Cg, Ci: np.ndarray) -> np.ndarray:
     """(len(idx), T, k): one load source's coefficients for the settings ``idx`` at speed
     ratio squared ``s`` (gravity ``Cg`` or None, inertia ``Ci``), with the pin pressures
@@ -364,9 +370,12 @@ def fe_results(ctx: SweepContext, histories: dict, lengths: dict, speeds_s: list
     exact = "gravity" in ctx.effects or dynamic or weight
     base = at(1.0)
     per_speed = [base if s == 1.0 else (at(s) if exact else scaled_results(ctx, base, s)) for s in speeds_s]
-    if exact:
-        safe = safe_s_bisect(ctx, lambda s: at(s, decide=True), n_sel, scan=SAFE_SPEED_SCAN if dynamic else 0)
-    else:
+    convex = exact and not dynamic  # a constant part (gravity, the table-top weight): convex in s
+    if dynamic:
+        safe = safe_s_bisect(ctx, lambda s: at(s, decide=True), n_sel, scan=SAFE_SPEED_SCAN)
+    elif convex and not certifying(ctx):
+        safe = safe_s_convex(lambda s: at(s, decide=True), n_sel, _worst(base))
+    elif not exact:
         safe = safe_s_closed(ctx, base, n_sel)
     if certifying(ctx):  # each speed's rows carry the estimate; the safe speed takes it as a margin
         spectra = Spectra(ctx, histories, lengths)
@@ -375,7 +384,12 @@ def fe_results(ctx: SweepContext, histories: dict, lengths: dict, speeds_s: list
         def margin(s) -> dict:
             return with_margin(ctx, at(s) if exact else scaled_results(ctx, base, s), spectra.at(s))
 
-        safe = safe_s_with_margin(margin, safe, n_sel)
+        if (
+            convex
+        ):  # the margin's utilisation is convex too (the estimate grows with the speed): no quasi-static search first
+            safe = safe_s_convex(margin, n_sel, _worst(with_margin(ctx, base, spectra.at(1.0))))
+        else:
+            safe = safe_s_with_margin(margin, safe, n_sel)
         governs = margin_governs(ctx, margin(np.where(np.isfinite(safe), safe, 1.0)))
     else:
         finite = np.where(np.isfinite(safe), safe, 1.0)  # unlimited: what governs at the reference speed

@@ -1,0 +1,110 @@
+"""The Python API: ``railcheck.check(scene)`` and ``railcheck.sweep(scene)``.
+
+A scene is a path to a TOML file, TOML text, a dict as TOML reads it, a parsed
+:class:`~railcheck.scene.Scene`, or None (the built-in default). Both return frozen
+records: the check's :class:`Check` holds the pipeline's :class:`~railcheck.model.records.PipelineResult`
+(every part's envelope, fatigue, deflection, utilisation), the ``summary`` dict that
+``summary.json`` holds, and where the files went; the sweep's :class:`Sweep` holds its
+summary and each linkage kind's table as a ``pyarrow.Table`` (``.to_pandas()`` for a
+DataFrame). The CLI commands are this layer plus printing. Bad input raises
+:class:`~railcheck.base.errors.InputError` naming the field, as the CLI's one line does.
+
+    >>> import railcheck
+    >>> run = railcheck.check({"mechanism": {...}, "check": {...}})   # no files unless out=
+    >>> run.passed, run.summary["parts"]["crank-rail"]["utilisation"]
+"""
+
+from __future__ import annotations
+
+import shutil
+import tempfile
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import railcheck.check.pipeline as check_pipeline  # modules, not names: the packages import this one
+import railcheck.check.run as check_run
+import railcheck.check.summary as check_summary
+import railcheck.sweep.run as sweep_run
+import railcheck.sweep.table as sweep_table
+from railcheck.base.errors import EXIT_FAIL, EXIT_PASS, InputError
+from railcheck.scene import Scene, load_scene, parse_scene
+
+
+def scene_of(scene: Any = None) -> Scene:
+    """A :class:`Scene` from a path, TOML text, a dict, a Scene or None (the built-in)."""
+    if scene is None or isinstance(scene, Scene):
+        return scene if scene is not None else load_scene(None)
+    if isinstance(scene, dict):
+        return parse_scene(scene, "<dict>")
+    if isinstance(scene, Path) or (isinstance(scene, str) and "\n" not in scene and "=" not in scene):
+        return load_scene(scene)
+    if isinstance(scene, str):
+        try:
+            return parse_scene(tomllib.loads(scene), "<text>")
+        except tomllib.TOMLDecodeError as exc:
+            raise InputError("scene", f"malformed TOML: {exc}") from None
+    raise InputError("scene", f"must be a path, TOML text, a dict or None, got {type(scene).__name__}")
+
+
+@dataclass(frozen=True)
+class Check:
+    """A finished check: ``result`` (:class:`~railcheck.model.records.PipelineResult`),
+    ``summary`` (what summary.json holds), ``target`` the results folder or None."""
+
+    result: Any
+    summary: dict
+    target: Path | None = None
+
+    @property
+    def passed(self) -> bool:
+        """True when every configuration check and every part passes."""
+        return not self.result.failures
+
+    @property
+    def exit_status(self) -> int:
+        return EXIT_PASS if self.passed else EXIT_FAIL
+
+
+def check(scene: Any = None, out: str | Path | None = None, force: bool = False, jobs: int = 1) -> Check:
+    """Check ``scene`` (see :func:`scene_of`); with ``out`` write the results folder as
+    ``railcheck check --out`` does (``force`` replaces it), else write nothing. ``jobs``:
+    parts checked at once; above 1 in worker processes started by spawning, which a script
+    must allow (its calls under ``if __name__ == "__main__":``), so one by default."""
+    parsed = scene_of(scene)
+    if out is not None:
+        run = check_run.run_check(parsed, str(out), force, jobs=jobs)
+        return Check(run.result, run.summary, run.target)
+    result = check_pipeline.run_pipeline(parsed, jobs=jobs)
+    return Check(result, check_summary.summary_of(result))
+
+
+@dataclass(frozen=True)
+class Sweep:
+    """A finished sweep: its ``summary`` (what summary.json holds), ``tables`` linkage kind
+    -> ``pyarrow.Table`` (one row per setting and speed), ``target`` the results folder or
+    None."""
+
+    summary: dict
+    tables: dict = field(default_factory=dict)
+    target: Path | None = None
+
+
+def sweep(
+    scene: Any = None, out: str | Path | None = None, force: bool = False, workers: int | None = None, serial: bool = False
+) -> Sweep:
+    """Sweep every setting ``scene`` asks for (see :func:`scene_of`); with ``out`` keep the
+    results folder as ``railcheck sweep --out`` does, else read the tables into memory and
+    keep no files. ``workers``/``serial`` as the CLI's options."""
+    parsed = scene_of(scene)
+    scratch = None if out is not None else Path(tempfile.mkdtemp(prefix="railcheck-sweep-"))
+    try:
+        run = sweep_run.run_sweep(
+            parsed, str(out if out is not None else scratch / "sweep"), force, workers=workers, serial=serial
+        )
+        tables = {kind: sweep_table.read_table(path) for kind, path in run.tables.items()}
+        return Sweep(run.summary, tables, None if scratch is not None else run.target)
+    finally:
+        if scratch is not None:
+            shutil.rmtree(scratch, ignore_errors=True)

@@ -1,0 +1,96 @@
+"""The Python API (railcheck.api): a scene from a path, TOML text, a dict, a Scene or None;
+the check's summary equals the command line's summary.json; the sweep's tables are pyarrow
+tables equal to the files the command line writes; the docs' example runs as printed."""
+
+import json
+import subprocess
+import sys
+import tomllib
+from pathlib import Path
+
+import pytest
+
+import railcheck
+from helpers import FINAL_DESIGN, FINAL_DESIGN_SWEEP
+from railcheck.api import scene_of
+from railcheck.base.errors import InputError
+from railcheck.scene import Scene, load_scene
+
+ROOT = Path(__file__).parents[1]
+ONE_PART = FINAL_DESIGN + 'steps = 360\n[check]\nparts = ["coupler-rail"]\n'
+
+
+def test_a_scene_is_a_path_toml_text_a_dict_a_scene_or_none(tmp_path):
+    path = tmp_path / "s.toml"
+    path.write_text(ONE_PART)
+    scenes = [scene_of(path), scene_of(str(path)), scene_of(ONE_PART), scene_of(tomllib.loads(ONE_PART))]
+    assert {s.checked.parts for s in scenes} == {("coupler-rail",)}
+    assert {s.linkage_spec.steps for s in scenes} == {360}
+    default = scene_of(None)
+    assert isinstance(default, Scene) and default.checked.parts == load_scene(None).checked.parts
+    assert scene_of(default) is default
+
+
+def test_bad_scenes_are_refused_naming_the_field():
+    with pytest.raises(InputError) as err:
+        scene_of(42)
+    assert err.value.field == "scene"
+    with pytest.raises(InputError) as err:
+        scene_of("[mechanism\nkind = 1")
+    assert err.value.field == "scene" and "malformed" in str(err.value)
+    with pytest.raises(InputError) as err:
+        scene_of({"mechanism": {"kind": "four-bar"}})
+    assert err.value.field == "mechanism.crank"
+
+
+def test_railcheck_check_and_sweep_are_callable_and_the_packages_importable():
+    import railcheck.check.run  # noqa: F401  the package's modules still import
+    import railcheck.sweep.table  # noqa: F401
+
+    assert callable(railcheck.check) and callable(railcheck.sweep)
+    assert railcheck.check.run_pipeline is not None
+
+
+@pytest.mark.slow  # a coupler-rail check twice (the API and the command line)
+def test_the_api_check_equals_the_command_lines_summary(tmp_path):
+    path = tmp_path / "s.toml"
+    path.write_text(ONE_PART)
+    run = railcheck.check(str(path))
+    assert run.target is None and run.passed and run.exit_status == 0
+    proc = subprocess.run(
+        [sys.executable, "-P", "-m", "railcheck.cli", "check", str(path), "--out", str(tmp_path / "cli")],
+        capture_output=True,
+        text=True,
+    )
+    assert proc.returncode == 0, proc.stderr
+    assert run.summary == json.loads((tmp_path / "cli" / "summary.json").read_text())
+    written = railcheck.check(str(path), out=tmp_path / "api")
+    assert written.target == tmp_path / "api" and (tmp_path / "api" / "summary.json").is_file()
+
+
+@pytest.mark.slow  # a one-setting sweep twice
+def test_the_api_sweep_gives_the_tables_the_command_line_writes(tmp_path):
+    text = FINAL_DESIGN_SWEEP + '[check]\nparts = ["coupler-rail"]\n'
+    result = railcheck.sweep(text, serial=True)
+    assert result.target is None and set(result.tables) == {"four-bar"}
+    table = result.tables["four-bar"]
+    assert table.num_rows == 1 and "coupler-rail_utilisation" in table.column_names
+    path = tmp_path / "s.toml"
+    path.write_text(text)
+    proc = subprocess.run(
+        [sys.executable, "-P", "-m", "railcheck.cli", "sweep", str(path), "--serial", "--out", str(tmp_path / "cli")],
+        capture_output=True,
+        text=True,
+    )
+    assert proc.returncode in (0, 1), proc.stderr
+    cli = railcheck.sweep.read_table(next((tmp_path / "cli").glob("*four-bar*.parquet")))
+    assert cli.equals(table)
+
+
+@pytest.mark.slow  # the docs' example: a coupler-rail check
+def test_the_docs_example_runs_as_printed(capsys):
+    text = (ROOT / "docs" / "api.md").read_text()
+    code = text.split("```python\n", 1)[1].split("```", 1)[0]
+    exec(compile(code, "docs/api.md", "exec"), {})
+    first = capsys.readouterr().out.splitlines()[0].split()
+    assert first[0] in ("True", "False") and float(first[2]) > 0
