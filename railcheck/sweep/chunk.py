@@ -354,14 +354,20 @@ def fe_results(ctx: SweepContext, histories: dict, lengths: dict, speeds_s: list
     bar_len = lambda m: lengths[m.bar] if m.bar else None  # noqa: E731
     n_sel = next(iter(lengths.values())).size
 
-    def at(s, decide: bool = False) -> dict:
+    def at(s, decide: bool = False, idx=None) -> dict:
+        """The parts' results at ``s``: of every setting, or of the settings ``idx`` only."""
+        k = n_sel if idx is None else idx.size
         out = {}
         for name, m in ctx.models.items():
             if m.constant is not None:
-                vm, fat, tip = (np.full(n_sel, v) for v in m.constant)
-                amp = np.ones(n_sel)
+                vm, fat, tip = (np.full(k, v) for v in m.constant)
+                amp = np.ones(k)
             else:
-                vm, fat, tip, amp = evaluate_part(m, histories[name], bar_len(m), s, ctx.speeds[0], decide)
+                hist, lens = histories[name], bar_len(m)
+                if idx is not None:
+                    hist = [(None if Cg is None else Cg[idx], Ci[idx]) for Cg, Ci in hist]
+                    lens = None if lens is None else lens[idx]
+                vm, fat, tip, amp = evaluate_part(m, hist, lens, s, ctx.speeds[0], decide)
             out[name] = (vm, fat, tip, amp, utilisation(m, vm, fat, tip, amp))
         return out
 
@@ -374,7 +380,7 @@ def fe_results(ctx: SweepContext, histories: dict, lengths: dict, speeds_s: list
     if dynamic:
         safe = safe_s_bisect(ctx, lambda s: at(s, decide=True), n_sel, scan=SAFE_SPEED_SCAN)
     elif convex and not certifying(ctx):
-        safe = safe_s_convex(lambda s: at(s, decide=True), n_sel, _worst(base))
+        safe = safe_s_convex(lambda s, idx: at(s, True, idx), n_sel, _worst(base))
     elif not exact:
         safe = safe_s_closed(ctx, base, n_sel)
     if certifying(ctx):  # each speed's rows carry the estimate; the safe speed takes it as a margin
@@ -384,10 +390,13 @@ def fe_results(ctx: SweepContext, histories: dict, lengths: dict, speeds_s: list
         def margin(s) -> dict:
             return with_margin(ctx, at(s) if exact else scaled_results(ctx, base, s), spectra.at(s))
 
-        if (
-            convex
-        ):  # the margin's utilisation is convex too (the estimate grows with the speed): no quasi-static search first
-            safe = safe_s_convex(margin, n_sel, _worst(with_margin(ctx, base, spectra.at(1.0))))
+        def margin_of(s, idx) -> dict:  # the settings idx at their s
+            full = np.ones(n_sel)
+            full[idx] = s
+            return with_margin(ctx, at(s, False, idx), {k: v[idx] for k, v in spectra.at(full).items()})
+
+        if convex:  # the margin is convex too (the estimate grows with the speed): searched directly
+            safe = safe_s_convex(margin_of, n_sel, _worst(with_margin(ctx, base, spectra.at(1.0))))
         else:
             safe = safe_s_with_margin(margin, safe, n_sel)
         governs = margin_governs(ctx, margin(np.where(np.isfinite(safe), safe, 1.0)))

@@ -149,37 +149,61 @@ CROSSING_TOLERANCE = 1e-9
 
 
 def safe_s_convex(at, n: int, u1: np.ndarray, iterations: int = 40) -> np.ndarray:
-    """The ``s`` where the largest utilisation of ``at(s)`` reaches 1, for loads ``C_g + s
-    C_i`` with no dynamic response (vectorised over the settings; ``u1`` the utilisation at
-    s = 1): each criterion is convex in s (a von Mises peak, Goodman's alternating part
-    linear and midrange convex), so the secant through s = 0 and 1 brackets the crossing
-    from one side (below it inside [0, 1], above it beyond) and regula falsi (Illinois)
-    refines it: a few evaluations where bisection took sixty. 0 where the rig fails at
-    rest, inf where no s up to 2^60 reaches 1."""
+    """The ``s`` where the largest utilisation of ``at(s, idx)`` (the results of the
+    settings ``idx`` at their ``s``) reaches 1, for loads ``C_g + s C_i`` with no dynamic
+    response (vectorised over the ``n`` settings; ``u1`` the utilisation at s = 1): each
+    criterion is convex in s (a von Mises peak, Goodman's alternating part linear and
+    midrange convex), so the secant through s = 0 and 1 brackets the crossing from one side
+    (below it inside [0, 1], above it beyond) and regula falsi (Illinois) refines it, each
+    step on the settings not yet within :data:`CROSSING_TOLERANCE`. 0 where the rig fails
+    at rest, inf where no s up to 2^60 reaches 1."""
 
-    def worst(s):
-        return np.max([u for *_, u in at(s).values()], axis=0)
+    def worst(s, idx):
+        return np.max([u for *_, u in at(s, idx).values()], axis=0)
 
-    u0 = worst(np.zeros(n))
+    every = np.arange(n)
+    u0 = worst(np.zeros(n), every)
     with np.errstate(divide="ignore", invalid="ignore"):
         secant = np.where(u1 > u0, (1.0 - u0) / (u1 - u0), np.inf)
     over = u1 > 1.0
     guess = np.where(np.isfinite(secant) & (secant > 0), secant, np.where(over, 0.5, 2.0))
-    u_guess = worst(guess)
-    a, u_a = (
-        np.where(over, np.where(u_guess <= 1.0, guess, 0.0), 1.0),
-        np.where(over, np.where(u_guess <= 1.0, u_guess, u0), u1),
-    )
+    u_guess = worst(guess, every)
+    below = u_guess <= 1.0  # the guess from inside [0, 1] lies below the crossing (else start from 0)
+    a, u_a = np.where(over, np.where(below, guess, 0.0), 1.0), np.where(over, np.where(below, u_guess, u0), u1)
     b, u_b = np.where(over, 1.0, guess), np.where(over, u1, u_guess)
     for _ in range(60):  # a crossing beyond the secant's guess (not convex after all): doubled
-        short = ~(u_b > 1.0) & (u0 <= 1.0)
-        if not np.any(short):
+        short = np.flatnonzero(~(u_b > 1.0) & (u0 <= 1.0) & (b < 2.0**60))
+        if short.size == 0:
             break
-        a, u_a = np.where(short, b, a), np.where(short, u_b, u_a)
-        b = np.where(short, 2.0 * b, b)
-        u_b = np.where(short, worst(b), u_b)
-    s = illinois(worst, a, u_a, b, u_b, iterations)
+        a[short], u_a[short], b[short] = b[short], u_b[short], 2.0 * b[short]
+        u_b[short] = worst(b[short], short)
+    searched = (u0 <= 1.0) & (u_b > 1.0)
+    s = refine_crossing(worst, a, u_a, b, u_b, searched, iterations)
     return np.where(u0 > 1.0, 0.0, np.where(u_b > 1.0, s, np.inf))
+
+
+def refine_crossing(u_of, a, u_a, b, u_b, searched: np.ndarray, iterations: int) -> np.ndarray:
+    """The crossings ``u = 1`` in the brackets ``[a, b]`` (u(a) <= 1 < u(b)) of the
+    ``searched`` settings: secant steps through the last two iterates (superlinear on a
+    smooth crossing), a regula falsi step on the bracket where the secant would leave it,
+    each step evaluating ``u_of(x, idx)`` only on the settings not yet within
+    :data:`CROSSING_TOLERANCE` of 1; the bracket's end whose utilisation is nearer 1."""
+    a, b, fa, fb = a.copy(), b.copy(), u_a - 1.0, u_b - 1.0
+    xp, fp, xc, fc = a.copy(), fa.copy(), b.copy(), fb.copy()  # the last two iterates
+    for _ in range(iterations):
+        i = np.flatnonzero(searched & (np.minimum(np.abs(fa), np.abs(fb)) >= CROSSING_TOLERANCE))
+        if i.size == 0:
+            break
+        with np.errstate(invalid="ignore", divide="ignore"):
+            x = xc[i] - fc[i] * (xc[i] - xp[i]) / (fc[i] - fp[i])
+            falsi = b[i] - fb[i] * (b[i] - a[i]) / (fb[i] - fa[i])
+        x = np.where((x > a[i]) & (x < b[i]), x, np.where((falsi > a[i]) & (falsi < b[i]), falsi, 0.5 * (a[i] + b[i])))
+        fx = u_of(x, i) - 1.0
+        over = fx > 0.0
+        a[i], fa[i] = np.where(over, a[i], x), np.where(over, fa[i], fx)
+        b[i], fb[i] = np.where(over, x, b[i]), np.where(over, fx, fb[i])
+        xp[i], fp[i], xc[i], fc[i] = xc[i], fc[i], x, fx
+    return np.where(np.abs(fb) < np.abs(fa), b, a)
 
 
 def illinois(u_of, a, u_a, b, u_b, iterations: int):
