@@ -99,10 +99,9 @@ def sweep(
     keep no files. ``workers``/``serial`` as the CLI's options."""
     parsed = scene_of(scene)
     scratch = None if out is not None else Path(tempfile.mkdtemp(prefix="railcheck-sweep-"))
+    destination = Path(out) if out is not None else Path(str(scratch)) / "sweep"
     try:
-        run = sweep_run.run_sweep(
-            parsed, str(out if out is not None else scratch / "sweep"), force, workers=workers, serial=serial
-        )
+        run = sweep_run.run_sweep(parsed, str(destination), force, workers=workers, serial=serial)
         tables = {kind: sweep_table.read_table(path) for kind, path in run.tables.items()}
         return Sweep(run.summary, tables, None if scratch is not None else run.target)
     finally:
