@@ -40,7 +40,8 @@ from .meshdata import MeshData
 from .models import PartGeometry
 from .shapes import BUILDERS
 
-MESHER_VERSION = 13  # 10: grooved rails, untangled beside the grooves; 11: 10 untangling iterations; 13: an untangled mesh's nodes on a grid
+# 10: grooved rails, untangled beside the grooves; 11: 10 untangling iterations; 13: an untangled mesh's nodes on a grid
+MESHER_VERSION = 13
 SLIVER_SICN = 0.05  # elements whose signed inverse condition number is below this are slivers
 
 
