@@ -190,3 +190,17 @@ def test_output_paths_are_checked_before_any_work(tmp_path, capsys):
     assert code == 2 and "--plots" in err and out == ""  # nothing computed, nothing printed
     code, out, err = run(["mechanism", "a-z-1139", "--gif", str(blocker / "x.gif")], capsys)
     assert code == 2 and "--gif" in err and out == ""
+
+
+def test_every_command_help_has_a_description_and_the_main_ones_their_exit_statuses():
+    """Each command's --help says what it does; check and kinematics say their exit statuses
+    (and check where its results go)."""
+    from railcheck.cli import build_parser
+
+    parser = build_parser()
+    commands = next(a for a in parser._actions if a.dest == "command").choices
+    for name, sub in commands.items():
+        assert sub.description, name
+    for name in ("check", "kinematics"):
+        assert "exit status: 0" in commands[name].format_help(), name
+    assert "results/" in commands["check"].format_help()

@@ -67,7 +67,8 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"railcheck {_version()}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     for name, command in COMMANDS.items():
-        p = sub.add_parser(name, help=command.HELP, **getattr(command, "PARSER", {}))
+        options = {"description": command.HELP[0].upper() + command.HELP[1:] + ".", **getattr(command, "PARSER", {})}
+        p = sub.add_parser(name, help=command.HELP, **options)
         command.add_args(p)
         p.set_defaults(func=command.run)
     return parser

@@ -21,7 +21,11 @@ PARSER = {
     "and fatigue per part.",
     "epilog": f"parts: {', '.join(PARTS)}\nmaterials: {', '.join(MATERIALS)}\neffects: {', '.join(EFFECTS)}\n"
     f"fatigue criteria: {', '.join(CRITERIA)}; surfaces: {', '.join(SURFACE)}\n"
-    "railcheck init writes a commented starter scene.",
+    "railcheck init writes a commented starter scene.\n"
+    "results: --out DIR, else the scene's [output] dir (default results/; an existing folder is kept and the run "
+    "goes to DIR-2, unless --force)\n"
+    "exit status: 0 every check passes, 1 a configuration check or a part fails, 2 bad input (one line naming "
+    "the field), 3 numerical failure",
     "formatter_class": argparse.RawDescriptionHelpFormatter,
 }
 
