@@ -83,8 +83,9 @@ def test_the_amplification_grows_with_the_speed_squared_below_resonance(one_hz):
     (the quasi-static peak itself scales with it too). 0.25 and 0.5 Hz: the clamped crank
     with its carried masses has its first mode near 20 Hz, so at 1 Hz the next order
     ((n Omega / omega)^2 for harmonics n up to 10) is already 10% of it."""
-    a_half = _crank("0.5 Hz").parts["crank-rail"].cycle.dynamic.amplification - 1
-    a_quarter = _crank("0.25 Hz").parts["crank-rail"].cycle.dynamic.amplification - 1
+    clamped = '["inertia", "dynamic"]\nsupport = "clamped"'  # the 2013 clamp: no constant table-top weight in the peak
+    a_half = _crank("0.5 Hz", clamped).parts["crank-rail"].cycle.dynamic.amplification - 1
+    a_quarter = _crank("0.25 Hz", clamped).parts["crank-rail"].cycle.dynamic.amplification - 1
     assert a_half / a_quarter == pytest.approx(4.0, rel=0.05)
 
 

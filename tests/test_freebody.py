@@ -168,8 +168,11 @@ def test_free_rails_have_no_support_zone_and_their_loads_balance(free_run):
         assert np.all(part.cycle.fields.verdict_mask)
         assert part.cycle.envelope.support_peak == part.cycle.envelope.max_von_mises
         imbalance = imbalance_summary(part)
-        # in the plane, to rounding: one mass model (graded density) and pins bearing through their axes
-        assert imbalance["force_fraction"] < 1e-9 and imbalance["moment_in_plane_fraction"] < 1e-9, (name, imbalance)
+        # in the plane, to rounding: one mass model (graded density) and pins bearing through their axes;
+        # a grooved rail's nodes lie on the mesher's 0.24 um grid (two cold runs agree to the byte), so its
+        # bores' pressures act up to that far off their axes: moments to 1e-6 of force x length
+        in_plane = 1e-6 if part.job.geometry.kind == "rail" else 1e-9
+        assert imbalance["force_fraction"] < 1e-9 and imbalance["moment_in_plane_fraction"] < in_plane, (name, imbalance)
         assert imbalance["moment_out_of_plane_fraction"] < 2e-3, (name, imbalance)
 
 
@@ -329,7 +332,8 @@ def test_slider_crank_rails_as_free_bodies_balance_with_their_own_carried_masses
     for name, part in result.parts.items():
         assert part.job.free_body is not None and part.job.exclusion == 0.0
         imbalance = imbalance_summary(part)
-        assert imbalance["force_fraction"] < 1e-9 and imbalance["moment_in_plane_fraction"] < 1e-9, (name, imbalance)
+        in_plane = 1e-6 if part.job.geometry.kind == "rail" else 1e-9  # the node grid (above)
+        assert imbalance["force_fraction"] < 1e-9 and imbalance["moment_in_plane_fraction"] < in_plane, (name, imbalance)
         assert part.passed and np.isfinite(part.verdict_stress), name
 
 
