@@ -354,10 +354,11 @@ def _build_here(
 
 #: m: the grid an untangled (grooved) mesh's nodes are rounded to, 2^-22 m (0.24 um; at most
 #: 0.21 um moved, 0.2% of the smallest element railcheck meshes). gmsh's high-order
-#: untangling leaves the nodes a few ulps (1e-16 m) apart from run to run, which the solve
-#: amplifies to 3e-11 of a stress: rounded, two cold runs give the same bytes unless a node
-#: lies within those ulps of a grid line's midpoint (about 1 in 10^4 meshes). Meshes that
-#: are not untangled are deterministic as gmsh makes them, and are left exact
+#: untangling leaves nodes apart from run to run (most by a few ulps, some by more), which
+#: the solve carries to about 1e-11 of a stress. Rounded, the 700 mm crank rail meshes to the
+#: same bytes every time measured (5 of 5); the 1000 mm rail does not (3 meshes in 4: two
+#: mid-edge nodes one grid step apart). Meshes that are not untangled are deterministic as
+#: gmsh makes them, and are left exact (docs/refusals.md "Same bytes")
 NODE_GRID = 2.0**-22
 
 

@@ -1,7 +1,9 @@
-"""The same scene gives the same summary.json bytes from an empty cache, every time (issue
-61): gmsh's high-order untangling leaves a grooved rail's nodes a few ulps apart from run to
-run, which the solve amplifies to 3e-11 of a stress; the mesher rounds every node to a
-2^-22 m grid (railcheck.geometry.mesher.NODE_GRID) so two cold runs agree to the byte."""
+"""Two cold runs of one scene give the same summary.json bytes (issue 61): gmsh's high-order
+untangling leaves a grooved rail's nodes apart from run to run, which the solve carries to
+about 1e-11 of a stress; the mesher rounds an untangled mesh's nodes to a 2^-22 m grid
+(railcheck.geometry.mesher.NODE_GRID). Measured: the crank rail's 700 mm mesh is then the
+same every time (this test), the 1000 mm rail's not always (docs/refusals.md "Same bytes":
+the item stays open)."""
 
 import os
 import subprocess
