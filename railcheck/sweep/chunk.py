@@ -44,6 +44,7 @@ from railcheck.sweep.motor import (
 )
 from railcheck.sweep.validity import (
     Spectra,
+    certified_safe_s,
     certifying,
     margin_governs,
     safe_s_with_margin,
@@ -54,6 +55,7 @@ from railcheck.sweep.verdicts import (
     SAFE_SPEED_SCAN,
     failed_criteria,
     governing_of,
+    quasi_static_share,
     safe_s_bisect,
     safe_s_closed,
     safe_s_convex,
@@ -386,24 +388,39 @@ def fe_results(ctx: SweepContext, histories: dict, lengths: dict, speeds_s: list
     if certifying(ctx):  # each speed's rows carry the estimate; the safe speed takes it as a margin
         spectra = Spectra(ctx, histories, lengths)
         per_speed = [with_estimates(ctx, r, spectra.at(s)) for r, s in zip(per_speed, speeds_s)]
-
-        def margin(s) -> dict:
-            return with_margin(ctx, at(s) if exact else scaled_results(ctx, base, s), spectra.at(s))
-
-        def margin_of(s, idx) -> dict:  # the settings idx at their s
-            full = np.ones(n_sel)
-            full[idx] = s
-            return with_margin(ctx, at(s, False, idx), {k: v[idx] for k, v in spectra.at(full).items()})
-
-        if convex:  # the margin is convex too (the estimate grows with the speed): searched directly
-            safe = safe_s_convex(margin_of, n_sel, _worst(with_margin(ctx, base, spectra.at(1.0))))
-        else:
-            safe = safe_s_with_margin(margin, safe, n_sel)
-        governs = margin_governs(ctx, margin(np.where(np.isfinite(safe), safe, 1.0)))
+        results = (lambda s: at(s)) if exact else (lambda s: scaled_results(ctx, base, s))
+        safe, governs = _margin_safe(ctx, spectra, at, results, base, safe if not convex else None)
     else:
         finite = np.where(np.isfinite(safe), safe, 1.0)  # unlimited: what governs at the reference speed
         governs = governing_of(ctx, at(finite) if exact else scaled_results(ctx, base, finite))
     return {"per_speed": per_speed, "safe_s": safe, "safe_governs": governs}
+
+
+def _margin_safe(ctx: SweepContext, spectra: Spectra, at, results, base: dict, upper) -> tuple:
+    """(safe s (S,), (part, criterion) that sets it) with the certificate's estimate as a
+    margin (:func:`railcheck.sweep.validity.with_margin`): ``at(s, decide, idx)`` the
+    parts' exact results, ``results(s)`` every setting's at ``s``, ``base`` those at s = 1.
+    ``upper`` None: loads ``C_g + s C_i``, convex in s, bounded by the estimate's crossing
+    (:func:`railcheck.sweep.validity.certified_safe_s`); else the quasi-static safe s, the
+    crossing searched below it (:func:`railcheck.sweep.validity.safe_s_with_margin`)."""
+    n_sel = next(iter(base.values()))[0].size
+
+    def margin(s) -> dict:
+        return with_margin(ctx, results(s), spectra.at(s))
+
+    def margin_of(s, idx) -> dict:  # the settings idx at their s
+        full = np.ones(n_sel)
+        full[idx] = s
+        return with_margin(ctx, at(s, False, idx), {k: v[idx] for k, v in spectra.at(full).items()})
+
+    if upper is None:
+        share = lambda s: np.max([quasi_static_share(a) for a in spectra.at(s).values()], axis=0)  # noqa: E731
+        u1 = _worst(with_margin(ctx, base, spectra.at(1.0)))
+        safe, at_safe = certified_safe_s(ctx, margin_of, share, n_sel, u1)
+    else:
+        safe = safe_s_with_margin(margin, upper, n_sel)
+        at_safe = margin(np.where(np.isfinite(safe), safe, 1.0))
+    return safe, margin_governs(ctx, at_safe)
 
 
 def evaluate_chunk(ctx: SweepContext, lengths: dict, ids: np.ndarray) -> dict:

@@ -24,7 +24,16 @@ import numpy as np
 from railcheck.fea.dynamic import harmonic_spectrum, one_mode_peak
 from railcheck.model.certificate import force_columns, largest_significant
 from railcheck.sweep.context import SweepContext
-from railcheck.sweep.verdicts import criterion_utilisations, governing_of, illinois, quasi_static_share, utilisation
+from railcheck.sweep.verdicts import (
+    CROSSING_TOLERANCE,
+    criterion_utilisations,
+    governing_of,
+    illinois,
+    quasi_static_share,
+    refine_crossing,
+    safe_s_convex,
+    utilisation,
+)
 
 
 def certifying(ctx: SweepContext) -> bool:
@@ -196,3 +205,87 @@ def safe_s_with_margin(margin, upper: np.ndarray, n: int) -> np.ndarray:
         u_hi = np.where(short, worst(hi), u_hi)
     r = illinois(lambda r: worst(r**2), np.zeros(n), u0, np.sqrt(hi), u_hi, MARGIN_REFINE)
     return np.where(u0 > 1.0, 0.0, np.where(u_hi > 1.0, r**2, np.inf))
+
+
+def share_crossing(share_of, n: int, iterations: int = 60) -> np.ndarray:
+    """(n,) the speed ratio squared at which the largest certified estimate's share
+    ``share_of(s)`` ((n,) for (n,) ``s``, no FE: the load spectra alone) reaches 1: doubled
+    from s = 1 until it is exceeded, then refined (:func:`refine_crossing`, each setting
+    until its own tolerance, so a setting's answer does not depend on the others it is
+    computed with); below the first resonance the estimate grows with the speed, so the
+    crossing is single. inf where no s up to 2^60 reaches it."""
+
+    def at(x, idx):
+        full = np.ones(n)
+        full[idx] = x
+        return share_of(full)[idx]
+
+    prev, u_prev = np.zeros(n), share_of(np.zeros(n))
+    lo, u_lo, hi = prev.copy(), u_prev.copy(), np.ones(n)
+    u_hi = share_of(hi)
+    for _ in range(60):
+        short = ~(u_hi > 1.0) & (hi < 2.0**60)
+        if not np.any(short):
+            break
+        prev, u_prev = np.where(short, lo, prev), np.where(short, u_lo, u_prev)
+        lo, u_lo = np.where(short, hi, lo), np.where(short, u_hi, u_lo)
+        hi = np.where(short, 2.0 * hi, hi)
+        u_hi = np.where(short, share_of(hi), u_hi)
+    crossing = u_hi > 1.0
+    s = refine_crossing(at, (lo, u_lo), (hi, u_hi), (prev, u_prev), crossing & (u_lo <= 1.0), iterations)
+    return np.where(crossing, np.where(u_lo > 1.0, 0.0, s), np.inf)
+
+
+def scattered(full: dict, idx: np.ndarray, part: dict) -> dict:
+    """``full`` (part -> tuple of (n,) arrays) with the settings ``idx`` taken from
+    ``part`` (part -> tuple of (len(idx),) arrays); a new dict of new arrays."""
+    out = {}
+    for name, arrays in full.items():
+        merged = tuple(np.array(a, copy=True) for a in arrays)
+        for m, p in zip(merged, part[name]):
+            m[idx] = p
+        out[name] = merged
+    return out
+
+
+def certified_safe_s(ctx: SweepContext, margin_of, share_of, n: int, u1: np.ndarray) -> tuple[np.ndarray, dict]:
+    """(safe s (n,), :func:`with_margin` results at it) for loads ``C_g + s C_i`` (convex
+    in s) with the estimate as a margin: ``margin_of(s, idx)`` the margin results of the
+    settings ``idx`` at their ``s``, ``share_of(s)`` the largest estimate's share (no FE),
+    ``u1`` the margin utilisation at s = 1. The estimate's crossing ``s_q``
+    (:func:`share_crossing`) bounds the safe speed; one FE evaluation there settles every
+    setting whose other criteria stay within their limits at rest and at ``s_q`` (convex:
+    within them in between), the safe speed ``s_q``. The others' crossing lies below
+    ``s_q`` (or beyond, with no estimate's crossing) and is refined from the points 0, 1
+    and ``s_q`` (:func:`refine_crossing`); one more evaluation gives their results."""
+    every = np.arange(n)
+    s_q = share_crossing(share_of, n)
+    at_q = margin_of(np.where(np.isfinite(s_q), s_q, 1.0), every)
+    u0 = _worst_of(margin_of(np.zeros(n), every))
+    other = np.max([governing_value(ctx, r, name) for name, r in at_q.items()], axis=0)
+    settled = np.isfinite(s_q) & (other <= 1.0) & (u0 <= 1.0)
+    safe = np.where(u0 > 1.0, 0.0, s_q)
+    rest = np.flatnonzero(~settled & (u0 <= 1.0))
+    if rest.size == 0:
+        return safe, at_q
+    bounded = rest[np.isfinite(s_q[rest])]
+    if bounded.size:  # the crossing lies in [0, s_q], or in [1, s_q] where the rig passes at 1
+        one_below = u1[bounded] <= 1.0
+        lower = (np.where(one_below, 1.0, 0.0), np.where(one_below, u1[bounded], u0[bounded]))
+        third = (np.where(one_below, 0.0, 1.0), np.where(one_below, u0[bounded], u1[bounded]))
+        upper = (s_q[bounded], np.maximum(other[bounded], 1.0 + CROSSING_TOLERANCE))
+        sub = lambda s, j: _worst_of(margin_of(s, bounded[j]))  # noqa: E731
+        every_b = np.ones(bounded.size, dtype=bool)
+        safe[bounded] = refine_crossing(sub, lower, upper, third, every_b, 40)
+    unbounded = rest[~np.isfinite(s_q[rest])]
+    if unbounded.size:  # no estimate's crossing: the criteria's own, from the secant through 0 and 1
+        sub_at = lambda s, j: margin_of(s, unbounded[j])  # noqa: E731
+        safe[unbounded] = safe_s_convex(sub_at, unbounded.size, u1[unbounded])
+    finite = rest[np.isfinite(safe[rest])]
+    at_safe = at_q if finite.size == 0 else scattered(at_q, finite, margin_of(safe[finite], finite))
+    return safe, at_safe
+
+
+def _worst_of(results: dict) -> np.ndarray:
+    """(S,) the largest utilisation over the parts of results (part -> (..., u))."""
+    return np.max([u for *_, u in results.values()], axis=0)

@@ -154,9 +154,9 @@ def safe_s_convex(at, n: int, u1: np.ndarray, iterations: int = 40) -> np.ndarra
     response (vectorised over the ``n`` settings; ``u1`` the utilisation at s = 1): each
     criterion is convex in s (a von Mises peak, Goodman's alternating part linear and
     midrange convex), so the secant through s = 0 and 1 brackets the crossing from one side
-    (below it inside [0, 1], above it beyond) and regula falsi (Illinois) refines it, each
-    step on the settings not yet within :data:`CROSSING_TOLERANCE`. 0 where the rig fails
-    at rest, inf where no s up to 2^60 reaches 1."""
+    (below it inside [0, 1], above it beyond), and :func:`refine_crossing` refines it from
+    the three points, each step on the settings not yet within :data:`CROSSING_TOLERANCE`.
+    0 where the rig fails at rest, inf where no s up to 2^60 reaches 1."""
 
     def worst(s, idx):
         return np.max([u for *_, u in at(s, idx).values()], axis=0)
@@ -167,43 +167,75 @@ def safe_s_convex(at, n: int, u1: np.ndarray, iterations: int = 40) -> np.ndarra
         secant = np.where(u1 > u0, (1.0 - u0) / (u1 - u0), np.inf)
     over = u1 > 1.0
     guess = np.where(np.isfinite(secant) & (secant > 0), secant, np.where(over, 0.5, 2.0))
-    u_guess = worst(guess, every)
+    live = np.flatnonzero(u0 <= 1.0)  # the rig that fails at rest has no crossing to find
+    u_guess = np.full(n, np.inf)
+    u_guess[live] = worst(guess[live], live)
     below = u_guess <= 1.0  # the guess from inside [0, 1] lies below the crossing (else start from 0)
     a, u_a = np.where(over, np.where(below, guess, 0.0), 1.0), np.where(over, np.where(below, u_guess, u0), u1)
     b, u_b = np.where(over, 1.0, guess), np.where(over, u1, u_guess)
+    # the third point: s = 0 or 1, whichever the bracket's ends are not
+    x3, u3 = np.where(over & ~below, 1.0, 0.0), np.where(over & ~below, u1, u0)
     for _ in range(60):  # a crossing beyond the secant's guess (not convex after all): doubled
         short = np.flatnonzero(~(u_b > 1.0) & (u0 <= 1.0) & (b < 2.0**60))
         if short.size == 0:
             break
+        x3[short], u3[short] = a[short], u_a[short]
         a[short], u_a[short], b[short] = b[short], u_b[short], 2.0 * b[short]
         u_b[short] = worst(b[short], short)
     searched = (u0 <= 1.0) & (u_b > 1.0)
-    s = refine_crossing(worst, a, u_a, b, u_b, searched, iterations)
+    s = refine_crossing(worst, (a, u_a), (b, u_b), (x3, u3), searched, iterations)
     return np.where(u0 > 1.0, 0.0, np.where(u_b > 1.0, s, np.inf))
 
 
-def refine_crossing(u_of, a, u_a, b, u_b, searched: np.ndarray, iterations: int) -> np.ndarray:
-    """The crossings ``u = 1`` in the brackets ``[a, b]`` (u(a) <= 1 < u(b)) of the
-    ``searched`` settings: secant steps through the last two iterates (superlinear on a
-    smooth crossing), a regula falsi step on the bracket where the secant would leave it,
-    each step evaluating ``u_of(x, idx)`` only on the settings not yet within
-    :data:`CROSSING_TOLERANCE` of 1; the bracket's end whose utilisation is nearer 1."""
-    a, b, fa, fb = a.copy(), b.copy(), u_a - 1.0, u_b - 1.0
-    xp, fp, xc, fc = a.copy(), fa.copy(), b.copy(), fb.copy()  # the last two iterates
+def refine_crossing(u_of, lower: tuple, upper: tuple, third: tuple, searched: np.ndarray, iterations: int):
+    """The crossings ``u = 1`` in the brackets ``[a, b]`` (``lower`` = (a, u(a)), u(a) <= 1;
+    ``upper`` = (b, u(b)), u(b) > 1) of the ``searched`` settings, given a third point
+    ``third`` = (x, u(x)) off the bracket's ends: each step fits ``u^2`` by the parabola
+    through the last three iterates (Muller's method; exact in one step where one node's
+    von Mises governs, since ``|s_i + s s_i|^2`` is quadratic in s), falling back to the
+    secant through the last two, then to regula falsi on the bracket, then to its middle,
+    whichever first stays inside the bracket; each step evaluates ``u_of(x, idx)`` only on
+    the settings not yet within :data:`CROSSING_TOLERANCE` of 1. Returns the bracket's
+    end whose utilisation is nearer 1."""
+    (a, ua), (b, ub), (x3, u3) = lower, upper, third
+    a, b, fa, fb = a.copy(), b.copy(), ua - 1.0, ub - 1.0
+    # the last three iterates, oldest first: the third point, then the bracket's ends
+    xs = [x3.copy(), a.copy(), b.copy()]
+    fs = [u3 - 1.0, fa.copy(), fb.copy()]
     for _ in range(iterations):
         i = np.flatnonzero(searched & (np.minimum(np.abs(fa), np.abs(fb)) >= CROSSING_TOLERANCE))
         if i.size == 0:
             break
-        with np.errstate(invalid="ignore", divide="ignore"):
-            x = xc[i] - fc[i] * (xc[i] - xp[i]) / (fc[i] - fp[i])
-            falsi = b[i] - fb[i] * (b[i] - a[i]) / (fb[i] - fa[i])
-        x = np.where((x > a[i]) & (x < b[i]), x, np.where((falsi > a[i]) & (falsi < b[i]), falsi, 0.5 * (a[i] + b[i])))
+        x = _next_iterate([v[i] for v in xs], [v[i] for v in fs], a[i], b[i], fa[i], fb[i])
         fx = u_of(x, i) - 1.0
         over = fx > 0.0
         a[i], fa[i] = np.where(over, a[i], x), np.where(over, fa[i], fx)
         b[i], fb[i] = np.where(over, x, b[i]), np.where(over, fx, fb[i])
-        xp[i], fp[i], xc[i], fc[i] = xc[i], fc[i], x, fx
+        for k in range(2):
+            xs[k][i], fs[k][i] = xs[k + 1][i], fs[k + 1][i]
+        xs[2][i], fs[2][i] = x, fx
     return np.where(np.abs(fb) < np.abs(fa), b, a)
+
+
+def _next_iterate(xs: list, fs: list, a, b, fa, fb) -> np.ndarray:
+    """The next iterate of :func:`refine_crossing` inside ``(a, b)``: Muller's step on
+    ``u^2 - 1`` through the three iterates ``xs``, ``fs`` (``f = u - 1``, oldest first),
+    else the secant through the last two, else regula falsi, else the bracket's middle."""
+    (x0, x1, x2), (f0, f1, f2) = xs, fs
+    g0, g1, g2 = (f * (f + 2.0) for f in (f0, f1, f2))  # u^2 - 1
+    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+        d01, d12 = (g1 - g0) / (x1 - x0), (g2 - g1) / (x2 - x1)
+        d2 = (d12 - d01) / (x2 - x0)
+        B = d12 + d2 * (x2 - x1)
+        root = np.sqrt(B * B - 4.0 * d2 * g2)
+        den = np.where(B >= 0.0, B + root, B - root)  # the root nearer x2 (the larger denominator)
+        muller = x2 - 2.0 * g2 / den
+        secant = x2 - f2 * (x2 - x1) / (f2 - f1)
+        falsi = b - fb * (b - a) / (fb - fa)
+    x = 0.5 * (a + b)
+    for step in (falsi, secant, muller):  # the last inside the bracket wins
+        x = np.where((step > a) & (step < b), step, x)
+    return x
 
 
 def illinois(u_of, a, u_a, b, u_b, iterations: int):
