@@ -59,3 +59,23 @@ def test_help_is_plain_text_without_jargon():
     assert len(texts) >= 8
     for text in texts:
         assert "`" not in text and "seed" not in text.lower(), text
+
+
+def _fake_part(weight):
+    from types import SimpleNamespace
+
+    import numpy as np
+
+    loads = SimpleNamespace(is_free_plate=False, is_on_foundation=False, weight=weight)
+    job = SimpleNamespace(free_body=object(), loads=loads)
+    cycle = SimpleNamespace(
+        history=SimpleNamespace(crank_angle_deg=12.0), C=np.zeros((2, 1)), envelope=SimpleNamespace(max_tip=1e-4)
+    )
+    return SimpleNamespace(cycle=cycle, job=job, verdict_stress=1.2e8, limit=3.75e8)
+
+
+def test_caption_says_when_the_part_carries_its_weight_out_of_plane():
+    from railcheck.report.render import picture_caption
+
+    assert "weight out of plane" in picture_caption("crank-rail", _fake_part(weight=object()), 30.0)
+    assert "weight" not in picture_caption("crank-rail", _fake_part(weight=None), 30.0)

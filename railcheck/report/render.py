@@ -96,7 +96,7 @@ def render_part(path: str | Path, name: str, part) -> Path:
     if part.job.free_body is None:
         _support(pv, plotter, mesh, sol, scale, part)
     _peak_marker(pv, plotter, cycle, sol, scale, extent.max(), part, font)
-    lines = fit_caption(plotter, _caption(name, part, scale), size, font)
+    lines = fit_caption(plotter, picture_caption(name, part, scale), size, font)
 
     plotter.enable_parallel_projection()  # "xy": from above, the plane the mechanism moves in
     plotter.camera.tight(padding=0.05 if slender else 0.12, view=kind_of(name).view, adjust_render_window=False)
@@ -143,7 +143,7 @@ def _stress_surface(pv, plotter, mesh, sol, scale: float, top: float, slender: b
     )
 
 
-def _caption(name: str, part, scale: float) -> str:
+def picture_caption(name: str, part, scale: float) -> str:
     """The picture's caption: the cycle peak and when, the limit, the deflection and what
     it means for this part's support, the shape's scale and what the colours mark."""
     cycle = part.cycle
@@ -171,6 +171,7 @@ def _caption(name: str, part, scale: float) -> str:
             if part.job.free_body is not None
             else "black: the clamp; magenta: its singular zone; red: joint force"
         )
+        + ("; its weight out of plane (table-top rig, not drawn)" if part.job.loads.weight is not None else "")
     )
 
 
