@@ -61,6 +61,7 @@ from railcheck.sweep.verdicts import (
     safe_s_convex,
     scaled_results,
     utilisation,
+    worst_utilisation,
 )
 
 REVOLVE_MARGIN = 1e-7  # rad: closer to a toggle is singular (kinematics.motion)
@@ -318,11 +319,6 @@ def evaluate_part(
     return vm, fat, tip, np.where(np.isfinite(amp), amp, 1.0)
 
 
-def _worst(results: dict) -> np.ndarray:
-    """(S,) the largest utilisation over the parts of ``at(s)``-shaped results."""
-    return np.max([u for *_, u in results.values()], axis=0)
-
-
 def _source_history(model, length, s: np.ndarray, idx: np.ndarray, Cg, Ci: np.ndarray) -> np.ndarray:
     """(len(idx), T, k): one load source's coefficients for the settings ``idx`` at speed
     ratio squared ``s`` (gravity ``Cg`` or None, inertia ``Ci``), with the pin pressures
@@ -382,7 +378,7 @@ def fe_results(ctx: SweepContext, histories: dict, lengths: dict, speeds_s: list
     if dynamic:
         safe = safe_s_bisect(ctx, lambda s: at(s, decide=True), n_sel, scan=SAFE_SPEED_SCAN)
     elif convex and not certifying(ctx):
-        safe = safe_s_convex(lambda s, idx: at(s, True, idx), n_sel, _worst(base))
+        safe = safe_s_convex(lambda s, idx: at(s, True, idx), n_sel, worst_utilisation(base))
     elif not exact:
         safe = safe_s_closed(ctx, base, n_sel)
     if certifying(ctx):  # each speed's rows carry the estimate; the safe speed takes it as a margin
@@ -415,7 +411,7 @@ def _margin_safe(ctx: SweepContext, spectra: Spectra, at, results, base: dict, u
 
     if upper is None:
         share = lambda s: np.max([quasi_static_share(a) for a in spectra.at(s).values()], axis=0)  # noqa: E731
-        u1 = _worst(with_margin(ctx, base, spectra.at(1.0)))
+        u1 = worst_utilisation(with_margin(ctx, base, spectra.at(1.0)))
         safe, at_safe = certified_safe_s(ctx, margin_of, share, n_sel, u1)
     else:
         safe = safe_s_with_margin(margin, upper, n_sel)

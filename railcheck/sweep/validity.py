@@ -33,6 +33,7 @@ from railcheck.sweep.verdicts import (
     refine_crossing,
     safe_s_convex,
     utilisation,
+    worst_utilisation,
 )
 
 
@@ -192,7 +193,7 @@ def safe_s_with_margin(margin, upper: np.ndarray, n: int) -> np.ndarray:
     it, so the crossing is single and regula falsi (Illinois) refines it."""
 
     def worst(s):
-        return np.max([u for *_, u in margin(s).values()], axis=0)
+        return worst_utilisation(margin(s))
 
     u0 = worst(np.zeros(n))
     hi = np.where(np.isfinite(upper) & (upper > 0), upper, 1.0)
@@ -261,7 +262,7 @@ def certified_safe_s(ctx: SweepContext, margin_of, share_of, n: int, u1: np.ndar
     every = np.arange(n)
     s_q = share_crossing(share_of, n)
     at_q = margin_of(np.where(np.isfinite(s_q), s_q, 1.0), every)
-    u0 = _worst_of(margin_of(np.zeros(n), every))
+    u0 = worst_utilisation(margin_of(np.zeros(n), every))
     other = np.max([governing_value(ctx, r, name) for name, r in at_q.items()], axis=0)
     settled = np.isfinite(s_q) & (other <= 1.0) & (u0 <= 1.0)
     safe = np.where(u0 > 1.0, 0.0, s_q)
@@ -274,7 +275,7 @@ def certified_safe_s(ctx: SweepContext, margin_of, share_of, n: int, u1: np.ndar
         lower = (np.where(one_below, 1.0, 0.0), np.where(one_below, u1[bounded], u0[bounded]))
         third = (np.where(one_below, 0.0, 1.0), np.where(one_below, u0[bounded], u1[bounded]))
         upper = (s_q[bounded], np.maximum(other[bounded], 1.0 + CROSSING_TOLERANCE))
-        sub = lambda s, j: _worst_of(margin_of(s, bounded[j]))  # noqa: E731
+        sub = lambda s, j: worst_utilisation(margin_of(s, bounded[j]))  # noqa: E731
         every_b = np.ones(bounded.size, dtype=bool)
         safe[bounded] = refine_crossing(sub, lower, upper, third, every_b, 40)
     unbounded = rest[~np.isfinite(s_q[rest])]
@@ -284,8 +285,3 @@ def certified_safe_s(ctx: SweepContext, margin_of, share_of, n: int, u1: np.ndar
     finite = rest[np.isfinite(safe[rest])]
     at_safe = at_q if finite.size == 0 else scattered(at_q, finite, margin_of(safe[finite], finite))
     return safe, at_safe
-
-
-def _worst_of(results: dict) -> np.ndarray:
-    """(S,) the largest utilisation over the parts of results (part -> (..., u))."""
-    return np.max([u for *_, u in results.values()], axis=0)

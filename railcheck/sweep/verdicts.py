@@ -48,6 +48,11 @@ def utilisation(model, vm, fat, tip, amp=None) -> np.ndarray:
     return np.max(list(criterion_utilisations(model, vm, fat, tip, amp).values()), axis=0)
 
 
+def worst_utilisation(results: dict) -> np.ndarray:
+    """(S,) the largest utilisation over the parts of results (part -> (..., utilisation))."""
+    return np.max([u for *_, u in results.values()], axis=0)
+
+
 def governing_of(ctx: SweepContext, results: dict) -> tuple[np.ndarray, np.ndarray]:
     """(part, criterion) (S,) object arrays: what has the largest utilisation in
     ``results`` (part -> (vm, fatigue, tip, utilisation))."""
@@ -112,7 +117,7 @@ def safe_s_bisect(ctx: SweepContext, at, n: int, iterations: int = 60, scan: int
     missed; docs/sweep.md states this."""
 
     def worst(s):
-        return np.max([u for *_, u in at(s).values()], axis=0)
+        return worst_utilisation(at(s))
 
     fails_at_rest = worst(np.zeros(n)) > 1.0
     lo, hi = np.zeros(n), np.ones(n)
@@ -159,7 +164,7 @@ def safe_s_convex(at, n: int, u1: np.ndarray, iterations: int = 40) -> np.ndarra
     0 where the rig fails at rest, inf where no s up to 2^60 reaches 1."""
 
     def worst(s, idx):
-        return np.max([u for *_, u in at(s, idx).values()], axis=0)
+        return worst_utilisation(at(s, idx))
 
     every = np.arange(n)
     u0 = worst(np.zeros(n), every)
