@@ -160,22 +160,25 @@ def modal_correction(modal_loads: np.ndarray, hz: np.ndarray, C: np.ndarray, spe
 
 
 def harmonic_spectrum(C: np.ndarray) -> np.ndarray:
-    """(..., H, k): the harmonics of periodic histories ``C`` (..., steps, k) over one
-    revolution (the repeated end point left out), harmonic n in row n."""
-    return np.fft.rfft(C[..., :-1, :], axis=-2)
+    """(..., k, H): the harmonics of periodic histories ``C`` (..., steps, k) over one
+    revolution (the repeated end point left out), harmonic n in column n of each history's
+    row (harmonics last: the transforms run over contiguous memory, twice as fast as
+    across it on 720 steps, with the same bits)."""
+    return np.fft.rfft(np.swapaxes(C[..., :-1, :], -1, -2), axis=-1)
 
 
 def one_mode_peak(P: np.ndarray, steps: int, speed, hz, damping: float) -> np.ndarray:
     """(..., k): the largest absolute value over the cycle of each history of spectrum
-    ``P`` (:func:`harmonic_spectrum` of ``steps`` steps) filtered harmonic by harmonic by
-    the one-mode response ``H(r) = 1 / (1 - r^2 + 2 i zeta r)``, ``r = n Omega / omega_1``
-    (crank ``speed`` rad/s, lowest natural frequency ``hz`` Hz, scalars or one per history)."""
+    ``P`` (..., k, H) (:func:`harmonic_spectrum` of ``steps`` steps) filtered harmonic by
+    harmonic by the one-mode response ``H(r) = 1 / (1 - r^2 + 2 i zeta r)``,
+    ``r = n Omega / omega_1`` (crank ``speed`` rad/s, lowest natural frequency ``hz`` Hz,
+    scalars or one per history)."""
     lead = P.shape[:-2]
     speed = np.broadcast_to(np.asarray(speed, float), lead)
     hz = np.broadcast_to(np.asarray(hz, float), lead)
-    n = np.arange(P.shape[-2])[:, None]
-    r = n * (speed / (2 * np.pi * hz))[..., None, None]  # (..., H, 1)
-    return np.abs(np.fft.irfft(P / (1.0 - r**2 + 2j * damping * r), n=steps - 1, axis=-2)).max(axis=-2)
+    n = np.arange(P.shape[-1])
+    r = n * (speed / (2 * np.pi * hz))[..., None, None]  # (..., 1, H)
+    return np.abs(np.fft.irfft(P / (1.0 - r**2 + 2j * damping * r), n=steps - 1, axis=-1)).max(axis=-1)
 
 
 def one_mode_amplification(C: np.ndarray, speed, hz, damping: float) -> tuple[np.ndarray, np.ndarray]:

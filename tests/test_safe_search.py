@@ -42,7 +42,7 @@ def test_convex_search_finds_the_quadratic_crossing_and_counts_few_evaluations()
 
 def test_share_crossing_is_the_same_whatever_settings_it_is_searched_with():
     a, b, c = _quadratics(200, seed=5)
-    share = lambda idx: lambda s: np.sqrt(a[idx] + b[idx] * s + c[idx] * s * s)  # noqa: E731
+    share = lambda sub: lambda s, i: np.sqrt(a[sub][i] + b[sub][i] * s + c[sub][i] * s * s)  # noqa: E731
     whole = share_crossing(share(np.arange(200)), 200)
     part = share_crossing(share(np.arange(0, 200, 3)), np.arange(0, 200, 3).size)
     assert np.array_equal(whole[::3], part)
@@ -50,5 +50,22 @@ def test_share_crossing_is_the_same_whatever_settings_it_is_searched_with():
 
 
 def test_share_crossing_is_infinite_where_the_estimate_never_reaches_its_tolerance():
-    s = share_crossing(lambda s: np.full(np.shape(s), 0.5), 4)
+    s = share_crossing(lambda s, i: np.full(np.shape(i), 0.5), 4)
     assert np.all(np.isinf(s))
+
+
+def test_share_crossing_brackets_a_one_mode_estimate_in_one_step_and_counts_few_evaluations():
+    # the one-mode estimate's excess 1 / (1 - s / s_r) - 1 over a tolerance t: convex in s,
+    # crossing at s_r t / (1 + t); resonances from 4x to 3000x the reference speed squared
+    rng = np.random.default_rng(11)
+    n, t = 300, 0.05
+    s_r = 10.0 ** rng.uniform(0.6, 3.5, n)
+    rows = []
+
+    def share(s, idx):
+        rows.append(idx.size)
+        return (1.0 / (1.0 - s / s_r[idx]) - 1.0) / t
+
+    s = share_crossing(share, n)
+    assert np.allclose(s, s_r * t / (1.0 + t), rtol=1e-7)
+    assert sum(rows) <= 7 * n  # rest, s = 1, one extrapolation, a few refining steps

@@ -405,12 +405,10 @@ def _margin_safe(ctx: SweepContext, spectra: Spectra, at, results, base: dict, u
         return with_margin(ctx, results(s), spectra.at(s))
 
     def margin_of(s, idx) -> dict:  # the settings idx at their s
-        full = np.ones(n_sel)
-        full[idx] = s
-        return with_margin(ctx, at(s, False, idx), {k: v[idx] for k, v in spectra.at(full).items()})
+        return with_margin(ctx, at(s, False, idx), spectra.at(s, idx))
 
     if upper is None:
-        share = lambda s: np.max([quasi_static_share(a) for a in spectra.at(s).values()], axis=0)  # noqa: E731
+        share = lambda s, idx: np.max([quasi_static_share(a) for a in spectra.at(s, idx).values()], axis=0)  # noqa: E731
         u1 = worst_utilisation(with_margin(ctx, base, spectra.at(1.0)))
         safe, at_safe = certified_safe_s(ctx, margin_of, share, n_sel, u1)
     else:

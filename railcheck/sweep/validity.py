@@ -67,6 +67,7 @@ class Spectra:
         self.ctx = ctx
         self.parts: dict[str, list[_Source]] = {}
         self.n = next(iter(lengths.values())).size
+        self._at_reference: dict | None = None  # every setting's estimates at the reference speed
         for name, m in ctx.models.items():
             if not m.certified or m.constant is not None:
                 continue
@@ -92,30 +93,50 @@ class Spectra:
             ci.shape[-2],
         )
 
-    def at(self, s) -> dict:
-        """part -> (S,) its estimate at speed ratio squared ``s`` (scalar or (S,))."""
-        ss = np.broadcast_to(np.asarray(s, float), (self.n,))
+    def at(self, s, idx: np.ndarray | None = None) -> dict:
+        """part -> its estimate at speed ratio squared ``s``: (n,) of every setting (``s``
+        scalar or (n,)), or (len(idx),) of the settings ``idx`` only (``s`` scalar or one
+        per setting of ``idx``); only those settings' harmonics are transformed, none at
+        rest (``s = 0``), and every setting's at the reference speed only once."""
+        idx = np.arange(self.n) if idx is None else np.asarray(idx)
+        ss = np.broadcast_to(np.asarray(s, float), idx.shape)
+        reference = idx.size == self.n and np.all(ss == 1.0)
+        if reference and self._at_reference is not None:
+            return {k: v.copy() for k, v in self._at_reference.items()}
+        where = np.full(self.n, -1)
+        moving = ss > 0.0  # at rest the one-mode response is the load itself: the estimate is 1
+        where[idx[moving]] = np.flatnonzero(moving)
         out = {}
         for name, sources in self.parts.items():
-            m = self.ctx.models[name]
-            amp = np.ones(self.n)
+            amp = np.ones(idx.size)
             for src in sources:
-                amp[src.idx] = np.maximum(amp[src.idx], _estimate(src, ss[src.idx], self.ctx.speeds[0], m.damping))
+                rows = np.flatnonzero(where[src.idx] >= 0)
+                if rows.size:
+                    at = where[src.idx[rows]]
+                    est = _estimate(src, ss[at], self.ctx.speeds[0], self.ctx.models[name].damping, rows)
+                    amp[at] = np.maximum(amp[at], est)
             out[name] = amp
+        if reference:
+            self._at_reference = {k: v.copy() for k, v in out.items()}
         return out
 
 
-def _estimate(src: _Source, s: np.ndarray, speed0: float, damping: float) -> np.ndarray:
-    """(len(idx),): one source's estimate at speed ratios squared ``s``: without gravity
-    the ratio does not depend on the histories' scale, so the unit spectra serve."""
+def _estimate(src: _Source, s: np.ndarray, speed0: float, damping: float, rows=None) -> np.ndarray:
+    """(len(s),): one source's estimate at speed ratios squared ``s`` of its settings
+    ``rows`` (positions in ``src.idx``; None: all): without gravity the ratio does not
+    depend on the histories' scale, so the unit spectra serve."""
+    whole = rows is None or rows.size == src.idx.size
+    take = (lambda a: a) if whole else (lambda a: a[rows])  # noqa: E731
+    Pi, Ci = take(src.Pi), take(src.Ci)
     speed = speed0 * np.sqrt(s)
     if src.Pg is None:
-        peak = np.abs(src.Ci).max(axis=-2)
-        filtered = one_mode_peak(src.Pi, src.steps, speed, src.hz, damping)
+        peak = np.abs(Ci).max(axis=-2)
+        filtered = one_mode_peak(Pi, src.steps, speed, src.hz, damping)
     else:
         assert src.Cg is not None  # a gravity spectrum comes with its history
-        peak = np.abs(s[:, None, None] * src.Ci + src.Cg).max(axis=-2)
-        filtered = one_mode_peak(s[:, None, None] * src.Pi + src.Pg, src.steps, speed, src.hz, damping)
+        Pg, Cg = take(src.Pg), take(src.Cg)
+        peak = np.abs(s[:, None, None] * Ci + Cg).max(axis=-2)
+        filtered = one_mode_peak(s[:, None, None] * Pi + Pg, src.steps, speed, src.hz, damping)
     with np.errstate(invalid="ignore", divide="ignore"):
         ratio = np.where(peak > 0, filtered / np.where(peak > 0, peak, 1.0), 1.0)
     return largest_significant(ratio, peak, src.n_forces)
@@ -210,31 +231,38 @@ def safe_s_with_margin(margin, upper: np.ndarray, n: int) -> np.ndarray:
 
 def share_crossing(share_of, n: int, iterations: int = 60) -> np.ndarray:
     """(n,) the speed ratio squared at which the largest certified estimate's share
-    ``share_of(s)`` ((n,) for (n,) ``s``, no FE: the load spectra alone) reaches 1: doubled
-    from s = 1 until it is exceeded, then refined (:func:`refine_crossing`, each setting
-    until its own tolerance, so a setting's answer does not depend on the others it is
-    computed with); below the first resonance the estimate grows with the speed, so the
-    crossing is single. inf where no s up to 2^60 reaches it."""
-
-    def at(x, idx):
-        full = np.ones(n)
-        full[idx] = x
-        return share_of(full)[idx]
-
-    prev, u_prev = np.zeros(n), share_of(np.zeros(n))
+    ``share_of(s, idx)`` (of the settings ``idx`` at their ``s``; no FE: the load spectra
+    alone) reaches 1: extrapolated from s = 1 until it is exceeded
+    (:func:`_extrapolation_factor`), then refined
+    (:func:`refine_crossing`, each setting until its own tolerance, so a setting's answer
+    does not depend on the others it is computed with); each step evaluates only the
+    settings still searched. Below the first resonance the estimate grows with the speed,
+    so the crossing is single. inf where no s up to 2^60 reaches it."""
+    every = np.arange(n)
+    prev, u_prev = np.zeros(n), share_of(np.zeros(n), every)
     lo, u_lo, hi = prev.copy(), u_prev.copy(), np.ones(n)
-    u_hi = share_of(hi)
+    u_hi = share_of(hi, every)
     for _ in range(60):
-        short = ~(u_hi > 1.0) & (hi < 2.0**60)
-        if not np.any(short):
+        short = np.flatnonzero(~(u_hi > 1.0) & (hi < 2.0**60))
+        if short.size == 0:
             break
-        prev, u_prev = np.where(short, lo, prev), np.where(short, u_lo, u_prev)
-        lo, u_lo = np.where(short, hi, lo), np.where(short, u_hi, u_lo)
-        hi = np.where(short, 2.0 * hi, hi)
-        u_hi = np.where(short, share_of(hi), u_hi)
+        prev[short], u_prev[short] = lo[short], u_lo[short]
+        lo[short], u_lo[short] = hi[short], u_hi[short]
+        hi[short] *= _extrapolation_factor(u_hi[short])
+        u_hi[short] = share_of(hi[short], short)
     crossing = u_hi > 1.0
-    s = refine_crossing(at, (lo, u_lo), (hi, u_hi), (prev, u_prev), crossing & (u_lo <= 1.0), iterations)
+    s = refine_crossing(share_of, (lo, u_lo), (hi, u_hi), (prev, u_prev), crossing & (u_lo <= 1.0), iterations)
     return np.where(crossing, np.where(u_lo > 1.0, 0.0, s), np.inf)
+
+
+def _extrapolation_factor(share: np.ndarray) -> np.ndarray:
+    """How far to multiply ``s`` to reach the estimate's crossing from a point where its
+    share is ``share`` (< 1): the line through rest (share 0) says ``1 / share``; the
+    share grows faster than ``s`` (the response's excess grows as ``r^2`` of a load that
+    grows with ``s``), so that line reaches past the crossing. At least doubled, at most
+    2^20 in one step."""
+    with np.errstate(divide="ignore"):
+        return np.clip(1.0 / np.maximum(share, 0.0), 2.0, 2.0**20)
 
 
 def scattered(full: dict, idx: np.ndarray, part: dict) -> dict:
@@ -252,7 +280,8 @@ def scattered(full: dict, idx: np.ndarray, part: dict) -> dict:
 def certified_safe_s(ctx: SweepContext, margin_of, share_of, n: int, u1: np.ndarray) -> tuple[np.ndarray, dict]:
     """(safe s (n,), :func:`with_margin` results at it) for loads ``C_g + s C_i`` (convex
     in s) with the estimate as a margin: ``margin_of(s, idx)`` the margin results of the
-    settings ``idx`` at their ``s``, ``share_of(s)`` the largest estimate's share (no FE),
+    settings ``idx`` at their ``s``, ``share_of(s, idx)`` the largest estimate's share of
+    the settings ``idx`` (no FE),
     ``u1`` the margin utilisation at s = 1. The estimate's crossing ``s_q``
     (:func:`share_crossing`) bounds the safe speed; one FE evaluation there settles every
     setting whose other criteria stay within their limits at rest and at ``s_q`` (convex:
