@@ -77,7 +77,13 @@ def size_factor(section: tuple[float, float] | None) -> float:
     """kb of a rectangular section (width, height) m through its equivalent diameter."""
     if section is None:
         return 1.0
-    d = 0.808 * np.sqrt(section[0] * section[1]) * 1e3  # mm
+    return size_factor_of_diameter(0.808 * np.sqrt(section[0] * section[1]))
+
+
+def size_factor_of_diameter(diameter: float) -> float:
+    """kb of a round section of ``diameter`` m in rotating bending (Shigley eq. 6-20):
+    ``1.24 d^-0.107`` (2.79 <= d <= 51 mm), ``1.51 d^-0.157`` (51 < d <= 254 mm), 1 below."""
+    d = float(diameter) * 1e3  # mm
     if d <= 2.79:
         return 1.0
     return float(1.24 * d**-0.107 if d <= 51 else 1.51 * min(d, 254.0) ** -0.157)

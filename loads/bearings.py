@@ -78,3 +78,14 @@ def bearing_life_of_magnitude(
         peak = P.max(axis=-1)
         static = np.where(peak > 0, bearing.static_capacity / peak, np.inf)
     return BearingLife(pm, peak, life, static)
+
+
+def relative_speeds(crank, coupler, output, kind: str) -> dict:
+    """joint -> the relative angular speed (rad/s) of its bearing's rings, from the bars'
+    angular speeds (arrays of one shape): O2 the crank's, A the coupler's less the
+    crank's, B the rocker's less the coupler's (a slider-crank's slider does not turn:
+    the coupler's), O4 the rocker's (a four-bar only)."""
+    out = {"O2": crank, "A": coupler - crank, "B": output - coupler if kind == "four-bar" else coupler}
+    if kind == "four-bar":
+        out["O4"] = output
+    return out

@@ -59,6 +59,18 @@ def coupler_reactions(w: RailWeight, coupler_length) -> tuple[np.ndarray, np.nda
     return weight * (length - com) / length, weight * com / length
 
 
+def joint_vertical_loads(w: RailWeight, lengths: dict) -> dict:
+    """joint -> N, the downward weight passing through the joints A and B between the
+    layers: the coupler's share by the lever rule and the masses carried there by the two
+    bars the joint joins (the load a joint's plate screws and carriage carry out of plane);
+    ``lengths`` bar -> m (arrays)."""
+    at_a, at_b = coupler_reactions(w, lengths["coupler"])
+    return {
+        "A": at_a + GRAVITY * (w.at("crank", "A") + w.at("coupler", "A")),
+        "B": at_b + GRAVITY * (w.at("coupler", "B") + w.at("rocker", "B")),
+    }
+
+
 def joint_forces(w: RailWeight, lengths: dict) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(near, drive, far) N, +z up, on ``w.bar``'s rail: at its first joint (the shaft
     hole), at the next hole (a cantilevered bar's clamp; 0 for a link) and at its far
@@ -66,9 +78,7 @@ def joint_forces(w: RailWeight, lengths: dict) -> tuple[np.ndarray, np.ndarray, 
     at_a, at_b = coupler_reactions(w, lengths["coupler"])
     if w.bar == "coupler":
         return at_a, np.zeros_like(at_a), at_b
-    joint = "A" if w.bar == "crank" else "B"
-    link_share = at_a if w.bar == "crank" else at_b
-    far = -(GRAVITY * (w.at(w.bar, joint) + w.at("coupler", joint)) + link_share)
+    far = -joint_vertical_loads(w, lengths)["A" if w.bar == "crank" else "B"]
     length = np.asarray(lengths[w.bar], float)
     weight = w.mass * GRAVITY
     # moments about the shaft hole (+ where an upward force lies further along the bar)

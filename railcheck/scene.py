@@ -18,9 +18,11 @@ from typing import Any
 
 from railcheck import parts as registry
 from railcheck.base.errors import InputError
+from railcheck.components.ratings import COMPONENT_SPEC, COMPONENTS, NOT_ON_SLIDER_CRANK, ComponentSpec
+from railcheck.components.ratings import OVERRIDABLE as COMPONENT_KEYS
 from railcheck.fea.fatigue import CRITERIA, LOAD, RELIABILITY, SURFACE  # light module: numpy only
 from railcheck.fea.materials import MATERIALS  # light module: no skfem import
-from railcheck.geometry.catalogue import OVERRIDABLE, validate  # light module: no gmsh import
+from railcheck.geometry.catalogue import OVERRIDABLE, validate, with_overrides  # light module: no gmsh import
 from railcheck.kinematics.linkage import FourBar, SliderCrank
 from railcheck.kinematics.massmodel import MassModel
 from railcheck.specs import (  # noqa: F401  the scene's records, re-exported
@@ -88,6 +90,7 @@ class Scene:
     fatigue: FatigueSpec = FatigueSpec()
     sweep: SweepSpec = SweepSpec()
     dynamic: DynamicSpec = DynamicSpec()
+    components: ComponentSpec = COMPONENT_SPEC  # the joints' components' dimensions and ratings
 
     @cached_property
     def masses(self) -> MassModel:
@@ -140,6 +143,7 @@ ALLOWED_KEYS: dict[str, set[str] | None] = {
     "output": {"dir", "vtk", "png", "plots"},
     "loads": None,  # part names, checked below
     "geometry": None,  # catalogue keys, checked below
+    "components": None,  # the components' dimensions and ratings, checked below
     "fatigue": {"surface", "reliability", "load", "criterion", "min_safety"},
     "dynamic": {"damping", "max_amplification", "modes"},
     "sweep": {
@@ -251,14 +255,16 @@ def _check(table: dict, loads_table: dict, formulation: str = "newton-euler") ->
     p = "check."
     _unknown(table, ALLOWED_KEYS["check"], p)
     known = tuple(registry.PARTS)
-    parts = table.get("parts", list(known))
-    if not isinstance(parts, list) or not parts or not all(isinstance(x, str) for x in parts):
+    listed = table.get("parts", list(known))
+    if not isinstance(listed, list) or not listed or not all(isinstance(x, str) for x in listed):
         raise InputError(p + "parts", f"must be a non-empty list of part names ({', '.join(known)})")
-    for name in parts:
-        if name not in known:
-            raise InputError(p + "parts", f"unknown part {name!r} (known: {', '.join(known)})")
-    if len(set(parts)) != len(parts):
+    for name in listed:
+        if name not in known and name not in COMPONENTS:
+            raise InputError(p + "parts", f"unknown part {name!r}{_did_you_mean(name, (*known, *COMPONENTS))}")
+    if len(set(listed)) != len(listed):
         raise InputError(p + "parts", "lists a part twice")
+    parts = [n for n in listed if n in known]
+    components = tuple(n for n in listed if n in COMPONENTS)
     factor = table.get("factor", 1.4)
     if isinstance(factor, bool) or not isinstance(factor, (int, float)) or not math.isfinite(factor) or factor <= 0:
         raise InputError(p + "factor", f"must be a positive number (a dimensionless load factor), got {factor!r}")
@@ -301,7 +307,46 @@ def _check(table: dict, loads_table: dict, formulation: str = "newton-euler") ->
         )
     default_support = "clamped" if formulation == "seed-2013" else "free-body"  # seed-2013: the 2013 study's model
     support = _string_choice(table.get("support", default_support), SUPPORTS, p + "support")
-    return CheckSpec(tuple(parts), float(factor), bolt, material, limit, effects, loads, max_deflection, support, compare)
+    return CheckSpec(
+        tuple(parts), float(factor), bolt, material, limit, effects, loads, max_deflection, support, compare, components
+    )
+
+
+def _fits_the_rails_holes(spec: ComponentSpec, geometry: dict[str, float]) -> None:
+    """Refuse a driving pin or a joint shaft's stub wider than the rail's hole it passes."""
+    hole = with_overrides(geometry)[0].hole_diameter
+    for key in ("pin_diameter", "shaft_diameter"):
+        d = getattr(spec, key)
+        if d > hole + 1e-12:
+            raise InputError(
+                f"components.{key}",
+                f"{d * 1e3:g} mm does not pass the rail's {hole * 1e3:g} mm hole (geometry.rail_hole_diameter)",
+            )
+
+
+def _did_you_mean(name: str, known: tuple[str, ...]) -> str:
+    """ " (did you mean 'x'?)" for the nearest known name, else the list of them."""
+    near = difflib.get_close_matches(name, known, n=1)
+    return f" (did you mean {near[0]!r}?)" if near else f" (known: {', '.join(known)})"
+
+
+def _components(table: dict) -> dict[str, float]:
+    """The ``[components]`` overrides (SI): each key a field of
+    :class:`railcheck.components.ratings.ComponentSpec`, a quantity with its unit (a plain
+    positive number for factors and required safeties)."""
+    out = {}
+    for key, value in table.items():
+        field = f"components.{key}"
+        if key not in COMPONENT_KEYS:
+            raise InputError(field, f"unknown key{_did_you_mean(key, tuple(COMPONENT_KEYS))}")
+        dimension = COMPONENT_KEYS[key]
+        if dimension == "number":
+            if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value <= 0:
+                raise InputError(field, f"must be a positive number, got {value!r}")
+            out[key] = float(value)
+        else:
+            out[key] = parse_quantity(value, dimension, field, positive=True, allow_zero=False)
+    return out
 
 
 def _names(value: Any, choices: tuple[str, ...], name: str, what: str, note: str) -> tuple[str, ...]:
@@ -511,13 +556,18 @@ def parse_scene(data: dict[str, Any], source: str = "<scene>") -> Scene:
             rails = [p for p in needs_linkage if p == "rocker-rail"]
             if rails:
                 raise InputError("check.parts", "a slider-crank has no rocker rail")
+            absent = [c for c in check.components if c in NOT_ON_SLIDER_CRANK]
+            if absent:
+                raise InputError("check.parts", f"a slider-crank has no rocker: no {', '.join(absent)}")
     mesh = _mesh(data.get("mesh", {}))
     output = _output(data.get("output", {}))
     geometry = _geometry(data.get("geometry", {}))
     fatigue = _fatigue(data.get("fatigue", {}))
     sweep = _sweep(data.get("sweep", {}))
     dynamic = _dynamic(data.get("dynamic", {}))
-    return Scene(mechanism, formulation, check, mesh, output, geometry, data, source, fatigue, sweep, dynamic)
+    components = dataclasses.replace(COMPONENT_SPEC, **_components(data.get("components", {})))
+    _fits_the_rails_holes(components, geometry)
+    return Scene(mechanism, formulation, check, mesh, output, geometry, data, source, fatigue, sweep, dynamic, components)
 
 
 def load_scene(path: str | Path | None) -> Scene:

@@ -46,6 +46,7 @@ class CheckSpec:
     max_deflection: float | None = None  # m; a part whose tip deflects more fails
     support: str = "free-body"  # "free-body" (inertia relief, rails) or "clamped" (the 2013 cantilever)
     compare: tuple[str, ...] = ()  # "2013": each free rail's clamped 2013 model beside it, for comparison
+    components: tuple[str, ...] = ()  # the joints' components checked by their standards (railcheck.components)
 
 
 #: the fatigue verdict's reliability: 99 % of such parts reach the computed life (Shigley,

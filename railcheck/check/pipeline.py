@@ -18,6 +18,7 @@ import time
 import numpy as np
 
 from railcheck.check.workers import check_parts
+from railcheck.components.scene_checks import check_scene_components
 from railcheck.fea.materials import MATERIALS, limit_warning
 from railcheck.model.jobs import build_load_cases, part_geometries, part_jobs, refuse_huge
 from railcheck.model.kinematics_stage import all_checks, kinematics_summary, run_kinematics
@@ -25,14 +26,14 @@ from railcheck.model.records import PipelineResult
 from railcheck.progress import Progress
 from railcheck.scene import Scene
 
-STAGES = ("scene", "kinematics", "loads", "geometry", "mesh", "solve", "stress", "report")
+STAGES = ("scene", "kinematics", "components", "loads", "geometry", "mesh", "solve", "stress", "report")
 
 
 def needs_linkage(scene: Scene) -> bool:
     """True when some requested output depends on the linkage's reactions."""
     if scene.check is None:
         return scene.mechanism is not None
-    return any(p not in scene.checked.loads for p in scene.checked.parts)
+    return bool(scene.checked.components) or any(p not in scene.checked.loads for p in scene.checked.parts)
 
 
 def run_pipeline(
@@ -63,7 +64,14 @@ def run_pipeline(
         checks = {}
     parts: dict = {}
     unloaded: tuple[str, ...] = ()
-    if scene.check is not None:
+    components: dict = {}
+    if scene.check is not None and scene.checked.components:
+        t = time.perf_counter()
+        components = check_scene_components(scene, kin)
+        timings["components"] = time.perf_counter() - t
+        stages.append("components")
+        progress.say("components", f"{len(components)} checked by their standards (load factor on pins, screws, shafts)")
+    if scene.check is not None and scene.checked.parts:
         parts, unloaded = _check_stage(scene, kin, progress, solver, jobs, part_done, stages, warnings)
         for name, part in parts.items():
             timings.update({f"{k}:{name}": v for k, v in part.seconds.items()})
@@ -74,6 +82,7 @@ def run_pipeline(
         kinematics=kin,
         kinematics_summary=kin_summary,
         parts=parts,
+        components=components,
         warnings=tuple(warnings),
         timings=timings,
         checks=checks,

@@ -27,6 +27,7 @@ def summary_of(result: PipelineResult) -> dict:
         "failures": result.failures,
         "failures_with_figures": result.failures_with_figures,
         "parts": {name: part_summary(p) for name, p in result.parts.items()},
+        "components": {name: component_summary(c) for name, c in result.components.items()},
         "unloaded_parts": list(result.unloaded),
         "stages_run": list(result.stages_run),
         "warnings": list(result.warnings),
@@ -49,9 +50,25 @@ def verdict_of(result: PipelineResult) -> str:
     left unloaded; NO CHECK when there was nothing to check."""
     if result.failures:
         return "FAIL"
-    if result.parts:
+    if result.parts or result.components:
         return "PASS"
     return "NO LOAD" if result.unloaded else "NO CHECK"
+
+
+def component_summary(c) -> dict:
+    """One component's entry of summary.json (SI; the figures' keys carry their units)."""
+    return {
+        "kind": c.kind,
+        "joint": c.joint,
+        "standard": c.standard,
+        "loads_factored": c.factored,
+        "utilisation": float(c.utilisation),
+        "governing_criterion": str(c.governing_criterion),
+        "utilisation_by_criterion": dict(c.utilisations),
+        "figures": dict(c.figures),
+        "assumed": list(c.assumed),
+        "pass": bool(c.passed),
+    }
 
 
 def part_summary(p: PartResult) -> dict:

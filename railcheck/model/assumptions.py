@@ -39,6 +39,15 @@ def assumptions(scene, parts: dict) -> list[str]:
         f"effects: {', '.join(c.effects) or 'none'}; support: {c.support}",
     ]
     out.append(weight_assumption(scene, parts))
+    if c.components:
+        out.append(
+            f"components ({', '.join(c.components)}): pins, screws and shafts on loads x{c.factor:g} with the "
+            "standards' resistance factors (EN 1993-1-8 gamma_M0 1.0, gamma_M2 1.25; Shigley DE-Goodman n >= 1, "
+            "bending fully reversed); bearings and carriages on unfactored loads against their required static "
+            f"safety ({scene.components.bearing_required_s0:g}, {scene.components.carriage_required_s0:g}) and "
+            f"life ({scene.components.bearing_required_life / 3600:.0f} h); every dimension and rating from seed 000, "
+            "a cited catalogue or assumed (docs/components.md)"
+        )
     if any(p.job.certificate is not None or p.cycle.dynamic is not None for p in parts.values()):
         out.append(
             f"dynamics: quasi-static where the one-mode amplification estimate is at most {QUASI_STATIC_TOLERANCE:.2f}, "

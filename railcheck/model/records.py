@@ -260,7 +260,7 @@ class PartResult:
 class PipelineResult:
     """A whole run: the stages that ran (in order), the kinematics, the configuration
     checks, each part's result, the parts left unsolved because nothing loads them,
-    warnings and stage timings (s)."""
+    the joints' components' checks, warnings and stage timings (s)."""
 
     scene: Scene
     stages_run: tuple[str, ...] = ()
@@ -271,6 +271,7 @@ class PipelineResult:
     timings: dict[str, float] = field(default_factory=dict)
     checks: dict[str, CheckResult] = field(default_factory=dict)
     unloaded: tuple[str, ...] = ()  # parts with no load at any step: reported, not solved
+    components: dict = field(default_factory=dict)  # name -> railcheck.components.ComponentResult
 
     @property
     def failures(self) -> list[str]:
@@ -284,6 +285,8 @@ class PipelineResult:
             out += [f"{name} dynamic"] if not p.dynamic_passed else []
             out += [f"{name} beyond yield"] if not p.within_yield else []
             out += [f"{name} beyond small displacements"] if not p.small_displacements else []
+        for name, c in self.components.items():
+            out += [f"{name} {k}" for k, u in c.utilisations.items() if not u <= 1.0]
         return out
 
     @property
@@ -293,6 +296,8 @@ class PipelineResult:
         out = [f"check {name}: {c.message}" for name, c in self.checks.items() if not c.ok]
         for name, p in self.parts.items():
             out += part_failures_with_figures(name, p)
+        for name, c in self.components.items():
+            out += [f"{name} {k} utilisation {u:.2f} > 1 ({c.standard})" for k, u in c.utilisations.items() if not u <= 1.0]
         return out
 
     @property

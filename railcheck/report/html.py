@@ -16,6 +16,8 @@ from pathlib import Path
 
 import numpy as np
 
+from railcheck.report.text import component_figures
+
 CSS = """
 body{font-family:system-ui,sans-serif;margin:2em;color:#222;max-width:1400px}
 h1{font-size:1.6em} h2{border-bottom:1px solid #ccc;padding-bottom:.2em;margin-top:1.6em}
@@ -54,6 +56,7 @@ def write_report(path: Path, scene, result, summary: dict, directory: Path) -> N
     sections = [
         _header(result, summary),
         _parts(result),
+        _components(result),
         _assumptions(summary),
         _dynamic(result, directory),
         _checks(result),
@@ -183,6 +186,35 @@ def _parts(result) -> str:
         f"2013 inst.: at the instant of the peak reaction magnitude (the 2013 study's method); "
         f"factor of safety = limit / cycle max; fatigue: {html_escape(crit.criterion)}, endurance limit "
         f"{crit.marin.endurance_limit / 1e6:.0f} MPa (Shigley ch. 6, Marin factors in summary.json).</p>"
+    )
+
+
+def _components(result) -> str:
+    """The joints' components: each one's standard, whether its loads carry the load
+    factor, its figures, utilisation and verdict, and what was assumed."""
+    if not result.components:
+        return ""
+    factor = result.scene.checked.factor
+    rows = [
+        [
+            html_escape(name),
+            html_escape(c.standard),
+            f"x{factor:g} (factored)" if c.factored else "unfactored",
+            html_escape(component_figures(c)),
+            f"{c.utilisation:.0%} ({html_escape(c.governing_criterion)})",
+            _verdict(bool(c.passed)),
+        ]
+        for name, c in result.components.items()
+    ]
+    head = ["component", "standard", "loads", "figures", "utilisation (governs)", "verdict"]
+    assumed = sorted({a for c in result.components.values() for a in c.assumed})
+    return (
+        "<h2>Components</h2>"
+        + html_table(head, rows)
+        + '<p class="note">Pins, screws and shafts on factored loads with the standard\'s resistance factors '
+        "(EN 1993-1-8: γM0 = 1.0, γM2 = 1.25; Shigley: n ≥ 1); bearings and carriages on the loads as they are, "
+        "against their standards' required static safety and life. Assumed (not in seed 000 or a cited catalogue; "
+        f"the scene's [components] table overrides them): {html_escape(', '.join(assumed)) or 'nothing'}.</p>"
     )
 
 

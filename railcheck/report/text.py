@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import textwrap
 
 import numpy as np
 
@@ -209,6 +210,8 @@ def check_report(run) -> str:
             f"P{scene.mesh.order} tetrahedra, size {sizes}"
         )
         lines.append(parts_table(result))
+    if result.components:
+        lines += components_table(result)
     if result.unloaded:
         lines.append(
             f"  NO LOAD: {', '.join(result.unloaded)}: no load at any step (no speed, no gravity, no explicit load)"
@@ -229,6 +232,48 @@ def check_report(run) -> str:
     reasons = f" ({'; '.join(result.failures_with_figures)})" if result.failures else ""
     lines.append(f"verdict: {summary['verdict']}{reasons}; results in {run.target}/")
     return "\n".join(lines)
+
+
+def components_table(result) -> list[str]:
+    """The joints' components' lines: each component's standard, its figures, its
+    utilisation with the criterion that governs and its verdict; then what was assumed."""
+    factor = result.scene.checked.factor
+    header = ["component", "standard", "loads", "figures", "utilisation", "governs", "verdict"]
+    rows = [
+        [
+            name,
+            c.standard,
+            f"x{factor:g}" if c.factored else "as is",
+            component_figures(c),
+            f"{c.utilisation:.0%}",
+            str(c.governing_criterion),
+            "PASS" if c.passed else "FAIL",
+        ]
+        for name, c in result.components.items()
+    ]
+    lines = [f"components: the joints' parts by their standards (loads x{factor:g}, or as is; V, N per screw)"]
+    lines += aligned(header, rows, left=frozenset({0, 1, 2, 3, 5, 6}))
+    assumed = sorted({a for c in result.components.values() for a in c.assumed})
+    if assumed:
+        text = f"assumed (not in seed 000 or a cited catalogue; [components] overrides): {', '.join(assumed)}"
+        lines += textwrap.wrap(text, 98, initial_indent="  ", subsequent_indent="    ")
+    return lines
+
+
+def component_figures(c) -> str:
+    """A component's figures in engineer's units (kN, N m, h)."""
+    f = c.figures
+    words = {
+        "force_N": lambda v: f"F {v / 1e3:.2f} kN",
+        "moment_Nm": lambda v: f"M {v:.3g} N m",
+        "torque_Nm": lambda v: f"T {v:.3g} N m" if v > 0 else "",
+        "shear_N": lambda v: f"V {v / 1e3:.2f} kN",
+        "tension_N": lambda v: f"N {v / 1e3:.2f} kN",
+        "static_safety": lambda v: f"s0 {_factor(v)}",
+        "life_h": lambda v: f"L10 {v:.2g} h" if math.isfinite(v) else "L10 unlimited (at rest)",
+        "equivalent_load_N": lambda v: f"P0 {v / 1e3:.2f} kN",
+    }
+    return ", ".join(w for k, v in f.items() if k in words and (w := words[k](v)))
 
 
 def bench_report(out: dict) -> str:

@@ -29,7 +29,7 @@ from railcheck.kinematics import batch
 from railcheck.kinematics.checks import fourbar_checks_batch, slidercrank_checks_batch
 from railcheck.kinematics.dynamics import STANDARD_GRAVITY
 from railcheck.kinematics.motion import crank_angles
-from railcheck.loads.bearings import bearing_life_of_magnitude
+from railcheck.loads.bearings import bearing_life_of_magnitude, relative_speeds
 from railcheck.model.kinematics_stage import joints_on_rails_flags
 from railcheck.model.loading import free_body_coefficients, source_coefficients, weight_cases_names, weight_columns
 from railcheck.parts import BAR_INDEX
@@ -168,7 +168,7 @@ def motor_and_bearings(ctx: SweepContext, loads: Loads, speed: float) -> dict:
     out["torque_peak_Nm"] = np.abs(torque).max(axis=1)
     out["torque_rms_Nm"] = np.sqrt(np.mean(torque**2, axis=1))
     out["power_peak_W"] = np.abs(torque * speed).max(axis=1)
-    relative = {"O2": w[0], "A": w[1] - w[0], "B": w[2] - w[1] if ctx.kind == "four-bar" else w[1], "O4": w[2]}
+    relative = relative_speeds(w[0], w[1], w[2], ctx.kind)
     lives, statics = [], []
     for joint in ("O2", "A", "B", "O4"):
         if joint not in R:

@@ -313,3 +313,8 @@ def test_the_scene_reference_lists_every_key_and_reads_as_a_scene():
     for key, value in scene.geometry.items():
         which, name = catalogue.OVERRIDABLE[key]
         assert value == pytest.approx(getattr(specs[which], name), rel=1e-12), key
+    from railcheck.components.ratings import COMPONENT_SPEC, OVERRIDABLE
+
+    assert set(doc["components"]) == set(OVERRIDABLE)  # every component key, at its default
+    for key in OVERRIDABLE:
+        assert getattr(scene.components, key) == pytest.approx(getattr(COMPONENT_SPEC, key), rel=1e-12), key

@@ -1,0 +1,58 @@
+"""A check's cycle -> the components' load histories and their results (one setting:
+floats). SI."""
+
+from __future__ import annotations
+
+import dataclasses
+
+from railcheck.components.checks import ComponentResult, JointHistories, Strengths, check_components
+from railcheck.fea.materials import MATERIALS
+from railcheck.loads.bearings import relative_speeds
+from railcheck.loads.weight import joint_vertical_loads, shaft_moment
+from railcheck.model.loading import linkage_lengths, rail_weight
+
+
+def joint_histories(scene, kin) -> JointHistories:
+    """The components' loads over the check's cycle: the kinematics' joint reactions and
+    motor torque (unfactored), the bars' angles, the bearings' relative speeds at the
+    scene's speed, a table-top rig's weight through the joints A and B and its moment at
+    the cantilevered bars' shafts (O2, O4)."""
+    motion, dyn = kin.motion, kin.dynamics
+    kind = motion.linkage.kind
+    theta, omega = motion.theta, motion.omega
+    vertical, moments = {}, {}
+    if scene.plane == "horizontal":
+        lengths = linkage_lengths(motion.linkage)
+        vertical = {j: float(v) for j, v in joint_vertical_loads(rail_weight(scene, "crank", kind), lengths).items()}
+        moments["O2"] = float(shaft_moment(rail_weight(scene, "crank", kind), lengths))
+        if kind == "four-bar":
+            moments["O4"] = float(shaft_moment(rail_weight(scene, "rocker", kind), lengths))
+    return JointHistories(
+        reactions=dict(dyn.reactions),
+        torque=dyn.torque,
+        angles={"crank": theta[:, 0], "coupler": theta[:, 1], "rocker": theta[:, 2]},
+        relative_speed=relative_speeds(omega[:, 0], omega[:, 1], omega[:, 2], kind),
+        vertical=vertical,
+        moments=moments,
+    )
+
+
+def check_scene_components(scene, kin) -> dict[str, ComponentResult]:
+    """name -> :class:`ComponentResult` of every component the scene's ``[check] parts``
+    lists, on its cycle (one check: floats)."""
+    material = MATERIALS[scene.checked.material]
+    strengths = Strengths(
+        material.ultimate_strength, material.yield_strength, scene.fatigue.surface, scene.fatigue.reliability
+    )
+    histories = joint_histories(scene, kin)
+    results = check_components(scene.checked.components, scene.components, histories, scene.checked.factor, strengths)
+    return {n: _as_floats(r) for n, r in results.items()}
+
+
+def _as_floats(r: ComponentResult) -> ComponentResult:
+    """``r`` with its 0-d arrays as floats (one check's figures)."""
+    return dataclasses.replace(
+        r,
+        utilisations={k: float(v) for k, v in r.utilisations.items()},
+        figures={k: float(v) for k, v in r.figures.items()},
+    )

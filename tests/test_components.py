@@ -1,0 +1,150 @@
+"""The joints' components against published figures: Shigley's worked shaft example, the
+EN 1993-1-8 bolt resistances tabulated in SCI P363 (the "blue book"), hand checks of the
+pin, the bolt group and the bearings, and the pipeline's verdict on both sides."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from railcheck.base.errors import InputError
+from railcheck.components import standards
+from railcheck.files import to_json
+from railcheck.scene import parse_scene
+
+COMPONENTS = ["driving-pin", "motor-shaft", "shaft-A", "shaft-B", "shaft-O4", "bolts-A", "bolts-B"]
+COMPONENTS += ["bearings-O2", "bearings-A", "bearings-B", "bearings-O4", "carriage-A", "carriage-B"]
+
+
+def test_de_goodman_and_first_cycle_yield_match_shigley_example_7_1():
+    # Shigley 10th ed., Example 7-1: d = 1.100 in, M_a = 1260 lbf in, T_m = 1100 lbf in,
+    # K_f = 1.58, K_fs = 1.39, S_e = 29.3 kpsi, S_ut = 105 kpsi, S_y = 82 kpsi:
+    # DE-Goodman n = 1.62, yield n_y = 4.48 (the units cancel: inches, lbf, psi)
+    u = standards.shaft_utilisations_of_parts(1260.0, 0.0, 0.0, 1100.0, 1.1, 1.58, 1.39, 29.3e3, 105e3, 82e3)
+    assert 1.0 / u["fatigue"] == pytest.approx(1.62, abs=0.005)
+    assert 1.0 / u["yield"] == pytest.approx(4.48, abs=0.01)
+
+
+def test_notch_sensitivity_matches_shigley_example_7_1():
+    # S_ut = 105 kpsi, r = 0.11 in: q = 0.85 (read from figure 6-20 in the example)
+    q = standards.notch_sensitivity(105e3 * 6.894757e3, 0.11 * 0.0254)
+    assert q == pytest.approx(0.85, abs=0.01)
+
+
+@pytest.mark.parametrize(
+    "d, area, shear_kn, tension_kn",
+    [(12e-3, 84.3e-6, 32.4, 48.6), (20e-3, 245e-6, 94.1, 141.0)],  # SCI P363, class 8.8, shear through the thread
+)
+def test_bolt_resistances_match_the_tabulated_en_1993_1_8_values(d, area, shear_kn, tension_kn):
+    one = np.array([[1.0]])
+    u = standards.bolt_utilisations(one, one, d, area, 800e6, 430e6, 10e-3, 0.6, 100e-3, 100e-3, d + 2e-3)
+    assert 1e-3 / u["shear"][0] == pytest.approx(shear_kn, rel=2e-3)
+    assert 1e-3 / u["tension"][0] == pytest.approx(tension_kn, rel=2e-3)
+
+
+def test_bolt_bearing_with_generous_distances_is_2_fu_d_t():
+    # k1 = 2.5, alpha_b = 1: F_b,Rd = 2.5 fu d t / 1.25; M20 in 10 mm S275 (fu 430 MPa): 172 kN
+    one = np.array([[1.0]])
+    u = standards.bolt_utilisations(one, one * 0, 20e-3, 245e-6, 800e6, 430e6, 10e-3, 0.6, 100e-3, 100e-3, 22e-3)
+    assert 1e-3 / u["bearing"][0] == pytest.approx(172.0, rel=1e-3)
+
+
+def test_elastic_bolt_group_shares_a_central_force_and_adds_the_eccentric_moment():
+    assert standards.bolt_group_forces(300.0, 400.0, 0.0, 0.06) == pytest.approx(250.0)
+    # a transverse force 70 mm from the centroid of two bolts 60 mm apart: F (1/2 + 70/60)
+    assert standards.bolt_group_forces(0.0, 600.0, 0.07, 0.06) == pytest.approx(600.0 * (0.5 + 0.07 / 0.06))
+
+
+def test_pin_by_hand_at_the_default_scenes_peak_torque():
+    # the issue's figures: 137.1 N m over the 60 mm arm, x1.4: 3.20 kN on a 7 mm pin
+    force = np.array([1.4 * 137.1 / 0.06])
+    u = standards.pin_utilisations(force, 7e-3, 13e-3, 10e-3, 1e-3, 640e6, 800e6, 490e6)
+    area, w_el = math.pi * 7e-3**2 / 4, math.pi * 7e-3**3 / 32
+    assert u["shear"] == pytest.approx(force[0] / (0.6 * area * 800e6 / 1.25))
+    assert u["bending"] == pytest.approx(force[0] * (6.5e-3 + 1e-3 + 5e-3) / (1.5 * w_el * 640e6))
+    assert u["bearing"] == pytest.approx(force[0] / (1.5 * 10e-3 * 7e-3 * 490e6))
+
+
+def _scene(components: dict | None = None, parts=None, **mechanism):
+    data = {
+        "mechanism": {"kind": "four-bar", "crank": "480 mm", "coupler": "840 mm", "rocker": "780 mm", "ground": "1020 mm"}
+        | {"speed": "1 Hz", "steps": 720}
+        | mechanism,
+        "check": {"parts": parts or COMPONENTS, "effects": ["inertia"]},
+    }
+    if components:
+        data["components"] = components
+    return parse_scene(data, "test")
+
+
+def _run(scene):
+    from railcheck.check.pipeline import run_pipeline
+    from railcheck.check.summary import summary_of
+
+    result = run_pipeline(scene)
+    return result, summary_of(result)
+
+
+def test_default_rig_components_fail_on_the_driving_pin_with_its_figures():
+    result, summary = _run(_scene())
+    assert "mesh" not in result.stages_run  # components alone: nothing meshed
+    pin = result.components["driving-pin"]
+    torque = np.abs(result.kinematics.dynamics.torque).max()
+    assert pin.figures["force_N"] == pytest.approx(1.4 * torque / 0.06)
+    assert summary["verdict"] == "FAIL"
+    assert any(f.startswith("driving-pin bending") for f in result.failures_with_figures)
+    written = json.loads(to_json(summary))["components"]  # summary.json: NaN and inf written as null or words
+    assert written["driving-pin"]["utilisation"] == pytest.approx(pin.utilisation) and not written["driving-pin"]["pass"]
+    bearing = result.components["bearings-A"]
+    peak = np.hypot(*result.kinematics.dynamics.reactions["A"].T).max()
+    assert bearing.figures["static_safety"] == pytest.approx(7800.0 / (peak / 2))
+
+
+def test_a_class_10_9_pin_passes_and_every_component_then_passes():
+    _, summary = _run(_scene({"pin_yield": "900 MPa", "pin_ultimate": "1000 MPa"}))
+    assert summary["verdict"] == "PASS", summary["failures_with_figures"]
+    assert all(c["pass"] for c in summary["components"].values())
+
+
+def test_at_rest_the_bearings_life_is_unlimited_and_written_without_inf():
+    result, summary = _run(_scene(speed="0 Hz"))
+    assert math.isinf(result.components["bearings-O2"].figures["life_h"])
+    assert result.components["bearings-O2"].utilisations["life"] == 0.0
+    to_json(summary)  # allow_nan=False: an inf left as a number would raise here
+
+
+def test_component_inputs_refused_in_one_line_naming_the_field():
+    with pytest.raises(InputError, match="components.pin_diameter"):
+        _scene({"pin_diameter": "8 mm"})  # wider than the rail's 7 mm hole
+    with pytest.raises(InputError, match="did you mean 'driving-pin'"):
+        _scene(parts=["driving-pn"])
+    with pytest.raises(InputError, match="components.shaft_kt"):
+        _scene({"shaft_kt": -1})
+    with pytest.raises(InputError, match="components.carriag_c0"):
+        _scene({"carriag_c0": "50 kN"})
+    with pytest.raises(InputError, match="no shaft-O4"):
+        parse_scene(
+            {
+                "mechanism": {"kind": "slider-crank", "crank": "120 mm", "coupler": "480 mm", "speed": "1 Hz"},
+                "check": {"parts": ["shaft-O4"]},
+            },
+            "test",
+        )
+
+
+def test_the_motor_shaft_carries_the_cranks_weight_moment_only_on_a_table_top_rig():
+    from railcheck.loads.weight import shaft_moment
+    from railcheck.model.loading import linkage_lengths, rail_weight
+
+    flat, _ = _run(_scene(parts=["motor-shaft", "bearings-O2"]))
+    upright, _ = _run(_scene(parts=["motor-shaft", "bearings-O2"], plane="vertical"))
+    scene = flat.scene
+    weight = abs(float(shaft_moment(rail_weight(scene, "crank", "four-bar"), linkage_lengths(scene.linkage_spec.linkage))))
+    in_plane = np.hypot(*flat.kinematics.dynamics.reactions["O2"].T).max() * 0.03
+    assert flat.components["motor-shaft"].figures["moment_Nm"] == pytest.approx(1.4 * (in_plane + weight))
+    assert weight > 20.0  # DESIGN.md section 12: about 25 N m at the crank's shaft
+    up = upright.kinematics.dynamics.reactions["O2"]
+    assert upright.components["motor-shaft"].figures["moment_Nm"] == pytest.approx(1.4 * 0.03 * np.hypot(*up.T).max())
