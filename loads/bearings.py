@@ -89,3 +89,13 @@ def relative_speeds(crank, coupler, output, kind: str) -> dict:
     if kind == "four-bar":
         out["O4"] = output
     return out
+
+
+def with_weight_couple(magnitude: np.ndarray, moment, spacing: float) -> np.ndarray:
+    """The joint load (N, as :func:`bearing_life_of_magnitude` takes it: shared by the
+    joint's two bearings) when the shaft also carries ``moment`` N m about an in-plane axis
+    (a table-top rig's cantilevered bar, its weight): each bearing then carries half the
+    joint force plus the couple ``|moment| / spacing`` (``spacing`` m between the
+    bearings), on the side where they add (an upper bound). ``moment`` (...,) broadcasts
+    over ``magnitude``'s steps (..., T)."""
+    return magnitude + 2.0 * np.abs(np.asarray(moment, float))[..., None] / spacing

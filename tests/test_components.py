@@ -148,3 +148,47 @@ def test_the_motor_shaft_carries_the_cranks_weight_moment_only_on_a_table_top_ri
     assert weight > 20.0  # DESIGN.md section 12: about 25 N m at the crank's shaft
     up = upright.kinematics.dynamics.reactions["O2"]
     assert upright.components["motor-shaft"].figures["moment_Nm"] == pytest.approx(1.4 * 0.03 * np.hypot(*up.T).max())
+
+
+def _swept(components=None, speed="1 Hz"):
+    """A components-only sweep of a narrowed rig (no FE: analytic, about a second)."""
+    import railcheck
+
+    data = {
+        "mechanism": {"kind": "four-bar", "crank": "480 mm", "coupler": "840 mm", "rocker": "780 mm", "ground": "1020 mm"},
+        "check": {"parts": COMPONENTS, "effects": ["inertia"]},
+        "sweep": {"kind": "four-bar", "crank": ["120 mm", "180 mm"], "coupler": ["600 mm", "660 mm"], "speeds": [speed]},
+    }
+    if components:
+        data["components"] = components
+    run = railcheck.sweep(data, serial=True)
+    columns = {k: np.array(v) for k, v in run.tables["four-bar"].to_pydict().items()}
+    keep = columns["verdict"] != "refused"
+    return {k: v[keep] for k, v in columns.items()}
+
+
+def test_a_sweeps_components_equal_a_check_of_the_setting_and_its_safe_speed_reaches_the_limit():
+    table = _swept({"pin_yield": "900 MPa", "pin_ultimate": "1000 MPa"})
+    assert table["verdict"].size > 100 and {f"{c}_utilisation" for c in COMPONENTS} <= set(table)
+    k = int(np.argmax(table["utilisation"]))  # the worst setting
+    row = {name: column[k] for name, column in table.items()}
+    mech = {b: f"{row[f'{b}_mm']:.6f} mm" for b in ("crank", "coupler", "rocker", "ground")}
+    comp = {"pin_yield": "900 MPa", "pin_ultimate": "1000 MPa"}
+    result, _ = _run(_scene(comp, **mech))
+    for name, c in result.components.items():  # the batch kinematics against the single setting's
+        assert row[f"{name}_utilisation"] == pytest.approx(c.utilisation, rel=1e-6), name
+    assert row["governing_part"] == max(result.components, key=lambda n: result.components[n].utilisation)
+    bearings = [c.figures["static_safety"] for n, c in result.components.items() if n.startswith("bearings-")]
+    assert row["bearing_static_safety"] == pytest.approx(min(bearings), rel=1e-6)  # one bearing model in both
+    at_safe, _ = _run(_scene(comp, speed=f"{row['safe_speed_Hz']:.12f} Hz", **mech))
+    worst = max(c.utilisation for c in at_safe.components.values())
+    assert worst == pytest.approx(1.0, abs=1e-6)  # the components set it: none beyond their limit there
+    assert row["safe_speed_part"] in COMPONENTS
+
+
+def test_a_failing_component_fails_the_sweeps_rows_with_its_criterion():
+    table = _swept(speed="3 Hz")  # the class 8.8 driving pin fails where the motor torque is large
+    named = np.array(["driving-pin" in (r or "") for r in table["reason"]])
+    assert named.any() and (table["verdict"][named] == "fail").all()
+    assert (table["driving-pin_utilisation"][named] > 1.0).all()
+    assert not named[table["driving-pin_utilisation"] <= 1.0].any()

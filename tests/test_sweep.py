@@ -619,7 +619,7 @@ def test_refusal_reasons_list_each_settings_failed_checks_in_order():
     """Each setting's reason is its failed configuration checks joined in the checks'
     order ("" when none fails), as one join per setting gives it; the combinations are
     joined once each."""
-    from railcheck.sweep.chunk import refusal_reasons
+    from railcheck.sweep.columns import refusal_reasons
 
     rng = np.random.default_rng(3)
     names = ["assembly", "grashof", "transmission_angle", "crank_rail_collision", "hole_grid", "joints_on_rails"]

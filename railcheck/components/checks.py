@@ -29,7 +29,7 @@ import numpy as np
 from railcheck.components import standards
 from railcheck.components.ratings import ASSUMED, COMPONENTS, Component, ComponentSpec
 from railcheck.fea.fatigue import endurance_limit, size_factor_of_diameter
-from railcheck.loads.bearings import BallBearing, bearing_life_of_magnitude
+from railcheck.loads.bearings import BallBearing, bearing_life_of_magnitude, with_weight_couple
 
 #: each kind's standard, as the output names it
 STANDARDS = {
@@ -207,9 +207,8 @@ def _bolts(c: Component, spec: ComponentSpec, h: JointHistories, f: float, m: St
 
 def _bearings(c: Component, spec: ComponentSpec, h: JointHistories, f: float, m: Strengths):
     bearing = BallBearing("6205", spec.bearing_dynamic, spec.bearing_static)
-    couple = np.abs(np.asarray(h.moments.get(c.joint, 0.0), float))[..., None] / spec.bearing_spacing
-    # each of the two bearings: half the joint force and the weight's moment as a couple over their spacing
-    life = bearing_life_of_magnitude(_magnitude(h.reactions[c.joint]) + 2.0 * couple, h.relative_speed[c.joint], bearing)
+    load = with_weight_couple(_magnitude(h.reactions[c.joint]), h.moments.get(c.joint, 0.0), spec.bearing_spacing)
+    life = bearing_life_of_magnitude(load, h.relative_speed[c.joint], bearing)
     hours = spec.bearing_required_life / 3600.0
     with np.errstate(divide="ignore"):
         u = {

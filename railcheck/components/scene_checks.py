@@ -40,13 +40,17 @@ def joint_histories(scene, kin) -> JointHistories:
 def check_scene_components(scene, kin) -> dict[str, ComponentResult]:
     """name -> :class:`ComponentResult` of every component the scene's ``[check] parts``
     lists, on its cycle (one check: floats)."""
-    material = MATERIALS[scene.checked.material]
-    strengths = Strengths(
-        material.ultimate_strength, material.yield_strength, scene.fatigue.surface, scene.fatigue.reliability
-    )
+    strengths = strengths_of(scene)
     histories = joint_histories(scene, kin)
     results = check_components(scene.checked.components, scene.components, histories, scene.checked.factor, strengths)
     return {n: _as_floats(r) for n, r in results.items()}
+
+
+def strengths_of(scene) -> Strengths:
+    """The strengths the components read: the scene's material, its fatigue surface and
+    reliability."""
+    material = MATERIALS[scene.checked.material]
+    return Strengths(material.ultimate_strength, material.yield_strength, scene.fatigue.surface, scene.fatigue.reliability)
 
 
 def _as_floats(r: ComponentResult) -> ComponentResult:

@@ -29,11 +29,19 @@ from railcheck.kinematics import batch
 from railcheck.kinematics.checks import fourbar_checks_batch, slidercrank_checks_batch
 from railcheck.kinematics.dynamics import STANDARD_GRAVITY
 from railcheck.kinematics.motion import crank_angles
-from railcheck.loads.bearings import bearing_life_of_magnitude, relative_speeds
+from railcheck.loads.bearings import bearing_life_of_magnitude, relative_speeds, with_weight_couple
 from railcheck.model.kinematics_stage import joints_on_rails_flags
 from railcheck.model.loading import free_body_coefficients, source_coefficients, weight_cases_names, weight_columns
 from railcheck.parts import BAR_INDEX
-from railcheck.sweep.context import Loads, SweepContext
+from railcheck.sweep.columns import fe_columns
+from railcheck.sweep.components import (
+    components_of_settings,
+    no_part_results,
+    swept_components,
+    weight_of_settings,
+    with_components,
+)
+from railcheck.sweep.context import Loads, SweepContext, reactions_at, setting_lengths
 from railcheck.sweep.motor import (
     MOTOR_CURVE_KEY,
     demand_at_safe,
@@ -53,7 +61,6 @@ from railcheck.sweep.validity import (
 )
 from railcheck.sweep.verdicts import (
     SAFE_SPEED_SCAN,
-    failed_criteria,
     governing_of,
     quasi_static_share,
     safe_s_bisect,
@@ -142,20 +149,10 @@ def loads_of(ctx: SweepContext, lengths: dict) -> Loads:
     return Loads(motion, static, inertial, constant)
 
 
-def reactions_at(loads: Loads, s: float) -> tuple[dict, np.ndarray]:
-    """(joint -> (S, T, 2) N, torque (S, T) N m) at speed ratio squared ``s``."""
-    parts = [(d, w) for d, w in ((loads.constant, 1.0), (loads.inertial, s)) if d is not None]
-    ref = loads.inertial or loads.constant
-    if not parts or ref is None:
-        raise ValueError("no effect to simulate")
-    R = {j: sum(w * d.reactions[j] for d, w in parts) for j in ref.reactions}
-    torque: np.ndarray = sum(w * d.torque for d, w in parts)  # type: ignore[assignment]  # a sum of arrays
-    return R, torque
-
-
 def motor_and_bearings(ctx: SweepContext, loads: Loads, speed: float) -> dict:
     """Peak reactions, motor torque (peak, RMS), peak power and the joints' bearing
-    equivalent loads and L10 lives at ``speed`` rad/s: columns (S,)."""
+    equivalent loads and L10 lives at ``speed`` rad/s (on a table-top rig, O2 and O4 also
+    carry their cantilevered bar's weight moment as a couple over the bearings): columns (S,)."""
 
     s = (speed / ctx.speeds[0]) ** 2
     R, torque = reactions_at(loads, s)
@@ -170,10 +167,12 @@ def motor_and_bearings(ctx: SweepContext, loads: Loads, speed: float) -> dict:
     out["power_peak_W"] = np.abs(torque * speed).max(axis=1)
     relative = relative_speeds(w[0], w[1], w[2], ctx.kind)
     lives, statics = [], []
+    moments = weight_of_settings(ctx, loads.motion, np.arange(torque.shape[0]))["moments"]
     for joint in ("O2", "A", "B", "O4"):
         if joint not in R:
             continue
-        life = bearing_life_of_magnitude(size[joint], relative[joint])
+        load = with_weight_couple(size[joint], moments.get(joint, 0.0), ctx.scene.components.bearing_spacing)
+        life = bearing_life_of_magnitude(load, relative[joint])
         out[f"bearing_{joint}_load_N"] = life.equivalent_load
         out[f"bearing_{joint}_peak_N"] = life.peak_load
         lives.append(life.l10_hours)
@@ -250,14 +249,6 @@ def free_coeffs(model, reactions: dict, torque: np.ndarray, motion, sel: np.ndar
         by_bar(motion.alpha),
         setting_lengths(motion, sel),
     )
-
-
-def setting_lengths(motion, sel: np.ndarray) -> dict:
-    """bar -> (S_sel, 1) m: the settings' crank, coupler and rocker lengths (a slider-crank's
-    rocker 0), shaped to broadcast over steps."""
-    n = np.size(motion.lengths["crank"])
-    get = lambda bar: np.broadcast_to(np.reshape(motion.lengths.get(bar, 0.0), -1), (n,))  # noqa: E731
-    return {bar: get(bar)[sel][:, None] for bar in ("crank", "coupler", "rocker")}
 
 
 def weight_part(model, motion, sel: np.ndarray, shape: tuple) -> np.ndarray:
@@ -438,7 +429,7 @@ def evaluate_chunk(ctx: SweepContext, lengths: dict, ids: np.ndarray) -> dict:
         col["mu_min_deg"], col["mu_max_deg"] = np.degrees(flags["mu_min"]), np.degrees(flags["mu_max"])
         for key in kinematic_columns(ctx):
             col[key] = _scatter(n, idx, rev["kin"][j][key]) if idx.size else np.full(n, np.nan)
-        col |= _fe_columns(ctx, n, fe, j, w, passed, checks)
+        col |= fe_columns(ctx, n, fe, j, passed, checks)
         col |= motor["columns"]
         rows.append(col)
     out = {k: np.stack([r[k] for r in rows], axis=1).reshape(-1) for k in rows[0]}
@@ -472,12 +463,19 @@ def revolving_results(ctx: SweepContext, lengths: dict, idx: np.ndarray, passed:
         # every group's FE settings at once: the settings that share a part's hole pair are
         # screened together (:func:`railcheck.fea.screening.groups.peak_and_fatigue`); a chunk holds at
         # most :func:`railcheck.sweep.run.checked_chunk_size` of them
-        res = fe_results(
-            ctx,
-            joined_histories([g["fe_histories"] for g in with_fe]),
-            {b: np.concatenate([g["fe_lengths"][b] for g in with_fe]) for b in lengths},
-            [(w / ctx.speeds[0]) ** 2 for w in ctx.speeds],
+        n_fe = sum(g["fe_sel"].size for g in with_fe)
+        res = (
+            fe_results(
+                ctx,
+                joined_histories([g["fe_histories"] for g in with_fe]),
+                {b: np.concatenate([g["fe_lengths"][b] for g in with_fe]) for b in lengths},
+                [(w / ctx.speeds[0]) ** 2 for w in ctx.speeds],
+            )
+            if ctx.models
+            else no_part_results(n_fe, len(ctx.speeds))
         )
+        if "components" in with_fe[0]:  # the joints' components bound the safe speed too
+            res = with_components(res, concat_trees([g["components"] for g in with_fe]))
         ends = np.cumsum([g["fe_sel"].size for g in with_fe])
         safe = np.split(res["safe_s"], ends[:-1])
         out |= {
@@ -501,14 +499,18 @@ def _revolving_group(ctx: SweepContext, lengths: dict, rows: np.ndarray, passed:
         "curve": motor_demand(loads, ctx.speeds[0], motor_curve_speeds(ctx.speeds)),
     }
     fe_sel = np.flatnonzero(passed[rows])
-    if ctx.models and fe_sel.size:
+    components = swept_components(ctx)
+    if (ctx.models or components) and fe_sel.size:
         out |= {
             "fe_at": rows[fe_sel],
             "fe_sel": fe_sel,
             "fe_lengths": {b: v[fe_sel] for b, v in sub.items()},
-            "fe_histories": fe_histories(ctx, loads, fe_sel),
             "fe_torque": torque_parts(loads, fe_sel),
         }
+        if ctx.models:
+            out["fe_histories"] = fe_histories(ctx, loads, fe_sel)
+        if components:
+            out["components"] = components_of_settings(ctx, loads, fe_sel)
     return out
 
 
@@ -527,58 +529,3 @@ def _scatter(n: int, idx: np.ndarray, values: np.ndarray, fill=np.nan) -> np.nda
     out = np.full(n, fill, dtype=float)
     out[idx] = values
     return out
-
-
-def _fe_columns(ctx: SweepContext, n: int, fe, j: int, speed: float, passed: np.ndarray, checks: dict) -> dict:
-    """Per-part columns, the utilisation, governing part, safe speed, verdict and reason."""
-    col: dict[str, np.ndarray] = {}
-    worst, governing = np.full(n, np.nan), np.full(n, "", dtype=object)
-    failing: dict[int, list[str]] = {}  # setting -> its failed criteria, in the parts' order
-    for name, m in ctx.models.items():
-        vm, fat, tip, amp, u = (np.full(n, np.nan) for _ in range(5))
-        if fe is not None:
-            at, res = fe
-            vm[at], fat[at], tip[at], amp[at], u[at] = res["per_speed"][j][name]
-            for failed, fails in failed_criteria(m, vm[at], fat[at], tip[at], amp[at]).items():
-                for i in at[fails]:
-                    failing.setdefault(int(i), []).append(f"{name} {failed}")
-        col[f"{name}_stress_MPa"], col[f"{name}_fatigue"] = vm / 1e6, fat
-        col[f"{name}_tip_mm"], col[f"{name}_utilisation"] = tip * 1e3, u
-        if m.dynamic is not None:
-            col[f"{name}_amplification"] = amp
-        elif m.certified and m.constant is None:
-            col[f"{name}_amplification_estimate"] = amp
-        better = np.isfinite(u) & ~(u <= worst)
-        worst, governing = np.where(better, u, worst), np.where(better, name, governing)
-    safe = np.full(n, np.nan)
-    criterion, safe_part, safe_criterion = (np.full(n, "", dtype=object) for _ in range(3))
-    if fe is not None:
-        at, res = fe
-        safe[at] = ctx.speeds[0] * np.sqrt(res["safe_s"]) / (2 * math.pi)
-        safe_part[at], safe_criterion[at] = res["safe_governs"]
-        criterion[at] = governing_of(ctx, res["per_speed"][j])[1]
-    col["utilisation"], col["governing_part"], col["governing_criterion"] = worst, governing, criterion
-    col["safe_speed_Hz"], col["safe_speed_part"], col["safe_speed_criterion"] = safe, safe_part, safe_criterion
-    col["safe_speed_unlimited"] = np.isinf(safe)  # the table holds null for the infinite speed
-    fails = np.zeros(n, dtype=bool)
-    fails[list(failing)] = True
-    reason = refusal_reasons(checks, n)  # object: any length
-    reason[passed] = ""
-    for i, criteria in failing.items():
-        if passed[i]:
-            reason[i] = ", ".join(criteria)
-    verdict = np.where(~passed, "refused", np.where(fails, "fail", "pass"))
-    col["verdict"], col["reason"] = verdict.astype(object), reason
-    return col
-
-
-def refusal_reasons(checks: dict[str, np.ndarray], n: int) -> np.ndarray:
-    """(n,) object: each setting's failed configuration checks, comma-separated in the
-    checks' order ("" where none fails); each distinct combination is joined once."""
-    names = list(checks)
-    code = np.zeros(n, dtype=np.int64)
-    for bit, name in enumerate(names):
-        code |= (~np.asarray(checks[name], dtype=bool)).astype(np.int64) << bit
-    combos, which = np.unique(code, return_inverse=True)
-    text = [", ".join(name for bit, name in enumerate(names) if combo >> bit & 1) for combo in combos.tolist()]
-    return np.array(text, dtype=object)[which.reshape(-1)]

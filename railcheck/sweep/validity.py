@@ -29,6 +29,7 @@ from railcheck.sweep.verdicts import (
     criterion_utilisations,
     governing_of,
     illinois,
+    increasing_crossing,
     quasi_static_share,
     refine_crossing,
     safe_s_convex,
@@ -232,37 +233,9 @@ def safe_s_with_margin(margin, upper: np.ndarray, n: int) -> np.ndarray:
 def share_crossing(share_of, n: int, iterations: int = 60) -> np.ndarray:
     """(n,) the speed ratio squared at which the largest certified estimate's share
     ``share_of(s, idx)`` (of the settings ``idx`` at their ``s``; no FE: the load spectra
-    alone) reaches 1: extrapolated from s = 1 until it is exceeded
-    (:func:`_extrapolation_factor`), then refined
-    (:func:`refine_crossing`, each setting until its own tolerance, so a setting's answer
-    does not depend on the others it is computed with); each step evaluates only the
-    settings still searched. Below the first resonance the estimate grows with the speed,
-    so the crossing is single. inf where no s up to 2^60 reaches it."""
-    every = np.arange(n)
-    prev, u_prev = np.zeros(n), share_of(np.zeros(n), every)
-    lo, u_lo, hi = prev.copy(), u_prev.copy(), np.ones(n)
-    u_hi = share_of(hi, every)
-    for _ in range(60):
-        short = np.flatnonzero(~(u_hi > 1.0) & (hi < 2.0**60))
-        if short.size == 0:
-            break
-        prev[short], u_prev[short] = lo[short], u_lo[short]
-        lo[short], u_lo[short] = hi[short], u_hi[short]
-        hi[short] *= _extrapolation_factor(u_hi[short])
-        u_hi[short] = share_of(hi[short], short)
-    crossing = u_hi > 1.0
-    s = refine_crossing(share_of, (lo, u_lo), (hi, u_hi), (prev, u_prev), crossing & (u_lo <= 1.0), iterations)
-    return np.where(crossing, np.where(u_lo > 1.0, 0.0, s), np.inf)
-
-
-def _extrapolation_factor(share: np.ndarray) -> np.ndarray:
-    """How far to multiply ``s`` to reach the estimate's crossing from a point where its
-    share is ``share`` (< 1): the line through rest (share 0) says ``1 / share``; the
-    share grows faster than ``s`` (the response's excess grows as ``r^2`` of a load that
-    grows with ``s``), so that line reaches past the crossing. At least doubled, at most
-    2^20 in one step."""
-    with np.errstate(divide="ignore"):
-        return np.clip(1.0 / np.maximum(share, 0.0), 2.0, 2.0**20)
+    alone) reaches 1 (:func:`railcheck.sweep.verdicts.increasing_crossing`): below the first
+    resonance the estimate grows with the speed, so the crossing is single."""
+    return increasing_crossing(share_of, n, iterations)
 
 
 def scattered(full: dict, idx: np.ndarray, part: dict) -> dict:

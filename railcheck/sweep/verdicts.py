@@ -243,6 +243,41 @@ def _next_iterate(xs: list, fs: list, a, b, fa, fb) -> np.ndarray:
     return x
 
 
+def increasing_crossing(u_of, n: int, iterations: int = 60) -> np.ndarray:
+    """(n,) the speed ratio squared at which ``u_of(s, idx)`` (a utilisation of the
+    settings ``idx`` at their ``s``, growing with s) reaches 1: extrapolated from s = 1
+    until it is exceeded (:func:`_extrapolation_factor`), then refined
+    (:func:`refine_crossing`, each setting until its own tolerance, so a setting's answer
+    does not depend on the others it is computed with); each step evaluates only the
+    settings still searched. 0 where it exceeds 1 at rest, inf where no s up to 2^60
+    reaches it."""
+    every = np.arange(n)
+    prev, u_prev = np.zeros(n), u_of(np.zeros(n), every)
+    lo, u_lo, hi = prev.copy(), u_prev.copy(), np.ones(n)
+    u_hi = u_of(hi, every)
+    for _ in range(60):
+        short = np.flatnonzero(~(u_hi > 1.0) & (hi < 2.0**60))
+        if short.size == 0:
+            break
+        prev[short], u_prev[short] = lo[short], u_lo[short]
+        lo[short], u_lo[short] = hi[short], u_hi[short]
+        hi[short] *= _extrapolation_factor(u_hi[short])
+        u_hi[short] = u_of(hi[short], short)
+    crossing = u_hi > 1.0
+    s = refine_crossing(u_of, (lo, u_lo), (hi, u_hi), (prev, u_prev), crossing & (u_lo <= 1.0), iterations)
+    return np.where(crossing, np.where(u_lo > 1.0, 0.0, s), np.inf)
+
+
+def _extrapolation_factor(share: np.ndarray) -> np.ndarray:
+    """How far to multiply ``s`` to reach a crossing from a point where the utilisation
+    is ``share`` (< 1): the line through rest (0 there) says ``1 / share``; where it grows
+    faster than ``s`` (the certificate's estimate: the response's excess grows as ``r^2`` of
+    a load that grows with ``s``) that line reaches past the crossing. At least doubled, at
+    most 2^20 in one step."""
+    with np.errstate(divide="ignore"):
+        return np.clip(1.0 / np.maximum(share, 0.0), 2.0, 2.0**20)
+
+
 def illinois(u_of, a, u_a, b, u_b, iterations: int):
     """Refine brackets ``[a, b]`` (u(a) <= 1 < u(b), vectorised) of ``u(x) = 1`` by regula
     falsi with the Illinois modification (superlinear on smooth crossings, never leaving
