@@ -5,7 +5,10 @@ A :class:`PartKind` says how to build, hold, mesh and measure a kind of part; a
 (:class:`LoadSource`: which joint's reaction, with which sign, in which bar's axes).
 Every stage reads this module: the scene (part names), the loads (sources), geometry and
 mesh (builder, default sizes), the FE (support, tip, support exclusion) and the report.
-Adding a part is one :class:`Part` entry (plus a gmsh builder for a new kind).
+Adding a part is one :class:`Part` entry (plus a gmsh builder for a new kind). The joints'
+components (pins, shafts, screws, bearings, carriages: no mesh, checked analytically) are
+registered beside them, :data:`COMPONENTS` (:mod:`railcheck.components.ratings`); ``[check]
+parts`` names both.
 """
 
 from __future__ import annotations
@@ -13,6 +16,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Callable
 
+from railcheck.components.ratings import COMPONENTS  # noqa: F401  the joints' components, checked by their standards
 from railcheck.geometry.catalogue import rail_mass_per_metre_with_holes, with_overrides
 from railcheck.geometry.models import i_profile, joint_plate, rail
 from railcheck.kinematics.massmodel import MassModel

@@ -18,7 +18,7 @@ from typing import Any
 
 from railcheck import parts as registry
 from railcheck.base.errors import InputError
-from railcheck.components.ratings import COMPONENT_SPEC, COMPONENTS, NOT_ON_SLIDER_CRANK, ComponentSpec
+from railcheck.components.ratings import COMPONENT_SPEC, NOT_ON_SLIDER_CRANK, ComponentSpec
 from railcheck.components.ratings import OVERRIDABLE as COMPONENT_KEYS
 from railcheck.fea.fatigue import CRITERIA, LOAD, RELIABILITY, SURFACE  # light module: numpy only
 from railcheck.fea.materials import MATERIALS  # light module: no skfem import
@@ -259,12 +259,12 @@ def _check(table: dict, loads_table: dict, formulation: str = "newton-euler") ->
     if not isinstance(listed, list) or not listed or not all(isinstance(x, str) for x in listed):
         raise InputError(p + "parts", f"must be a non-empty list of part names ({', '.join(known)})")
     for name in listed:
-        if name not in known and name not in COMPONENTS:
-            raise InputError(p + "parts", f"unknown part {name!r}{_did_you_mean(name, (*known, *COMPONENTS))}")
+        if name not in known and name not in registry.COMPONENTS:
+            raise InputError(p + "parts", f"unknown part {name!r}{_did_you_mean(name, (*known, *registry.COMPONENTS))}")
     if len(set(listed)) != len(listed):
         raise InputError(p + "parts", "lists a part twice")
     parts = [n for n in listed if n in known]
-    components = tuple(n for n in listed if n in COMPONENTS)
+    components = tuple(n for n in listed if n in registry.COMPONENTS)
     factor = table.get("factor", 1.4)
     if isinstance(factor, bool) or not isinstance(factor, (int, float)) or not math.isfinite(factor) or factor <= 0:
         raise InputError(p + "factor", f"must be a positive number (a dimensionless load factor), got {factor!r}")
