@@ -215,3 +215,33 @@ def test_each_criterion_fails_a_component_and_the_verdict(override, component, c
     c = result.components[component]
     assert c.utilisations[criterion] > 1.0 and not c.passed
     assert summary["verdict"] == "FAIL" and f"{component} {criterion}" in result.failures
+
+
+def test_a_sweep_of_both_kinds_skips_the_rockers_components_on_the_slider_crank():
+    import railcheck
+
+    data = {
+        "mechanism": {"kind": "four-bar", "crank": "480 mm", "coupler": "840 mm", "rocker": "780 mm", "ground": "1020 mm"},
+        "check": {"parts": COMPONENTS, "effects": ["inertia"]},
+        "sweep": {
+            "crank": ["60 mm", "120 mm"],
+            "coupler": ["120 mm", "360 mm"],
+        },
+    }
+    run = railcheck.sweep(data, serial=True)
+    slider = run.tables["slider-crank"].column_names
+    assert "shaft-O4_utilisation" not in slider and "driving-pin_utilisation" in slider
+    assert "shaft-O4_utilisation" in run.tables["four-bar"].column_names
+
+
+def test_a_chunk_that_checks_no_setting_writes_every_components_column():
+    # every chunk writes one schema: a chunk with no setting to check has NaN columns
+    from railcheck.geometry.catalogue import RAIL
+    from railcheck.sweep.columns import fe_columns
+    from railcheck.sweep.context import SweepContext
+
+    scene = _scene()
+    ctx = SweepContext(scene, "four-bar", (2 * math.pi,), 720, {}, 7850.0, RAIL)
+    col = fe_columns(ctx, 3, None, 0, np.zeros(3, dtype=bool), {})
+    assert {f"{c}_utilisation" for c in COMPONENTS} <= set(col)
+    assert np.isnan(col["driving-pin_utilisation"]).all() and (col["verdict"] == "refused").all()

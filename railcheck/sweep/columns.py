@@ -8,6 +8,7 @@ import math
 
 import numpy as np
 
+from railcheck.sweep.components import swept_components
 from railcheck.sweep.context import SweepContext
 from railcheck.sweep.verdicts import failed_criteria, governing_of
 
@@ -42,7 +43,7 @@ def fe_columns(ctx: SweepContext, n: int, fe, j: int, passed: np.ndarray, checks
         safe_part[at], safe_criterion[at] = res["safe_governs"]
         if res["per_speed"][j]:
             criterion[at] = governing_of(ctx, res["per_speed"][j])[1]
-        worst, governing, criterion = _component_columns(col, n, fe, j, (worst, governing, criterion), failing)
+    worst, governing, criterion = _component_columns(ctx, col, n, fe, j, (worst, governing, criterion), failing)
     col["utilisation"], col["governing_part"], col["governing_criterion"] = worst, governing, criterion
     col["safe_speed_Hz"], col["safe_speed_part"], col["safe_speed_criterion"] = safe, safe_part, safe_criterion
     col["safe_speed_unlimited"] = np.isinf(safe)  # the table holds null for the infinite speed
@@ -70,21 +71,22 @@ def refusal_reasons(checks: dict[str, np.ndarray], n: int) -> np.ndarray:
     return np.array(text, dtype=object)[which.reshape(-1)]
 
 
-def _component_columns(col: dict, n: int, fe, j: int, governs: tuple, failing: dict) -> tuple:
-    """Each component's utilisation column at the ``j``-th speed; ``governs`` (worst,
+def _component_columns(ctx: SweepContext, col: dict, n: int, fe, j: int, governs: tuple, failing: dict) -> tuple:
+    """Each listed component's utilisation column at the ``j``-th speed (NaN where a
+    setting is not checked: every chunk writes the same columns); ``governs`` (worst,
     part, criterion) updated where a component's utilisation is the larger, and its failed
     criteria added to ``failing``."""
-    at, res = fe
     worst, governing, criterion = (np.array(a, copy=True) for a in governs)
-    for name, (u_at, crit_at, failed_at) in res.get("components", [{}] * (j + 1))[j].items():
-        u = np.full(n, np.nan)
-        u[at] = u_at
+    at, per = (np.zeros(0, dtype=np.int64), {}) if fe is None else (fe[0], fe[1].get("components", [{}] * (j + 1))[j])
+    for name in swept_components(ctx):
+        u, crit = np.full(n, np.nan), np.full(n, "", dtype=object)
+        if name in per:
+            u_at, crit_at, failed_at = per[name]
+            u[at], crit[at] = u_at, crit_at
+            for i, why in zip(at[failed_at != ""], failed_at[failed_at != ""]):
+                failing.setdefault(int(i), []).append(f"{name} {why}")
         col[f"{name}_utilisation"] = u
         better = np.isfinite(u) & ~(u <= worst)
         worst, governing = np.where(better, u, worst), np.where(better, name, governing)
-        crit = np.full(n, "", dtype=object)
-        crit[at] = crit_at
         criterion = np.where(better, crit, criterion)
-        for i, why in zip(at[failed_at != ""], failed_at[failed_at != ""]):
-            failing.setdefault(int(i), []).append(f"{name} {why}")
     return worst, governing, criterion

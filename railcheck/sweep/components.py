@@ -13,6 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from railcheck.components.checks import JointHistories, check_components
+from railcheck.components.ratings import NOT_ON_SLIDER_CRANK
 from railcheck.components.scene_checks import strengths_of
 from railcheck.loads.bearings import relative_speeds
 from railcheck.loads.weight import joint_vertical_loads, shaft_moment
@@ -22,8 +23,10 @@ from railcheck.sweep.verdicts import increasing_crossing
 
 
 def swept_components(ctx: SweepContext) -> tuple[str, ...]:
-    """The components the sweep's scene lists (none: none run)."""
-    return ctx.scene.check.components if ctx.scene.check is not None else ()
+    """The components the sweep's scene lists that this kind of linkage has (none listed:
+    none run; a slider-crank has no rocker, so no O4 shaft or bearings)."""
+    listed = ctx.scene.check.components if ctx.scene.check is not None else ()
+    return tuple(c for c in listed if ctx.kind == "four-bar" or c not in NOT_ON_SLIDER_CRANK)
 
 
 def sweep_histories(ctx: SweepContext, loads: Loads, sel: np.ndarray, s) -> JointHistories:
