@@ -245,3 +245,23 @@ def test_a_chunk_that_checks_no_setting_writes_every_components_column():
     col = fe_columns(ctx, 3, None, 0, np.zeros(3, dtype=bool), {})
     assert {f"{c}_utilisation" for c in COMPONENTS} <= set(col)
     assert np.isnan(col["driving-pin_utilisation"]).all() and (col["verdict"] == "refused").all()
+
+
+def test_bearing_life_matches_a_published_worked_example():
+    # C = 50 kN, P = 10 kN per bearing at 1500 r/min: L10h = (50/10)^3 1e6 / (60 x 1500) = 1388.9 h
+    # (theprimecalculator.com's worked example of the ISO 281 basic rating life)
+    from railcheck.loads.bearings import BallBearing, bearing_life_of_magnitude
+
+    speed = np.full(720, 1500 * 2 * math.pi / 60)
+    life = bearing_life_of_magnitude(np.full(720, 2 * 10e3), speed, BallBearing("x", 50e3, 25e3))
+    assert life.l10_hours == pytest.approx(1388.9, rel=1e-4)
+
+
+def test_carriage_static_safety_matches_a_published_example_and_sums_moments_linearly():
+    # a carriage of C0 = 28.6 kN under 8 kN with a load factor 1.5: S0 = 28.6 / 12 = 2.38
+    # (Technische Antriebselemente's linear-guide sizing example)
+    p0 = standards.carriage_equivalent_load(0.0, 8e3 * 1.5, 0.0, 0.0, 0.0, 28.6e3, 300.0, 250.0, 250.0)
+    assert 28.6e3 / p0 == pytest.approx(2.383, abs=1e-3)
+    # each moment counts as its share of its rating, in C0's units (PBC Linear's multiple-load rule)
+    p0 = standards.carriage_equivalent_load(1e3, 2e3, 30.0, 25.0, 0.0, 28.6e3, 300.0, 250.0, 250.0)
+    assert p0 / 28.6e3 == pytest.approx(1e3 / 28.6e3 + 2e3 / 28.6e3 + 30 / 300 + 25 / 250)
