@@ -203,6 +203,8 @@ def test_default_check_end_to_end(tmp_path):
         assert f"{p['tip_deflection_m'] * 1e3:.2f}" in cells
         assert ("PASS" if p["pass"] else "FAIL") in line
     assert proc.returncode == (0 if summary["verdict"] == "PASS" else 1)
+    assert_readme_example_is(proc.stdout)
+    assert all(len(line) <= 100 for line in proc.stdout.splitlines() if not line.startswith("results in"))
     # one self-contained report: tables and every picture inline, as a browser shows it
     page = (out / "report.html").read_text()
     assert "http://" not in page and "https://" not in page and "<script" not in page
@@ -225,6 +227,22 @@ def test_default_check_end_to_end(tmp_path):
     # determinism: the same scene gives a byte-identical summary
     assert (tmp_path / "results-2" / "summary.json").read_bytes() == (out / "summary.json").read_bytes()
     assert json.loads(again.stdout)["parts"] == summary["parts"]
+
+
+def assert_readme_example_is(stdout: str) -> None:
+    """The README's worked example is this console as printed: each run of its lines
+    between the ``[...]`` marks (lines left out) appears, in order and unbroken, in
+    ``stdout``."""
+    from pathlib import Path
+
+    readme = (Path(__file__).parents[1] / "README.md").read_text()
+    block = readme.split("## Worked example", 1)[1].split("```\n", 2)[1]
+    lines, at = stdout.splitlines(), 0
+    for run in block.split("  [...]\n"):
+        want = [line for line in run.splitlines() if line]
+        found = [k for k in range(at, len(lines) - len(want) + 1) if lines[k : k + len(want)] == want]
+        assert found, f"the README's worked example is not the console's: {want}"
+        at = found[0] + len(want)
 
 
 def test_rail_mass_is_reported_beside_the_seeds():

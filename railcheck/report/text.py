@@ -55,67 +55,69 @@ def aligned(header: list[str], rows: list[list[str]], left: frozenset = frozense
     return [line(header), *(line(r) for r in rows)]
 
 
+#: the console's width: every line of a check's report fits it (longer notes wrap)
+CONSOLE_WIDTH = 100
+
+
+def fit_width(text: str, width: int = CONSOLE_WIDTH) -> str:
+    """``text`` with every line longer than ``width`` wrapped at words, its continuation
+    indented four spaces past the line's own indent (tables' rows are built to fit)."""
+    out = []
+    for line in text.splitlines():
+        if len(line) <= width:
+            out.append(line)
+            continue
+        indent = " " * (len(line) - len(line.lstrip()))
+        out += textwrap.wrap(
+            line.strip(),
+            width,
+            initial_indent=indent,
+            subsequent_indent=indent + "    ",
+            break_on_hyphens=False,
+            break_long_words=False,  # a path stays whole: it may run past the width
+        )
+    return "\n".join(out)
+
+
 def parts_table(result) -> str:
-    """The console table: the cycle envelope's peak and where in the cycle, the seed
-    method's single instant beside it, the fatigue factor, the utilisation with the
-    criterion that governs it, and each verdict naming every failed criterion."""
-    header = [
-        "part",
-        "cycle max vM (MPa)",
-        "at crank (deg)",
-        "2013 inst. (MPa)",
-        "tip defl. (mm)",
-        "limit (MPa)",
-        "FoS",
-        "fatigue n",
-        "utilisation",
-        "governs",
-        "verdict",
-        "peak at x, y, z (mm)",
-        "at support* (MPa)",
-    ]
+    """The console table: the cycle envelope's peak and where in the cycle, the fatigue
+    factor, the largest deflection, the utilisation with the criterion that governs it,
+    and each verdict naming every failed criterion; then the legend and the notes. The
+    2013 study's single instant, the factor of safety, the peak's place and the support's
+    peak are in report.html and summary.json."""
+    header = ["part", "max vM (MPa)", "fatigue n", "deflection (mm)", "utilisation", "governs", "verdict"]
     rows = [_part_row(name, p) for name, p in result.parts.items()]
-    lines = aligned(header, rows, left=frozenset({0, 9, 10, 11}))
+    lines = aligned(header, rows, left=frozenset({0, 5, 6}))
+    limits = sorted({p.limit for p in result.parts.values()})
     lines.append(
-        "  cycle max vM: the largest von Mises over the whole crank cycle (superposed unit cases); 2013 inst.: "
-        "at the instant of the peak |reaction| (the 2013 design study's method); FoS = limit / cycle max; fatigue n: "
-        "minimum fatigue safety factor (Shigley 6-14 with the [fatigue] criterion); utilisation: the largest "
-        "of stress / limit, required / fatigue n, deflection / its limit and (amplification - 1) / (its limit - 1)"
+        "  max vM: the largest von Mises over the crank cycle (limit "
+        + ", ".join(f"{x / 1e6:.0f}" for x in limits)
+        + " MPa); fatigue n: the least fatigue safety factor (Shigley 6-14, the [fatigue] criterion); deflection: "
+        "the largest, relative to the part's joints or support; utilisation: the largest of stress / limit, "
+        "required / fatigue n, deflection / its limit, peak / yield and (amplification - 1) / (its limit - 1); "
+        "a FAIL's criteria and figures: the fails: lines; each peak's crank angle, the 2013 study's instant and "
+        "factors of safety: report.html; where each peak lies: summary.json"
     )
     lines += certificate_lines(result)
     lines += dynamic_lines(result)
     lines += _model_notes(result)
     lines += ["  assumptions:"] + [f"    - {a}" for a in assumptions(result.scene, result.parts)]
-    return "\n".join(lines)
+    return fit_width("\n".join(lines))
 
 
 def _part_row(name: str, p) -> list[str]:
-    """One part's row of the console table (MPa, mm, deg), its verdict naming every
-    failed criterion."""
+    """One part's row of the console table (MPa, mm); what fails is on the report's
+    "fails:" lines, with its figures."""
     c = p.cycle
-    loc = ", ".join(f"{x * 1e3:.1f}" for x in c.envelope.location)
-    fos = p.limit / p.verdict_stress if p.verdict_stress > 0 else math.inf
-    why = [] if p.stress_passed else ["stress"]
-    why += [] if p.fatigue_passed else ["fatigue"]
-    why += [] if p.deflection_passed else ["deflection"]
-    why += [] if p.dynamic_passed else ["dynamic"]
-    why += [] if p.within_yield else ["beyond-yield"]
-    why += [] if p.small_displacements else ["beyond-small-displacements"]
-    verdict = ("PASS" if p.passed else "FAIL " + "+".join(why)) if np.any(c.C) else "NO LOAD"
+    verdict = ("PASS" if p.passed else "FAIL") if np.any(c.C) else "NO LOAD"
     return [
         name,
         f"{p.verdict_stress / 1e6:.1f}",
-        f"{c.history.crank_angle_deg:.1f}" if c.C.shape[0] > 1 else "constant",
-        f"{c.seed_method.max_von_mises / 1e6:.1f}",
-        f"{c.envelope.max_tip * 1e3:.2f}",
-        f"{p.limit / 1e6:.0f}",
-        _factor(fos),
         _factor(c.fatigue.min_safety_factor),
+        f"{c.envelope.max_tip * 1e3:.2f}",
         f"{p.utilisation:.0%}",
         p.governing_criterion,
         verdict,
-        loc,
-        f"{c.envelope.support_peak / 1e6:.1f}",
     ]
 
 
@@ -127,15 +129,15 @@ def _model_notes(result) -> list[str]:
     clamped = [n for n in result.parts if n not in free]
     if clamped:
         lines.append(
-            f"  * {', '.join(clamped)}: clamped at the support; its peak grows with mesh refinement (a singularity); "
-            "the verdict uses the peak farther than one hole diameter from it"
+            f"  {', '.join(clamped)}: clamped at the support; its peak there grows with mesh refinement (a "
+            "singularity); the verdict uses the peak farther than one hole diameter from it"
         )
     if free:
         lines.append(
             f"  {', '.join(free)}: free bodies (joint forces bearing on their holes or bearing seat as a cosine "
             "over the loaded half, their own and the point masses' inertia, one load factor; a bolted-down part's "
             "loads balanced by a rigid foundation's linear reaction on its base; inertia relief, no support): the "
-            "verdict reads every node; tip defl. is the crank's deflection at A relative to its shaft and pin, a "
+            "verdict reads every node; the deflection is the crank's at A relative to its shaft and pin, a "
             "link's mid-span sag relative to its joints, a plate's seat relative to its bolts, a bracket's top "
             "relative to its base"
         )
@@ -229,9 +231,19 @@ def check_report(run) -> str:
         known = (result.kinematics_summary or {}).get("warnings", [])
         lines += [f"warning: {w}" for w in result.warnings if w not in known]
     lines.append(f"stages run: {', '.join(result.stages_run)}")
-    reasons = f" ({'; '.join(result.failures_with_figures)})" if result.failures else ""
-    lines.append(f"verdict: {summary['verdict']}{reasons}; results in {run.target}/")
-    return "\n".join(lines)
+    lines += [f"fails: {f}" for f in result.failures_with_figures]
+    return fit_width("\n".join(lines)) + "\n" + verdict_line(result, summary["verdict"], run.target)
+
+
+def verdict_line(result, verdict: str, target) -> str:
+    """The report's last lines: where the results are, then one line to grep, the verdict
+    and what fails (their figures are on the "fails:" lines above), or their count where
+    the names would not fit the console."""
+    reasons = f" ({'; '.join(result.failures)})" if result.failures else ""
+    line = f"verdict: {verdict}{reasons}"
+    if len(line) > CONSOLE_WIDTH:
+        line = f"verdict: {verdict} ({len(result.failures)} failures, above)"
+    return fit_width(f"results in {target}/") + "\n" + line
 
 
 def components_table(result) -> list[str]:
