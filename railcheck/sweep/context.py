@@ -51,7 +51,7 @@ def reactions_at(loads: Loads, s) -> tuple[dict, np.ndarray]:
         raise ValueError("no effect to simulate")
     per = lambda w, nd: w if np.ndim(w) == 0 else np.reshape(w, np.shape(w) + (1,) * (nd - 1))  # noqa: E731
     R = {j: sum(per(w, 3) * d.reactions[j] for d, w in weights) for j in ref.reactions}
-    torque: np.ndarray = sum(per(w, 2) * d.torque for d, w in weights)  # type: ignore[assignment]  # a sum of arrays
+    torque: np.ndarray = sum(per(w, 2) * d.torque for d, w in weights)  # a sum of arrays
     return R, torque
 
 
