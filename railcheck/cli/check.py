@@ -10,7 +10,7 @@ from railcheck.cli.common import add_results_args, say_where
 from railcheck.fea.fatigue import CRITERIA, SURFACE
 from railcheck.fea.materials import MATERIALS
 from railcheck.files import to_json
-from railcheck.parts import PARTS
+from railcheck.parts import COMPONENTS, PARTS
 from railcheck.progress import Progress
 from railcheck.report.text import check_report
 from railcheck.scene import EFFECTS, load_scene
@@ -19,7 +19,8 @@ HELP = "reactions -> bolt loads -> FE stress verdict for every part"
 PARSER = {
     "description": "Reactions over the whole crank cycle -> bolt loads -> FE stress envelope, deflection "
     "and fatigue per part.",
-    "epilog": f"parts: {', '.join(PARTS)}\nmaterials: {', '.join(MATERIALS)}\neffects: {', '.join(EFFECTS)}\n"
+    "epilog": f"parts: {', '.join(PARTS)}\ncomponents ([check] parts too; docs/components.md): {', '.join(COMPONENTS)}\n"
+    f"materials: {', '.join(MATERIALS)}\neffects: {', '.join(EFFECTS)}\n"
     f"fatigue criteria: {', '.join(CRITERIA)}; surfaces: {', '.join(SURFACE)}\n"
     "railcheck init writes a commented starter scene.\n"
     "results: --out DIR, else the scene's [output] dir (default results/; an existing folder is kept and the run "
