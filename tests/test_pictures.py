@@ -66,12 +66,23 @@ def _fake_part(weight):
 
     import numpy as np
 
-    loads = SimpleNamespace(is_free_plate=False, is_on_foundation=False, weight=weight)
+    loads = SimpleNamespace(is_free_plate=False, is_on_foundation=False, weight=weight, factor=1.4)
     job = SimpleNamespace(free_body=object(), loads=loads)
     cycle = SimpleNamespace(
-        history=SimpleNamespace(crank_angle_deg=12.0), C=np.zeros((2, 1)), envelope=SimpleNamespace(max_tip=1e-4)
+        history=SimpleNamespace(crank_angle_deg=12.0),
+        C=np.zeros((2, 1)),
+        envelope=SimpleNamespace(max_tip=1e-4),
+        fatigue=SimpleNamespace(min_safety_factor=0.8, required=1.0),
     )
-    return SimpleNamespace(cycle=cycle, job=job, verdict_stress=1.2e8, limit=3.75e8)
+    return SimpleNamespace(
+        cycle=cycle,
+        job=job,
+        verdict_stress=1.2e8,
+        limit=3.75e8,
+        passed=False,
+        utilisation=1.25,
+        governing_criterion="fatigue",
+    )
 
 
 def test_caption_says_when_the_part_carries_its_weight_out_of_plane():
@@ -79,3 +90,11 @@ def test_caption_says_when_the_part_carries_its_weight_out_of_plane():
 
     assert "weight out of plane" in picture_caption("crank-rail", _fake_part(weight=object()), 30.0)
     assert "weight" not in picture_caption("crank-rail", _fake_part(weight=None), 30.0)
+
+
+def test_caption_gives_the_verdict_what_governs_and_that_the_forces_are_factored():
+    from railcheck.report.render import picture_caption
+
+    text = picture_caption("crank-rail", _fake_part(weight=None), 30.0)
+    assert text.startswith("crank-rail: FAIL, utilisation 125% (fatigue n 0.80 against 1)")
+    assert "x1.4 (factored)" in text

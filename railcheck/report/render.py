@@ -92,7 +92,9 @@ def render_part(path: str | Path, name: str, part) -> Path:
     size = (1600, 500) if slender else (1200, 1000)
     plotter = pv.Plotter(off_screen=True, window_size=size)
     font = caption_font_size(size[1])
-    _stress_surface(pv, plotter, mesh, sol, scale, max(part.verdict_stress / 1e6, 1e-9), slender, font)
+    top = max(part.verdict_stress / 1e6, 1e-9)
+    beyond = bool(sol.von_mises.max() / 1e6 > top * (1 + 1e-9))  # a clamp's singular zone above the verdict's peak
+    _stress_surface(pv, plotter, mesh, sol, scale, top, slender, font, beyond)
     if part.job.free_body is None:
         _support(pv, plotter, mesh, sol, scale, part)
     _peak_marker(pv, plotter, cycle, sol, scale, extent.max(), part, font)
@@ -112,9 +114,10 @@ def render_part(path: str | Path, name: str, part) -> Path:
     return path
 
 
-def _stress_surface(pv, plotter, mesh, sol, scale: float, top: float, slender: bool, font: int) -> None:
+def _stress_surface(pv, plotter, mesh, sol, scale: float, top: float, slender: bool, font: int, beyond: bool) -> None:
     """The part's surface displaced ``scale`` x its displacement, coloured by von Mises
-    from 0 to ``top`` MPa, with its colour bar (below a slender part, else beside it)."""
+    from 0 to ``top`` MPa, with its colour bar (below a slender part, else beside it);
+    ``beyond``: some of it lies above ``top`` (magenta, with its swatch; else no swatch)."""
     cells = np.hstack([np.full((mesh.tets.shape[0], 1), 4), mesh.tets]).ravel()
     grid = pv.UnstructuredGrid(
         cells, np.full(mesh.tets.shape[0], pv.CellType.TETRA, dtype=np.uint8), mesh.points + scale * sol.displacement
@@ -125,7 +128,7 @@ def _stress_surface(pv, plotter, mesh, sol, scale: float, top: float, slender: b
         scalars="von Mises (MPa)",
         cmap=COLOUR_MAP,
         clim=[0.0, top],
-        above_color="magenta",
+        above_color="magenta" if beyond else None,
         show_edges=False,
         scalar_bar_args={
             "title": "von Mises (MPa)",
@@ -159,17 +162,27 @@ def picture_caption(name: str, part, scale: float) -> str:
         if part.job.loads.is_on_foundation
         else "deflection relative to the joints"
     )
+    verdict = "PASS" if part.passed else "FAIL"
+    governs = part.governing_criterion
+    fat = cycle.fatigue
+    figure = (
+        f"fatigue n {fat.min_safety_factor:.2f} against {fat.required:g}"
+        if governs == "fatigue"
+        else f"stress against {part.limit / 1e6:.0f} MPa"
+        if governs == "stress"
+        else governs
+    )
     return (
-        f"{name}: cycle peak {part.verdict_stress / 1e6:.1f} MPa {when}\n"
-        f"limit {part.limit / 1e6:.0f} MPa, FoS {part.limit / max(part.verdict_stress, 1e-9):.3g}; "
-        f"largest {deflection} {cycle.envelope.max_tip * 1e3:.3g} mm\n"
-        f"shape x {scale:.3g} (largest displacement 5% of the part); "
+        f"{name}: {verdict}, utilisation {part.utilisation:.0%} ({figure}); "
+        f"cycle peak {part.verdict_stress / 1e6:.1f} MPa {when} (limit {part.limit / 1e6:.0f} MPa)\n"
+        f"largest {deflection} {cycle.envelope.max_tip * 1e3:.3g} mm; "
+        f"shape x {scale:.3g} (largest displacement 5% of the part)\n"
         + (
-            "on a rigid foundation: its base carries the loads' linear reaction (not drawn); red: loads"
+            "on a rigid foundation: its base carries the loads' linear reaction (not drawn); red: loads as given"
             if part.job.loads.is_on_foundation
-            else "free body: no support (inertia relief); red: joint forces"
+            else f"free body: no support (inertia relief); red: joint forces x{part.job.loads.factor:g} (factored)"
             if part.job.free_body is not None
-            else "black: the clamp; magenta: its singular zone; red: joint force"
+            else f"black: the clamp; magenta: its singular zone; red: joint force x{part.job.loads.factor:g} (factored)"
         )
         + ("; its weight out of plane (table-top rig, not drawn)" if part.job.loads.weight is not None else "")
     )
@@ -216,14 +229,8 @@ def _bolt_arrows(pv, plotter, mesh, sol, scale, part, cycle, size, font, toward)
     (moved toward the camera, ``toward`` a unit vector, beyond the part's nearest point), so
     no flange hides it."""
     c, names = cycle.C[cycle.envelope.step], list(cycle.fields.names)
-    loads = [([b.group for b in part.load_case.bolts], "bolt")]
-    if "pin_x" in names:
-        loads.append((["hole_0"], "pin"))
-    if "seat_x" in names:
-        loads.append((["bearing_seat"], "seat"))
     front = (mesh.points @ toward).max() + 0.02 * size  # the part's nearest point to the camera, and a margin
-    for holes, case in loads:
-        force = np.array([c[names.index(f"{case}_x")], c[names.index(f"{case}_y")], 0.0])
+    for holes, force, words in _drawn_forces(part, c, names):
         if not np.any(force):
             continue
         direction = force / np.linalg.norm(force)
@@ -234,20 +241,52 @@ def _bolt_arrows(pv, plotter, mesh, sol, scale, part, cycle, size, font, toward)
             centre += (front - centre @ toward) * toward  # in front of the part, on the line of sight
             tails.append(centre - direction * length)
             plotter.add_mesh(pv.Arrow(start=tails[-1], direction=direction, scale=length), color="red")
-        shared = f" on {len(holes)} bolts" if case == "bolt" and len(holes) > 1 else ""
+        if words is None:
+            continue
         plotter.add_point_labels(
             pv.PolyData(np.mean(tails, axis=0)[None, :]),
-            [
-                f"{np.linalg.norm(force):.0f} N{shared}"
-                if np.linalg.norm(force) >= 100
-                else f"{np.linalg.norm(force):.3g} N{shared}"
-            ],
+            [words],
             font_size=font,
             text_color="red",
             point_size=1,
             shape_opacity=0.6,
             always_visible=True,
         )
+
+
+def _drawn_forces(part, c: np.ndarray, names: list) -> list:
+    """[(holes, force (3,) N in the part's frame, its label or None)] at the governing
+    instant's coefficients ``c``: the far joint's bolts, a free rail's first-hole shaft,
+    a plate's seat and, on the crank, the motor couple's driving pin (labelled with the
+    shaft, one hole pitch away, so the two labels do not cover each other); every force
+    factored (the scene's load factor), as its label says."""
+    factored = f" x{part.job.loads.factor:g}"
+    bolts = [b.group for b in part.load_case.bolts]
+    bolt = _xy(c, names, "bolt")
+    out = [(bolts, bolt, _newtons(bolt) + (f" on {len(bolts)} bolts" if len(bolts) > 1 else "") + factored)]
+    if "seat_x" in names:
+        seat = _xy(c, names, "seat")
+        out.append((["bearing_seat"], seat, _newtons(seat) + factored))
+    if "pin_x" in names:
+        shaft = _xy(c, names, "pin")
+        label = f"{_newtons(shaft)} shaft{factored}"
+        if "torque" in names:  # the motor couple: +T / arm on the driving pin (its shaft side in the shaft's)
+            xs = part.geometry.get("hole_x")
+            torque = c[names.index("torque")]
+            pin = np.array([0.0, torque / float(xs[1] - xs[0]), 0.0])
+            out.append((["hole_1"], pin, None))
+            label += f"\n{_newtons(pin)} driving pin (motor {abs(torque):.0f} N·m){factored}"
+        out.append((["hole_0"], shaft, label))
+    return out
+
+
+def _newtons(force: np.ndarray) -> str:
+    size = float(np.linalg.norm(force))
+    return f"{size:.0f} N" if size >= 100 else f"{size:.3g} N"
+
+
+def _xy(c: np.ndarray, names: list, case: str) -> np.ndarray:
+    return np.array([c[names.index(f"{case}_x")], c[names.index(f"{case}_y")], 0.0])
 
 
 def _peak_marker(pv, plotter, cycle, sol, scale, size, part, font) -> None:
