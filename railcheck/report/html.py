@@ -171,7 +171,7 @@ def _parts(result) -> str:
         "limit (MPa)",
         "factor of safety",
         "utilisation (governs)",
-        "tip defl.* (mm)",
+        "deflection* (mm)",
         "deflection limit (mm)",
         "fatigue factor",
         "σa / σm (MPa)",
