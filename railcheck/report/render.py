@@ -263,7 +263,8 @@ def _drawn_forces(part, c: np.ndarray, names: list) -> list:
     factored = f" x{part.job.loads.factor:g}"
     bolts = [b.group for b in part.load_case.bolts]
     bolt = _xy(c, names, "bolt")
-    out = [(bolts, bolt, _newtons(bolt) + (f" on {len(bolts)} bolts" if len(bolts) > 1 else "") + factored)]
+    label: str | None = _newtons(bolt) + (f" on {len(bolts)} bolts" if len(bolts) > 1 else "") + factored
+    out: list[tuple[list, np.ndarray, str | None]] = [(bolts, bolt, label)]
     if "seat_x" in names:
         seat = _xy(c, names, "seat")
         out.append((["bearing_seat"], seat, _newtons(seat) + factored))
