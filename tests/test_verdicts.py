@@ -288,3 +288,27 @@ def test_each_criterions_utilisation_by_hand(plate_result):
         assert sagging.small_displacements is holds and sagging.passed is holds
         failures = replace(plate_result, parts={"PF_4b_003_v2": sagging}).failures
         assert ("PF_4b_003_v2 beyond small displacements" in failures) is (not holds)
+
+
+def test_the_load_table_gives_explicit_loads_as_given_and_says_so(plate_result):
+    """The report's load table and the picture's labels read one list of forces: the
+    bracket's explicit loads (250 + 250 N on each of four holes) are applied as given, so
+    applied = unfactored and no label claims a load factor."""
+    from railcheck.report.forces import applied_factor, governing_forces
+    from railcheck.report.render import picture_caption
+
+    part = plate_result.parts["PF_4b_003_v2"]
+    (bolts,) = governing_forces(part)
+    assert bolts.force[:2] == pytest.approx([1000.0, 1000.0]) and applied_factor(part) == 1.0
+    assert "as given" in picture_caption("PF_4b_003_v2", part, 1.0) and "x1.4" not in picture_caption("x", part, 1.0)
+
+
+def test_the_report_tabulates_each_parts_loads_applied_and_unfactored(plate_result, tmp_path):
+    from railcheck.check.summary import summary_of
+    from railcheck.report.html import write_report
+
+    page = tmp_path / "report.html"
+    write_report(page, plate_result.scene, plate_result, summary_of(plate_result), tmp_path)
+    text = page.read_text()
+    table = text[text.index("<h2>Loads at each part's governing instant</h2>") :].split("</table>", 1)[0]
+    assert "1 (as given)" in table and table.count("1414.2") == 2  # applied and unfactored alike

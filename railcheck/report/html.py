@@ -16,6 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
+from railcheck.report.forces import applied_factor, governing_forces
 from railcheck.report.text import component_figures
 
 CSS = """
@@ -57,6 +58,7 @@ def write_report(path: Path, scene, result, summary: dict, directory: Path) -> N
         _header(result, summary),
         _parts(result),
         _components(result),
+        _loads(result),
         _assumptions(summary),
         _dynamic(result, directory),
         _checks(result),
@@ -186,6 +188,48 @@ def _parts(result) -> str:
         f"2013 inst.: at the instant of the peak reaction magnitude (the 2013 study's method); "
         f"factor of safety = limit / cycle max; fatigue: {html_escape(crit.criterion)}, endurance limit "
         f"{crit.marin.endurance_limit / 1e6:.0f} MPa (Shigley ch. 6, Marin factors in summary.json).</p>"
+    )
+
+
+def _loads(result) -> str:
+    """Each part's joint forces at its governing instant, in its own axes, factored as the
+    FE applied them and unfactored (the crank's motor couple too)."""
+    rows = []
+    for name, p in result.parts.items():
+        factor = applied_factor(p)
+        for f in governing_forces(p):
+            rows.append(
+                [
+                    html_escape(name),
+                    html_escape(f.name),
+                    f"{factor:g}" if p.job.loads.explicit is None else "1 (as given)",
+                    f"{f.force[0]:.1f}",
+                    f"{f.force[1]:.1f}",
+                    f"{np.linalg.norm(f.force):.1f}",
+                    f"{np.linalg.norm(f.force) / factor:.1f}",
+                    "" if f.couple is None else f"{f.couple:.2f} ({f.couple / factor:.2f})",
+                ]
+            )
+    if not rows:
+        return ""
+    head = [
+        "part",
+        "load",
+        "load factor",
+        "x, along (N, applied)",
+        "y, across (N, applied)",
+        "applied (N)",
+        "unfactored (N)",
+        "motor couple, N·m applied (unfactored)",
+    ]
+    return (
+        "<h2>Loads at each part's governing instant</h2>"
+        + html_table(head, rows, left=2)
+        + "<p class='note'>In each part's axes (x along it, y across it in the mechanism's plane), at the "
+        "instant of its cycle peak; applied: as the FE applied them (times the scene's load factor; explicit "
+        "[loads] as given), unfactored: over the factor. The parts' own and carried masses' inertia and, on a "
+        "table-top rig, the weight out of plane act as body and hole loads besides these (summary.json's unit "
+        "cases).</p>"
     )
 
 

@@ -21,6 +21,7 @@ import numpy as np
 
 from railcheck.files import atomic_path
 from railcheck.parts import kind_of
+from railcheck.report.forces import governing_forces, newtons
 
 DEFORMATION_FRACTION = 0.05  # of the part's largest dimension
 COLOUR_MAP = "viridis"
@@ -228,9 +229,8 @@ def _bolt_arrows(pv, plotter, mesh, sol, scale, part, cycle, size, font, toward)
     force's magnitude (N) once per group of holes; each arrow sits in front of the part
     (moved toward the camera, ``toward`` a unit vector, beyond the part's nearest point), so
     no flange hides it."""
-    c, names = cycle.C[cycle.envelope.step], list(cycle.fields.names)
     front = (mesh.points @ toward).max() + 0.02 * size  # the part's nearest point to the camera, and a margin
-    for holes, force, words in _drawn_forces(part, c, names):
+    for holes, force, words in _drawn_forces(part):
         if not np.any(force):
             continue
         direction = force / np.linalg.norm(force)
@@ -254,40 +254,28 @@ def _bolt_arrows(pv, plotter, mesh, sol, scale, part, cycle, size, font, toward)
         )
 
 
-def _drawn_forces(part, c: np.ndarray, names: list) -> list:
-    """[(holes, force (3,) N in the part's frame, its label or None)] at the governing
-    instant's coefficients ``c``: the far joint's bolts, a free rail's first-hole shaft,
-    a plate's seat and, on the crank, the motor couple's driving pin (labelled with the
-    shaft, one hole pitch away, so the two labels do not cover each other); every force
-    factored (the scene's load factor), as its label says."""
-    factored = f" x{part.job.loads.factor:g}"
-    bolts = [b.group for b in part.load_case.bolts]
-    bolt = _xy(c, names, "bolt")
-    label: str | None = _newtons(bolt) + (f" on {len(bolts)} bolts" if len(bolts) > 1 else "") + factored
-    out: list[tuple[list, np.ndarray, str | None]] = [(bolts, bolt, label)]
-    if "seat_x" in names:
-        seat = _xy(c, names, "seat")
-        out.append((["bearing_seat"], seat, _newtons(seat) + factored))
-    if "pin_x" in names:
-        shaft = _xy(c, names, "pin")
-        label = f"{_newtons(shaft)} shaft{factored}"
-        if "torque" in names:  # the motor couple: +T / arm on the driving pin (its shaft side in the shaft's)
-            xs = part.geometry.get("hole_x")
-            torque = c[names.index("torque")]
-            pin = np.array([0.0, torque / float(xs[1] - xs[0]), 0.0])
-            out.append((["hole_1"], pin, None))
-            label += f"\n{_newtons(pin)} driving pin (motor {abs(torque):.0f} N·m){factored}"
-        out.append((["hole_0"], shaft, label))
+def _drawn_forces(part) -> list:
+    """[(holes, force (3,) N in the part's frame, its label or None)] of
+    :func:`railcheck.report.forces.governing_forces`, each label with the load factor; the
+    driving pin labelled with the shaft, one hole pitch away, so the labels do not overlap."""
+    factored = "" if part.job.loads.explicit is not None else f" x{part.job.loads.factor:g}"
+    out: list[tuple[list, np.ndarray, str | None]] = []
+    pin = None
+    for f in governing_forces(part):
+        if f.couple is not None:
+            pin = f
+            out.append((list(f.holes), f.force, None))
+        elif f.holes == ("hole_0",):
+            out.append((list(f.holes), f.force, f"{newtons(f.force)} shaft{factored}"))
+        else:
+            bolts = f" on {len(f.holes)} bolts" if len(f.holes) > 1 else ""
+            out.append((list(f.holes), f.force, f"{newtons(f.force)}{bolts}{factored}"))
+    if pin is not None:  # its words under the shaft's
+        k = next(i for i, (holes, _, _) in enumerate(out) if holes == ["hole_0"])
+        holes, force, label = out[k]
+        words = f"\n{newtons(pin.force)} driving pin (motor {abs(pin.couple or 0.0):.0f} N·m){factored}"
+        out[k] = (holes, force, (label or "") + words)
     return out
-
-
-def _newtons(force: np.ndarray) -> str:
-    size = float(np.linalg.norm(force))
-    return f"{size:.0f} N" if size >= 100 else f"{size:.3g} N"
-
-
-def _xy(c: np.ndarray, names: list, case: str) -> np.ndarray:
-    return np.array([c[names.index(f"{case}_x")], c[names.index(f"{case}_y")], 0.0])
 
 
 def _peak_marker(pv, plotter, cycle, sol, scale, size, part, font) -> None:

@@ -1,0 +1,58 @@
+"""The forces a checked part carries at its governing instant, in its own axes (x along it,
+y across it in the mechanism's plane): one place for the picture's arrows and the report's
+load table. Every force as the FE applied it: factored by the scene's load factor, or as
+given for explicit ``[loads]`` (:func:`applied_factor`). SI (N, N m)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class PartForce:
+    """One load on a part: its ``name``, the mesh ``holes`` it acts on, the ``force`` (3,)
+    N (factored, the part's frame) or, for the motor couple, ``couple`` N m."""
+
+    name: str
+    holes: tuple[str, ...]
+    force: np.ndarray
+    couple: float | None = None
+
+
+def governing_forces(part) -> list[PartForce]:
+    """The loads on ``part`` at its governing instant: the far joint's bolts, a plate's
+    seat, a free rail's first-hole shaft and, on the crank, the motor couple (its driving
+    pin's force one hole pitch from the shaft, and the couple itself)."""
+    cycle = part.cycle
+    c, names = cycle.C[cycle.envelope.step], list(cycle.fields.names)
+    bolts = tuple(b.group for b in part.load_case.bolts)
+    plural = f" ({len(bolts)} bolts)" if len(bolts) > 1 else ""
+    out = [PartForce(f"joint force at the bolts{plural}", bolts, _xy(c, names, "bolt"))]
+    if "seat_x" in names:
+        out.append(PartForce("pin force on the bearing seat", ("bearing_seat",), _xy(c, names, "seat")))
+    if "pin_x" in names:
+        out.append(PartForce("joint force at the shaft (first hole)", ("hole_0",), _xy(c, names, "pin")))
+    if "torque" in names:  # the motor couple: +T / arm on the driving pin, -T / arm on the shaft
+        xs = part.geometry.get("hole_x")
+        torque = float(c[names.index("torque")])
+        pin = np.array([0.0, torque / float(xs[1] - xs[0]), 0.0])
+        out.append(PartForce("motor couple's driving pin (second hole)", ("hole_1",), pin, torque))
+    return out
+
+
+def applied_factor(part) -> float:
+    """The factor the FE applied to the part's joint loads: the scene's load factor, or 1
+    for explicit ``[loads]`` (applied as given)."""
+    return 1.0 if part.job.loads.explicit is not None else float(part.job.loads.factor)
+
+
+def newtons(force: np.ndarray) -> str:
+    """A force's magnitude for people: whole newtons from 100 N, three figures below."""
+    size = float(np.linalg.norm(force))
+    return f"{size:.0f} N" if size >= 100 else f"{size:.3g} N"
+
+
+def _xy(c: np.ndarray, names: list, case: str) -> np.ndarray:
+    return np.array([c[names.index(f"{case}_x")], c[names.index(f"{case}_y")], 0.0])
