@@ -54,6 +54,22 @@ RANGES = {
     "factor": (0.1, 100.0, "0.1", "100"),
     "geometry": (0.1e-3, 2.0, "0.1 mm", "2 m"),
     "deflection": (1e-6, 1.0, "1 um", "1 m"),  # a plate's limit is a few tenths of a millimetre
+    # [components]: a pin's, a screw's, a shaft's dimensions and ratings
+    "component_force": (1.0, 1e8, "1 N", "100 MN"),
+    "moment": (0.1, 1e6, "0.1 N m", "1 MN m"),
+    "area": (1e-9, 1e-2, "0.001 mm2", "10,000 mm2"),
+    "time": (3600.0, 3.6e15, "1 h", "1e12 h"),
+}
+
+#: the range each [components] quantity is checked against (RANGES' keys)
+COMPONENT_RANGES = {
+    "length": "geometry",
+    "stress": "limit",
+    "force": "component_force",
+    "moment": "moment",
+    "area": "area",
+    "time": "time",
+    "number": "factor",
 }
 
 
@@ -346,6 +362,7 @@ def _components(table: dict) -> dict[str, float]:
             out[key] = float(value)
         else:
             out[key] = parse_quantity(value, dimension, field, positive=True, allow_zero=False)
+        _in_range(out[key], COMPONENT_RANGES[dimension], field)
     return out
 
 

@@ -123,6 +123,10 @@ def test_component_inputs_refused_in_one_line_naming_the_field():
         _scene(parts=["driving-pn"])
     with pytest.raises(InputError, match="components.shaft_kt"):
         _scene({"shaft_kt": -1})
+    with pytest.raises(InputError, match="components.shaft_diameter: value outside the physical range"):
+        _scene({"shaft_diameter": "1e-300 mm"})  # a ZeroDivisionError traceback before
+    with pytest.raises(InputError, match="components.bearing_spacing"):
+        _scene({"bearing_spacing": "1e-300 mm"})
     with pytest.raises(InputError, match="components.carriag_c0"):
         _scene({"carriag_c0": "50 kN"})
     with pytest.raises(InputError, match="no shaft-O4"):
@@ -200,7 +204,7 @@ def test_a_failing_component_fails_the_sweeps_rows_with_its_criterion():
         ({"pin_rail_thickness": "0.2 mm"}, "driving-pin", "bearing"),
         ({"pin_yield": "2000 MPa", "pin_ultimate": "60 MPa"}, "driving-pin", "shear"),
         ({"bolt_stress_area": "0.3 mm2"}, "bolts-A", "shear"),
-        ({"bolt_grip": "0.01 mm"}, "bolts-A", "bearing"),
+        ({"bolt_grip": "0.1 mm", "bolt_end_distance": "2 mm"}, "bolts-A", "bearing"),
         ({"bolt_stress_area": "0.1 mm2"}, "bolts-A", "tension"),
         ({"shaft_diameter": "2 mm"}, "shaft-A", "yield"),
         ({"shaft_kt": 3.0, "shaft_diameter": "3.2 mm"}, "shaft-A", "fatigue"),
