@@ -18,7 +18,7 @@ from typing import Any
 
 from railcheck import parts as registry
 from railcheck.base.errors import InputError
-from railcheck.components.ratings import COMPONENT_SPEC, NOT_ON_SLIDER_CRANK, ComponentSpec
+from railcheck.components.ratings import COMPONENT_SPEC, NOT_ON_SLIDER_CRANK, ComponentSpec, refuse_wider_than_the_rails_hole
 from railcheck.components.ratings import OVERRIDABLE as COMPONENT_KEYS
 from railcheck.fea.fatigue import CRITERIA, LOAD, RELIABILITY, SURFACE  # light module: numpy only
 from railcheck.fea.materials import MATERIALS  # light module: no skfem import
@@ -54,23 +54,13 @@ RANGES = {
     "factor": (0.1, 100.0, "0.1", "100"),
     "geometry": (0.1e-3, 2.0, "0.1 mm", "2 m"),
     "deflection": (1e-6, 1.0, "1 um", "1 m"),  # a plate's limit is a few tenths of a millimetre
-    # [components]: a pin's, a screw's, a shaft's dimensions and ratings
-    "component_force": (1.0, 1e8, "1 N", "100 MN"),
-    "moment": (0.1, 1e6, "0.1 N m", "1 MN m"),
+    "moment": (0.1, 1e6, "0.1 N m", "1 MN m"),  # [components]: a screw's, a pin's, a bearing's ratings
     "area": (1e-9, 1e-2, "0.001 mm2", "10,000 mm2"),
     "time": (3600.0, 3.6e15, "1 h", "1e12 h"),
 }
 
-#: the range each [components] quantity is checked against (RANGES' keys)
-COMPONENT_RANGES = {
-    "length": "geometry",
-    "stress": "limit",
-    "force": "component_force",
-    "moment": "moment",
-    "area": "area",
-    "time": "time",
-    "number": "factor",
-}
+#: the range a [components] quantity is checked against, where its RANGES key differs
+COMPONENT_RANGES = {"length": "geometry", "stress": "limit", "number": "factor"}
 
 
 def _in_range(value: float, kind: str, name: str, magnitude: bool = False) -> float:
@@ -328,18 +318,6 @@ def _check(table: dict, loads_table: dict, formulation: str = "newton-euler") ->
     )
 
 
-def _fits_the_rails_holes(spec: ComponentSpec, geometry: dict[str, float]) -> None:
-    """Refuse a driving pin or a joint shaft's stub wider than the rail's hole it passes."""
-    hole = with_overrides(geometry)[0].hole_diameter
-    for key in ("pin_diameter", "shaft_diameter"):
-        d = getattr(spec, key)
-        if d > hole + 1e-12:
-            raise InputError(
-                f"components.{key}",
-                f"{d * 1e3:g} mm does not pass the rail's {hole * 1e3:g} mm hole (geometry.rail_hole_diameter)",
-            )
-
-
 def _did_you_mean(name: str, known: tuple[str, ...]) -> str:
     """ " (did you mean 'x'?)" for the nearest known name, else the list of them."""
     near = difflib.get_close_matches(name, known, n=1)
@@ -362,7 +340,7 @@ def _components(table: dict) -> dict[str, float]:
             out[key] = float(value)
         else:
             out[key] = parse_quantity(value, dimension, field, positive=True, allow_zero=False)
-        _in_range(out[key], COMPONENT_RANGES[dimension], field)
+        _in_range(out[key], COMPONENT_RANGES.get(dimension, dimension), field)
     return out
 
 
@@ -583,7 +561,7 @@ def parse_scene(data: dict[str, Any], source: str = "<scene>") -> Scene:
     sweep = _sweep(data.get("sweep", {}))
     dynamic = _dynamic(data.get("dynamic", {}))
     components = dataclasses.replace(COMPONENT_SPEC, **_components(data.get("components", {})))
-    _fits_the_rails_holes(components, geometry)
+    refuse_wider_than_the_rails_hole(components, with_overrides(geometry)[0].hole_diameter)
     return Scene(mechanism, formulation, check, mesh, output, geometry, data, source, fatigue, sweep, dynamic, components)
 
 

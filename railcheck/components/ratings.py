@@ -13,8 +13,9 @@ deep, 60 mm pitch) are the size-25 rail catalogue's (:mod:`railcheck.geometry.ca
 
 from __future__ import annotations
 
-from dataclasses import dataclass, fields, replace
+from dataclasses import dataclass, fields
 
+from railcheck.base.errors import InputError
 from railcheck.loads.bearings import BEARING_6205
 
 
@@ -114,9 +115,16 @@ def _dimension(name: str) -> str:
 OVERRIDABLE = {f.name: _dimension(f.name) for f in fields(ComponentSpec)}
 
 
-def with_component_overrides(overrides: dict[str, float]) -> ComponentSpec:
-    """The components' spec with the scene's ``[components]`` overrides (SI) applied."""
-    return replace(COMPONENT_SPEC, **overrides)
+def refuse_wider_than_the_rails_hole(spec: ComponentSpec, hole: float) -> None:
+    """Refuse a driving pin or a joint shaft's stub wider than the rail's ``hole`` (m)
+    it passes, naming the field."""
+    for key in ("pin_diameter", "shaft_diameter"):
+        d = getattr(spec, key)
+        if d > hole + 1e-12:
+            raise InputError(
+                f"components.{key}",
+                f"{d * 1e3:g} mm does not pass the rail's {hole * 1e3:g} mm hole (geometry.rail_hole_diameter)",
+            )
 
 
 @dataclass(frozen=True)
