@@ -3,7 +3,11 @@
 from __future__ import annotations
 
 import sys
+import textwrap
 import time
+
+#: the console's width (columns); a longer progress line wraps under its message
+WIDTH = 100
 
 
 class Progress:
@@ -16,4 +20,13 @@ class Progress:
     def say(self, stage: str, message: str) -> None:
         if not self.quiet:
             # one write per line: lines said from several threads never interleave
-            print(f"[{time.perf_counter() - self.t0:7.1f} s] {stage:<10} {message}\n", end="", file=sys.stderr, flush=True)
+            line = f"[{time.perf_counter() - self.t0:7.1f} s] {stage:<10} {message}"
+            print(wrapped(line) + "\n", end="", file=sys.stderr, flush=True)
+
+
+def wrapped(line: str) -> str:
+    """A progress ``line`` within :data:`WIDTH` columns, its continuation indented under
+    the message (a word longer than the width, a path, stays whole)."""
+    if len(line) <= WIDTH:
+        return line
+    return "\n".join(textwrap.wrap(line, WIDTH, subsequent_indent=" " * 23, break_long_words=False, break_on_hyphens=False))

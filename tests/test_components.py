@@ -68,6 +68,45 @@ def test_pin_by_hand_at_the_default_scenes_peak_torque():
     assert u["bearing"] == pytest.approx(force[0] / (1.5 * 10e-3 * 7e-3 * 490e6))
 
 
+def test_pin_in_double_shear_against_philpots_worked_example():
+    # Philpot, Mechanics of Materials, MecMovies M1.5: pin C in double shear carries
+    # 88.46 kN at an allowable 50 MPa: shear area 2 A = 1769.2 mm^2, so d = 33.6 mm
+    force, allowable = 88.46e3, 50e6
+    fu = allowable * standards.GAMMA_M2 / 0.6  # so that 0.6 f_u / gamma_M2 is the allowable stress
+    at = lambda d: float(
+        standards.pin_utilisations(np.array([force]), d, 20e-3, 40e-3, 0.0, 1e12, fu, 1e12, planes=2)["shear"]
+    )
+    d_needed = math.sqrt(4.0 * (force / allowable) / (2.0 * math.pi))
+    assert at(d_needed) == pytest.approx(1.0, rel=1e-12)
+    assert 2.0 * math.pi * d_needed**2 / 4.0 * 1e6 == pytest.approx(1769.2, rel=1e-3)
+    assert round(d_needed * 1e3, 1) == 33.6  # published to a tenth of a millimetre
+    assert at(33.6e-3) <= 1.0 < at(33.5e-3)  # the published size passes, one tenth less fails
+
+
+def test_pin_shear_resistance_against_a_published_en_1993_1_8_calculation():
+    # a published EN 1993-1-8 Table 3.10 pin calculation (d 16 mm, f_up 360 MPa, gamma_M2
+    # 1.25, F_v,Ed 5 kN): F_v,Rd = 35 kN, "SF = 6.95"
+    u = standards.pin_utilisations(np.array([5e3]), 16e-3, 10e-3, 10e-3, 0.0, 235e6, 360e6, 235e6)["shear"]
+    assert 1.0 / float(u) == pytest.approx(6.95, rel=1e-3)
+
+
+@pytest.mark.parametrize("outer, middle, gap", [(10e-3, 20e-3, 0.0), (6e-3, 25e-3, 2e-3), (15e-3, 8e-3, 5e-3)])
+def test_double_shear_pins_bending_is_the_statics_of_its_bearing_pressures(outer, middle, gap):
+    # EN 1993-1-8 Figure 3.11's moment against a beam integrated by hand: the outer plates
+    # push F/2 each, uniformly over their thickness, the middle member F back over its own
+    force, d, fy = 10e3, 12e-3, 500e6
+    length = 2 * outer + 2 * gap + middle
+    x = np.linspace(0.0, length, 200_001)
+    outer_load = np.where((x <= outer) | (x >= length - outer), force / 2 / outer, 0.0)
+    middle_load = np.where(np.abs(x - length / 2) <= middle / 2, force / middle, 0.0)
+    shear = np.concatenate([[0.0], np.cumsum((outer_load - middle_load)[1:] * np.diff(x))])
+    moment = np.concatenate([[0.0], np.cumsum(shear[1:] * np.diff(x))])
+    u = standards.pin_utilisations(np.array([force]), d, outer, middle, gap, fy, 800e6, fy, planes=2)
+    m_rd = 1.5 * math.pi * d**3 / 32 * fy
+    assert float(u["bending"]) * m_rd == pytest.approx(np.abs(moment).max(), rel=1e-3)
+    assert float(u["bearing"]) == pytest.approx(max(force / middle, force / 2 / outer) / (1.5 * d * fy))
+
+
 def _scene(components: dict | None = None, parts=None, **mechanism):
     data = {
         "mechanism": {"kind": "four-bar", "crank": "480 mm", "coupler": "840 mm", "rocker": "780 mm", "ground": "1020 mm"}
@@ -269,3 +308,39 @@ def test_carriage_static_safety_matches_a_published_example_and_sums_moments_lin
     # each moment counts as its share of its rating, in C0's units (PBC Linear's multiple-load rule)
     p0 = standards.carriage_equivalent_load(1e3, 2e3, 30.0, 25.0, 0.0, 28.6e3, 300.0, 250.0, 250.0)
     assert p0 / 28.6e3 == pytest.approx(1e3 / 28.6e3 + 2e3 / 28.6e3 + 30 / 300 + 25 / 250)
+
+
+def test_each_joints_load_path_is_the_verdicts_checks_at_its_governing_instant(tmp_path):
+    from railcheck.components.scene_checks import scene_joint_paths
+    from railcheck.report.joint_diagram import instant_loads, write_joint_diagram
+
+    scene = _scene()
+    result, _ = _run(scene)
+    paths = scene_joint_paths(scene, result.kinematics)
+    assert list(paths) == ["O2", "A", "B", "O4"]
+    reactions = result.kinematics.dynamics.reactions
+    for joint, p in paths.items():
+        assert p.force_N == pytest.approx(np.hypot(*reactions[joint][p.step]))
+        worst = max(p.components, key=lambda n: result.components[n].utilisation)
+        static = {k: v for k, v in result.components[worst].utilisations.items() if k != "fatigue" and k != "life"}
+        if static:  # a static criterion's peak over the cycle is its peak instant's
+            assert max(p.components[worst].utilisations[k] for k in static) == pytest.approx(max(static.values()))
+    pin = paths["O2"].components["driving-pin"]
+    assert pin.figures["force_N"] == pytest.approx(result.components["driving-pin"].figures["force_N"])
+    assert instant_loads(pin.figures, True, 1.4).endswith("(x1.4)")
+    assert instant_loads(paths["A"].components["carriage-A"].figures, False, 1.4).endswith("(unfactored)")
+    picture = write_joint_diagram(tmp_path / "joints.png", paths, result.components, 1.4)
+    assert picture is not None and picture.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert write_joint_diagram(tmp_path / "none.png", {}, {}, 1.4) is None
+
+
+def test_the_components_safe_speed_is_where_they_really_reach_their_limit():
+    result, summary = _run(_scene())
+    safe = result.components_safe_speed
+    assert safe.component == "driving-pin" and 0.5 < safe.hz < 1.0
+    assert summary["components_safe_speed"]["Hz"] == safe.hz
+    assert any(t.startswith(f"components: pass up to {safe.hz:.3g} Hz") for t in result.to_pass)
+    below, _ = _run(_scene(speed=f"{safe.hz * 0.999!r} Hz"))
+    above, _ = _run(_scene(speed=f"{safe.hz * 1.001!r} Hz"))
+    assert all(c.passed for c in below.components.values()) and below.to_pass == []
+    assert not above.components["driving-pin"].passed

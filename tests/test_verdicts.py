@@ -97,6 +97,31 @@ def test_a_part_fails_on_each_criterion_alone(tmp_path, passing, extra, fatigue,
     assert all(len(line) <= 100 for line in stdout.splitlines() if not line.startswith("results in"))  # a path runs on
 
 
+def test_a_fail_says_how_far_the_loads_must_fall_and_they_pass_there(tmp_path):
+    """A part's "to pass" share of its loads (1 / utilisation: the linear model scales with
+    them) is where it really passes: 0.1% below passes, 0.1% above fails."""
+    (tmp_path / "fails").mkdir()
+    status, stdout, summary = _check(tmp_path / "fails", 'limit = "40 MPa"')
+    u = summary["parts"]["PF_4b_003_v2"]["utilisation"]
+    assert status == 1 and u > 1
+    assert summary["to_pass"][0].startswith(f"PF_4b_003_v2: its loads down to {1 / u:.0%} of these (stress")
+    assert f"to pass: {summary['to_pass'][0]}" in fit_width_lines(stdout)
+    for share, verdict in ((0.999, "PASS"), (1.001, "FAIL")):
+        load = f'"{250.0 * share / u!r} N"'
+        case = tmp_path / f"at-{share}"
+        case.mkdir()
+        (case / "scene.toml").write_text(PLATE.replace("EXTRA", 'limit = "40 MPa"').replace('"250 N"', load))
+        out = case / "out"
+        with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+            main(["check", str(case / "scene.toml"), "--out", str(out)])
+        assert json.loads((out / "summary.json").read_text())["verdict"] == verdict
+
+
+def fit_width_lines(stdout: str) -> str:
+    """The console's text with its wrapped lines joined (a long line continues indented)."""
+    return " ".join(line.strip() for line in stdout.splitlines())
+
+
 SWEEP = (
     FINAL_DESIGN_SWEEP
     + """[check]

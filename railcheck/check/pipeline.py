@@ -17,6 +17,7 @@ import time
 
 import numpy as np
 
+from railcheck.check.margins import components_safe_speed
 from railcheck.check.workers import check_parts
 from railcheck.components.scene_checks import check_scene_components
 from railcheck.fea.materials import MATERIALS, limit_warning
@@ -65,9 +66,11 @@ def run_pipeline(
     parts: dict = {}
     unloaded: tuple[str, ...] = ()
     components: dict = {}
+    safe_speed = None
     if scene.check is not None and scene.checked.components:
         t = time.perf_counter()
         components = check_scene_components(scene, kin)
+        safe_speed = components_safe_speed(scene)
         timings["components"] = time.perf_counter() - t
         stages.append("components")
         progress.say("components", f"{len(components)} checked by their standards (load factor on pins, screws, shafts)")
@@ -83,6 +86,7 @@ def run_pipeline(
         kinematics_summary=kin_summary,
         parts=parts,
         components=components,
+        components_safe_speed=safe_speed,
         warnings=tuple(warnings),
         timings=timings,
         checks=checks,

@@ -19,11 +19,13 @@ from pathlib import Path
 from railcheck.base.errors import EXIT_FAIL, EXIT_PASS, InputError
 from railcheck.check.pipeline import run_pipeline
 from railcheck.check.summary import summary_of
+from railcheck.components.scene_checks import scene_joint_paths
 from railcheck.fea.vtk import pvd_text
 from railcheck.files import Staging, atomic_path, atomic_write_text, reserve_results_dir, results_dir, to_json
 from railcheck.model.records import PartResult, PipelineResult
 from railcheck.progress import Progress
 from railcheck.report.html import write_report
+from railcheck.report.joint_diagram import write_joint_diagram
 from railcheck.report.plots import write_campbell_plot, write_cycle_plot, write_kinematics_plots
 from railcheck.report.render import render_part
 from railcheck.report.vtu import write_part_vtu
@@ -89,6 +91,9 @@ def write_outputs(scene: Scene, result: PipelineResult, summary: dict, directory
         write_kinematics_plots(result.kinematics, directory)
     if scene.output.plots:
         write_campbell_plot(result.parts, directory / "campbell.png")
+    if scene.output.plots and result.components and result.kinematics is not None:
+        paths = scene_joint_paths(scene, result.kinematics)
+        write_joint_diagram(directory / "joints.png", paths, result.components, scene.checked.factor)
     if scene.output.vtk and result.parts:
         atomic_write_text(directory / "parts.pvd", pvd_text({n: f"{n}.vtu" for n in result.parts}))
     for name, p in result.parts.items():

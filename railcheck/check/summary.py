@@ -19,6 +19,15 @@ from railcheck.model.records import DynamicResult, FatigueResult, PartResult, Pi
 from railcheck.parts import mass_model
 
 
+def _components_safe_speed(result: PipelineResult) -> dict:
+    """``components_safe_speed``: the crank speed (Hz) up to which the components pass at
+    this setting and what reaches its limit there (absent without components or speed)."""
+    safe = result.components_safe_speed
+    if safe is None:
+        return {}
+    return {"components_safe_speed": {"Hz": safe.hz, "component": safe.component, "criterion": safe.criterion}}
+
+
 def summary_of(result: PipelineResult) -> dict:
     """The summary.json content."""
     scene = result.scene
@@ -26,8 +35,10 @@ def summary_of(result: PipelineResult) -> dict:
         "verdict": verdict_of(result),
         "failures": result.failures,
         "failures_with_figures": result.failures_with_figures,
+        "to_pass": result.to_pass,
         "parts": {name: part_summary(p) for name, p in result.parts.items()},
         "components": {name: component_summary(c) for name, c in result.components.items()},
+        **_components_safe_speed(result),
         "unloaded_parts": list(result.unloaded),
         "stages_run": list(result.stages_run),
         "warnings": list(result.warnings),

@@ -6,6 +6,7 @@ from __future__ import annotations
 import dataclasses
 
 from railcheck.components.checks import ComponentResult, JointHistories, Strengths, check_components
+from railcheck.components.load_path import joint_paths
 from railcheck.fea.materials import MATERIALS
 from railcheck.loads.bearings import relative_speeds
 from railcheck.loads.weight import joint_vertical_loads, shaft_moment
@@ -60,3 +61,11 @@ def _as_floats(r: ComponentResult) -> ComponentResult:
         utilisations={k: float(v) for k, v in r.utilisations.items()},
         figures={k: float(v) for k, v in r.figures.items()},
     )
+
+
+def scene_joint_paths(scene, kin) -> dict:
+    """joint -> :class:`railcheck.components.load_path.JointPath` of every joint with a
+    component the scene lists, at the instant its most utilised component peaks."""
+    h = joint_histories(scene, kin)
+    checked = scene.checked.components
+    return joint_paths(checked, scene.components, h, scene.checked.factor, strengths_of(scene), kin.motion.theta[:, 0])

@@ -10,7 +10,7 @@ last axis), and the figures behind them.
   ``M_Rd = 1.5 W_el f_yp / gamma_M0``, and shear with bending
   ``(M_Ed / M_Rd)^2 + (F_v,Ed / F_v,Rd)^2 <= 1``. A pin in single shear (as built)
   bends over the lever between its two members' bearing resultants,
-  ``t_1 / 2 + gap + t_2 / 2``.
+  ``t_1 / 2 + gap + t_2 / 2``; in double shear by Figure 3.11, ``F (b + 4 c + 2 a) / 8``.
 * Bolts: EN 1993-1-8:2005 Table 3.4 (category A bearing type, D non-preloaded tension):
   shear per plane through the thread ``F_v,Rd = alpha_v f_ub A_s / gamma_M2``; bearing
   ``F_b,Rd = k_1 alpha_b f_u d t / gamma_M2``; tension ``F_t,Rd = 0.9 f_ub A_s /
@@ -47,25 +47,31 @@ def _ratio(demand, capacity) -> np.ndarray:
         return np.where(capacity > 0, np.asarray(demand, float) / np.where(capacity > 0, capacity, 1.0), np.inf)
 
 
-def pin_utilisations(force, d, t1, t2, gap, fy_pin, fu_pin, fy_members) -> dict[str, np.ndarray]:
-    """EN 1993-1-8 Table 3.10 for a pin of diameter ``d`` in single shear carrying
-    ``force`` (..., T) N (factored) between members ``t1`` and ``t2`` thick (m) across
-    ``gap`` (m); ``fy_members`` the lower yield strength of the members (Pa). Returns
-    the utilisations ``shear``, ``bending``, ``shear+bending``, ``bearing`` (the thinner
-    member's) at the cycle's peak force."""
+def pin_utilisations(force, d, t1, t2, gap, fy_pin, fu_pin, fy_members, planes: int = 1) -> dict[str, np.ndarray]:
+    """EN 1993-1-8 Table 3.10 for a pin of diameter ``d`` carrying ``force`` (..., T) N
+    (factored); ``fy_members`` the lower yield strength of the members (Pa). In single
+    shear (``planes`` 1, as the rig's driving pin is built) between members ``t1`` and
+    ``t2`` thick (m) across ``gap`` (m), bending over the lever between their bearing
+    resultants. In double shear (``planes`` 2): a middle member ``t2`` thick between two
+    outer plates ``t1`` thick, ``gap`` each side; each plane carries half the force and
+    the pin bends by EN 1993-1-8 Figure 3.11, ``M = F (t2 + 4 gap + 2 t1) / 8``. Returns
+    the utilisations ``shear``, ``bending``, ``shear+bending``, ``bearing`` (the most
+    loaded member's) at the cycle's peak force."""
     f = np.max(np.abs(force), axis=-1)
     area = math.pi * d * d / 4.0
     shear_rd = 0.6 * area * fu_pin / GAMMA_M2
-    m_ed = f * (t1 / 2.0 + gap + t2 / 2.0)
+    fy = min(fy_pin, fy_members)
+    if planes == 1:
+        m_ed = f * (t1 / 2.0 + gap + t2 / 2.0)
+        bearing = _ratio(f, 1.5 * min(t1, t2) * d * fy / GAMMA_M0)
+    elif planes == 2:
+        m_ed = f * (t2 + 4.0 * gap + 2.0 * t1) / 8.0
+        bearing = np.maximum(_ratio(f, 1.5 * t2 * d * fy / GAMMA_M0), _ratio(f / 2.0, 1.5 * t1 * d * fy / GAMMA_M0))
+    else:
+        raise ValueError(f"a pin has 1 or 2 shear planes, not {planes}")
     m_rd = 1.5 * (math.pi * d**3 / 32.0) * fy_pin / GAMMA_M0
-    bearing_rd = 1.5 * min(t1, t2) * d * min(fy_pin, fy_members) / GAMMA_M0
-    shear, bending = _ratio(f, shear_rd), _ratio(m_ed, m_rd)
-    return {
-        "shear": shear,
-        "bending": bending,
-        "shear+bending": np.sqrt(shear**2 + bending**2),
-        "bearing": _ratio(f, bearing_rd),
-    }
+    shear, bending = _ratio(f / planes, shear_rd), _ratio(m_ed, m_rd)
+    return {"shear": shear, "bending": bending, "shear+bending": np.sqrt(shear**2 + bending**2), "bearing": bearing}
 
 
 def bolt_group_forces(fx, fy, eccentricity, pitch) -> np.ndarray:

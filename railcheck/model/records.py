@@ -12,6 +12,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -272,6 +273,7 @@ class PipelineResult:
     checks: dict[str, CheckResult] = field(default_factory=dict)
     unloaded: tuple[str, ...] = ()  # parts with no load at any step: reported, not solved
     components: dict = field(default_factory=dict)  # name -> railcheck.components.ComponentResult
+    components_safe_speed: Any = None  # railcheck.check.margins.SafeSpeed: where the components reach 1
 
     @property
     def failures(self) -> list[str]:
@@ -298,6 +300,30 @@ class PipelineResult:
             out += part_failures_with_figures(name, p)
         for name, c in self.components.items():
             out += [f"{name} {k} utilisation {u:.2f} > 1 ({c.standard})" for k, u in c.utilisations.items() if not u <= 1.0]
+        return out
+
+    @property
+    def to_pass(self) -> list[str]:
+        """What would make each failing part and component pass, in words: the share its
+        loads must fall to (1 / utilisation: every criterion grows with the loads), and for
+        the components the crank speed up to which they pass at this setting."""
+        out = []
+        for name, p in self.parts.items():
+            if p.utilisation > 1.0:
+                out.append(
+                    f"{name}: its loads down to {1 / p.utilisation:.0%} of these ({p.governing_criterion} "
+                    f"utilisation {p.utilisation:.2f}), a lower speed or a stronger material or section"
+                )
+        for name, c in self.components.items():
+            if not c.utilisation <= 1.0:
+                out.append(f"{name}: {c.utilisation:.2f}x its {c.governing_criterion} resistance ([components] sets it)")
+        safe = self.components_safe_speed
+        if safe is not None and any(not c.utilisation <= 1.0 for c in self.components.values()):
+            out.append(
+                f"components: pass up to {safe.hz:.3g} Hz at this setting ({safe.component} {safe.criterion} reaches 1)"
+                if safe.hz > 0
+                else f"components: {safe.component} fails at rest ({safe.criterion}): no speed passes"
+            )
         return out
 
     @property

@@ -57,7 +57,7 @@ def write_report(path: Path, scene, result, summary: dict, directory: Path) -> N
     sections = [
         _header(result, summary),
         _parts(result),
-        _components(result),
+        _components(result, directory),
         _loads(result),
         _assumptions(summary),
         _dynamic(result, directory),
@@ -92,6 +92,7 @@ def _header(result, summary) -> str:
     return (
         f"<h1>railcheck report: {title}</h1>"
         + (f'<p class="fail">fails: {html_escape(reasons)}</p>' if reasons else passes)
+        + "".join(f"<p>to pass: {html_escape(t)}</p>" for t in result.to_pass)
         + unloaded
         + f'<p class="note">scene: {html_escape(result.scene.source)}; '
         + f"stages run: {html_escape(', '.join(result.stages_run))}</p>"
@@ -233,7 +234,7 @@ def _loads(result) -> str:
     )
 
 
-def _components(result) -> str:
+def _components(result, directory: Path) -> str:
     """The joints' components: each one's standard, whether its loads carry the load
     factor, its figures, utilisation and verdict, and what was assumed."""
     if not result.components:
@@ -259,6 +260,7 @@ def _components(result) -> str:
         "(EN 1993-1-8: γM0 = 1.0, γM2 = 1.25; Shigley: n ≥ 1); bearings and carriages on the loads as they are, "
         "against their standards' required static safety and life. Assumed (not in seed 000 or a cited catalogue; "
         f"the scene's [components] table overrides them): {html_escape(', '.join(assumed)) or 'nothing'}.</p>"
+        + html_image(directory / "joints.png", "the joints' load paths")
     )
 
 

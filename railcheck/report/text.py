@@ -232,6 +232,7 @@ def check_report(run) -> str:
         lines += [f"warning: {w}" for w in result.warnings if w not in known]
     lines.append(f"stages run: {', '.join(result.stages_run)}")
     lines += [f"fails: {f}" for f in result.failures_with_figures]
+    lines += [f"to pass: {f}" for f in result.to_pass]
     return fit_width("\n".join(lines)) + "\n" + verdict_line(result, summary["verdict"], run.target)
 
 
@@ -247,14 +248,13 @@ def verdict_line(result, verdict: str, target) -> str:
 
 
 def components_table(result) -> list[str]:
-    """The joints' components' lines: each component's standard, its figures, its
-    utilisation with the criterion that governs and its verdict; then what was assumed."""
+    """The joints' components' lines: each component's figures, its utilisation with the
+    criterion that governs and its verdict; then the standards and what was assumed."""
     factor = result.scene.checked.factor
-    header = ["component", "standard", "loads", "figures", "utilisation", "governs", "verdict"]
+    header = ["component", "loads", "figures", "utilisation", "governs", "verdict"]
     rows = [
         [
             name,
-            c.standard,
             f"x{factor:g}" if c.factored else "as is",
             component_figures(c),
             f"{c.utilisation:.0%}",
@@ -264,7 +264,9 @@ def components_table(result) -> list[str]:
         for name, c in result.components.items()
     ]
     lines = [f"components: the joints' parts by their standards (loads x{factor:g}, or as is; V, N per screw)"]
-    lines += aligned(header, rows, left=frozenset({0, 1, 2, 3, 5, 6}))
+    lines += aligned(header, rows, left=frozenset({0, 1, 2, 4, 5}))
+    standards = sorted({f"{c.kind} {c.standard}" for c in result.components.values()})
+    lines += textwrap.wrap("standards: " + "; ".join(standards), 98, initial_indent="  ", subsequent_indent="    ")
     assumed = sorted({a for c in result.components.values() for a in c.assumed})
     if assumed:
         text = f"assumed (not in seed 000 or a cited catalogue; [components] overrides): {', '.join(assumed)}"

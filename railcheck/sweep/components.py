@@ -17,9 +17,9 @@ from railcheck.components.ratings import NOT_ON_SLIDER_CRANK
 from railcheck.components.scene_checks import strengths_of
 from railcheck.loads.bearings import relative_speeds
 from railcheck.loads.weight import joint_vertical_loads, shaft_moment
+from railcheck.model.crossing import increasing_crossing
 from railcheck.model.loading import rail_weight
 from railcheck.sweep.context import Loads, SweepContext, reactions_at, setting_lengths
-from railcheck.sweep.verdicts import increasing_crossing
 
 
 def swept_components(ctx: SweepContext) -> tuple[str, ...]:
@@ -82,7 +82,7 @@ def worst_component(results: dict) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 def components_safe_s(ctx: SweepContext, loads: Loads, sel: np.ndarray) -> tuple[np.ndarray, tuple]:
     """(speed ratio squared (len(sel),) at which the settings' largest component
-    utilisation reaches 1 (:func:`railcheck.sweep.verdicts.increasing_crossing`: 0 where a
+    utilisation reaches 1 (:func:`railcheck.model.crossing.increasing_crossing`: 0 where a
     component fails at rest, inf where none reaches 1); (component, criterion) that sets
     it)."""
 

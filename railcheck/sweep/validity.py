@@ -23,15 +23,14 @@ import numpy as np
 
 from railcheck.fea.dynamic import harmonic_spectrum, one_mode_peak
 from railcheck.model.certificate import force_columns, largest_significant
+from railcheck.model.crossing import increasing_crossing, refine_crossing
 from railcheck.sweep.context import SweepContext
 from railcheck.sweep.verdicts import (
     CROSSING_TOLERANCE,
     criterion_utilisations,
     governing_of,
     illinois,
-    increasing_crossing,
     quasi_static_share,
-    refine_crossing,
     safe_s_convex,
     utilisation,
     worst_utilisation,
@@ -233,7 +232,7 @@ def safe_s_with_margin(margin, upper: np.ndarray, n: int) -> np.ndarray:
 def share_crossing(share_of, n: int, iterations: int = 60) -> np.ndarray:
     """(n,) the speed ratio squared at which the largest certified estimate's share
     ``share_of(s, idx)`` (of the settings ``idx`` at their ``s``; no FE: the load spectra
-    alone) reaches 1 (:func:`railcheck.sweep.verdicts.increasing_crossing`): below the first
+    alone) reaches 1 (:func:`railcheck.model.crossing.increasing_crossing`): below the first
     resonance the estimate grows with the speed, so the crossing is single."""
     return increasing_crossing(share_of, n, iterations)
 
