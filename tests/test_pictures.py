@@ -98,3 +98,46 @@ def test_caption_gives_the_verdict_what_governs_and_that_the_forces_are_factored
     text = picture_caption("crank-rail", _fake_part(weight=None), 30.0)
     assert text.startswith("crank-rail: FAIL, utilisation 125% (fatigue n 0.80 against 1)")
     assert "x1.4 (factored)" in text
+
+
+@pytest.mark.parametrize(
+    ("size", "largest", "scale"),
+    [(0.7, 4.34e-3, 5.0), (0.1, 1.04e-6, 1000.0), (0.1, 1e-3, 5.0), (0.1, 2.5e-3, 2.0), (1.0, 0.05, 1.0), (0.1, 0.0, 0.0)],
+)
+def test_one_deformation_scale_rule_for_every_part(size, largest, scale):
+    from railcheck.report.render import deformation_scale
+
+    assert deformation_scale(size, largest) == scale
+    if largest > 0:  # never drawn beyond 5% of the part, never blown up past x1000
+        assert scale * largest <= 0.05 * size * (1 + 1e-12) and scale <= 1000.0
+
+
+def test_the_utilisation_picture_draws_the_verdicts_field_on_one_scale(tmp_path):
+    """Each vertex's utilisation is the verdict's own (its envelope over the limit, the
+    required fatigue factor over its own): never above the part's, which also reads the
+    mid-edge nodes, and within a few percent of it on the default bracket; the picture is
+    written, and a part checked without node fields gets none (no picture of nothing)."""
+    import dataclasses
+
+    from railcheck.check.pipeline import run_pipeline
+    from railcheck.report.utilisation_picture import node_utilisation, render_utilisation
+    from railcheck.scene import parse_scene
+
+    data = {
+        "check": {"parts": ["PF_4b_003_v2"]},
+        "loads": {"PF_4b_003_v2": {"longitudinal": "250 N", "transverse": "250 N"}},
+        "output": {"vtk": False, "png": True, "plots": False},
+    }
+    part = run_pipeline(parse_scene(data, "test")).parts["PF_4b_003_v2"]
+    u = node_utilisation(part)
+    assert u.shape == (part.mesh.points.shape[0],)
+    assert 0.8 * part.utilisation <= u.max() <= part.utilisation * (1 + 1e-9)
+    stress = part.cycle.envelope.node_envelope
+    if stress is not None:
+        assert np.all(u >= stress[: u.size] / part.limit * (1 - 1e-12))
+    path = render_utilisation(tmp_path / "u.png", "PF_4b_003_v2", part)
+    assert path.read_bytes()[:4] == b"\x89PNG"
+    bare = dataclasses.replace(
+        part, cycle=dataclasses.replace(part.cycle, fatigue=dataclasses.replace(part.cycle.fatigue, node_factor=None))
+    )
+    assert render_utilisation(tmp_path / "none.png", "PF_4b_003_v2", bare) is None

@@ -28,6 +28,7 @@ from railcheck.report.html import write_report
 from railcheck.report.joint_diagram import write_joint_diagram
 from railcheck.report.plots import write_campbell_plot, write_cycle_plot, write_kinematics_plots
 from railcheck.report.render import render_part
+from railcheck.report.utilisation_picture import render_utilisation
 from railcheck.report.vtu import write_part_vtu
 from railcheck.scene import OutputSpec, Scene
 
@@ -114,4 +115,5 @@ def write_part_files(output: OutputSpec, name: str, p: PartResult, directory: Pa
         write_cycle_plot(name, p, directory / f"{name}-cycle.png")
     if output.png:
         render_part(directory / f"{name}.png", name, p)
+        render_utilisation(directory / f"{name}-utilisation.png", name, p)
     (directory / f"{name}.written").touch()

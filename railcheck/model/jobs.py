@@ -100,7 +100,7 @@ class PartJob:
     dynamic: DynamicJob | None = None
     certificate: Certificate | None = None  # where quasi-static holds (a rail's, from its beam model)
     clamped: PartJob | None = None  # a free rail's 2013 clamped model, checked beside it
-    node_fields: bool = True  # each node's envelope and fatigue factor are wanted (the VTU)
+    node_fields: bool = True  # each node's envelope and fatigue factor are wanted (the VTU, the pictures)
 
     @property
     def supports(self) -> list[str]:
@@ -205,7 +205,7 @@ def part_jobs(
             free_body=free,
             dynamic=dynamic,
             certificate=cert,
-            node_fields=scene.output.vtk,
+            node_fields=scene.output.vtk or scene.output.png,
         )
     return jobs
 

@@ -250,7 +250,7 @@ class Meter:
         if now - self.last >= 5.0 or self.count == self.total:
             self.last = now
             rate = self.count / max(now - self.t0, 1e-9)
-            bar = "#" * int(30 * self.count / max(self.total, 1))
+            bar = "#" * int(20 * self.count / max(self.total, 1))
             self.progress.say(
-                "sweep", f"{self.kind:<12} [{bar:<30}] {self.count}/{self.total} settings, {rate:,.0f} settings/s"
+                "sweep", f"{self.kind:<12} [{bar:<20}] {self.count}/{self.total} settings, {rate:,.0f} settings/s"
             )

@@ -351,6 +351,7 @@ def _pictures(result, directory: Path) -> str:
         out.append(
             f"<h3>{html_escape(name)}</h3>"
             + html_image(directory / f"{name}.png", f"{name} von Mises")
+            + html_image(directory / f"{name}-utilisation.png", f"{name} utilisation over the cycle")
             + html_image(directory / f"{name}-cycle.png", f"{name} over the cycle")
         )
     return "<h2>Pictures</h2>" + "".join(out) if out else ""

@@ -5,8 +5,10 @@ What an engineer reads on it: the part framed to fill the picture, seen from abo
 plane the mechanism moves and the rails bend in), a perceptually uniform
 colour map (viridis) ending at the verdict peak, the support's singular zone above it in
 magenta, the support's surface in grey, an arrow per loaded bolt hole along its force,
-and a marker with its label at the verdict peak. The displacement is magnified so the
-largest one is 5% of the part's size; the factor is printed on the picture.
+and a marker with its label at the verdict peak, a length scale in mm and the axes' triad.
+One magnification rule for every part (:func:`deformation_scale`): the largest
+displacement drawn at most 5% of the part's size, in 1-2-5 steps, never above x1000; the
+factor is printed on the picture.
 
 Rendering needs no X server: without a DISPLAY, VTK's EGL window is used (no warning on
 the console).
@@ -24,6 +26,7 @@ from railcheck.parts import kind_of
 from railcheck.report.forces import governing_forces, newtons
 
 DEFORMATION_FRACTION = 0.05  # of the part's largest dimension
+MAX_MAGNIFICATION = 1000.0  # beyond it a tiny deformation would be drawn as a crushed shape
 COLOUR_MAP = "viridis"
 CAPTION_FRACTION = 0.02  # caption font size, of the picture's height (VTK renders a line ~1.6x the size: ~3%)
 MIN_FONT = 14  # the smallest font size of any text on the picture (labels, colour bar)
@@ -87,8 +90,7 @@ def render_part(path: str | Path, name: str, part) -> Path:
     pv = offscreen_pyvista()
     mesh, sol, cycle = part.mesh, part.solution, part.cycle
     extent = np.ptp(mesh.points, axis=0)
-    umax = float(np.abs(sol.displacement).max())
-    scale = DEFORMATION_FRACTION * extent.max() / umax if umax > 0 else 0.0
+    scale = deformation_scale(float(extent.max()), float(np.linalg.norm(sol.displacement, axis=1).max()))
     slender = extent.max() > 6 * np.sort(extent)[1]
     size = (1600, 500) if slender else (1200, 1000)
     plotter = pv.Plotter(off_screen=True, window_size=size)
@@ -99,6 +101,8 @@ def render_part(path: str | Path, name: str, part) -> Path:
     if part.job.free_body is None:
         _support(pv, plotter, mesh, sol, scale, part)
     _peak_marker(pv, plotter, cycle, sol, scale, extent.max(), part, font)
+    length_scale(plotter, mesh.points, kind_of(name).view)
+    plotter.add_axes(viewport=(0.0, 0.0, 0.12, 0.2) if slender else (0.0, 0.0, 0.15, 0.15), line_width=3)
     lines = fit_caption(plotter, picture_caption(name, part, scale), size, font)
 
     plotter.enable_parallel_projection()  # "xy": from above, the plane the mechanism moves in
@@ -107,12 +111,41 @@ def render_part(path: str | Path, name: str, part) -> Path:
     arrow_size = min(extent.max(), 8 * np.sort(extent)[1])
     _bolt_arrows(pv, plotter, mesh, sol, scale, part, cycle, arrow_size, font, toward / np.linalg.norm(toward))
     caption_share = 1.7 * font * (lines + 0.6) / size[1]  # of the height, above the part
-    _leave_room(plotter, caption_share, 0.2 if slender else 0.04, 0.0 if slender else 0.16)
+    leave_room(plotter, caption_share, 0.2 if slender else 0.1, 0.0 if slender else 0.16)
     path = Path(path)
     with atomic_path(path) as tmp:
         plotter.screenshot(str(tmp))
     plotter.close()
     return path
+
+
+def one_two_five(x: float) -> float:
+    """The largest of 1, 2, 5 x 10^k not above ``x`` (> 0)."""
+    k = 10.0 ** np.floor(np.log10(x))
+    return float(max(m * k for m in (1.0, 2.0, 5.0) if m * k <= x * (1 + 1e-12)))
+
+
+def deformation_scale(size: float, largest: float) -> float:
+    """The shape's magnification, one rule for every part: the ``largest`` displacement
+    (m) drawn as at most :data:`DEFORMATION_FRACTION` of the part's ``size`` (m), rounded
+    down to 1-2-5 steps and never above :data:`MAX_MAGNIFICATION` (a deformation smaller
+    than that shows small, as it is, not blown up into a crushed shape); 0 without one."""
+    if not largest > 0:
+        return 0.0
+    return min(one_two_five(DEFORMATION_FRACTION * size / largest), MAX_MAGNIFICATION)
+
+
+def length_scale(plotter, points: np.ndarray, view: str) -> None:
+    """A ruler in mm under the part (undeformed coordinates), along the picture's
+    horizontal axis, about a quarter of the part's width long (1-2-5)."""
+    across, up = "xyz".index(view[0]), "xyz".index(view[1])
+    lo, hi = points.min(axis=0), points.max(axis=0)
+    length = one_two_five(0.25 * (hi[across] - lo[across]))
+    a = lo.copy()
+    a[up] = lo[up] - 0.12 * max(hi[up] - lo[up], 0.02 * (hi[across] - lo[across]))
+    b = a.copy()
+    b[across] += length
+    plotter.add_ruler(a, b, title="mm", number_labels=2, scale=1e3, label_format="%.0f", tick_length=4)
 
 
 def _stress_surface(pv, plotter, mesh, sol, scale: float, top: float, slender: bool, font: int, beyond: bool) -> None:
@@ -177,7 +210,7 @@ def picture_caption(name: str, part, scale: float) -> str:
         f"{name}: {verdict}, utilisation {part.utilisation:.0%} ({figure}); "
         f"cycle peak {part.verdict_stress / 1e6:.1f} MPa {when} (limit {part.limit / 1e6:.0f} MPa)\n"
         f"largest {deflection} {cycle.envelope.max_tip * 1e3:.3g} mm; "
-        f"shape x {scale:.3g} (largest displacement 5% of the part)\n"
+        f"shape x{scale:g} (one rule for every part: largest displacement <= 5% of its size, 1-2-5, <= x1000)\n"
         + (
             "on a rigid foundation: its base carries the loads' linear reaction (not drawn); red: loads as given"
             if part.job.loads.is_on_foundation
@@ -194,7 +227,7 @@ def _group_points(mesh, sol, scale, groups) -> np.ndarray:
     return mesh.points[idx] + scale * sol.displacement[idx]
 
 
-def _leave_room(plotter, top: float, bottom: float, right: float) -> None:
+def leave_room(plotter, top: float, bottom: float, right: float) -> None:
     """Shift and shrink the view so the part fills the picture between the caption (the
     top ``top`` of the height), the colour bar (``bottom`` of the height, or ``right`` of
     the width) and the edges: a parallel projection's scale is half the visible height."""

@@ -1,0 +1,101 @@
+"""PNG of a part's utilisation at every point over the whole cycle (PART-utilisation.png),
+beside the von Mises picture of its governing instant: each vertex's larger of its von
+Mises envelope over the stress limit and the required fatigue factor over its own. One
+colour scale for every part (0 to 100%, above it red: fails there), on the undeformed
+shape (the envelope is over the cycle, not one instant). pyvista, off-screen."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from railcheck.files import atomic_path
+from railcheck.parts import kind_of
+from railcheck.report.render import (
+    COLOUR_MAP,
+    caption_font_size,
+    fit_caption,
+    leave_room,
+    length_scale,
+    offscreen_pyvista,
+)
+from railcheck.report.vtu import node_envelope
+
+
+def node_utilisation(part) -> np.ndarray | None:
+    """(vertices,) each vertex's utilisation over the cycle (1 = at its limit): the larger
+    of its von Mises envelope over the part's stress limit and the required fatigue factor
+    over its own; None when the node fields were not kept."""
+    fat = part.cycle.fatigue
+    if fat.node_factor is None:
+        return None
+    n = part.mesh.points.shape[0]  # the P2 nodes list the mesh's vertices first
+    stress = node_envelope(part)[:n] / part.limit
+    with np.errstate(divide="ignore"):
+        fatigue = np.where(fat.node_factor[:n] > 0, fat.required / fat.node_factor[:n], np.inf)
+    return np.maximum(stress, fatigue)
+
+
+def utilisation_caption(name: str, part, largest: float) -> str:
+    """What the picture shows, the part's verdict utilisation and what governs it."""
+    fat = part.cycle.fatigue
+    return (
+        f"{name}: utilisation at each point over the whole cycle: the larger of von Mises envelope / "
+        f"{part.limit / 1e6:.0f} MPa and {fat.required:g} / fatigue factor\n"
+        f"the part: {part.utilisation:.0%} ({part.governing_criterion}), largest drawn {largest:.0%}; "
+        "one scale for every part, red above 100% (fails there); undeformed shape"
+    )
+
+
+def render_utilisation(path: str | Path, name: str, part) -> Path | None:
+    """Write the part's utilisation picture to ``path``; None without node fields."""
+    u = node_utilisation(part)
+    if u is None:
+        return None
+    pv = offscreen_pyvista()
+    mesh = part.mesh
+    extent = np.ptp(mesh.points, axis=0)
+    slender = extent.max() > 6 * np.sort(extent)[1]
+    size = (1600, 500) if slender else (1200, 1000)
+    plotter = pv.Plotter(off_screen=True, window_size=size)
+    font = caption_font_size(size[1])
+    _surface(pv, plotter, mesh, u, slender, font)
+    length_scale(plotter, mesh.points, kind_of(name).view)
+    plotter.add_axes(viewport=(0.0, 0.0, 0.12, 0.2) if slender else (0.0, 0.0, 0.15, 0.15), line_width=3)
+    lines = fit_caption(plotter, utilisation_caption(name, part, float(np.max(u))), size, font)
+    plotter.enable_parallel_projection()
+    plotter.camera.tight(padding=0.05 if slender else 0.12, view=kind_of(name).view, adjust_render_window=False)
+    leave_room(plotter, 1.7 * font * (lines + 0.6) / size[1], 0.2 if slender else 0.1, 0.0 if slender else 0.16)
+    path = Path(path)
+    with atomic_path(path) as tmp:
+        plotter.screenshot(str(tmp))
+    plotter.close()
+    return path
+
+
+def _surface(pv, plotter, mesh, u: np.ndarray, slender: bool, font: int) -> None:
+    """The part's surface coloured by utilisation (%), 0 to 100, red above."""
+    cells = np.hstack([np.full((mesh.tets.shape[0], 1), 4), mesh.tets]).ravel()
+    grid = pv.UnstructuredGrid(cells, np.full(mesh.tets.shape[0], pv.CellType.TETRA, dtype=np.uint8), mesh.points)
+    grid.point_data["utilisation (%)"] = 100.0 * u
+    plotter.add_mesh(
+        grid.extract_surface(algorithm="dataset_surface"),
+        scalars="utilisation (%)",
+        cmap=COLOUR_MAP,
+        clim=[0.0, 100.0],
+        above_color="red" if np.max(u) > 1.0 else None,
+        scalar_bar_args={
+            "title": "utilisation (%)",
+            "vertical": not slender,
+            "fmt": "%.0f",
+            "n_labels": 6,
+            "title_font_size": font,
+            "label_font_size": font,
+            **(
+                {"position_x": 0.25, "position_y": 0.05, "width": 0.5, "height": 0.1}
+                if slender
+                else {"position_x": 0.86, "position_y": 0.08, "width": 0.08, "height": 0.55}
+            ),
+        },
+    )
