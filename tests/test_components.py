@@ -344,3 +344,33 @@ def test_the_components_safe_speed_is_where_they_really_reach_their_limit():
     above, _ = _run(_scene(speed=f"{safe.hz * 1.001!r} Hz"))
     assert all(c.passed for c in below.components.values()) and below.to_pass == []
     assert not above.components["driving-pin"].passed
+
+
+def test_the_sweeps_maps_draw_the_components_largest_utilisation(monkeypatch, tmp_path):
+    """The maps' components row is each setting's largest component utilisation, the same
+    figures as the table's columns; the map is written."""
+    import railcheck
+    import railcheck.sweep.run as sweep_run
+
+    seen: dict = {}
+    real = sweep_run.write_maps
+    monkeypatch.setattr(sweep_run, "write_maps", lambda aggregates, d: (seen.update(aggregates), real(aggregates, d)))
+    data = {
+        "mechanism": {"kind": "four-bar", "crank": "480 mm", "coupler": "840 mm", "rocker": "780 mm", "ground": "1020 mm"},
+        "check": {"parts": COMPONENTS, "effects": ["inertia"]},
+        "sweep": {"kind": "four-bar", "crank": ["120 mm", "180 mm"], "coupler": ["600 mm", "660 mm"]},
+        "output": {"dir": str(tmp_path / "s")},
+    }
+    run = railcheck.sweep(data, serial=True, out=tmp_path / "s")
+    table = {k: np.array(v) for k, v in run.tables["four-bar"].to_pydict().items()}
+    ok = table["checks_passed"]
+    largest = np.max([table[f"{c}_utilisation"][ok] for c in COMPONENTS], axis=0)
+    mapped = seen["four-bar"].component_util
+    assert np.nanmax(mapped) == pytest.approx(largest.max()) and np.nanmin(mapped) <= largest.min() + 1e-12
+    assert (
+        np.isfinite(mapped).sum()
+        == np.unique(
+            np.column_stack([table[f"{b}_mm"][ok] for b in ("crank", "coupler", "rocker", "ground")]), axis=0
+        ).shape[0]
+    )
+    assert (tmp_path / "s" / "map-four-bar.png").exists()

@@ -242,3 +242,23 @@ def test_csv_and_gif(tmp_path):
 
     with Image.open(gif) as im:
         assert im.n_frames > 10  # an animation, not a still
+
+
+def test_a_scenes_own_four_bar_is_animated_with_its_lengths_and_speed(tmp_path, capsys):
+    """`railcheck mechanism scene.toml` draws the scene's linkage: its tracer is the
+    coupler's mid-span of the closed-form kinematics of those lengths, at the scene's speed."""
+    from railcheck.cli import main
+    from railcheck.kinematics.motion import solve_fourbar
+    from railcheck.studies.mechanism import run_mechanism
+
+    scene = tmp_path / "mine.toml"
+    scene.write_text(
+        '[mechanism]\nkind = "four-bar"\ncrank = "300 mm"\ncoupler = "900 mm"\nrocker = "600 mm"\n'
+        'ground = "960 mm"\nspeed = "0.5 Hz"\n'
+    )
+    run = run_mechanism(str(scene), 91)
+    closed = solve_fourbar(FourBar(0.30, 0.90, 0.60, 0.96), math.pi, 91)
+    np.testing.assert_allclose(run.table[:, 1:3], 0.5 * (closed.points["A"] + closed.points["B"]), atol=1e-9)
+    assert run.rate == pytest.approx(math.pi)  # 0.5 Hz
+    assert main(["mechanism", str(scene), "--html", str(tmp_path / "m.html")]) == 0
+    assert (tmp_path / "m.html").exists() and "wrote" in capsys.readouterr().out

@@ -11,7 +11,7 @@ HELP = "general planar mechanisms in body coordinates (the catalogue of the mech
 
 
 def add_args(p) -> None:
-    p.add_argument("name", help=f"catalogue name: {', '.join(CATALOGUE)}")
+    p.add_argument("name", help=f"catalogue name ({', '.join(CATALOGUE)}) or a scene .toml: its own linkage")
     p.add_argument("--steps", type=int, default=361, help="driver steps over the sweep (default 361)")
     p.add_argument("--csv", metavar="FILE", help="tracer path, velocity and acceleration (SI) as CSV")
     p.add_argument("--html", metavar="FILE", help="a self-contained interactive page with a slider")

@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from railcheck.files import atomic_path
-from railcheck.studies.hypotheses import MOTOR_ESTIMATE_2013_NM
+from railcheck.studies.hypotheses import FINAL_DESIGN_MM, MOTOR_ESTIMATE_2013_NM
 from railcheck.sweep.aggregate import REASON_ORDER, Aggregate
 
 
@@ -37,6 +37,7 @@ def _map_figure(agg: Aggregate, path: Path) -> None:
     cells coloured by their first failing check, with only the checks that occur in the
     legend; constant-load parts listed in the title."""
     import matplotlib.pyplot as plt
+    from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
 
     pairs = [(0, 1), (2, 3)] if len(agg.bars) == 4 else [(0, 1)]
@@ -52,9 +53,11 @@ def _map_figure(agg: Aggregate, path: Path) -> None:
         Patch(color=REASON_COLOURS[REASON_ORDER.index(r)], label=f"refused: {r.replace('_', ' ')}")
         for r in occurring_reasons(agg)
     ]
+    if agg.kind == "four-bar":
+        handles.append(Line2D([], [], marker="*", ms=11, mfc="white", mec="black", ls="none", label="the 2013 final design"))
     if handles:
         fig.legend(handles=handles, loc="lower center", ncol=min(4, len(handles)), fontsize=8)
-    note = " (red line: utilisation 1)" if has_fe else ""
+    note = " (red line: utilisation 1)" if has_fe or agg.component_util is not None else ""
     constant = (
         f"\nconstant loads, the same for every setting (not mapped): {', '.join(agg.constant_parts)}"
         if agg.constant_parts
@@ -73,15 +76,21 @@ def _map_figure(agg: Aggregate, path: Path) -> None:
 
 def _panels(agg: Aggregate, has_fe: bool) -> list[tuple]:
     """(data, reduction, label, colour map, is a utilisation) of each row of maps: each
-    part's utilisation and the lowest safe speed, or without FE the loads."""
+    part's utilisation, the components' largest, and the lowest safe speed; without FE
+    parts the loads instead of the parts."""
+    components = (
+        [(agg.component_util, np.nanmax, "the joints' components: largest utilisation (1 = limit)", "viridis", True)]
+        if agg.component_util is not None
+        else []
+    )
     if not has_fe:  # no FE parts: the loads instead
         return [
             (agg.reaction, np.nanmax, "largest peak joint reaction (N)", "viridis", False),
             (agg.torque, np.nanmax, "largest peak motor torque (N·m)", "viridis", False),
+            *components,
         ]
     panels = [(g, np.nanmax, f"{n}: utilisation (1 = limit)", "viridis", True) for n, g in agg.part_util.items()]
-    panels.append((agg.safe, np.nanmin, "lowest safe crank speed (Hz)", "viridis_r", False))
-    return panels
+    return [*panels, *components, (agg.safe, np.nanmin, "lowest safe crank speed (Hz)", "viridis_r", False)]
 
 
 def _map_panel(fig, ax, agg: Aggregate, a: int, b: int, panel: tuple) -> None:
@@ -112,6 +121,9 @@ def _map_panel(fig, ax, agg: Aggregate, a: int, b: int, panel: tuple) -> None:
         ax.contour(xs, ys, np.where(np.isfinite(grid), grid, 0).T, levels=[1.0], colors="red", linewidths=1.5)
     if data is agg.safe and agg.safe_dynamic.any():
         _mark_dynamic(ax, agg, others, xs, ys)
+    if agg.kind == "four-bar":  # the 2013 study's final design
+        at = (FINAL_DESIGN_MM[agg.bars[a]], FINAL_DESIGN_MM[agg.bars[b]])
+        ax.plot(*at, marker="*", ms=13, mfc="white", mec="black", ls="none", label="the 2013 final design")
     ax.set_xlabel(f"{agg.bars[a]} (mm)")
     ax.set_ylabel(f"{agg.bars[b]} (mm)")
     over = f", worst over {' and '.join(agg.bars[i] for i in others)}" if others else ""
@@ -176,7 +188,7 @@ def write_motor_plot(aggregates: dict, path: Path) -> None:
 
     fig, ax = plt.subplots(figsize=(8.0, 5.0))
     drawn = False
-    for kind, agg in aggregates.items():
+    for k, (kind, agg) in enumerate(aggregates.items()):
         m = agg.motor_sizing
         finite = lambda v: np.where(np.isfinite(v), v, np.nan)  # noqa: E731
         torque = finite(m.curve["torque_peak_Nm"])
@@ -190,16 +202,23 @@ def write_motor_plot(aggregates: dict, path: Path) -> None:
             if "torque_peak_Nm" in entry:
                 t = entry["torque_peak_Nm"]["value"]
                 ax.plot([float(v)], [t], "o", color=line.get_color())
-                ax.annotate(f"{t:.0f} N·m at {float(v):g} Hz", (float(v), t), textcoords="offset points", xytext=(6, -12))
+                ax.annotate(
+                    f"{kind}: {t:.0f} N·m at {float(v):g} Hz",
+                    (float(v), t),
+                    textcoords="offset points",
+                    xytext=(6, -12 - 13 * k),  # each kind's label on its own line
+                    fontsize=8,
+                )
         safe = m.at_safe.get("torque_peak_Nm")
         if safe:
             ax.plot([safe["safe_speed_Hz"]], [safe["value"]], "s", color=line.get_color())
             ax.annotate(
-                f"{safe['value']:.0f} N·m: the largest at a setting's own safe speed ({safe['safe_speed_Hz']:.2f} Hz)",
+                f"{kind}: {safe['value']:.0f} N·m, the largest at a setting's own safe speed ({safe['safe_speed_Hz']:.2f} Hz)",
                 (safe["safe_speed_Hz"], safe["value"]),
                 textcoords="offset points",
-                xytext=(0, 10),
+                xytext=(0, 10 + 13 * k),
                 ha="center",
+                fontsize=8,
             )
     ax.axhline(MOTOR_ESTIMATE_2013_NM, color="grey", lw=1, ls=":", label="2013 study's estimate, 200 N·m")
     ax.set_xlabel("crank speed (Hz)")

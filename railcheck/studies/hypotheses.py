@@ -60,6 +60,8 @@ def _verdict(hid: str, statement: str, holds, evidence: str) -> dict:
     return {"id": hid, "statement": statement, "holds": None if holds is None else bool(holds), "evidence": evidence}
 
 
+#: seed 000's final design (3.3.6, "CUMPLE Y MONTABLE"), bar lengths in mm
+FINAL_DESIGN_MM = {"crank": 480.0, "coupler": 840.0, "rocker": 780.0, "ground": 1020.0}
 NOT_SWEPT = "not in this sweep: no revolving setting of its family"
 
 

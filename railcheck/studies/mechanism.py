@@ -1,4 +1,5 @@
-"""`railcheck mechanism NAME`: a catalogue mechanism in body coordinates (seed 002).
+"""`railcheck mechanism NAME`: a catalogue mechanism in body coordinates (seed 002), or a
+scene's own four-bar or slider-crank (NAME a scene .toml).
 
 Prints the mobility report and the tracer point's range; ``--csv`` writes the tracer's
 path (``driver,x,y,vx,vy,ax,ay``: rad, m, m/s, m/s^2 in the catalogue's frame, the
@@ -18,21 +19,41 @@ import numpy as np
 
 from railcheck.base.errors import InputError
 from railcheck.files import atomic_path, atomic_write_text
-from railcheck.kinematics.planar.catalogue import CATALOGUE, SWEEPS, driver_values
+from railcheck.kinematics.linkage import FourBar
+from railcheck.kinematics.planar.catalogue import CATALOGUE, SWEEPS, driver_values, rig_fourbar, rig_slidercrank
 from railcheck.kinematics.planar.model import Prismatic, Revolute
 from railcheck.kinematics.planar.solver import mobility, solve
+from railcheck.parts import mass_model
+from railcheck.scene import load_scene
 
 
 def _solve(name: str, steps: int):
-
-    if name not in CATALOGUE:
-        raise InputError("NAME", f"unknown mechanism {name!r} (catalogue: {', '.join(CATALOGUE)})")
+    """The mechanism ``name`` (a catalogue name, or a scene file: its own four-bar or
+    slider-crank with its bar lengths and masses) solved over its driver's sweep; returns
+    (mechanism, motion, mobility, driver rate rad/s)."""
     if steps < 2 or steps > 100_000:
         raise InputError("--steps", f"must be between 2 and 100000, got {steps}")
-    mech = CATALOGUE[name]()
-    s = driver_values(name, steps)
-    motion = solve(mech, s)
-    return mech, motion, mobility(mech, motion.q[0]), SWEEPS[name]
+    if name.endswith(".toml"):
+        mech, kind, rate = scene_mechanism(name)
+    elif name in CATALOGUE:
+        mech, kind, rate = CATALOGUE[name](), name, SWEEPS[name]
+    else:
+        raise InputError("NAME", f"unknown mechanism {name!r} (catalogue: {', '.join(CATALOGUE)}; or a scene .toml)")
+    motion = solve(mech, driver_values(kind, steps))
+    return mech, motion, mobility(mech, motion.q[0]), rate
+
+
+def scene_mechanism(path: str):
+    """A scene's linkage in body coordinates: (mechanism, its catalogue kind, the crank's
+    speed in rad/s), with the scene's bar lengths and mass model."""
+    scene = load_scene(path)
+    if scene.mechanism is None:
+        raise InputError("mechanism", f"{path} has no [mechanism] table to animate")
+    masses = mass_model(scene.formulation, scene.geometry)
+    linkage = scene.mechanism.linkage
+    if isinstance(linkage, FourBar):
+        return rig_fourbar(linkage, masses), "four-bar", scene.mechanism.speed
+    return rig_slidercrank(linkage, masses), "slider-crank", scene.mechanism.speed
 
 
 def tracer_table(mech, motion, rate: float) -> np.ndarray:

@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
+from railcheck.components.ratings import COMPONENTS
 from railcheck.studies.hypotheses import MOTOR_ESTIMATE_2013_NM, hypotheses
 from railcheck.sweep.grid import BARS, narrowed, rig_grid
 
@@ -60,6 +61,9 @@ class Aggregate:
         #: parts whose loads depend on the setting get a map each; constant-load parts are listed
         self.constant_parts = [n for n, m in models.items() if m.constant is not None]
         self.part_util = {n: np.full(shape, np.nan) for n, m in models.items() if m.constant is None}
+        #: the largest of the listed components' utilisations (None: the scene lists none)
+        listed = scene.check.components if scene.check is not None else ()
+        self.component_util = np.full(shape, np.nan) if listed else None
 
     def add(self, col: dict, curve: dict | None = None) -> None:
         self.motor_sizing.add(col, curve, self._lengths)
@@ -134,6 +138,10 @@ class Aggregate:
         self.safe_dynamic[idx] = c["checks_passed"][on_grid] & (c["safe_speed_criterion"][on_grid] == "dynamic")
         for name, grid in self.part_util.items():
             grid[idx] = np.where(c["checks_passed"][on_grid], c[f"{name}_utilisation"][on_grid], np.nan)
+        columns = [c[f"{n}_utilisation"][on_grid] for n in COMPONENTS if f"{n}_utilisation" in c]
+        if self.component_util is not None and columns:
+            largest = functools.reduce(np.fmax, columns)
+            self.component_util[idx] = np.where(c["checks_passed"][on_grid], largest, np.nan)
         ok = c["checks_passed"][on_grid]
         self.torque[idx] = np.where(ok, c["torque_peak_Nm"][on_grid], np.nan)
         peaks = [c[k][on_grid] for k in c if k.startswith("peak_") and k.endswith("_N")]
