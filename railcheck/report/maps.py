@@ -49,7 +49,7 @@ def _map_figure(agg: Aggregate, path: Path) -> None:
     for col, (a, b) in enumerate(pairs):
         for row, panel in enumerate(panels):
             _map_panel(fig, axes[row, col], agg, a, b, panel)
-    handles = [
+    handles: list = [
         Patch(color=REASON_COLOURS[REASON_ORDER.index(r)], label=f"refused: {r.replace('_', ' ')}")
         for r in occurring_reasons(agg)
     ]
@@ -213,7 +213,8 @@ def write_motor_plot(aggregates: dict, path: Path) -> None:
         if safe:
             ax.plot([safe["safe_speed_Hz"]], [safe["value"]], "s", color=line.get_color())
             ax.annotate(
-                f"{kind}: {safe['value']:.0f} N·m, the largest at a setting's own safe speed ({safe['safe_speed_Hz']:.2f} Hz)",
+                f"{kind}: {safe['value']:.0f} N·m, the largest at a setting's own safe speed "
+                f"({safe['safe_speed_Hz']:.2f} Hz)",
                 (safe["safe_speed_Hz"], safe["value"]),
                 textcoords="offset points",
                 xytext=(0, 10 + 13 * k),
