@@ -193,8 +193,12 @@ def test_default_check_end_to_end(tmp_path):
         assert m.point_data["von_mises_envelope"].max() >= vm.max() * (1 - 1e-12)
         p = summary["parts"][name]
         assert set(p) >= {"max_von_mises_Pa", "tip_deflection_m", "limit_Pa", "pass", "factor_of_safety"}
-        bolts = p["load_case"]["bolts"]  # every bolt's force, not a count
+        seed = p["load_case"] if "load_case" in p else p["seed_load_case"]  # a free body's is the 2013 case
+        assert ("seed_load_case" in p) == (p.get("support", {}).get("model") == "free-body")
+        bolts = seed["bolts"]  # every bolt's force, not a count
         assert isinstance(bolts, dict) and all(len(f) == 3 for f in bolts.values())
+        for load in p["loads_at_governing_instant"]:  # as applied, and without the factor
+            assert np.allclose(np.array(load["applied_N"]), load["factor"] * np.array(load["unfactored_N"]))
         assert p["factor_of_safety"] == pytest.approx(p["limit_Pa"] / p["max_von_mises_Pa"], rel=1e-12)
         # the console shows the same figures
         line = next(l for l in proc.stdout.splitlines() if l.strip().startswith(name + " "))

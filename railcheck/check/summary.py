@@ -17,6 +17,7 @@ from railcheck.geometry.catalogue import (
 from railcheck.model.assumptions import assumptions
 from railcheck.model.records import DynamicResult, FatigueResult, PartResult, PipelineResult, SeedMethod
 from railcheck.parts import mass_model
+from railcheck.report.forces import applied_factor, governing_forces
 
 
 def _components_safe_speed(result: PipelineResult) -> dict:
@@ -111,7 +112,10 @@ def part_summary(p: PartResult) -> dict:
         },
         "seed_method": seed_summary(cyc.seed_method, env.max_von_mises),
         "fatigue": fatigue_summary(cyc.fatigue),
-        "load_case": load_case_summary(p),
+        # a free body's loads are its joints' forces over the cycle; the 2013 study's single
+        # load case (a clamp, the far joint's peak) is kept under its own name
+        ("load_case" if job.free_body is None else "seed_load_case"): load_case_summary(p),
+        "loads_at_governing_instant": governing_loads_summary(p),
         "unit_cases": list(cyc.fields.names),
         "mesh": mesh_summary(p),
     }
@@ -139,6 +143,24 @@ def load_case_summary(p: PartResult) -> dict:
         **p.load_case.origin,
         "bolts": {b.group: list(b.force) for b in p.load_case.bolts},
     }
+
+
+def governing_loads_summary(p: PartResult) -> list[dict]:
+    """Each load the FE applied at the part's governing instant, in the part's axes (x
+    along it, y across it): as applied (``applied_N``, with ``factor``: the load factor, or
+    1 for explicit loads) and unfactored; the motor couple's torque (N m) where there is one."""
+    factor = applied_factor(p)
+    return [
+        {
+            "name": f.name,
+            "holes": list(f.holes),
+            "factor": factor,
+            "applied_N": [float(v) for v in f.force],
+            "unfactored_N": [float(v) / factor for v in f.force],
+            **({"couple_Nm": f.couple, "unfactored_couple_Nm": f.couple / factor} if f.couple is not None else {}),
+        }
+        for f in governing_forces(p)
+    ]
 
 
 def mesh_summary(p: PartResult) -> dict:
