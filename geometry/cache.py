@@ -85,14 +85,15 @@ def read_cached(path: Path, payload: str) -> tuple[MeshData | None, str | None]:
     ), None
 
 
-def write_cached(path: Path, data: MeshData, payload: str) -> None:
+def write_cached(path: Path, data: MeshData, payload: str, compressed: bool = False) -> None:
     """Write a cache entry atomically (a per-process temporary name, then a rename), so
-    concurrent runs never read half a file; an unwritable cache only costs time."""
+    concurrent runs never read half a file; an unwritable cache only costs time.
+    ``compressed``: zip-deflated (the shipped meshes: smaller, a little slower to read)."""
     tmp = temporary_name(path)
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
         remove_dead_temporaries(path.parent)
-        np.savez(
+        (np.savez_compressed if compressed else np.savez)(
             tmp,
             points=data.points,
             tets=data.tets,

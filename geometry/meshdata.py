@@ -25,6 +25,7 @@ class MeshData:
     seconds: float
     cached: bool = False
     warning: str | None = None
+    shipped: bool = False  # read from the meshes shipped with railcheck
     curved_edges: np.ndarray = field(default_factory=lambda: np.zeros((0, 2), dtype=np.int64))
     curved_points: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
 

@@ -54,12 +54,14 @@ def _gmsh_version() -> str:
         return "unknown"
 
 
-def _cache_payload(part: PartGeometry, size: float, hole_size: float, optimize: bool = True) -> str:
-    """Everything a cached mesh depends on, as canonical JSON (stored beside the arrays)."""
+def _cache_payload(part: PartGeometry, size: float, hole_size: float, optimize: bool = True, shipped: bool = False) -> str:
+    """Everything a cached mesh depends on, as canonical JSON (stored beside the arrays); a
+    shipped mesh's (:data:`SHIPPED_DIR`) leaves out the installed gmsh's version: it is the
+    mesh itself, whichever gmsh reads the scene."""
     return json.dumps(
         {
             "v": MESHER_VERSION,
-            "gmsh": _gmsh_version(),
+            "gmsh": "shipped" if shipped else _gmsh_version(),
             "kind": part.kind,
             "params": [list(p) for p in part.params],
             "size": size,
@@ -74,8 +76,40 @@ def _cache_payload(part: PartGeometry, size: float, hole_size: float, optimize: 
     )
 
 
-def _cache_key(part: PartGeometry, size: float, hole_size: float, optimize: bool = True) -> str:
-    return hashlib.sha256(_cache_payload(part, size, hole_size, optimize).encode()).hexdigest()[:24]
+def _cache_key(part: PartGeometry, size: float, hole_size: float, optimize: bool = True, shipped: bool = False) -> str:
+    return hashlib.sha256(_cache_payload(part, size, hole_size, optimize, shipped).encode()).hexdigest()[:24]
+
+
+#: meshes shipped with railcheck: the rig's parts at their default sizes, built once (a
+#: grooved rail's untangling is not reproducible run to run, so every user and every cold
+#: run reads the same mesh; and a cold check skips its slowest stage). Read before the
+#: cache: where one is shipped, it is the mesh.
+SHIPPED_DIR = Path(__file__).parent / "meshes"
+
+
+def shipped_entry(part: PartGeometry, size: float, hole_size: float, optimize: bool = True) -> tuple[Path, str]:
+    """(path, payload) of the shipped mesh of ``part`` at these parameters (it may not exist)."""
+    key = _cache_key(part, size, hole_size, optimize, shipped=True)
+    return SHIPPED_DIR / f"{part.kind}-{key}.npz", _cache_payload(part, size, hole_size, optimize, shipped=True)
+
+
+def shipped_mesh(part: PartGeometry, size: float, hole_size: float, optimize: bool = True) -> MeshData | None:
+    """The mesh shipped with railcheck for these parameters, or None (none shipped; a
+    damaged one is ignored: the part is meshed)."""
+    data = read_cached(*shipped_entry(part, size, hole_size, optimize))[0]
+    if data is None:
+        return None
+    from dataclasses import replace
+
+    return replace(data, shipped=True)
+
+
+def write_shipped_mesh(part: PartGeometry, size: float, hole_size: float, optimize: bool = True) -> Path:
+    """Mesh ``part`` afresh and store it among the shipped meshes (a maintainer's step:
+    ``benchmarks/ship_meshes.py``); returns its path."""
+    path, payload = shipped_entry(part, size, hole_size, optimize)
+    write_cached(path, build_mesh(part, size, hole_size, optimize=optimize), payload, compressed=True)
+    return path
 
 
 def estimate_elements(part: PartGeometry, size: float, hole_size: float) -> int:
@@ -110,6 +144,9 @@ def mesh_part(
     path, payload = _cache_entry(part, size, hole_size, optimize, cache_dir)
     why = None
     if cache:
+        data = shipped_mesh(part, size, hole_size, optimize)  # the one mesh every run reads
+        if data is not None:
+            return data
         data, why = read_cached(path, payload)
         if data is not None:
             return data
@@ -132,8 +169,10 @@ def cached_mesh(
 ) -> MeshData | None:
     """The mesh :func:`mesh_part` would read from the cache in ``cache_dir``, or None when
     it would have to build it (no entry, or a damaged or stale one): a probe that never
-    meshes."""
-    return read_cached(*_cache_entry(part, size, hole_size or size / 3.0, optimize, cache_dir))[0]
+    meshes; a mesh shipped with railcheck counts as cached."""
+    hole_size = hole_size or size / 3.0
+    shipped = shipped_mesh(part, size, hole_size, optimize)
+    return shipped if shipped is not None else read_cached(*_cache_entry(part, size, hole_size, optimize, cache_dir))[0]
 
 
 def _cache_entry(

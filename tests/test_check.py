@@ -173,9 +173,12 @@ def test_default_check_end_to_end(tmp_path):
     )
     assert proc.returncode in (0, 1), proc.stderr
     summary = json.loads((out / "summary.json").read_text())
-    assert summary["stages_run"] == ["scene", "kinematics", "loads", "geometry", "mesh", "solve", "stress", "report"]
+    stages = ["scene", "kinematics", "components", "loads", "geometry", "mesh", "solve", "stress", "report"]
+    assert summary["stages_run"] == stages
     parts = ["crank-rail", "coupler-rail", "rocker-rail", "PF_4b_006", "PF_4b_003_v2"]
     assert list(summary["parts"]) == parts
+    assert len(summary["components"]) == 13  # the default lists every joint component
+    assert (out / "joints.png").exists() and all((out / f"{n}-utilisation.png").exists() for n in parts)
     for name in parts:
         m = meshio.read(out / f"{name}.vtu")
         assert m.point_data["displacement"].shape[1] == 3 and "von_mises" in m.point_data

@@ -82,7 +82,7 @@ def check_part(job: PartJob, solver: str, report) -> PartResult:
             "stresses near them are unreliable"
         )
     report(
-        f"{mesh.tets.shape[0]} tetrahedra{' (cached)' if mesh.cached else ''}, min quality {mesh.min_quality:.2f}"
+        f"{mesh.tets.shape[0]} tetrahedra{_mesh_source(mesh)}, min quality {mesh.min_quality:.2f}"
         + (f"; {note}" if note else "")
     )
     cases = unit_cases(job.loads, job.geometry, list(job.holes))
@@ -449,3 +449,8 @@ def solution_at(fields: UnitFields, c: np.ndarray, solve: UnitSolve, order: int,
         warnings=[],
         node_displacement=u,
     )
+
+
+def _mesh_source(mesh) -> str:
+    """Where a part's mesh came from, for its progress line."""
+    return " (shipped with railcheck)" if mesh.shipped else " (cached)" if mesh.cached else ""

@@ -198,29 +198,7 @@ def write_motor_plot(aggregates: dict, path: Path) -> None:
         (line,) = ax.plot(m.curve_hz, torque, lw=2, label=f"{kind}: peak torque, settings safe at that speed")
         rms = finite(m.curve["torque_rms_Nm"])
         ax.plot(m.curve_hz, rms, lw=1, ls="--", color=line.get_color(), label=f"{kind}: RMS torque")
-        for v, entry in m.by_speed.items():
-            if "torque_peak_Nm" in entry:
-                t = entry["torque_peak_Nm"]["value"]
-                ax.plot([float(v)], [t], "o", color=line.get_color())
-                ax.annotate(
-                    f"{kind}: {t:.0f} N·m at {float(v):g} Hz",
-                    (float(v), t),
-                    textcoords="offset points",
-                    xytext=(6, -12 - 13 * k),  # each kind's label on its own line
-                    fontsize=8,
-                )
-        safe = m.at_safe.get("torque_peak_Nm")
-        if safe:
-            ax.plot([safe["safe_speed_Hz"]], [safe["value"]], "s", color=line.get_color())
-            ax.annotate(
-                f"{kind}: {safe['value']:.0f} N·m, the largest at a setting's own safe speed "
-                f"({safe['safe_speed_Hz']:.2f} Hz)",
-                (safe["safe_speed_Hz"], safe["value"]),
-                textcoords="offset points",
-                xytext=(0, 10 + 13 * k),
-                ha="center",
-                fontsize=8,
-            )
+        _label_speeds(ax, kind, k, m, line.get_color())
     ax.axhline(MOTOR_ESTIMATE_2013_NM, color="grey", lw=1, ls=":", label="2013 study's estimate, 200 N·m")
     ax.set_xlabel("crank speed (Hz)")
     ax.set_ylabel("motor torque (N·m)")
@@ -238,6 +216,33 @@ def write_motor_plot(aggregates: dict, path: Path) -> None:
     with atomic_path(path) as tmp:
         fig.savefig(tmp, dpi=110)
     plt.close(fig)
+
+
+def _label_speeds(ax, kind: str, k: int, m, colour) -> None:
+    """Mark and label a kind's peak torque at each listed speed and its largest at a
+    setting's own safe speed, each kind's labels on their own line (``k``: the kind's index)."""
+    for v, entry in m.by_speed.items():
+        if "torque_peak_Nm" in entry:
+            t = entry["torque_peak_Nm"]["value"]
+            ax.plot([float(v)], [t], "o", color=colour)
+            ax.annotate(
+                f"{kind}: {t:.0f} N·m at {float(v):g} Hz",
+                (float(v), t),
+                textcoords="offset points",
+                xytext=(6, -12 - 13 * k),  # each kind's label on its own line
+                fontsize=8,
+            )
+    safe = m.at_safe.get("torque_peak_Nm")
+    if safe:
+        ax.plot([safe["safe_speed_Hz"]], [safe["value"]], "s", color=colour)
+        ax.annotate(
+            f"{kind}: {safe['value']:.0f} N·m, the largest at a setting's own safe speed ({safe['safe_speed_Hz']:.2f} Hz)",
+            (safe["safe_speed_Hz"], safe["value"]),
+            textcoords="offset points",
+            xytext=(0, 10 + 13 * k),
+            ha="center",
+            fontsize=8,
+        )
 
 
 def _extent(xs: np.ndarray, ys: np.ndarray) -> tuple:
