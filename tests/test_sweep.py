@@ -497,6 +497,8 @@ def test_motor_sizing_at_every_speed_and_its_curve_from_the_table(kinematic_swee
     text = sweep_report(kinematic_sweep)
     assert f"motor at 1 Hz (every passing setting): peak torque {at_1hz['torque_peak_Nm']['value']:.3g} N·m" in text
     assert "seed 3.3" not in text and "hypotheses (chapter 3.3)" in text  # the 2013 hypotheses: summary.json only
+    assert "settings written crank/coupler/rocker/ground (mm)" in text  # the order of "480/840/780/1020 mm"
+    assert all(len(line) <= 100 for line in text.splitlines() if not line.startswith("results in"))
     assert_picture(kinematic_sweep.target / "motor.png")
     page = (kinematic_sweep.target / "report.html").read_text()
     assert "<script" not in page and "http" not in page  # self-contained, offline

@@ -24,8 +24,8 @@ BEST = (
     ("lowest utilisation at the first speed", "utilisation", "min", ".3f", ""),
     ("highest safe speed", "safe_speed_Hz", "max", ".3g", "Hz"),
     ("lowest peak motor torque", "torque_peak_Nm", "min", ".3g", "N·m"),
-    ("lowest peak motor power", "power_peak_W", "min", ".3g", "W"),
-    ("longest bearing life (L10)", "bearing_life_h", "max", ".3g", "h"),
+    ("lowest peak motor power", "power_peak_W", "min", ",.0f", "W"),
+    ("longest bearing life (L10) of the least-lived 6205", "bearing_life_h", "max", ".3g", "h"),
 )
 
 

@@ -376,17 +376,26 @@ def _motor_lines(sizing: dict | None, mm) -> list[str]:
         t, r, p = (entry[q] for q in ("torque_peak_Nm", "torque_rms_Nm", "power_peak_W"))
         out.append(
             f"  motor at {float(speed):g} Hz (every passing setting): peak torque {t['value']:.3g} N·m "
-            f"({mm(t['lengths_m'])}), RMS {r['value']:.3g} N·m, peak power {p['value']:.3g} W"
+            f"({mm(t['lengths_m'])}), RMS {r['value']:.3g} N·m, peak power {p['value']:,.0f} W"
         )
     safe = sizing["at_safe_speed"]
     if "torque_peak_Nm" in safe:
         t, p = safe["torque_peak_Nm"], safe["power_peak_W"]
         out.append(
             f"  motor at each setting's safe speed: peak torque {t['value']:.3g} N·m ({mm(t['lengths_m'])} at "
-            f"{t['safe_speed_Hz']:.3g} Hz), peak power {p['value']:.3g} W; the 2013 estimate: "
+            f"{t['safe_speed_Hz']:.3g} Hz), peak power {p['value']:,.0f} W; the 2013 estimate: "
             f"{sizing['estimate_2013_Nm']:.0f} N·m (motor.png)"
         )
     return out
+
+
+def _bar_order(k: dict) -> list[str]:
+    """The bars a kind's settings are written by ("480/840/780/1020 mm"), in order: the
+    keys of the first setting its summary names (none: no line)."""
+    found = [e.get("lengths_m") for e in (k.get("worst"), k.get("shortest_bearing_life")) if e]
+    sizing = k.get("motor_sizing") or {}
+    found += [e["torque_peak_Nm"]["lengths_m"] for e in sizing.get("at_listed_speeds", {}).values() if "torque_peak_Nm" in e]
+    return list(found[0]) if found else []
 
 
 def sweep_report(run) -> str:
@@ -404,6 +413,9 @@ def sweep_report(run) -> str:
             f"{k['settings_revolving']} revolve, {k['settings_passing_checks']} pass the configuration "
             f"checks, {k['settings_passing']} pass every check at {s['speeds_Hz'][0]:g} Hz"
         )
+        order = _bar_order(k)
+        if order:
+            lines.append(f"  settings written {'/'.join(order)} (mm)")
         if k["worst"]:
             w = k["worst"]
             lines.append(
@@ -434,7 +446,7 @@ def sweep_report(run) -> str:
         f"results in {run.target}/ (report.html first; {', '.join(s['tables'].values())}, maps, motor.png, "
         f"summary.json), {run.seconds:.1f} s"
     )
-    return "\n".join(lines)
+    return fit_width("\n".join(lines))
 
 
 def support_words(result) -> str:
