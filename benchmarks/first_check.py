@@ -59,7 +59,9 @@ def tree_rss(pid: int) -> int:
 def timed(cmd: list[str], env: dict) -> tuple[float, int]:
     """(wall s, peak resident bytes of the process tree) of ``cmd``."""
     t = time.perf_counter()
-    proc = subprocess.Popen(cmd, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    proc = subprocess.Popen(
+        cmd, env=env, cwd=tempfile.gettempdir(), stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True
+    )
     peak = [0]
 
     def sample():
@@ -99,17 +101,21 @@ def cold_check(tree: Path | None, work: Path) -> float:
 
 
 def another_setting(work: Path) -> tuple[float, float]:
-    """(json only, every file) s of a check of another setting after one cold default check."""
+    """(json only, every file) s of a check of another setting after one cold default check:
+    first with ``--json`` and no files ([output] off), then the same setting again with
+    every file (as the issue measured them)."""
     cache = Path(tempfile.mkdtemp(dir=work))
     env = environment(cache, THIS)
     timed(railcheck("check", "--json", "--out", str(cache / "first")), env)
-    scene = cache / "other.toml"
-    base = (HERE / "railcheck" / "scenes" / "default.toml").read_text()
-    scene.write_text(OTHER + base[base.index("[dynamics]") :])
-    json_only, _ = timed(railcheck("check", str(scene), "--json", "--out", str(cache / "json")), env)
-    files, _ = timed(railcheck("check", str(scene), "--out", str(cache / "files")), env)
+    base = ((THIS or HERE) / "railcheck" / "scenes" / "default.toml").read_text()
+    body = base[base.index("[dynamics]") : base.index("[output]")]
+    quiet, files = cache / "quiet.toml", cache / "files.toml"
+    quiet.write_text(OTHER + body + "[output]\nvtk = false\npng = false\nplots = false\n")
+    files.write_text(OTHER + base[base.index("[dynamics]") :])
+    json_only, _ = timed(railcheck("check", str(quiet), "--json", "--out", str(cache / "json")), env)
+    every, _ = timed(railcheck("check", str(files), "--out", str(cache / "files")), env)
     shutil.rmtree(cache, ignore_errors=True)
-    return json_only, files
+    return json_only, every
 
 
 def whole_rig(work: Path) -> tuple[float, int]:
@@ -159,7 +165,9 @@ def main() -> int:
         before.append(cold_check(a.before.resolve(), work))
         this.append(cold_check(THIS, work))
         other.append(another_setting(work))
-        print(f"round {i + 1}: cold before {before[-1]:.1f} s, this {this[-1]:.1f} s; another setting {other[-1]}", flush=True)
+        print(
+            f"round {i + 1}: cold before {before[-1]:.1f} s, this {this[-1]:.1f} s; another setting {other[-1]}", flush=True
+        )
     rig = whole_rig(work)
     print(f"whole rig {rig[0]:.1f} s, peak {rig[1] / 1e9:.2f} GB", flush=True)
     text = table(before, this, other, rig, a.repeat)

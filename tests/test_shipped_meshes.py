@@ -44,10 +44,9 @@ def test_a_shipped_plate_is_the_mesh_gmsh_builds_byte_for_byte():
     _same_mesh(mesher.shipped_mesh(part, size, hole), mesher.build_mesh(part, size, hole), 0.0)
 
 
-@pytest.mark.slow  # two rails meshed afresh, about 35 s
-@pytest.mark.parametrize("name", ["crank-rail", "coupler-rail"])
-def test_a_shipped_rail_is_the_mesh_gmsh_builds_to_a_micrometre(name):
-    part, size, hole = _default(name)
+@pytest.mark.slow  # the 1000 mm rail meshed afresh, about 23 s
+def test_a_shipped_rail_is_the_mesh_gmsh_builds_to_a_micrometre():
+    part, size, hole = _default("coupler-rail")
     _same_mesh(mesher.shipped_mesh(part, size, hole), mesher.build_mesh(part, size, hole), 1e-6)
 
 

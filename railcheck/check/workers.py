@@ -2,9 +2,9 @@
 
 Each part is independent once its :class:`~railcheck.model.jobs.PartJob` is resolved:
 mesh, unit cases, envelope, fatigue (:func:`railcheck.model.cycle.check_part`). With more
-than one part and more than one core the largest part (by its estimated element count) is
-checked in this process while the others run in ``jobs - 1`` worker processes (spawned,
-so no library state is forked); the workers' progress lines reach the console through a
+than one part and more than one core the parts are taken largest first (by their estimated
+element counts) by this process and ``jobs - 1`` worker processes (spawned, so no library
+state is forked), whichever is free taking the next; the workers' progress lines reach the console through a
 queue as they happen, and each part's result comes back whole. Errors raised in a worker
 are raised here unchanged. ``jobs=1`` (``railcheck check --jobs 1``) runs them in this
 process, one after another; the results are the same.
@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import dataclasses
 import os
+import threading
 import time
 
 from railcheck.geometry.mesher import estimate_elements
@@ -51,12 +52,46 @@ def check_parts(
 def _in_workers(
     part_jobs: dict[str, PartJob], solver: str, progress: Progress, jobs: int, label: dict, part_done
 ) -> dict[str, PartResult]:
-    order = sorted(part_jobs, key=lambda name: -_estimated_elements(part_jobs[name]))
-    largest, rest = order[0], order[1:]
+    """The parts largest first (by estimated elements), whoever is free taking the next:
+    this process and ``jobs - 1`` workers, each fed by a thread here (a fixed split left
+    this process idle after the largest part while one worker checked all the others)."""
+    queue = sorted(part_jobs, key=lambda name: -_estimated_elements(part_jobs[name]))
+    lock = threading.Lock()
+    results: dict[str, PartResult] = {}
+    errors: list[BaseException] = []
+
+    def take() -> str | None:
+        with lock:
+            return queue.pop(0) if queue and not errors else None
+
+    def here(name: str) -> PartResult:
+        return _check_one(part_jobs[name], solver, label[name], part_done, lambda m: progress.say("solve", m))
+
+    first = take()
     with relayed_pool(jobs - 1, progress) as pool:
-        futures = {name: pool.submit(_check_one, part_jobs[name], solver, label[name], part_done) for name in rest}
-        here = _check_one(part_jobs[largest], solver, label[largest], part_done, lambda msg: progress.say("solve", msg))
-        return {name: here if name == largest else futures[name].result() for name in part_jobs}
+
+        def feed() -> None:
+            while (name := take()) is not None:
+                try:
+                    results[name] = pool.submit(_check_one, part_jobs[name], solver, label[name], part_done).result()
+                except BaseException as exc:  # noqa: BLE001 - raised in this process below, unchanged
+                    errors.append(exc)
+
+        feeders = [threading.Thread(target=feed, daemon=True) for _ in range(jobs - 1)]
+        for t in feeders:
+            t.start()
+        name = first
+        try:
+            while name is not None:
+                results[name] = here(name)
+                name = take()
+        except BaseException as exc:
+            errors.append(exc)
+        for t in feeders:
+            t.join()
+    if errors:
+        raise errors[0]
+    return {name: results[name] for name in part_jobs}
 
 
 def _estimated_elements(job: PartJob) -> int:
