@@ -6,7 +6,8 @@
 * another setting (420/900/720/1020 mm, the same parts) after one cold default check, with
   ``--json`` and no files, and with every file;
 * the whole default rig (`railcheck sweep`, every setting, every part) from an empty cache,
-  with its peak resident memory (the sweep and its workers, summed, sampled every 0.2 s).
+  with its peak memory (the sweep and its workers' proportional set sizes summed, sampled
+  every 0.2 s).
 
 Prints each run, then one table of medians and ratios; ``--write FILE`` puts the table
 between FILE's ``<!-- first-check -->`` and ``<!-- /first-check -->`` lines.
@@ -34,25 +35,26 @@ HERE = Path(__file__).resolve().parents[1]
 OTHER = '[mechanism]\nkind = "four-bar"\ncrank = "420 mm"\ncoupler = "900 mm"\nrocker = "720 mm"\nground = "1020 mm"\n'
 
 
-def tree_rss(pid: int) -> int:
-    """Bytes resident in process ``pid`` and its descendants (/proc, Linux)."""
+def tree_memory(pid: int) -> int:
+    """Bytes of process ``pid`` and its descendants (/proc, Linux): their proportional set
+    sizes summed (PSS: a page shared by forked workers counted once in all)."""
     children: dict[int, list[int]] = {}
-    rss: dict[int, int] = {}
     for entry in Path("/proc").iterdir():
-        if not entry.name.isdigit():
-            continue
-        try:
-            stat = (entry / "stat").read_text()
-            fields = stat[stat.rindex(")") + 2 :].split()
-            children.setdefault(int(fields[1]), []).append(int(entry.name))
-            rss[int(entry.name)] = int(fields[21]) * os.sysconf("SC_PAGE_SIZE")
-        except (OSError, ValueError, IndexError):
-            continue
+        if entry.name.isdigit():
+            try:
+                stat = (entry / "stat").read_text()
+                children.setdefault(int(stat[stat.rindex(")") + 2 :].split()[1]), []).append(int(entry.name))
+            except (OSError, ValueError, IndexError):
+                continue
     total, todo = 0, [pid]
     while todo:
         p = todo.pop()
-        total += rss.get(p, 0)
         todo += children.get(p, [])
+        try:
+            rollup = Path(f"/proc/{p}/smaps_rollup").read_text()
+            total += 1024 * int(next(line.split()[1] for line in rollup.splitlines() if line.startswith("Pss:")))
+        except (OSError, StopIteration, ValueError):
+            continue
     return total
 
 
@@ -66,7 +68,7 @@ def timed(cmd: list[str], env: dict) -> tuple[float, int]:
 
     def sample():
         while proc.poll() is None:
-            peak[0] = max(peak[0], tree_rss(proc.pid))
+            peak[0] = max(peak[0], tree_memory(proc.pid))
             time.sleep(0.2)
 
     sampler = threading.Thread(target=sample, daemon=True)
@@ -134,7 +136,7 @@ def table(before: list[float], this: list[float], other: list[tuple[float, float
         ("another setting after it, json only (s)", f"{j:.1f}", f"{j / c:.3f}x the cold check (target 0.05x)"),
         ("another setting after it, every file (s)", f"{f:.1f}", f"{f / c:.3f}x the cold check (target 0.2x)"),
         ("whole rig from an empty cache (s)", f"{rig[0]:.1f}", f"{rig[0] / c:.2f}x the cold check (target 1.0x)"),
-        ("whole rig's peak resident memory (GB)", f"{rig[1] / 1e9:.2f}", "target 3 GB"),
+        ("whole rig's peak memory, PSS of its processes (GB)", f"{rig[1] / 1e9:.2f}", "target 3 GB"),
     ]
     head = (
         f"`python benchmarks/first_check.py --repeat {n}`, {datetime.date.today()}, {os.cpu_count()} cores; "
