@@ -21,7 +21,7 @@ class Progress:
         if not self.quiet:
             # one write per line: lines said from several threads never interleave
             line = f"[{time.perf_counter() - self.t0:7.1f} s] {stage:<10} {message}"
-            print(wrapped(line) + "\n", end="", file=sys.stderr, flush=True)
+            print((wrapped(line) if _terminal() else line) + "\n", end="", file=sys.stderr, flush=True)
 
 
 def wrapped(line: str) -> str:
@@ -30,3 +30,12 @@ def wrapped(line: str) -> str:
     if len(line) <= WIDTH:
         return line
     return "\n".join(textwrap.wrap(line, WIDTH, subsequent_indent=" " * 23, break_long_words=False, break_on_hyphens=False))
+
+
+def _terminal() -> bool:
+    """Whether stderr is a terminal: a person reads it at its width; a pipe or a log
+    (scripts, CI, the tests that wait for a line) gets each progress line whole."""
+    try:
+        return sys.stderr.isatty()
+    except (AttributeError, ValueError):
+        return False
