@@ -148,6 +148,25 @@ def length_scale(plotter, points: np.ndarray, view: str) -> None:
     plotter.add_ruler(a, b, title="mm", number_labels=2, scale=1e3, label_format="%.0f", tick_length=4)
 
 
+def colour_bar_args(title: str, fmt: str, slender: bool, font: int) -> dict:
+    """pyvista's colour-bar arguments of every part picture: below a slender part, else
+    beside it; six labels in ``fmt``."""
+    place = (
+        {"position_x": 0.25, "position_y": 0.05, "width": 0.5, "height": 0.1}
+        if slender
+        else {"position_x": 0.86, "position_y": 0.08, "width": 0.08, "height": 0.55}
+    )
+    return {
+        "title": title,
+        "vertical": not slender,
+        "fmt": fmt,
+        "n_labels": 6,
+        "title_font_size": font,
+        "label_font_size": font,
+        **place,
+    }
+
+
 def _stress_surface(pv, plotter, mesh, sol, scale: float, top: float, slender: bool, font: int, beyond: bool) -> None:
     """The part's surface displaced ``scale`` x its displacement, coloured by von Mises
     from 0 to ``top`` MPa, with its colour bar (below a slender part, else beside it);
@@ -164,19 +183,7 @@ def _stress_surface(pv, plotter, mesh, sol, scale: float, top: float, slender: b
         clim=[0.0, top],
         above_color="magenta" if beyond else None,
         show_edges=False,
-        scalar_bar_args={
-            "title": "von Mises (MPa)",
-            "vertical": not slender,
-            "fmt": colour_bar_format(top),
-            "n_labels": 6,
-            "title_font_size": font,
-            "label_font_size": font,
-            **(
-                {"position_x": 0.25, "position_y": 0.05, "width": 0.5, "height": 0.1}
-                if slender
-                else {"position_x": 0.86, "position_y": 0.08, "width": 0.08, "height": 0.55}
-            ),
-        },
+        scalar_bar_args=colour_bar_args("von Mises (MPa)", colour_bar_format(top), slender, font),
     )
 
 

@@ -15,6 +15,7 @@ from railcheck.parts import kind_of
 from railcheck.report.render import (
     COLOUR_MAP,
     caption_font_size,
+    colour_bar_args,
     fit_caption,
     leave_room,
     length_scale,
@@ -85,17 +86,5 @@ def _surface(pv, plotter, mesh, u: np.ndarray, slender: bool, font: int) -> None
         cmap=COLOUR_MAP,
         clim=[0.0, 100.0],
         above_color="red" if np.max(u) > 1.0 else None,
-        scalar_bar_args={
-            "title": "utilisation (%)",
-            "vertical": not slender,
-            "fmt": "%.0f",
-            "n_labels": 6,
-            "title_font_size": font,
-            "label_font_size": font,
-            **(
-                {"position_x": 0.25, "position_y": 0.05, "width": 0.5, "height": 0.1}
-                if slender
-                else {"position_x": 0.86, "position_y": 0.08, "width": 0.08, "height": 0.55}
-            ),
-        },
+        scalar_bar_args=colour_bar_args("utilisation (%)", "%.0f", slender, font),
     )
