@@ -117,6 +117,70 @@ def test_a_fail_says_how_far_the_loads_must_fall_and_they_pass_there(tmp_path):
         assert json.loads((out / "summary.json").read_text())["verdict"] == verdict
 
 
+#: the crank rail without grooves on a coarse linear mesh (a second to mesh), its weight in
+#: plane with the inertia, failing a lowered stress limit at 1 Hz
+CRANK_AT = """
+[mechanism]
+kind = "four-bar"
+crank = "480 mm"
+coupler = "840 mm"
+rocker = "780 mm"
+ground = "1020 mm"
+speed = "SPEED"
+steps = 180
+plane = "vertical"
+[check]
+parts = ["crank-rail"]
+limit = "60 MPa"
+effects = ["inertia", "gravity", "rail-inertia"]
+[mesh]
+order = 1
+size = "30 mm"
+hole_size = "7 mm"
+[geometry]
+rail_groove_radius = "0 mm"
+[output]
+vtk = false
+png = false
+plots = false
+"""
+
+
+def _check_text(case, text: str) -> tuple[int, str, dict]:
+    """``railcheck check`` of the scene ``text`` in the folder ``case``: (status, stdout, summary)."""
+    case.mkdir()
+    (case / "scene.toml").write_text(text)
+    stdout, stderr = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(stdout), contextlib.redirect_stderr(stderr):
+        status = main(["check", str(case / "scene.toml"), "--out", str(case / "out")])
+    assert "Traceback" not in stderr.getvalue(), stderr.getvalue()
+    return status, stdout.getvalue(), json.loads((case / "out" / "summary.json").read_text())
+
+
+def test_a_failing_parts_safe_speed_is_where_the_check_itself_flips(tmp_path):
+    """A part that fails at its speed gets the crank speed up to which it passes at this
+    setting (its cycle re-evaluated at trial speeds on its solved fields): a check 0.2%
+    below that speed passes, 0.2% above fails; with weight the speed is no square-root
+    scaling of the utilisation (planted: the weight left out of the trials fails this)."""
+    status, stdout, summary = _check_text(tmp_path / "fails", CRANK_AT.replace("SPEED", "1 Hz"))
+    u = summary["parts"]["crank-rail"]["utilisation"]
+    safe = summary["parts_safe_speed"]["crank-rail"]
+    assert status == 1 and u > 1.05 and safe["criterion"] == "stress"
+    assert abs(safe["Hz"] - 1 / np.sqrt(u)) > 1e-3  # the weight does not scale with the speed
+    assert f"to pass: crank-rail: passes up to {safe['Hz']:.3g} Hz at this setting" in fit_width_lines(stdout)
+    for share, verdict in ((0.998, "PASS"), (1.002, "FAIL")):
+        _, _, at = _check_text(tmp_path / f"at-{share}", CRANK_AT.replace("SPEED", f"{safe['Hz'] * share!r} Hz"))
+        assert at["verdict"] == verdict, (share, at["parts"]["crank-rail"]["utilisation"])
+
+
+def test_a_failures_figures_never_read_equal():
+    """A criterion that fails by less than its printed decimals gets more of them."""
+    from railcheck.model.records import apart
+
+    assert apart(0.49, 1.0, 2) == 2 and apart(0.998, 1.0, 2) == 3 and apart(0.9999999, 1.0, 2) == 6
+    assert apart(375.04, 375.0, 1) == 2 and apart(638.8, 375.0, 1) == 1
+
+
 def fit_width_lines(stdout: str) -> str:
     """The console's text with its wrapped lines joined (a long line continues indented)."""
     return " ".join(line.strip() for line in stdout.splitlines())

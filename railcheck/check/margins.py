@@ -1,21 +1,38 @@
-"""What would make a check pass: the crank speed up to which the joints' components pass
-at the check's setting. The components' model is analytic (kinematics and standards'
-formulas, milliseconds a speed), so the speed is searched exactly on the check's own
-model: its kinematics rerun at each trial speed, the same components checked, the largest
-utilisation's crossing of 1 found by :func:`railcheck.model.crossing.increasing_crossing`
-(every utilisation grows with the speed: the joint forces and torque are the inertia's,
-growing with its square, over constant weight)."""
+"""What would make a check pass: the crank speed up to which the joints' components, and
+each failing part, pass at the check's setting.
+
+The components' model is analytic (kinematics and standards' formulas, milliseconds a
+speed), so their speed is searched exactly on the check's own model: its kinematics rerun
+at each trial speed, the same components checked, the largest utilisation's crossing of 1
+found by :func:`railcheck.model.crossing.increasing_crossing` (every utilisation grows with
+the speed: the joint forces and torque are the inertia's, growing with its square, over
+constant weight).
+
+A failing part's speed is searched the same way on the part's own model: at each trial
+speed the check's kinematics, loads and job are rebuilt for that part alone and its cycle
+evaluated on the unit fields it already solved (superposition: nothing is assembled or
+solved again, about a second a trial), its utilisation the check's own
+(:attr:`~railcheck.model.records.PartResult.utilisations`) together with the quasi-static
+certificate's share (:func:`railcheck.sweep.verdicts.quasi_static_share`: above its
+tolerance the quasi-static verdict no longer holds, so the speed stops there too, as in
+``railcheck sweep``)."""
 
 from __future__ import annotations
 
 import dataclasses
 import math
+import time
 
 import numpy as np
 
 from railcheck.components.scene_checks import check_scene_components
+from railcheck.model.certificate import QUASI_STATIC_TOLERANCE, certificate
 from railcheck.model.crossing import increasing_crossing
+from railcheck.model.cycle import evaluate_cycle
+from railcheck.model.jobs import build_load_cases, part_jobs
 from railcheck.model.kinematics_stage import run_kinematics
+from railcheck.model.loading import unit_cases
+from railcheck.model.records import PartResult
 
 
 @dataclasses.dataclass(frozen=True)
@@ -27,6 +44,13 @@ class SafeSpeed:
     hz: float
     component: str
     criterion: str
+
+
+#: the speed ratio squared a part's search takes for rest: its loads are the weight's to 1e-12
+RESTING = 1e-12
+
+#: refinement steps of a failing part's safe speed (each a cycle evaluation, about a second)
+PART_SEARCH_STEPS = 12
 
 
 def components_at_speed(scene, speed: float) -> dict:
@@ -54,3 +78,63 @@ def components_safe_speed(scene) -> SafeSpeed | None:
     hz = base * math.sqrt(s) / (2 * math.pi)
     _, name, criterion = _largest(components_at_speed(scene, base * math.sqrt(s) if math.isfinite(s) else base))
     return SafeSpeed(hz, name, criterion)
+
+
+def _at_speed(scene, speed: float, parts: tuple[str, ...]):
+    """The scene with the crank at ``speed`` rad/s, checking ``parts`` only, no comparison."""
+    check = dataclasses.replace(scene.checked, parts=parts, compare=())
+    return dataclasses.replace(scene, mechanism=dataclasses.replace(scene.mechanism, speed=speed), check=check)
+
+
+def part_at_speed(scene, part: PartResult, speed: float) -> tuple[float, str]:
+    """(utilisation, governing criterion) of the checked ``part`` with the crank at
+    ``speed`` rad/s: its job rebuilt at that speed, its cycle evaluated on its solved unit
+    fields, the certificate's quasi-static share beside the check's criteria (module doc)."""
+    at = _at_speed(scene, speed, (part.name,))
+    kin = run_kinematics(at)
+    geometries = {part.name: part.job.geometry}
+    job = part_jobs(at, kin, geometries, build_load_cases(at, kin, geometries), part.job.material, part.limit)[part.name]
+    if not any(np.any(h.C) for h in job.histories):  # at rest without gravity: nothing loads it
+        return 0.0, "stress"
+    if part.cycle.solve.modes is not None and part.job.dynamic is not None:  # the check's exact response, at this speed
+        job = dataclasses.replace(job, dynamic=dataclasses.replace(part.job.dynamic, speed=speed))
+    cycle = evaluate_cycle(job, part.cycle.fields, job.histories, part.cycle.solve)
+    u = dataclasses.replace(part, job=job, cycle=cycle).utilisations
+    base = part.job.certificate
+    if base is not None and part.cycle.solve.modes is None and speed > 0:  # the quasi-static verdict's range
+        names = list(unit_cases(job.loads, job.geometry, list(job.holes)))
+        cert = certificate([h.C for h in job.histories], names, speed, base.lowest_hz, base.source, scene.dynamic.damping)
+        u["quasi-static"] = max((cert.estimate - 1.0) / (QUASI_STATIC_TOLERANCE - 1.0), 0.0) if not cert.holds else 0.0
+    name = max(u, key=u.__getitem__)
+    return float(u[name]), name
+
+
+def part_safe_speed(scene, part: PartResult) -> SafeSpeed | None:
+    """The crank speed up to which ``part`` passes at the check's setting (module doc);
+    None for a part the speed does not load (explicit loads) or a still crank."""
+    if part.name in scene.checked.loads or scene.mechanism is None or scene.mechanism.speed <= 0:
+        return None
+    base, seen = scene.mechanism.speed, {}
+
+    def at(s: float) -> tuple[float, str]:
+        if s not in seen:  # "at rest" a crank speed 1e-6 of the check's: the same unit cases (inertia's included)
+            seen[s] = part_at_speed(scene, part, base * math.sqrt(max(s, RESTING)))
+        return seen[s]
+
+    s = float(increasing_crossing(lambda ss, idx: np.array([at(float(x))[0] for x in ss]), 1, PART_SEARCH_STEPS)[0])
+    criterion = at(s)[1] if math.isfinite(s) else part.governing_criterion
+    return SafeSpeed(base * math.sqrt(s) / (2 * math.pi), part.name, criterion)
+
+
+def failing_parts_safe_speeds(scene, parts: dict, progress) -> dict[str, SafeSpeed]:
+    """name -> :class:`SafeSpeed` of every part that fails its criteria at a turning crank."""
+    out = {}
+    for name, part in parts.items():
+        if part.utilisation > 1.0 and name not in scene.checked.loads and scene.mechanism is not None:
+            t = time.perf_counter()
+            progress.say("margins", f"{name}: the crank speed at which it passes (its cycle at trial speeds)")
+            safe = part_safe_speed(scene, part)
+            if safe is not None:
+                out[name] = safe
+                progress.say("margins", f"{name}: passes up to {safe.hz:.3g} Hz ({time.perf_counter() - t:.1f} s)")
+    return out

@@ -17,7 +17,7 @@ import time
 
 import numpy as np
 
-from railcheck.check.margins import components_safe_speed
+from railcheck.check.margins import components_safe_speed, failing_parts_safe_speeds
 from railcheck.check.workers import check_parts
 from railcheck.components.scene_checks import check_scene_components
 from railcheck.fea.materials import MATERIALS, limit_warning
@@ -65,19 +65,16 @@ def run_pipeline(
         checks = {}
     parts: dict = {}
     unloaded: tuple[str, ...] = ()
-    components: dict = {}
-    safe_speed = None
-    if scene.check is not None and scene.checked.components:
-        t = time.perf_counter()
-        components = check_scene_components(scene, kin)
-        safe_speed = components_safe_speed(scene)
-        timings["components"] = time.perf_counter() - t
-        stages.append("components")
-        progress.say("components", f"{len(components)} checked by their standards (load factor on pins, screws, shafts)")
+    components, safe_speed = _components_stage(scene, kin, progress, stages, timings)
+    parts_safe: dict = {}
     if scene.check is not None and scene.checked.parts:
         parts, unloaded = _check_stage(scene, kin, progress, solver, jobs, part_done, stages, warnings)
         for name, part in parts.items():
             timings.update({f"{k}:{name}": v for k, v in part.seconds.items()})
+        t = time.perf_counter()
+        parts_safe = failing_parts_safe_speeds(scene, parts, progress)
+        if parts_safe:
+            timings["margins"] = time.perf_counter() - t
     stages.append("report")
     return PipelineResult(
         scene=scene,
@@ -87,11 +84,26 @@ def run_pipeline(
         parts=parts,
         components=components,
         components_safe_speed=safe_speed,
+        parts_safe_speed=parts_safe,
         warnings=tuple(warnings),
         timings=timings,
         checks=checks,
         unloaded=unloaded,
     )
+
+
+def _components_stage(scene: Scene, kin, progress: Progress, stages: list, timings: dict) -> tuple[dict, object]:
+    """(components, their safe speed): the joints' components checked by their standards
+    (empty, None without ``[check] components``); the stage and its time appended."""
+    if scene.check is None or not scene.checked.components:
+        return {}, None
+    t = time.perf_counter()
+    components = check_scene_components(scene, kin)
+    safe_speed = components_safe_speed(scene)
+    timings["components"] = time.perf_counter() - t
+    stages.append("components")
+    progress.say("components", f"{len(components)} checked by their standards (load factor on pins, screws, shafts)")
+    return components, safe_speed
 
 
 def _check_stage(

@@ -29,6 +29,15 @@ def _components_safe_speed(result: PipelineResult) -> dict:
     return {"components_safe_speed": {"Hz": safe.hz, "component": safe.component, "criterion": safe.criterion}}
 
 
+def _parts_safe_speed(result: PipelineResult) -> dict:
+    """``parts_safe_speed``: each failing part's crank speed (Hz) up to which it passes at
+    this setting and the criterion that reaches 1 there (absent when no part fails)."""
+    safe = result.parts_safe_speed
+    if not safe:
+        return {}
+    return {"parts_safe_speed": {name: {"Hz": s.hz, "criterion": s.criterion} for name, s in safe.items()}}
+
+
 def summary_of(result: PipelineResult) -> dict:
     """The summary.json content."""
     scene = result.scene
@@ -40,6 +49,7 @@ def summary_of(result: PipelineResult) -> dict:
         "parts": {name: part_summary(p) for name, p in result.parts.items()},
         "components": {name: component_summary(c) for name, c in result.components.items()},
         **_components_safe_speed(result),
+        **_parts_safe_speed(result),
         "unloaded_parts": list(result.unloaded),
         "stages_run": list(result.stages_run),
         "warnings": list(result.warnings),

@@ -274,6 +274,7 @@ class PipelineResult:
     unloaded: tuple[str, ...] = ()  # parts with no load at any step: reported, not solved
     components: dict = field(default_factory=dict)  # name -> railcheck.components.ComponentResult
     components_safe_speed: Any = None  # railcheck.check.margins.SafeSpeed: where the components reach 1
+    parts_safe_speed: dict = field(default_factory=dict)  # failing part -> SafeSpeed: where it reaches 1
 
     @property
     def failures(self) -> list[str]:
@@ -314,6 +315,9 @@ class PipelineResult:
                     f"{name}: its loads down to {1 / p.utilisation:.0%} of these ({p.governing_criterion} "
                     f"utilisation {p.utilisation:.2f}), a lower speed or a stronger material or section"
                 )
+                safe = self.parts_safe_speed.get(name)
+                if safe is not None:
+                    out.append(_passes_up_to(name, safe))
         for name, c in self.components.items():
             if not c.utilisation <= 1.0:
                 out.append(f"{name}: {c.utilisation:.2f}x its {c.governing_criterion} resistance ([components] sets it)")
@@ -331,11 +335,33 @@ class PipelineResult:
         return not self.failures
 
 
+def _passes_up_to(name: str, safe) -> str:
+    """A failing part's safe speed in words (``safe``: railcheck.check.margins.SafeSpeed)."""
+    if safe.hz > 0:
+        return f"{name}: passes up to {safe.hz:.3g} Hz at this setting ({safe.criterion} reaches 1 there)"
+    return f"{name}: fails at rest ({safe.criterion}): no speed passes"
+
+
+def apart(value: float, limit: float, decimals: int) -> int:
+    """The decimals, from ``decimals`` up to 6, at which ``value`` and ``limit`` first read
+    apart: a failure never reads "n 1.00 < 1.00"."""
+    d = decimals
+    while d < 6 and f"{value:.{d}f}" == f"{limit:.{d}f}":
+        d += 1
+    return d
+
+
 def part_failures_with_figures(name: str, p: PartResult) -> list[str]:
     """Each failed criterion of part ``p`` with its figure against its limit."""
     c, fat, yield_strength = p.cycle, p.cycle.fatigue, p.job.material.yield_strength
-    out = [f"{name} stress {p.verdict_stress / 1e6:.1f} MPa > {p.limit / 1e6:.0f} MPa"] if not p.stress_passed else []
-    out += [f"{name} fatigue n {fat.min_safety_factor:.2f} < {fat.required:.2f}"] if not p.fatigue_passed else []
+    out = []
+    if not p.stress_passed:
+        vm, limit = p.verdict_stress / 1e6, p.limit / 1e6
+        d = apart(vm, limit, 1)
+        out.append(f"{name} stress {vm:.{d}f} MPa > {limit:.{0 if d == 1 and limit == round(limit) else d}f} MPa")
+    if not p.fatigue_passed:
+        d = apart(fat.min_safety_factor, fat.required, 2)
+        out.append(f"{name} fatigue n {fat.min_safety_factor:.{d}f} < {fat.required:.{d}f}")
     if not p.deflection_passed and p.deflection_limit is not None:
         out.append(f"{name} deflection {c.envelope.max_tip * 1e3:.2f} mm > {p.deflection_limit * 1e3:g} mm")
     if not p.dynamic_passed and c.dynamic is not None:
