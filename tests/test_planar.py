@@ -212,6 +212,13 @@ def test_the_ground_is_drawn_where_it_holds_the_mechanism(tmp_path):
     assert [p[2] for p in state["pivots"]] == ["1"] and [g[2] for g in state["guides"]] == ["4"]
     assert state["pivots"][0][:2] == pytest.approx([-4.0, -3.6])  # L13, L12 (mm)
     assert state["guides"][0][0][1] == pytest.approx(6.0) and state["guides"][0][1][1] == pytest.approx(6.0)  # y = L11
+    # every label readable: the points that meet share one label, no two labels overlap
+    for drawing in (state["before"], state["after"]):
+        boxes = drawing["labels"]
+        assert len(boxes) < sum(len(b) for b in drawing["bodies"]) + len(drawing["bodies"])  # a joint's points merged
+        for i, a in enumerate(boxes):
+            for b in boxes[i + 1 :]:
+                assert min(a[2], b[2]) <= max(a[0], b[0]) or min(a[3], b[3]) <= max(a[1], b[1]), (a, b)
 
 
 def test_the_rig_four_bar_traces_a_coupler_point_not_the_rocker_arc():
