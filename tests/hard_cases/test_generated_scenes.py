@@ -270,7 +270,7 @@ def _valid_check_scene_runs_or_refuses_in_one_line(tmp_path, capsys, doc):
         assert re.match(rf"railcheck: (error|numerical failure): ({tables})(\.[A-Za-z_0-9]+)*: ", last), last
 
 
-@settings(max_examples=10, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@settings(max_examples=10, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.function_scoped_fixture])
 @given(doc=CHECK_SCENES)
 def test_generated_valid_check_scenes_run_or_refuse_in_one_line(tmp_path, capsys, doc):
     """Accepted scenes over every combination of effects, supports, parts, formulations,
