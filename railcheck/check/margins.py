@@ -32,7 +32,7 @@ from railcheck.model.cycle import evaluate_cycle
 from railcheck.model.jobs import build_load_cases, part_jobs
 from railcheck.model.kinematics_stage import run_kinematics
 from railcheck.model.loading import unit_cases
-from railcheck.model.records import PartResult
+from railcheck.model.records import PartResult, passes_up_to
 
 
 @dataclasses.dataclass(frozen=True)
@@ -136,5 +136,5 @@ def failing_parts_safe_speeds(scene, parts: dict, progress) -> dict[str, SafeSpe
             safe = part_safe_speed(scene, part)
             if safe is not None:
                 out[name] = safe
-                progress.say("margins", f"{name}: passes up to {safe.hz:.3g} Hz ({time.perf_counter() - t:.1f} s)")
+                progress.say("margins", f"{passes_up_to(name, safe)} ({time.perf_counter() - t:.1f} s)")
     return out

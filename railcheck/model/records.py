@@ -317,7 +317,7 @@ class PipelineResult:
                 )
                 safe = self.parts_safe_speed.get(name)
                 if safe is not None:
-                    out.append(_passes_up_to(name, safe))
+                    out.append(passes_up_to(name, safe))
         for name, c in self.components.items():
             if not c.utilisation <= 1.0:
                 out.append(f"{name}: {c.utilisation:.2f}x its {c.governing_criterion} resistance ([components] sets it)")
@@ -335,7 +335,7 @@ class PipelineResult:
         return not self.failures
 
 
-def _passes_up_to(name: str, safe) -> str:
+def passes_up_to(name: str, safe) -> str:
     """A failing part's safe speed in words (``safe``: railcheck.check.margins.SafeSpeed)."""
     if safe.hz > 0:
         return f"{name}: passes up to {safe.hz:.3g} Hz at this setting ({safe.criterion} reaches 1 there)"
