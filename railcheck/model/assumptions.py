@@ -39,6 +39,8 @@ def assumptions(scene, parts: dict) -> list[str]:
         f"effects: {', '.join(c.effects) or 'none'}; support: {c.support}",
     ]
     out.append(weight_assumption(scene, parts))
+    if parts:
+        out.append(mesh_assumption(parts))
     if c.components:
         out.append(
             f"components ({', '.join(c.components)}): pins, screws and shafts on loads x{c.factor:g} with the "
@@ -79,3 +81,29 @@ def weight_assumption(scene, parts: dict) -> str:
         + (f" (unfactored {shafts})" if shafts else "")
         + "; the other bound, joints rigid out of plane, is not modelled; joint plates and the bracket carry no weight"
     )
+
+
+def mesh_assumption(parts: dict) -> str:
+    """Each part's mesh in words: the elements, sizes and where the mesh came from; a
+    grooved rail meshed here says that gmsh's untangling of its curved elements is not
+    bit-reproducible (docs/refusals.md "Same bytes")."""
+    each = []
+    for name, p in parts.items():
+        j = p.job.mesh
+        kind = "quadratic tetrahedra" + (", curved edges" if j.curved else "") if j.order == 2 else "linear tetrahedra"
+        where = "shipped with railcheck" if p.mesh.shipped else "built by gmsh on this machine"
+        sizes = f"{j.size * 1e3:g} mm ({j.hole_size * 1e3:g} mm at the holes)"
+        each.append(f"{name} {p.mesh.tets.shape[0]} {kind}, {sizes}, {where}")
+    fresh = [n for n, p in parts.items() if not p.mesh.shipped and p.job.geometry.kind == "rail" and _grooved(p)]
+    note = (
+        f"; {', '.join(fresh)}: gmsh's untangling of the grooves' curved elements is not bit-reproducible, so a "
+        "rebuilt mesh may move these figures by about 1e-5 (the shipped meshes are the same bytes every run)"
+        if fresh
+        else ""
+    )
+    return "meshes: " + "; ".join(each) + note
+
+
+def _grooved(part) -> bool:
+    """Whether the part's rail profile has its ball-track grooves (meshed with gmsh's untangling)."""
+    return float(dict(part.job.geometry.params).get("groove_radius", 0.0)) > 0.0 and part.job.mesh.order == 2
