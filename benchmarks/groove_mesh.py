@@ -10,8 +10,8 @@ bores' middle, e below the centroid. Truths: the closed-form section
 straightened to keep elements from folding, meshing time, the mesh's volume against the
 closed form, and the fitted axial stress and out-of-plane bending gradient against theory.
 
-Variants: the grooves' element edge (in groove radii) and whether gmsh untangles the
-elements beside them (``geometry.mesher.UNTANGLE_GROOVES``). Run by hand:
+Variants: the grooves' element edge (in groove radii) and whether railcheck untangles the
+elements beside them (``geometry.mesher.UNTANGLE``, :mod:`railcheck.geometry.untangling`). Run by hand:
 
     python benchmarks/groove_mesh.py
 """
@@ -41,7 +41,7 @@ FORCE = 1000.0  # N
 
 def measure(factor: float, untangle: bool) -> dict:
     """One variant's figures (see the module doc)."""
-    shapes.GROOVE_ELEMENT_PER_RADIUS, mesher.UNTANGLE_GROOVES = factor, untangle
+    shapes.GROOVE_ELEMENT_PER_RADIUS, mesher.UNTANGLE = factor, untangle
     geo = rail(1.0, replace(RAIL, hole_pitch=0.96))
     t0 = time.perf_counter()
     mesh = mesher.mesh_part(geo, 20e-3, 6e-3, cache=False)

@@ -6,7 +6,9 @@ the mesh at every hole (to ``hole_size``) and grows to ``size`` away from them.
 
 For quadratic (P2) elements gmsh also places the mid-edge nodes on the true CAD surfaces
 (``setOrder(2)``); the mesh keeps only the edges that came out curved
-(:attr:`MeshData.curved`), checked for folded elements (:mod:`railcheck.geometry.curving`).
+(:attr:`MeshData.curved`); where one folds a thin element (beside a rail's grooves) the
+mid nodes round it are moved (:mod:`railcheck.geometry.untangling`, deterministic: the same
+bytes every run), and what still folds is straightened (:mod:`railcheck.geometry.curving`).
 
 The vertices are numbered by reverse Cuthill-McKee and the tetrahedra sorted by their
 lowest vertex (:func:`local_numbering`), so that neighbours sit close in every array the
@@ -39,9 +41,11 @@ from .curving import curved_from_tet10, straighten_folded
 from .meshdata import MeshData
 from .models import PartGeometry
 from .shapes import BUILDERS
+from .untangling import untangle
 
-# 10: grooved rails, untangled beside the grooves; 11: 10 untangling iterations; 13: an untangled mesh's nodes on a grid
-MESHER_VERSION = 13
+# 10: grooved rails, untangled beside the grooves; 11: 10 untangling iterations; 13: an untangled mesh's nodes on a grid;
+# 14: railcheck's deterministic untangling (geometry.untangling) instead of gmsh's, no grid
+MESHER_VERSION = 14
 SLIVER_SICN = 0.05  # elements whose signed inverse condition number is below this are slivers
 
 
@@ -67,9 +71,7 @@ def _cache_payload(part: PartGeometry, size: float, hole_size: float, optimize: 
             "size": size,
             "hole_size": hole_size,
             "optimize": optimize,
-            "grooves": [shapes.GROOVE_ELEMENT_PER_RADIUS, UNTANGLE_GROOVES]
-            if dict(part.params).get("groove_radius")
-            else None,
+            "grooves": [shapes.GROOVE_ELEMENT_PER_RADIUS, UNTANGLE] if dict(part.params).get("groove_radius") else None,
         },
         sort_keys=True,
         default=list,
@@ -193,15 +195,8 @@ def build_mesh(part: PartGeometry, size: float, hole_size: float, verbose: bool 
     from a child process, where gmsh cannot touch the caller's handlers; the child costs
     about 0.2 s. So does a caller in another thread than the main one, where the caller's
     handlers (and Python's ignored SIGPIPE) cannot be put back. Any other caller meshes in
-    this process.
-
-    A grooved rail is always meshed in a child: gmsh's untangling of its curved elements
-    can end in ``std::terminate`` (its error raised inside an OpenMP region, no exception
-    to catch), which would take this process with it. When the untangling fails the
-    child's mesh is built again without it and the folded elements' curved edges are
-    straightened instead (:func:`_build_in_child`); a mesh gmsh cannot build at all is a
-    :class:`MeshFailure`."""
-    if _handles_sigterm() or threading.current_thread() is not threading.main_thread() or _untangles(part):
+    this process."""
+    if _handles_sigterm() or threading.current_thread() is not threading.main_thread():
         return _build_in_child(part, size, hole_size, verbose, optimize)
     return _build_here(part, size, hole_size, verbose, optimize)
 
@@ -209,12 +204,6 @@ def build_mesh(part: PartGeometry, size: float, hole_size: float, verbose: bool 
 class MeshFailure(NumericalError):
     """gmsh could not mesh a part with the scene's mesh sizes (exit 3); the field is the
     ``[mesh]`` table, whose sizes are what the user can change."""
-
-
-def _untangles(part: PartGeometry) -> bool:
-    """Whether meshing ``part`` runs gmsh's high-order untangling (a grooved rail)."""
-    radius: Any = dict(part.params).get("groove_radius", 0.0)
-    return UNTANGLE_GROOVES and radius > 0.0
 
 
 def _handles_sigterm() -> bool:
@@ -225,19 +214,12 @@ def _handles_sigterm() -> bool:
 
 def _build_in_child(part: PartGeometry, size: float, hole_size: float, verbose: bool, optimize: bool) -> MeshData:
     """:func:`_build_here` in a child process; its exception, if any, is raised here. An
-    exception here (SIGTERM, Ctrl-C) kills the child (``subprocess.run``). A child that
-    dies in gmsh's high-order untangling is run again without it (the mesh's warning
-    says so); any other death is a :class:`MeshFailure`."""
-    proc = _run_child(part, size, hole_size, verbose, optimize, untangle=UNTANGLE_GROOVES)
-    if (proc.returncode != 0 or not proc.stdout) and _untangles(part):
-        first = _last_line(proc)
-        proc = _run_child(part, size, hole_size, verbose, optimize, untangle=False)
-        if proc.returncode == 0 and proc.stdout:
-            return _child_result(proc, verbose, untangle_failed=first)
-    return _child_result(proc, verbose)
+    exception here (SIGTERM, Ctrl-C) kills the child (``subprocess.run``); a child that
+    dies is a :class:`MeshFailure`."""
+    return _child_result(_run_child(part, size, hole_size, verbose, optimize), verbose)
 
 
-def _run_child(part: PartGeometry, size: float, hole_size: float, verbose: bool, optimize: bool, untangle: bool):
+def _run_child(part: PartGeometry, size: float, hole_size: float, verbose: bool, optimize: bool):
     """The finished child process meshing ``part`` (``subprocess.CompletedProcess``)."""
     import pickle
     import subprocess
@@ -245,9 +227,9 @@ def _run_child(part: PartGeometry, size: float, hole_size: float, verbose: bool,
 
     tunables = {  # as a benchmark or a test may have set them
         "shapes.GROOVE_ELEMENT_PER_RADIUS": shapes.GROOVE_ELEMENT_PER_RADIUS,
-        "mesher.UNTANGLE_PASSES": UNTANGLE_PASSES,
+        "mesher.UNTANGLE": UNTANGLE,
     }
-    request = pickle.dumps((part, size, hole_size, verbose, optimize, untangle, tunables))
+    request = pickle.dumps((part, size, hole_size, verbose, optimize, tunables))
     code = "from railcheck.geometry.mesher import _child_main; _child_main()"
     return subprocess.run([sys.executable, "-P", "-c", code], input=request, capture_output=True, check=False)
 
@@ -258,9 +240,9 @@ def _last_line(proc) -> str:
     return lines[-1].strip() if lines else f"exit status {proc.returncode}"
 
 
-def _child_result(proc, verbose: bool, untangle_failed: str | None = None) -> MeshData:
+def _child_result(proc, verbose: bool) -> MeshData:
     """The mesh a child sent back, its exception raised here, or a :class:`MeshFailure`
-    for a child that died; ``untangle_failed``: gmsh's error from the first attempt."""
+    for a child that died."""
     import pickle
     import sys
 
@@ -272,11 +254,6 @@ def _child_result(proc, verbose: bool, untangle_failed: str | None = None) -> Me
     ok, value = pickle.loads(proc.stdout)
     if not ok:
         raise value
-    if untangle_failed:
-        from dataclasses import replace
-
-        why = f"gmsh's untangling of the curved elements failed ({untangle_failed}): meshed without it"
-        value = replace(value, warning=f"{why}; {value.warning}" if value.warning else why)
     return value
 
 
@@ -288,12 +265,12 @@ def _child_main() -> None:
 
     result_fd = os.dup(1)
     os.dup2(2, 1)
-    part, size, hole_size, verbose, optimize, untangle, tunables = pickle.loads(sys.stdin.buffer.read())
+    part, size, hole_size, verbose, optimize, tunables = pickle.loads(sys.stdin.buffer.read())
     for name, value in tunables.items():
         module, attribute = name.split(".")
         setattr(shapes if module == "shapes" else sys.modules[__name__], attribute, value)
     try:
-        reply: tuple[bool, object] = (True, _build_here(part, size, hole_size, verbose, optimize, untangle))
+        reply: tuple[bool, object] = (True, _build_here(part, size, hole_size, verbose, optimize))
     except Exception as exc:  # noqa: BLE001 - handed to the parent, which raises it
         reply = (False, exc)
     with os.fdopen(result_fd, "wb") as out:
@@ -328,30 +305,8 @@ def _size_field(gmsh, size: float, hole_size: float, optimize: bool, refine, fin
         gmsh.model.mesh.field.setAsBackgroundMesh(fm)
 
 
-def _second_order(gmsh, grooved: bool) -> None:
-    """The mesh made quadratic with its mid-edge nodes on the CAD surfaces; a grooved
-    part's untangled where the grooves' mid nodes would fold thin elements."""
-    gmsh.model.mesh.setOrder(2)  # mid-edge nodes on the CAD surfaces
-    if grooved:
-        # long concave grooves: the mid-edge nodes on them bulge into the thin
-        # elements beside them, which would fold; gmsh's optimisation-based
-        # untangling moves the mid nodes of those elements and one layer round
-        # them (without it a sixth of the curved edges straighten, the section
-        # gains 3.5% of area at its extreme fibres: benchmarks/groove_mesh.py)
-        if UNTANGLE_GROOVES:
-            gmsh.option.setNumber("Mesh.HighOrderNumLayers", 1)
-            # 10 iterations per pass instead of 100: a third of the time, the same
-            # section (66 instead of 51 of the crank rail's 17k curved edges straightened)
-            gmsh.option.setNumber("Mesh.HighOrderIterMax", 10)
-            gmsh.option.setNumber("Mesh.HighOrderPassMax", UNTANGLE_PASSES)
-            gmsh.model.mesh.optimize("HighOrder")
-
-
-def _build_here(
-    part: PartGeometry, size: float, hole_size: float, verbose: bool, optimize: bool, untangle: bool = True
-) -> MeshData:
-    """Build and mesh ``part`` with gmsh in this process (``untangle``: gmsh's high-order
-    untangling beside a rail's grooves)."""
+def _build_here(part: PartGeometry, size: float, hole_size: float, verbose: bool, optimize: bool) -> MeshData:
+    """Build and mesh ``part`` with gmsh in this process."""
     t0 = time.perf_counter()
     with _callers_signal_handlers() as restore:
         import gmsh
@@ -374,16 +329,13 @@ def _build_here(
         gmsh.model.mesh.generate(3)
         qualities = _qualities(gmsh)
         curved = _has_curved_surfaces(gmsh)
-        untangled = curved and bool(fine) and untangle
         if curved:
-            _second_order(gmsh, untangled)
+            gmsh.model.mesh.setOrder(2)  # mid-edge nodes on the CAD surfaces
         data, index = _extract(gmsh, surfaces, qualities)
         if curved:
             data = _with_curved_edges(gmsh, data, index)
         from dataclasses import replace
 
-        if untangled:  # the one nondeterministic step: its nodes rounded (NODE_GRID)
-            data = replace(data, points=snapped(data.points), curved_points=snapped(data.curved_points))
         return replace(data, seconds=time.perf_counter() - t0)
     finally:
         with _callers_signal_handlers() as restore:
@@ -391,25 +343,8 @@ def _build_here(
             restore()
 
 
-#: m: the grid an untangled (grooved) mesh's nodes are rounded to, 2^-22 m (0.24 um; at most
-#: 0.21 um moved, 0.2% of the smallest element railcheck meshes). gmsh's high-order
-#: untangling leaves nodes apart from run to run (most by a few ulps, some by more), which
-#: the solve carries to about 1e-11 of a stress. Rounded, the 700 mm crank rail meshes to the
-#: same bytes every time measured (5 of 5); the 1000 mm rail does not (3 meshes in 4: two
-#: mid-edge nodes one grid step apart). Meshes that are not untangled are deterministic as
-#: gmsh makes them, and are left exact (docs/refusals.md "Same bytes")
-NODE_GRID = 2.0**-22
-
-
-def snapped(x: np.ndarray) -> np.ndarray:
-    """``x`` (m) rounded to :data:`NODE_GRID` (exact in binary floating point)."""
-    return np.round(np.asarray(x, float) / NODE_GRID) * NODE_GRID
-
-
-#: untangle the elements beside grooves (False only to measure what it buys)
-UNTANGLE_GROOVES = True
-#: gmsh's untangling passes (``Mesh.HighOrderPassMax``, its default; 1 makes it fail on a rail)
-UNTANGLE_PASSES = 25
+#: untangle folded curved elements (geometry.untangling; False only to measure what it buys)
+UNTANGLE = True
 
 
 def _threshold_field(gmsh, surfaces, near: float, far: float) -> int:
@@ -470,8 +405,8 @@ def _qualities(gmsh) -> np.ndarray:
 
 
 def _with_curved_edges(gmsh, data: MeshData, index: np.ndarray) -> MeshData:
-    """From gmsh's second-order mesh: keep the edges that came out curved, and
-    straighten any element that would fold."""
+    """From gmsh's second-order mesh: keep the edges that came out curved, untangle the
+    elements they fold (:func:`untangle`) and straighten any element that still would."""
     from dataclasses import replace
 
     tags, coords, _ = gmsh.model.mesh.getNodes()
@@ -482,6 +417,8 @@ def _with_curved_edges(gmsh, data: MeshData, index: np.ndarray) -> MeshData:
     tets = index[t10[:, :4]]
     mids = xyz[t10[:, GMSH_TET10_EDGE_COLUMNS]]
     edges, points = curved_from_tet10(data.points, tets, mids)
+    if UNTANGLE:
+        edges, points = untangle(data.points, tets, edges, points)
     edges, points, dropped = straighten_folded(data.points, tets, edges, points)
     warning = (
         f"{dropped} curved edges straightened to keep elements from folding "

@@ -196,21 +196,3 @@ def test_a_full_disk_leaves_no_temporary_and_a_killed_writers_is_removed(cache, 
     alive.write_bytes(b"PK half")
     mesh_part(bar(0.1, 0.02, 0.02), 8e-3, 8e-3, cache_dir=cache)
     assert not killed.exists() and alive.exists() and len(entries(cache)) == 1
-
-
-@pytest.mark.slow  # two meshings of a short grooved rail in children, about 3 s
-def test_a_rail_whose_untangling_dies_is_meshed_without_it_and_says_so(monkeypatch):
-    """gmsh's untangling can end its process (an error thrown inside an OpenMP region:
-    std::terminate; ``rail_groove_radius = "0.5 mm"`` on the 480 mm crank did, a traceback
-    before). Made to fail (one untangling pass allowed), the rail is meshed again without
-    it in a second child: a mesh comes back, its warning says why, and no element folds."""
-    from railcheck.geometry import curving, mesher
-    from railcheck.geometry.models import rail
-
-    monkeypatch.setattr(mesher, "UNTANGLE_PASSES", 1)
-    got = mesher.mesh_part(rail(0.12), 0.02, 0.006, cache=False)
-    assert got.warning and got.warning.startswith("gmsh's untangling of the curved elements failed")
-    assert "Failed to reach critical value" in got.warning and "straightened" in got.warning
-    edges, mids = got.curved
-    d = curving.edge_offsets(got.points, got.tets, edges, mids)
-    assert curving.jacobian_ratios(got.points, got.tets, d).min() >= curving.MIN_JACOBIAN_RATIO
