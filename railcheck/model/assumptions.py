@@ -3,6 +3,8 @@ console, the report and summary.json state (issue "defaults an engineer signs").
 
 from __future__ import annotations
 
+import re
+
 from railcheck.fea.fatigue import RELIABILITY
 from railcheck.fea.materials import MATERIALS
 from railcheck.loads.weight import CANTILEVERED, shaft_moment
@@ -84,26 +86,16 @@ def weight_assumption(scene, parts: dict) -> str:
 
 
 def mesh_assumption(parts: dict) -> str:
-    """Each part's mesh in words: the elements, sizes and where the mesh came from; a
-    grooved rail meshed here says that gmsh's untangling of its curved elements is not
-    bit-reproducible (docs/refusals.md "Same bytes")."""
+    """Each part's mesh in words: the elements, sizes, where the mesh came from (shipped
+    with railcheck or built on this machine: the same bytes either way, docs/refusals.md
+    "Same bytes") and how many curved edges were straightened (the surface faceted there)."""
     each = []
     for name, p in parts.items():
         j = p.job.mesh
         kind = "quadratic tetrahedra" + (", curved edges" if j.curved else "") if j.order == 2 else "linear tetrahedra"
         where = "shipped with railcheck" if p.mesh.shipped else "built by gmsh on this machine"
         sizes = f"{j.size * 1e3:g} mm ({j.hole_size * 1e3:g} mm at the holes)"
-        each.append(f"{name} {p.mesh.tets.shape[0]} {kind}, {sizes}, {where}")
-    fresh = [n for n, p in parts.items() if not p.mesh.shipped and p.job.geometry.kind == "rail" and _grooved(p)]
-    note = (
-        f"; {', '.join(fresh)}: gmsh's untangling of the grooves' curved elements is not bit-reproducible, so a "
-        "rebuilt mesh may move these figures by about 1e-5 (the shipped meshes are the same bytes every run)"
-        if fresh
-        else ""
-    )
-    return "meshes: " + "; ".join(each) + note
-
-
-def _grooved(part) -> bool:
-    """Whether the part's rail profile has its ball-track grooves (meshed with gmsh's untangling)."""
-    return float(dict(part.job.geometry.params).get("groove_radius", 0.0)) > 0.0 and part.job.mesh.order == 2
+        straightened = re.match(r"(\d+) curved edges straightened", p.mesh.warning or "")
+        faceted = f", {straightened.group(1)} curved edges straightened" if straightened else ""
+        each.append(f"{name} {p.mesh.tets.shape[0]} {kind}, {sizes}, {where}{faceted}")
+    return "meshes: " + "; ".join(each)
