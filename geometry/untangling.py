@@ -50,6 +50,20 @@ def untangle(points: np.ndarray, tets: np.ndarray, edges: np.ndarray, edge_point
     """(edges, edge_points): the curved edges (vertex pairs (k, 2), mid nodes (k, 3), m) of
     the mesh ``points`` / ``tets`` with the folded elements' mid nodes moved (module doc);
     the mesh unchanged where nothing folds."""
+    problem = untangling_problem(points, tets, edges, edge_points)
+    if problem is None:
+        return edges, edge_points
+    objective, pairs = problem
+    offsets = objective.offsets(_lbfgs(objective, np.zeros(objective.free.size * 3), ITERATIONS))
+    curved = np.any(offsets != 0.0, axis=1)
+    mid = 0.5 * (points[pairs[:, 0]] + points[pairs[:, 1]])
+    return pairs[curved], (mid + offsets)[curved]
+
+
+def untangling_problem(points: np.ndarray, tets: np.ndarray, edges: np.ndarray, edge_points: np.ndarray):
+    """(objective, every edge's vertex pair (e, 2)) of the folded elements' patch (module
+    doc), the objective a function of the free mid nodes' reduced coordinates; None where
+    nothing folds."""
     import scipy.sparse as sp  # the mesh stage's: reading a scene imports no scipy
 
     n, m = points.shape[0], tets.shape[0]
@@ -61,20 +75,14 @@ def untangle(points: np.ndarray, tets: np.ndarray, edges: np.ndarray, edge_point
     jac = _Jacobians(points, tets, eid)
     bad = np.flatnonzero(jac.ratios(offsets, np.arange(m)).min(axis=1) < MIN_JACOBIAN_RATIO)
     if bad.size == 0:
-        return edges, edge_points
+        return None
     motion = _mid_node_motion(points, tets, keys, np.any(offsets != 0.0, axis=1))
     incidence = sp.csr_matrix((np.ones(m * 6), (eid.ravel(), np.repeat(np.arange(m), 6))), shape=(keys.size, m))
-    patch = _grown(bad, eid, incidence)
-    free = np.unique(eid[patch].ravel())
+    free = np.unique(eid[_grown(bad, eid, incidence)].ravel())
     free = free[np.any(motion[free] != 0.0, axis=(1, 2))]
     touched = np.flatnonzero(np.asarray(incidence[free].sum(axis=0)).ravel() > 0)
     length = np.linalg.norm(points[pairs[free, 0]] - points[pairs[free, 1]], axis=1)
-    objective = _Objective(jac, offsets, free, motion[free], length, touched, eid)
-    q = _lbfgs(objective, np.zeros(free.size * 3), ITERATIONS)
-    offsets = objective.offsets(q)
-    curved = np.any(offsets != 0.0, axis=1)
-    mid = 0.5 * (points[pairs[:, 0]] + points[pairs[:, 1]])
-    return pairs[curved], (mid + offsets)[curved]
+    return _Objective(jac, offsets, free, motion[free], length, touched, eid), pairs
 
 
 class _Jacobians:

@@ -27,29 +27,9 @@ def gmsh_curved():
     return seen["mesh"]
 
 
-def _objective(points, tets, edges, edge_points):
-    """The untangling objective of the mesh's folded patch, as untangle() builds it."""
-    n, m = points.shape[0], tets.shape[0]
-    keys, eid = np.unique(curving.edge_keys(tets[:, curving.LOCAL_EDGES].reshape(-1, 2), n), return_inverse=True)
-    eid = eid.reshape(m, 6)
-    offsets = np.zeros((keys.size, 3))
-    offsets[np.searchsorted(keys, curving.edge_keys(edges, n))] = edge_points - 0.5 * (
-        points[edges[:, 0]] + points[edges[:, 1]]
-    )
-    jac = untangling._Jacobians(points, tets, eid)
-    bad = np.flatnonzero(jac.ratios(offsets, np.arange(m)).min(axis=1) < curving.MIN_JACOBIAN_RATIO)
-    motion = untangling._mid_node_motion(points, tets, keys, np.any(offsets != 0.0, axis=1))
-    free = np.unique(eid[bad].ravel())
-    free = free[np.any(motion[free] != 0.0, axis=(1, 2))]
-    touched = np.unique(np.concatenate([np.flatnonzero(np.isin(eid, free).any(axis=1)), bad]))
-    pairs = np.column_stack([keys // n, keys % n])
-    length = np.linalg.norm(points[pairs[free, 0]] - points[pairs[free, 1]], axis=1)
-    return untangling._Objective(jac, offsets, free, motion[free], length, touched, eid), bad
-
-
 def test_the_objectives_gradient_is_its_finite_difference(gmsh_curved):
-    objective, bad = _objective(*gmsh_curved)
-    assert bad.size > 10  # the grooves fold elements: there is something to untangle
+    objective, _ = untangling.untangling_problem(*gmsh_curved)
+    assert objective.free.size > 10  # the grooves fold elements: there is something to untangle
     rng = np.random.default_rng(7)
     q = rng.normal(0.0, 2e-5, objective.free.size * 3)
     _, grad = objective(q)

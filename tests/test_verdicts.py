@@ -11,7 +11,7 @@ import tomllib
 import numpy as np
 import pytest
 
-from helpers import FINAL_DESIGN_SWEEP
+from helpers import FINAL_DESIGN, FINAL_DESIGN_SWEEP
 from railcheck.cli import main
 from railcheck.scene import parse_scene
 from railcheck.sweep.run import run_sweep
@@ -119,14 +119,9 @@ def test_a_fail_says_how_far_the_loads_must_fall_and_they_pass_there(tmp_path):
 
 #: the crank rail without grooves on a coarse linear mesh (a second to mesh), its weight in
 #: plane with the inertia, failing a lowered stress limit at 1 Hz
-CRANK_AT = """
-[mechanism]
-kind = "four-bar"
-crank = "480 mm"
-coupler = "840 mm"
-rocker = "780 mm"
-ground = "1020 mm"
-speed = "SPEED"
+CRANK_AT = (
+    FINAL_DESIGN
+    + """speed = "SPEED"
 steps = 180
 plane = "vertical"
 [check]
@@ -144,6 +139,7 @@ vtk = false
 png = false
 plots = false
 """
+)
 
 
 def _check_text(case, text: str) -> tuple[int, str, dict]:
