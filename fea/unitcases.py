@@ -243,7 +243,7 @@ def solve_unit_cases(
     points, groups = mesh.points, mesh.groups
     t = [time.perf_counter()]
     K, basis = assemble(points, mesh.tets, material, order, curved)
-    F = _case_matrix(basis, groups, cases, free_body)
+    F = case_matrix(basis, groups, cases, free_body)
     t.append(time.perf_counter())
     if free_body is not None:
         held = _free_body_solve(K, F, basis, groups, material, solver, report, free_body)
@@ -287,7 +287,7 @@ def _solve_meta(basis, mesh: MeshData, info: dict, seconds, F, reactions, imbala
     )
 
 
-def _case_matrix(basis, groups: dict, cases: dict, free_body: FreeBodyCases | None) -> np.ndarray:
+def case_matrix(basis, groups: dict, cases: dict, free_body: FreeBodyCases | None) -> np.ndarray:
     """(dofs, cases) N: each case's load vector; a free body's body cases carry its mass
     (spread uniformly, or graded to its centre and inertia) unless their coefficients
     carry the material's density."""

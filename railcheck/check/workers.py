@@ -2,9 +2,9 @@
 
 Each part is independent once its :class:`~railcheck.model.jobs.PartJob` is resolved:
 mesh, unit cases, envelope, fatigue (:func:`railcheck.model.cycle.check_part`). With more
-than one part and more than one core the parts are taken largest first (by their estimated
-element counts) by this process and ``jobs - 1`` worker processes (spawned, so no library
-state is forked), whichever is free taking the next; the workers' progress lines reach the console through a
+than one part and more than one core the parts are taken in :func:`work_order` (costliest
+first, a second rail of one size last) by this process and ``jobs - 1`` worker processes
+(spawned, so no library state is forked), whichever is free taking the next; the workers' progress lines reach the console through a
 queue as they happen, and each part's result comes back whole. Errors raised in a worker
 are raised here unchanged. ``jobs=1`` (``railcheck check --jobs 1``) runs them in this
 process, one after another; the results are the same.
@@ -52,10 +52,10 @@ def check_parts(
 def _in_workers(
     part_jobs: dict[str, PartJob], solver: str, progress: Progress, jobs: int, label: dict, part_done
 ) -> dict[str, PartResult]:
-    """The parts largest first (by estimated elements), whoever is free taking the next:
+    """The parts in :func:`work_order`, whoever is free taking the next:
     this process and ``jobs - 1`` workers, each fed by a thread here (a fixed split left
     this process idle after the largest part while one worker checked all the others)."""
-    queue = sorted(part_jobs, key=lambda name: -_estimated_elements(part_jobs[name]))
+    queue = work_order(part_jobs)
     lock = threading.Lock()
     results: dict[str, PartResult] = {}
     errors: list[BaseException] = []
@@ -94,8 +94,27 @@ def _in_workers(
     return {name: results[name] for name in part_jobs}
 
 
-def _estimated_elements(job: PartJob) -> int:
-    return estimate_elements(job.geometry, job.mesh.size, job.mesh.hole_size)
+def _estimated_cost(job: PartJob) -> int:
+    """The part's work in elements: its estimated element count, doubled when its modes
+    are solved too (their shift-invert Lanczos costs about the unit cases' solve)."""
+    elements = estimate_elements(job.geometry, job.mesh.size, job.mesh.hole_size)
+    return elements * (2 if job.dynamic is not None else 1)
+
+
+def work_order(part_jobs: dict[str, PartJob]) -> list[str]:
+    """The parts costliest first (:func:`_estimated_cost`), except that a part on the same
+    geometry and mesh as one before it goes last: two free rails of one size share their
+    hole basis's unit fields (:mod:`railcheck.model.setting_free`), so the second, taken
+    after the first is done, reads them from the store instead of solving them beside it."""
+    by_size = sorted(part_jobs, key=lambda name: -_estimated_cost(part_jobs[name]))
+    seen: set = set()
+    first, repeated = [], []
+    for name in by_size:
+        job = part_jobs[name]
+        key = (repr(job.geometry), job.mesh)
+        (repeated if key in seen else first).append(name)
+        seen.add(key)
+    return first + repeated
 
 
 def _check_one(job: PartJob, solver: str, label: str, part_done=None, say=None) -> PartResult:

@@ -24,7 +24,6 @@ from railcheck.fea.dynamic import modal_correction
 from railcheck.fea.elasticity import Solution
 from railcheck.fea.fatigue import alternating_and_mean, endurance_limit, safety_factor
 from railcheck.fea.hull import candidate_steps
-from railcheck.fea.store import UnitRequest, is_stored, solve_stored
 from railcheck.fea.stress import peak, von_mises
 from railcheck.fea.superpose import (
     UnitFields,
@@ -50,6 +49,7 @@ from railcheck.model.records import (
     PartResult,
     SeedMethod,
 )
+from railcheck.model.setting_free import part_fields, stored
 from railcheck.units import for_people
 
 #: curved edges straightened below this share of them are a note on the mesh's progress line,
@@ -86,7 +86,7 @@ def check_part(job: PartJob, solver: str, report) -> PartResult:
         + (f"; {note}" if note else "")
     )
     cases = unit_cases(job.loads, job.geometry, list(job.holes))
-    fields, solve, origin = solve_stored(unit_request(job, mesh, cases), solver, report, store=environment.unit_store())
+    fields, solve, origin = part_fields(job, mesh, cases, solver, report)
     seconds.update(solve.seconds)
     if origin == "stored":
         report(f"unit fields from the store ({solve.dofs} DOFs; not assembled or solved)")
@@ -142,9 +142,7 @@ def clamped_comparison(job: PartJob, mesh, solver: str, report) -> tuple[Clamped
     unit fields through the store like any part's, and where those came from
     (:func:`railcheck.fea.store.solve_stored`'s ``origin``)."""
     cases = unit_cases(job.loads, job.geometry, list(job.holes))
-    fields, solve, origin = solve_stored(
-        unit_request(job, mesh, cases), solver, lambda msg: None, store=environment.unit_store()
-    )
+    fields, solve, origin = part_fields(job, mesh, cases, solver, lambda msg: None)
     cycle = evaluate_cycle(job, fields, job.histories, solve)
     _refuse_non_finite(job.name, cycle)
     env = cycle.envelope
@@ -177,29 +175,6 @@ def _refuse_non_finite(name: str, cycle: CycleResult) -> None:
         raise NumericalError(f"{name}: the stress or deflection over the cycle is not finite")
 
 
-def _mode_request(job: PartJob):
-    d = job.dynamic
-    return (d.modes, list(d.pins) if d.pins else None, d.lumped) if d else None
-
-
-def unit_request(job: PartJob, mesh, cases: dict) -> UnitRequest:
-    """What the part's unit solve depends on (:class:`railcheck.fea.store.UnitRequest`)."""
-    return UnitRequest(
-        mesh.points,
-        mesh.tets,
-        mesh.groups,
-        job.material,
-        list(job.supports),
-        cases,
-        job.mesh.order,
-        job.tip,
-        job.exclusion,
-        mesh.curved if job.mesh.curved else None,
-        job.free_body,
-        _mode_request(job),
-    )
-
-
 def job_mesh(job: PartJob):
     """The part's mesh (:func:`railcheck.geometry.mesher.mesh_part`: from the mesh cache in
     the environment's folder, or built and cached), at the job's sizes."""
@@ -223,7 +198,7 @@ def in_store(job: PartJob) -> bool:
     if mesh is None:  # a probe: never meshes (a cold part is meshed where its progress is shown)
         return False
     jobs = [job] + ([job.clamped] if job.clamped is not None else [])
-    return all(is_stored(unit_request(j, mesh, unit_cases(j.loads, j.geometry, list(j.holes))), store) for j in jobs)
+    return all(stored(j, mesh, unit_cases(j.loads, j.geometry, list(j.holes))) for j in jobs)
 
 
 def evaluate_cycle(job: PartJob, fields: UnitFields, histories: tuple[SourceHistory, ...], solve: UnitSolve) -> CycleResult:

@@ -1,0 +1,166 @@
+"""Issue 59: a free rail is solved once for every setting (railcheck.fea.holebasis,
+railcheck.model.setting_free). Its setting's load vectors are exact combinations of the
+hole basis's; fields projected from the basis equal a direct solve of the setting's own
+cases (superposition against a direct solve); and a check of another setting after one
+check solves nothing (a spy on the solver) and writes what a cold check of that setting
+writes."""
+
+import json
+
+import numpy as np
+import pytest
+
+from helpers import FINAL_DESIGN
+from railcheck.fea.elasticity import assemble
+from railcheck.fea.holebasis import hole_basis, project, surface_nodes
+from railcheck.fea.materials import MATERIALS
+from railcheck.fea.mesh import group_nodes, node_cells
+from railcheck.fea.unitcases import case_matrix, solve_unit_cases
+
+COARSE = """[mesh]
+order = 1
+size = "30 mm"
+hole_size = "7 mm"
+[geometry]
+rail_groove_radius = "0 mm"
+[output]
+vtk = false
+png = false
+plots = false
+"""
+
+
+def _scene(crank="480 mm", coupler="840 mm", rocker="780 mm", effects='["inertia", "gravity", "rail-inertia"]'):
+    mechanism = FINAL_DESIGN.replace("480 mm", crank).replace("840 mm", coupler).replace("780 mm", rocker)
+    return (
+        mechanism
+        + 'speed = "1 Hz"\nsteps = 180\nplane = "vertical"\n[check]\nparts = ["crank-rail", "coupler-rail"]\n'
+        + f"effects = {effects}\n"
+        + COARSE
+    )
+
+
+def _rail_job(name="crank-rail", text=None):
+    """The check's job for one free rail of the coarse scene, and its mesh."""
+    from railcheck.api import scene_of
+    from railcheck.model.cycle import job_mesh
+    from railcheck.model.jobs import build_load_cases, part_geometries, part_jobs
+    from railcheck.model.kinematics_stage import run_kinematics
+
+    scene = scene_of(text or _scene())
+    kin = run_kinematics(scene)
+    geometries = part_geometries(scene)
+    cases = build_load_cases(scene, kin, geometries)
+    job = part_jobs(scene, kin, geometries, cases, MATERIALS["steel"], 375e6)[name]
+    return job, job_mesh(job)
+
+
+@pytest.fixture(scope="module")
+def crank():
+    from railcheck.model.loading import unit_cases
+
+    job, mesh = _rail_job()
+    return job, mesh, unit_cases(job.loads, job.geometry, list(job.holes))
+
+
+def _holes(job):
+    return [f"hole_{k}" for k in range(len(job.geometry.get("hole_x")))]
+
+
+def test_a_settings_load_vectors_are_combinations_of_the_hole_basis(crank):
+    """Every case of the crank (pins, the motor's couple, the far bolts shared by the lever
+    rule, pin pressures, body and weight cases) is its transform's combination of the
+    basis's load vectors, assembled independently."""
+    job, mesh, cases = crank
+    basis = hole_basis(cases, _holes(job))
+    _, fe = assemble(mesh.points, mesh.tets, job.material, 1, None)
+    direct = case_matrix(fe, mesh.groups, cases, job.free_body)
+    combined = case_matrix(fe, mesh.groups, basis.cases, job.free_body) @ basis.transform
+    scale = np.abs(direct).max(axis=0)
+    assert np.all(np.abs(combined - direct).max(axis=0) <= 1e-12 * scale)
+    assert len(basis.cases) > len(cases)  # every hole, not only the setting's
+    with pytest.raises(ValueError, match="lacks"):
+        hole_basis(cases, _holes(job)[:-3])  # a basis without the setting's far holes
+
+
+def test_fields_projected_from_the_basis_equal_a_direct_solve(crank):
+    """Superposition against a direct solve: the setting's cases solved as they are, and
+    projected from the basis solved with every far pair's deflection, give the same
+    stresses, displacements, deflection, resultants and loaded nodes."""
+    from railcheck.model.setting_free import basis_free_body
+
+    job, mesh, cases = crank
+    basis = hole_basis(cases, _holes(job))
+    kw = {"order": 1, "tip_group": job.tip}
+    direct, d_solve = solve_unit_cases(mesh, job.material, [], cases, free_body=job.free_body, **kw)
+    solved, b_solve = solve_unit_cases(mesh, job.material, [], basis.cases, free_body=basis_free_body(job), **kw)
+    loaded = surface_nodes(solved.cells, [mesh.groups[g] for g in sorted({"hole_0", "hole_1", *job.holes})])
+    fields, solve = project(solved, b_solve, basis, tuple(cases), tuple(job.holes), loaded)
+    for name in ("stress", "displacement", "tip"):
+        want, got = getattr(direct, name), getattr(fields, name)
+        assert np.abs(got - want).max() <= 1e-9 * np.abs(want).max(), name
+    np.testing.assert_allclose(solve.resultants, d_solve.resultants, atol=1e-9)
+    np.testing.assert_array_equal(fields.loaded, direct.loaded)
+    assert fields.names == direct.names
+
+
+def test_surface_nodes_are_the_group_nodes_without_a_basis(crank):
+    job, mesh, _ = crank
+    _, fe = assemble(mesh.points, mesh.tets, job.material, 2, None)
+    for g in ("hole_0", job.holes[-1]):
+        np.testing.assert_array_equal(surface_nodes(node_cells(fe), [mesh.groups[g]]), group_nodes(fe, mesh.groups, [g]))
+
+
+def _check(tmp_path, label, text, monkeypatch, cache):
+    """summary.json of a check of ``text`` (its scene file named by the text: the same
+    scene, the same file) with its cache in ``cache``, out in ``label``."""
+    from railcheck.api import check
+
+    monkeypatch.setenv("RAILCHECK_CACHE", str(cache))
+    scene = tmp_path / f"{abs(hash(text))}.toml"
+    scene.write_text(text)
+    check(str(scene), out=tmp_path / label, jobs=1)
+    return json.loads((tmp_path / label / "summary.json").read_text())
+
+
+def test_another_setting_after_a_check_solves_nothing_and_equals_its_cold_check(tmp_path, monkeypatch):
+    """A check of the default setting fills the store; a check of 420/900/720 mm then
+    assembles and solves nothing (every solve counted) and writes the summary a check of
+    that setting from an empty store writes."""
+    import railcheck.fea.store as store
+
+    solves = []
+    real = store.solve_unit_cases
+
+    def counted(*args, **kw):
+        solves.append(args[3].keys())
+        return real(*args, **kw)
+
+    monkeypatch.setattr(store, "solve_unit_cases", counted)
+    other = _scene("420 mm", "900 mm", "720 mm")
+    _check(tmp_path, "first", _scene(), monkeypatch, tmp_path / "cache")
+    assert len(solves) == 2  # the crank rail (700 mm) and the coupler rail (1000 mm)
+    solves.clear()
+    warm = _check(tmp_path, "warm", other, monkeypatch, tmp_path / "cache")
+    assert solves == []
+    cold = _check(tmp_path, "cold", other, monkeypatch, tmp_path / "empty")
+    assert len(solves) == 2
+    assert warm == cold
+    first = json.loads((tmp_path / "first" / "summary.json").read_text())
+    assert first["parts"]["crank-rail"]["max_von_mises_Pa"] != warm["parts"]["crank-rail"]["max_von_mises_Pa"]
+
+
+def test_a_second_rail_of_one_size_is_checked_last():
+    """The coupler and rocker rails (both 1000 mm) share one hole basis: the second is
+    taken last, so it reads the first's fields instead of solving them beside it."""
+    from railcheck.api import scene_of
+    from railcheck.check.workers import work_order
+    from railcheck.model.jobs import build_load_cases, part_geometries, part_jobs
+    from railcheck.model.kinematics_stage import run_kinematics
+
+    scene = scene_of(None)
+    kin = run_kinematics(scene)
+    geometries = part_geometries(scene)
+    jobs = part_jobs(scene, kin, geometries, build_load_cases(scene, kin, geometries), MATERIALS["steel"], 375e6)
+    order = work_order(jobs)
+    assert sorted(order) == sorted(jobs) and order[-1] == "rocker-rail" and order[0] == "PF_4b_003_v2"
