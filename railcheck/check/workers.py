@@ -4,10 +4,11 @@ Each part is independent once its :class:`~railcheck.model.jobs.PartJob` is reso
 mesh, unit cases, envelope, fatigue (:func:`railcheck.model.cycle.check_part`). With more
 than one part and more than one core the parts are taken in :func:`work_order` (costliest
 first, a second rail of one size last) by this process and ``jobs - 1`` worker processes
-(spawned, so no library state is forked), whichever is free taking the next; the workers' progress lines reach the console through a
-queue as they happen, and each part's result comes back whole. Errors raised in a worker
-are raised here unchanged. ``jobs=1`` (``railcheck check --jobs 1``) runs them in this
-process, one after another; the results are the same.
+(spawned, so no library state is forked), whichever is free taking the next; the
+workers' progress lines reach the console through a queue as they happen, and each
+part's result comes back whole. Errors raised in a worker are raised here unchanged.
+``jobs=1`` (``railcheck check --jobs 1``) runs them in this process, one after another;
+the results are the same.
 """
 
 from __future__ import annotations

@@ -97,6 +97,8 @@ def part_fields(job: PartJob, mesh, cases: dict, solver: str, report):
         return solve_stored(part_request(job, mesh, cases), solver, report, store=store)
     basis, key = found
     fields, solve, origin = solve_stored(_request(job, mesh, basis.cases, basis_free_body(job)), solver, report, store=store)
+    if origin != "stored":
+        report(f"{len(basis.cases)} unit cases solved for every hole of the rail: any setting's are projected from them")
     t = time.perf_counter()
     loaded = _loaded_groups(cases)
     nodes = surface_nodes(fields.cells, [mesh.groups[g] for g in loaded]) if loaded and fields.cells is not None else None
