@@ -124,6 +124,16 @@ def foundation_reaction(basis, groups: dict, group: str, F: np.ndarray) -> np.nd
     t(x) = a + w x (x - c) (c the face's area centroid: the bolted-flange idealisation of
     a rigid base, pressure and shear varying linearly over the face), its six
     coefficients set so that force and moment vanish, integrated exactly on the face."""
+    T = cached_on(basis, f"foundation_tractions:{group}", lambda: _face_tractions(basis, groups, group))
+    modes = rigid_modes(basis, 1.0)
+    coefficients = np.linalg.solve(imbalance(modes, T), -imbalance(modes, F))
+    return T @ coefficients
+
+
+def _face_tractions(basis, groups: dict, group: str) -> np.ndarray:
+    """(N, 6) the load vectors of the face ``group``'s six linear tractions (uniform x, y,
+    z; turning about x, y, z through the face's area centroid), read-only: a part's unit
+    cases share them (:func:`foundation_reaction`)."""
     face = surface_dofs(basis, groups, group)
     c = face.weights @ face.points / face.weights.sum()
     units = np.eye(3)
@@ -135,9 +145,8 @@ def foundation_reaction(basis, groups: dict, group: str, F: np.ndarray) -> np.nd
         return lambda x: np.cross(units[k], x - c.reshape((3,) + (1,) * (x.ndim - 1)), axis=0)
 
     T = traction_vector(basis, groups, group, [uniform(k) for k in range(3)] + [turning(k) for k in range(3)])
-    modes = rigid_modes(basis, 1.0)
-    coefficients = np.linalg.solve(imbalance(modes, T), -imbalance(modes, F))
-    return T @ coefficients
+    T.flags.writeable = False
+    return T
 
 
 def three_two_one(basis) -> np.ndarray:

@@ -252,3 +252,36 @@ def test_every_default_that_shapes_the_verdict_is_stated():
         "small displacements",
     ):
         assert needle in words, needle
+
+
+@pytest.mark.parametrize("holds", [True, False])
+def test_a_plate_solves_one_mode_for_its_certificate_and_every_mode_when_it_fails(tmp_path, monkeypatch, holds):
+    """PF_4b_006 (no beam model) reads its certificate from its lowest FE mode, so it asks
+    for that one mode; where the certificate does not hold (its tolerance lowered here, so
+    the estimate exceeds it) the exact response needs the modes the scene asks for, and
+    they are solved."""
+    from dataclasses import replace
+
+    import railcheck.fea.store as store
+    import railcheck.model.cycle as cycle
+
+    monkeypatch.setenv("RAILCHECK_CACHE", str(tmp_path))
+    asked = []
+    real_solve, real_certificate = store.solve_unit_cases, cycle.certificate
+
+    def counted(*args, **kw):
+        asked.append(kw["modes"][0])
+        return real_solve(*args, **kw)
+
+    monkeypatch.setattr(store, "solve_unit_cases", counted)
+    if not holds:
+        monkeypatch.setattr(cycle, "certificate", lambda *a, **k: replace(real_certificate(*a, **k), tolerance=0.5))
+    job = _jobs(1.0)["PF_4b_006"]
+    job = replace(job, mesh=replace(job.mesh, size=12e-3, hole_size=4e-3), node_fields=False)
+    part = cycle.check_part(job, "auto", lambda message: None)
+    count = job.dynamic.modes
+    if holds:
+        assert asked == [1] and part.job.dynamic is None and part.cycle.dynamic is None
+    else:
+        assert asked == [1, count] and part.job.dynamic.exact
+        assert part.cycle.dynamic.hz.size == count

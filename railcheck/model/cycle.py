@@ -93,6 +93,10 @@ def check_part(job: PartJob, solver: str, report) -> PartResult:
     elif origin != "solved":
         warnings.append(origin)
     job, solve, fields = settle_dynamics(job, solve, fields, cases)
+    if job.dynamic is not None and solve.modes is not None and solve.modes.hz.size < job.dynamic.modes:
+        report(f"solving its {job.dynamic.modes} lowest modes for the dynamic response")
+        fields, solve, _ = part_fields(job, mesh, cases, solver, report)  # its certificate's one mode was not enough
+        seconds.update({k: seconds.get(k, 0.0) + v for k, v in solve.seconds.items()})
     if job.certificate is not None:
         report(job.certificate.sentence())
     t = time.perf_counter()

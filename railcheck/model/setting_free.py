@@ -61,6 +61,8 @@ def basis_free_body(job: PartJob):
 
 
 def _request(job: PartJob, mesh, cases: dict, free_body) -> UnitRequest:
+    """The request of ``cases``; a part whose modes only give its certificate its lowest
+    frequency asks for that one mode."""
     modes = job.dynamic
     return UnitRequest(
         mesh.points,
@@ -74,7 +76,7 @@ def _request(job: PartJob, mesh, cases: dict, free_body) -> UnitRequest:
         job.exclusion,
         mesh.curved if job.mesh.curved else None,
         free_body,
-        (modes.modes, list(modes.pins) if modes.pins else None, modes.lumped) if modes else None,
+        (modes.modes if modes.exact else 1, list(modes.pins) if modes.pins else None, modes.lumped) if modes else None,
     )
 
 
