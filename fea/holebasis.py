@@ -97,21 +97,24 @@ def _combination(name: str, case, harmonics: tuple[int, ...]) -> dict[str, float
     return {name: 1.0}
 
 
-def project(fields: UnitFields, solve: UnitSolve, basis: HoleBasis, names: tuple, tip_key, loaded: np.ndarray):
+def project(
+    fields: UnitFields, solve: UnitSolve, basis: HoleBasis, names: tuple, tip_key, loaded, tip_keys: dict | None = None
+):
     """(UnitFields, UnitSolve) of the setting's cases ``names`` from the basis's solved
     ``fields`` and ``solve``: stresses, displacements, resultants and balances times the
     transform; the deflection the one of ``fields.tips[tip_key]`` (a free body's per-setting
-    deflection, None: ``fields.tip``); ``loaded`` the setting's loaded nodes."""
+    deflection, None: ``fields.tip``), or with ``tip_keys`` (key -> basis tip key) one per
+    key (``UnitFields.tips``); ``loaded`` the setting's loaded nodes."""
     T = basis.transform
     tip = fields.tip if tip_key is None else fields.tips[tip_key]
     out = replace(
         fields,
         stress=np.tensordot(fields.stress, T, axes=([2], [0])),
-        tip=tip @ T,
+        tip=np.zeros((3, T.shape[1])) if tip_keys else tip @ T,
         displacement=np.tensordot(fields.displacement, T, axes=([2], [0])),
         names=tuple(names),
         loaded=loaded,
-        tips=None,
+        tips={key: fields.tips[k] @ T for key, k in tip_keys.items()} if tip_keys else None,
     )
     meta = replace(
         solve,

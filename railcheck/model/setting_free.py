@@ -17,7 +17,7 @@ it is solved for its own cases, as before, and so is a clamped rail.
 from __future__ import annotations
 
 import time
-from dataclasses import replace
+from dataclasses import dataclass, replace
 
 from railcheck import environment
 from railcheck.fea.holebasis import HoleBasis, hole_basis, project, surface_nodes
@@ -25,7 +25,17 @@ from railcheck.fea.store import UnitRequest, is_stored, solve_stored
 from railcheck.fea.unitcases import CoupleCase, TractionCase
 from railcheck.model.jobs import PartJob, free_body_cases
 
-__all__ = ["basis_free_body", "part_fields", "part_request", "stored", "uses_hole_basis"]
+__all__ = [
+    "BasisSolve",
+    "in_basis",
+    "pair_deflections",
+    "part_fields",
+    "part_request",
+    "solve_projected",
+    "stored",
+    "stored_request",
+    "uses_hole_basis",
+]
 
 
 def uses_hole_basis(job: PartJob) -> bool:
@@ -34,35 +44,82 @@ def uses_hole_basis(job: PartJob) -> bool:
     return job.free_body is not None and job.geometry.kind == "rail" and job.dynamic is None
 
 
-def far_pairs(job: PartJob) -> list[tuple[str, str]]:
-    """Every pair of neighbouring holes the far joint's bolts can use (beyond the first
-    hole, where the near joint sits)."""
-    n = len(job.geometry.get("hole_x"))
+def far_pairs(geo) -> list[tuple[str, str]]:
+    """Every pair of neighbouring holes of the rail ``geo`` the far joint's bolts can use
+    (beyond the first hole, where the near joint sits)."""
+    n = len(geo.get("hole_x"))
     return [(f"hole_{k}", f"hole_{k + 1}") for k in range(1, n - 1)]
 
 
-def _basis(job: PartJob, cases: dict) -> tuple[HoleBasis, object] | None:
-    """(the hole basis, the key of the setting's deflection) for a part that uses one
-    and whose setting the basis holds; None otherwise."""
-    if not uses_hole_basis(job) or tuple(job.holes) not in far_pairs(job):
+def pair_deflections(loads, geo) -> dict:
+    """Far pair -> the free rail's deflection with its far joint there (:func:`free_body_cases`)."""
+    return {pair: free_body_cases(loads, geo, list(pair)).deflection for pair in far_pairs(geo)}
+
+
+@dataclass(frozen=True)
+class BasisSolve:
+    """How a request is solved in its hole basis: the basis, the ``request`` that solves
+    it (the store's key) and the deflections' keys: the basis's far pair of the request's
+    one deflection (``tip``), or request key -> far pair (``tips``)."""
+
+    basis: HoleBasis
+    request: UnitRequest
+    tip: tuple | None
+    tips: dict | None
+
+
+def in_basis(request: UnitRequest, geo, deflections: dict) -> BasisSolve | None:
+    """The hole-basis solve of ``request`` (a free rail's, on the rail ``geo``, with
+    ``deflections`` its :func:`pair_deflections`), or None when the request cannot be
+    solved in it: modes asked for, a case or a deflection the basis does not hold."""
+    free = request.free_body
+    if free is None or request.modes is not None or geo.kind != "rail":
         return None
-    holes = [f"hole_{k}" for k in range(len(job.geometry.get("hole_x")))]
+    holes = [f"hole_{k}" for k in range(len(geo.get("hole_x")))]
     try:
-        return hole_basis(cases, holes), tuple(job.holes)
+        basis = hole_basis(request.cases, holes)
     except ValueError:
         return None
+    pair_of = {repr(d): pair for pair, d in deflections.items()}
+    wanted = free.deflection if isinstance(free.deflection, dict) else {None: free.deflection}
+    keys = {key: pair_of.get(repr(d)) for key, d in wanted.items()}
+    if None in keys.values():
+        return None
+    solved = replace(request, cases=basis.cases, free_body=replace(free, deflection=deflections))
+    if isinstance(free.deflection, dict):
+        return BasisSolve(basis, solved, None, keys)
+    return BasisSolve(basis, solved, keys[None], None)
 
 
-def basis_free_body(job: PartJob):
-    """The job's free-body request with the deflection of every far pair (keyed by it)."""
-    assert job.free_body is not None  # uses_hole_basis
-    deflections = {pair: free_body_cases(job.loads, job.geometry, list(pair)).deflection for pair in far_pairs(job)}
-    return replace(job.free_body, deflection=deflections)
+def solve_projected(request: UnitRequest, geo, deflections: dict, solver: str, report, store):
+    """(UnitFields, UnitSolve, origin) of ``request`` through ``store``
+    (:func:`railcheck.fea.store.solve_stored`), projected from its hole basis when
+    :func:`in_basis` can solve it (the solve's ``seconds`` gain ``project``), else as it is."""
+    found = in_basis(request, geo, deflections)
+    if found is None:
+        return solve_stored(request, solver, report, store=store)
+    fields, solve, origin = solve_stored(found.request, solver, report, store=store)
+    if origin != "stored":
+        report(
+            f"{len(found.basis.cases)} unit cases solved for every hole of the rail: any setting's are projected from them"
+        )
+    t = time.perf_counter()
+    loaded = _loaded_groups(request.cases)
+    groups = request.groups
+    nodes = surface_nodes(fields.cells, [groups[g] for g in loaded]) if loaded and fields.cells is not None else None
+    fields, solve = project(fields, solve, found.basis, tuple(request.cases), found.tip, nodes, found.tips)
+    return fields, replace(solve, seconds={**solve.seconds, "project": time.perf_counter() - t}), origin
 
 
-def _request(job: PartJob, mesh, cases: dict, free_body) -> UnitRequest:
-    """The request of ``cases``; a part whose modes only give its certificate its lowest
-    frequency asks for that one mode."""
+def stored_request(request: UnitRequest, geo, deflections: dict) -> UnitRequest:
+    """The request the store keys ``request``'s fields by: its hole basis's, or itself."""
+    found = in_basis(request, geo, deflections)
+    return request if found is None else found.request
+
+
+def _request(job: PartJob, mesh, cases: dict) -> UnitRequest:
+    """The request of the part's ``cases``; a part whose modes only give its certificate
+    its lowest frequency asks for that one mode."""
     modes = job.dynamic
     return UnitRequest(
         mesh.points,
@@ -75,37 +132,25 @@ def _request(job: PartJob, mesh, cases: dict, free_body) -> UnitRequest:
         job.tip,
         job.exclusion,
         mesh.curved if job.mesh.curved else None,
-        free_body,
+        job.free_body,
         (modes.modes if modes.exact else 1, list(modes.pins) if modes.pins else None, modes.lumped) if modes else None,
     )
 
 
+def _deflections(job: PartJob) -> dict:
+    return pair_deflections(job.loads, job.geometry) if uses_hole_basis(job) else {}
+
+
 def part_request(job: PartJob, mesh, cases: dict) -> UnitRequest:
-    """What the part's unit solve depends on (:class:`railcheck.fea.store.UnitRequest`):
+    """What the part's unit fields are stored by (:class:`railcheck.fea.store.UnitRequest`):
     its hole basis's when it uses one, else its own cases'."""
-    found = _basis(job, cases)
-    if found is None:
-        return _request(job, mesh, cases, job.free_body)
-    return _request(job, mesh, found[0].cases, basis_free_body(job))
+    return stored_request(_request(job, mesh, cases), job.geometry, _deflections(job))
 
 
 def part_fields(job: PartJob, mesh, cases: dict, solver: str, report):
-    """(UnitFields, UnitSolve, origin) of the part's ``cases`` through the store
-    (:func:`railcheck.fea.store.solve_stored`), projected from its hole basis when it
-    uses one (the solve's ``seconds`` gain ``project``)."""
-    store = environment.unit_store()
-    found = _basis(job, cases)
-    if found is None:
-        return solve_stored(part_request(job, mesh, cases), solver, report, store=store)
-    basis, key = found
-    fields, solve, origin = solve_stored(_request(job, mesh, basis.cases, basis_free_body(job)), solver, report, store=store)
-    if origin != "stored":
-        report(f"{len(basis.cases)} unit cases solved for every hole of the rail: any setting's are projected from them")
-    t = time.perf_counter()
-    loaded = _loaded_groups(cases)
-    nodes = surface_nodes(fields.cells, [mesh.groups[g] for g in loaded]) if loaded and fields.cells is not None else None
-    fields, solve = project(fields, solve, basis, tuple(cases), key, nodes)
-    return fields, replace(solve, seconds={**solve.seconds, "project": time.perf_counter() - t}), origin
+    """(UnitFields, UnitSolve, origin) of the part's ``cases`` (:func:`solve_projected`)."""
+    request = _request(job, mesh, cases)
+    return solve_projected(request, job.geometry, _deflections(job), solver, report, environment.unit_store())
 
 
 def _loaded_groups(cases: dict) -> list[str]:

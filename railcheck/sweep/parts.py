@@ -19,13 +19,14 @@ import numpy as np
 from railcheck import environment
 from railcheck.fea.fatigue import endurance_limit
 from railcheck.fea.screening import fatigue_min, make_screens, tip_peak, von_mises_peak
-from railcheck.fea.store import UnitRequest, is_stored, solve_stored
+from railcheck.fea.store import UnitRequest, is_stored
 from railcheck.geometry.mesher import cached_mesh, mesh_part
 from railcheck.geometry.models import PartGeometry
 from railcheck.loads.cases import rail_bolt_holes
 from railcheck.model.certificate import rail_lowest_hz
 from railcheck.model.jobs import carried_masses, free_body_cases, mesh_sizes
 from railcheck.model.loading import LoadModel, load_model, pin_pressure_map, source_histories, unit_cases
+from railcheck.model.setting_free import pair_deflections, solve_projected, stored_request
 from railcheck.parts import PARTS, geometry_of, kind_of
 
 
@@ -185,7 +186,8 @@ def build_part_model(
         verbose=environment.gmsh_verbose(),
     )
     setup = _part_setup(scene, name, geo, mesh, lengths, material, linkage)
-    fields, meta, origin = solve_stored(setup.request, "auto", report, store=environment.unit_store())
+    deflections = pair_deflections(setup.loads, geo) if setup.free else {}
+    fields, meta, origin = solve_projected(setup.request, geo, deflections, "auto", report, environment.unit_store())
     if origin != "solved":
         report(f"unit fields: {origin}")
     return _part_model(scene, name, setup, fields, meta, material, limit)
@@ -204,7 +206,9 @@ def part_is_stored(scene, name: str, lengths: np.ndarray, material, linkage: str
     )
     if mesh is None:
         return False
-    return is_stored(_part_setup(scene, name, geo, mesh, lengths, material, linkage).request, store)
+    setup = _part_setup(scene, name, geo, mesh, lengths, material, linkage)
+    deflections = pair_deflections(setup.loads, geo) if setup.free else {}
+    return is_stored(stored_request(setup.request, geo, deflections), store)
 
 
 @dataclass(frozen=True)
