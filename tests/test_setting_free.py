@@ -173,3 +173,36 @@ def test_a_second_rail_of_one_size_is_checked_last():
     jobs = part_jobs(scene, kin, geometries, build_load_cases(scene, kin, geometries), MATERIALS["steel"], 375e6)
     order = work_order(jobs)
     assert sorted(order) == sorted(jobs) and order[-1] == "rocker-rail" and order[0] == "PF_4b_003_v2"
+
+
+@pytest.mark.slow
+def test_a_sweep_after_a_check_reads_the_checks_rails(tmp_path, monkeypatch):
+    """The sweep's free rails are projected from the same hole basis: after one check, a
+    sweep of settings round it (other bar lengths, so other hole pairs) solves no rail,
+    and its row of the checked setting equals the check."""
+    import railcheck.fea.store as store
+    from helpers import sweep_table
+    from railcheck.api import sweep
+
+    real = store.solve_unit_cases
+
+    def counted(*args, **kw):
+        with open(tmp_path / "solves", "a") as f:  # a forked worker counts here too
+            f.write(f"{len(args[3])}\n")
+        return real(*args, **kw)
+
+    monkeypatch.setattr(store, "solve_unit_cases", counted)
+    text = _scene(effects='["inertia"]')
+    first = _check(tmp_path, "first", text, monkeypatch, tmp_path / "cache")
+    (tmp_path / "solves").unlink()
+    ranges = {"crank": (420, 480), "coupler": (840, 900), "rocker": (720, 780), "ground": (1020, 1020)}
+    found = sweep(text + sweep_table(steps=180, **ranges), serial=True)
+    assert not (tmp_path / "solves").exists()
+    table = found.tables["four-bar"]
+    rows = {name: table[name].to_pylist() for name in table.column_names}
+    lengths = list(zip(rows["crank_mm"], rows["coupler_mm"], rows["rocker_mm"]))
+    at = [i for i, setting in enumerate(lengths) if setting == (480, 840, 780)]
+    assert len(at) == 1 and len(lengths) > 4, lengths
+    for part in ("crank-rail", "coupler-rail"):
+        want = first["parts"][part]["max_von_mises_Pa"] / 1e6
+        assert abs(rows[f"{part}_stress_MPa"][at[0]] - want) <= 1e-9 * want, part
