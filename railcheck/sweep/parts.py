@@ -272,7 +272,7 @@ def _part_setup(scene, name: str, geo, mesh, lengths: np.ndarray, material, link
         kind.tip,
         0.0 if free or plate else kind.exclusion(geo),
         mesh.curved if scene.mesh.curved else None,
-        dataclasses.replace(free_body_cases(loads, geo, next(iter(groups.values()))), deflection=deflections)
+        dataclasses.replace(free_body_cases(loads, geo, next(iter(groups.values()))), deflection=_one_or_many(deflections))
         if free or plate
         else None,
         modes,
@@ -280,6 +280,13 @@ def _part_setup(scene, name: str, geo, mesh, lengths: np.ndarray, material, link
     return _PartSetup(
         geo, free, plate, loads, groups, pair_of, cases, columns, pressure, modes, request, names_of, linkage, deflections
     )
+
+
+def _one_or_many(deflections: dict):
+    """A free part's deflection request: the one deflection of a part whose holes no
+    setting moves (key None: a plate, the bracket), as a check asks for it, so the two
+    share the stored fields; else one per hole-pair key."""
+    return deflections[None] if set(deflections) == {None} else deflections
 
 
 def _part_model(scene, name: str, setup: _PartSetup, fields, meta, material, limit: float) -> PartModel:
