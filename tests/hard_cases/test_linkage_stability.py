@@ -4,7 +4,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import assume, example, given, settings
+from hypothesis import HealthCheck, assume, example, given, settings
 from hypothesis import strategies as st
 
 from railcheck.kinematics.dynamics import inverse_dynamics, power_residual
@@ -117,7 +117,10 @@ lengths = st.floats(0.05, 2.0)
 
 
 @given(b2=st.floats(0.05, 0.6), b3=lengths, b4=lengths, d=lengths, crossed=st.booleans())
-@settings(max_examples=150, deadline=None)
+# the assume()s below define the domain (a crank that revolves, away from toggles); on some
+# seeds they reject more draws than hypothesis's health check allows (it failed a CI-like
+# run once: FailedHealthCheck filter_too_much, not a wrong result), so that check is off
+@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.filter_too_much])
 def test_random_assemblable_fourbars(b2, b3, b4, d, crossed):
     lk = FourBar(b2, b3, b4, d, "crossed" if crossed else "open")
     # keep configurations whose crank revolves at least 1e-4 rad away from a toggle
