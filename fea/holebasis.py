@@ -106,7 +106,8 @@ def project(
     deflection, None: ``fields.tip``), or with ``tip_keys`` (key -> basis tip key) one per
     key (``UnitFields.tips``); ``loaded`` the setting's loaded nodes."""
     T = basis.transform
-    tip = fields.tip if tip_key is None else fields.tips[tip_key]
+    tips = fields.tips or {}  # a free body's deflection per far pair
+    tip = fields.tip if tip_key is None else tips[tip_key]
     out = replace(
         fields,
         stress=np.tensordot(fields.stress, T, axes=([2], [0])),
@@ -114,7 +115,7 @@ def project(
         displacement=np.tensordot(fields.displacement, T, axes=([2], [0])),
         names=tuple(names),
         loaded=loaded,
-        tips={key: fields.tips[k] @ T for key, k in tip_keys.items()} if tip_keys else None,
+        tips={key: tips[k] @ T for key, k in tip_keys.items()} if tip_keys else None,
     )
     meta = replace(
         solve,

@@ -109,7 +109,8 @@ def work_order(part_jobs: dict[str, PartJob]) -> list[str]:
     after the first is done, reads them from the store instead of solving them beside it."""
     by_size = sorted(part_jobs, key=lambda name: -_estimated_cost(part_jobs[name]))
     seen: set = set()
-    first, repeated = [], []
+    first: list[str] = []
+    repeated: list[str] = []
     for name in by_size:
         job = part_jobs[name]
         key = (repr(job.geometry), job.mesh)

@@ -22,7 +22,7 @@ from dataclasses import dataclass, replace
 from railcheck import environment
 from railcheck.fea.holebasis import HoleBasis, hole_basis, project, surface_nodes
 from railcheck.fea.store import UnitRequest, is_stored, solve_stored
-from railcheck.fea.unitcases import CoupleCase, TractionCase
+from railcheck.fea.unitcases import CoupleCase, FreeBodyCases, TractionCase
 from railcheck.model.jobs import PartJob, free_body_cases
 
 __all__ = [
@@ -73,7 +73,7 @@ def in_basis(request: UnitRequest, geo, deflections: dict) -> BasisSolve | None:
     ``deflections`` its :func:`pair_deflections`), or None when the request cannot be
     solved in it: modes asked for, a case or a deflection the basis does not hold."""
     free = request.free_body
-    if free is None or request.modes is not None or geo.kind != "rail":
+    if not isinstance(free, FreeBodyCases) or request.modes is not None or geo.kind != "rail":
         return None
     holes = [f"hole_{k}" for k in range(len(geo.get("hole_x")))]
     try:
