@@ -100,7 +100,7 @@ def render_part(path: str | Path, name: str, part) -> Path:
     _stress_surface(pv, plotter, mesh, sol, scale, top, slender, font, beyond)
     if part.job.free_body is None:
         _support(pv, plotter, mesh, sol, scale, part)
-    _peak_marker(pv, plotter, cycle, sol, scale, extent.max(), part, font)
+    _peak_marker(pv, plotter, cycle, sol, scale, extent.max())
     length_scale(plotter, mesh.points, kind_of(name).view)
     plotter.add_axes(viewport=(0.0, 0.0, 0.12, 0.2) if slender else (0.0, 0.0, 0.15, 0.15), line_width=3)
     lines = fit_caption(plotter, picture_caption(name, part, scale), size, font)
@@ -215,7 +215,7 @@ def picture_caption(name: str, part, scale: float) -> str:
     )
     return (
         f"{name}: {verdict}, utilisation {part.utilisation:.0%} ({figure}); "
-        f"cycle peak {part.verdict_stress / 1e6:.1f} MPa {when} (limit {part.limit / 1e6:.0f} MPa)\n"
+        f"cycle peak {part.verdict_stress / 1e6:.1f} MPa (the white sphere) {when} (limit {part.limit / 1e6:.0f} MPa)\n"
         f"largest {deflection} {cycle.envelope.max_tip * 1e3:.3g} mm; "
         f"shape x{scale:g} (one rule for every part: largest displacement <= 5% of its size, 1-2-5, <= x1000)\n"
         + (
@@ -318,16 +318,10 @@ def _drawn_forces(part) -> list:
     return out
 
 
-def _peak_marker(pv, plotter, cycle, sol, scale, size, part, font) -> None:
+def _peak_marker(pv, plotter, cycle, sol, scale, size) -> None:
+    """A white sphere at the peak's node; its value is in the caption ("the white
+    sphere"), not in a label beside it: a peak by a joint used to cover that joint's force
+    label."""
     node = cycle.envelope.node
     where = cycle.fields.nodes[node] + scale * sol.node_displacement[node]
     plotter.add_mesh(pv.Sphere(radius=0.012 * size, center=where), color="white")
-    plotter.add_point_labels(
-        pv.PolyData(where[None, :]),
-        [f"peak {part.verdict_stress / 1e6:.1f} MPa"],
-        font_size=font,
-        point_color="white",
-        point_size=1,
-        shape_opacity=0.7,
-        always_visible=True,
-    )
