@@ -29,6 +29,21 @@ def sweep_table(kind: str = "four-bar", speeds=("1 Hz",), steps: int = 90, **ran
     return "\n".join(lines) + "\n"
 
 
+#: a rail meshed coarsely: linear elements at 30 mm (7 mm at the holes), no grooves (a
+#: second to mesh), and no VTU, PNG or plots: the [mesh], [geometry] and [output] tables
+COARSE_RAILS = """[mesh]
+order = 1
+size = "30 mm"
+hole_size = "7 mm"
+[geometry]
+rail_groove_radius = "0 mm"
+[output]
+vtk = false
+png = false
+plots = false
+"""
+
+
 #: seed 000's final design's bar lengths (mm), a range of one setting each
 FINAL_DESIGN_RANGES = {"crank": (480, 480), "coupler": (840, 840), "rocker": (780, 780), "ground": (1020, 1020)}
 

@@ -10,24 +10,12 @@ import json
 import numpy as np
 import pytest
 
-from helpers import FINAL_DESIGN
+from helpers import COARSE_RAILS, FINAL_DESIGN
 from railcheck.fea.elasticity import assemble
 from railcheck.fea.holebasis import hole_basis, project, surface_nodes
 from railcheck.fea.materials import MATERIALS
 from railcheck.fea.mesh import group_nodes, node_cells
 from railcheck.fea.unitcases import case_matrix, solve_unit_cases
-
-COARSE = """[mesh]
-order = 1
-size = "30 mm"
-hole_size = "7 mm"
-[geometry]
-rail_groove_radius = "0 mm"
-[output]
-vtk = false
-png = false
-plots = false
-"""
 
 
 def _scene(crank="480 mm", coupler="840 mm", rocker="780 mm", effects='["inertia", "gravity", "rail-inertia"]', parts=None):
@@ -37,7 +25,7 @@ def _scene(crank="480 mm", coupler="840 mm", rocker="780 mm", effects='["inertia
         mechanism
         + f'speed = "1 Hz"\nsteps = 180\nplane = "vertical"\n[check]\nparts = {parts}\n'
         + f"effects = {effects}\n"
-        + COARSE
+        + COARSE_RAILS
     )
 
 

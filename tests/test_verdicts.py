@@ -11,7 +11,7 @@ import tomllib
 import numpy as np
 import pytest
 
-from helpers import FINAL_DESIGN, FINAL_DESIGN_SWEEP
+from helpers import COARSE_RAILS, FINAL_DESIGN, FINAL_DESIGN_SWEEP
 from railcheck.cli import main
 from railcheck.scene import parse_scene
 from railcheck.sweep.run import run_sweep
@@ -128,17 +128,8 @@ plane = "vertical"
 parts = ["crank-rail"]
 limit = "60 MPa"
 effects = ["inertia", "gravity", "rail-inertia"]
-[mesh]
-order = 1
-size = "30 mm"
-hole_size = "7 mm"
-[geometry]
-rail_groove_radius = "0 mm"
-[output]
-vtk = false
-png = false
-plots = false
 """
+    + COARSE_RAILS
 )
 
 
