@@ -130,6 +130,12 @@ def cached_on(owner, key: str, make):
     return store[key]
 
 
+def forget(owner, key: str) -> None:
+    """Drop what :func:`cached_on` keeps on ``owner`` under ``key`` (if anything): its
+    next use computes it again."""
+    owner.__dict__.get("_railcheck_cache", {}).pop(key, None)
+
+
 def _sorted_facet_keys(mesh) -> tuple[np.ndarray, np.ndarray]:
     """(keys, order): a key per facet of the mesh from its sorted vertex triple, and the
     order that sorts the keys (built once per mesh)."""

@@ -196,3 +196,35 @@ def test_a_sweep_after_a_check_reads_the_checks_rails(tmp_path, monkeypatch):
     for part in ("crank-rail", "coupler-rail"):
         want = first["parts"][part]["max_von_mises_Pa"] / 1e6
         assert abs(rows[f"{part}_stress_MPa"][at[0]] - want) <= 1e-9 * want, part
+
+
+def test_the_load_rule_is_built_once_and_dropped_before_the_factorisation(crank, monkeypatch):
+    """Issue 59's memory: a free rail's unit solve integrates its loads and its rigid
+    modes with the load rule's basis, built once, and drops it before factorising (a
+    third of what the bracket's process held then); the fields equal those of a solve
+    that keeps it."""
+    import skfem
+
+    import railcheck.fea.unitcases as unitcases
+
+    job, mesh, cases = crank
+    real_basis, real_solve, rules, held = skfem.Basis, unitcases.solve_free_body, [], []
+
+    def counting(*args, **kw):
+        rules.append(kw.get("intorder"))
+        return real_basis(*args, **kw)
+
+    def spying(K, F, basis, *args, **kw):
+        held.append("integration_basis" in basis.__dict__.get("_railcheck_cache", {}))
+        return real_solve(K, F, basis, *args, **kw)
+
+    kw = {"order": 1, "tip_group": job.tip, "free_body": job.free_body}
+    with monkeypatch.context() as m:
+        m.setattr(unitcases, "loads_integrated", lambda basis, free: None)
+        kept, _ = solve_unit_cases(mesh, job.material, [], cases, **kw)
+    monkeypatch.setattr(skfem, "Basis", counting)
+    monkeypatch.setattr(unitcases, "solve_free_body", spying)
+    dropped, _ = solve_unit_cases(mesh, job.material, [], cases, **kw)
+    assert rules.count(1) == 3 and held == [False]  # the vector, scalar and load rules' bases, once each
+    for name in ("stress", "displacement", "tip"):
+        np.testing.assert_array_equal(getattr(dropped, name), getattr(kept, name))

@@ -5,11 +5,15 @@ its joints, and the dynamics with the free-body mass model. Every figure of a sw
 compared with `railcheck check` of that setting, an independent path (one setting's load
 model, unit cases, solve, modes and cycle)."""
 
+import dataclasses
+
 import numpy as np
 import pytest
 
 from helpers import FE_SWEEP, check_scene_of_row, run_sweep_text, table_rows
 from railcheck.check.pipeline import run_pipeline
+from railcheck.fea.screening import make_screens
+from railcheck.sweep.parts import PartModel, sharing_screens
 
 
 def _text(effects: str) -> str:
@@ -87,3 +91,53 @@ def test_a_both_kinds_free_body_sweep_equals_the_check_of_each_kind(tmp_path, ef
             if part.cycle.dynamic is not None:
                 amp = part.cycle.dynamic.amplification
                 assert row[f"{name}_amplification"] == pytest.approx(amp, rel=1e-9), (kind, name)
+
+
+@pytest.mark.slow
+def test_a_parts_models_for_both_kinds_hold_their_equal_screens_once():
+    """Issue 59's memory: the crank and coupler rails' four-bar and slider-crank models
+    carry different joint masses but the same unit fields, so the second kind's model
+    takes the first's screens (the same arrays, held once) and nothing else changes: its
+    keys and its own loads stay its own."""
+    import tomllib
+
+    from railcheck.scene import parse_scene
+    from railcheck.sweep.run import prepare_models, sweep_settings
+
+    scene = parse_scene(tomllib.loads(SLIDER_CRANK.replace("EFFECTS", '["inertia"]')), "test")
+
+    class Quiet:
+        def say(self, *args):
+            pass
+
+    models = prepare_models(scene, sweep_settings(scene), Quiet(), jobs=1)
+    for name in ("crank-rail", "coupler-rail"):
+        four, slider = models["four-bar"][name], models["slider-crank"][name]
+        assert four is not slider and four.loads is not slider.loads
+        assert slider.screens.keys() == four.screens.keys()
+        assert all(slider.screens[k] is four.screens[k] for k in four.screens), name
+
+
+def _model(name: str, stress: np.ndarray) -> PartModel:
+    """A part model with two hole pairs' screens of ``stress`` (6, n, 4), columns 0-1 and
+    2-3; every other field a placeholder that sharing never reads."""
+    columns = {(0, 1): [0, 1], (1, 2): [2, 3]}
+    tips = {key: np.ones((3, 4)) for key in columns}
+    screens = make_screens(stress, np.ones(stress.shape[1], bool), tips, columns)
+    needed = {f.name: None for f in dataclasses.fields(PartModel) if f.default is dataclasses.MISSING}
+    return PartModel(**(needed | {"name": name, "screens": screens, "pair_of": {}}))
+
+
+def test_equal_screens_of_a_part_are_shared_and_any_other_kept():
+    stress = np.random.default_rng(3).normal(size=(6, 40, 4))
+    first = _model("crank-rail", stress)
+    twin = sharing_screens(_model("crank-rail", stress.copy()), [first])
+    assert all(twin.screens[k] is first.screens[k] for k in first.screens)
+    other = stress.copy()
+    other[0, 5, 3] += 1.0  # the second pair's columns differ
+    partly = sharing_screens(_model("crank-rail", other), [first])
+    assert partly.screens[(0, 1)] is first.screens[(0, 1)]
+    assert partly.screens[(1, 2)] is not first.screens[(1, 2)]
+    assert np.array_equal(partly.screens[(1, 2)].stress, other[:, :, 2:])
+    stranger = _model("coupler-rail", stress.copy())
+    assert sharing_screens(stranger, [first]) is stranger  # another part: nothing shared

@@ -32,7 +32,7 @@ from railcheck.geometry.mesher import estimate_elements
 from railcheck.model.jobs import mesh_sizes, part_geometries, refuse_huge
 from railcheck.parallel import forked
 from railcheck.parallel.executor import ChunkExecutor
-from railcheck.parallel.spawned import relayed_pool, worker_say
+from railcheck.parallel.spawned import relayed_pool, released, worker_say
 from railcheck.parallel.threads import blas_on_one_thread
 from railcheck.parts import PARTS, geometry_of, rail_length
 from railcheck.progress import Progress
@@ -48,7 +48,14 @@ from railcheck.sweep.chunk import (
     motor_curve_speeds,
 )
 from railcheck.sweep.grid import narrowed, rig_grid, settings
-from railcheck.sweep.parts import applicable, build_part_model, dynamic_in_sweep, is_free_rail, part_is_stored
+from railcheck.sweep.parts import (
+    applicable,
+    build_part_model,
+    dynamic_in_sweep,
+    is_free_rail,
+    part_is_stored,
+    sharing_screens,
+)
 from railcheck.sweep.table import TableWriter
 
 #: bytes of working memory per setting and crank step of a group of revolving settings
@@ -209,7 +216,8 @@ def prepare_models(scene, by_kind: dict, progress, jobs: int = 1) -> dict[str, d
     solved, else on ``jobs`` threads of this one (:func:`build_on_threads`: read from the
     cache and the store, where the processes' start-up and the models pickled back cost
     more than they share out; the whole rig's parts: 4.6-5.2 s on two threads, 8.2-10.3 s
-    on one, 12.1 s in two processes)."""
+    on one, 12.1 s in two processes). A part's models for two linkage kinds hold their
+    equal screens once (:func:`railcheck.sweep.parts.sharing_screens`)."""
     if scene.check is None:
         return {kind: {} for kind in by_kind}
 
@@ -226,6 +234,7 @@ def prepare_models(scene, by_kind: dict, progress, jobs: int = 1) -> dict[str, d
             built = build_in_workers(tasks, args, progress, jobs)
     else:
         built = [build_task(task, *args, say=say) for task in tasks]
+    built = [sharing_screens(model, built[:i]) for i, model in enumerate(built)]
     models: dict[str, dict] = {kind: {} for kind in by_kind}
     for task, model in zip(tasks, built):
         for k in task.kinds:
@@ -310,11 +319,11 @@ def build_in_workers(tasks: list[PartTask], args: tuple, progress, jobs: int) ->
         while pending or running:
             ready = [i for i in pending if _reuses_done(tasks[i], built)]
             for i in sorted(ready, key=lambda i: tasks[i].after is None)[: jobs - len(running)]:
-                running[pool.submit(build_task, tasks[i], *args)] = i
+                running[pool.submit(released, build_task, tasks[i], *args)] = i
                 pending.remove(i)
             done, _ = wait(running, return_when=FIRST_COMPLETED)
             for future in done:
-                built[running.pop(future)] = future.result()
+                built[running.pop(future)] = sharing_screens(future.result(), [b for b in built if b is not None])
     return built
 
 
