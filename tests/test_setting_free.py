@@ -6,6 +6,7 @@ check solves nothing (a spy on the solver) and writes what a cold check of that 
 writes."""
 
 import json
+import tomllib
 
 import numpy as np
 import pytest
@@ -228,3 +229,41 @@ def test_the_load_rule_is_built_once_and_dropped_before_the_factorisation(crank,
     assert rules.count(1) == 3 and held == [False]  # the vector, scalar and load rules' bases, once each
     for name in ("stress", "displacement", "tip"):
         np.testing.assert_array_equal(getattr(dropped, name), getattr(kept, name))
+
+
+def test_stored_parts_checked_on_threads_equal_one_after_another(tmp_path, monkeypatch):
+    """Issue 59's every-file check: with every part's unit fields stored, the parts'
+    cycles run on two threads of the process (BLAS on one thread each) and their files
+    are written on the calling thread; the summary is the one-after-another check's to
+    the byte, and the VTU's node fields (the envelope now computed with the cycle) equal
+    to rounding."""
+    import threading
+
+    import meshio
+
+    import railcheck.check.workers as workers
+    from railcheck.check.run import run_check
+    from railcheck.scene import parse_scene
+
+    monkeypatch.setenv("RAILCHECK_CACHE", str(tmp_path / "cache"))
+    text = _scene(parts='["crank-rail", "coupler-rail"]').replace("vtk = false", "vtk = true")
+    scene = parse_scene(tomllib.loads(text), "test")
+    run_check(scene, str(tmp_path / "fill"), False, jobs=1)  # fills the store
+    ran_on, real = [], workers.check_part
+
+    def spied(*args, **kw):
+        ran_on.append(threading.current_thread().name)
+        return real(*args, **kw)
+
+    monkeypatch.setattr(workers, "check_part", spied)
+    run_check(scene, str(tmp_path / "threads"), False, jobs=None)
+    assert len(ran_on) == 2 and all(name.startswith("railcheck-parts") for name in ran_on)
+    run_check(scene, str(tmp_path / "serial"), False, jobs=1)
+    assert ran_on[2:] == ["MainThread", "MainThread"]
+    summaries = [(tmp_path / d / "summary.json").read_text() for d in ("threads", "serial")]
+    assert summaries[0] == summaries[1]
+    for name in ("crank-rail", "coupler-rail"):
+        a, b = (meshio.read(tmp_path / d / f"{name}.vtu").point_data for d in ("threads", "serial"))
+        assert a.keys() == b.keys() and "von_mises_envelope" in a
+        for key in a:
+            np.testing.assert_allclose(a[key], b[key], rtol=1e-12, atol=1e-12 * np.abs(b[key]).max(), err_msg=key)

@@ -7,8 +7,11 @@ first, a second rail of one size last) by this process and ``jobs - 1`` worker p
 (spawned, so no library state is forked), whichever is free taking the next; the
 workers' progress lines reach the console through a queue as they happen, and each
 part's result comes back whole. Errors raised in a worker are raised here unchanged.
-``jobs=1`` (``railcheck check --jobs 1``) runs them in this process, one after another;
-the results are the same.
+When every part's unit fields are already stored (nothing to factorise, no worker worth
+its start-up) the parts' cycles run on two threads of this process instead and their
+files are written on this thread as each is done. ``jobs=1`` (``railcheck check --jobs
+1``) runs them in this process, one after another; the results are the same (node fields
+to rounding on threads: BLAS runs on one thread each there).
 """
 
 from __future__ import annotations
@@ -17,12 +20,14 @@ import dataclasses
 import os
 import threading
 import time
+from concurrent.futures import ThreadPoolExecutor
 
 from railcheck.geometry.mesher import estimate_elements
 from railcheck.model.cycle import check_part, in_store
 from railcheck.model.jobs import PartJob
 from railcheck.model.records import PartResult
 from railcheck.parallel.spawned import relayed_pool, worker_say
+from railcheck.parallel.threads import blas_on_one_thread
 from railcheck.progress import Progress
 
 
@@ -38,16 +43,40 @@ def check_parts(
     """{name: PartResult} in the jobs' order; ``part_done(name, part)``, a picklable
     callable, runs as each part finishes, in the process that checked it."""
     n = len(part_jobs)
-    if jobs is None and all(in_store(job) for job in part_jobs.values()):
-        jobs = 1  # every part's unit fields are stored: no solve to share out, no workers to start
-    jobs = default_jobs(n) if jobs is None else max(1, min(jobs, n))
     label = {name: f"({i}/{n}) {name}" for i, name in enumerate(part_jobs, 1)}
+    if jobs is None and n > 1 and all(in_store(job) for job in part_jobs.values()):
+        return _on_threads(part_jobs, solver, progress, default_jobs(n), label, part_done)
+    jobs = default_jobs(n) if jobs is None else max(1, min(jobs, n))
     if jobs == 1:
         return {
             name: _check_one(job, solver, label[name], part_done, lambda msg: progress.say("solve", msg))
             for name, job in part_jobs.items()
         }
     return _in_workers(part_jobs, solver, progress, jobs, label, part_done)
+
+
+def _on_threads(
+    part_jobs: dict[str, PartJob], solver: str, progress: Progress, threads: int, label: dict, part_done
+) -> dict[str, PartResult]:
+    """Every part's unit fields stored (nothing to solve, no worker worth starting): the
+    parts' cycles on ``threads`` threads of this process, in :func:`work_order` (their
+    numpy work releases the GIL; BLAS on one thread each), and each part's files written
+    here, on this thread, one part at a time in the parts' order (VTK's renderer and
+    matplotlib stay on one thread). The same results as one after another."""
+    say = lambda msg: progress.say("solve", msg)  # noqa: E731
+    order = work_order(part_jobs)
+    with blas_on_one_thread(), ThreadPoolExecutor(threads, thread_name_prefix="railcheck-parts") as pool:
+        futures = {
+            name: pool.submit(check_part, part_jobs[name], solver, lambda m, t=label[name]: say(f"{t}: {m}"))
+            for name in order
+        }
+        try:
+            return {
+                name: _with_files(futures[name].result(), part_jobs[name], label[name], part_done, say) for name in part_jobs
+            }
+        except BaseException:
+            pool.shutdown(wait=False, cancel_futures=True)
+            raise
 
 
 def _in_workers(
@@ -124,10 +153,15 @@ def _check_one(job: PartJob, solver: str, label: str, part_done=None, say=None) 
     worker, to the queue."""
     say = say or worker_say
     part = check_part(job, solver, lambda msg: say(f"{label}: {msg}"))
-    if part_done is not None:
-        t = time.perf_counter()
-        part_done(job.name, part)
-        files = time.perf_counter() - t
-        part = dataclasses.replace(part, seconds={**part.seconds, "files": files})
-        say(f"{label}: files written in {files:.1f} s")
-    return part
+    return _with_files(part, job, label, part_done, say)
+
+
+def _with_files(part: PartResult, job: PartJob, label: str, part_done, say) -> PartResult:
+    """``part`` after ``part_done(name, part)`` (its files), with their time."""
+    if part_done is None:
+        return part
+    t = time.perf_counter()
+    part_done(job.name, part)
+    files = time.perf_counter() - t
+    say(f"{label}: files written in {files:.1f} s")
+    return dataclasses.replace(part, seconds={**part.seconds, "files": files})

@@ -31,6 +31,7 @@ from railcheck.fea.superpose import (
     envelope,
     first_columns,
     history_at_node,
+    node_envelope_of,
     reduced,
     stress_at,
     subspace_candidates,
@@ -226,6 +227,8 @@ def evaluate_cycle(job: PartJob, fields: UnitFields, histories: tuple[SourceHist
         )
         results.append((h, env, seed, fatigue_of(job, few, C, steps, bounds)))
     h, env, _, _ = max(results, key=lambda r: r[1].max_von_mises)
+    if job.node_fields:  # the VTU's envelope at every node, here with the cycle (on its thread or worker)
+        env = replace(env, node_envelope=node_envelope_of(fields, h.C))
     seed = max((r[2] for r in results), key=lambda s: s.max_von_mises)
     fat = min((r[3] for r in results), key=lambda f: f.min_safety_factor)
     history = CycleHistory(
