@@ -9,7 +9,7 @@ import tomllib
 import numpy as np
 import pytest
 
-from helpers import check_scene_of_row, utilisation_at_safe_speed
+from helpers import COARSE_RAILS, check_scene_of_row, run_sweep_text, sweep_table, table_rows, utilisation_at_safe_speed
 from railcheck.check.pipeline import run_pipeline
 from railcheck.scene import parse_scene
 from railcheck.sweep.run import run_sweep
@@ -187,3 +187,31 @@ def test_the_safe_speed_names_the_part_and_criterion_that_reach_their_limit(tmp_
     part = _check(row, float(row["safe_speed_Hz"]), text)
     assert utilisation_at_safe_speed(part, row["safe_speed_criterion"]) == pytest.approx(1.0, abs=1e-7)
     assert utilisation_at_safe_speed(part) == pytest.approx(1.0, abs=1e-7)
+
+
+@pytest.mark.slow
+def test_a_part_without_constant_loads_is_scaled_from_the_first_speed_as_its_evaluation_gives(tmp_path, monkeypatch):
+    """Issue 59's whole rig: a part with no constant load part and no dynamic response
+    (the joint plate; the rails carry the table-top weight) is evaluated once, at the
+    first speed, and every other speed of the safe-speed search scales it (s, 1/s); the
+    table equals that of a sweep evaluating it at every speed (a direct solve of the same
+    question) to rounding."""
+    import railcheck.sweep.chunk as chunk
+
+    ranges = {"crank": (480, 540), "coupler": (840, 840), "rocker": (780, 840), "ground": (1020, 1080)}
+    sweep = sweep_table(speeds=("1 Hz", "1.7 Hz"), steps=180, **ranges)  # the second speed's rows scaled
+    check = '[check]\nsupport = "free-body"\nparts = ["crank-rail", "PF_4b_006"]\n'
+    text = sweep + check + COARSE_RAILS.replace('"7 mm"', '"6 mm"')  # 6 mm: three elements round the plate's holes
+    found, real = [], chunk.homogeneous_parts
+    monkeypatch.setattr(chunk, "homogeneous_parts", lambda *a: found.append(real(*a)) or found[-1])
+    scaled = table_rows(run_sweep_text(tmp_path, text, "scaled", serial=True))
+    assert found and all(parts == {"PF_4b_006"} for parts in found)
+    monkeypatch.setattr(chunk, "homogeneous_parts", lambda *a: set())
+    direct = table_rows(run_sweep_text(tmp_path, text, "direct", serial=True))
+    assert np.isfinite(scaled["safe_speed_Hz"]).any() and np.isfinite(scaled["PF_4b_006_fatigue"]).any()
+    assert set(scaled["speed_Hz"]) == {1.0, 1.7}
+    for key, want in direct.items():
+        if want.dtype.kind == "f":
+            np.testing.assert_allclose(scaled[key], want, rtol=1e-12, atol=0, err_msg=key)
+        else:
+            np.testing.assert_array_equal(scaled[key], want, err_msg=key)

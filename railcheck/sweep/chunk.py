@@ -342,6 +342,8 @@ def fe_results(ctx: SweepContext, histories: dict, lengths: dict, speeds_s: list
     ``s``; searched with gravity or a dynamic response)."""
     bar_len = lambda m: lengths[m.bar] if m.bar else None  # noqa: E731
     n_sel = next(iter(lengths.values())).size
+    scaling = homogeneous_parts(ctx, histories)
+    first: dict = {}  # part -> its results at s = 1, once known (scaling's parts)
 
     def at(s, decide: bool = False, idx=None) -> dict:
         """The parts' results at ``s``: of every setting, or of the settings ``idx`` only."""
@@ -351,6 +353,8 @@ def fe_results(ctx: SweepContext, histories: dict, lengths: dict, speeds_s: list
             if m.constant is not None:
                 vm, fat, tip = (np.full(k, v) for v in m.constant)
                 amp = np.ones(k)
+            elif name in first:
+                vm, fat, tip, amp = scaled_part(first[name], s, idx)
             else:
                 hist, lens = histories[name], bar_len(m)
                 if idx is not None:
@@ -364,6 +368,7 @@ def fe_results(ctx: SweepContext, histories: dict, lengths: dict, speeds_s: list
     weight = any(m.loads.weight is not None for m in ctx.models.values())
     exact = "gravity" in ctx.effects or dynamic or weight
     base = at(1.0)
+    first.update({name: base[name][:4] for name in scaling})
     per_speed = [base if s == 1.0 else (at(s) if exact else scaled_results(ctx, base, s)) for s in speeds_s]
     convex = exact and not dynamic  # a constant part (gravity, the table-top weight): convex in s
     if dynamic:
@@ -381,6 +386,31 @@ def fe_results(ctx: SweepContext, histories: dict, lengths: dict, speeds_s: list
         finite = np.where(np.isfinite(safe), safe, 1.0)  # unlimited: what governs at the reference speed
         governs = governing_of(ctx, at(finite) if exact else scaled_results(ctx, base, finite))
     return {"per_speed": per_speed, "safe_s": safe, "safe_governs": governs}
+
+
+def homogeneous_parts(ctx: SweepContext, histories: dict) -> set[str]:
+    """The parts whose results at any speed follow from those at the first speed: no
+    constant load part (every load source's ``C_g`` None: no gravity, no table-top
+    weight) and no dynamic response. Their loads are ``s C_i``, the pin pressures' harmonics
+    too (``|F| a_k e^{ik theta}``: positively homogeneous of degree 1), so every stress and
+    deflection is ``s`` times its value at ``s = 1`` and every fatigue factor ``1 / s`` of
+    it (:func:`scaled_part`), as :func:`railcheck.sweep.verdicts.scaled_results` takes
+    for a whole sweep without gravity."""
+    return {
+        name
+        for name, m in ctx.models.items()
+        if m.constant is None and m.dynamic is None and all(Cg is None for Cg, _ in histories[name])
+    }
+
+
+def scaled_part(results: tuple, s, idx: np.ndarray | None = None) -> tuple:
+    """(von Mises Pa, fatigue factor, tip m, amplification) of a :func:`homogeneous_parts`
+    part at speed ratio squared ``s`` (scalar, or one per setting) from ``results``, its
+    (S,) arrays at ``s = 1``, of the settings ``idx`` (None: all)."""
+    vm, fat, tip, amp = (r if idx is None else r[idx] for r in results)
+    s = np.asarray(s, float)
+    with np.errstate(divide="ignore"):  # at rest (s = 0) the fatigue factor is infinite
+        return s * vm, fat / s, s * tip, amp
 
 
 def _margin_safe(ctx: SweepContext, spectra: Spectra, at, results, base: dict, upper) -> tuple:
