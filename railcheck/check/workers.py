@@ -20,7 +20,7 @@ import dataclasses
 import os
 import threading
 import time
-from concurrent.futures import ThreadPoolExecutor
+from concurrent.futures import ThreadPoolExecutor, as_completed
 
 from railcheck.geometry.mesher import estimate_elements
 from railcheck.model.cycle import check_part, in_store
@@ -61,8 +61,9 @@ def _on_threads(
     """Every part's unit fields stored (nothing to solve, no worker worth starting): the
     parts' cycles on ``threads`` threads of this process, in :func:`work_order` (their
     numpy work releases the GIL; BLAS on one thread each), and each part's files written
-    here, on this thread, one part at a time in the parts' order (VTK's renderer and
-    matplotlib stay on one thread). The same results as one after another."""
+    here, on this thread, one part at a time as each is done (VTK's renderer and
+    matplotlib stay on one thread). The same results, in the parts' order, as one after
+    another."""
     say = lambda msg: progress.say("solve", msg)  # noqa: E731
     order = work_order(part_jobs)
     with blas_on_one_thread(), ThreadPoolExecutor(threads, thread_name_prefix="railcheck-parts") as pool:
@@ -70,10 +71,13 @@ def _on_threads(
             name: pool.submit(check_part, part_jobs[name], solver, lambda m, t=label[name]: say(f"{t}: {m}"))
             for name in order
         }
+        names = {future: name for name, future in futures.items()}
         try:
-            return {
-                name: _with_files(futures[name].result(), part_jobs[name], label[name], part_done, say) for name in part_jobs
+            done = {
+                names[f]: _with_files(f.result(), part_jobs[names[f]], label[names[f]], part_done, say)
+                for f in as_completed(futures.values())
             }
+            return {name: done[name] for name in part_jobs}
         except BaseException:
             pool.shutdown(wait=False, cancel_futures=True)
             raise
