@@ -81,14 +81,21 @@ def test_nothing_more_is_started_once_the_caller_stops():
     assert len(started) == count <= 1 + 2 + 2  # the first, two ahead, and one per thread at most
 
 
-def test_blas_runs_on_one_thread_inside_the_block_only():
+def test_openblas_runs_on_one_thread_inside_the_block_only_and_pardisos_mkl_keeps_its_threads():
+    """numpy's and scipy's BLAS on one thread inside the block; MKL, loaded for PARDISO,
+    keeps its thread count (PARDISO's digits depend on it: a store entry solved again
+    inside the block must give a serial run's, tests/test_store.py)."""
     from threadpoolctl import threadpool_info
 
-    def blas_threads():
-        return [p["num_threads"] for p in threadpool_info() if p["user_api"] == "blas"]
+    import railcheck.fea.mkl as mkl
 
+    def threads(api):
+        return [p["num_threads"] for p in threadpool_info() if p["internal_api"] == api]
+
+    mkl.pardiso_available()  # MKL loaded where it is installed
     np.ones((4, 4)) @ np.ones((4, 4))  # BLAS loaded
-    before = blas_threads()
+    before = {api: threads(api) for api in ("openblas", "mkl")}
     with blas_on_one_thread():
-        assert blas_threads() and all(n == 1 for n in blas_threads())
-    assert blas_threads() == before
+        assert threads("openblas") and all(n == 1 for n in threads("openblas"))
+        assert threads("mkl") == before["mkl"]
+    assert {api: threads(api) for api in ("openblas", "mkl")} == before

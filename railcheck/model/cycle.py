@@ -51,6 +51,7 @@ from railcheck.model.records import (
     SeedMethod,
 )
 from railcheck.model.setting_free import part_fields, stored
+from railcheck.parallel.threads import on_one_blas_thread
 from railcheck.units import for_people
 
 #: curved edges straightened below this share of them are a note on the mesh's progress line,
@@ -126,6 +127,7 @@ def check_part(job: PartJob, solver: str, report) -> PartResult:
     )
 
 
+@on_one_blas_thread
 def settle_dynamics(
     job: PartJob, solve: UnitSolve, fields: UnitFields, cases: dict
 ) -> tuple[PartJob, UnitSolve, UnitFields]:
@@ -206,6 +208,7 @@ def in_store(job: PartJob) -> bool:
     return all(stored(j, mesh, unit_cases(j.loads, j.geometry, list(j.holes))) for j in jobs)
 
 
+@on_one_blas_thread
 def evaluate_cycle(job: PartJob, fields: UnitFields, histories: tuple[SourceHistory, ...], solve: UnitSolve) -> CycleResult:
     """Envelope, seed method and fatigue over every source; the worse source governs the
     stress verdict, the lower fatigue factor the fatigue verdict."""
@@ -402,6 +405,7 @@ def _fatigue_candidates(S: np.ndarray, C: np.ndarray, factor, b: screening.Sampl
     return np.flatnonzero(mask & (factor(sa, sm) <= top * (1.0 + screening.SLACK)))
 
 
+@on_one_blas_thread
 def solution_at(fields: UnitFields, c: np.ndarray, solve: UnitSolve, order: int, exclude: float) -> Solution:
     """The :class:`~railcheck.fea.elasticity.Solution` of the instant with coefficients
     ``c`` (for the VTU and the picture), built by superposition."""

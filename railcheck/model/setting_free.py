@@ -24,6 +24,7 @@ from railcheck.fea.holebasis import HoleBasis, hole_basis, project, surface_node
 from railcheck.fea.store import UnitRequest, is_stored, solve_stored
 from railcheck.fea.unitcases import CoupleCase, FreeBodyCases, TractionCase
 from railcheck.model.jobs import PartJob, free_body_cases
+from railcheck.parallel.threads import on_one_blas_thread
 
 __all__ = [
     "BasisSolve",
@@ -91,6 +92,7 @@ def in_basis(request: UnitRequest, geo, deflections: dict) -> BasisSolve | None:
     return BasisSolve(basis, solved, keys[None], None)
 
 
+@on_one_blas_thread  # the same digits wherever it runs: alone, on a worker, beside another part on threads
 def solve_projected(request: UnitRequest, geo, deflections: dict, solver: str, report, store):
     """(UnitFields, UnitSolve, origin) of ``request`` through ``store``
     (:func:`railcheck.fea.store.solve_stored`), projected from its hole basis when

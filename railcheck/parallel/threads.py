@@ -10,6 +10,7 @@ core, oversubscribe the cores and are slower than one chunk alone (28.4 s)."""
 
 from __future__ import annotations
 
+import functools
 import threading
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import AbstractContextManager
@@ -22,10 +23,28 @@ WAIT_S = 0.2
 
 
 def blas_on_one_thread() -> AbstractContextManager:
-    """While it is entered, BLAS (OpenBLAS, MKL) runs on the calling threads only."""
-    from threadpoolctl import threadpool_limits
+    """While it is entered, numpy's and scipy's BLAS (OpenBLAS) runs on the calling
+    threads only. MKL, loaded for PARDISO alone, keeps its threads: PARDISO's digits
+    depend on its thread count, and a factorisation here must give a serial run's."""
+    from threadpoolctl import ThreadpoolController
 
-    return threadpool_limits(limits=1, user_api="blas")
+    return ThreadpoolController().select(internal_api="openblas").limit(limits=1)
+
+
+def on_one_blas_thread(function: Callable[..., T]) -> Callable[..., T]:
+    """``function`` run with BLAS on one thread (:func:`blas_on_one_thread`), so that its
+    digits are the same whatever runs it: this process alone, two of its threads (a check
+    whose parts are stored), a worker (BLAS sums a product in another order on another
+    thread count; a warm check's summary equals a cold one's byte for byte). Entered
+    inside an outer limit of one thread it restores one thread: no other thread's limit is
+    lifted."""
+
+    @functools.wraps(function)
+    def run(*args, **kw):
+        with blas_on_one_thread():
+            return function(*args, **kw)
+
+    return run
 
 
 def in_order_on_threads(function: Callable[[Any], T], items: Sequence, threads: int, ahead: int) -> Iterator[T]:
