@@ -10,8 +10,9 @@ part's result comes back whole. Errors raised in a worker are raised here unchan
 When every part's unit fields are already stored (nothing to factorise, no worker worth
 its start-up) the parts' cycles run on two threads of this process instead and their
 files are written on this thread as each is done. ``jobs=1`` (``railcheck check --jobs
-1``) runs them in this process, one after another; the results are the same (node fields
-to rounding on threads: BLAS runs on one thread each there).
+1``) runs them in this process, one after another; the results are the same, byte for
+byte (every stage whose digits they show runs with OpenBLAS on one thread wherever it runs:
+:func:`railcheck.parallel.threads.on_one_blas_thread`).
 """
 
 from __future__ import annotations
