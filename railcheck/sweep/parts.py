@@ -389,7 +389,11 @@ def sharing_screens(model: PartModel, others) -> PartModel:
 
 
 def equal_screens(a, b) -> bool:
-    """Whether two screens hold the same arrays (values and shapes; None alike)."""
+    """Whether two screens hold the same arrays (values and shapes; None alike); the same
+    screen at once (a model shared on arrival is shared again by :func:`prepare_models`'s
+    pass without comparing its arrays a second time)."""
+    if a is b:
+        return True
     fields = ("stress", "forms", "tip", "scale", "angle", "trial")
     pairs = [(getattr(a, f), getattr(b, f)) for f in fields]
     return all((x is None) == (y is None) and (x is None or np.array_equal(x, y)) for x, y in pairs)
