@@ -30,6 +30,10 @@ RANGE_CHUNK_VALUES = 1 << 19
 #: steps per block of :func:`pruned_range`, and the fewest steps it is used for
 RANGE_BLOCK = 32
 RANGE_PRUNE_STEPS = 8 * RANGE_BLOCK
+#: main directions by which a block of steps is bounded (:class:`_Blocks`): with one, the
+#: default check's rails read 15-22 of 157 blocks per node component and extreme; with
+#: two (the arc's curvature), 5-6
+BLOCK_DIRECTIONS = 2
 #: relative margin of :func:`pruned_range`'s bounds for the products' rounding (of
 #: ``|s w| k``, w the coefficients' scales: far above float64's, far below any stress
 #: that matters)
@@ -179,8 +183,8 @@ def pruned_von_mises_max(S: np.ndarray, C: np.ndarray, block: int = RANGE_BLOCK)
     consecutive steps (:class:`_Blocks`), exact (to rounding).
 
     Von Mises is a norm of the stress, ``|A c|`` with ``A = VM_FACTOR S_n`` (6 x k), so
-    at a step of a block ``|A c_t| <= |A c_m| + |A u w| max|a_t| + ||A w||_F max|e_t|``
-    (triangle inequality; the spectral norm is at most the Frobenius one): a block where
+    at a step of a block ``|A c_t| <= |A c_m| + sum_d |A u_d w| max|a_td| + ||A w_moving||_F
+    max|e_t|`` (triangle inequality; the spectral norm is at most the Frobenius one): a block where
     that cannot reach the node's best middle value cannot hold its maximum. Only the
     blocks that can are read at every step, with the quadratic forms of
     :func:`dense_von_mises_max` (the same values)."""
@@ -196,11 +200,14 @@ def pruned_von_mises_max(S: np.ndarray, C: np.ndarray, block: int = RANGE_BLOCK)
     size = max(1, RANGE_CHUNK_VALUES // (6 * nb))
     for sl in (slice(a, min(a + size, nodes)) for a in range(0, nodes, size)):
         F = np.tensordot(screening.VM_FACTOR, S[:, sl], axes=(1, 0))  # (6, chunk, k): von Mises = |F c|
-        along = F @ g.direction_w.T  # (6, chunk, nb)
-        reach = np.sqrt(np.einsum("cnb,cnb->nb", along, along)) * g.reach_along
+        reach = np.zeros((F.shape[1], nb))
+        for u, a in zip(g.directions_w, g.reach_along):
+            along = F @ u.T  # (6, chunk, nb)
+            reach += np.sqrt(np.einsum("cnb,cnb->nb", along, along)) * a
         # |F w|_F, and the square root of the quadratic forms' rounding (relative eps k^2)
         frob = np.sqrt(np.einsum("cnk,cnk,k->n", F, F, g.w * g.w))
-        reach += frob[:, None] * (g.reach_across + VM_PRUNE_SLACK * k)
+        frob_moving = np.sqrt(np.einsum("cnk,cnk,k->n", F, F, g.w_moving * g.w_moving))
+        reach += frob_moving[:, None] * g.reach_across + (frob * VM_PRUNE_SLACK * k)[:, None]
         reach += np.sqrt(np.maximum(middle2[sl], 0.0))
         can_rows, can_blocks = np.nonzero(reach >= best[sl, None])
         found_rows.append(can_rows + sl.start)
@@ -287,20 +294,24 @@ class _Blocks:
     """A long history ``C`` (steps, k) cut into blocks of consecutive steps, each bounded
     about its middle step: in coefficients scaled by their largest values ``w`` (forces,
     torques and accelerations differ by orders of magnitude), a step ``t`` of block ``b``
-    is ``c_t = c_m + w (a_t u + e_t)``, ``u`` the block's main direction (unit; a short
-    arc of the cycle lies nearly along its tangent), ``|a_t| <= reach_along[b]`` and
-    ``|e_t| <= reach_across[b]`` (plus a margin for the products' rounding: ``|c / w| <=
-    1``). ``steps`` (nb, block) the steps' indices (the last block padded by its last
-    step), ``values`` (nb, block, k) their coefficients, ``middle`` (nb, k) the middle
-    steps' and ``direction_w`` (nb, k) ``u w``."""
+    is ``c_t = c_m + w (sum_d a_td u_d + e_t)``, ``u_d`` the block's :data:`BLOCK_DIRECTIONS`
+    main directions (a short arc of the cycle lies nearly in the plane of its tangent and
+    its curvature), ``|a_td| <= reach_along[d, b]`` and ``|e_t| <= reach_across[b]``, ``e_t``
+    zero in the coefficients that never move (a constant load's: ``w_moving`` is ``w``
+    without them, so a large constant stress widens no bound). ``steps`` (nb, block) the
+    steps' indices (the last block padded by its last step), ``values`` (nb, block, k)
+    their coefficients, ``middle`` (nb, k) the middle steps' and ``directions_w`` (D, nb,
+    k) ``u_d w``. The decomposition holds for any ``u_d`` (``e_t`` is the remainder), so
+    the bounds do not rest on the SVD's accuracy."""
 
     steps: np.ndarray
     values: np.ndarray
     middle: np.ndarray
-    direction_w: np.ndarray
+    directions_w: np.ndarray
     reach_along: np.ndarray
     reach_across: np.ndarray
     w: np.ndarray
+    w_moving: np.ndarray
 
     @classmethod
     def of(cls, C: np.ndarray, block: int) -> _Blocks:
@@ -311,12 +322,15 @@ class _Blocks:
         middle = values[:, block // 2]
         w = np.abs(C).max(axis=0)
         w[w == 0.0] = 1.0
-        offsets = (values - middle[:, None, :]) / w
-        direction = np.linalg.svd(offsets, full_matrices=False)[2][:, 0, :]  # (nb, k), unit
-        along = np.einsum("tbk,tk->tb", offsets, direction)
-        across = offsets - along[:, :, None] * direction[:, None, :]
-        reach_across = np.sqrt(np.einsum("tbk,tbk->tb", across, across)).max(axis=1) + PRUNE_SLACK * k
-        return cls(steps, values, middle, direction * w, np.abs(along).max(axis=1), reach_across, w)
+        moving = C.max(axis=0) > C.min(axis=0)
+        offsets = (values - middle[:, None, :]) / w  # exactly zero where a coefficient never moves
+        directions = np.linalg.svd(offsets, full_matrices=False)[2][:, :BLOCK_DIRECTIONS, :] * moving  # (nb, D, k)
+        along = np.einsum("tbk,tdk->tbd", offsets, directions)
+        across = offsets - np.einsum("tbd,tdk->tbk", along, directions)  # zero where it never moves
+        reach_across = np.sqrt(np.einsum("tbk,tbk->tb", across, across)).max(axis=1)
+        reach_along = np.abs(along).max(axis=1).T  # (D, nb)
+        directions_w = (directions * w).transpose(1, 0, 2)
+        return cls(steps, values, middle, directions_w, reach_along, reach_across, w, w * moving)
 
 
 def pruned_range(S: np.ndarray, C: np.ndarray, block: int = RANGE_BLOCK) -> tuple[np.ndarray, np.ndarray]:
@@ -324,12 +338,13 @@ def pruned_range(S: np.ndarray, C: np.ndarray, block: int = RANGE_BLOCK) -> tupl
     consecutive steps (:class:`_Blocks`), exact (to rounding).
 
     Each row ``s`` (a node's component, (k,)) is read at each block's middle step ``m``:
-    ``s . c_t <= s . c_m + |s . u w| max|a_t| + |s w| max|e_t|`` (Cauchy-Schwarz on the
-    rest), so a block where that cannot reach the row's best middle value cannot hold its
-    maximum (nor, mirrored, its minimum). Only the blocks that can are read at every step:
-    on the default check's parts 5-7 blocks of 157 per row and extreme. Three products of
-    (rows x k) by (k x blocks) and one small product per block, instead of (rows x k) by
-    (k x steps)."""
+    ``s . c_t <= s . c_m + sum_d |s . u_d w| max|a_td| + |s w_moving| max|e_t|``
+    (Cauchy-Schwarz on the rest), so a block where that cannot reach the row's best middle
+    value cannot hold its maximum (nor, mirrored, its minimum). Only the blocks that can
+    are read at every step: on the default check's parts 5-6 blocks of 157 per row, its
+    maximum and minimum together (29-44 with one direction and the constant load in the
+    rest's norm). A few products of (rows x k) by (k x blocks) and one small product per
+    block, instead of (rows x k) by (k x steps)."""
     k = C.shape[1]
     g = _Blocks.of(C, block)
     nb = g.steps.shape[0]
@@ -340,11 +355,12 @@ def pruned_range(S: np.ndarray, C: np.ndarray, block: int = RANGE_BLOCK) -> tupl
     for sl in (slice(a, min(a + size, R.shape[0])) for a in range(0, R.shape[0], size)):
         r = R[sl]
         values = r @ g.middle.T  # (rows, nb): exact values at real steps
-        reach = np.abs(r @ g.direction_w.T)
-        reach *= g.reach_along
-        reach += np.sqrt(np.einsum("rk,rk,k->r", r, r, g.w * g.w))[:, None] * g.reach_across
+        upper = _row_reach(r, g)
+        lower = values - upper
+        upper += values
+        slack = PRUNE_SLACK * k * np.sqrt(np.einsum("rk,rk,k->r", r, r, g.w * g.w))  # the products' rounding
         hi[sl], lo[sl] = values.max(axis=1), values.min(axis=1)
-        for side, can in (("hi", values + reach >= hi[sl, None]), ("lo", values - reach <= lo[sl, None])):
+        for side, can in (("hi", upper >= (hi[sl] - slack)[:, None]), ("lo", lower <= (lo[sl] + slack)[:, None])):
             i, b = np.nonzero(can)
             pairs[f"{side}_rows"].append(i + sl.start)
             pairs[f"{side}_blocks"].append(b)
@@ -352,6 +368,21 @@ def pruned_range(S: np.ndarray, C: np.ndarray, block: int = RANGE_BLOCK) -> tupl
         rows, which = np.concatenate(pairs[f"{side}_rows"]), np.concatenate(pairs[f"{side}_blocks"])
         _read_blocks(R, g.values, best, reduce, rows, which)
     return hi.reshape(S.shape[:2]), lo.reshape(S.shape[:2])
+
+
+def _row_reach(r: np.ndarray, g: _Blocks) -> np.ndarray:
+    """(rows, nb): how far each row ``r`` (rows, k) can move from its value at each block's
+    middle step within the block, ``sum_d |r . u_d w| max|a_td| + |r w_moving| max|e_t|``
+    (:class:`_Blocks`), in place on one product of the rows by every direction."""
+    D, nb, k = g.directions_w.shape
+    along = r @ g.directions_w.reshape(D * nb, k).T  # (rows, D nb)
+    np.abs(along, out=along)
+    along *= g.reach_along.reshape(-1)
+    reach = along[:, :nb]
+    for d in range(1, D):
+        reach += along[:, d * nb : (d + 1) * nb]
+    reach += np.multiply.outer(np.sqrt(np.einsum("rk,rk,k->r", r, r, g.w_moving * g.w_moving)), g.reach_across)
+    return reach
 
 
 def _read_blocks(R, blocks, best, reduce, rows, which) -> None:
