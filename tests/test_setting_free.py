@@ -154,7 +154,7 @@ def test_a_second_rail_of_one_size_is_checked_last():
     """The coupler and rocker rails (both 1000 mm) share one hole basis: the second is
     taken last, so it reads the first's fields instead of solving them beside it."""
     from railcheck.api import scene_of
-    from railcheck.check.workers import work_order
+    from railcheck.check.workers import shared_fields, work_order
     from railcheck.model.jobs import build_load_cases, part_geometries, part_jobs
     from railcheck.model.kinematics_stage import run_kinematics
 
@@ -164,6 +164,35 @@ def test_a_second_rail_of_one_size_is_checked_last():
     jobs = part_jobs(scene, kin, geometries, build_load_cases(scene, kin, geometries), MATERIALS["steel"], 375e6)
     order = work_order(jobs)
     assert sorted(order) == sorted(jobs) and order[-1] == "rocker-rail" and order[0] == "PF_4b_003_v2"
+    assert shared_fields(jobs) == {"rocker-rail": "coupler-rail"}  # the crank rail: another size, another basis
+
+
+@pytest.mark.slow
+def test_a_second_rail_of_one_size_waits_for_the_first_and_reads_its_fields(tmp_path, monkeypatch):
+    """Checked in two processes from an empty cache, the coupler and rocker rails of one
+    size (one hole basis): the rocker's taker waits for the coupler and then reads its unit
+    fields from the store, one basis solved instead of two side by side (10 s of the cold
+    default check, issue 59), and the summary is the one of a check one part after another."""
+    from railcheck.api import scene_of
+    from railcheck.check.run import run_check
+    from railcheck.progress import Progress
+
+    lines: list[str] = []
+
+    class Heard(Progress):
+        def say(self, stage, message):
+            lines.append(message)
+
+    text = _scene(parts='["coupler-rail", "rocker-rail"]')
+    monkeypatch.setenv("RAILCHECK_CACHE", str(tmp_path / "cache"))
+    two = run_check(scene_of(text), str(tmp_path / "two"), progress=Heard(), jobs=2)
+    solved = [m for m in lines if "unit cases solved for every hole of the rail" in m]
+    stored = [m for m in lines if "unit fields from the store" in m]
+    assert len(solved) == 1 and solved[0].startswith("(1/2) coupler-rail"), lines
+    assert len(stored) == 1 and stored[0].startswith("(2/2) rocker-rail"), lines
+    monkeypatch.setenv("RAILCHECK_CACHE", str(tmp_path / "cache-one"))
+    one = run_check(scene_of(text), str(tmp_path / "one"), jobs=1)
+    assert json.dumps(two.summary["parts"], sort_keys=True) == json.dumps(one.summary["parts"], sort_keys=True)
 
 
 @pytest.mark.slow

@@ -3,7 +3,8 @@
 Each part is independent once its :class:`~railcheck.model.jobs.PartJob` is resolved:
 mesh, unit cases, envelope, fatigue (:func:`railcheck.model.cycle.check_part`). With more
 than one part and more than one core the parts are taken in :func:`work_order` (costliest
-first, a second rail of one size last) by this process and ``jobs - 1`` worker processes
+first, a second rail of one size last, and only once the first is done: it reads the
+first's unit fields from the store) by this process and ``jobs - 1`` worker processes
 (spawned, so no library state is forked), whichever is free taking the next; the
 workers' progress lines reach the console through a queue as they happen, and each
 part's result comes back whole. Errors raised in a worker are raised here unchanged.
@@ -27,6 +28,7 @@ from railcheck.geometry.mesher import estimate_elements
 from railcheck.model.cycle import check_part, in_store
 from railcheck.model.jobs import PartJob
 from railcheck.model.records import PartResult
+from railcheck.model.setting_free import pair_deflections, uses_hole_basis
 from railcheck.parallel.spawned import relayed_pool, worker_say
 from railcheck.parallel.threads import blas_on_one_thread
 from railcheck.progress import Progress
@@ -87,46 +89,101 @@ def _on_threads(
 def _in_workers(
     part_jobs: dict[str, PartJob], solver: str, progress: Progress, jobs: int, label: dict, part_done
 ) -> dict[str, PartResult]:
-    """The parts in :func:`work_order`, whoever is free taking the next:
-    this process and ``jobs - 1`` workers, each fed by a thread here (a fixed split left
-    this process idle after the largest part while one worker checked all the others)."""
-    queue = work_order(part_jobs)
-    lock = threading.Lock()
+    """The parts in :func:`work_order`, whoever is free taking the next it may
+    (:class:`_Queue`: a part that reads another's fields waits for it): this process and
+    ``jobs - 1`` workers, each fed by a thread here (a fixed split left this process idle
+    after the largest part while one worker checked all the others)."""
+    queue = _Queue(work_order(part_jobs), shared_fields(part_jobs))
     results: dict[str, PartResult] = {}
-    errors: list[BaseException] = []
-
-    def take() -> str | None:
-        with lock:
-            return queue.pop(0) if queue and not errors else None
 
     def here(name: str) -> PartResult:
         return _check_one(part_jobs[name], solver, label[name], part_done, lambda m: progress.say("solve", m))
 
-    first = take()
     with relayed_pool(jobs - 1, progress) as pool:
 
         def feed() -> None:
-            while (name := take()) is not None:
+            while (name := queue.take()) is not None:
                 try:
                     results[name] = pool.submit(_check_one, part_jobs[name], solver, label[name], part_done).result()
                 except BaseException as exc:  # noqa: BLE001 - raised in this process below, unchanged
-                    errors.append(exc)
+                    queue.failed(exc)
+                queue.done(name)
 
         feeders = [threading.Thread(target=feed, daemon=True) for _ in range(jobs - 1)]
         for t in feeders:
             t.start()
-        name = first
         try:
-            while name is not None:
+            while (name := queue.take()) is not None:
                 results[name] = here(name)
-                name = take()
+                queue.done(name)
         except BaseException as exc:
-            errors.append(exc)
+            queue.failed(exc)
         for t in feeders:
             t.join()
-    if errors:
-        raise errors[0]
+    if queue.errors:
+        raise queue.errors[0]
     return {name: results[name] for name in part_jobs}
+
+
+class _Queue:
+    """The parts left to check, in order, shared by the threads that take them: a part
+    whose unit fields another part solves (``after``: name -> that part) is taken only
+    once that part is done (it then reads them from the store instead of solving them
+    again beside it); a taker with only such parts left waits. Nothing more is taken
+    after an error."""
+
+    def __init__(self, order: list[str], after: dict[str, str]):
+        self.left = list(order)
+        self.after = after
+        self.finished: set[str] = set()
+        self.errors: list[BaseException] = []
+        self.changed = threading.Condition()
+
+    def take(self) -> str | None:
+        """The next part that may start, waiting while only blocked ones are left; None
+        when none is left or after an error."""
+        with self.changed:
+            while self.left and not self.errors:
+                ready = [n for n in self.left if self.after.get(n) in (None, *self.finished)]
+                if ready:
+                    self.left.remove(ready[0])
+                    return ready[0]
+                self.changed.wait()
+            return None
+
+    def done(self, name: str) -> None:
+        with self.changed:
+            self.finished.add(name)
+            self.changed.notify_all()
+
+    def failed(self, exc: BaseException) -> None:
+        with self.changed:
+            self.errors.append(exc)
+            self.changed.notify_all()
+
+
+def shared_fields(part_jobs: dict[str, PartJob]) -> dict[str, str]:
+    """Part -> the part before it in :func:`work_order` whose stored unit fields it reads:
+    two free rails of one size with one rail mass share their hole basis
+    (:mod:`railcheck.model.setting_free`: its request has no bar length in it)."""
+    first: dict = {}
+    after: dict[str, str] = {}
+    for name in work_order(part_jobs):
+        key = _basis_key(part_jobs[name])
+        if key is not None and key in first:
+            after[name] = first[key]
+        first.setdefault(key, name)
+    return after
+
+
+def _basis_key(job: PartJob):
+    """What a free rail's hole-basis request is made of, without its mesh (which the
+    geometry and mesh sizes make): None for a part solved for its own cases."""
+    if not uses_hole_basis(job):
+        return None
+    free = job.free_body
+    deflections = pair_deflections(job.loads, job.geometry)
+    return (repr(job.geometry), job.mesh, repr(job.material), free.mass, free.centre, free.inertia, repr(deflections))
 
 
 def _estimated_cost(job: PartJob) -> int:
