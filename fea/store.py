@@ -30,7 +30,9 @@ import hashlib
 import json
 import os
 import stat
+import threading
 import time
+from contextlib import contextmanager
 from dataclasses import dataclass, replace
 from pathlib import Path
 
@@ -44,7 +46,16 @@ from .materials import Material
 from .superpose import UnitFields
 from .unitcases import UnitSolve, solve_unit_cases
 
-__all__ = ["StoreInfo", "UnitRequest", "UnitStore", "clear_store", "is_stored", "solve_stored", "store_info"]
+__all__ = [
+    "StoreInfo",
+    "UnitRequest",
+    "UnitStore",
+    "clear_store",
+    "is_stored",
+    "reads_shared",
+    "solve_stored",
+    "store_info",
+]
 
 
 #: the entry format; bump it when what an entry holds or means changes
@@ -324,13 +335,49 @@ def solve_stored(request: UnitRequest, solver: str = "auto", report=None, store:
     t = time.perf_counter()
     payload = r.payload()
     path = r.path(store, payload)
-    found, why = read_entry(path, payload)
+    found, why = _read_once(path, payload)
     if found is not None:
         fields, solve = found
         return fields, replace(solve, seconds={"store": time.perf_counter() - t}), "stored"
     fields, solve = solve_unit_cases(*args, **kw)
     write_entry(path, payload, fields, solve, store.cap)
     return fields, solve, (f"stored unit fields {why}: solved again" if why else "solved")
+
+
+_SHARED: dict | None = None  # (path, payload) -> a sound entry's (fields, solve), inside reads_shared()
+_SHARED_LOCK = threading.Lock()
+
+
+@contextmanager
+def reads_shared():
+    """Inside the block (this process, any thread) a sound entry read once is not read
+    again: a check's coupler and rocker rails, one size, project their settings from one
+    hole basis (166 MB read and its CRC checked once, not twice). The entries' arrays are
+    shared, so nothing may write into them (nothing does: a projection makes new ones).
+    Forgotten when the block ends."""
+    global _SHARED
+    with _SHARED_LOCK:
+        outer = _SHARED
+        _SHARED = {} if outer is None else outer
+    try:
+        yield
+    finally:
+        with _SHARED_LOCK:
+            _SHARED = outer
+
+
+def _read_once(path: Path, payload: str):
+    """:func:`read_entry`, or inside :func:`reads_shared` the entry already read."""
+    key = (str(path), payload)
+    with _SHARED_LOCK:
+        shared = _SHARED
+        if shared is not None and key in shared:
+            return shared[key], None
+    found, why = read_entry(path, payload)
+    if shared is not None and found is not None:
+        with _SHARED_LOCK:
+            shared[key] = found
+    return found, why
 
 
 def is_stored(request: UnitRequest, store: UnitStore | None) -> bool:

@@ -55,6 +55,34 @@ def test_a_stored_entry_gives_back_the_solved_fields_bit_for_bit(store):
     assert not np.array_equal(other.stress, fields.stress)
 
 
+def test_inside_reads_shared_an_entry_is_read_once_and_outside_each_time(store, monkeypatch):
+    """A check's rails of one size read one hole basis (:func:`fea.store.reads_shared`):
+    inside the block the second read of a sound entry is the first's fields, not a second
+    read of the file; a damaged entry is not kept (solved again and rewritten, then read
+    and kept); after the block every read reads the file again."""
+    import railcheck.fea.store as fea_store
+
+    request, other = _request(), _request(force_dir=2)
+    fields, _, _ = solve_stored(request, store=store)
+    solve_stored(other, store=store)
+    other.path(store).write_bytes(b"damaged")
+    reads = []
+    real = fea_store.read_entry
+    monkeypatch.setattr(fea_store, "read_entry", lambda path, payload: reads.append(path) or real(path, payload))
+    with fea_store.reads_shared():
+        first, _, origin = solve_stored(request, store=store)
+        second, _, origin2 = solve_stored(request, store=store)
+        assert (origin, origin2) == ("stored", "stored") and second is first and len(reads) == 1
+        _same(first, fields)
+        assert solve_stored(other, store=store)[2].endswith("solved again") and len(reads) == 2
+        kept, _, origin3 = solve_stored(other, store=store)
+        assert origin3 == "stored" and len(reads) == 3
+        assert solve_stored(other, store=store)[0] is kept and len(reads) == 3
+    again, _, _ = solve_stored(request, store=store)
+    assert again is not first and len(reads) == 4
+    _same(again, fields)
+
+
 @pytest.mark.parametrize("damage", ["truncate", "flip", "swap"])
 def test_a_damaged_entry_is_detected_and_solved_again(store, damage):
     request = _request()

@@ -26,6 +26,7 @@ import numpy as np
 from railcheck.base.errors import EXIT_FAIL, EXIT_PASS, InputError
 from railcheck.check.run import say_target
 from railcheck.fea.materials import MATERIALS
+from railcheck.fea.store import reads_shared
 from railcheck.files import Staging, atomic_write_text, reserve_results_dir, results_dir, to_json
 from railcheck.geometry.catalogue import with_overrides
 from railcheck.geometry.mesher import estimate_elements
@@ -297,7 +298,7 @@ def build_on_threads(tasks: list[PartTask], args: tuple, say, jobs: int) -> list
     cached and unit fields stored: reading the store and gathering the screens are numpy
     copies that release the GIL, and nothing is pickled back (BLAS on one thread each
     meanwhile). In the tasks' order."""
-    with blas_on_one_thread(), ThreadPoolExecutor(jobs, thread_name_prefix="railcheck-parts") as pool:
+    with blas_on_one_thread(), reads_shared(), ThreadPoolExecutor(jobs, thread_name_prefix="railcheck-parts") as pool:
         scene, material, limit = args
         return list(pool.map(lambda task: build_task(task, scene, material, limit, say=say), tasks))
 
