@@ -3,7 +3,8 @@ order (P2: quadratic tetrahedra, ``tetra10``, vertices and mid-edge nodes), so t
 ParaView shows the same values the report does. Point data: ``displacement`` (m, 3),
 ``von_mises`` (Pa), ``stress`` (Pa, 6: xx, yy, zz, xy, yz, xz) and any further point
 fields given (``von_mises_envelope`` Pa, ``fatigue_safety_factor``, 0/1 masks naming the
-support and the loaded holes). Writes the path it is given: callers that need an atomic
+support and the loaded holes). Binary, uncompressed (zlib took 0.11 s of a rail's 0.13 s
+to save 3 of its 8 MB). Writes the path it is given: callers that need an atomic
 file pass a temporary path and rename it (railcheck.files.atomic_path).
 
 :func:`pvd_text` is a ParaView collection that opens every part of a run at once."""
@@ -34,7 +35,7 @@ def write_vtu(
         value = np.asarray(value, float)
         data[key] = np.where(np.isfinite(value), value, np.finfo(float).max)  # VTK has no inf
     mesh = meshio.Mesh(points, [(CELL_TYPE[cells.shape[1]], cells.astype(np.int64))], point_data=data)
-    meshio.write(str(path), mesh, file_format="vtu")
+    meshio.write(str(path), mesh, file_format="vtu", compression=None)  # raw binary: zlib cost 0.11 s a rail for 40% less
     return Path(path)
 
 
