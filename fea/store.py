@@ -264,7 +264,7 @@ def _member_array(f, start: int, info, npy) -> np.ndarray:
         raise ValueError(f"{info.filename}: object array")
     head = f.tell() - start
     array = np.empty(shape, dtype, order="F" if fortran else "C")
-    data = memoryview(array.reshape(-1, order="A")).cast("B") if array.size else memoryview(b"")
+    data = array.reshape(-1, order="A").data.cast("B") if array.size else memoryview(b"")
     if head + data.nbytes != info.file_size or (data.nbytes and f.readinto(data) != data.nbytes):
         raise ValueError(f"{info.filename}: its size is not its header's")
     f.seek(start)

@@ -183,6 +183,7 @@ def _basis_key(job: PartJob):
     if not uses_hole_basis(job):
         return None
     free = job.free_body
+    assert free is not None  # uses_hole_basis: a free rail
     deflections = pair_deflections(job.loads, job.geometry)
     return (repr(job.geometry), job.mesh, repr(job.material), free.mass, free.centre, free.inertia, repr(deflections))
 
