@@ -263,10 +263,12 @@ def _member_array(f, start: int, info, npy) -> np.ndarray:
     if dtype.hasobject:
         raise ValueError(f"{info.filename}: object array")
     head = f.tell() - start
+    if head + int(np.prod(shape, dtype=np.int64)) * dtype.itemsize != info.file_size:  # before allocating it
+        raise ValueError(f"{info.filename}: its size is not its header's")
     array = np.empty(shape, dtype, order="F" if fortran else "C")
     data = array.reshape(-1, order="A").data.cast("B") if array.size else memoryview(b"")
-    if head + data.nbytes != info.file_size or (data.nbytes and f.readinto(data) != data.nbytes):
-        raise ValueError(f"{info.filename}: its size is not its header's")
+    if data.nbytes and f.readinto(data) != data.nbytes:
+        raise ValueError(f"{info.filename}: shorter than its header says")
     f.seek(start)
     crc = zlib.crc32(data, zlib.crc32(f.read(head)))
     if crc != info.CRC:

@@ -83,6 +83,27 @@ def test_inside_reads_shared_an_entry_is_read_once_and_outside_each_time(store, 
     _same(again, fields)
 
 
+def test_a_member_whose_header_claims_a_huge_array_is_refused_before_it_is_allocated(tmp_path):
+    """A damaged or hostile entry whose .npy header claims 10^12 values (8 TB) in a
+    member of 8 bytes: :func:`fea.store.read_members` compares the claim with the member's
+    size first and refuses it (ValueError naming the size), allocating nothing."""
+    import io
+    import zipfile
+
+    from numpy.lib import format as npy
+
+    from railcheck.fea.store import read_members
+
+    member = io.BytesIO()
+    npy.write_array_header_1_0(member, {"descr": "<f8", "fortran_order": False, "shape": (10**12,)})
+    member.write(np.zeros(1).tobytes())
+    path = tmp_path / "hostile.npz"
+    with zipfile.ZipFile(path, "w", zipfile.ZIP_STORED) as z:
+        z.writestr("stress.npy", member.getvalue())
+    with pytest.raises(ValueError, match="its size is not its header's"):
+        read_members(path)
+
+
 @pytest.mark.parametrize("damage", ["truncate", "flip", "swap"])
 def test_a_damaged_entry_is_detected_and_solved_again(store, damage):
     request = _request()
