@@ -150,7 +150,7 @@ def test_another_setting_after_a_check_solves_nothing_and_equals_its_cold_check(
     assert first["parts"]["crank-rail"]["max_von_mises_Pa"] != warm["parts"]["crank-rail"]["max_von_mises_Pa"]
 
 
-def test_a_second_rail_of_one_size_is_checked_last():
+def test_a_second_rail_of_one_size_is_checked_last(monkeypatch):
     """The coupler and rocker rails (both 1000 mm) share one hole basis: the second is
     taken last, so it reads the first's fields instead of solving them beside it."""
     from railcheck.api import scene_of
@@ -165,6 +165,8 @@ def test_a_second_rail_of_one_size_is_checked_last():
     order = work_order(jobs)
     assert order == ["PF_4b_003_v2", "coupler-rail", "PF_4b_006", "crank-rail", "rocker-rail"]  # coupler: + the rocker
     assert shared_fields(jobs) == {"rocker-rail": "coupler-rail"}  # the crank rail: another size, another basis
+    monkeypatch.setenv("RAILCHECK_STORE", "0")
+    assert shared_fields(jobs) == {}  # nothing stored: waiting for the coupler would gain nothing
 
 
 @pytest.mark.slow

@@ -24,6 +24,7 @@ import threading
 import time
 from concurrent.futures import ThreadPoolExecutor, as_completed
 
+from railcheck import environment
 from railcheck.fea.store import reads_shared
 from railcheck.geometry.mesher import estimate_elements
 from railcheck.model.cycle import check_part, in_store
@@ -166,7 +167,10 @@ class _Queue:
 def shared_fields(part_jobs: dict[str, PartJob]) -> dict[str, str]:
     """Part -> the part before it in :func:`work_order` whose stored unit fields it reads:
     two free rails of one size with one rail mass share their hole basis
-    (:mod:`railcheck.model.setting_free`: its request has no bar length in it)."""
+    (:mod:`railcheck.model.setting_free`: its request has no bar length in it). None
+    with the store bypassed (``RAILCHECK_STORE=0``): waiting would gain nothing."""
+    if environment.unit_store() is None:
+        return {}
     first: dict = {}
     after: dict[str, str] = {}
     for name in work_order(part_jobs):
