@@ -410,10 +410,10 @@ def test_a_sweep_row_equals_railcheck_check_of_that_setting(fe_sweep):
 
 
 @pytest.mark.slow
-def test_parts_prepared_in_two_processes_give_the_serial_table(fe_sweep, tmp_path):
-    """With Dask the parts' models are built in two spawned processes (each task reading
-    or solving its unit fields, pickled back whole): the table equals the serial run's
-    bit for bit."""
+def test_an_fe_sweep_on_dask_gives_the_serial_table(fe_sweep, tmp_path):
+    """With Dask (the parts' models built in this process, then the chunks on two Dask
+    workers, the models reaching them through the shared context file): the table equals
+    the serial run's bit for bit."""
     parallel = table_rows(run_sweep_text(tmp_path, FE_SWEEP, "dask", workers=2, serial=False, dask=True))
     _assert_same_rows(fe_sweep, parallel)
 
@@ -441,9 +441,11 @@ def test_a_part_is_built_after_the_one_whose_unit_fields_it_reuses():
     """The default scene's parts over both linkage kinds: each free rail once per kind (the
     second kind reads the first's stored fields), the rocker after the coupler (the same
     rail with the same settable lengths, as on the whole rig's grid: one store entry), the
-    plates once for both kinds."""
+    plates once for both kinds. Built one at a time, the plates (whose models are small)
+    come first, largest first, so the bracket's solve, the largest, runs beside no model,
+    and each task that reads another's fields right after that one."""
     from railcheck.scene import load_scene
-    from railcheck.sweep.run import part_tasks
+    from railcheck.sweep.run import build_order, part_tasks
 
     scene = load_scene(None)
     same = np.array([0.36, 0.78, 0.84])  # m: the coupler's and the rocker's settable lengths
@@ -467,6 +469,17 @@ def test_a_part_is_built_after_the_one_whose_unit_fields_it_reuses():
         ("PF_4b_006", both): None,
         ("PF_4b_003_v2", both): None,
     }
+    order = [(tasks[i].name, tasks[i].kinds) for i in build_order(tasks, scene)]
+    # the plates first, the largest first; then the rails, each reuse right after its source
+    assert order == [
+        ("PF_4b_003_v2", both),
+        ("PF_4b_006", both),
+        ("coupler-rail", four),
+        ("coupler-rail", ("slider-crank",)),
+        ("rocker-rail", four),
+        ("crank-rail", four),
+        ("crank-rail", ("slider-crank",)),
+    ]
 
 
 def test_motor_sizing_at_every_speed_and_its_curve_from_the_table(kinematic_sweep):
@@ -775,24 +788,25 @@ hole_size = "4 mm"
 
 
 @pytest.mark.slow
-def test_parts_are_built_in_worker_processes_only_when_one_must_be_meshed_or_solved(tmp_path, monkeypatch):
-    """With an empty cache the parts go to the worker processes; once their meshes are
-    cached and their unit fields stored they are read on this process's threads, into
-    the same models (each thread's screens bit for bit the workers'); with the store off
-    (RAILCHECK_STORE=0) they go to the workers again."""
+def test_parts_are_built_one_at_a_time_only_when_one_must_be_meshed_or_solved(tmp_path, monkeypatch):
+    """With an empty cache the parts are built in this process one at a time; once their
+    meshes are cached and their unit fields stored they are read on this process's
+    threads, into the same models (each thread's screens bit for bit the builds'); with
+    the store off (RAILCHECK_STORE=0) they are built one at a time again."""
     import railcheck.sweep.run as run_module
     from railcheck.fea.materials import MATERIALS
     from railcheck.progress import Progress
     from railcheck.sweep.parts import part_is_stored
 
     monkeypatch.setenv("RAILCHECK_CACHE", str(tmp_path / "cache"))
-    to_workers = []
+    one_at_a_time = []
+    serial = run_module.build_one_at_a_time
 
-    def workers_here(tasks, args, progress, jobs):  # records the call, builds in this process
-        to_workers.append([t.name for t in tasks])
-        return [run_module.build_task(t, *args, say=lambda msg: None) for t in tasks]
+    def serial_recorded(tasks, args, say):  # records the call, builds one at a time
+        one_at_a_time.append([t.name for t in tasks])
+        return serial(tasks, args, say)
 
-    monkeypatch.setattr(run_module, "build_in_workers", workers_here)
+    monkeypatch.setattr(run_module, "build_one_at_a_time", serial_recorded)
     on_threads = []
     threaded = run_module.build_on_threads
 
@@ -807,13 +821,13 @@ def test_parts_are_built_in_worker_processes_only_when_one_must_be_meshed_or_sol
     stored = lambda: [part_is_stored(scene, t.name, t.lengths, MATERIALS["steel"]) for t in tasks]  # noqa: E731
     assert stored() == [False, False]
     cold = run_module.prepare_models(scene, settings, Progress(quiet=True), jobs=2)["four-bar"]
-    assert to_workers == [["PF_4b_006", "PF_4b_003_v2"]] and stored() == [True, True]
+    assert one_at_a_time == [["PF_4b_006", "PF_4b_003_v2"]] and stored() == [True, True]
     warm = run_module.prepare_models(scene, settings, Progress(quiet=True), jobs=2)["four-bar"]
-    assert len(to_workers) == 1 and on_threads == [["PF_4b_006", "PF_4b_003_v2"]]  # nothing to mesh or solve
+    assert len(one_at_a_time) == 1 and on_threads == [["PF_4b_006", "PF_4b_003_v2"]]  # nothing to mesh or solve
     for name in cold:
         for key, screen in cold[name].screens.items():
             np.testing.assert_array_equal(screen.stress, warm[name].screens[key].stress)
     monkeypatch.setenv("RAILCHECK_STORE", "0")
     assert stored() == [False, False]
     run_module.prepare_models(scene, settings, Progress(quiet=True), jobs=2)
-    assert len(to_workers) == 2 and len(on_threads) == 1
+    assert len(one_at_a_time) == 2 and len(on_threads) == 1

@@ -10,7 +10,6 @@ prints through its :class:`~railcheck.progress.Progress`. Used by the check's pa
 from __future__ import annotations
 
 import ctypes
-import gc
 import multiprocessing
 import threading
 from concurrent.futures import ProcessPoolExecutor
@@ -66,18 +65,6 @@ def _init_worker(queue) -> None:
     and ``--jobs 1`` must give the same digits)."""
     global _QUEUE
     _QUEUE = queue
-
-
-def released(function, *args):
-    """``function(*args)`` in a worker, then the memory it freed handed back to the
-    system (glibc's ``malloc_trim``; nothing elsewhere): a worker that built a part holds
-    the freed heap of its assembly and factorisation while its sibling builds the next, and
-    the whole rig's peak is the parent's models plus both workers'."""
-    try:
-        return function(*args)
-    finally:
-        gc.collect()
-        trim_heap()
 
 
 def trim_heap() -> None:

@@ -13,10 +13,11 @@ into a staging directory that is renamed into place at the end (nothing half-wri
 
 from __future__ import annotations
 
+import gc
 import os
 import threading
 import time
-from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
+from concurrent.futures import ThreadPoolExecutor
 from contextlib import ExitStack
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -33,7 +34,7 @@ from railcheck.geometry.mesher import estimate_elements
 from railcheck.model.jobs import mesh_sizes, part_geometries, refuse_huge
 from railcheck.parallel import forked
 from railcheck.parallel.executor import ChunkExecutor
-from railcheck.parallel.spawned import relayed_pool, released, worker_say
+from railcheck.parallel.spawned import trim_heap
 from railcheck.parallel.threads import blas_on_one_thread
 from railcheck.parts import PARTS, geometry_of, rail_length
 from railcheck.progress import Progress
@@ -212,13 +213,14 @@ def validate(scene) -> None:
 
 
 def prepare_models(scene, by_kind: dict, progress, jobs: int = 1) -> dict[str, dict]:
-    """kind -> part -> PartModel: each checked part meshed, factorised and solved once,
-    in ``jobs`` processes (:func:`build_in_workers`) when some part must be meshed or
-    solved, else on ``jobs`` threads of this one (:func:`build_on_threads`: read from the
-    cache and the store, where the processes' start-up and the models pickled back cost
-    more than they share out; the whole rig's parts: 4.6-5.2 s on two threads, 8.2-10.3 s
-    on one, 12.1 s in two processes). A part's models for two linkage kinds hold their
-    equal screens once (:func:`railcheck.sweep.parts.sharing_screens`)."""
+    """kind -> part -> PartModel: each checked part meshed, factorised and solved once.
+    When some part must be meshed or solved they are built in this process one at a time
+    (:func:`build_one_at_a_time`: the whole rig's builds about 4 s slower than two at
+    once in worker processes, 37 against 33 s, its peak memory 2.7 against 4.1 GB); when every part's mesh is
+    cached and unit fields stored they are read on ``jobs`` threads of this one
+    (:func:`build_on_threads`: the whole rig's parts 4.6-5.2 s on two threads, 8.2-10.3 s
+    on one). A part's models for two linkage kinds hold their equal screens once
+    (:func:`railcheck.sweep.parts.sharing_screens`)."""
     if scene.check is None:
         return {kind: {} for kind in by_kind}
 
@@ -228,14 +230,11 @@ def prepare_models(scene, by_kind: dict, progress, jobs: int = 1) -> dict[str, d
     tasks = part_tasks(scene, by_kind)
     args = (scene, material, limit)
     say = lambda msg: progress.say("solve", msg)  # noqa: E731
-    if jobs > 1 and len(tasks) > 1:
-        if all(part_is_stored(scene, t.name, t.lengths, material, t.kinds[0]) for t in tasks):
-            built = build_on_threads(tasks, args, say, jobs)
-        else:
-            built = build_in_workers(tasks, args, progress, jobs)
+    if jobs > 1 and len(tasks) > 1 and all(part_is_stored(scene, t.name, t.lengths, material, t.kinds[0]) for t in tasks):
+        built = build_on_threads(tasks, args, say, jobs)
+        built = [sharing_screens(model, built[:i]) for i, model in enumerate(built)]
     else:
-        built = [build_task(task, *args, say=say) for task in tasks]
-    built = [sharing_screens(model, built[:i]) for i, model in enumerate(built)]
+        built = build_one_at_a_time(tasks, args, say)
     models: dict[str, dict] = {kind: {} for kind in by_kind}
     for task, model in zip(tasks, built):
         for k in task.kinds:
@@ -276,10 +275,8 @@ def part_tasks(scene, by_kind: dict) -> list[PartTask]:
     return tasks
 
 
-def build_task(task: PartTask, scene, material, limit: float, say=None):
-    """Build one task's PartModel (progress lines to ``say``, or in a worker to the main
-    process), with a summary line."""
-    say = say or worker_say
+def build_task(task: PartTask, scene, material, limit: float, say):
+    """Build one task's PartModel (progress lines to ``say``), with a summary line."""
     t = time.perf_counter()
     model = build_part_model(
         scene, task.name, task.lengths, material, limit, lambda msg: say(f"{task.label}: {msg}"), linkage=task.kinds[0]
@@ -303,34 +300,51 @@ def build_on_threads(tasks: list[PartTask], args: tuple, say, jobs: int) -> list
         return list(pool.map(lambda task: build_task(task, scene, material, limit, say=say), tasks))
 
 
-def build_in_workers(tasks: list[PartTask], args: tuple, progress, jobs: int) -> list:
-    """The tasks' models built in ``jobs`` spawned processes (meshing and assembly are
-    single-threaded: two parts at once nearly halve a cold start). A free worker takes a
-    task whose reused fields are done (cheap: read from the store) before any other, then
-    the largest part by its estimated elements; the solver keeps a serial run's thread
-    count."""
-    scene = args[0]
-    size = [
-        estimate_elements(g, *mesh_sizes(scene.mesh, g.kind)) for g in (geometry_of(t.name, scene.geometry) for t in tasks)
-    ]
+def build_one_at_a_time(tasks: list[PartTask], args: tuple, say) -> list:
+    """The tasks' models built in this process one after another in :func:`build_order`,
+    the heap each build freed handed back to the system before the next
+    (:func:`railcheck.parallel.spawned.trim_heap`), each model's screens shared with the
+    equal ones built before it. In the tasks' order.
+
+    One at a time, because a build's memory peaks while PARDISO factorises (the bracket:
+    2.45 GB alone, 1.0 GiB of it the factor) and two at once, with the models already
+    built, passed 4 GB on the whole rig; PARDISO uses both cores meanwhile, so two
+    builds at once saved only their single-threaded assembly and stress recovery
+    (:func:`prepare_models`)."""
+    scene, material, limit = args
     built: list = [None] * len(tasks)
-    pending = sorted(range(len(tasks)), key=lambda i: -size[i])
-    with relayed_pool(jobs, progress) as pool:
-        running: dict = {}
-        while pending or running:
-            ready = [i for i in pending if _reuses_done(tasks[i], built)]
-            for i in sorted(ready, key=lambda i: tasks[i].after is None)[: jobs - len(running)]:
-                running[pool.submit(released, build_task, tasks[i], *args)] = i
-                pending.remove(i)
-            done, _ = wait(running, return_when=FIRST_COMPLETED)
-            for future in done:
-                built[running.pop(future)] = sharing_screens(future.result(), [b for b in built if b is not None])
+    for i in build_order(tasks, scene):
+        model = build_task(tasks[i], scene, material, limit, say=say)
+        built[i] = sharing_screens(model, [b for b in built if b is not None])
+        del model
+        gc.collect()
+        trim_heap()
     return built
 
 
-def _reuses_done(task: PartTask, built: list) -> bool:
-    """Whether the task whose fields ``task`` reuses (if any) is built."""
-    return task.after is None or built[task.after] is not None
+def build_order(tasks: list[PartTask], scene) -> list[int]:
+    """The indices of ``tasks`` in the order :func:`build_one_at_a_time` builds them: by
+    the model each leaves in memory while the later ones are built, the smallest first,
+    so the largest builds run beside the fewest models: the parts without a bar (one
+    screen each) before the rails (a screen per hole pair), each by decreasing estimated
+    elements (the largest solve's peak beside the least); a task that reuses another's
+    stored fields (``after``) right after it."""
+    size = [
+        estimate_elements(g, *mesh_sizes(scene.mesh, g.kind)) for g in (geometry_of(t.name, scene.geometry) for t in tasks)
+    ]
+    ranked = sorted(range(len(tasks)), key=lambda i: (PARTS[tasks[i].name].bar is not None, -size[i], i))
+    order: list[int] = []
+
+    def place(i: int) -> None:
+        order.append(i)
+        for j in ranked:
+            if tasks[j].after == i:
+                place(j)
+
+    for i in ranked:
+        if tasks[i].after is None:
+            place(i)
+    return order
 
 
 def kind_groups(scene, name: str, kinds: list[str]) -> list[list[str]]:
