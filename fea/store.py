@@ -183,9 +183,11 @@ def _meta(solve, arrays: dict[str, np.ndarray]) -> str:
     )
 
 
-def write_entry(path: Path, payload: str, fields, solve, cap: int) -> None:
-    """Write an entry atomically (per-process temporary name, then a rename); a store that
-    cannot be written only costs time."""
+def write_entry(path: Path, payload: str, fields, solve, cap: int) -> str | None:
+    """Write an entry atomically (per-process temporary name, then a rename). None when
+    written, else why not (the system's words: a full disk, a read-only store, a file
+    where its folder should be): a store that cannot be written only costs time, and its
+    caller says so (:func:`solved_origin`)."""
     arrays = _arrays(fields, solve)
     meta = _meta(solve, arrays)
     tmp = temporary_name(path)
@@ -194,13 +196,25 @@ def write_entry(path: Path, payload: str, fields, solve, cap: int) -> None:
         remove_dead_temporaries(path.parent)
         np.savez(tmp, payload=np.array(payload), meta=np.array(meta), **arrays)  # type: ignore[arg-type]  # numpy stubs type **kwds as allow_pickle
         os.replace(tmp, path)
-    except OSError:  # a full disk, a read-only store, a file where its folder should be
+    except OSError as exc:
         try:  # nothing half-written is left (and no folder may exist to hold any)
             tmp.unlink(missing_ok=True)
         except OSError:
             pass
-        return
+        return exc.strerror or type(exc).__name__
     _evict(path.parent, cap, keep=path)
+    return None
+
+
+def solved_origin(damaged: str | None, unstored: str | None) -> str:
+    """What :func:`solve_stored` says of fields it solved: "solved", or why a stored entry
+    was solved again (``damaged``), and why the new entry is not stored (``unstored``:
+    the next run solves them again: a full disk costs every later run the solve, unsaid
+    before, 18 s more on the whole rig's builds)."""
+    said = [f"stored unit fields {damaged}: solved again"] if damaged else []
+    if unstored:
+        said.append(f"unit fields not stored ({unstored}): the next run solves them again")
+    return "; ".join(said) or "solved"
 
 
 def read_entry(path: Path, payload: str):
@@ -376,7 +390,8 @@ def solve_stored(request: UnitRequest, solver: str = "auto", report=None, store:
     fields when an entry for ``request`` is sound, else solved and stored (``store``
     None: solved, nothing stored). Returns
     (fields, solve, origin): ``origin`` says where the fields came from ("stored",
-    "solved", or why a stored entry was solved again)."""
+    "solved", or why a stored entry was solved again and why the new one is not stored:
+    :func:`solved_origin`)."""
     r = request
     args = (MeshData.of(r.points, r.tets, r.groups), r.material, r.supports, r.cases)
     kw = {"order": r.order, "tip_group": r.tip_group, "exclude_distance": r.exclude, "solver": solver, "report": report}
@@ -391,8 +406,7 @@ def solve_stored(request: UnitRequest, solver: str = "auto", report=None, store:
         fields, solve = found
         return fields, replace(solve, seconds={"store": time.perf_counter() - t}), "stored"
     fields, solve = solve_unit_cases(*args, **kw)
-    write_entry(path, payload, fields, solve, store.cap)
-    return fields, solve, (f"stored unit fields {why}: solved again" if why else "solved")
+    return fields, solve, solved_origin(why, write_entry(path, payload, fields, solve, store.cap))
 
 
 _SHARED: dict | None = None  # (path, payload) -> a sound entry's (fields, solve), inside reads_shared()

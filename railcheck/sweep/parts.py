@@ -188,8 +188,10 @@ def build_part_model(
     setup = _part_setup(scene, name, geo, mesh, lengths, material, linkage)
     deflections = pair_deflections(setup.loads, geo) if setup.free else {}
     fields, meta, origin = solve_projected(setup.request, geo, deflections, "auto", report, environment.unit_store())
-    if origin != "solved":
-        report(f"unit fields: {origin}")
+    if origin == "stored":
+        report("unit fields: stored")
+    elif origin != "solved":  # a damaged entry solved again, or one the store could not keep
+        report(origin)
     return _part_model(scene, name, setup, fields, meta, material, limit)
 
 
