@@ -85,9 +85,10 @@ def read_cached(path: Path, payload: str) -> tuple[MeshData | None, str | None]:
     ), None
 
 
-def write_cached(path: Path, data: MeshData, payload: str, compressed: bool = False) -> None:
+def write_cached(path: Path, data: MeshData, payload: str, compressed: bool = False) -> str | None:
     """Write a cache entry atomically (a per-process temporary name, then a rename), so
-    concurrent runs never read half a file; an unwritable cache only costs time.
+    concurrent runs never read half a file. None when written, else why not (the
+    system's words): an unwritable cache only costs time, and the caller says so.
     ``compressed``: zip-deflated (the shipped meshes: smaller, a little slower to read)."""
     tmp = temporary_name(path)
     try:
@@ -111,6 +112,8 @@ def write_cached(path: Path, data: MeshData, payload: str, compressed: bool = Fa
             **{f"g_{k}": v for k, v in data.groups.items()},  # type: ignore[arg-type]  # numpy stubs: **kwds as allow_pickle
         )
         os.replace(tmp, path)
-    except OSError:  # a full disk, a read-only cache: nothing half-written is left
+    except OSError as exc:  # a full disk, a read-only cache: nothing half-written is left
         with contextlib.suppress(OSError):
             tmp.unlink(missing_ok=True)
+        return exc.strerror or type(exc).__name__
+    return None

@@ -138,7 +138,8 @@ def mesh_part(
     """Mesh ``part`` with element size ``size`` (m), ``hole_size`` at the holes (default
     size / 3); read from / write to the cache unless ``cache`` is False. A cache entry
     stores its parameters (gmsh version included) and a content hash, both verified on
-    load: a damaged or mismatched entry is rebuilt and ``MeshData.warning`` says why.
+    load: a damaged or mismatched entry is rebuilt and ``MeshData.warning`` says why, as
+    it says when the cache cannot keep the new entry (a full disk).
     ``optimize`` False skips gmsh's tetrahedron optimisation (slivers may remain; they are
     counted). gmsh prints nothing unless ``verbose``. ``cache_dir``: the cache's folder
     (default :func:`~railcheck.geometry.cache.default_cache_dir`)."""
@@ -153,12 +154,15 @@ def mesh_part(
         if data is not None:
             return data
     data = build_mesh(part, size, hole_size, verbose=verbose, optimize=optimize)
-    if cache:
-        write_cached(path, data, payload)
-    if why:
+    unwritten = write_cached(path, data, payload) if cache else None
+    said = [
+        f"cached mesh {path.name} {why}: rebuilt" if why else None,
+        f"mesh not cached ({unwritten}): the next run meshes it again" if unwritten else None,
+    ]
+    if any(said):  # beside the mesher's own warning (stored with the entry), not instead of it
         from dataclasses import replace
 
-        data = replace(data, warning=f"cached mesh {path.name} {why}: rebuilt")
+        data = replace(data, warning="; ".join(w for w in (data.warning, *said) if w))
     return data
 
 

@@ -171,7 +171,9 @@ except BrokenPipeError:
 
 def test_a_full_disk_leaves_no_temporary_and_a_killed_writers_is_removed(cache, monkeypatch):
     """A mesh-cache write that fills the disk half way (np.savez writes, then ENOSPC) leaves
-    no temporary (it kept every run's ``.rail-*.tmp.npz``); the mesh is still returned. A
+    no temporary (it kept every run's ``.rail-*.tmp.npz``); the mesh is still returned,
+    its warning saying it is not cached and why (a check's warning: the next run meshes
+    it again). A
     temporary of a process that no longer runs (a run killed while writing) is removed by
     the next write into the folder; a live process's is kept."""
     import errno
@@ -188,6 +190,7 @@ def test_a_full_disk_leaves_no_temporary_and_a_killed_writers_is_removed(cache, 
     monkeypatch.setattr(np, "savez", half_then_full)
     got = mesh_part(bar(0.1, 0.02, 0.02), 8e-3, 8e-3, cache_dir=cache)
     assert got.points.size and not list(cache.glob("*"))  # nothing stored, nothing half-written
+    assert got.warning == "mesh not cached (No space left on device): the next run meshes it again"
     monkeypatch.setattr(np, "savez", real_savez)
     dead = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"], capture_output=True, text=True)
     killed = cache / f".bar-abc.{int(dead.stdout)}.tmp.npz"
@@ -196,3 +199,25 @@ def test_a_full_disk_leaves_no_temporary_and_a_killed_writers_is_removed(cache, 
     alive.write_bytes(b"PK half")
     mesh_part(bar(0.1, 0.02, 0.02), 8e-3, 8e-3, cache_dir=cache)
     assert not killed.exists() and alive.exists() and len(entries(cache)) == 1
+
+
+def test_a_meshers_warning_is_kept_beside_the_cache_s_own(cache, monkeypatch):
+    """A fresh mesh's own warning (curved edges straightened) stays when the cache adds
+    its note (it cannot keep the entry): both, the mesher's first (the run's assumptions
+    read it there)."""
+    import errno
+    from dataclasses import replace
+
+    import railcheck.geometry.mesher as mesher
+
+    real = mesher.build_mesh
+    monkeypatch.setattr(mesher, "build_mesh", lambda *a, **k: replace(real(*a, **k), warning="3 curved edges straightened"))
+
+    def full(*args, **kwargs):
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(np, "savez", full)
+    got = mesh_part(bar(0.1, 0.02, 0.02), 8e-3, 8e-3, cache_dir=cache)
+    assert got.warning == (
+        "3 curved edges straightened; mesh not cached (No space left on device): the next run meshes it again"
+    )
