@@ -1,10 +1,11 @@
-"""What this machine offers a run: its physical memory, and the one refusal of work that
+"""What this machine offers a run: its physical memory, the one refusal of work that
 would need more of it than a run may take (a clear message with the estimate instead of a
-MemoryError or the machine swapping). Imports nothing of ours but the error base, so any
-layer may use it."""
+MemoryError or the machine swapping), and handing freed heap back (:func:`trim_heap`).
+Imports nothing of ours but the error base, so any layer may use it."""
 
 from __future__ import annotations
 
+import ctypes
 import math
 import os
 
@@ -76,3 +77,12 @@ def short(x: float) -> str:
     """A size for a message: one decimal (1.0, 23.5), or three significant digits once it
     is beyond 100,000 (an absurd request's estimate is not printed with hundreds of digits)."""
     return f"{x:.1f}" if abs(x) < 1e5 else f"{x:.3g}"
+
+
+def trim_heap() -> None:
+    """Return the process's free heap pages to the system (glibc ``malloc_trim(0)``); a
+    no-op where the C library has none."""
+    try:
+        ctypes.CDLL(None).malloc_trim(0)
+    except (OSError, AttributeError):
+        pass

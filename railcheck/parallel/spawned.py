@@ -9,7 +9,6 @@ prints through its :class:`~railcheck.progress.Progress`. Used by the check's pa
 
 from __future__ import annotations
 
-import ctypes
 import multiprocessing
 import threading
 from concurrent.futures import ProcessPoolExecutor
@@ -65,12 +64,3 @@ def _init_worker(queue) -> None:
     and ``--jobs 1`` must give the same digits)."""
     global _QUEUE
     _QUEUE = queue
-
-
-def trim_heap() -> None:
-    """Return the process's free heap pages to the system (glibc ``malloc_trim(0)``); a
-    no-op where the C library has none."""
-    try:
-        ctypes.CDLL(None).malloc_trim(0)
-    except (OSError, AttributeError):
-        pass

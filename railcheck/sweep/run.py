@@ -25,6 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from railcheck.base.errors import EXIT_FAIL, EXIT_PASS, InputError
+from railcheck.base.machine import trim_heap
 from railcheck.check.run import say_target
 from railcheck.fea.materials import MATERIALS
 from railcheck.fea.store import reads_shared
@@ -34,7 +35,6 @@ from railcheck.geometry.mesher import estimate_elements
 from railcheck.model.jobs import mesh_sizes, part_geometries, refuse_huge
 from railcheck.parallel import forked
 from railcheck.parallel.executor import ChunkExecutor
-from railcheck.parallel.spawned import trim_heap
 from railcheck.parallel.threads import blas_on_one_thread
 from railcheck.parts import PARTS, geometry_of, rail_length
 from railcheck.progress import Progress
@@ -216,10 +216,10 @@ def prepare_models(scene, by_kind: dict, progress, jobs: int = 1) -> dict[str, d
     """kind -> part -> PartModel: each checked part meshed, factorised and solved once.
     When some part must be meshed or solved they are built in this process one at a time
     (:func:`build_one_at_a_time`: the whole rig's builds about 4 s slower than two at
-    once in worker processes, 37 against 33 s, its peak memory 2.7 against 4.1 GB); when every part's mesh is
-    cached and unit fields stored they are read on ``jobs`` threads of this one
-    (:func:`build_on_threads`: the whole rig's parts 4.6-5.2 s on two threads, 8.2-10.3 s
-    on one). A part's models for two linkage kinds hold their equal screens once
+    once in worker processes, 37 against 33 s, its peak memory 2.7 against 4.1 GB);
+    when every part's mesh is cached and unit fields stored they are read on ``jobs``
+    threads of this one (:func:`build_on_threads`: the whole rig's parts 4.6-5.2 s on two
+    threads, 8.2-10.3 s on one). A part's models for two linkage kinds hold their equal screens once
     (:func:`railcheck.sweep.parts.sharing_screens`)."""
     if scene.check is None:
         return {kind: {} for kind in by_kind}
@@ -303,7 +303,7 @@ def build_on_threads(tasks: list[PartTask], args: tuple, say, jobs: int) -> list
 def build_one_at_a_time(tasks: list[PartTask], args: tuple, say) -> list:
     """The tasks' models built in this process one after another in :func:`build_order`,
     the heap each build freed handed back to the system before the next
-    (:func:`railcheck.parallel.spawned.trim_heap`), each model's screens shared with the
+    (:func:`railcheck.base.machine.trim_heap`), each model's screens shared with the
     equal ones built before it. In the tasks' order.
 
     One at a time, because a build's memory peaks while PARDISO factorises (the bracket:
@@ -429,7 +429,7 @@ def _run_into(scene, directory: Path, scheduler, workers, serial, progress, dask
         )
     # a local cluster only where this process cannot fork its workers (they share its memory)
     use_dask = (scheduler is not None or (large and not forks)) if dask is None else dask
-    # the parts in two processes when the settings run on Dask, or are many, and in parallel too
+    # stored parts read on two threads when the settings run on Dask or are many; any to build: here, one at a time
     models = prepare_models(
         scene, by_kind, progress, min(2, os.cpu_count() or 1) if (use_dask or large) and not serial else 1
     )
