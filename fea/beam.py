@@ -1,7 +1,7 @@
 """The lowest bending frequency of a straight beam on pins, with point masses: Euler-Bernoulli
 beam elements (cubic Hermite, two DOFs per node: deflection and slope), consistent mass,
 dense generalised eigenproblem. A rail's quasi-static certificate takes its lowest natural
-frequency from here (DESIGN.md section 12) instead of a 3D modal solve per hole pair.
+frequency from here (docs/model.md, "Is quasi-static true?") instead of a 3D modal solve per hole pair.
 
 Idealisations: bending only (shear deformation and rotary inertia left out: the rails are
 slender, length over depth above 20); a pin holds the deflection, not the slope; a point

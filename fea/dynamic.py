@@ -1,5 +1,5 @@
 """Is quasi-static true? The steady-state response of a part to its periodic load cycle by
-modal superposition with the mode-acceleration correction (DESIGN.md section 11).
+modal superposition with the mode-acceleration correction (docs/model.md, "Is quasi-static true?").
 
 The unit-case coefficients ``c(t)`` (steps, k) repeat every crank revolution (period
 ``T = 2 pi / Omega``). With the part's lowest modes ``phi_m`` (mass-normalised, angular
@@ -183,7 +183,7 @@ def one_mode_peak(P: np.ndarray, steps: int, speed, hz, damping: float) -> np.nd
 
 def one_mode_amplification(C: np.ndarray, speed, hz, damping: float) -> tuple[np.ndarray, np.ndarray]:
     """(ratio, peak), each (..., k): the one-mode estimate of each coefficient column's
-    dynamic amplification (DESIGN.md section 12) and the column's peak: each column of
+    dynamic amplification (docs/model.md) and the column's peak: each column of
     ``C`` (..., steps, k) filtered as :func:`one_mode_peak` says, its peak over the
     column's own (1 for a column that is zero). The first and last steps are the same
     instant."""

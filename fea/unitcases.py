@@ -99,7 +99,7 @@ class TractionCase:
 @dataclass(frozen=True)
 class CoupleCase:
     """A unit couple (1 N m about +z) carried by two holes ``arm`` m apart along x: -1/arm N
-    along y on ``groups[0]``, +1/arm N on ``groups[1]`` (a shaft and a driving pin); each
+    along y on ``groups[0]``, +1/arm N on ``groups[1]`` (the two screws of a plate that carries a torque); each
     hole's force spread as :class:`TractionCase` spreads it (``pressure``)."""
 
     groups: tuple[str, str]

@@ -7,7 +7,7 @@ Imports nothing of railcheck but numpy. Units SI.
 """
 
 from .bearings import BEARING_6205, BallBearing, BearingLife, bearing_life
-from .cases import BoltForce, LoadCase, explicit_load_case, peak_in_rail_axes, rail_bolt_holes, reaction_load_case
+from .cases import BoltForce, LoadCase, explicit_load_case, peak_in_rail_axes, pivot_x, rail_bolt_holes, reaction_load_case
 from .histories import bolt_history, gravity_history, rail_inertia_history
 from .rotation import to_rail_axes
 
@@ -22,6 +22,7 @@ __all__ = [
     "explicit_load_case",
     "gravity_history",
     "peak_in_rail_axes",
+    "pivot_x",
     "rail_bolt_holes",
     "rail_inertia_history",
     "reaction_load_case",

@@ -103,13 +103,20 @@ def explicit_load_case(
     )
 
 
+def pivot_x(hole_x) -> float:
+    """x (m, along the rail) of a rail's first joint: the shaft's line, midway between the
+    rail's first two holes, where the two screws clamp it to the joint's upper plate."""
+    return 0.5 * (float(hole_x[0]) + float(hole_x[1]))
+
+
 def rail_bolt_holes(hole_x: list[float], shaft_x: float, bar_length: float, position: str) -> list[int]:
-    """Indices of the two holes the joint's plate is bolted to.
+    """Indices of the two holes the far joint's plate is screwed to.
 
     ``worst``: the last two holes (the far end of the rail, seed 000's choice).
-    ``actual``: the hole at the joint (``shaft_x + bar_length``, on the 60 mm grid) and
-    its neighbour toward the free end (toward the pivot when it is the last hole).
-    Raises ValueError when the joint does not fall on the rail.
+    ``actual``: the two neighbouring holes either side of the joint (``shaft_x +
+    bar_length``, the joint's line midway between them on the 60 mm grid; the pair whose
+    span holds it otherwise). Raises ValueError when the joint does not fall between two
+    of the rail's holes.
     """
     n = len(hole_x)
     if n < 2:
@@ -117,10 +124,11 @@ def rail_bolt_holes(hole_x: list[float], shaft_x: float, bar_length: float, posi
     if position == "worst":
         return [n - 2, n - 1]
     x = shaft_x + bar_length
-    k = int(np.argmin(np.abs(np.asarray(hole_x) - x)))
-    if abs(hole_x[k] - x) > 0.5 * (hole_x[1] - hole_x[0]) or x > hole_x[-1] + 1e-9:
+    if x > hole_x[-1] + 1e-9 or x < hole_x[0] - 1e-9:
+        last = 0.5 * (hole_x[-2] + hole_x[-1]) - shaft_x
         raise ValueError(
-            f"the joint at {bar_length * 1e3:.6g} mm from the pivot is beyond the rail's last hole "
-            f"({(hole_x[-1] - shaft_x) * 1e3:.6g} mm)"
+            f"the joint at {bar_length * 1e3:.6g} mm from the pivot is beyond the rail's last holes "
+            f"(its far plate reaches {last * 1e3:.6g} mm)"
         )
-    return [k, k + 1] if k + 1 < n else [k - 1, k]
+    k = int(np.clip(np.searchsorted(np.asarray(hole_x), x - 1e-9) - 1, 0, n - 2))
+    return [k, k + 1]

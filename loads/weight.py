@@ -1,12 +1,12 @@
-"""The table-top rig's weight, out of the mechanism plane (DESIGN.md section 12).
+"""The table-top rig's weight, out of the mechanism plane (docs/model.md, "The table-top rig's weight").
 
 The rig lies flat: its bars in horizontal layers, joined by vertical shafts between bearings.
 Every bar's weight and the masses it carries act along -z (the rails' base down, their
 carriages on top) and reach the ground through the joints' shafts, which carry moment about
 in-plane axes. Idealisation (one bound, stated where results are shown): the links (the
 coupler) are simply supported at their two joints, the crank and the rocker cantilevered
-from their shafts, clamped over their first two holes (the shaft and the next hole, one hole
-pitch apart: the crank's driving pin), carrying the links' reactions at their far joints. It
+from their shafts, clamped over their first two holes (the upper plate's two screws, one
+hole pitch apart, the shaft's line midway between them), carrying the links' reactions at their far joints. It
 is statically determinate, so the out-of-plane load is constant over the cycle: a mean
 stress. The other bound (joints rigid out of plane, a grillage whose moments follow the
 pose) is not modelled; section 12 puts it at 18-32 N m at the crank's shaft against this
@@ -35,7 +35,7 @@ class RailWeight:
     by every bar (``carried``: bar -> joint -> kg, the one mass model's); the coupler's
     rail mass and centre of mass (kg, m from A), whose reactions the crank and rocker
     carry; whether the linkage has a rocker (a slider-crank's coupler rests at B on its
-    slider); ``drive_arm`` m from the shaft hole to the next hole (the clamp's length)."""
+    slider); ``drive_arm`` m between the two screws at its first joint (the clamp's length)."""
 
     bar: str
     mass: float
@@ -72,17 +72,20 @@ def joint_vertical_loads(w: RailWeight, lengths: dict) -> dict:
 
 
 def joint_forces(w: RailWeight, lengths: dict) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(near, drive, far) N, +z up, on ``w.bar``'s rail: at its first joint (the shaft
-    hole), at the next hole (a cantilevered bar's clamp; 0 for a link) and at its far
-    joint's bolts, which with the rail's own weight balance; ``lengths`` bar -> m (arrays)."""
+    """(near, drive, far) N, +z up, on ``w.bar``'s rail: at its first screw (the first
+    hole, half the clamp's length before the joint's line), at its second (the next hole,
+    as far after; a link's first joint carries the whole ``near`` at its line and ``drive``
+    is 0) and at its far joint's bolts, which with the rail's own weight balance;
+    ``lengths`` bar -> m (arrays)."""
     at_a, at_b = coupler_reactions(w, lengths["coupler"])
     if w.bar == "coupler":
         return at_a, np.zeros_like(at_a), at_b
     far = -joint_vertical_loads(w, lengths)["A" if w.bar == "crank" else "B"]
     length = np.asarray(lengths[w.bar], float)
     weight = w.mass * GRAVITY
-    # moments about the shaft hole (+ where an upward force lies further along the bar)
-    drive = (weight * w.com - far * length) / w.drive_arm
+    # about the joint's line, midway between the screws (+ where an upward force lies further along the bar)
+    couple = (weight * w.com - far * length) / w.drive_arm
+    drive = 0.5 * (weight - far) + couple
     near = weight - far - drive
     return near, drive, far
 
@@ -90,5 +93,13 @@ def joint_forces(w: RailWeight, lengths: dict) -> tuple[np.ndarray, np.ndarray, 
 def shaft_moment(w: RailWeight, lengths: dict) -> np.ndarray:
     """N m: the moment a cantilevered bar's shaft carries about the in-plane axis across
     the bar (its rail's weight and the far joint's load about the shaft hole)."""
-    _, drive, _ = joint_forces(w, lengths)
-    return drive * w.drive_arm
+    near, drive, _ = joint_forces(w, lengths)
+    return 0.5 * (drive - near) * w.drive_arm
+
+
+def screw_pulls(w: RailWeight, lengths: dict) -> tuple[np.ndarray, np.ndarray]:
+    """(first, second) N >= 0: the weight's pull on the two screws that clamp ``w.bar``'s
+    rail to its first joint's plate (the rail rests on the plate's face, so a downward force
+    on the rail at a screw is that screw's tension; an upward one bears on the face)."""
+    near, drive, _ = joint_forces(w, lengths)
+    return np.maximum(-np.asarray(near, float), 0.0), np.maximum(-np.asarray(drive, float), 0.0)

@@ -46,10 +46,10 @@ class JointLoad:
 
 @dataclass(frozen=True)
 class FreeBody:
-    """A rail as a free body (``[check] support = "free-body"``): its ``near`` joint at
-    the first hole (the pivot's pin or shaft), its ``far`` joint at the bolt holes the bar
-    length picks, and, for the crank, the ``motor`` torque entering as a couple over the
-    shaft (first hole) and the driving pin (second hole)."""
+    """A rail as a free body (``[check] support = "free-body"``): its ``near`` joint on
+    the two screws through its first two holes (its upper plate's, the joint's shaft
+    midway between them), its ``far`` joint at the bolt holes the bar length picks, and,
+    for the crank, the ``motor`` torque entering as a couple over the same two screws."""
 
     near: JointLoad
     far: JointLoad
@@ -208,13 +208,16 @@ def mass_model(formulation: str, geometry_overrides: dict) -> MassModel:
     """The one mass model of a run, shared by the dynamics and the FE, whatever the
     support: each rail weighs what its meshed profile weighs (the grooved size-25 section
     less its holes, spread per metre: 3.16 kg/m by default) and is placed as it is meshed,
-    its first hole (the pivot) the catalogue's end distance from its end;
+    its pivot midway between its first two holes (the upper plate's shaft between its two
+    screws: the catalogue's end distance and half a pitch from the rail's end);
     ``formulation = "seed-2013"`` keeps the 2013 study's masses (2.7 kg/m) and placement
     (the rail starts at the pivot), so its published tables stay reproduced."""
     if formulation == "seed-2013":
         return MassModel()
     rail = with_overrides(geometry_overrides)[0]
-    return MassModel(rail_mass_per_m=rail_mass_per_metre_with_holes(rail), rail_overhang=rail.end_distance)
+    return MassModel(
+        rail_mass_per_m=rail_mass_per_metre_with_holes(rail), rail_overhang=rail.end_distance + 0.5 * rail.hole_pitch
+    )
 
 
 def rail_length(bar: str) -> float:

@@ -18,13 +18,16 @@ from typing import Any
 
 from railcheck import parts as registry
 from railcheck.base.errors import InputError
-from railcheck.components.ratings import COMPONENT_SPEC, NOT_ON_SLIDER_CRANK, ComponentSpec, refuse_wider_than_the_rails_hole
-from railcheck.components.ratings import OVERRIDABLE as COMPONENT_KEYS
+from railcheck.components.overrides import component_spec
+from railcheck.components.ratings import COMPONENT_SPEC, NOT_ON_SLIDER_CRANK, ComponentSpec
 from railcheck.fea.fatigue import CRITERIA, LOAD, RELIABILITY, SURFACE  # light module: numpy only
 from railcheck.fea.materials import MATERIALS  # light module: no skfem import
 from railcheck.geometry.catalogue import OVERRIDABLE, validate, with_overrides  # light module: no gmsh import
 from railcheck.kinematics.linkage import FourBar, SliderCrank
 from railcheck.kinematics.massmodel import MassModel
+from railcheck.ranges import RANGES  # noqa: F401  RANGES re-exported
+from railcheck.ranges import did_you_mean as _did_you_mean
+from railcheck.ranges import in_range as _in_range
 from railcheck.specs import (  # noqa: F401  the scene's records, re-exported
     DEFAULT_RELIABILITY,
     PLANES,
@@ -41,36 +44,6 @@ from railcheck.specs import (  # noqa: F401  the scene's records, re-exported
 from railcheck.units import parse_quantity
 
 EFFECTS = ("inertia", "gravity", "rail-inertia", "dynamic")
-
-#: physical ranges checked when the scene is read (SI): a value outside is refused, naming
-#: the field. A teaching rig's bars are centimetres to metres; its crank turns at most a
-#: few revolutions per second (inertia loads grow with the square); limits are stresses
-#: of real materials; forces are what bolts and plates of this size could carry.
-RANGES = {
-    "length": (1e-3, 10.0, "1 mm", "10 m"),
-    "speed": (0.0, 2 * math.pi * 50.0, "0 Hz", "50 Hz"),
-    "limit": (1e6, 5e9, "1 MPa", "5 GPa"),
-    "force": (0.0, 1e6, "0 N", "1 MN"),
-    "factor": (0.1, 100.0, "0.1", "100"),
-    "geometry": (0.1e-3, 2.0, "0.1 mm", "2 m"),
-    "deflection": (1e-6, 1.0, "1 um", "1 m"),  # a plate's limit is a few tenths of a millimetre
-    "moment": (0.1, 1e6, "0.1 N m", "1 MN m"),  # [components]: a screw's, a pin's, a bearing's ratings
-    "area": (1e-9, 1e-2, "0.001 mm2", "10,000 mm2"),
-    "time": (3600.0, 3.6e15, "1 h", "1e12 h"),
-}
-
-#: the range a [components] quantity is checked against, where its RANGES key differs
-COMPONENT_RANGES = {"length": "geometry", "stress": "limit", "number": "factor"}
-
-
-def _in_range(value: float, kind: str, name: str, magnitude: bool = False) -> float:
-    lo, hi, lo_text, hi_text = RANGES[kind]
-    v = abs(value) if magnitude else value
-    if not lo <= v <= hi:
-        shown = "|value|" if magnitude else "value"
-        raise InputError(name, f"{shown} outside the physical range {lo_text} to {hi_text} this tool accepts")
-    return value
-
 
 BOLT_POSITIONS = ("worst", "actual")
 SUPPORTS = ("clamped", "free-body")
@@ -318,32 +291,6 @@ def _check(table: dict, loads_table: dict, formulation: str = "newton-euler") ->
     )
 
 
-def _did_you_mean(name: str, known: tuple[str, ...]) -> str:
-    """ " (did you mean 'x'?)" for the nearest known name, else the list of them."""
-    near = difflib.get_close_matches(name, known, n=1)
-    return f" (did you mean {near[0]!r}?)" if near else f" (known: {', '.join(known)})"
-
-
-def _components(table: dict) -> dict[str, float]:
-    """The ``[components]`` overrides (SI): each key a field of
-    :class:`railcheck.components.ratings.ComponentSpec`, a quantity with its unit (a plain
-    positive number for factors and required safeties)."""
-    out = {}
-    for key, value in table.items():
-        field = f"components.{key}"
-        if key not in COMPONENT_KEYS:
-            raise InputError(field, f"unknown key{_did_you_mean(key, tuple(COMPONENT_KEYS))}")
-        dimension = COMPONENT_KEYS[key]
-        if dimension == "number":
-            if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value <= 0:
-                raise InputError(field, f"must be a positive number, got {value!r}")
-            out[key] = float(value)
-        else:
-            out[key] = parse_quantity(value, dimension, field, positive=True, allow_zero=False)
-        _in_range(out[key], COMPONENT_RANGES.get(dimension, dimension), field)
-    return out
-
-
 def _names(value: Any, choices: tuple[str, ...], name: str, what: str, note: str) -> tuple[str, ...]:
     """A list of names each one of ``choices`` (an InputError naming ``name`` otherwise)."""
     if not isinstance(value, list) or not all(isinstance(x, str) for x in value):
@@ -560,8 +507,7 @@ def parse_scene(data: dict[str, Any], source: str = "<scene>") -> Scene:
     fatigue = _fatigue(data.get("fatigue", {}))
     sweep = _sweep(data.get("sweep", {}))
     dynamic = _dynamic(data.get("dynamic", {}))
-    components = dataclasses.replace(COMPONENT_SPEC, **_components(data.get("components", {})))
-    refuse_wider_than_the_rails_hole(components, with_overrides(geometry)[0].hole_diameter)
+    components = component_spec(data.get("components", {}), with_overrides(geometry)[0])
     return Scene(mechanism, formulation, check, mesh, output, geometry, data, source, fatigue, sweep, dynamic, components)
 
 

@@ -145,7 +145,7 @@ def test_a_joint_beyond_its_rail_fails(tmp_path, capsys):
     scene.write_text(GOOD.replace('coupler = "840 mm"', 'coupler = "1200 mm"').replace('"1020 mm"', '"1320 mm"'))
     code, out, err = run(["kinematics", str(scene), "--json"], capsys)
     check = json.loads(out)["checks"]["joints_on_rails"]
-    assert code == 1 and not check["ok"] and "beyond the rail's last hole" in check["message"]
+    assert code == 1 and not check["ok"] and "beyond the rail's last two holes" in check["message"]
 
 
 def test_init_writes_a_commented_scene_that_runs(tmp_path, capsys):

@@ -1,6 +1,7 @@
 """The joints' components against published figures: Shigley's worked shaft example, the
 EN 1993-1-8 bolt resistances tabulated in SCI P363 (the "blue book"), hand checks of the
-pin, the bolt group and the bearings, and the pipeline's verdict on both sides."""
+screw groups and the bearings, and the pipeline's verdict on both sides (the screws by
+VDI 2230 and their sizing: tests/test_screws.py)."""
 
 from __future__ import annotations
 
@@ -15,7 +16,8 @@ from railcheck.components import standards
 from railcheck.files import to_json
 from railcheck.scene import parse_scene
 
-COMPONENTS = ["driving-pin", "motor-shaft", "shaft-A", "shaft-B", "shaft-O4", "bolts-A", "bolts-B"]
+COMPONENTS = ["crank-screws-O2", "coupler-screws-A", "rocker-screws-O4", "crank-screws-A", "coupler-screws-B", "rocker-screws-B"]
+COMPONENTS += ["shaft-O2", "shaft-A", "shaft-B", "shaft-O4"]
 COMPONENTS += ["bearings-O2", "bearings-A", "bearings-B", "bearings-O4", "carriage-A", "carriage-B"]
 
 
@@ -52,67 +54,12 @@ def test_bolt_bearing_with_generous_distances_is_2_fu_d_t():
     assert 1e-3 / u["bearing"][0] == pytest.approx(172.0, rel=1e-3)
 
 
-def test_elastic_bolt_group_shares_a_central_force_and_adds_the_eccentric_moment():
-    assert standards.bolt_group_forces(300.0, 400.0, 0.0, 0.06) == pytest.approx(250.0)
-    # a transverse force 70 mm from the centroid of two bolts 60 mm apart: F (1/2 + 70/60)
-    assert standards.bolt_group_forces(0.0, 600.0, 0.07, 0.06) == pytest.approx(600.0 * (0.5 + 0.07 / 0.06))
-
-
-def test_pin_by_hand_at_the_default_scenes_peak_torque():
-    # the issue's figures: 137.1 N m over the 60 mm arm, x1.4: 3.20 kN on a 7 mm pin
-    force = np.array([1.4 * 137.1 / 0.06])
-    u = standards.pin_utilisations(force, 7e-3, 13e-3, 10e-3, 1e-3, 640e6, 800e6, 490e6)
-    area, w_el = math.pi * 7e-3**2 / 4, math.pi * 7e-3**3 / 32
-    assert u["shear"] == pytest.approx(force[0] / (0.6 * area * 800e6 / 1.25))
-    assert u["bending"] == pytest.approx(force[0] * (6.5e-3 + 1e-3 + 5e-3) / (1.5 * w_el * 640e6))
-    assert u["bearing"] == pytest.approx(force[0] / (1.5 * 10e-3 * 7e-3 * 490e6))
-
-
-def test_pin_in_double_shear_against_philpots_worked_example():
-    # Philpot, Mechanics of Materials, MecMovies M1.5: pin C in double shear carries
-    # 88.46 kN at an allowable 50 MPa: shear area 2 A = 1769.2 mm^2, so d = 33.6 mm
-    force, allowable = 88.46e3, 50e6
-    fu = allowable * standards.GAMMA_M2 / 0.6  # so that 0.6 f_u / gamma_M2 is the allowable stress
-    at = lambda d: float(
-        standards.pin_utilisations(np.array([force]), d, 20e-3, 40e-3, 0.0, 1e12, fu, 1e12, planes=2)["shear"]
-    )
-    d_needed = math.sqrt(4.0 * (force / allowable) / (2.0 * math.pi))
-    assert at(d_needed) == pytest.approx(1.0, rel=1e-12)
-    assert 2.0 * math.pi * d_needed**2 / 4.0 * 1e6 == pytest.approx(1769.2, rel=1e-3)
-    assert round(d_needed * 1e3, 1) == 33.6  # published to a tenth of a millimetre
-    assert at(33.6e-3) <= 1.0 < at(33.5e-3)  # the published size passes, one tenth less fails
-
-
-def test_pin_shear_resistance_against_a_published_en_1993_1_8_calculation():
-    # a published EN 1993-1-8 Table 3.10 pin calculation (d 16 mm, f_up 360 MPa, gamma_M2
-    # 1.25, F_v,Ed 5 kN): F_v,Rd = 35 kN, "SF = 6.95"
-    u = standards.pin_utilisations(np.array([5e3]), 16e-3, 10e-3, 10e-3, 0.0, 235e6, 360e6, 235e6)["shear"]
-    assert 1.0 / float(u) == pytest.approx(6.95, rel=1e-3)
-
-
-@pytest.mark.parametrize("outer, middle, gap", [(10e-3, 20e-3, 0.0), (6e-3, 25e-3, 2e-3), (15e-3, 8e-3, 5e-3)])
-def test_double_shear_pins_bending_is_the_statics_of_its_bearing_pressures(outer, middle, gap):
-    # EN 1993-1-8 Figure 3.11's moment against a beam integrated by hand: the outer plates
-    # push F/2 each, uniformly over their thickness, the middle member F back over its own
-    force, d, fy = 10e3, 12e-3, 500e6
-    length = 2 * outer + 2 * gap + middle
-    x = np.linspace(0.0, length, 200_001)
-    outer_load = np.where((x <= outer) | (x >= length - outer), force / 2 / outer, 0.0)
-    middle_load = np.where(np.abs(x - length / 2) <= middle / 2, force / middle, 0.0)
-    shear = np.concatenate([[0.0], np.cumsum((outer_load - middle_load)[1:] * np.diff(x))])
-    moment = np.concatenate([[0.0], np.cumsum(shear[1:] * np.diff(x))])
-    u = standards.pin_utilisations(np.array([force]), d, outer, middle, gap, fy, 800e6, fy, planes=2)
-    m_rd = 1.5 * math.pi * d**3 / 32 * fy
-    assert float(u["bending"]) * m_rd == pytest.approx(np.abs(moment).max(), rel=1e-3)
-    assert float(u["bearing"]) == pytest.approx(max(force / middle, force / 2 / outer) / (1.5 * d * fy))
-
-
-def _scene(components: dict | None = None, parts=None, **mechanism):
+def _scene(components: dict | None = None, parts=None, factor: float = 1.4, **mechanism):
     data = {
         "mechanism": {"kind": "four-bar", "crank": "480 mm", "coupler": "840 mm", "rocker": "780 mm", "ground": "1020 mm"}
         | {"speed": "1 Hz", "steps": 720}
         | mechanism,
-        "check": {"parts": parts or COMPONENTS, "effects": ["inertia"]},
+        "check": {"parts": parts or COMPONENTS, "effects": ["inertia"], "factor": factor},
     }
     if components:
         data["components"] = components
@@ -127,25 +74,32 @@ def _run(scene):
     return result, summary_of(result)
 
 
-def test_default_rig_components_fail_on_the_driving_pin_with_its_figures():
+#: what lets the O2 screws hold the motor's torque by friction (their sizing's answer)
+HOLDS = {"screw_class": "12.9", "joint_friction": 0.5}
+
+
+def test_default_rig_components_fail_on_the_o2_screws_slip_with_their_figures():
     result, summary = _run(_scene())
     assert "mesh" not in result.stages_run  # components alone: nothing meshed
-    pin = result.components["driving-pin"]
+    screws = result.components["crank-screws-O2"]
     torque = np.abs(result.kinematics.dynamics.torque).max()
-    assert pin.figures["force_N"] == pytest.approx(1.4 * torque / 0.06)
+    assert screws.figures["transverse_N"] >= torque / 0.06  # the motor's couple over the two screws, at least
     assert summary["verdict"] == "FAIL"
-    assert any(f.startswith("driving-pin bending") for f in result.failures_with_figures)
+    assert any(f.startswith("crank-screws-O2 slip") for f in result.failures_with_figures)
+    assert [c for c, r in result.components.items() if not r.passed] == ["crank-screws-O2"]
     written = json.loads(to_json(summary))["components"]  # summary.json: NaN and inf written as null or words
-    assert written["driving-pin"]["utilisation"] == pytest.approx(pin.utilisation) and not written["driving-pin"]["pass"]
+    assert written["crank-screws-O2"]["utilisation"] == pytest.approx(screws.utilisation) and not written["crank-screws-O2"]["pass"]
+    assert written["crank-screws-O2"]["needs"]["screw"] is None and written["crank-screws-O2"]["needs"]["friction_needed"] > 0.15
     bearing = result.components["bearings-A"]
     peak = np.hypot(*result.kinematics.dynamics.reactions["A"].T).max()
     assert bearing.figures["static_safety"] == pytest.approx(7800.0 / (peak / 2))
 
 
-def test_a_class_10_9_pin_passes_and_every_component_then_passes():
-    _, summary = _run(_scene({"pin_yield": "900 MPa", "pin_ultimate": "1000 MPa"}))
+def test_a_stronger_screw_on_a_rougher_joint_holds_and_every_component_then_passes():
+    _, summary = _run(_scene(HOLDS))
     assert summary["verdict"] == "PASS", summary["failures_with_figures"]
     assert all(c["pass"] for c in summary["components"].values())
+    assert "joint_friction" not in summary["components"]["crank-screws-O2"]["assumed"]  # given by the scene
 
 
 def test_at_rest_the_bearings_life_is_unlimited_and_written_without_inf():
@@ -156,10 +110,20 @@ def test_at_rest_the_bearings_life_is_unlimited_and_written_without_inf():
 
 
 def test_component_inputs_refused_in_one_line_naming_the_field():
-    with pytest.raises(InputError, match="components.pin_diameter"):
-        _scene({"pin_diameter": "8 mm"})  # wider than the rail's 7 mm hole
-    with pytest.raises(InputError, match="did you mean 'driving-pin'"):
-        _scene(parts=["driving-pn"])
+    with pytest.raises(InputError, match="components.screw_size: M8 does not fit the rail's 7 mm hole"):
+        _scene({"screw_size": "M8"})  # larger than the rail's 7 mm hole
+    with pytest.raises(InputError, match="components.screw_size: M4 does not fit"):
+        _scene({"screw_size": "M4"})  # its 7 mm head falls through the 7 mm hole
+    with pytest.raises(InputError, match="components.screw_class: must be one of"):
+        _scene({"screw_class": "14.9"})
+    with pytest.raises(InputError, match="components.joint_friction: value outside the physical range"):
+        _scene({"joint_friction": 0.001})  # no friction: no clamp holds anything
+    with pytest.raises(InputError, match="components.joint_friction: 0.9 is outside 0.05-0.8"):
+        _scene({"joint_friction": 0.9})  # beyond what steel on steel gives
+    with pytest.raises(InputError, match="components.screw_preload_utilisation: 1.2 is outside"):
+        _scene({"screw_preload_utilisation": 1.2})  # a preload above the screw's proof load
+    with pytest.raises(InputError, match="did you mean 'crank-screws-O2'"):
+        _scene(parts=["crank-screws-02"])
     with pytest.raises(InputError, match="components.shaft_kt"):
         _scene({"shaft_kt": -1})
     with pytest.raises(InputError, match="components.shaft_diameter: value outside the physical range"):
@@ -182,15 +146,17 @@ def test_the_motor_shaft_carries_the_cranks_weight_moment_only_on_a_table_top_ri
     from railcheck.loads.weight import shaft_moment
     from railcheck.model.loading import linkage_lengths, rail_weight
 
-    flat, _ = _run(_scene(parts=["motor-shaft", "bearings-O2"]))
-    upright, _ = _run(_scene(parts=["motor-shaft", "bearings-O2"], plane="vertical"))
+    flat, _ = _run(_scene(parts=["shaft-O2", "bearings-O2"]))
+    upright, _ = _run(_scene(parts=["shaft-O2", "bearings-O2"], plane="vertical"))
     scene = flat.scene
     weight = abs(float(shaft_moment(rail_weight(scene, "crank", "four-bar"), linkage_lengths(scene.linkage_spec.linkage))))
-    in_plane = np.hypot(*flat.kinematics.dynamics.reactions["O2"].T).max() * 0.03
-    assert flat.components["motor-shaft"].figures["moment_Nm"] == pytest.approx(1.4 * (in_plane + weight))
-    assert weight > 20.0  # DESIGN.md section 12: about 25 N m at the crank's shaft
+    in_plane = np.hypot(*flat.kinematics.dynamics.reactions["O2"].T).max() * 0.016
+    assert flat.components["shaft-O2"].figures["moment_Nm"] == pytest.approx(1.4 * (in_plane + weight))
+    assert weight > 20.0  # about 25 N m at the crank's shaft (docs/model.md)
     up = upright.kinematics.dynamics.reactions["O2"]
-    assert upright.components["motor-shaft"].figures["moment_Nm"] == pytest.approx(1.4 * 0.03 * np.hypot(*up.T).max())
+    assert upright.components["shaft-O2"].figures["moment_Nm"] == pytest.approx(1.4 * 0.016 * np.hypot(*up.T).max())
+    torque = np.abs(flat.kinematics.dynamics.torque).max()
+    assert flat.components["shaft-O2"].figures["torque_Nm"] == pytest.approx(1.4 * torque)
 
 
 def _swept(components=None, speed="1 Hz"):
@@ -211,12 +177,12 @@ def _swept(components=None, speed="1 Hz"):
 
 
 def test_a_sweeps_components_equal_a_check_of_the_setting_and_its_safe_speed_reaches_the_limit():
-    table = _swept({"pin_yield": "900 MPa", "pin_ultimate": "1000 MPa"})
+    table = _swept(HOLDS)
     assert table["verdict"].size > 100 and {f"{c}_utilisation" for c in COMPONENTS} <= set(table)
     k = int(np.argmax(table["utilisation"]))  # the worst setting
     row = {name: column[k] for name, column in table.items()}
     mech = {b: f"{row[f'{b}_mm']:.6f} mm" for b in ("crank", "coupler", "rocker", "ground")}
-    comp = {"pin_yield": "900 MPa", "pin_ultimate": "1000 MPa"}
+    comp = HOLDS
     result, _ = _run(_scene(comp, **mech))
     for name, c in result.components.items():  # the batch kinematics against the single setting's
         assert row[f"{name}_utilisation"] == pytest.approx(c.utilisation, rel=1e-6), name
@@ -230,31 +196,30 @@ def test_a_sweeps_components_equal_a_check_of_the_setting_and_its_safe_speed_rea
 
 
 def test_a_failing_component_fails_the_sweeps_rows_with_its_criterion():
-    table = _swept(speed="3 Hz")  # the class 8.8 driving pin fails where the motor torque is large
-    named = np.array(["driving-pin" in (r or "") for r in table["reason"]])
+    table = _swept(speed="3 Hz")  # the O2 screws slip where the motor torque is large
+    named = np.array(["crank-screws-O2" in (r or "") for r in table["reason"]])
     assert named.any() and (table["verdict"][named] == "fail").all()
-    assert (table["driving-pin_utilisation"][named] > 1.0).all()
-    assert not named[table["driving-pin_utilisation"] <= 1.0].any()
+    assert (table["screws-O2_utilisation"][named] > 1.0).all()
+    assert not named[table["screws-O2_utilisation"] <= 1.0].any()
 
 
 @pytest.mark.parametrize(
-    "override, component, criterion",
+    "override, factor, component, criterion",
     [
-        ({"pin_rail_thickness": "0.2 mm"}, "driving-pin", "bearing"),
-        ({"pin_yield": "2000 MPa", "pin_ultimate": "60 MPa"}, "driving-pin", "shear"),
-        ({"bolt_stress_area": "0.3 mm2"}, "bolts-A", "shear"),
-        ({"bolt_grip": "0.1 mm", "bolt_end_distance": "2 mm"}, "bolts-A", "bearing"),
-        ({"bolt_stress_area": "0.1 mm2"}, "bolts-A", "tension"),
-        ({"shaft_diameter": "2 mm"}, "shaft-A", "yield"),
-        ({"shaft_kt": 3.0, "shaft_diameter": "3.2 mm"}, "shaft-A", "fatigue"),
-        ({"bearing_static": "100 N"}, "bearings-A", "static"),
-        ({"bearing_required_life": "1e12 h"}, "bearings-A", "life"),
-        ({"carriage_c0": "600 N"}, "carriage-A", "static"),
+        ({}, 1.4, "crank-screws-O2", "slip"),
+        ({"screw_size": "M5"} | HOLDS, 3.0, "crank-screws-O2", "shear"),
+        ({"screw_grip": "0.2 mm"} | HOLDS, 1.4, "crank-screws-O2", "bearing"),
+        ({"screw_size": "M5"} | HOLDS, 20.0, "rocker-screws-O4", "tension"),
+        ({"screw_size": "M5"} | HOLDS, 20.0, "rocker-screws-O4", "shear+tension"),
+        ({"shaft_diameter": "4 mm"} | HOLDS, 1.4, "shaft-A", "yield"),
+        ({"shaft_diameter": "4 mm"} | HOLDS, 1.4, "shaft-A", "fatigue"),
+        ({"bearing_static": "100 N"} | HOLDS, 1.4, "bearings-A", "static"),
+        ({"bearing_required_life": "1e12 h"} | HOLDS, 1.4, "bearings-A", "life"),
+        ({"carriage_c0": "600 N"} | HOLDS, 1.4, "carriage-A", "static"),
     ],
 )
-def test_each_criterion_fails_a_component_and_the_verdict(override, component, criterion):
-    pins = {"pin_yield": "900 MPa", "pin_ultimate": "1000 MPa"}  # the default pin fails: keep it out
-    result, summary = _run(_scene(pins | override))
+def test_each_criterion_fails_a_component_and_the_verdict(override, factor, component, criterion):
+    result, summary = _run(_scene(override, factor=factor))
     c = result.components[component]
     assert c.utilisations[criterion] > 1.0 and not c.passed
     assert summary["verdict"] == "FAIL" and f"{component} {criterion}" in result.failures
@@ -273,7 +238,7 @@ def test_a_sweep_of_both_kinds_skips_the_rockers_components_on_the_slider_crank(
     }
     run = railcheck.sweep(data, serial=True)
     slider = run.tables["slider-crank"].column_names
-    assert "shaft-O4_utilisation" not in slider and "driving-pin_utilisation" in slider
+    assert "shaft-O4_utilisation" not in slider and "screws-O2_utilisation" in slider
     assert "shaft-O4_utilisation" in run.tables["four-bar"].column_names
 
 
@@ -287,7 +252,7 @@ def test_a_chunk_that_checks_no_setting_writes_every_components_column():
     ctx = SweepContext(scene, "four-bar", (2 * math.pi,), 720, {}, 7850.0, RAIL)
     col = fe_columns(ctx, 3, None, 0, np.zeros(3, dtype=bool), {})
     assert {f"{c}_utilisation" for c in COMPONENTS} <= set(col)
-    assert np.isnan(col["driving-pin_utilisation"]).all() and (col["verdict"] == "refused").all()
+    assert np.isnan(col["screws-O2_utilisation"]).all() and (col["verdict"] == "refused").all()
 
 
 def test_bearing_life_matches_a_published_worked_example():
@@ -325,9 +290,9 @@ def test_each_joints_load_path_is_the_verdicts_checks_at_its_governing_instant(t
         static = {k: v for k, v in result.components[worst].utilisations.items() if k != "fatigue" and k != "life"}
         if static:  # a static criterion's peak over the cycle is its peak instant's
             assert max(p.components[worst].utilisations[k] for k in static) == pytest.approx(max(static.values()))
-    pin = paths["O2"].components["driving-pin"]
-    assert pin.figures["force_N"] == pytest.approx(result.components["driving-pin"].figures["force_N"])
-    assert instant_loads(pin.figures, True, 1.4).endswith("(x1.4)")
+    screws = paths["O2"].components["crank-screws-O2"]
+    assert screws.figures["shear_N"] == pytest.approx(result.components["crank-screws-O2"].figures["shear_N"])
+    assert instant_loads(screws.figures, True, 1.4).endswith("(x1.4)")
     assert instant_loads(paths["A"].components["carriage-A"].figures, False, 1.4).endswith("(unfactored)")
     picture = write_joint_diagram(tmp_path / "joints.png", paths, result.components, 1.4)
     assert picture is not None and picture.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
@@ -337,13 +302,13 @@ def test_each_joints_load_path_is_the_verdicts_checks_at_its_governing_instant(t
 def test_the_components_safe_speed_is_where_they_really_reach_their_limit():
     result, summary = _run(_scene())
     safe = result.components_safe_speed
-    assert safe.component == "driving-pin" and 0.5 < safe.hz < 1.0
+    assert safe.component == "crank-screws-O2" and safe.criterion == "slip" and 0.3 < safe.hz < 0.6
     assert summary["components_safe_speed"]["Hz"] == safe.hz
     assert any(t.startswith(f"components: pass up to {safe.hz:.3g} Hz") for t in result.to_pass)
     below, _ = _run(_scene(speed=f"{safe.hz * 0.999!r} Hz"))
     above, _ = _run(_scene(speed=f"{safe.hz * 1.001!r} Hz"))
     assert all(c.passed for c in below.components.values()) and below.to_pass == []
-    assert not above.components["driving-pin"].passed
+    assert not above.components["crank-screws-O2"].passed
 
 
 def test_the_sweeps_maps_draw_the_components_largest_utilisation(monkeypatch, tmp_path):

@@ -1,4 +1,4 @@
-"""The table-top rig's weight out of plane (railcheck.loads.weight, DESIGN.md section 12):
+"""The table-top rig's weight out of plane (railcheck.loads.weight, docs/model.md):
 statics by hand, a grooved rail cantilevered under its own weight against beam theory, the
 plane's scene key, and the weight in a check (a standing rig carries it)."""
 
@@ -35,31 +35,35 @@ def _scene(extra_mechanism: str = "", check: str = "") -> object:
 # --- statics: the default scene's crank and rocker by hand (seed 000 masses) ---
 
 
-def test_the_default_crank_carries_24_9_n_m_at_its_shaft_and_21_5_at_its_driving_pin():
+def test_the_default_crank_carries_its_weight_moment_at_its_shaft_and_at_its_second_screw():
     """By hand, with the seed's masses (plate 1.155, carriage 0.68, coupling 0.577 kg) and the
-    meshed profile's 3.16 kg/m: the coupler (840 mm; its 1000 mm rail from 20 mm behind A)
-    rests on A and B, so A takes its rail's weight times (840 - 480) / 840 and the coupling
-    bolted at A; the crank (480 mm; its 700 mm rail from 20 mm behind O2) carries that, its
-    plate and carriage at A and its own weight, cantilevered from the shaft clamped over its
-    first two holes (60 mm)."""
+    meshed profile's 3.16 kg/m: every rail starts 50 mm behind its first joint (the rail's
+    20 mm end distance and half the 60 mm pitch: the joint's shaft midway between the first
+    two holes, where the upper plate's two screws are). The coupler (840 mm; its 1000 mm
+    rail's centre 450 mm from A) rests on A and B, so A takes its rail's weight times
+    (840 - 450) / 840 and the coupling bolted at A; the crank (480 mm; its 700 mm rail's
+    centre 300 mm from O2) carries that, its plate and carriage at A and its own weight,
+    cantilevered from the shaft through the plate's two screws, 30 mm either side of it."""
     scene = _scene()
     model = load_model(scene, "crank-rail", STEEL.density)
     per_m = scene.masses.rail_mass_per_m
     assert per_m == pytest.approx(3.16, abs=0.01)
-    coupler_at_a = per_m * 1.0 * GRAVITY * (0.84 - 0.48) / 0.84
+    coupler_at_a = per_m * 1.0 * GRAVITY * (0.84 - 0.45) / 0.84
     at_a = (1.155 + 0.68 + 0.577) * GRAVITY + coupler_at_a
     rail = per_m * 0.7 * GRAVITY
-    shaft = at_a * 0.48 + rail * (0.35 - 0.02)
-    beyond = per_m * (0.68 - 0.06) * GRAVITY  # the crank rail beyond the driving pin
-    at_pin = at_a * (0.48 - 0.06) + beyond * (0.68 - 0.06) / 2
+    shaft = at_a * 0.48 + rail * (0.35 - 0.05)
+    beyond = per_m * (0.65 - 0.03) * GRAVITY  # the crank rail beyond its second screw
+    at_screw = at_a * (0.48 - 0.03) + beyond * (0.65 - 0.03) / 2
     lengths = linkage_lengths(scene.linkage_spec.linkage)
     assert float(shaft_moment(model.weight, lengths)) == pytest.approx(shaft, rel=1e-9)
-    assert shaft == pytest.approx(24.9, abs=0.05) and at_pin == pytest.approx(21.5, abs=0.05)
+    assert shaft == pytest.approx(24.75, abs=0.01) and at_screw == pytest.approx(23.06, abs=0.01)
     near, drive, far = (float(v) for v in joint_forces(model.weight, lengths))
     assert far == pytest.approx(-at_a, rel=1e-9)
-    # the loads past the driving pin, about it: the model's forces give the hand's moment
-    moment_at_pin = -far * (0.48 - 0.06) + beyond * (0.68 - 0.06) / 2
-    assert moment_at_pin == pytest.approx(at_pin, rel=1e-12)
+    # the loads past the second screw, about it: the model's forces give the hand's moment
+    moment_at_screw = -far * (0.48 - 0.03) + beyond * (0.65 - 0.03) / 2
+    assert moment_at_screw == pytest.approx(at_screw, rel=1e-12)
+    # and about the shaft's line the two screws' forces carry the shaft's moment
+    assert (drive - near) * 0.03 == pytest.approx(shaft, rel=1e-12)
     assert near + drive + far == pytest.approx(rail, rel=1e-12)  # the shaft's clamp holds the weight
 
 
@@ -78,7 +82,7 @@ def test_each_bar_balances_its_weight_and_the_links_rest_on_their_joints():
         assert sum(float(v) for v in forces[bar]) == pytest.approx(per_m * length * g, rel=1e-12)
     a, drive, b = forces["coupler"]
     assert float(drive) == 0.0
-    assert float(a) == pytest.approx(per_m * 1.0 * g * (0.84 - 0.48) / 0.84, rel=1e-9)  # its centre 480 mm from A
+    assert float(a) == pytest.approx(per_m * 1.0 * g * (0.84 - 0.45) / 0.84, rel=1e-9)  # its centre 450 mm from A
     assert float(forces["rocker"][2]) == pytest.approx(-(float(b) + (0.577 + 1.155 + 0.68) * g), rel=1e-12)
 
 
@@ -178,11 +182,11 @@ def test_a_standing_table_top_rig_bends_its_crank_as_the_statics_of_its_weight_s
     cyc, geo = part.cycle, part.geometry
     S = cyc.fields.stress @ cyc.C[0]
     xs = geo.get("hole_x")
-    x0 = 0.5 * (xs[4] + xs[5])  # part frame: the shaft (O2) at xs[0]
+    x0 = 0.5 * (xs[4] + xs[5])  # part frame: the shaft (O2) midway between xs[0] and xs[1]
     per_m = scene.masses.rail_mass_per_m * GRAVITY  # N/m, the dynamics' rail (the FE's graded density carries it)
-    at_a = (1.155 + 0.68 + 0.577) * GRAVITY + per_m * 1.0 * (0.84 - 0.48) / 0.84  # by hand, as above
+    at_a = (1.155 + 0.68 + 0.577) * GRAVITY + per_m * 1.0 * (0.84 - 0.45) / 0.84  # by hand, as above
     beyond = geo.get("length") - x0
-    moment = 1.4 * (at_a * (xs[0] + 0.48 - x0) + per_m * beyond**2 / 2)  # hogging: top in tension
+    moment = 1.4 * (at_a * (0.5 * (xs[0] + xs[1]) + 0.48 - x0) + per_m * beyond**2 / 2)  # hogging: top in tension
     from test_freebody import section_fit
 
     _, _, c = section_fit(S, cyc.fields.nodes, x0)

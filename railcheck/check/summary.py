@@ -89,6 +89,7 @@ def component_summary(c) -> dict:
         "utilisation_by_criterion": dict(c.utilisations),
         "figures": dict(c.figures),
         "assumed": list(c.assumed),
+        "needs": dict(c.needs),
         "pass": bool(c.passed),
     }
 
@@ -208,7 +209,7 @@ def free_deflection_words(job) -> str:
     if job.loads.is_free_plate:
         return "the seat's displacement relative to the line through the two bolts"
     if job.loads.free_body.motor:
-        return "at A's bolts relative to the line through the shaft and the driving pin"
+        return "at A's bolts relative to the line through the two screws at O2"
     return "sag at mid-span relative to the line through the two joints"
 
 

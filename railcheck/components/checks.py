@@ -1,62 +1,61 @@
 """Each component's loads from the joint force histories, and its check by its standard
-(:mod:`railcheck.components.standards`), vectorised over any leading axes (a sweep's
-settings) and over the cycle's steps (the last axis). SI.
+(:mod:`railcheck.components.standards`, :mod:`railcheck.components.screws`), vectorised
+over any leading axes (a sweep's settings) and over the cycle's steps (the last axis). SI.
 
-The loads, per component (the idealisations, stated in :func:`component_note`):
+The loads, per component (the idealisations, stated in docs/components.md):
 
-* driving pin: the motor torque ``T`` as a couple over the crank's shaft and the pin one
-  hole pitch ``a`` apart: ``|T| / a``, in single shear;
-* motor shaft: the crank's joint force at O2 ``R_O2`` (the couple's two forces cancel in
-  the shaft's bearings) bending it over the lever from its bearing's shoulder, and ``T``;
-* joint shafts (A, B, O4): the joint force bending the stub through the rail's hole at its
-  shoulder; no torque (the bearings turn freely);
-* plate screws (A, B): the joint force in the axes of the rail the plate is screwed to, at
-  the plate's bearing seat, shared by the two screws by the elastic method; tension from
-  the table-top rig's weight through the joint (:func:`railcheck.loads.weight.joint_vertical_loads`),
-  levered about the screws;
+* screws (two per plate through two adjacent holes of the rail, ``rail_pitch`` apart):
+  the joint force in the rail's axes, ``screw_eccentricity`` from their centroid along the
+  rail, and at O2 the motor torque, shared by the elastic method; tension from a table-top
+  rig's weight (the cantilevered bar's weight couple over the two screws at its first
+  joint; at a far joint the weight through the joint, levered about the screws);
+* shafts: the joint force bending the 25 mm shaft at the upper bearing's shoulder over
+  ``shaft_lever``, plus a cantilevered bar's weight moment (O2, O4); the motor torque at O2;
 * bearings: two per joint sharing the joint force (:mod:`railcheck.loads.bearings`), at
-  the rings' relative speed;
+  the rings' relative speed, a cantilevered bar's weight moment as a couple over them;
 * carriages (A, B): the joint force in the rail's axes, lateral and longitudinal, at a
   height above the carriage (roll and pitch moments), the weight through the joint normal.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
-from railcheck.components import standards
+from railcheck.components import screws, standards
 from railcheck.components.ratings import ASSUMED, COMPONENTS, Component, ComponentSpec
 from railcheck.fea.fatigue import endurance_limit, size_factor_of_diameter
 from railcheck.loads.bearings import BallBearing, bearing_life_of_magnitude, with_weight_couple
 
 #: each kind's standard, as the output names it
 STANDARDS = {
-    "pin": "EN 1993-1-8 T3.10",
-    "bolts": "EN 1993-1-8 T3.4",
+    "screws": "EN 1993-1-8 T3.4, VDI 2230 slip",
     "shaft": "Shigley DE-Goodman",
     "bearings": "ISO 76, ISO 281",
     "carriage": "catalogue P0",
 }
 
+_SCREW_FIELDS = (
+    "screw_size",
+    "screw_class",
+    "screw_thread_friction",
+    "screw_head_friction",
+    "screw_tightening_factor",
+    "screw_preload_utilisation",
+    "screw_embedding",
+    "joint_friction",
+    "slip_safety",
+    "screw_grip",
+    "screw_end_distance",
+    "screw_edge_distance",
+    "screw_eccentricity",
+)
+
 #: the spec fields each kind reads (the "assumed" ones among them are named in the output)
 FIELDS = {
-    "pin": ("pin_diameter", "pin_arm", "pin_rail_thickness", "pin_hub_thickness", "pin_gap", "pin_yield", "pin_ultimate"),
-    "bolts": (
-        "bolt_diameter",
-        "bolt_stress_area",
-        "bolt_ultimate",
-        "bolt_alpha_v",
-        "bolt_hole",
-        "bolt_pitch",
-        "bolt_eccentricity",
-        "bolt_end_distance",
-        "bolt_edge_distance",
-        "bolt_grip",
-    ),
+    "screws": _SCREW_FIELDS,
     "shaft": ("shaft_diameter", "shaft_fillet_radius", "shaft_kt", "shaft_kts", "shaft_lever"),
-    "motor-shaft": ("motor_shaft_diameter", "shaft_fillet_radius", "shaft_kt", "shaft_kts", "motor_shaft_lever"),
     "bearings": ("bearing_dynamic", "bearing_static", "bearing_spacing", "bearing_required_s0", "bearing_required_life"),
     "carriage": ("carriage_c0", "carriage_m0x", "carriage_m0y", "carriage_m0z", "carriage_height", "carriage_required_s0"),
 }
@@ -66,12 +65,15 @@ FIELDS = {
 class JointHistories:
     """What the components need from one cycle (arrays over leading axes ``...`` and the
     steps ``T``): ``reactions`` joint -> (..., T, 2) N in the ground frame (the force on
-    the bar the joint's name follows in the parts' load sources: unfactored),
-    ``torque`` (..., T) N m on the crank, ``angles`` bar -> (..., T) rad of each bar's axis,
-    ``relative_speed`` joint -> (..., T) rad/s of the joint's bearing rings, ``vertical``
-    joint -> (...,) N the weight through the joint out of plane, ``moments`` joint ->
-    (...,) N m the weight's moment about an in-plane axis that a cantilevered bar's shaft
-    carries into its bearings (O2, O4; a joint left out, or a vertical rig: 0)."""
+    the bar that starts at the joint, or for A and B the force on the crank and the coupler
+    at their far joints: unfactored; the checks read magnitudes and, at O2, the force on
+    the crank), ``torque`` (..., T) N m on the crank, ``angles`` bar -> (..., T) rad of each
+    bar's axis, ``relative_speed`` joint -> (..., T) rad/s of the joint's bearing rings,
+    ``vertical`` joint -> (...,) N the weight through the joint out of plane, ``moments``
+    joint -> (...,) N m the weight's moment about an in-plane axis that a cantilevered
+    bar's shaft carries into its bearings (O2, O4; a joint left out, or a vertical rig: 0),
+    ``screw_tension`` joint -> ((...,), (...,)) N the weight's pull on the first and second
+    screw of the upper plate at that joint (>= 0; absent: none)."""
 
     reactions: dict
     torque: np.ndarray
@@ -79,12 +81,13 @@ class JointHistories:
     relative_speed: dict
     vertical: dict
     moments: dict
+    screw_tension: dict = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
 class Strengths:
     """The strengths a component check reads (Pa): the rig's steel for shafts and the
-    members screws and pins bear on."""
+    members screws bear on."""
 
     ultimate: float
     yield_strength: float
@@ -95,7 +98,9 @@ class Strengths:
 @dataclass(frozen=True)
 class ComponentResult:
     """One component's check: each criterion's utilisation (1 = at its limit) and the
-    figures behind them (SI; arrays over a sweep's settings, floats for one check)."""
+    figures behind them (SI; arrays over a sweep's settings, floats for one check);
+    ``assumed`` the assumed fields it reads; ``needs`` what it needs to pass (one check's
+    sizing, :mod:`railcheck.components.sizing`; empty in a sweep)."""
 
     name: str
     kind: str
@@ -105,6 +110,7 @@ class ComponentResult:
     utilisations: dict
     figures: dict
     assumed: tuple[str, ...]
+    needs: dict = field(default_factory=dict)
 
     @property
     def utilisation(self):
@@ -133,13 +139,18 @@ def _magnitude(force: np.ndarray) -> np.ndarray:
 
 
 def check_component(
-    component: Component, spec: ComponentSpec, h: JointHistories, factor: float, material: Strengths
+    component: Component,
+    spec: ComponentSpec,
+    h: JointHistories,
+    factor: float,
+    material: Strengths,
+    given: frozenset = frozenset(),
 ) -> ComponentResult:
     """The check of ``component`` by its standard on the histories ``h``: the strength
-    checks on loads times ``factor``, the rolling elements' on the loads as they are."""
+    checks on loads times ``factor``, slip and the rolling elements' on the loads as they
+    are; ``given`` the ``[components]`` keys the scene set (not "assumed")."""
     f = factor if component.factored else 1.0
     u, figures = KIND_CHECKS[component.kind](component, spec, h, f, material)
-    key = "motor-shaft" if component.motor else component.kind
     return ComponentResult(
         component.name,
         component.kind,
@@ -148,67 +159,84 @@ def check_component(
         component.factored,
         u,
         figures,
-        tuple(n for n in FIELDS[key] if n in ASSUMED),
+        tuple(n for n in FIELDS[component.kind] if n in ASSUMED and n not in given),
     )
 
 
-def _pin(c: Component, spec: ComponentSpec, h: JointHistories, f: float, m: Strengths):
-    force = f * np.abs(h.torque) / spec.pin_arm
-    u = standards.pin_utilisations(
-        force,
-        spec.pin_diameter,
-        spec.pin_rail_thickness,
-        spec.pin_hub_thickness,
-        spec.pin_gap,
-        spec.pin_yield,
-        spec.pin_ultimate,
-        m.yield_strength,
+def screw_loads(c: Component, spec: ComponentSpec, h: JointHistories) -> tuple[np.ndarray, np.ndarray]:
+    """(transverse (2, ..., T), tension (2, ...)) N, unfactored, on each of the plate's two
+    screws (the first nearer the joint's line): the joint force (and at O2 the motor torque)
+    by the elastic method (:func:`railcheck.components.standards.two_screw_forces`), the
+    weight's pull on each screw."""
+    along, across = in_rail_axes(h.reactions[c.joint], h.angles[c.rail])
+    torque = h.torque if c.motor else 0.0
+    transverse = standards.two_screw_forces(along, across, torque, spec.screw_eccentricity, spec.rail_pitch)
+    if c.end == "near":
+        pulls = h.screw_tension.get(c.joint, (0.0, 0.0))
+        tension = np.array([np.broadcast_to(np.asarray(t, float), along.shape[:-1]) for t in pulls])
+    else:  # the weight through the far joint, levered about the screws (the joint at the first)
+        vertical = np.abs(np.asarray(h.vertical.get(c.joint, 0.0), float))
+        share = vertical * (0.5 + spec.screw_eccentricity / spec.rail_pitch)
+        tension = np.array([np.broadcast_to(share, along.shape[:-1])] * 2)
+    return transverse, tension
+
+
+def _screws(c: Component, spec: ComponentSpec, h: JointHistories, f: float, m: Strengths):
+    transverse, tension = screw_loads(c, spec, h)
+    thread, grade = spec.thread, spec.property_class
+    shear, pull = f * transverse.max(axis=0), f * np.broadcast_to(tension[..., None], transverse.shape).max(axis=0)
+    u = standards.bolt_utilisations(
+        shear,
+        pull,
+        thread.d,
+        thread.stress_area,
+        grade.ultimate,
+        m.ultimate,
+        spec.screw_grip,
+        grade.alpha_v,
+        spec.screw_end_distance,
+        spec.screw_edge_distance,
+        spec.rail_hole,
     )
-    return u, {"force_N": force.max(axis=-1)}
+    clamp = screws.least_clamp(thread, grade, spec)
+    slip = screws.slip_utilisation(transverse, tension[..., None], clamp, spec.joint_friction, spec.slip_safety)
+    u["slip"] = slip.max(axis=(0, -1))
+    peak = shear.max(axis=-1)
+    figures = {"shear_N": peak, "tension_N": pull.max(axis=-1), "clamp_N": np.full_like(peak, clamp)}
+    figures["transverse_N"] = transverse.max(axis=(0, -1))
+    return u, figures
 
 
 def _shaft(c: Component, spec: ComponentSpec, h: JointHistories, f: float, m: Strengths):
-    d = spec.motor_shaft_diameter if c.motor else spec.shaft_diameter
-    lever = spec.motor_shaft_lever if c.motor else spec.shaft_lever
-    moment = f * _magnitude(h.reactions[c.joint]) * lever
-    if c.motor:  # the crank's weight, cantilevered from the motor shaft: added to the bending (an upper bound)
-        moment = moment + f * np.abs(np.asarray(h.moments.get(c.joint, 0.0), float))[..., None]
+    d = spec.shaft_diameter
+    moment = f * (_magnitude(h.reactions[c.joint]) * spec.shaft_lever)
+    # a cantilevered bar's weight moment (O2, O4) added to the bending: an upper bound
+    moment = moment + f * np.abs(np.asarray(h.moments.get(c.joint, 0.0), float))[..., None]
     torque = f * h.torque if c.motor else np.zeros_like(moment)
-    marin = endurance_limit(m.ultimate, m.surface, None, "bending", m.reliability)
-    se = marin.endurance_limit * size_factor_of_diameter(d)
-    radius = spec.shaft_fillet_radius * d / spec.shaft_diameter  # the same r/d at either diameter
-    kf = standards.fatigue_notch_factor(spec.shaft_kt, m.ultimate, radius)
-    kfs = standards.fatigue_notch_factor(spec.shaft_kts, m.ultimate, radius, torsion=True)
+    kf, kfs, se = shaft_factors(spec, m, d)
     u = standards.shaft_utilisations(moment, torque, d, kf, kfs, se, m.ultimate, m.yield_strength)
     return u, {"moment_Nm": moment.max(axis=-1), "torque_Nm": np.abs(torque).max(axis=-1), "endurance_Pa": se}
 
 
-def _bolts(c: Component, spec: ComponentSpec, h: JointHistories, f: float, m: Strengths):
-    along, across = in_rail_axes(h.reactions[c.joint], h.angles[c.rail])
-    shear = f * standards.bolt_group_forces(along, across, spec.bolt_eccentricity, spec.bolt_pitch)
-    vertical = np.abs(np.asarray(h.vertical.get(c.joint, 0.0), float))
-    tension = f * vertical * (0.5 + spec.bolt_eccentricity / spec.bolt_pitch)
-    tension = np.broadcast_to(np.asarray(tension)[..., None], shear.shape)
-    u = standards.bolt_utilisations(
-        shear,
-        tension,
-        spec.bolt_diameter,
-        spec.bolt_stress_area,
-        spec.bolt_ultimate,
-        m.ultimate,
-        spec.bolt_grip,
-        spec.bolt_alpha_v,
-        spec.bolt_end_distance,
-        spec.bolt_edge_distance,
-        spec.bolt_hole,
-    )
-    return u, {"shear_N": shear.max(axis=-1), "tension_N": tension.max(axis=-1)}
+def shaft_factors(spec: ComponentSpec, m: Strengths, d: float) -> tuple[float, float, float]:
+    """(K_f, K_fs, S_e Pa) of a shaft of diameter ``d`` m at its bearing's shoulder: the
+    notch factors of the fillet ``shaft_fillet_radius`` (fixed by the bearing's corner),
+    the Marin-modified endurance limit with the size factor of ``d``."""
+    marin = endurance_limit(m.ultimate, m.surface, None, "bending", m.reliability)
+    kf = standards.fatigue_notch_factor(spec.shaft_kt, m.ultimate, spec.shaft_fillet_radius)
+    kfs = standards.fatigue_notch_factor(spec.shaft_kts, m.ultimate, spec.shaft_fillet_radius, torsion=True)
+    return kf, kfs, marin.endurance_limit * size_factor_of_diameter(d)
+
+
+def bearing_load(c: Component, spec: ComponentSpec, h: JointHistories) -> np.ndarray:
+    """(..., T) N: the joint load its two bearings share, a cantilevered bar's weight
+    moment added as a couple over their spacing (:func:`railcheck.loads.bearings.with_weight_couple`)."""
+    return with_weight_couple(_magnitude(h.reactions[c.joint]), h.moments.get(c.joint, 0.0), spec.bearing_spacing)
 
 
 def _bearings(c: Component, spec: ComponentSpec, h: JointHistories, f: float, m: Strengths):
     bearing = BallBearing("6205", spec.bearing_dynamic, spec.bearing_static)
-    load = with_weight_couple(_magnitude(h.reactions[c.joint]), h.moments.get(c.joint, 0.0), spec.bearing_spacing)
-    life = bearing_life_of_magnitude(load, h.relative_speed[c.joint], bearing)
+    life = bearing_life_of_magnitude(bearing_load(c, spec, h), h.relative_speed[c.joint], bearing)
     hours = spec.bearing_required_life / 3600.0
     with np.errstate(divide="ignore"):
         u = {
@@ -237,9 +265,11 @@ def _carriage(c: Component, spec: ComponentSpec, h: JointHistories, f: float, m:
     return {"static": spec.carriage_required_s0 / safety}, {"equivalent_load_N": p0, "static_safety": safety}
 
 
-KIND_CHECKS = {"pin": _pin, "shaft": _shaft, "bolts": _bolts, "bearings": _bearings, "carriage": _carriage}
+KIND_CHECKS = {"screws": _screws, "shaft": _shaft, "bearings": _bearings, "carriage": _carriage}
 
 
-def check_components(names, spec: ComponentSpec, h: JointHistories, factor: float, material: Strengths) -> dict:
+def check_components(
+    names, spec: ComponentSpec, h: JointHistories, factor: float, material: Strengths, given: frozenset = frozenset()
+) -> dict:
     """name -> :class:`ComponentResult` of each component ``names`` lists."""
-    return {n: check_component(COMPONENTS[n], spec, h, factor, material) for n in names}
+    return {n: check_component(COMPONENTS[n], spec, h, factor, material, given) for n in names}

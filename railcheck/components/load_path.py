@@ -1,5 +1,5 @@
 """Each joint's load path at one instant: the components in the order the joint force
-passes them (DESIGN.md section 13), each checked on that instant alone by the same
+passes them (docs/components.md), each checked on that instant alone by the same
 functions as the verdict (:func:`railcheck.components.checks.check_component` with
 each step a one-step cycle), so a diagram's figures cannot drift from the table's.
 SI.
@@ -15,14 +15,17 @@ import numpy as np
 from railcheck.components.checks import ComponentResult, JointHistories, Strengths, check_component
 from railcheck.components.ratings import COMPONENTS, ComponentSpec
 
-#: each joint's path: the bar whose rail the force comes from, the components in order,
-#: and where it ends (a rail, or the ground frame). At O2 the driving pin carries the
-#: motor's couple between its hub and the crank rail, the shaft the joint force and torque
+#: each joint's path as the v2 joints build it: the rail the force comes from, the
+#: components in order, and where it ends (a rail, or the ground frame). The next rail is
+#: screwed to the upper plate, which turns on the shaft between two bearings in the lower
+#: plate; at O2 the motor drives the shaft, its torque reaching the crank rail through the
+#: upper plate's two screws; at A and B the lower plate sits on the previous rail's carriage
+#: and is screwed to that rail
 PATHS = {
-    "O2": ("crank rail", ("driving-pin", "motor-shaft", "bearings-O2"), "ground frame (the motor)"),
-    "A": ("coupler rail", ("shaft-A", "bearings-A", "bolts-A", "carriage-A"), "crank rail"),
-    "B": ("rocker rail", ("shaft-B", "bearings-B", "bolts-B", "carriage-B"), "coupler rail"),
-    "O4": ("rocker rail", ("shaft-O4", "bearings-O4"), "ground frame"),
+    "O2": ("crank rail", ("crank-screws-O2", "shaft-O2", "bearings-O2"), "ground frame (the motor)"),
+    "A": ("coupler rail", ("coupler-screws-A", "shaft-A", "bearings-A", "carriage-A", "crank-screws-A"), "crank rail"),
+    "B": ("rocker rail", ("rocker-screws-B", "shaft-B", "bearings-B", "carriage-B", "coupler-screws-B"), "coupler rail"),
+    "O4": ("rocker rail", ("rocker-screws-O4", "shaft-O4", "bearings-O4"), "ground frame"),
 }
 
 

@@ -7,10 +7,14 @@ import dataclasses
 
 from railcheck.components.checks import ComponentResult, JointHistories, Strengths, check_components
 from railcheck.components.load_path import joint_paths
+from railcheck.components.sizing import with_needs
 from railcheck.fea.materials import MATERIALS
 from railcheck.loads.bearings import relative_speeds
-from railcheck.loads.weight import joint_vertical_loads, shaft_moment
+from railcheck.loads.weight import joint_vertical_loads, screw_pulls, shaft_moment
 from railcheck.model.loading import linkage_lengths, rail_weight
+
+#: each bar's first joint, where its rail is screwed to the upper plate
+FIRST_JOINTS = {"O2": "crank", "A": "coupler", "O4": "rocker"}
 
 
 def joint_histories(scene, kin) -> JointHistories:
@@ -21,13 +25,16 @@ def joint_histories(scene, kin) -> JointHistories:
     motion, dyn = kin.motion, kin.dynamics
     kind = motion.linkage.kind
     theta, omega = motion.theta, motion.omega
-    vertical, moments = {}, {}
+    vertical, moments, pulls = {}, {}, {}
     if scene.plane == "horizontal":
         lengths = linkage_lengths(motion.linkage)
         vertical = {j: float(v) for j, v in joint_vertical_loads(rail_weight(scene, "crank", kind), lengths).items()}
-        moments["O2"] = float(shaft_moment(rail_weight(scene, "crank", kind), lengths))
-        if kind == "four-bar":
-            moments["O4"] = float(shaft_moment(rail_weight(scene, "rocker", kind), lengths))
+        for joint, bar in FIRST_JOINTS.items():
+            if kind == "four-bar" or bar != "rocker":
+                w = rail_weight(scene, bar, kind)
+                pulls[joint] = tuple(float(p) for p in screw_pulls(w, lengths))
+                if bar != "coupler":
+                    moments[joint] = float(shaft_moment(w, lengths))
     return JointHistories(
         reactions=dict(dyn.reactions),
         torque=dyn.torque,
@@ -35,16 +42,18 @@ def joint_histories(scene, kin) -> JointHistories:
         relative_speed=relative_speeds(omega[:, 0], omega[:, 1], omega[:, 2], kind),
         vertical=vertical,
         moments=moments,
+        screw_tension=pulls,
     )
 
 
 def check_scene_components(scene, kin) -> dict[str, ComponentResult]:
     """name -> :class:`ComponentResult` of every component the scene's ``[check] parts``
     lists, on its cycle (one check: floats)."""
-    strengths = strengths_of(scene)
+    strengths, factor = strengths_of(scene), scene.checked.factor
     histories = joint_histories(scene, kin)
-    results = check_components(scene.checked.components, scene.components, histories, scene.checked.factor, strengths)
-    return {n: _as_floats(r) for n, r in results.items()}
+    given = frozenset(scene.raw.get("components", {}))
+    results = check_components(scene.checked.components, scene.components, histories, factor, strengths, given)
+    return {n: _as_floats(with_needs(r, scene.components, histories, factor, strengths)) for n, r in results.items()}
 
 
 def strengths_of(scene) -> Strengths:
@@ -60,6 +69,7 @@ def _as_floats(r: ComponentResult) -> ComponentResult:
         r,
         utilisations={k: float(v) for k, v in r.utilisations.items()},
         figures={k: float(v) for k, v in r.figures.items()},
+        needs={k: v if isinstance(v, str) or v is None else float(v) for k, v in r.needs.items()},
     )
 
 

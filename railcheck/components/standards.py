@@ -5,18 +5,12 @@ Every function returns utilisations (demand over capacity: 1 = at the limit) per
 criterion, each an array over the histories' leading axes reduced over the cycle (the
 last axis), and the figures behind them.
 
-* Pins: EN 1993-1-8:2005 Table 3.10 (pin connections): shear ``F_v,Rd = 0.6 A f_up /
-  gamma_M2``, bearing ``F_b,Rd = 1.5 t d f_y / gamma_M0`` on each member, bending
-  ``M_Rd = 1.5 W_el f_yp / gamma_M0``, and shear with bending
-  ``(M_Ed / M_Rd)^2 + (F_v,Ed / F_v,Rd)^2 <= 1``. A pin in single shear (as built)
-  bends over the lever between its two members' bearing resultants,
-  ``t_1 / 2 + gap + t_2 / 2``; in double shear by Figure 3.11, ``F (b + 4 c + 2 a) / 8``.
 * Bolts: EN 1993-1-8:2005 Table 3.4 (category A bearing type, D non-preloaded tension):
   shear per plane through the thread ``F_v,Rd = alpha_v f_ub A_s / gamma_M2``; bearing
   ``F_b,Rd = k_1 alpha_b f_u d t / gamma_M2``; tension ``F_t,Rd = 0.9 f_ub A_s /
   gamma_M2``; combined ``F_v,Ed / F_v,Rd + F_t,Ed / (1.4 F_t,Rd) <= 1``. A bolt group's
-  forces by the elastic method (the eccentric force's moment shared in proportion to
-  each bolt's distance from the group's centroid).
+  forces by the elastic method (the moment about the group's centroid shared in
+  proportion to each bolt's distance from it; for two bolts, a couple over their pitch).
 * Shafts: Shigley, Mechanical Engineering Design, 10th ed., section 7-4: DE-Goodman
   (eq. 7-8) ``1/n = 16 / (pi d^3) { [4 (K_f M_a)^2 + 3 (K_fs T_a)^2]^(1/2) / S_e +
   [4 (K_f M_m)^2 + 3 (K_fs T_m)^2]^(1/2) / S_ut }`` and first-cycle yield (eq. 7-15)
@@ -47,40 +41,16 @@ def _ratio(demand, capacity) -> np.ndarray:
         return np.where(capacity > 0, np.asarray(demand, float) / np.where(capacity > 0, capacity, 1.0), np.inf)
 
 
-def pin_utilisations(force, d, t1, t2, gap, fy_pin, fu_pin, fy_members, planes: int = 1) -> dict[str, np.ndarray]:
-    """EN 1993-1-8 Table 3.10 for a pin of diameter ``d`` carrying ``force`` (..., T) N
-    (factored); ``fy_members`` the lower yield strength of the members (Pa). In single
-    shear (``planes`` 1, as the rig's driving pin is built) between members ``t1`` and
-    ``t2`` thick (m) across ``gap`` (m), bending over the lever between their bearing
-    resultants. In double shear (``planes`` 2): a middle member ``t2`` thick between two
-    outer plates ``t1`` thick, ``gap`` each side; each plane carries half the force and
-    the pin bends by EN 1993-1-8 Figure 3.11, ``M = F (t2 + 4 gap + 2 t1) / 8``. Returns
-    the utilisations ``shear``, ``bending``, ``shear+bending``, ``bearing`` (the most
-    loaded member's) at the cycle's peak force."""
-    f = np.max(np.abs(force), axis=-1)
-    area = math.pi * d * d / 4.0
-    shear_rd = 0.6 * area * fu_pin / GAMMA_M2
-    fy = min(fy_pin, fy_members)
-    if planes == 1:
-        m_ed = f * (t1 / 2.0 + gap + t2 / 2.0)
-        bearing = _ratio(f, 1.5 * min(t1, t2) * d * fy / GAMMA_M0)
-    elif planes == 2:
-        m_ed = f * (t2 + 4.0 * gap + 2.0 * t1) / 8.0
-        bearing = np.maximum(_ratio(f, 1.5 * t2 * d * fy / GAMMA_M0), _ratio(f / 2.0, 1.5 * t1 * d * fy / GAMMA_M0))
-    else:
-        raise ValueError(f"a pin has 1 or 2 shear planes, not {planes}")
-    m_rd = 1.5 * (math.pi * d**3 / 32.0) * fy_pin / GAMMA_M0
-    shear, bending = _ratio(f / planes, shear_rd), _ratio(m_ed, m_rd)
-    return {"shear": shear, "bending": bending, "shear+bending": np.sqrt(shear**2 + bending**2), "bearing": bearing}
-
-
-def bolt_group_forces(fx, fy, eccentricity, pitch) -> np.ndarray:
-    """(..., T) N the largest shear force on either of two bolts ``pitch`` m apart along
-    x, from a force (``fx``, ``fy``) applied ``eccentricity`` m along x from their centroid
-    (elastic method: each bolt ``(fx / 2, fy / 2 +- fy e / pitch)``)."""
-    fx, fy = np.asarray(fx, float), np.asarray(fy, float)
-    twist = fy * eccentricity / pitch
-    return np.hypot(0.5 * fx, np.abs(0.5 * fy) + np.abs(twist))
+def two_screw_forces(along, across, torque, eccentricity, pitch) -> np.ndarray:
+    """(2, ..., T) N the transverse force on each of two screws ``pitch`` m apart along a
+    rail (the elastic method), from a force (``along``, ``across``) N in the rail's axes
+    whose line crosses the rail ``eccentricity`` m from the screws' centroid, on the first
+    screw's side, and a ``torque`` N m about the normal to the plane: each screw carries
+    half the force, and the moment about the centroid ``M = torque - eccentricity across``
+    as a couple ``+-M / pitch`` across the rail (the second screw ``+``)."""
+    along, across = np.asarray(along, float), np.asarray(across, float)
+    couple = (np.asarray(torque, float) - eccentricity * across) / pitch
+    return np.array([np.hypot(0.5 * along, 0.5 * across - couple), np.hypot(0.5 * along, 0.5 * across + couple)])
 
 
 def bolt_utilisations(shear, tension, d, stress_area, fub, fu_member, t, alpha_v, e1, e2, d0) -> dict[str, np.ndarray]:
@@ -143,6 +113,30 @@ def shaft_utilisations_of_parts(ma, mm, ta, tm, d, kf, kfs, endurance, ultimate,
     sigma = 2.0 * k * kf * (ma + mm)  # 32 K_f M / (pi d^3)
     tau = k * kfs * (np.abs(tm) + ta)
     return {"fatigue": inv_n, "yield": np.sqrt(sigma**2 + 3.0 * tau**2) / yield_strength}
+
+
+def de_goodman_diameter(ma, ta, tm, kf, kfs, endurance, ultimate, n: float = 1.0, start: float = 25e-3) -> float:
+    """m: the shaft diameter at which DE-Goodman (Shigley eq. 7-8) gives the factor of
+    safety ``n`` under the alternating moment ``ma`` and the torque's alternating and
+    midrange parts ``ta``, ``tm`` (N m; no midrange moment: a rotating shaft), solved for
+    ``d``: ``d = (16 n / pi (A / S_e + B / S_ut))^(1/3)``. ``endurance`` is S_e (Pa), or a
+    function of the diameter (the size factor's weak dependence: solved by substitution
+    from ``start``, contracting by about 0.107 / 3 a step)."""
+    alternating = math.sqrt(4 * (kf * ma) ** 2 + 3 * (kfs * ta) ** 2)
+    midrange = math.sqrt(3) * kfs * abs(tm)
+    se = endurance if callable(endurance) else (lambda d: endurance)
+    d = start
+    for _ in range(40):
+        d = (16.0 * n / math.pi * (alternating / se(d) + midrange / ultimate)) ** (1.0 / 3.0)
+    return d
+
+
+def yield_diameter(m_max, t_max, kf, kfs, yield_strength, n: float = 1.0) -> float:
+    """m: the shaft diameter at which the first cycle's largest von Mises stress (Shigley
+    eq. 7-15, the notch factors applied) reaches ``yield_strength / n`` under the largest
+    moment ``m_max`` and torque ``t_max`` (N m)."""
+    peak = math.sqrt(4 * (kf * m_max) ** 2 + 3 * (kfs * t_max) ** 2)
+    return (16.0 * n * peak / (math.pi * yield_strength)) ** (1.0 / 3.0)
 
 
 def carriage_equivalent_load(fy, fz, mx, my, mz, c0, m0x, m0y, m0z) -> np.ndarray:

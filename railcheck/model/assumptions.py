@@ -45,9 +45,13 @@ def assumptions(scene, parts: dict) -> list[str]:
         out.append(mesh_assumption(parts))
     if c.components:
         out.append(
-            f"components ({', '.join(c.components)}): pins, screws and shafts on loads x{c.factor:g} with the "
-            "standards' resistance factors (EN 1993-1-8 gamma_M0 1.0, gamma_M2 1.25; Shigley DE-Goodman n >= 1, "
-            "bending fully reversed); bearings and carriages on unfactored loads against their required static "
+            f"components ({', '.join(c.components)}): as the 2013 study's final joints build them, each rail "
+            "screwed to its plates by two screws through two neighbouring holes, the plates turning on a 25 mm "
+            "shaft between two 6205 bearings, the motor driving O2's shaft; screws and shafts on loads "
+            f"x{c.factor:g} with the standards' resistance factors (EN 1993-1-8 gamma_M0 1.0, gamma_M2 1.25; "
+            "Shigley DE-Goodman n >= 1, bending fully reversed); the screws' slip (VDI 2230, slip safety "
+            f"{scene.components.slip_safety:g} under a reversing load: a joint that slips loosens) on unfactored "
+            "loads, a failure; bearings and carriages on unfactored loads against their required static "
             f"safety ({scene.components.bearing_required_s0:g}, {scene.components.carriage_required_s0:g}) and "
             f"life ({scene.components.bearing_required_life / 3600:.0f} h); every dimension and rating from seed 000, "
             "a cited catalogue or assumed (docs/components.md)"

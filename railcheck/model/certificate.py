@@ -1,4 +1,4 @@
-"""Where quasi-static holds (DESIGN.md section 12): a cheap certificate per part and speed.
+"""Where quasi-static holds (docs/model.md, "Is quasi-static true?"): a cheap certificate per part and speed.
 
 The quasi-static model (joint forces from the rigid-body dynamics, the part's elastic
 response without its own inertia's dynamics) holds while the load cycle's harmonics stay
@@ -6,7 +6,7 @@ well below the part's lowest natural frequency. The certificate estimates the
 amplification with one mode: each joint-force coefficient filtered harmonic by harmonic by
 the one-degree-of-freedom response ``H(n f / f1)`` (:func:`railcheck.fea.dynamic.one_mode_amplification`).
 Where the estimate exceeds :data:`QUASI_STATIC_TOLERANCE`, the part's exact dynamic
-response (mode-acceleration, DESIGN.md section 11) is computed instead; below it the
+response (mode-acceleration, docs/model.md) is computed instead; below it the
 estimate is stated beside the verdict.
 
 The lowest natural frequency: for a rail, its Euler-Bernoulli beam on the joints' pins

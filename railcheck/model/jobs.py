@@ -23,7 +23,7 @@ from railcheck.fea.unitcases import FreeBodyCases
 from railcheck.geometry.mesher import estimate_elements
 from railcheck.geometry.models import PartGeometry
 from railcheck.kinematics.massmodel import carried_mass
-from railcheck.loads.cases import LoadCase, explicit_load_case, rail_bolt_holes, reaction_load_case
+from railcheck.loads.cases import LoadCase, explicit_load_case, pivot_x, rail_bolt_holes, reaction_load_case
 from railcheck.model.certificate import Certificate, certificate, rail_lowest_hz
 from railcheck.model.kinematics_stage import KinematicsResult
 from railcheck.model.loading import (
@@ -133,7 +133,7 @@ def bolt_holes(scene: Scene, name: str, geo: PartGeometry) -> list[str]:
     if not explicit and scene.checked.support == "free-body" and PARTS[name].free_body is not None:
         position = "actual"  # a free body's joint force acts where the joint is
     try:
-        idx = rail_bolt_holes(xs, xs[0], length, position)
+        idx = rail_bolt_holes(xs, pivot_x(xs), length, position)
     except ValueError as exc:
         raise InputError(f"mechanism.{bar}", str(exc)) from None
     return [f"hole_{k}" for k in idx]
@@ -294,8 +294,8 @@ def is_free(loads: LoadModel) -> bool:
 def free_body_cases(loads: LoadModel, geo: PartGeometry, holes: list[str]) -> FreeBodyCases:
     """How a free rail is solved: its body cases carry the dynamics' rail mass; its
     deflection is, for the crank, the displacement at A's bolts relative to the line
-    through the shaft and the driving pin, for a link the sag at mid-span relative to the
-    line through its two joints. A free plate's body cases carry its mass; its deflection
+    through the two screws that clamp it to O2's plate, for a link the sag at mid-span
+    relative to the line through its two joints. A free plate's body cases carry its mass; its deflection
     is the seat's displacement relative to the line through its two bolts."""
     if loads.is_on_foundation:  # its top's displacement relative to its base; body cases at the material's density
         assert loads.foundation is not None  # is_on_foundation
@@ -317,7 +317,7 @@ def free_body_cases(loads: LoadModel, geo: PartGeometry, holes: list[str]) -> Fr
     if loads.free_body.motor:
         deflection = (["hole_0"], ["hole_1"], list(holes))
     else:
-        deflection = (["hole_0"], list(holes), 0.5 * (xs[0] + far_x))
+        deflection = (["hole_0", "hole_1"], list(holes), 0.5 * (pivot_x(xs) + far_x))
     return FreeBodyCases(
         mass=loads.rail_mass, deflection=deflection, centre=(loads.rail_body[0], 0.0), inertia=loads.rail_body[1]
     )

@@ -60,10 +60,11 @@ def all_checks(scene: Scene) -> dict[str, CheckResult]:
 
 def joint_reach(rail, bar: str) -> tuple[float, float]:
     """(shortest, longest) length in m a bar can be set to on its rail: one hole pitch,
-    and the distance from the pivot's hole (hole 0) to the last hole."""
+    and the distance from its first joint (midway between holes 0 and 1) to the last
+    joint a far plate screwed through the last two holes gives (midway between them)."""
 
     holes = rail.hole_positions(rail_length(bar))
-    return rail.hole_pitch, (holes[-1] - holes[0] if len(holes) > 1 else 0.0)
+    return rail.hole_pitch, (holes[-2] - holes[0] if len(holes) > 2 else 0.0)
 
 
 def joints_on_rails_flags(lengths: dict, rail) -> np.ndarray:
@@ -77,9 +78,10 @@ def joints_on_rails_flags(lengths: dict, rail) -> np.ndarray:
 
 
 def joints_on_rails(scene: Scene) -> dict[str, CheckResult]:
-    """``joints_on_rails``: every bar's far joint must sit on a mounting hole of its rail
-    (the rail starts at the bar's pivot hole, hole 0): not beyond the last hole, and at
-    least one hole pitch from the pivot. Independent of check.bolt_position."""
+    """``joints_on_rails``: every bar's far joint must sit between two mounting holes of
+    its rail (the rail's first joint midway between its holes 0 and 1): not beyond the
+    last two, and at least one hole pitch from the first joint. Independent of
+    check.bolt_position."""
 
     rail = with_overrides(scene.geometry)[0]
     lengths = scene.linkage_spec.linkage.lengths
@@ -95,7 +97,8 @@ def joints_on_rails(scene: Scene) -> dict[str, CheckResult]:
         )
         if length > reach + 1e-9:
             problems.append(
-                f"{bar} joint {length * 1e3:.6g} mm from its pivot is beyond the rail's last hole ({reach * 1e3:.6g} mm)"
+                f"{bar} joint {length * 1e3:.6g} mm from its pivot is beyond the rail's last two holes "
+                f"({reach * 1e3:.6g} mm)"
             )
         elif length < lo - 1e-9:
             problems.append(f"{bar} {length * 1e3:.6g} mm is shorter than one hole pitch ({lo * 1e3:.6g} mm)")

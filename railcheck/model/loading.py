@@ -10,9 +10,10 @@ the part (a joint it can sit at) gives a coefficient history (steps, cases). The
 the sweep share these functions, so a sweep's setting equals a check of it.
 
 Free body (``[check] support = "free-body"``, rails): the bar is loaded as the rig loads
-it, with no clamp. Unit cases ``pin_x``, ``pin_y`` (the near joint's force on the first
-hole), for the crank ``torque`` (the motor torque as a couple over the shaft and the
-driving pin), ``bolt_x``, ``bolt_y`` (the far joint's force on its bolt holes) and, with
+it, with no clamp. Unit cases ``pin_x``, ``pin_y`` (the near joint's force on the two
+screws that clamp the rail to its upper plate, through its first two holes, the joint's
+line midway between them), for the crank ``torque`` (the motor torque as a couple over
+the same two screws), ``bolt_x``, ``bolt_y`` (the far joint's force on its bolt holes) and, with
 gravity or inertia, the rail's own body forces ``body_x``, ``body_y``, ``body_rot``,
 ``body_rad``, which carry the dynamics' rail mass (:class:`~railcheck.fea.unitcases.FreeBodyCases`),
 so their coefficients are accelerations (m/s^2, rad/s^2, rad^2/s^2). A joint's force on
@@ -33,6 +34,7 @@ from railcheck.fea.unitcases import BodyCase, CoupleCase, FoundationCase, Pressu
 from railcheck.geometry.catalogue import plate_planar_inertia, with_overrides
 from railcheck.kinematics import massmodel
 from railcheck.kinematics.massmodel import carried_mass
+from railcheck.loads.cases import pivot_x
 from railcheck.loads.histories import bolt_history, gravity_history, rail_inertia_history
 from railcheck.loads.pin_pressure import HARMONICS, harmonic_coefficients
 from railcheck.loads.rotation import to_rail_axes
@@ -144,7 +146,7 @@ def load_model(
         joint_masses=(carried_mass(masses, kind, bar, fb.near.joint), carried_mass(masses, kind, bar, fb.far.joint)),
         rail_mass=masses.rail_mass_per_m * rail_length(bar),
         bar_length=bar_length,
-        rail_body=rail_body(masses, bar, geo_first_hole(scene)),
+        rail_body=rail_body(masses, bar, geo_pivot(scene)),
         weight=rail_weight(scene, bar, kind) if scene.plane == "horizontal" else None,
     )
 
@@ -161,17 +163,18 @@ def rail_weight(scene: Scene, bar: str, kind: str) -> RailWeight:
     return RailWeight(bar, rod.mass, rod.com, carried, (coupler.mass, coupler.com), pitch)
 
 
-def geo_first_hole(scene: Scene) -> float:
-    """x (m, part frame) of a rail's first hole, where its bar's first joint sits."""
-    return float(with_overrides(scene.geometry)[0].end_distance)
+def geo_pivot(scene: Scene) -> float:
+    """x (m, part frame) of a rail's first joint: midway between its first two holes."""
+    rail = with_overrides(scene.geometry)[0]
+    return float(rail.end_distance + 0.5 * rail.hole_pitch)
 
 
-def rail_body(masses, bar: str, first_hole: float) -> tuple[float, float]:
+def rail_body(masses, bar: str, pivot: float) -> tuple[float, float]:
     """The dynamics' rail of ``bar`` (:func:`railcheck.kinematics.massmodel.rail_body`, no
     point masses) in the part frame: (x of its centre of mass m, its moment of inertia
-    about it kg m^2); its first joint sits at the first hole, ``first_hole`` m."""
+    about it kg m^2); its first joint sits at ``pivot`` m."""
     rod = massmodel.rail_body(masses, bar, [])
-    return first_hole + rod.com, rod.inertia_com
+    return pivot + rod.com, rod.inertia_com
 
 
 def free_plate_model(scene: Scene, model: LoadModel, plate: FreePlate, inertia: bool | None) -> LoadModel:
@@ -204,7 +207,7 @@ def unit_cases(model: LoadModel, geo, holes: list[str]) -> dict:
     if model.gravity or model.rail_inertia:
         cases.update(body_x=BodyCase("uniform", 0), body_y=BodyCase("uniform", 1))
     if model.rail_inertia:
-        pivot = (float(geo.get("hole_x")[0]), 0.0)
+        pivot = (pivot_x(geo.get("hole_x")), 0.0)
         cases.update(body_rot=BodyCase("rotational", pivot=pivot), body_rad=BodyCase("radial", pivot=pivot))
     return cases
 
@@ -290,7 +293,8 @@ def with_pressure_histories(cases: dict, histories: tuple[SourceHistory, ...]) -
 def free_body_cases(model: LoadModel, geo, holes: list[str]) -> dict:
     """A free rail's unit cases (module doc): first-hole pin, motor couple, far bolts, body."""
     xs = geo.get("hole_x")
-    cases: dict = {"pin_x": TractionCase(("hole_0",), 0), "pin_y": TractionCase(("hole_0",), 1)}
+    near = ("hole_0", "hole_1")  # the upper plate's two screws, the joint midway between them
+    cases: dict = {"pin_x": TractionCase(near, 0), "pin_y": TractionCase(near, 1)}
     assert model.free_body is not None  # a free rail's cases
     if model.free_body.motor:
         cases["torque"] = CoupleCase(("hole_0", "hole_1"), float(xs[1] - xs[0]))
@@ -298,7 +302,7 @@ def free_body_cases(model: LoadModel, geo, holes: list[str]) -> dict:
     if model.gravity or model.inertia:
         cases.update(body_x=BodyCase("uniform", 0), body_y=BodyCase("uniform", 1))
     if model.inertia:
-        pivot = (float(xs[0]), 0.0)
+        pivot = (pivot_x(xs), 0.0)
         cases.update(body_rot=BodyCase("rotational", pivot=pivot), body_rad=BodyCase("radial", pivot=pivot))
     if model.weight is not None:
         cases.update(weight_cases(model, geo, holes))
@@ -308,11 +312,16 @@ def free_body_cases(model: LoadModel, geo, holes: list[str]) -> dict:
 def weight_cases(model: LoadModel, geo, holes: list[str]) -> dict:
     """A table-top rig's rail, out of plane (:mod:`railcheck.loads.weight`): its weight
     (``body_z``, carrying the dynamics' rail mass), the z forces at the first joint
-    (``pin_z``), at the clamp's second hole of a cantilevered bar (``drive_z``) and at the
-    far joint's bolts, shared so that it acts at the joint (``bolt_z``)."""
+    (``pin_z``: on a cantilevered bar its first screw, on a link both screws), at a
+    cantilevered bar's second screw (``drive_z``) and at the far joint's bolts, shared so
+    that it acts at the joint (``bolt_z``)."""
     assert model.weight is not None  # a rail's out-of-plane weight
-    cases: dict = {"body_z": BodyCase("uniform", 2), "pin_z": TractionCase(("hole_0",), 2)}
-    if model.weight.bar in CANTILEVERED:
+    cantilevered = model.weight.bar in CANTILEVERED
+    cases: dict = {
+        "body_z": BodyCase("uniform", 2),
+        "pin_z": TractionCase(("hole_0",) if cantilevered else ("hole_0", "hole_1"), 2),
+    }
+    if cantilevered:
         cases["drive_z"] = TractionCase(("hole_1",), 2)
     cases["bolt_z"] = TractionCase(tuple(holes), 2, lever_rule(geo, holes, model))
     return cases
@@ -395,7 +404,7 @@ def lever_rule(geo, holes: list[str], model: LoadModel) -> tuple[float, ...]:
     is in equilibrium, so the bolts carry the force and no moment about the joint."""
     xs = geo.get("hole_x")
     x1, x2 = (float(xs[int(h.split("_")[1])]) for h in holes)
-    joint = float(xs[0]) + model.bar_length
+    joint = pivot_x(xs) + model.bar_length
     return ((x2 - joint) / (x2 - x1), (joint - x1) / (x2 - x1))
 
 

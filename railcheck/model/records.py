@@ -11,6 +11,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -320,7 +321,7 @@ class PipelineResult:
                     out.append(passes_up_to(name, safe))
         for name, c in self.components.items():
             if not c.utilisation <= 1.0:
-                out.append(f"{name}: {c.utilisation:.2f}x its {c.governing_criterion} resistance ([components] sets it)")
+                out.append(component_fix(name, c))
         safe = self.components_safe_speed
         if safe is not None and any(not c.utilisation <= 1.0 for c in self.components.values()):
             out.append(
@@ -333,6 +334,42 @@ class PipelineResult:
     @property
     def passed(self) -> bool:
         return not self.failures
+
+
+def component_fix(name: str, c) -> str:
+    """A failing component's fix in words: the scene key and a value that passes, solved
+    from its own criteria (``c.needs``, :mod:`railcheck.components.sizing`), or why none
+    that fits does and what would."""
+    now = f"{c.governing_criterion} {c.utilisation:.2f}"
+    n = c.needs
+    if c.kind == "screws" and n.get("screw"):
+        size, grade = n["screw"].split()
+        return (
+            f'{name} ({now}): [components] screw_size = "{size}", screw_class = "{grade}", tightened to '
+            f"{n['tightening_torque_Nm']:.1f} N m, passes"
+        )
+    if c.kind == "screws":
+        friction = n.get("friction_needed", math.inf)
+        size, grade = (n.get("strongest") or "M6 12.9").split()
+        would = (
+            f'screw_size = "{size}", screw_class = "{grade}", joint_friction = {math.ceil(friction * 100) / 100:.2f} would'
+            if math.isfinite(friction)
+            else "no friction would"
+        )
+        return (
+            f"{name} ({now}): no screw the rail's hole admits holds it by friction (it needs "
+            f"{n['clamp_needed_N'] / 1e3:.1f} kN clamp per screw); [components] {would}, or carry the load by form "
+            "(fitted screws or dowels in reamed holes)"
+        )
+    if c.kind == "shaft" and "diameter_needed_m" in n:
+        mm = math.ceil(n["diameter_needed_m"] * 1e4) / 10
+        return f'{name} ({now}): [components] shaft_diameter = "{mm:g} mm" passes (and bearings of that bore)'
+    if c.kind == "bearings" and math.isfinite(n.get("spacing_needed_m", math.inf)) and c.governing_criterion == "static":
+        mm = math.ceil(n["spacing_needed_m"] * 1e4) / 10
+        return f'{name} ({now}): [components] bearing_spacing = "{mm:g} mm" passes'
+    if c.kind == "bearings":
+        return f"{name} ({now}): a larger bearing (bearing_static, bearing_dynamic) or a lower speed"
+    return f"{name} ({now}): a carriage rated {c.utilisation:.2f}x higher (carriage_c0 and its moment ratings)"
 
 
 def passes_up_to(name: str, safe) -> str:

@@ -23,8 +23,9 @@ class PartForce:
 
 def governing_forces(part) -> list[PartForce]:
     """The loads on ``part`` at its governing instant: the far joint's bolts, a plate's
-    seat, a free rail's first-hole shaft and, on the crank, the motor couple (its driving
-    pin's force one hole pitch from the shaft, and the couple itself)."""
+    seat, a free rail's first joint on its upper plate's two screws (its first two holes)
+    and, on the crank, the motor couple over the same two screws (the second screw's share
+    ``+T / pitch`` across the rail, and the couple itself)."""
     cycle = part.cycle
     c, names = cycle.C[cycle.envelope.step], list(cycle.fields.names)
     bolts = tuple(b.group for b in part.load_case.bolts)
@@ -33,12 +34,13 @@ def governing_forces(part) -> list[PartForce]:
     if "seat_x" in names:
         out.append(PartForce("pin force on the bearing seat", ("bearing_seat",), _xy(c, names, "seat")))
     if "pin_x" in names:
-        out.append(PartForce("joint force at the shaft (first hole)", ("hole_0",), _xy(c, names, "pin")))
-    if "torque" in names:  # the motor couple: +T / arm on the driving pin, -T / arm on the shaft
+        near = ("hole_0", "hole_1")
+        out.append(PartForce("first joint's force on its plate's two screws", near, _xy(c, names, "pin")))
+    if "torque" in names:  # the motor couple: +T / pitch on the second screw, -T / pitch on the first
         xs = part.geometry.get("hole_x")
         torque = float(c[names.index("torque")])
-        pin = np.array([0.0, torque / float(xs[1] - xs[0]), 0.0])
-        out.append(PartForce("motor couple's driving pin (second hole)", ("hole_1",), pin, torque))
+        second = np.array([0.0, torque / float(xs[1] - xs[0]), 0.0])
+        out.append(PartForce("motor couple on the two screws (the second's share)", ("hole_1",), second, torque))
     return out
 
 

@@ -300,7 +300,7 @@ def _support_models(result) -> str:
         else ""
     ) + (
         f"free bodies ({html_escape(', '.join(free))}): no support, every node in the verdict, the crank's deflection "
-        "at A relative to its shaft and pin, a link's mid-span sag relative to its joints, a plate's seat "
+        "at A relative to its two screws at O2, a link's mid-span sag relative to its joints, a plate's seat "
         "relative to its bolts; "
         if free
         else ""

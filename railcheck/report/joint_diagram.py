@@ -1,6 +1,6 @@
 """The joints' load paths as one picture (joints.png): a column per joint with a checked
 component, from the rail the joint force comes from, through each component in the order
-the force passes it (DESIGN.md section 13), to the rail or frame it ends in. Each box
+the force passes it (docs/components.md), to the rail or frame it ends in. Each box
 names the component, its verdict's utilisation and criterion over the whole cycle, and
 the loads it carries at the joint's governing instant, each marked factored (x the load
 factor) or unfactored. A schematic, not to scale. matplotlib (Agg) imported here only."""

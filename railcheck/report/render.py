@@ -265,7 +265,7 @@ def _support(pv, plotter, mesh, sol, scale, part) -> None:
 def _bolt_arrows(pv, plotter, mesh, sol, scale, part, cycle, size, font, toward) -> None:
     """An arrow per loaded hole, at its centre, along the joint force of the governing
     instant on it: the bolts' (``bolt_x``, ``bolt_y``) and, on a free body, the first
-    hole's pin (``pin_x``, ``pin_y``); drawn over the part and labelled with the joint
+    joint's two screws (``pin_x``, ``pin_y``); drawn over the part and labelled with the joint
     force's magnitude (N) once per group of holes; each arrow sits in front of the part
     (moved toward the camera, ``toward`` a unit vector, beyond the part's nearest point), so
     no flange hides it."""
@@ -297,7 +297,7 @@ def _bolt_arrows(pv, plotter, mesh, sol, scale, part, cycle, size, font, toward)
 def _drawn_forces(part) -> list:
     """[(holes, force (3,) N in the part's frame, its label or None)] of
     :func:`railcheck.report.forces.governing_forces`, each label with the load factor; the
-    driving pin labelled with the shaft, one hole pitch away, so the labels do not overlap."""
+    motor couple labelled with the first joint's screws, so the labels do not overlap."""
     factored = "" if part.job.loads.explicit is not None else f" x{part.job.loads.factor:g}"
     out: list[tuple[list, np.ndarray, str | None]] = []
     pin = None
@@ -305,15 +305,15 @@ def _drawn_forces(part) -> list:
         if f.couple is not None:
             pin = f
             out.append((list(f.holes), f.force, None))
-        elif f.holes == ("hole_0",):
-            out.append((list(f.holes), f.force, f"{newtons(f.force)} shaft{factored}"))
+        elif f.holes == ("hole_0", "hole_1"):
+            out.append((list(f.holes), f.force, f"{newtons(f.force)} on the plate's 2 screws{factored}"))
         else:
             bolts = f" on {len(f.holes)} bolts" if len(f.holes) > 1 else ""
             out.append((list(f.holes), f.force, f"{newtons(f.force)}{bolts}{factored}"))
-    if pin is not None:  # its words under the shaft's
-        k = next(i for i, (holes, _, _) in enumerate(out) if holes == ["hole_0"])
+    if pin is not None:  # its words under the first joint's
+        k = next(i for i, (holes, _, _) in enumerate(out) if holes == ["hole_0", "hole_1"])
         holes, force, label = out[k]
-        words = f"\n{newtons(pin.force)} driving pin (motor {abs(pin.couple or 0.0):.0f} N·m){factored}"
+        words = f"\n+-{newtons(pin.force)} across: motor {abs(pin.couple or 0.0):.0f} N·m{factored}"
         out[k] = (holes, force, (label or "") + words)
     return out
 

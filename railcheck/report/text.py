@@ -137,7 +137,7 @@ def _model_notes(result) -> list[str]:
             f"  {', '.join(free)}: free bodies (joint forces bearing on their holes or bearing seat as a cosine "
             "over the loaded half, their own and the point masses' inertia, one load factor; a bolted-down part's "
             "loads balanced by a rigid foundation's linear reaction on its base; inertia relief, no support): the "
-            "verdict reads every node; the deflection is the crank's at A relative to its shaft and pin, a "
+            "verdict reads every node; the deflection is the crank's at A relative to its two screws at O2, a "
             "link's mid-span sag relative to its joints, a plate's seat relative to its bolts, a bracket's top "
             "relative to its base"
         )
@@ -251,7 +251,7 @@ def components_table(result) -> list[str]:
     """The joints' components' lines: each component's figures, its utilisation with the
     criterion that governs and its verdict; then the standards and what was assumed."""
     factor = result.scene.checked.factor
-    header = ["component", "loads", "figures", "utilisation", "governs", "verdict"]
+    header = ["component", "loads", "figures", "utilisation", "governs", "verdict", "needs"]
     rows = [
         [
             name,
@@ -260,11 +260,15 @@ def components_table(result) -> list[str]:
             f"{c.utilisation:.0%}",
             str(c.governing_criterion),
             "PASS" if c.passed else "FAIL",
+            component_needs(c),
         ]
         for name, c in result.components.items()
     ]
-    lines = [f"components: the joints' parts by their standards (loads x{factor:g}, or as is; V, N per screw)"]
-    lines += aligned(header, rows, left=frozenset({0, 1, 2, 4, 5}))
+    lines = [
+        f"components: the joints' parts by their standards (loads x{factor:g}, or as is; slip as is; V, N per screw;"
+        " needs: what passes)"
+    ]
+    lines += aligned(header, rows, left=frozenset({0, 1, 2, 4, 5, 6}))
     standards = sorted({f"{c.kind} {c.standard}" for c in result.components.values()})
     lines += textwrap.wrap("standards: " + "; ".join(standards), 98, initial_indent="  ", subsequent_indent="    ")
     assumed = sorted({a for c in result.components.values() for a in c.assumed})
@@ -288,6 +292,24 @@ def component_figures(c) -> str:
         "equivalent_load_N": lambda v: f"P0 {v / 1e3:.2f} kN",
     }
     return ", ".join(w for k, v in f.items() if k in words and (w := words[k](v)))
+
+
+def component_needs(c) -> str:
+    """What a component needs to pass, short: a screw and its tightening torque, a shaft's
+    diameter, a bearing spacing (``c.needs``; "-" where it has none)."""
+    n = c.needs
+    if c.kind == "screws":
+        if n.get("screw"):
+            return f"{n['screw']}, {n['tightening_torque_Nm']:.1f} N m"
+        friction = n.get("friction_needed", math.inf)
+        shown = math.ceil(friction * 100) / 100
+        return f"none (mu_T {shown:.2f})" if math.isfinite(friction) else "no screw fits"
+    if "diameter_needed_m" in n:
+        return f"d {n['diameter_needed_m'] * 1e3:.1f} mm"
+    spacing = n.get("spacing_needed_m")
+    if spacing is not None and spacing > 0:
+        return f"spacing {spacing * 1e3:.1f} mm" if math.isfinite(spacing) else "a larger bearing"
+    return "-"
 
 
 def bench_report(out: dict) -> str:

@@ -14,9 +14,9 @@ import numpy as np
 
 from railcheck.components.checks import JointHistories, check_components
 from railcheck.components.ratings import NOT_ON_SLIDER_CRANK
-from railcheck.components.scene_checks import strengths_of
+from railcheck.components.scene_checks import FIRST_JOINTS, strengths_of
 from railcheck.loads.bearings import relative_speeds
-from railcheck.loads.weight import joint_vertical_loads, shaft_moment
+from railcheck.loads.weight import joint_vertical_loads, screw_pulls, shaft_moment
 from railcheck.model.crossing import increasing_crossing
 from railcheck.model.loading import rail_weight
 from railcheck.sweep.context import Loads, SweepContext, reactions_at, setting_lengths
@@ -50,16 +50,20 @@ def sweep_histories(ctx: SweepContext, loads: Loads, sel: np.ndarray, s) -> Join
 
 
 def weight_of_settings(ctx: SweepContext, motion, sel: np.ndarray) -> dict:
-    """``vertical`` and ``moments`` of :class:`JointHistories` for the settings ``sel``
-    (empty for a vertical rig: its weight is in the joint forces)."""
+    """``vertical``, ``moments`` and ``screw_tension`` of :class:`JointHistories` for the
+    settings ``sel`` (empty for a vertical rig: its weight is in the joint forces)."""
     if ctx.scene.plane != "horizontal":
-        return {"vertical": {}, "moments": {}}
+        return {"vertical": {}, "moments": {}, "screw_tension": {}}
     lengths = {bar: v[:, 0] for bar, v in setting_lengths(motion, sel).items()}
+    moments, pulls = {}, {}
+    for joint, bar in FIRST_JOINTS.items():
+        if ctx.kind == "four-bar" or bar != "rocker":
+            w = rail_weight(ctx.scene, bar, ctx.kind)
+            pulls[joint] = screw_pulls(w, lengths)
+            if bar != "coupler":
+                moments[joint] = shaft_moment(w, lengths)
     crank = rail_weight(ctx.scene, "crank", ctx.kind)
-    moments = {"O2": shaft_moment(crank, lengths)}
-    if ctx.kind == "four-bar":
-        moments["O4"] = shaft_moment(rail_weight(ctx.scene, "rocker", ctx.kind), lengths)
-    return {"vertical": joint_vertical_loads(crank, lengths), "moments": moments}
+    return {"vertical": joint_vertical_loads(crank, lengths), "moments": moments, "screw_tension": pulls}
 
 
 def component_results(ctx: SweepContext, loads: Loads, sel: np.ndarray, s) -> dict:

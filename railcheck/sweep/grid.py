@@ -1,8 +1,9 @@
 """The rig's settings: every bar length the rails' mounting holes allow (seed 000).
 
-Each bar's pivot shaft passes through the first mounting hole of its rail, and its far
-joint's plate is bolted at another hole, so a bar's settable lengths are the distances
-from the first hole to every other one: ``k x pitch`` for ``k = 1 .. holes - 1``. The
+Each bar's rail is screwed to its first joint's upper plate through its first two mounting
+holes, the joint's shaft midway between them, and its far joint's plate is screwed through
+two other neighbouring holes, its shaft midway between those, so a bar's settable lengths
+are ``k x pitch`` for ``k = 1 .. holes - 2``. The
 holes follow the size-25 rail catalogue (:class:`railcheck.geometry.catalogue.RailSpec`: 60 mm
 pitch, 20 mm end distance). The rails:
 
@@ -44,9 +45,10 @@ def rail_lengths() -> dict[str, float]:
 
 
 def settable_lengths(rail_length: float, rail) -> np.ndarray:
-    """m: every distance from a rail's first mounting hole to another of its holes."""
+    """m: every distance from a rail's first joint (midway between its first two holes)
+    to a far joint midway between two other neighbouring holes."""
     holes = np.asarray(rail.hole_positions(rail_length))
-    return np.round(np.round((holes[1:] - holes[0]) / rail.hole_pitch) * rail.hole_pitch, 12)
+    return np.round(np.round((holes[1:-1] - holes[0]) / rail.hole_pitch) * rail.hole_pitch, 12)
 
 
 def rig_grid(overrides: dict | None = None) -> dict[str, dict[str, np.ndarray]]:

@@ -22,7 +22,7 @@ from railcheck.fea.screening import fatigue_min, make_screens, tip_peak, von_mis
 from railcheck.fea.store import UnitRequest, is_stored
 from railcheck.geometry.mesher import cached_mesh, mesh_part
 from railcheck.geometry.models import PartGeometry
-from railcheck.loads.cases import rail_bolt_holes
+from railcheck.loads.cases import pivot_x, rail_bolt_holes
 from railcheck.model.certificate import rail_lowest_hz
 from railcheck.model.jobs import carried_masses, free_body_cases, mesh_sizes
 from railcheck.model.loading import LoadModel, load_model, pin_pressure_map, source_histories, unit_cases
@@ -161,7 +161,7 @@ def hole_groups(scene, name: str, geo, lengths: np.ndarray) -> tuple[dict, dict]
     groups, pair_of = {}, {}
     for length in np.unique(lengths):
         try:
-            pair = tuple(rail_bolt_holes(xs, xs[0], float(length), "actual"))
+            pair = tuple(rail_bolt_holes(xs, pivot_x(xs), float(length), "actual"))
         except ValueError:
             continue
         key = (*pair, micrometres(length)) if is_free_rail(scene, name) else pair

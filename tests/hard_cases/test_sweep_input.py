@@ -50,7 +50,7 @@ def sweep(tmp_path, text, *extra):
             ("sweep.settings[0].offset",),
         ),
         (BASE + 'offset = ["10 mm", "20 mm"]\n', ("sweep.offset", "0 mm only", "[[sweep.settings]]")),
-        (BASE.replace('"slider-crank"', '"four-bar"') + 'ground = ["2500 mm", "3000 mm"]\n', ("sweep.ground", "2460 mm")),
+        (BASE.replace('"slider-crank"', '"four-bar"') + 'ground = ["2500 mm", "3000 mm"]\n', ("sweep.ground", "2400 mm")),
         ('[dynamics]\nformulation = "seed-2013"\n' + BASE, ("sweep.kind", "seed-2013")),
         (
             '[dynamics]\nformulation = "seed-2013"\n[sweep]\nsteps = 16\nkind = "four-bar"\n'

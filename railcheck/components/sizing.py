@@ -1,0 +1,116 @@
+"""What each component needs to pass, solved from its own criteria (one check: floats).
+SI.
+
+* Screws: the clamp per screw the slip criterion needs (solved for the clamp), the
+  strength T3.4 needs (solved for the tensile stress area times the ultimate), then the
+  smallest standard screw the rail's hole admits (size, then class) that gives both, with
+  the tightening torque of its assembly preload; where none does, the joint friction that
+  the strongest admitted screw would need.
+* Shafts: the smallest diameter at which DE-Goodman (Shigley eq. 7-8) and first-cycle
+  yield (eq. 7-15) reach n = 1, the size factor's weak dependence on the diameter solved
+  by substitution (it contracts by a factor 0.107 / 3 a step).
+* Bearings: the spacing at which the more loaded bearing's static safety meets the
+  required one (ISO 76), the cantilevered bar's weight couple shared over it.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+
+from railcheck.components import screws
+from railcheck.components.checks import (
+    ComponentResult,
+    JointHistories,
+    Strengths,
+    screw_loads,
+    shaft_factors,
+)
+from railcheck.components.ratings import COMPONENTS, ComponentSpec
+from railcheck.components.standards import GAMMA_M2, de_goodman_diameter, yield_diameter
+from railcheck.fea.fatigue import size_factor_of_diameter
+
+
+def with_needs(r: ComponentResult, spec: ComponentSpec, h: JointHistories, factor: float, m: Strengths) -> ComponentResult:
+    """``r`` with its ``needs`` (module doc); a carriage's catalogue rating has none."""
+    c = COMPONENTS[r.name]
+    needs = {"screws": screw_needs, "shaft": shaft_needs, "bearings": bearing_needs}.get(c.kind)
+    return dataclasses.replace(r, needs=needs(r, spec, h, factor, m) if needs else {})
+
+
+def screw_needs(r: ComponentResult, spec: ComponentSpec, h: JointHistories, factor: float, m: Strengths) -> dict:
+    """The smallest admitted screw and class that passes slip and T3.4, its tightening
+    torque, the clamp it needs; or, where none passes, the friction that would."""
+    transverse, tension = screw_loads(COMPONENTS[r.name], spec, h)
+    service = float(np.max(transverse))
+    pull = float(np.max(tension)) if np.size(tension) else 0.0
+    clamp = float(np.max(screws.clamp_needed(transverse, tension[..., None], spec.joint_friction, spec.slip_safety)))
+    out: dict = {"clamp_needed_N": clamp, "screw": None}
+    for size in screws.admitted(spec.rail_hole, spec.rail_counterbore):
+        for grade in screws.CLASSES:
+            trial = dataclasses.replace(spec, screw_size=size, screw_class=grade)
+            if screws.least_clamp(trial.thread, trial.property_class, trial) >= clamp and _strong_enough(
+                trial, factor * service, factor * pull
+            ):
+                preload = screws.assembly_preload(
+                    trial.thread, trial.property_class.proof, spec.screw_thread_friction, spec.screw_preload_utilisation
+                )
+                torque = screws.tightening_torque(
+                    trial.thread, preload, spec.screw_thread_friction, spec.screw_head_friction, spec.rail_hole
+                )
+                return out | {"screw": f"{size} {grade}", "tightening_torque_Nm": torque, "assembly_preload_N": preload}
+    sizes = screws.admitted(spec.rail_hole, spec.rail_counterbore)
+    strongest = f"{sizes[-1]} {list(screws.CLASSES)[-1]}" if sizes else None
+    return out | {"friction_needed": _friction_needed(spec, transverse, tension), "strongest": strongest}
+
+
+def _strong_enough(spec: ComponentSpec, shear: float, pull: float) -> bool:
+    """Whether a screw of ``spec`` carries ``shear`` and ``pull`` N factored by EN 1993-1-8
+    Table 3.4 (shear, tension and their combination; bearing on the rail is the screw's
+    diameter times the rail's, checked by the verdict)."""
+    t, c = spec.thread, spec.property_class
+    v_rd = c.alpha_v * c.ultimate * t.stress_area / GAMMA_M2
+    t_rd = 0.9 * c.ultimate * t.stress_area / GAMMA_M2
+    return shear <= v_rd and pull <= t_rd and shear / v_rd + pull / (1.4 * t_rd) <= 1.0
+
+
+def _friction_needed(spec: ComponentSpec, transverse: np.ndarray, tension: np.ndarray) -> float:
+    """The joint friction at which the strongest admitted screw holds each screw's
+    ``transverse`` force (2, ..., T) N with the slip safety, its clamp less its own
+    ``tension`` (2, ...) N (inf where a pull exceeds the clamp)."""
+    sizes = screws.admitted(spec.rail_hole, spec.rail_counterbore)
+    strongest = dataclasses.replace(spec, screw_size=sizes[-1], screw_class=list(screws.CLASSES)[-1])
+    left = screws.least_clamp(strongest.thread, strongest.property_class, strongest) - np.asarray(tension, float)[..., None]
+    if np.any(left <= 0):
+        return math.inf
+    return float(np.max(spec.slip_safety * np.abs(transverse) / left))
+
+
+def shaft_needs(r: ComponentResult, spec: ComponentSpec, h: JointHistories, factor: float, m: Strengths) -> dict:
+    """The smallest shaft diameter (m) that passes DE-Goodman and first-cycle yield at
+    n = 1 under this check's moments and torque (the fillet fixed by the bearing)."""
+    c = COMPONENTS[r.name]
+    moment = factor * (np.hypot(*np.moveaxis(h.reactions[c.joint], -1, 0)) * spec.shaft_lever)
+    moment = moment + factor * abs(float(np.asarray(h.moments.get(c.joint, 0.0), float)))
+    torque = factor * np.asarray(h.torque, float) if c.motor else np.zeros_like(moment)
+    ma, ta, tm = float(np.max(moment)), 0.5 * float(np.ptp(torque)), 0.5 * float(torque.max() + torque.min())
+    kf, kfs, se = shaft_factors(spec, m, spec.shaft_diameter)
+    unsized = se / size_factor_of_diameter(spec.shaft_diameter)
+    fatigue = de_goodman_diameter(ma, ta, tm, kf, kfs, lambda d: unsized * size_factor_of_diameter(d), m.ultimate)
+    first_cycle = yield_diameter(ma, abs(tm) + ta, kf, kfs, m.yield_strength)
+    return {"diameter_needed_m": max(fatigue, first_cycle)}
+
+
+def bearing_needs(r: ComponentResult, spec: ComponentSpec, h: JointHistories, factor: float, m: Strengths) -> dict:
+    """The bearings' spacing (m) at which the more loaded bearing meets the required
+    static safety (0 where no weight couple acts; inf where the joint force alone
+    exceeds it: a larger bearing is needed)."""
+    c = COMPONENTS[r.name]
+    moment = abs(float(np.asarray(h.moments.get(c.joint, 0.0), float)))
+    force = float(np.max(np.hypot(*np.moveaxis(h.reactions[c.joint], -1, 0))))
+    room = spec.bearing_static / spec.bearing_required_s0 - 0.5 * force
+    if moment == 0.0:
+        return {"spacing_needed_m": 0.0}
+    return {"spacing_needed_m": moment / room if room > 0 else math.inf}
