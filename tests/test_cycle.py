@@ -174,7 +174,7 @@ def test_rail_inertia_unit_fields_balance_the_rigid_accelerations(crank):
     vol = np.abs(np.einsum("ij,ij->i", b - a, np.cross(c - a, d - a))) / 6.0
     centre = (a + b + c + d) / 4.0
     V = vol.sum()
-    x0 = geo.get("hole_x")[0]
+    x0 = 0.5 * (geo.get("hole_x")[0] + geo.get("hole_x")[1])  # the pivot: midway between the first two holes
     rx, ry = (vol * (centre[:, 0] - x0)).sum(), (vol * centre[:, 1]).sum()
     R = meta.resultants  # (3, cases): N per unit coefficient
     names = list(fields.names)

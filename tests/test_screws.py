@@ -13,10 +13,10 @@ import numpy as np
 import pytest
 
 from railcheck.components import screws, standards
+from railcheck.components.checks import check_component
 from railcheck.components.ratings import COMPONENT_SPEC, COMPONENTS
 from railcheck.components.scene_checks import check_scene_components, joint_histories, strengths_of
 from railcheck.components.sizing import bearing_needs, screw_needs, shaft_needs
-from railcheck.components.checks import check_component
 from railcheck.scene import parse_scene
 
 #: ISO 261 M8 x 1 fine thread with a hex head's bearing diameter (d_w 11.63 mm), as VDI
@@ -84,7 +84,10 @@ def _default(components: dict | None = None, speed: str = "1 Hz"):
     data = {
         "mechanism": {"kind": "four-bar", "crank": "480 mm", "coupler": "840 mm", "rocker": "780 mm", "ground": "1020 mm"}
         | {"speed": speed, "steps": 720},
-        "check": {"parts": ["crank-screws-O2", "coupler-screws-A", "shaft-O2", "shaft-O4", "bearings-O4"], "effects": ["inertia"]},
+        "check": {
+            "parts": ["crank-screws-O2", "coupler-screws-A", "shaft-O2", "shaft-O4", "bearings-O4"],
+            "effects": ["inertia"],
+        },
     }
     if components:
         data["components"] = components
