@@ -192,6 +192,15 @@ def test_a_shafts_needed_diameter_meets_its_criterion_and_a_thinner_one_fails(sh
     assert not thinner[shaft].passed
 
 
+def test_a_constant_moment_is_a_mean_stress_in_de_goodman():
+    # Shigley eq. 7-8 with M_m alone: 1/n = 16 / (pi d^3) * 2 K_f M_m / S_ut
+    u = standards.shaft_utilisations(np.zeros((1, 3)), np.zeros((1, 3)), 0.02, 2.0, 1.5, 200e6, 750e6, 490e6, 30.0)
+    k = 16.0 / (math.pi * 0.02**3)
+    assert float(u["fatigue"][0]) == pytest.approx(k * 2 * 2.0 * 30.0 / 750e6, rel=1e-12)
+    d = standards.de_goodman_diameter(0.0, 0.0, 0.0, 2.0, 1.5, 200e6, 750e6, mm=30.0)
+    assert d**3 == pytest.approx(16.0 / math.pi * 2 * 2.0 * 30.0 / 750e6, rel=1e-12)
+
+
 def test_de_goodman_diameter_solves_shigley_example_7_1_back():
     # Example 7-1's loads give n = 1.62 at d = 1.100 in: solved for d at n = 1.62, 1.100 in
     d = standards.de_goodman_diameter(1260.0, 0.0, 1100.0, 1.58, 1.39, 29.3e3, 105e3, n=1.62, start=1.0)

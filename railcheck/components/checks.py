@@ -10,7 +10,9 @@ The loads, per component (the idealisations, stated in docs/components.md):
   rig's weight (the cantilevered bar's weight couple over the two screws at its first
   joint; at a far joint the weight through the joint, levered about the screws);
 * shafts: the joint force bending the 25 mm shaft at the upper bearing's shoulder over
-  ``shaft_lever``, plus a cantilevered bar's weight moment (O2, O4); the motor torque at O2;
+  ``shaft_lever`` (fully reversed: its direction turns relative to the shaft), and a
+  cantilevered bar's weight moment (O2, O4: constant in the shaft's frame, the shaft fixed
+  in the bar's upper plate: a mean stress); the motor torque at O2;
 * bearings: two per joint sharing the joint force (:mod:`railcheck.loads.bearings`), at
   the rings' relative speed, a cantilevered bar's weight moment as a couple over them;
 * carriages (A, B): the joint force in the rail's axes, lateral and longitudinal, at a
@@ -82,6 +84,8 @@ class JointHistories:
     vertical: dict
     moments: dict
     screw_tension: dict = field(default_factory=dict)
+    #: the joint forces in rail axes already computed from these histories (:func:`rail_axes_of`)
+    projected: dict = field(default_factory=dict, compare=False, repr=False)
 
 
 @dataclass(frozen=True)
@@ -134,6 +138,20 @@ def in_rail_axes(force: np.ndarray, angle: np.ndarray) -> tuple[np.ndarray, np.n
     return force[..., 0] * c + force[..., 1] * s, -force[..., 0] * s + force[..., 1] * c
 
 
+def rail_axes_of(h: JointHistories, joint: str, rail: str) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`in_rail_axes` of ``joint``'s force in ``rail``'s axes, computed once per
+    histories (several components at a joint read the same projection; each rail's cosine
+    and sine once)."""
+    key = (joint, rail)
+    if key not in h.projected:
+        if rail not in h.projected:
+            h.projected[rail] = (np.cos(h.angles[rail]), np.sin(h.angles[rail]))
+        c, s = h.projected[rail]
+        force = h.reactions[joint]
+        h.projected[key] = (force[..., 0] * c + force[..., 1] * s, -force[..., 0] * s + force[..., 1] * c)
+    return h.projected[key]
+
+
 def _magnitude(force: np.ndarray) -> np.ndarray:
     return np.sqrt(force[..., 0] ** 2 + force[..., 1] ** 2)
 
@@ -163,14 +181,18 @@ def check_component(
     )
 
 
-def screw_loads(c: Component, spec: ComponentSpec, h: JointHistories) -> tuple[np.ndarray, np.ndarray]:
+def screw_loads(c: Component, spec: ComponentSpec, h: JointHistories, peaks: bool = False) -> tuple[np.ndarray, np.ndarray]:
     """(transverse (2, ..., T), tension (2, ...)) N, unfactored, on each of the plate's two
     screws (the first nearer the joint's line): the joint force (and at O2 the motor torque)
     by the elastic method (:func:`railcheck.components.standards.two_screw_forces`), the
-    weight's pull on each screw."""
-    along, across = in_rail_axes(h.reactions[c.joint], h.angles[c.rail])
+    weight's pull on each screw; with ``peaks`` the transverse forces' largest over the
+    cycle (2, ..., 1)."""
+    along, across = rail_axes_of(h, c.joint, c.rail)
     torque = h.torque if c.motor else 0.0
-    transverse = standards.two_screw_forces(along, across, torque, spec.screw_eccentricity, spec.rail_pitch)
+    if peaks:
+        transverse = standards.two_screw_peaks(along, across, torque, spec.screw_eccentricity, spec.rail_pitch)[..., None]
+    else:
+        transverse = standards.two_screw_forces(along, across, torque, spec.screw_eccentricity, spec.rail_pitch)
     if c.end == "near":
         pulls = h.screw_tension.get(c.joint, (0.0, 0.0))
         tension = np.array([np.broadcast_to(np.asarray(t, float), along.shape[:-1]) for t in pulls])
@@ -182,7 +204,9 @@ def screw_loads(c: Component, spec: ComponentSpec, h: JointHistories) -> tuple[n
 
 
 def _screws(c: Component, spec: ComponentSpec, h: JointHistories, f: float, m: Strengths):
-    transverse, tension = screw_loads(c, spec, h)
+    # every criterion grows with the transverse force and the tension is constant over the
+    # cycle, so each screw's peak over the cycle gives every criterion's peak
+    transverse, tension = screw_loads(c, spec, h, peaks=True)
     thread, grade = spec.thread, spec.property_class
     shear, pull = f * transverse.max(axis=0), f * np.broadcast_to(tension[..., None], transverse.shape).max(axis=0)
     u = standards.bolt_utilisations(
@@ -210,12 +234,13 @@ def _screws(c: Component, spec: ComponentSpec, h: JointHistories, f: float, m: S
 def _shaft(c: Component, spec: ComponentSpec, h: JointHistories, f: float, m: Strengths):
     d = spec.shaft_diameter
     moment = f * (_magnitude(h.reactions[c.joint]) * spec.shaft_lever)
-    # a cantilevered bar's weight moment (O2, O4) added to the bending: an upper bound
-    moment = moment + f * np.abs(np.asarray(h.moments.get(c.joint, 0.0), float))[..., None]
+    # a cantilevered bar's weight moment (O2, O4): constant in the shaft's frame, a mean stress
+    weight = f * np.abs(np.asarray(h.moments.get(c.joint, 0.0), float))
     torque = f * h.torque if c.motor else np.zeros_like(moment)
     kf, kfs, se = shaft_factors(spec, m, d)
-    u = standards.shaft_utilisations(moment, torque, d, kf, kfs, se, m.ultimate, m.yield_strength)
-    return u, {"moment_Nm": moment.max(axis=-1), "torque_Nm": np.abs(torque).max(axis=-1), "endurance_Pa": se}
+    u = standards.shaft_utilisations(moment, torque, d, kf, kfs, se, m.ultimate, m.yield_strength, weight)
+    figures = {"moment_Nm": moment.max(axis=-1), "mean_moment_Nm": weight + 0.0 * moment.max(axis=-1)}
+    return u, figures | {"torque_Nm": np.abs(torque).max(axis=-1), "endurance_Pa": se}
 
 
 def shaft_factors(spec: ComponentSpec, m: Strengths, d: float) -> tuple[float, float, float]:
@@ -247,7 +272,7 @@ def _bearings(c: Component, spec: ComponentSpec, h: JointHistories, f: float, m:
 
 
 def _carriage(c: Component, spec: ComponentSpec, h: JointHistories, f: float, m: Strengths):
-    along, across = in_rail_axes(h.reactions[c.joint], h.angles[c.rail])
+    along, across = rail_axes_of(h, c.joint, c.rail)
     normal = np.broadcast_to(np.asarray(h.vertical.get(c.joint, 0.0), float)[..., None], along.shape)
     height = spec.carriage_height
     p0 = standards.carriage_equivalent_load(

@@ -55,6 +55,7 @@ def each_step_alone(h: JointHistories) -> JointHistories:
         torque=np.asarray(h.torque)[:, None],
         angles={b: np.asarray(a)[:, None] for b, a in h.angles.items()},
         relative_speed={j: np.asarray(w)[:, None] for j, w in h.relative_speed.items()},
+        projected={},
     )
 
 

@@ -93,13 +93,13 @@ def shaft_needs(r: ComponentResult, spec: ComponentSpec, h: JointHistories, fact
     n = 1 under this check's moments and torque (the fillet fixed by the bearing)."""
     c = COMPONENTS[r.name]
     moment = factor * (np.hypot(*np.moveaxis(h.reactions[c.joint], -1, 0)) * spec.shaft_lever)
-    moment = moment + factor * abs(float(np.asarray(h.moments.get(c.joint, 0.0), float)))
+    mm = factor * abs(float(np.asarray(h.moments.get(c.joint, 0.0), float)))
     torque = factor * np.asarray(h.torque, float) if c.motor else np.zeros_like(moment)
     ma, ta, tm = float(np.max(moment)), 0.5 * float(np.ptp(torque)), 0.5 * float(torque.max() + torque.min())
     kf, kfs, se = shaft_factors(spec, m, spec.shaft_diameter)
     unsized = se / size_factor_of_diameter(spec.shaft_diameter)
-    fatigue = de_goodman_diameter(ma, ta, tm, kf, kfs, lambda d: unsized * size_factor_of_diameter(d), m.ultimate)
-    first_cycle = yield_diameter(ma, abs(tm) + ta, kf, kfs, m.yield_strength)
+    fatigue = de_goodman_diameter(ma, ta, tm, kf, kfs, lambda d: unsized * size_factor_of_diameter(d), m.ultimate, mm=mm)
+    first_cycle = yield_diameter(ma + mm, abs(tm) + ta, kf, kfs, m.yield_strength)
     return {"diameter_needed_m": max(fatigue, first_cycle)}
 
 

@@ -53,6 +53,15 @@ def two_screw_forces(along, across, torque, eccentricity, pitch) -> np.ndarray:
     return np.array([np.hypot(0.5 * along, 0.5 * across - couple), np.hypot(0.5 * along, 0.5 * across + couple)])
 
 
+def two_screw_peaks(along, across, torque, eccentricity, pitch) -> np.ndarray:
+    """(2, ...) N each screw's largest transverse force over the last axis (the cycle's
+    steps) of :func:`two_screw_forces`, from the squares (one square root a setting)."""
+    along, across = np.asarray(along, float), np.asarray(across, float)
+    couple = (np.asarray(torque, float) - eccentricity * across) / pitch
+    half, lateral = (0.5 * along) ** 2, 0.5 * across
+    return np.sqrt(np.array([(half + (lateral - couple) ** 2).max(axis=-1), (half + (lateral + couple) ** 2).max(axis=-1)]))
+
+
 def bolt_utilisations(shear, tension, d, stress_area, fub, fu_member, t, alpha_v, e1, e2, d0) -> dict[str, np.ndarray]:
     """EN 1993-1-8 Table 3.4 for one bolt (diameter ``d``, tensile stress area
     ``stress_area`` m^2, ultimate ``fub`` Pa; the shear plane through the thread) in a
@@ -88,17 +97,20 @@ def fatigue_notch_factor(kt: float, ultimate: float, radius: float, torsion: boo
     return 1.0 + notch_sensitivity(ultimate, radius, torsion) * (kt - 1.0)
 
 
-def shaft_utilisations(moment, torque, d, kf, kfs, endurance, ultimate, yield_strength) -> dict[str, np.ndarray]:
+def shaft_utilisations(
+    moment, torque, d, kf, kfs, endurance, ultimate, yield_strength, mean_moment=0.0
+) -> dict[str, np.ndarray]:
     """Shigley section 7-4 at a shoulder of diameter ``d`` (m; fatigue notch factors
     ``kf`` in bending, ``kfs`` in torsion): bending ``moment`` and ``torque`` (..., T)
-    N m factored, over a rotating shaft: the bending fully reversed (``M_a`` its peak,
-    ``M_m = 0``, the conservative side for a shaft turning relative to its load), the
-    torque's alternating and midrange parts from its range. ``endurance`` S_e (Pa,
-    Marin-modified). Returns ``fatigue`` (1 / n of DE-Goodman, eq. 7-8) and ``yield``
-    (1 / n_y, the first cycle's largest von Mises stress with the notch factors, eq. 7-15)."""
+    N m factored: the ``moment`` fully reversed (``M_a`` its peak: a joint force whose
+    direction turns relative to the shaft, the conservative side), ``mean_moment`` (...)
+    a bending moment constant in the shaft's frame (``M_m``), the torque's alternating and
+    midrange parts from its range. ``endurance`` S_e (Pa, Marin-modified). Returns
+    ``fatigue`` (1 / n of DE-Goodman, eq. 7-8) and ``yield`` (1 / n_y, the first cycle's
+    largest von Mises stress with the notch factors, eq. 7-15)."""
     m = np.abs(np.asarray(moment, float))
     tq = np.asarray(torque, float)
-    ma, mm = m.max(axis=-1), np.zeros(m.shape[:-1])
+    ma, mm = m.max(axis=-1), np.broadcast_to(np.abs(np.asarray(mean_moment, float)), m.shape[:-1])
     ta, tm = 0.5 * (tq.max(axis=-1) - tq.min(axis=-1)), 0.5 * (tq.max(axis=-1) + tq.min(axis=-1))
     return shaft_utilisations_of_parts(ma, mm, ta, tm, d, kf, kfs, endurance, ultimate, yield_strength)
 
@@ -115,15 +127,17 @@ def shaft_utilisations_of_parts(ma, mm, ta, tm, d, kf, kfs, endurance, ultimate,
     return {"fatigue": inv_n, "yield": np.sqrt(sigma**2 + 3.0 * tau**2) / yield_strength}
 
 
-def de_goodman_diameter(ma, ta, tm, kf, kfs, endurance, ultimate, n: float = 1.0, start: float = 25e-3) -> float:
+def de_goodman_diameter(
+    ma, ta, tm, kf, kfs, endurance, ultimate, n: float = 1.0, start: float = 25e-3, mm: float = 0.0
+) -> float:
     """m: the shaft diameter at which DE-Goodman (Shigley eq. 7-8) gives the factor of
-    safety ``n`` under the alternating moment ``ma`` and the torque's alternating and
-    midrange parts ``ta``, ``tm`` (N m; no midrange moment: a rotating shaft), solved for
+    safety ``n`` under the alternating and midrange moments ``ma``, ``mm`` and the torque's
+    alternating and midrange parts ``ta``, ``tm`` (N m), solved for
     ``d``: ``d = (16 n / pi (A / S_e + B / S_ut))^(1/3)``. ``endurance`` is S_e (Pa), or a
     function of the diameter (the size factor's weak dependence: solved by substitution
     from ``start``, contracting by about 0.107 / 3 a step)."""
     alternating = math.sqrt(4 * (kf * ma) ** 2 + 3 * (kfs * ta) ** 2)
-    midrange = math.sqrt(3) * kfs * abs(tm)
+    midrange = math.sqrt(4 * (kf * mm) ** 2 + 3 * (kfs * tm) ** 2)
     se = endurance if callable(endurance) else (lambda d: endurance)
     d = start
     for _ in range(40):

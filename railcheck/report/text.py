@@ -284,6 +284,7 @@ def component_figures(c) -> str:
     words = {
         "force_N": lambda v: f"F {v / 1e3:.2f} kN",
         "moment_Nm": lambda v: f"M {v:.3g} N m",
+        "mean_moment_Nm": lambda v: f"+ {v:.3g} N m mean" if v > 0 else "",
         "torque_Nm": lambda v: f"T {v:.3g} N m" if v > 0 else "",
         "shear_N": lambda v: f"V {v / 1e3:.2f} kN",
         "tension_N": lambda v: f"N {v / 1e3:.2f} kN",
