@@ -178,9 +178,11 @@ def _mark_dynamic(ax, agg: Aggregate, others: tuple, xs: np.ndarray, ys: np.ndar
 
 
 def write_motor_plot(aggregates: dict, path: Path) -> None:
-    """``motor.png``: per kind the peak torque a motor must deliver against crank speed
-    (the largest over the settings still safe at that speed), the 2013 estimate of 200 N·m
-    as a line, the listed speeds marked, and how many settings the curve covers."""
+    """``motor.png``: per kind the peak torque a motor must deliver against crank speed to
+    drive every setting that passes the configuration checks (whatever the parts' and
+    components' verdicts: the motor's demand), beside it the largest over the settings
+    still safe at that speed (what their safe speeds cap), the 2013 estimate of 200 N·m as
+    a line, the listed speeds marked."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -195,19 +197,29 @@ def write_motor_plot(aggregates: dict, path: Path) -> None:
         if not np.any(np.isfinite(torque)):
             continue
         drawn = True
-        (line,) = ax.plot(m.curve_hz, torque, lw=2, label=f"{kind}: peak torque, settings safe at that speed")
+        demand = finite(m.demand["torque_peak_Nm"])
+        (line,) = ax.plot(m.curve_hz, demand, lw=2, label=f"{kind}: peak torque to drive every assemblable setting")
+        ax.plot(
+            m.curve_hz,
+            torque,
+            lw=1.5,
+            ls="--",
+            color=line.get_color(),
+            label=f"{kind}: only the settings safe at that speed",
+        )
         rms = finite(m.curve["torque_rms_Nm"])
-        ax.plot(m.curve_hz, rms, lw=1, ls="--", color=line.get_color(), label=f"{kind}: RMS torque")
+        ax.plot(m.curve_hz, rms, lw=1, ls=":", color=line.get_color(), label=f"{kind}: RMS, settings safe there")
         _label_speeds(ax, kind, k, m, line.get_color())
     ax.axhline(MOTOR_ESTIMATE_2013_NM, color="grey", lw=1, ls=":", label="2013 study's estimate, 200 N·m")
     ax.set_xlabel("crank speed (Hz)")
     ax.set_ylabel("motor torque (N·m)")
-    ax.set_ylim(0, 1.2 * max(ax.get_ylim()[1], MOTOR_ESTIMATE_2013_NM))
+    ax.set_yscale("log")  # the demand grows with the speed squared; the safe settings' stays near their limit
+    ax.set_ylim(1.0, 2.0 * max(ax.get_ylim()[1], MOTOR_ESTIMATE_2013_NM))
     ax.set_xlim(left=0)
     ax.grid(alpha=0.3)
     ax.set_title(
-        "The motor a rig needs: at each crank speed, the largest torque over the settings still safe there\n"
-        "(a setting leaves the curve above its safe speed, so the curve drops where the most demanding ones leave)",
+        "The motor a rig needs: at each crank speed, the largest peak torque over every setting (solid),\n"
+        "and over those still safe at that speed (dashed: a setting leaves it above its safe speed)",
         fontsize=9,
     )
     if drawn:

@@ -251,11 +251,10 @@ def components_table(result) -> list[str]:
     """The joints' components' lines: each component's figures, its utilisation with the
     criterion that governs and its verdict; then the standards and what was assumed."""
     factor = result.scene.checked.factor
-    header = ["component", "loads", "figures", "utilisation", "governs", "verdict", "needs"]
+    header = ["component", "figures", "utilisation", "governs", "verdict", "needs"]
     rows = [
         [
             name,
-            f"x{factor:g}" if c.factored else "as is",
             component_figures(c),
             f"{c.utilisation:.0%}",
             str(c.governing_criterion),
@@ -265,10 +264,10 @@ def components_table(result) -> list[str]:
         for name, c in result.components.items()
     ]
     lines = [
-        f"components: the joints' parts by their standards (loads x{factor:g}, or as is; slip as is; V, N per screw;"
-        " needs: what passes)"
+        f"components: the joints' parts by their standards (strength on loads x{factor:g}; slip, bearings and",
+        "    carriages on the loads as they are; V, N per screw; M alternating+mean; needs: what passes)",
     ]
-    lines += aligned(header, rows, left=frozenset({0, 1, 2, 4, 5, 6}))
+    lines += aligned(header, rows, left=frozenset({0, 1, 3, 4, 5}))
     standards = sorted({f"{c.kind} {c.standard}" for c in result.components.values()})
     lines += textwrap.wrap("standards: " + "; ".join(standards), 98, initial_indent="  ", subsequent_indent="    ")
     assumed = sorted({a for c in result.components.values() for a in c.assumed})
@@ -283,8 +282,8 @@ def component_figures(c) -> str:
     f = c.figures
     words = {
         "force_N": lambda v: f"F {v / 1e3:.2f} kN",
-        "moment_Nm": lambda v: f"M {v:.3g} N m",
-        "mean_moment_Nm": lambda v: f"+ {v:.3g} N m mean" if v > 0 else "",
+        "moment_Nm": lambda v: f"M {v:.3g}{'' if f.get('mean_moment_Nm', 0.0) > 0 else ' N m'}",
+        "mean_moment_Nm": lambda v: f"+{v:.3g} N m" if v > 0 else "",
         "torque_Nm": lambda v: f"T {v:.3g} N m" if v > 0 else "",
         "shear_N": lambda v: f"V {v / 1e3:.2f} kN",
         "tension_N": lambda v: f"N {v / 1e3:.2f} kN",
@@ -292,7 +291,7 @@ def component_figures(c) -> str:
         "life_h": lambda v: f"L10 {v:.2g} h" if math.isfinite(v) else "L10 unlimited (at rest)",
         "equivalent_load_N": lambda v: f"P0 {v / 1e3:.2f} kN",
     }
-    return ", ".join(w for k, v in f.items() if k in words and (w := words[k](v)))
+    return ", ".join(w for k, v in f.items() if k in words and (w := words[k](v))).replace(", +", "+")
 
 
 def component_needs(c) -> str:
@@ -409,6 +408,22 @@ def _motor_lines(sizing: dict | None, mm) -> list[str]:
             f"{t['safe_speed_Hz']:.3g} Hz), peak power {p['value']:,.0f} W; the 2013 estimate: "
             f"{sizing['estimate_2013_Nm']:.0f} N·m (motor.png)"
         )
+    return out + _demand_lines(sizing)
+
+
+def _demand_lines(sizing: dict) -> list[str]:
+    """The motor's demand at each listed speed: the peak torque that drives every setting
+    passing the configuration checks, whatever its verdict (the motor curve's ``demand``)."""
+    curve = sizing.get("curve") or {}
+    hz, demand = curve.get("speed_Hz", []), curve.get("demand_torque_peak_Nm", [])
+    out = []
+    for speed in sizing["at_listed_speeds"]:
+        near = [t for h, t in zip(hz, demand) if math.isclose(h, float(speed), rel_tol=1e-9) and t is not None]
+        if near:
+            out.append(
+                f"  motor to drive every setting that passes the configuration checks at {float(speed):g} Hz, whatever "
+                f"its verdict: peak torque {near[0]:.3g} N·m"
+            )
     return out
 
 

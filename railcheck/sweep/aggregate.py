@@ -171,8 +171,11 @@ class MotorSizing:
     """What a motor must deliver, streamed chunk by chunk: at each listed speed the
     largest peak torque, RMS torque and peak power over the settings that pass every check
     there; at each setting's own safe speed the largest of the same; and the curve of
-    required torque against speed (at each curve speed, the largest over the settings that
-    pass the configuration checks and are still safe at that speed). N m, W, Hz."""
+    required torque against speed: at each curve speed the largest over the settings that
+    pass the configuration checks and are still safe at that speed (``curve``: what the
+    rig's safe settings ask, capped by whatever limits their speed), and over every setting
+    that passes the configuration checks whatever its verdict (``demand``: what a motor must
+    give to drive them all). N m, W, Hz."""
 
     QUANTITIES = ("torque_peak_Nm", "torque_rms_Nm", "power_peak_W")
 
@@ -183,6 +186,7 @@ class MotorSizing:
         self.at_safe: dict = {}
         self.curve = {q: np.full(self.curve_hz.size, -np.inf) for q in self.QUANTITIES}  # -inf: no setting
         self.curve_settings = np.zeros(self.curve_hz.size, dtype=np.int64)
+        self.demand = {q: np.full(self.curve_hz.size, -np.inf) for q in self.QUANTITIES}
 
     def add(self, col: dict, curve: dict | None, lengths_of) -> None:
         for v in self.speeds_hz:
@@ -200,8 +204,11 @@ class MotorSizing:
         running = self.curve_hz[None, :] <= safe[:, None]  # (rows, G)
         self.curve_settings += running.sum(axis=0)
         for q in self.QUANTITIES:
-            values = np.where(running & np.isfinite(curve[q]), curve[q], -np.inf)
+            known = np.isfinite(curve[q])
+            values = np.where(running & known, curve[q], -np.inf)
             self.curve[q] = np.maximum(self.curve[q], values.max(axis=0, initial=-np.inf))
+            every = np.where(known, curve[q], -np.inf)
+            self.demand[q] = np.maximum(self.demand[q], every.max(axis=0, initial=-np.inf))
 
     def _keep(self, best: dict, c: dict, sel: np.ndarray, suffix: str, lengths_of, with_safe=False) -> None:
         """Keep in ``best`` the largest of each quantity over the rows ``sel`` and where it is."""
@@ -225,6 +232,10 @@ class MotorSizing:
                 "speed_Hz": [float(v) for v in self.curve_hz],
                 "settings": [int(v) for v in self.curve_settings],
                 **{q: [None if not np.isfinite(v) else float(v) for v in self.curve[q]] for q in self.QUANTITIES},
+                **{
+                    f"demand_{q}": [None if not np.isfinite(v) else float(v) for v in self.demand[q]]
+                    for q in self.QUANTITIES
+                },
             },
         }
 
