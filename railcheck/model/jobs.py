@@ -233,7 +233,7 @@ def dynamic_job(
     rig has no cycle to respond to); a free body is pinned at its two joints (a bolted-down
     part held at its base). A rail's
     joints carry the mass model's point masses (plates, carriages, coupling), lumped on
-    their holes: the near joint's on its first hole, the far joint's on its bolt holes."""
+    their holes: the near joint's on its first two holes, the far joint's on its bolt holes."""
     if "dynamic" not in scene.checked.effects or scene.mechanism is None or scene.linkage_spec.speed <= 0:
         return None
     return _modal_template(scene, free, name, holes)
@@ -274,7 +274,7 @@ def _modal_template(scene: Scene, free, name: str, holes) -> DynamicJob:
 def carried_masses(scene: Scene, name: str, holes: list[str] | tuple, kind: str | None = None) -> tuple:
     """((hole surfaces, kg), ...): the point masses a rail carries at its joints in the
     mass model (plates, carriages, coupling) of the linkage ``kind`` (default: the
-    scene's): the near joint's on its first hole, the far joint's on the bolt holes
+    scene's): the near joint's on its first two holes, the far joint's on the bolt holes
     ``holes``; () for a plate or a part with explicit loads."""
     part = PARTS.get(name)
     fb = part.free_body if part is not None else None
@@ -283,7 +283,7 @@ def carried_masses(scene: Scene, name: str, holes: list[str] | tuple, kind: str 
     masses = scene.masses
     kind = kind or scene.linkage_spec.linkage.kind
     kg = [carried_mass(masses, kind, part.bar, joint.joint) for joint in (fb.near, fb.far)]
-    return tuple((g, m) for g, m in ((("hole_0",), kg[0]), (tuple(holes), kg[1])) if m > 0)
+    return tuple((g, m) for g, m in ((("hole_0", "hole_1"), kg[0]), (tuple(holes), kg[1])) if m > 0)
 
 
 def is_free(loads: LoadModel) -> bool:

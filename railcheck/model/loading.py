@@ -400,7 +400,7 @@ def free_plate_coefficients(
 
 def lever_rule(geo, holes: list[str], model: LoadModel) -> tuple[float, ...]:
     """The shares of a transverse joint force over the two bolt holes of the joint's plate
-    that keep its line of action at the joint (x = first hole + bar length): the plate
+    that keep its line of action at the joint (x = the pivot + bar length): the plate
     is in equilibrium, so the bolts carry the force and no moment about the joint."""
     xs = geo.get("hole_x")
     x1, x2 = (float(xs[int(h.split("_")[1])]) for h in holes)

@@ -47,7 +47,7 @@ def uses_hole_basis(job: PartJob) -> bool:
 
 def far_pairs(geo) -> list[tuple[str, str]]:
     """Every pair of neighbouring holes of the rail ``geo`` the far joint's bolts can use
-    (beyond the first hole, where the near joint sits)."""
+    (beyond the first, which the near joint's screws share with the second)."""
     n = len(geo.get("hole_x"))
     return [(f"hole_{k}", f"hole_{k + 1}") for k in range(1, n - 1)]
 

@@ -15,6 +15,7 @@ from railcheck.files import atomic_path
 LOAD_WORDS = {
     "force_N": ("F", 1e-3, "kN"),
     "moment_Nm": ("M", 1.0, "N m"),
+    "mean_moment_Nm": ("M mean", 1.0, "N m"),
     "torque_Nm": ("T", 1.0, "N m"),
     "shear_N": ("V per screw", 1e-3, "kN"),
     "tension_N": ("N per screw", 1e-3, "kN"),
@@ -25,11 +26,11 @@ LOAD_WORDS = {
 
 def instant_loads(figures: dict, factored: bool, factor: float) -> str:
     """A component's loads at the instant, e.g. "F 3.20 kN (x1.4)" or "P0 2.27 kN
-    (unfactored)"; zero torques left out."""
+    (unfactored)"; zero torques and mean moments left out."""
     words = []
     for key, (name, scale, unit) in LOAD_WORDS.items():
         v = figures.get(key)
-        if v is None or (key == "torque_Nm" and v == 0.0):
+        if v is None or (key in ("torque_Nm", "mean_moment_Nm") and v == 0.0):
             continue
         words.append(f"{name} {v * scale:.3g} {unit}")
     tag = f"x{factor:g}" if factored else "unfactored"
