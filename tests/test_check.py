@@ -177,7 +177,7 @@ def test_default_check_end_to_end(tmp_path):
     assert summary["stages_run"] == stages
     parts = ["crank-rail", "coupler-rail", "rocker-rail", "PF_4b_006", "PF_4b_003_v2"]
     assert list(summary["parts"]) == parts
-    assert len(summary["components"]) == 13  # the default lists every joint component
+    assert len(summary["components"]) == 16  # the default lists every joint component
     assert (out / "joints.png").exists() and all((out / f"{n}-utilisation.png").exists() for n in parts)
     for name in parts:
         m = meshio.read(out / f"{name}.vtu")

@@ -124,6 +124,8 @@ def test_component_inputs_refused_in_one_line_naming_the_field():
         _scene({"joint_friction": 0.9})  # beyond what steel on steel gives
     with pytest.raises(InputError, match="components.screw_preload_utilisation: 1.2 is outside"):
         _scene({"screw_preload_utilisation": 1.2})  # a preload above the screw's proof load
+    with pytest.raises(InputError, match="components.screw_edge_distance: 1 mm is below EN 1993-1-8's minimum"):
+        _scene({"screw_edge_distance": "1 mm"})  # "inf% bearing" before: a negative k1
     with pytest.raises(InputError, match="did you mean 'crank-screws-O2'"):
         _scene(parts=["crank-screws-02"])
     with pytest.raises(InputError, match="components.shaft_kt"):

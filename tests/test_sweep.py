@@ -565,8 +565,10 @@ def test_checking_at_the_safe_speed_gives_utilisation_one(fe_sweep):
 @pytest.mark.slow
 def test_safe_speed_with_gravity_by_bisection(tmp_path):
     """With gravity the loads are C_g + s C_i and the safe speed comes from bisection:
-    sweeping the same setting at that speed gives utilisation 1 (to the bisection's
-    tolerance), and the rows at other speeds stay consistent (above: over 1, below: under)."""
+    sweeping the same setting at that speed reaches the criterion that set it (utilisation 1,
+    or the certificate's estimate at its tolerance: on the v2 joints' rig the crank rail's
+    estimate sets it, 1.057 Hz), to the bisection's tolerance, and the rows at other speeds
+    stay consistent (above: over 1, below: under)."""
     text = (
         FE_SWEEP.replace('crank = ["480 mm", "540 mm"]', 'crank = ["480 mm", "480 mm"]')
         .replace('rocker = ["780 mm", "840 mm"]', 'rocker = ["780 mm", "780 mm"]')
@@ -586,7 +588,14 @@ def test_safe_speed_with_gravity_by_bisection(tmp_path):
             serial=True,
         )
     )
-    assert again["utilisation"][0] == pytest.approx(1.0, abs=1e-9)
+    from railcheck.model.certificate import QUASI_STATIC_TOLERANCE
+
+    part, criterion = first["safe_speed_part"][0], first["safe_speed_criterion"][0]
+    if criterion == "quasi-static":  # the certificate's estimate reaches its tolerance there
+        assert again[f"{part}_amplification_estimate"][0] == pytest.approx(QUASI_STATIC_TOLERANCE, abs=1e-9)
+        assert again["utilisation"][0] <= 1.0
+    else:
+        assert again["utilisation"][0] == pytest.approx(1.0, abs=1e-9)
     assert again["utilisation"][1] < 1.0 < again["utilisation"][2]
     assert list(again["verdict"][1:]) == ["pass", "fail"]  # at the safe speed itself: 1 to rounding
 

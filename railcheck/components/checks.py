@@ -187,6 +187,7 @@ def screw_loads(c: Component, spec: ComponentSpec, h: JointHistories, peaks: boo
     by the elastic method (:func:`railcheck.components.standards.two_screw_forces`), the
     weight's pull on each screw; with ``peaks`` the transverse forces' largest over the
     cycle (2, ..., 1)."""
+    assert c.rail is not None  # a screw group fixes a rail
     along, across = rail_axes_of(h, c.joint, c.rail)
     torque = h.torque if c.motor else 0.0
     if peaks:
@@ -272,6 +273,7 @@ def _bearings(c: Component, spec: ComponentSpec, h: JointHistories, f: float, m:
 
 
 def _carriage(c: Component, spec: ComponentSpec, h: JointHistories, f: float, m: Strengths):
+    assert c.rail is not None  # a carriage runs on a rail
     along, across = rail_axes_of(h, c.joint, c.rail)
     normal = np.broadcast_to(np.asarray(h.vertical.get(c.joint, 0.0), float)[..., None], along.shape)
     height = spec.carriage_height

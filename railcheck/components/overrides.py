@@ -59,6 +59,7 @@ def component_spec(table: dict, rail) -> ComponentSpec:
     :class:`~railcheck.geometry.catalogue.RailSpec`, its ``[geometry]`` applied), the
     ``[components]`` overrides ``table``; refused in one line when it cannot be built."""
     holes = {name: getattr(rail, attr) for name, attr in FROM_GEOMETRY.items()}
-    spec = dataclasses.replace(COMPONENT_SPEC, **holes, **component_overrides(table))
+    values: dict = {**holes, **component_overrides(table)}
+    spec = dataclasses.replace(COMPONENT_SPEC, **values)
     refuse_impossible(spec)
     return spec

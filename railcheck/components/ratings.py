@@ -138,7 +138,8 @@ OVERRIDABLE = {f.name: _dimension(f.name) for f in fields(ComponentSpec) if f.na
 def refuse_impossible(spec: ComponentSpec) -> None:
     """Refuse components that cannot be built or flatter the verdict, naming the key: a
     screw the rail's hole does not admit, a fraction outside (0, 1), a friction or
-    tightening factor outside what VDI 2230's tables span."""
+    tightening factor outside what VDI 2230's tables span, end and edge distances below
+    EN 1993-1-8 Table 3.3's minimum."""
     sizes = admitted(spec.rail_hole, spec.rail_counterbore)
     if spec.screw_size not in sizes:
         allowed = " or ".join(sizes) if sizes else "no metric screw"
@@ -161,6 +162,14 @@ def refuse_impossible(spec: ComponentSpec) -> None:
         v = getattr(spec, key)
         if not lo <= v <= hi:
             raise InputError(f"components.{key}", f"{v:g} is outside {lo:g}-{hi:g}")
+    for key in ("screw_end_distance", "screw_edge_distance"):  # EN 1993-1-8 Table 3.3: e1, e2 >= 1.2 d0
+        v = getattr(spec, key)
+        if v < 1.2 * spec.rail_hole - 1e-12:
+            raise InputError(
+                f"components.{key}",
+                f"{v * 1e3:g} mm is below EN 1993-1-8's minimum 1.2 d0 = {1.2 * spec.rail_hole * 1e3:g} mm "
+                "for the rail's hole",
+            )
     if spec.screw_eccentricity > 2 * spec.rail_pitch:
         raise InputError("components.screw_eccentricity", "more than two hole pitches from the screws' centroid")
 

@@ -314,6 +314,7 @@ def free_body_cases(loads: LoadModel, geo: PartGeometry, holes: list[str]) -> Fr
     xs = geo.get("hole_x")
     far_x = float(np.mean([xs[int(h.split("_")[1])] for h in holes]))
     assert loads.free_body is not None  # a free rail
+    deflection: tuple  # (the line's two hole groups, the measured group or the x of mid-span)
     if loads.free_body.motor:
         deflection = (["hole_0"], ["hole_1"], list(holes))
     else:

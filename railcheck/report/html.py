@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from railcheck.report.forces import applied_factor, governing_forces
-from railcheck.report.text import component_figures
+from railcheck.report.text import component_figures, component_needs
 
 CSS = """
 body{font-family:system-ui,sans-serif;margin:2em;color:#222;max-width:1400px}
@@ -248,16 +248,18 @@ def _components(result, directory: Path) -> str:
             html_escape(component_figures(c)),
             f"{c.utilisation:.0%} ({html_escape(c.governing_criterion)})",
             _verdict(bool(c.passed)),
+            html_escape(component_needs(c)),
         ]
         for name, c in result.components.items()
     ]
-    head = ["component", "standard", "loads", "figures", "utilisation (governs)", "verdict"]
+    head = ["component", "standard", "loads", "figures", "utilisation (governs)", "verdict", "needs (what passes)"]
     assumed = sorted({a for c in result.components.values() for a in c.assumed})
     return (
         "<h2>Components</h2>"
         + html_table(head, rows)
-        + '<p class="note">Pins, screws and shafts on factored loads with the standard\'s resistance factors '
-        "(EN 1993-1-8: γM0 = 1.0, γM2 = 1.25; Shigley: n ≥ 1); bearings and carriages on the loads as they are, "
+        + '<p class="note">Screws and shafts on factored loads with the standard\'s resistance factors '
+        "(EN 1993-1-8: γM0 = 1.0, γM2 = 1.25; Shigley: n ≥ 1); the screws' slip (VDI 2230, a failure: a joint "
+        "that slips under a reversing load loosens), bearings and carriages on the loads as they are, "
         "against their standards' required static safety and life. Assumed (not in seed 000 or a cited catalogue; "
         f"the scene's [components] table overrides them): {html_escape(', '.join(assumed)) or 'nothing'}.</p>"
         + html_image(directory / "joints.png", "the joints' load paths")
