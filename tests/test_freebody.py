@@ -250,7 +250,8 @@ def test_a_free_coupler_bends_as_the_statics_of_its_loads_say(free_run):
     x_pivot, x0, length = 0.5 * (xs[0] + xs[1]), 0.5 * (xs[6] + xs[7]), geo.get("length")  # the pivot: between its screws
     mu = part.job.free_body.mass / length  # kg/m
     pin, uniform, rot = c[names.index("pin_y")], c[names.index("body_y")], c[names.index("body_rot")]
-    # left segment [0, x0]: the pin force halved on the two screws (its resultant at x_pivot), load mu (uniform + rot (x - x_pivot)) per metre
+    # left segment [0, x0]: the pin force halved on the two screws (its resultant at x_pivot),
+    # load mu (uniform + rot (x - x_pivot)) per metre
     moment = pin * (x0 - x_pivot) + mu * (uniform * x0**2 / 2 + rot * (x0**3 / 6 - x_pivot * x0**2 / 2))
     # relief: the imbalance (force y, moment z about the centre) as a rigid acceleration of the rail
     imbalance = cyc.solve.imbalance @ c
