@@ -40,12 +40,22 @@ def scene_of(scene: Any = None) -> Scene:
         return parse_scene(scene, "<dict>")
     if isinstance(scene, Path) or (isinstance(scene, str) and "\n" not in scene and "=" not in scene):
         return load_scene(scene)
+    if isinstance(scene, str) and "\n" not in scene and _is_file(scene):  # a path with "=" in its name
+        return load_scene(scene)
     if isinstance(scene, str):
         try:
             return parse_scene(tomllib.loads(scene), "<text>")
         except tomllib.TOMLDecodeError as exc:
             raise InputError("scene", f"malformed TOML: {exc}") from None
     raise InputError("scene", f"must be a path, TOML text, a dict or None, got {type(scene).__name__}")
+
+
+def _is_file(text: str) -> bool:
+    """Whether ``text`` names an existing file (False for text no path can be)."""
+    try:
+        return Path(text).is_file()
+    except (OSError, ValueError):
+        return False
 
 
 @dataclass(frozen=True)

@@ -20,6 +20,17 @@ ROOT = Path(__file__).parents[1]
 ONE_PART = FINAL_DESIGN + 'steps = 360\n[check]\nparts = ["coupler-rail"]\n'
 
 
+def test_a_path_with_an_equals_sign_in_its_name_is_a_path(tmp_path):
+    """An existing file is read as a file even when its name holds "=" (it was parsed as
+    TOML text: issue 79)."""
+    path = tmp_path / "speed=1Hz.toml"
+    path.write_text(ONE_PART)
+    read = scene_of(str(path))
+    assert read.raw == tomllib.loads(ONE_PART) and read.source == scene_of(path).source != "<text>"
+    with pytest.raises(InputError):
+        scene_of("check = 1")  # no such file: TOML text, refused by the scene reader
+
+
 def test_a_scene_is_a_path_toml_text_a_dict_a_scene_or_none(tmp_path):
     path = tmp_path / "s.toml"
     path.write_text(ONE_PART)
