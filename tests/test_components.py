@@ -165,7 +165,7 @@ def test_the_motor_shaft_carries_the_cranks_weight_moment_only_on_a_table_top_ri
     assert flat.components["shaft-O2"].figures["torque_Nm"] == pytest.approx(1.4 * torque)
 
 
-def _swept(components=None, speed="1 Hz"):
+def _swept(components=None, speed="1 Hz", summary=None):
     """A components-only sweep of a narrowed rig (no FE: analytic, about a second)."""
     import railcheck
 
@@ -177,6 +177,8 @@ def _swept(components=None, speed="1 Hz"):
     if components:
         data["components"] = components
     run = railcheck.sweep(data, serial=True)
+    if summary is not None:
+        summary.update(run.summary)
     columns = {k: np.array(v) for k, v in run.tables["four-bar"].to_pydict().items()}
     keep = columns["verdict"] != "refused"
     return {k: v[keep] for k, v in columns.items()}
@@ -199,6 +201,38 @@ def test_a_sweeps_components_equal_a_check_of_the_setting_and_its_safe_speed_rea
     worst = max(c.utilisation for c in at_safe.components.values())
     assert worst == pytest.approx(1.0, abs=1e-6)  # the components set it: none beyond their limit there
     assert row["safe_speed_part"] in COMPONENTS
+
+
+def test_a_sweeps_screw_needs_equal_a_checks_and_the_screw_named_passes_where_the_next_smaller_fails():
+    from railcheck.components.ratings import COMPONENT_SPEC
+    from railcheck.components.sizing import screw_choices
+
+    summary: dict = {}
+    table = _swept(speed="2 Hz", summary=summary)  # every O2 screw from M5 8.8 to none over this corner
+    choices = [" ".join(c) for c in screw_choices(COMPONENT_SPEC)]
+    column = table["crank-screws-O2_needs"]
+    # an M6 8.8 clamps less than an M5 12.9 (which comes first), so no setting needs it
+    assert set(column) == (set(choices) | {"none"}) - {"M6 8.8"}, set(column)
+    needs = summary["by_kind"]["four-bar"]["screw_needs"]["crank-screws-O2"]
+    assert needs["every_setting"] == "none" and list(needs["settings"])[-1] == "none"
+    assert needs["settings"] == {n: int(np.sum(column == n)) for n in needs["settings"]}
+    assert summary["by_kind"]["four-bar"]["screw_needs"]["crank-screws-A"]["every_setting"] in choices
+    for need in ("M5 10.9", "M6 12.9", "none"):
+        k = int(np.flatnonzero(column == need)[0])
+        mech = {b: f"{table[f'{b}_mm'][k]:.6f} mm" for b in ("crank", "coupler", "rocker", "ground")}
+        result, _ = _run(_scene(parts=["crank-screws-O2"], speed="2 Hz", **mech))
+        screw = result.components["crank-screws-O2"].needs["screw"]
+        assert (screw or "none") == need  # the sweep's vectorised sizing is the check's
+        if need == "none":
+            continue
+        size, grade = need.split()
+        sized, _ = _run(_scene({"screw_size": size, "screw_class": grade}, parts=["crank-screws-O2"], speed="2 Hz", **mech))
+        assert sized.components["crank-screws-O2"].passed
+        size, grade = choices[choices.index(need) - 1].split()
+        smaller, _ = _run(
+            _scene({"screw_size": size, "screw_class": grade}, parts=["crank-screws-O2"], speed="2 Hz", **mech)
+        )
+        assert not smaller.components["crank-screws-O2"].passed
 
 
 def test_a_failing_component_fails_the_sweeps_rows_with_its_criterion():

@@ -44,36 +44,63 @@ def screw_needs(r: ComponentResult, spec: ComponentSpec, h: JointHistories, fact
     """The smallest admitted screw and class that passes slip and T3.4, its tightening
     torque, the clamp it needs; or, where none passes, the friction that would."""
     transverse, tension = screw_loads(COMPONENTS[r.name], spec, h)
-    service = float(np.max(transverse))
-    pull = float(np.max(tension)) if np.size(tension) else 0.0
-    clamp = float(np.max(screws.clamp_needed(transverse, tension[..., None], spec.joint_friction, spec.slip_safety)))
-    out: dict = {"clamp_needed_N": clamp, "screw": None}
-    for size in screws.admitted(spec.rail_hole, spec.rail_counterbore):
-        for grade in screws.CLASSES:
-            trial = dataclasses.replace(spec, screw_size=size, screw_class=grade)
-            if screws.least_clamp(trial.thread, trial.property_class, trial) >= clamp and _strong_enough(
-                trial, factor * service, factor * pull
-            ):
-                preload = screws.assembly_preload(
-                    trial.thread, trial.property_class.proof, spec.screw_thread_friction, spec.screw_preload_utilisation
-                )
-                torque = screws.tightening_torque(
-                    trial.thread, preload, spec.screw_thread_friction, spec.screw_head_friction, spec.rail_hole
-                )
-                return out | {"screw": f"{size} {grade}", "tightening_torque_Nm": torque, "assembly_preload_N": preload}
-    sizes = screws.admitted(spec.rail_hole, spec.rail_counterbore)
-    strongest = f"{sizes[-1]} {list(screws.CLASSES)[-1]}" if sizes else None
+    clamp, shear, pull = screw_demands(transverse, tension, spec, factor)
+    out: dict = {"clamp_needed_N": float(np.max(clamp)), "screw": None}
+    choice, choices = int(smallest_screw(spec, clamp, shear, pull)), screw_choices(spec)
+    if choice >= 0:
+        size, grade = choices[choice]
+        trial = dataclasses.replace(spec, screw_size=size, screw_class=grade)
+        preload = screws.assembly_preload(
+            trial.thread, trial.property_class.proof, spec.screw_thread_friction, spec.screw_preload_utilisation
+        )
+        torque = screws.tightening_torque(
+            trial.thread, preload, spec.screw_thread_friction, spec.screw_head_friction, spec.rail_hole
+        )
+        return out | {"screw": f"{size} {grade}", "tightening_torque_Nm": torque, "assembly_preload_N": preload}
+    strongest = " ".join(choices[-1]) if choices else None
     return out | {"friction_needed": _friction_needed(spec, transverse, tension), "strongest": strongest}
 
 
-def _strong_enough(spec: ComponentSpec, shear: float, pull: float) -> bool:
+def screw_choices(spec: ComponentSpec) -> tuple[tuple[str, str], ...]:
+    """(size, class) of every screw the rail's hole admits, smallest size first, then the
+    weakest class."""
+    return tuple(
+        (size, grade) for size in screws.admitted(spec.rail_hole, spec.rail_counterbore) for grade in screws.CLASSES
+    )
+
+
+def screw_demands(transverse, tension, spec: ComponentSpec, factor: float) -> tuple[np.ndarray, ...]:
+    """(clamp per screw N the slip criterion needs, factored shear N, factored pull N),
+    each (...): the largest over the group's two screws and the cycle of the unfactored
+    ``transverse`` (2, ..., T) and ``tension`` (2, ...) N (:func:`screw_loads`)."""
+    transverse, tension = np.asarray(transverse, float), np.asarray(tension, float)
+    clamp = screws.clamp_needed(transverse, tension[..., None], spec.joint_friction, spec.slip_safety)
+    return np.max(clamp, axis=(0, -1)), factor * np.max(transverse, axis=(0, -1)), factor * np.max(tension, axis=0)
+
+
+def smallest_screw(spec: ComponentSpec, clamp, shear, pull) -> np.ndarray:
+    """(...) int: the index in :func:`screw_choices` of the first screw whose least clamp
+    reaches ``clamp`` N and which carries ``shear`` and ``pull`` N factored by EN 1993-1-8
+    Table 3.4; -1 where none does. Vectorised over settings."""
+    ok = [
+        (screws.least_clamp(t.thread, t.property_class, t) >= np.asarray(clamp)) & _strong_enough(t, shear, pull)
+        for t in (dataclasses.replace(spec, screw_size=size, screw_class=grade) for size, grade in screw_choices(spec))
+    ]
+    if not ok:
+        return np.full(np.shape(clamp), -1)
+    stack = np.array(ok)
+    return np.where(stack.any(axis=0), stack.argmax(axis=0), -1)
+
+
+def _strong_enough(spec: ComponentSpec, shear, pull) -> np.ndarray:
     """Whether a screw of ``spec`` carries ``shear`` and ``pull`` N factored by EN 1993-1-8
     Table 3.4 (shear, tension and their combination; bearing on the rail is the screw's
     diameter times the rail's, checked by the verdict)."""
     t, c = spec.thread, spec.property_class
     v_rd = c.alpha_v * c.ultimate * t.stress_area / GAMMA_M2
     t_rd = 0.9 * c.ultimate * t.stress_area / GAMMA_M2
-    return shear <= v_rd and pull <= t_rd and shear / v_rd + pull / (1.4 * t_rd) <= 1.0
+    shear, pull = np.asarray(shear, float), np.asarray(pull, float)
+    return (shear <= v_rd) & (pull <= t_rd) & (shear / v_rd + pull / (1.4 * t_rd) <= 1.0)
 
 
 def _friction_needed(spec: ComponentSpec, transverse: np.ndarray, tension: np.ndarray) -> float:

@@ -188,9 +188,9 @@ def write_motor_plot(aggregates: dict, path: Path) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, ax = plt.subplots(figsize=(8.0, 5.0))
+    fig, ax = plt.subplots(figsize=(8.0, 5.0 + 0.9 * len(aggregates)))
     drawn = False
-    for k, (kind, agg) in enumerate(aggregates.items()):
+    for kind, agg in aggregates.items():
         m = agg.motor_sizing
         finite = lambda v: np.where(np.isfinite(v), v, np.nan)  # noqa: E731
         torque = finite(m.curve["torque_peak_Nm"])
@@ -205,11 +205,11 @@ def write_motor_plot(aggregates: dict, path: Path) -> None:
             lw=1.5,
             ls="--",
             color=line.get_color(),
-            label=f"{kind}: only the settings safe at that speed",
+            label=f"{kind}: only the settings safe at that speed ({_capped_by(agg)})",
         )
         rms = finite(m.curve["torque_rms_Nm"])
         ax.plot(m.curve_hz, rms, lw=1, ls=":", color=line.get_color(), label=f"{kind}: RMS, settings safe there")
-        _label_speeds(ax, kind, k, m, line.get_color())
+        _label_speeds(ax, kind, m, line.get_color())
     ax.axhline(MOTOR_ESTIMATE_2013_NM, color="grey", lw=1, ls=":", label="2013 study's estimate, 200 N·m")
     ax.set_xlabel("crank speed (Hz)")
     ax.set_ylabel("motor torque (N·m)")
@@ -222,38 +222,45 @@ def write_motor_plot(aggregates: dict, path: Path) -> None:
         "and over those still safe at that speed (dashed: a setting leaves it above its safe speed)",
         fontsize=9,
     )
-    if drawn:
-        ax.legend(fontsize=8, loc="upper left")
+    if drawn:  # below the axes: no curve or marker under it
+        ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(0.0, -0.13), ncol=1, frameon=False)
     fig.tight_layout()
     with atomic_path(path) as tmp:
         fig.savefig(tmp, dpi=110)
     plt.close(fig)
 
 
-def _label_speeds(ax, kind: str, k: int, m, colour) -> None:
-    """Mark and label a kind's peak torque at each listed speed and its largest at a
-    setting's own safe speed, each kind's labels on their own line (``k``: the kind's index)."""
+def _capped_by(agg) -> str:
+    """What caps the safe settings' curve: the criteria that set the settings' safe speeds,
+    most settings first (``agg.safe_criteria``)."""
+    ranked = sorted(agg.safe_criteria.items(), key=lambda kv: -kv[1])
+    words = ", ".join(f"{crit} {n:,}" for crit, n in ranked[:3])
+    return f"their safe speeds set by {words}" if words else "no safe speed limits them"
+
+
+def _label_speeds(ax, kind: str, m, colour) -> None:
+    """Mark a kind's peak torque at each listed speed (circles) and its largest at a
+    setting's own safe speed (a square), their values in the legend (labels on the axes
+    ran into the curves and the axis label)."""
     for v, entry in m.by_speed.items():
         if "torque_peak_Nm" in entry:
             t = entry["torque_peak_Nm"]["value"]
-            ax.plot([float(v)], [t], "o", color=colour)
-            ax.annotate(
-                f"{kind}: {t:.0f} N·m at {float(v):g} Hz",
-                (float(v), t),
-                textcoords="offset points",
-                xytext=(6, -12 - 13 * k),  # each kind's label on its own line
-                fontsize=8,
+            ax.plot(
+                [float(v)],
+                [t],
+                "o",
+                color=colour,
+                label=f"{kind}: {t:.0f} N·m, the largest over the settings that pass at {float(v):g} Hz",
             )
     safe = m.at_safe.get("torque_peak_Nm")
     if safe:
-        ax.plot([safe["safe_speed_Hz"]], [safe["value"]], "s", color=colour)
-        ax.annotate(
-            f"{kind}: {safe['value']:.0f} N·m, the largest at a setting's own safe speed ({safe['safe_speed_Hz']:.2f} Hz)",
-            (safe["safe_speed_Hz"], safe["value"]),
-            textcoords="offset points",
-            xytext=(0, 10 + 13 * k),
-            ha="center",
-            fontsize=8,
+        ax.plot(
+            [safe["safe_speed_Hz"]],
+            [safe["value"]],
+            "s",
+            color=colour,
+            label=f"{kind}: {safe['value']:.0f} N·m, the largest at a setting's own safe speed "
+            f"({safe['safe_speed_Hz']:.2f} Hz)",
         )
 
 

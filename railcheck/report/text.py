@@ -473,6 +473,7 @@ def sweep_report(run) -> str:
                 f"  6205 bearings: shortest L10 {b['hours']:.3g} h at {mm(b['lengths_m'])}, static "
                 f"safety {b['static_safety']:.3g}"
             )
+        lines += _screw_need_lines(k.get("screw_needs") or {}, s["speeds_Hz"][0])
     if s.get("seed_hypotheses"):
         held = sum(h["holds"] is True for h in s["seed_hypotheses"])
         tested = sum(h["holds"] is not None for h in s["seed_hypotheses"])
@@ -485,6 +486,20 @@ def sweep_report(run) -> str:
         f"summary.json), {run.seconds:.1f} s"
     )
     return fit_width("\n".join(lines))
+
+
+def _screw_need_lines(needs: dict, hz: float) -> list[str]:
+    """Per screw group, the settings checked at ``hz`` by the smallest screw that passes
+    slip and T3.4 there, and the one that passes at all of them."""
+    if not needs:
+        return []
+    lines = [f"  screws needed at {hz:g} Hz (the smallest that passes; settings that pass the configuration checks):"]
+    for name, n in needs.items():
+        counts = ", ".join(f"{screw} {k:,}" for screw, k in n["settings"].items())
+        every = n["every_setting"]
+        said = f"every setting passes with {every}" if every != "none" else "no admitted screw passes at some setting"
+        lines.append(f"    {name}: {said} ({counts})")
+    return lines
 
 
 def support_words(result) -> str:

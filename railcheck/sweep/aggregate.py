@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from railcheck.components.ratings import COMPONENTS
+from railcheck.components.sizing import screw_choices
 from railcheck.studies.hypotheses import MOTOR_ESTIMATE_2013_NM, hypotheses
 from railcheck.sweep.grid import BARS, narrowed, rig_grid
 
@@ -64,6 +65,8 @@ class Aggregate:
         #: the largest of the listed components' utilisations (None: the scene lists none)
         listed = scene.check.components if scene.check is not None else ()
         self.component_util = np.full(shape, np.nan) if listed else None
+        #: screw group -> {smallest screw that passes: settings} over the settings checked
+        self.screw_needs: dict[str, dict[str, int]] = {}
 
     def add(self, col: dict, curve: dict | None = None) -> None:
         self.motor_sizing.add(col, curve, self._lengths)
@@ -80,6 +83,14 @@ class Aggregate:
         self.counts["settings_passing"] += int(np.sum(c["verdict"] == "pass"))
         self._extremes(c, ok)
         self._maps(c)
+        self._screw_needs(c, ok)
+
+    def _screw_needs(self, c: dict, ok: np.ndarray) -> None:
+        for key in (k for k in c if k.endswith("_needs")):
+            counts = self.screw_needs.setdefault(key[: -len("_needs")], {})
+            needed, n = np.unique(c[key][ok & (c[key] != "")].astype(str), return_counts=True)
+            for screw, k in zip(needed.tolist(), n.tolist()):
+                counts[screw] = counts.get(screw, 0) + int(k)
 
     def _lengths(self, c: dict, i: int) -> dict:
         return {b: float(c[f"{b}_mm"][i]) / 1e3 for b in self.bars}
@@ -164,7 +175,15 @@ class Aggregate:
             "safe_speed_criteria": dict(sorted(self.safe_criteria.items())),
             "motor_sizing": self.motor_sizing.summary(),
             "shortest_bearing_life": self.min_life,
+            "screw_needs": {name: self._screw_need_summary(counts) for name, counts in self.screw_needs.items()},
         }
+
+    def _screw_need_summary(self, counts: dict[str, int]) -> dict:
+        """The settings per smallest passing screw, smallest first, and the one screw that
+        passes at every setting checked (``"none"``: some setting has none)."""
+        order = [" ".join(c) for c in screw_choices(self.scene.components)] + ["none"]
+        ranked = sorted(counts, key=lambda screw: order.index(screw) if screw in order else len(order))
+        return {"settings": {screw: counts[screw] for screw in ranked}, "every_setting": ranked[-1] if ranked else None}
 
 
 class MotorSizing:

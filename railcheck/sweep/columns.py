@@ -8,6 +8,7 @@ import math
 
 import numpy as np
 
+from railcheck.components.ratings import COMPONENTS
 from railcheck.sweep.components import swept_components
 from railcheck.sweep.context import SweepContext
 from railcheck.sweep.verdicts import failed_criteria, governing_of
@@ -79,13 +80,15 @@ def _component_columns(ctx: SweepContext, col: dict, n: int, fe, j: int, governs
     worst, governing, criterion = (np.array(a, copy=True) for a in governs)
     at, per = (np.zeros(0, dtype=np.int64), {}) if fe is None else (fe[0], fe[1].get("components", [{}] * (j + 1))[j])
     for name in swept_components(ctx):
-        u, crit = np.full(n, np.nan), np.full(n, "", dtype=object)
+        u, crit, needs = np.full(n, np.nan), np.full(n, "", dtype=object), np.full(n, "", dtype=object)
         if name in per:
-            u_at, crit_at, failed_at = per[name]
-            u[at], crit[at] = u_at, crit_at
+            u_at, crit_at, failed_at, needs_at = per[name]
+            u[at], crit[at], needs[at] = u_at, crit_at, needs_at
             for i, why in zip(at[failed_at != ""], failed_at[failed_at != ""]):
                 failing.setdefault(int(i), []).append(f"{name} {why}")
         col[f"{name}_utilisation"] = u
+        if COMPONENTS[name].kind == "screws":
+            col[f"{name}_needs"] = needs  # the smallest screw that passes ("" where not checked)
         better = np.isfinite(u) & ~(u <= worst)
         worst, governing = np.where(better, u, worst), np.where(better, name, governing)
         criterion = np.where(better, crit, criterion)

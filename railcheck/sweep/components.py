@@ -12,9 +12,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from railcheck.components.checks import JointHistories, check_components
-from railcheck.components.ratings import NOT_ON_SLIDER_CRANK
+from railcheck.components.checks import JointHistories, check_components, screw_loads
+from railcheck.components.ratings import COMPONENTS, NOT_ON_SLIDER_CRANK
 from railcheck.components.scene_checks import FIRST_JOINTS, strengths_of
+from railcheck.components.sizing import screw_choices, screw_demands, smallest_screw
 from railcheck.loads.bearings import relative_speeds
 from railcheck.loads.weight import joint_vertical_loads, screw_pulls, shaft_moment
 from railcheck.model.crossing import increasing_crossing
@@ -113,15 +114,36 @@ def components_of_settings(ctx: SweepContext, loads: Loads, sel: np.ndarray) -> 
     (len(sel),); ``safe_s`` and ``governs`` (:func:`components_safe_s`)."""
     per_speed = []
     for w in ctx.speeds:
-        results = component_results(ctx, loads, sel, (w / ctx.speeds[0]) ** 2)
+        s = (w / ctx.speeds[0]) ** 2
+        results = component_results(ctx, loads, sel, s)
+        needs = screw_needs_of_settings(ctx, sweep_histories(ctx, loads, sel, s))
         per_speed.append(
             {
-                n: (np.asarray(r.utilisation, float), np.asarray(r.governing_criterion, dtype=object), failed_words(r))
+                n: (
+                    np.asarray(r.utilisation, float),
+                    np.asarray(r.governing_criterion, dtype=object),
+                    failed_words(r),
+                    needs.get(n, np.full(sel.size, "", dtype=object)),
+                )
                 for n, r in results.items()
             }
         )
     safe, governs = components_safe_s(ctx, loads, sel)
     return {"per_speed": per_speed, "safe_s": safe, "governs": governs}
+
+
+def screw_needs_of_settings(ctx: SweepContext, h: JointHistories) -> dict:
+    """Screw group -> (S,) object: each setting's smallest screw that passes slip and
+    EN 1993-1-8 T3.4 at the loads ``h`` (``"M5 8.8"``; ``"none"`` where no screw the
+    rail's hole admits does: :func:`railcheck.components.sizing.smallest_screw`)."""
+    spec = ctx.scene.components
+    names = np.array([" ".join(c) for c in screw_choices(spec)] + ["none"], dtype=object)
+    out = {}
+    for name in swept_components(ctx):
+        if COMPONENTS[name].kind == "screws":
+            transverse, tension = screw_loads(COMPONENTS[name], spec, h, peaks=True)
+            out[name] = names[smallest_screw(spec, *screw_demands(transverse, tension, spec, ctx.scene.checked.factor))]
+    return out
 
 
 def no_part_results(n: int, speeds: int) -> dict:
