@@ -28,8 +28,10 @@ from __future__ import annotations
 
 import functools
 import hashlib
+import hmac
 import json
 import os
+import re
 import stat
 import threading
 import time
@@ -39,6 +41,7 @@ from pathlib import Path
 
 import numpy as np
 
+from railcheck.base.entries import clear_entries, is_own_entry
 from railcheck.base.temporaries import remove_dead_temporaries, temporary_name
 from railcheck.geometry.meshdata import MeshData
 
@@ -62,8 +65,12 @@ __all__ = [
 #: the entry format; bump it when what an entry holds or means changes
 #: (3: pin pressures, graded density, deflection relative to a face's rigid motion;
 #: 4: the stresses projected by a direct factor of the mass matrix; 5: no SHA-256 of the
-#: arrays (each zip member's CRC-32 checks them) but the list of their names)
-FORMAT = "5"
+#: arrays (each zip member's CRC-32 checks them) but the list of their names; 6: sealed,
+#: :func:`seal_of`)
+FORMAT = "6"
+
+#: an entry's file name: the first 40 hex digits of its payload's SHA-256
+ENTRY_NAME = re.compile(r"(?P<key>[0-9a-f]{40})\.npz")
 
 
 @dataclass(frozen=True)
@@ -195,6 +202,7 @@ def write_entry(path: Path, payload: str, fields, solve, cap: int) -> str | None
         path.parent.mkdir(parents=True, exist_ok=True)
         remove_dead_temporaries(path.parent)
         np.savez(tmp, payload=np.array(payload), meta=np.array(meta), **arrays)  # type: ignore[arg-type]  # numpy stubs type **kwds as allow_pickle
+        _add_seal(tmp, store_key(path.parent))
         os.replace(tmp, path)
     except OSError as exc:
         try:  # nothing half-written is left (and no folder may exist to hold any)
@@ -202,7 +210,7 @@ def write_entry(path: Path, payload: str, fields, solve, cap: int) -> str | None
         except OSError:
             pass
         return exc.strerror or type(exc).__name__
-    _evict(path.parent, cap, keep=path)
+    evict(path.parent, cap, keep=path)
     return None
 
 
@@ -225,10 +233,13 @@ def read_entry(path: Path, payload: str):
     try:
         if not stat.S_ISREG(os.stat(path).st_mode):
             return None, "not a regular file"
-        arrays = read_members(path)  # each member's CRC-32 checked over its bytes
+        crcs: dict[str, tuple[int, int]] = {}
+        arrays = read_members(path, crcs)  # each member's CRC-32 checked over its bytes
         stored_payload, meta = str(arrays.pop("payload")), str(arrays.pop("meta"))
         if stored_payload != payload:
             return None, "made for other inputs"
+        if not _sealed(str(arrays.pop(SEAL, "")), crcs, store_key(path.parent, create=False)):
+            return None, "not what this store wrote (its seal does not match its contents)"
         fields, solve = _entry(arrays, json.loads(meta))
     except Exception as exc:  # noqa: BLE001 - any unreadable or incomplete file is a damaged entry
         return None, f"unreadable ({type(exc).__name__})"
@@ -239,12 +250,93 @@ def read_entry(path: Path, payload: str):
     return (fields, solve), None
 
 
-def read_members(path: Path) -> dict[str, np.ndarray]:
+#: the member that seals an entry (:func:`seal_of`)
+SEAL = "seal"
+KEY_FILE = ".key"
+
+
+def store_key(directory: Path, create: bool = True) -> bytes:
+    """The store's secret (32 random bytes in ``directory/.key``, made on its first
+    write; b"" when there is none and ``create`` is false, or it cannot be read)."""
+    path = directory / KEY_FILE
+    try:
+        key = path.read_bytes()
+        if len(key) == 32 or not create:
+            return key if len(key) == 32 else b""
+    except OSError:
+        if not create:
+            return b""
+    import secrets
+
+    try:
+        fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
+    except FileExistsError:  # another run made it first: wait for its 32 bytes
+        for _ in range(100):
+            key = path.read_bytes()
+            if len(key) == 32:
+                return key
+            time.sleep(0.01)
+        raise OSError(f"{path}: not a store key")
+    with os.fdopen(fd, "wb") as f:
+        f.write(secrets.token_bytes(32))
+    return path.read_bytes()
+
+
+def directory_record(info) -> tuple:
+    """What the zip's directory says of a member (``zipfile.ZipInfo``): CRC-32, size,
+    offset and the fields no reader checks (times, attributes, versions, flags)."""
+    return (
+        info.CRC,
+        info.file_size,
+        info.header_offset,
+        info.date_time,
+        info.external_attr,
+        info.internal_attr,
+        info.create_version,
+        info.extract_version,
+        info.flag_bits,
+        info.create_system,
+        info.volume,
+    )
+
+
+def seal_of(key: bytes, crcs: dict) -> str:
+    """HMAC-SHA256 under the store's ``key`` of every member's name and directory record
+    (``crcs``: name -> :func:`directory_record`, the seal's own member left out). Each member's CRC is
+    checked against its bytes on read, so the seal ties the entry's contents to the
+    store that wrote it: an entry rewritten (``np.savez`` makes fresh CRCs), scaled or
+    copied from another store does not match it."""
+    h = hmac.new(key, digestmod="sha256")
+    for name in sorted(n for n in crcs if n != f"{SEAL}.npy"):
+        h.update(f"{name}:{crcs[name]!r};".encode())
+    return h.hexdigest()
+
+
+def _add_seal(path: Path, key: bytes) -> None:
+    """Append the seal member to the freshly written entry ``path``."""
+    import io
+    import zipfile
+
+    from numpy.lib import format as npy
+
+    with zipfile.ZipFile(path, "a") as z:
+        crcs = {i.filename: directory_record(i) for i in z.infolist()}
+        buffer = io.BytesIO()
+        npy.write_array(buffer, np.array(seal_of(key, crcs)))
+        z.writestr(zipfile.ZipInfo(f"{SEAL}.npy"), buffer.getvalue())
+
+
+def _sealed(seal: str, crcs: dict, key: bytes) -> bool:
+    return bool(key) and hmac.compare_digest(seal, seal_of(key, crcs))
+
+
+def read_members(path: Path, crcs: dict | None = None) -> dict[str, np.ndarray]:
     """Name -> array of every member of an uncompressed ``.npz`` (``np.savez``'s), each
     read whole into its array and its CRC-32 checked over all its bytes (``np.load``
     reads a member through the zip module 256 KB at a time: 0.5 GB/s here, a rail's
     166 MB basis 0.3 s). ValueError for a compressed, object or malformed member, a short
-    read or a CRC that differs."""
+    read or a CRC that differs. ``crcs``, when given, receives each member's file name ->
+    (CRC-32, size), as checked."""
     import zipfile
 
     from numpy.lib import format as npy
@@ -261,6 +353,8 @@ def read_members(path: Path) -> dict[str, np.ndarray]:
             start = info.header_offset + 30 + int.from_bytes(local[26:28], "little") + int.from_bytes(local[28:30], "little")
             f.seek(start)
             out[info.filename[:-4]] = _member_array(f, start, info, npy)
+            if crcs is not None:
+                crcs[info.filename] = directory_record(info)
     return out
 
 
@@ -344,9 +438,11 @@ def _literal(text: str):
 
 
 def _entries(directory: Path) -> list[Path]:
-    """The store's entries: regular files named *.npz, not temporaries (a dangling link, a
-    folder or an entry that cannot be looked at is none)."""
-    return [p for p in directory.glob("*.npz") if not p.name.startswith(".") and _is_file(p)] if directory.is_dir() else []
+    """The store's entries: regular files named as entries, not temporaries (a dangling
+    link, a folder, a foreign file or one that cannot be looked at is none)."""
+    if not directory.is_dir():
+        return []
+    return [p for p in directory.glob("*.npz") if ENTRY_NAME.fullmatch(p.name) and _is_file(p)]
 
 
 def _is_file(path: Path) -> bool:
@@ -364,7 +460,7 @@ def file_size(path: Path) -> int:
         return 0
 
 
-def _evict(directory: Path, cap: int, keep: Path | None = None) -> None:
+def evict(directory: Path, cap: int, keep: Path | None = None) -> None:
     """Remove the least recently used entries until the store holds at most ``cap`` bytes
     (never ``keep``, the entry just written)."""
     try:
@@ -375,7 +471,7 @@ def _evict(directory: Path, cap: int, keep: Path | None = None) -> None:
     for p in entries:
         if total <= cap:
             return
-        if keep is not None and p == keep:
+        if (keep is not None and p == keep) or not is_own_entry(p, ENTRY_NAME):
             continue
         try:
             size = p.stat().st_size
@@ -468,15 +564,11 @@ def store_info(store: UnitStore) -> StoreInfo:
     return StoreInfo(directory, len(entries), sum(file_size(p) for p in entries), store.cap)
 
 
-def clear_store(store: UnitStore) -> int:
-    """Remove every entry of ``store`` (and leftover temporary files); returns how many entries."""
+def clear_store(store: UnitStore) -> tuple[int, list[str]]:
+    """Remove every entry of ``store`` railcheck wrote (and dead runs' temporaries);
+    (entries removed, names of the files left: what railcheck did not write). A store
+    folder that is a link is not followed (nothing removed, its name left)."""
     directory = store.directory
-    count = 0
-    if directory.is_dir():
-        for p in directory.glob("*.npz"):
-            try:
-                p.unlink()
-                count += 0 if p.name.startswith(".") else 1
-            except OSError:
-                pass
-    return count
+    if directory.is_symlink():
+        return 0, [directory.name + " (a link: not followed)"]
+    return clear_entries(directory, ENTRY_NAME, known=frozenset({KEY_FILE}))

@@ -9,6 +9,7 @@ from __future__ import annotations
 import contextlib
 import hashlib
 import os
+import re
 import stat
 from pathlib import Path
 
@@ -18,7 +19,10 @@ from railcheck.base.temporaries import remove_dead_temporaries, temporary_name
 
 from .meshdata import MeshData
 
-__all__ = ["default_cache_dir", "read_cached", "write_cached"]
+__all__ = ["ENTRY_NAME", "default_cache_dir", "read_cached", "write_cached"]
+
+#: a mesh entry's file name: the part kind, then the SHA-256 of its payload's first 24 digits
+ENTRY_NAME = re.compile(r"(?P<kind>[a-z_]+)-(?P<key>[0-9a-f]{24})\.npz")
 
 
 def default_cache_dir() -> Path:

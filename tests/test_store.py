@@ -171,7 +171,8 @@ def test_two_processes_filling_one_entry_both_get_correct_fields(store, tmp_path
     assert origin == "stored"  # whichever rename won, the entry is whole
     for i in range(2):
         np.testing.assert_array_equal(np.load(tmp_path / f"s{i}.npy"), reference.stress)
-    assert not [p for p in store.directory.iterdir() if p.name.startswith(".")]  # no temporary left
+    # no temporary left (the store's key, made by the first write, is no temporary)
+    assert not [p for p in store.directory.iterdir() if p.name.startswith(".") and p.name != ".key"]
 
 
 def test_the_size_cap_evicts_the_least_recently_used_entry(store):
@@ -318,3 +319,96 @@ def test_railcheck_cache_survives_any_entry(store, capsys):
     assert shown["unit_field_store"]["entries"] == 1 and shown["unit_field_store"]["bytes"] > 0
     assert main(["cache", "--clear"]) == 0
     assert store_info(store).entries == 0
+
+
+def test_railcheck_cache_clear_removes_only_what_railcheck_wrote(store, capsys, tmp_path):
+    """Issue 79: `cache --clear` deleted every *.npz in RAILCHECK_CACHE and its
+    unit-fields/, railcheck's or not. Now an entry is railcheck's when its name is the
+    SHA-256 of the payload it holds: foreign files, an entry copied under another name,
+    links (to a file outside or to an entry), folders and a linked store folder are left
+    and named; the mesh and the field entries railcheck wrote go."""
+    from railcheck.cli import main
+    from railcheck.geometry.cache import write_cached
+
+    solve_stored(_request(), store=store)
+    entry = next(store.directory.glob("*.npz"))
+    cache = store.directory.parent
+    mesh = mesh_part(bar(0.1, 0.02, 0.02), 10e-3, 10e-3, cache=False)
+    payload = '{"a mesh": 1}'
+    import hashlib
+
+    key = hashlib.sha256(payload.encode()).hexdigest()[:24]
+    assert write_cached(cache / f"bar-{key}.npz", mesh, payload) is None
+    outside = tmp_path / "outside.npz"
+    np.savez(outside, payload=np.array("mine"))
+    np.savez(cache / "work.npz", payload=np.array("a user's array"))
+    np.savez(store.directory / "results.npz", x=np.zeros(3))
+    (store.directory / ("f" * 40 + ".npz")).write_bytes(entry.read_bytes())  # an entry under another name
+    (cache / "link.npz").symlink_to(outside)
+    (store.directory / ("e" * 40 + ".npz")).symlink_to(entry)
+    (cache / "folder.npz").mkdir()
+    (cache / "folder.npz" / "inside.npz").write_bytes(b"x")
+    foreign = sorted(["work.npz", "link.npz", "folder.npz", "unit-fields/results.npz", f"unit-fields/{'f' * 40}.npz"])
+    foreign = sorted(foreign + [f"unit-fields/{'e' * 40}.npz"])
+    assert main(["cache", "--clear"]) == 0
+    out = capsys.readouterr().out
+    assert "removed 1 mesh entries and 1 unit-field entries" in out, out
+    assert f"left {len(foreign)} files railcheck did not write: " in out
+    for name in foreign:
+        assert (cache / name).exists() or (cache / name).is_symlink(), name
+        assert name in out
+    assert not entry.exists() and not (cache / f"bar-{key}.npz").exists()
+    assert outside.exists() and (cache / "folder.npz" / "inside.npz").exists()
+
+
+def test_a_linked_store_folder_is_not_followed_by_clear_and_eviction_keeps_foreign_files(store, capsys, tmp_path):
+    from railcheck.cli import main
+    from railcheck.fea.store import evict
+
+    solve_stored(_request(), store=store)
+    foreign = store.directory / ("0" * 40 + ".npz")
+    np.savez(foreign, payload=np.array("not the payload of its name"))
+    evict(store.directory, 0)  # a cap of 0 bytes evicts every entry railcheck wrote
+    assert foreign.exists() and len(list(store.directory.glob("*.npz"))) == 1
+    elsewhere = tmp_path / "elsewhere"
+    store.directory.rename(elsewhere)
+    solve_stored(_request(), store=UnitStore(elsewhere, int(1e9)))
+    store.directory.symlink_to(elsewhere)
+    assert main(["cache", "--clear"]) == 0
+    out = capsys.readouterr().out
+    assert "0 unit-field entries" in out and "unit-fields (a link: not followed)" in out, out
+    assert len(list(elsewhere.glob("*.npz"))) == 2
+
+
+@pytest.mark.parametrize("attack", ["scaled", "scaled, its seal kept", "truncated", "another store's", "key gone"])
+def test_a_rewritten_entry_is_not_trusted_and_is_solved_again_with_a_warning(store, tmp_path, attack):
+    """Issue 79: an entry re-saved with its stress x1.01 (np.savez makes fresh CRC-32s)
+    was read as sound. Each entry is sealed by an HMAC under the store's own key over its
+    members' directory records; a rewritten, scaled, truncated entry, one copied from
+    another store or read without the key is solved again, said, and the right fields
+    come back."""
+    from railcheck.fea.store import read_members
+
+    request = _request()
+    fields, _, _ = solve_stored(request, store=store)
+    path, payload = request.path(store), request.payload()
+    arrays = read_members(path)
+    if attack.startswith("scaled"):
+        arrays["stress"] = arrays["stress"] * 1.01
+        if attack == "scaled":
+            arrays.pop("seal")
+        np.savez(path, **arrays)
+    elif attack == "truncated":
+        path.write_bytes(path.read_bytes()[:-500])
+    elif attack == "another store's":
+        other = UnitStore(tmp_path / "other", int(1e9))
+        solve_stored(request, store=other)
+        path.write_bytes(request.path(other).read_bytes())
+    else:
+        (store.directory / ".key").unlink()
+    found, why = read_entry(path, payload)
+    assert found is None and why, why
+    again, _, origin = solve_stored(request, store=store)
+    assert origin.startswith("stored unit fields ") and origin.endswith(": solved again"), origin
+    _same(fields, again)
+    assert read_entry(path, payload)[0] is not None  # the entry written again is sound
