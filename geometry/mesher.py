@@ -234,7 +234,7 @@ def _run_child(part: PartGeometry, size: float, hole_size: float, verbose: bool,
         "mesher.UNTANGLE": UNTANGLE,
     }
     request = pickle.dumps((part, size, hole_size, verbose, optimize, tunables))
-    code = "from railcheck.geometry.mesher import _child_main; _child_main()"
+    code = f"from railcheck.geometry.mesher import _child_main; _child_main({os.getpid()})"
     return subprocess.run([sys.executable, "-P", "-c", code], input=request, capture_output=True, check=False)
 
 
@@ -261,11 +261,32 @@ def _child_result(proc, verbose: bool) -> MeshData:
     return value
 
 
-def _child_main() -> None:
+def die_with_parent(parent: int) -> None:
+    """Have the kernel kill this process when its parent ``parent`` (a pid) dies, as a
+    ``kill -9`` of a check does (Linux's PR_SET_PDEATHSIG; elsewhere nothing), and exit
+    now if it already has: a mesh nobody waits for is not built to its end."""
+    import ctypes
+    import signal
+    import sys
+
+    if sys.platform.startswith("linux"):
+        try:
+            ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGKILL, 0, 0, 0)  # 1: PR_SET_PDEATHSIG
+        except (OSError, AttributeError):
+            pass
+    if os.getppid() != parent:
+        os._exit(1)
+
+
+def _child_main(parent: int | None = None) -> None:
     """The child of :func:`_build_in_child`: the request from stdin, ``(ok, mesh or
-    exception)`` pickled to stdout; gmsh's own terminal output goes to stderr."""
+    exception)`` pickled to stdout; gmsh's own terminal output goes to stderr. It dies
+    with its ``parent`` (:func:`die_with_parent`)."""
     import pickle
     import sys
+
+    if parent is not None:
+        die_with_parent(parent)
 
     result_fd = os.dup(1)
     os.dup2(2, 1)

@@ -3,6 +3,7 @@
 import json
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
@@ -412,3 +413,52 @@ def test_a_second_run_says_first_where_its_results_go(tmp_path):
     second = check(tmp_path, text, out="r")
     assert second.returncode in (0, 1)
     assert "r/ exists: this run's results go to" in second.stderr.splitlines()[0] and "r-2/" in second.stderr.splitlines()[0]
+
+
+def _status(pid: int) -> bytes:
+    try:
+        return Path(f"/proc/{pid}/status").read_bytes()
+    except OSError:
+        return b"State:\tZ"  # gone
+
+
+def _mesher_children(parent: int) -> list[int]:
+    """Pids of the gmsh children whose command line names ``parent`` as theirs."""
+    found = []
+    for proc in Path("/proc").iterdir():
+        try:
+            if proc.name.isdigit() and f"_child_main({parent})".encode() in (proc / "cmdline").read_bytes():
+                found.append(int(proc.name))
+        except OSError:
+            continue
+    return found
+
+
+@pytest.mark.slow  # a rail meshed finely in a subprocess, killed after a few seconds
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="PR_SET_PDEATHSIG is Linux's")
+def test_a_check_killed_with_sigkill_while_it_meshes_takes_its_gmsh_child_with_it(tmp_path):
+    """Issue 79: ``kill -9`` of a check while it meshed left its gmsh child running until
+    the mesh was done. The child now dies with its parent."""
+    import os
+    import signal
+    import time
+
+    script = (  # a SIGTERM handler, as the command line has: gmsh then runs in a child
+        "import signal; signal.signal(signal.SIGTERM, lambda *a: None)\n"
+        "from railcheck.geometry import mesh_part, rail\n"
+        "mesh_part(rail(1.0), 3e-3, 1e-3, cache=False)\n"  # a minute or more of meshing
+    )
+    proc = subprocess.Popen([sys.executable, "-P", "-c", script], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    deadline = time.time() + 60
+    while not _mesher_children(proc.pid) and time.time() < deadline:
+        time.sleep(0.05)
+    children = _mesher_children(proc.pid)
+    assert children, "the mesher's child never started"
+    time.sleep(1.0)  # meshing
+    os.kill(proc.pid, signal.SIGKILL)
+    proc.wait(timeout=30)
+    deadline = time.time() + 10
+    while any(Path(f"/proc/{c}").exists() for c in children) and time.time() < deadline:
+        time.sleep(0.05)
+    alive = [c for c in children if Path(f"/proc/{c}").exists() and b"State:\tZ" not in _status(c)]
+    assert not alive, "the gmsh child outlived its killed parent"
