@@ -5,6 +5,7 @@ VDI 2230 and their sizing: tests/test_screws.py)."""
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 
@@ -379,3 +380,18 @@ def test_the_sweeps_maps_draw_the_components_largest_utilisation(monkeypatch, tm
         ).shape[0]
     )
     assert (tmp_path / "s" / "map-four-bar.png").exists()
+
+
+def test_a_components_table_no_listed_component_reads_is_said_not_dropped():
+    """Issue 79: ``[components]`` beside a ``[check] parts`` without a component was
+    ignored without a word; now the check warns and names the keys."""
+    from railcheck.check.pipeline import run_pipeline
+
+    scene = _scene({"shaft_diameter": "20 mm", "joint_friction": 0.3}, parts=["crank-rail"])
+    said = run_pipeline(dataclasses.replace(scene, check=dataclasses.replace(scene.check, parts=()))).warnings
+    assert (
+        said[0]
+        == "[components] sets joint_friction, shaft_diameter, but [check] parts lists no component: nothing reads them"
+    )
+    listed = run_pipeline(_scene({"shaft_diameter": "20 mm"}, parts=["shaft-A"])).warnings
+    assert not any("[components]" in w for w in listed)

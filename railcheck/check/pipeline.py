@@ -37,13 +37,24 @@ def needs_linkage(scene: Scene) -> bool:
     return bool(scene.checked.components) or any(p not in scene.checked.loads for p in scene.checked.parts)
 
 
+def unused_component_keys(scene: Scene) -> list[str]:
+    """A warning when the scene's ``[components]`` table sets values that no listed
+    component reads (``[check] parts`` lists none): said, not silently dropped."""
+    table = scene.raw.get("components") if isinstance(scene.raw, dict) else None
+    listed = scene.check.components if scene.check is not None else ()
+    if not table or listed:
+        return []
+    keys = ", ".join(sorted(table))
+    return [f"[components] sets {keys}, but [check] parts lists no component: nothing reads them"]
+
+
 def run_pipeline(
     scene: Scene, progress: Progress | None = None, solver: str = "auto", jobs: int | None = None, part_done=None
 ) -> PipelineResult:
     """Run the stages the scene needs; see the module doc. ``part_done(name, part)``, a
     picklable callable, runs as each part finishes, where it was checked (its files)."""
     progress = progress or Progress(quiet=True)
-    stages, warnings, timings = ["scene"], [], {}
+    stages, warnings, timings = ["scene"], unused_component_keys(scene), {}
     progress.say("scene", scene.source)
     kin = kin_summary = None
     if needs_linkage(scene):
