@@ -276,7 +276,7 @@ def store_key(directory: Path, create: bool = True) -> bytes:
             if len(key) == 32:
                 return key
             time.sleep(0.01)
-        raise OSError(f"{path}: not a store key")
+        raise OSError(f"{path}: not a store key") from None
     with os.fdopen(fd, "wb") as f:
         f.write(secrets.token_bytes(32))
     return path.read_bytes()
