@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import shutil
 import tempfile
+import threading
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -77,12 +78,24 @@ class Check:
         return EXIT_PASS if self.passed else EXIT_FAIL
 
 
+#: one check or sweep at a time in a process: calls from several threads wait their turn
+#: (a run already uses both cores; two at once gave other last digits, the solvers'
+#: thread pools shared, and raced pyvista's first import)
+_ONE_RUN = threading.RLock()
+
+
 def check(scene: Any = None, out: str | Path | None = None, force: bool = False, jobs: int = 1) -> Check:
     """Check ``scene`` (see :func:`scene_of`); with ``out`` write the results folder as
     ``railcheck check --out`` does (``force`` replaces it), else write nothing. ``jobs``:
     parts checked at once; above 1 in worker processes started by spawning, which a script
-    must allow (its calls under ``if __name__ == "__main__":``), so one by default."""
+    must allow (its calls under ``if __name__ == "__main__":``), so one by default. Safe
+    from threads: calls run one after another."""
     parsed = scene_of(scene)
+    with _ONE_RUN:
+        return _check(parsed, out, force, jobs)
+
+
+def _check(parsed: Scene, out: str | Path | None, force: bool, jobs: int) -> Check:
     if out is not None:
         run = check_run.run_check(parsed, str(out), force, jobs=jobs)
         return Check(run.result, run.summary, run.target)
@@ -106,8 +119,14 @@ def sweep(
 ) -> Sweep:
     """Sweep every setting ``scene`` asks for (see :func:`scene_of`); with ``out`` keep the
     results folder as ``railcheck sweep --out`` does, else read the tables into memory and
-    keep no files. ``workers``/``serial`` as the CLI's options."""
+    keep no files. ``workers``/``serial`` as the CLI's options. Safe from threads: calls
+    run one after another."""
     parsed = scene_of(scene)
+    with _ONE_RUN:
+        return _sweep(parsed, out, force, workers, serial)
+
+
+def _sweep(parsed: Scene, out: str | Path | None, force: bool, workers: int | None, serial: bool) -> Sweep:
     scratch = None if out is not None else Path(tempfile.mkdtemp(prefix="railcheck-sweep-"))
     destination = Path(out) if out is not None else Path(str(scratch)) / "sweep"
     try:

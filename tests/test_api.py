@@ -105,3 +105,31 @@ def test_the_docs_example_runs_as_printed(capsys):
     exec(compile(code, "docs/api.md", "exec"), {})
     first = capsys.readouterr().out.splitlines()[0].split()
     assert first[0] in ("True", "False") and float(first[2]) > 0
+
+
+@pytest.mark.slow  # three checks of the coupler rail with their pictures
+def test_two_checks_on_two_threads_give_one_checks_summary_and_pictures(tmp_path):
+    """Issue 79: two ``railcheck.check`` calls on two threads gave the coupler rail other
+    last digits than one call alone, and with PNG output one thread raised from pyvista's
+    half-imported module. Calls now run one after another: each thread's summary is the
+    lone call's, byte for byte, and both write their pictures."""
+    import threading
+
+    results: dict = {}
+
+    def run(i: int) -> None:
+        try:
+            results[i] = railcheck.check(ONE_PART, out=tmp_path / f"t{i}").summary
+        except Exception as exc:  # noqa: BLE001 - the test reports it
+            results[i] = exc
+
+    threads = [threading.Thread(target=run, args=(i,)) for i in range(2)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join(timeout=600)
+    alone = railcheck.check(ONE_PART, out=tmp_path / "alone").summary  # after: pyvista first imported on the threads
+    for i in range(2):
+        assert not isinstance(results[i], Exception), results[i]
+        assert json.dumps(results[i], sort_keys=True) == json.dumps(alone, sort_keys=True)
+        assert list((tmp_path / f"t{i}").glob("*.png"))
