@@ -16,6 +16,7 @@ DataFrame). The CLI commands are this layer plus printing. Bad input raises
 
 from __future__ import annotations
 
+import os
 import shutil
 import tempfile
 import threading
@@ -103,6 +104,22 @@ def _check(parsed: Scene, out: str | Path | None, force: bool, jobs: int) -> Che
     return Check(result, check_summary.summary_of(result))
 
 
+SCRATCH_PREFIX = "railcheck-sweep-"
+
+
+def _scratch_folder() -> Path:
+    """A new scratch folder for a sweep kept in memory (``$TMPDIR/railcheck-sweep-<pid>-*``),
+    after removing those a killed process left (its pid no longer runs)."""
+    from railcheck.base.temporaries import process_running
+
+    root = Path(tempfile.gettempdir())
+    for old in root.glob(f"{SCRATCH_PREFIX}*-*"):
+        pid = old.name[len(SCRATCH_PREFIX) :].split("-", 1)[0]
+        if pid.isdigit() and int(pid) != os.getpid() and not process_running(int(pid)) and not old.is_symlink():
+            shutil.rmtree(old, ignore_errors=True)
+    return Path(tempfile.mkdtemp(prefix=f"{SCRATCH_PREFIX}{os.getpid()}-"))
+
+
 @dataclass(frozen=True)
 class Sweep:
     """A finished sweep: its ``summary`` (what summary.json holds), ``tables`` linkage kind
@@ -127,7 +144,7 @@ def sweep(
 
 
 def _sweep(parsed: Scene, out: str | Path | None, force: bool, workers: int | None, serial: bool) -> Sweep:
-    scratch = None if out is not None else Path(tempfile.mkdtemp(prefix="railcheck-sweep-"))
+    scratch = None if out is not None else _scratch_folder()
     destination = Path(out) if out is not None else Path(str(scratch)) / "sweep"
     try:
         run = sweep_run.run_sweep(parsed, str(destination), force, workers=workers, serial=serial)

@@ -133,3 +133,21 @@ def test_two_checks_on_two_threads_give_one_checks_summary_and_pictures(tmp_path
         assert not isinstance(results[i], Exception), results[i]
         assert json.dumps(results[i], sort_keys=True) == json.dumps(alone, sort_keys=True)
         assert list((tmp_path / f"t{i}").glob("*.png"))
+
+
+def test_an_api_sweep_killed_before_leaves_nothing_after_the_next(tmp_path, monkeypatch):
+    """Issue 79: ``kill -9`` of ``railcheck.sweep(scene)`` left its scratch folder in
+    $TMPDIR for good. The folder carries its process id; the next in-memory sweep removes
+    those of processes no longer running, and leaves a running one's and foreign folders."""
+    import os
+    import tempfile
+
+    monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))
+    dead = subprocess.Popen([sys.executable, "-c", "pass"])
+    dead.wait()
+    (tmp_path / f"railcheck-sweep-{dead.pid}-abc" / "sweep").mkdir(parents=True)
+    (tmp_path / f"railcheck-sweep-{os.getppid()}-live").mkdir()  # pytest's parent: running
+    (tmp_path / "railcheck-sweep-notes").mkdir()
+    run = railcheck.sweep('[sweep]\nkind = "four-bar"\nsteps = 16\ncrank = ["480 mm", "480 mm"]\n', serial=True)
+    assert run.summary["by_kind"]["four-bar"]["settings_total"] > 0
+    assert sorted(p.name for p in tmp_path.iterdir()) == [f"railcheck-sweep-{os.getppid()}-live", "railcheck-sweep-notes"]
