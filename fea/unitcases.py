@@ -215,6 +215,24 @@ def _pressure_vectors(basis, groups: dict, group: str, harmonics: tuple[int, ...
     return cached_on(basis, key, lambda: bearing_vectors(basis, groups, group, harmonics))
 
 
+def refuse_fields_beyond_memory(basis, columns: int) -> None:
+    """Refuse (``mesh.size``, one line) before the solve a part whose stress recovery
+    cannot fit in memory: per unit case its element stresses (elements x nodes per element
+    x 6 doubles, the curved quadrature's peak) and three node-stress arrays; a machine
+    that holds the factor but not these failed after the whole solve."""
+    from railcheck.base import machine
+
+    per_element = basis.Nbfun // 3  # nodes of a vector element
+    nodes = basis.N // 3
+    need = 8.0 * 6.0 * columns * (basis.nelems * per_element + 3.0 * nodes)
+    machine.refuse_beyond_memory(
+        need,
+        "mesh.size",
+        f"recovering the stresses of {basis.nelems:,} elements for {columns} unit cases",
+        "use a larger mesh size or hole_size",
+    )
+
+
 def solve_unit_cases(
     mesh: MeshData,
     material: Material,
@@ -244,6 +262,7 @@ def solve_unit_cases(
     t = [time.perf_counter()]
     K, basis = assemble(points, mesh.tets, material, order, curved)
     F = case_matrix(basis, groups, cases, free_body)
+    refuse_fields_beyond_memory(basis, F.shape[1])
     if modes is None:
         loads_integrated(basis, free_body is not None)
     t.append(time.perf_counter())

@@ -322,3 +322,23 @@ def test_the_scene_reference_lists_every_key_and_reads_as_a_scene():
             assert value == default, key
         else:
             assert value == pytest.approx(default, rel=1e-12, abs=1e-15), key
+
+
+def test_stresses_beyond_memory_are_refused_before_the_solve(monkeypatch):
+    """Issue 79: a rail whose grooves asked for a fine mesh (``rail_groove_radius = "0.5
+    mm"``) under a 6 GB limit solved for 518 s and then died allocating its element
+    stresses (a traceback). The stress recovery's arrays are now estimated from the
+    assembled basis and refused first, one line naming mesh.size."""
+    from railcheck.base import machine
+    from railcheck.fea.materials import MATERIALS
+    from railcheck.fea.unitcases import TractionCase, solve_unit_cases
+    from railcheck.geometry import bar, mesh_part
+
+    mesh = mesh_part(bar(0.1, 0.02, 0.02), 10e-3, 10e-3, cache=False)
+    cases = {"x": TractionCase(("tip",), 0)}
+    solve_unit_cases(mesh, MATERIALS["steel"], ["clamp"], cases, tip_group="tip")  # fits
+    monkeypatch.setattr(machine, "available_memory", lambda: 1e5)
+    with pytest.raises(InputError) as err:
+        solve_unit_cases(mesh, MATERIALS["steel"], ["clamp"], cases, tip_group="tip")
+    assert err.value.field == "mesh.size"
+    assert "recovering the stresses of" in str(err.value) and "use a larger mesh size" in str(err.value)
