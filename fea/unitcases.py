@@ -16,6 +16,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from railcheck.base import machine
+
 from .assembly import integration_basis
 from .dynamic import DynamicModel, part_modes
 from .elasticity import (
@@ -220,8 +222,6 @@ def refuse_fields_beyond_memory(basis, columns: int) -> None:
     cannot fit in memory: per unit case its element stresses (elements x nodes per element
     x 6 doubles, the curved quadrature's peak) and three node-stress arrays; a machine
     that holds the factor but not these failed after the whole solve."""
-    from railcheck.base import machine
-
     per_element = basis.Nbfun // 3  # nodes of a vector element
     nodes = basis.N // 3
     need = 8.0 * 6.0 * columns * (basis.nelems * per_element + 3.0 * nodes)

@@ -48,17 +48,22 @@ class RailSpec:
 
 @dataclass(frozen=True)
 class JointPlateSpec:
-    """PF_4b_006 joint plate (assumed dimensions): a steel plate with the seat of a
-    6205 bearing (OD 52 mm, width 15 mm; catalogue) near one end and two M6 clearance
-    holes on the rail's 60 mm pitch. 160 x 75 x 15 mm gives the seed's 1.155 kg."""
+    """PF_4b_006, the upper plate of seed 000's final joints (3.3.6, SE_4b_001_v2 /
+    SE_4b_002_v2; assumed dimensions): a steel plate screwed to the next rail by two
+    screws through two of its neighbouring holes, fixed on the joint's shaft, whose line
+    lies midway between the two screws (the 6205 bearings it turns in are in the lower
+    plate, the previous rail's). So the plate has the shaft's 25 mm bore (the 6205's bore)
+    at its centre and a screw hole half a rail pitch either side (``bolt_x``: from the
+    rail's pitch, :func:`with_overrides`). The seed's 1.155 kg is the mass the dynamics
+    and the FE carry."""
 
-    length: float = 160e-3  # assumed
+    length: float = 120e-3  # assumed: the two screws 30 mm from its ends
     width: float = 75e-3  # assumed
-    thickness: float = 15e-3  # = 6205 bearing width (catalogue)
-    seat_diameter: float = 52e-3  # 6205 outer diameter (catalogue)
-    seat_x: float = 40e-3  # assumed: seat centre from the plate's end
+    thickness: float = 15e-3  # assumed: the 6205's width
+    seat_diameter: float = 25e-3  # the shaft's bore: the 6205's bore (catalogue), the shaft fixed in the plate
+    seat_x: float = 60e-3  # assumed: the shaft at the plate's centre, midway between the screws
     bolt_diameter: float = 6.6e-3  # M6 medium clearance (ISO 273)
-    bolt_x: tuple[float, float] = (80e-3, 140e-3)  # assumed, 60 mm apart (rail pitch)
+    bolt_x: tuple[float, float] = (30e-3, 90e-3)  # half the rail's 60 mm pitch either side of the shaft
 
 
 @dataclass(frozen=True)
@@ -94,6 +99,8 @@ def with_overrides(overrides: dict[str, float]) -> tuple[RailSpec, JointPlateSpe
     for key, value in overrides.items():
         which, name = OVERRIDABLE[key]
         specs[which] = replace(specs[which], **{name: value})
+    plate, half = specs["plate"], specs["rail"].hole_pitch / 2  # the plate's screws on the rail's pitch
+    specs["plate"] = replace(plate, bolt_x=(plate.seat_x - half, plate.seat_x + half))
     return specs["rail"], specs["plate"], specs["iprofile"]
 
 
@@ -213,21 +220,24 @@ def _rail_checks(rail) -> list[tuple[str, bool, str]]:
 
 
 def _plate_checks(plate) -> list[tuple[str, bool, str]]:
-    """(field, holds, message) of the joint plate's seat and bolt holes."""
+    """(field, holds, message) of the joint plate's shaft bore and screw holes."""
+    half = 0.5 * (plate.bolt_x[1] - plate.bolt_x[0])  # half the rail's pitch
+    r_seat, r_bolt = plate.seat_diameter / 2, plate.bolt_diameter / 2
     return [
         (
             "plate_seat_diameter",
-            plate.seat_diameter < 0.9 * plate.width
-            and plate.seat_diameter / 2
-            < plate.seat_x
-            < min(plate.bolt_x) - plate.bolt_diameter / 2 - plate.seat_diameter / 2,
-            "the bearing seat must lie inside the plate, clear of the bolt holes",
+            plate.seat_diameter < 0.9 * plate.width and r_seat + r_bolt < half,
+            "the shaft's bore must fit the plate's width and clear the screw holes half a rail pitch either side",
+        ),
+        (
+            "plate_seat_x",
+            min(plate.bolt_x) - r_bolt > 0 and max(plate.bolt_x) + r_bolt < plate.length,
+            "the shaft's line, with a screw hole half a rail pitch either side, must lie on the plate",
         ),
         (
             "plate_bolt_diameter",
-            plate.bolt_diameter < 0.8 * (plate.bolt_x[1] - plate.bolt_x[0])
-            and max(plate.bolt_x) + plate.bolt_diameter / 2 < plate.length,
-            "the bolt holes must fit on the plate",
+            plate.bolt_diameter < 0.8 * plate.width,
+            "the screw holes must fit on the plate",
         ),
     ]
 

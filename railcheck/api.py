@@ -31,6 +31,7 @@ import railcheck.check.summary as check_summary
 import railcheck.sweep.run as sweep_run
 import railcheck.sweep.table as sweep_table
 from railcheck.base.errors import EXIT_FAIL, EXIT_PASS, InputError
+from railcheck.base.temporaries import process_running
 from railcheck.scene import Scene, load_scene, parse_scene
 
 
@@ -110,8 +111,6 @@ SCRATCH_PREFIX = "railcheck-sweep-"
 def _scratch_folder() -> Path:
     """A new scratch folder for a sweep kept in memory (``$TMPDIR/railcheck-sweep-<pid>-*``),
     after removing those a killed process left (its pid no longer runs)."""
-    from railcheck.base.temporaries import process_running
-
     root = Path(tempfile.gettempdir())
     for old in root.glob(f"{SCRATCH_PREFIX}*-*"):
         pid = old.name[len(SCRATCH_PREFIX) :].split("-", 1)[0]

@@ -302,7 +302,7 @@ def _names(value: Any, choices: tuple[str, ...], name: str, what: str, note: str
 
 
 #: the smallest element size at the holes railcheck meshes (m): a tenth of a millimetre
-#: puts about 30 elements round the rail's 7 mm bolt hole (its defaults: 1.5-6 mm)
+#: puts about 30 elements round the rail's 7 mm bolt hole (its defaults: 1.5-4 mm)
 MIN_HOLE_SIZE = 0.1e-3
 
 

@@ -29,10 +29,10 @@ def governing_forces(part) -> list[PartForce]:
     cycle = part.cycle
     c, names = cycle.C[cycle.envelope.step], list(cycle.fields.names)
     bolts = tuple(b.group for b in part.load_case.bolts)
-    plural = f" ({len(bolts)} bolts)" if len(bolts) > 1 else ""
-    out = [PartForce(f"joint force at the bolts{plural}", bolts, _xy(c, names, "bolt"))]
+    plural = f" ({len(bolts)} screws)" if len(bolts) > 1 else ""
+    out = [PartForce(f"joint force at the screws{plural}", bolts, _xy(c, names, "bolt"))]
     if "seat_x" in names:
-        out.append(PartForce("pin force on the bearing seat", ("bearing_seat",), _xy(c, names, "seat")))
+        out.append(PartForce("joint force on the shaft's bore", ("bearing_seat",), _xy(c, names, "seat")))
     if "pin_x" in names:
         near = ("hole_0", "hole_1")
         out.append(PartForce("first joint's force on its plate's two screws", near, _xy(c, names, "pin")))

@@ -197,7 +197,7 @@ def picture_caption(name: str, part, scale: float) -> str:
     deflection = (
         "tip deflection"
         if part.job.free_body is None
-        else "seat deflection relative to the bolts"
+        else "the shaft bore's deflection relative to the screws"
         if part.job.loads.is_free_plate
         else "top deflection relative to the base"
         if part.job.loads.is_on_foundation
@@ -308,7 +308,7 @@ def _drawn_forces(part) -> list:
         elif f.holes == ("hole_0", "hole_1"):
             out.append((list(f.holes), f.force, f"{newtons(f.force)} on the plate's 2 screws{factored}"))
         else:
-            bolts = f" on {len(f.holes)} bolts" if len(f.holes) > 1 else ""
+            bolts = f" on {len(f.holes)} screws" if len(f.holes) > 1 else ""
             out.append((list(f.holes), f.force, f"{newtons(f.force)}{bolts}{factored}"))
     if pin is not None:  # its words under the first joint's
         k = next(i for i, (holes, _, _) in enumerate(out) if holes == ["hole_0", "hole_1"])

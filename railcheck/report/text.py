@@ -508,7 +508,7 @@ def support_words(result) -> str:
     plates = [p for p in result.parts.values() if p.job.geometry.kind != "rail"]
     words = []
     if any(p.job.free_body is not None for p in rails):
-        words.append("rails as free bodies (bolts at the bar length)")
+        words.append("rails as free bodies (far screws at the bar length)")
     if any(p.job.free_body is None for p in rails):
         words.append(f"rails clamped (bolts {result.scene.check.bolt_position})")
     if any(p.job.free_body is not None for p in plates):
