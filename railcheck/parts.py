@@ -131,7 +131,7 @@ KINDS: dict[str, PartKind] = {
             "shaft_hole",
             "end_free",
             lambda g: g.get("hole_diameter"),
-            (20e-3, 4e-3),
+            (10e-3, 4e-3),
             lambda g: (g.get("width"), g.get("height")),
             bolts_on_rail=True,
         ),

@@ -291,7 +291,7 @@ def test_the_grooved_section_in_closed_form_equals_a_fine_grid():
 
 
 def test_the_meshed_rail_weighs_what_the_closed_form_section_says():
-    """A rail on the default check's curved P2 mesh (20 mm, 4 mm at the holes, the grooves
+    """A rail on the default check's curved P2 mesh (10 mm, 4 mm at the holes, the grooves
     as the check meshes them): its volume (the FE's own mass matrix) per metre against the
     closed-form grooved section less its holes, to 1%; and the dynamics carry that mass (one
     mass model), the 2013 formulation the seed's 2.7 kg/m. 300 mm of rail, not the crank
@@ -302,7 +302,7 @@ def test_the_meshed_rail_weighs_what_the_closed_form_section_says():
     from railcheck.parts import mass_model
 
     geo = rail(0.3)
-    mesh = mesh_part(geo, 20e-3, 4e-3)
+    mesh = mesh_part(geo, 10e-3, 4e-3)
     _, basis = assemble(mesh.points, mesh.tets, MATERIALS["steel"], 2, mesh.curved)
     volume = mass_matrix(basis).sum()
     holes = len(geo.get("hole_x")) * math.pi / 4 * (7e-3**2 * 13e-3 + 11e-3**2 * 9e-3)
@@ -393,7 +393,7 @@ def test_each_part_is_resolved_once_into_a_picklable_job_without_the_scene():
         for h, g in zip(back.histories, job.histories):
             np.testing.assert_array_equal(h.C, g.C)
     crank = jobs["crank-rail"]
-    assert (crank.mesh.size, crank.mesh.hole_size, crank.mesh.order) == (20e-3, 4e-3, 2)
+    assert (crank.mesh.size, crank.mesh.hole_size, crank.mesh.order) == (10e-3, 4e-3, 2)
     # the default free body: pin x/y, motor torque, bolts x/y, body x/y, rotational, radial, the table-top
     # rig's weight out of plane (body z, pin z, driving pin z, bolts z), then the pin pressures' harmonics
     # on its four loaded holes (the shaft's and the driving pin's, the far joint's two bolts)

@@ -97,18 +97,17 @@ def test_default_mesh_is_within_the_accuracy_targets_of_the_converged_study(part
 
 
 #: the rails' references, on the verdict's model: the default scene's three rails as free
-#: bodies with the table-top rig's weight out of plane, 720 steps, `[mesh] size = "7 mm"`,
-#: `hole_size = "2.1 mm"` (353k DOFs on the crank rail; the finest mesh is the reference: before
-#: the weight the crank's peak was 164.4 / 164.4 / 165.7 MPa at 14 / 10 / 7 mm, no steady order;
-#: docs/performance.md "The free-body rails"), measured with `railcheck check` of this scene
-#: and that mesh. (cycle peak von Mises Pa, minimum fatigue factor, deflection m)
+#: bodies with the table-top rig's weight out of plane, 720 steps, `[mesh] size = "5 mm"`,
+#: `hole_size = "1.5 mm"` (622k DOFs on the crank rail; the finest mesh is the reference: the
+#: peaks sit at hole edges and rise slowly, 2-3% from the 7 mm meshes, with no steady order;
+#: docs/performance.md "The free-body rails"). (cycle peak von Mises Pa, minimum fatigue factor,
+#: deflection m)
 FREE_RAILS_CONVERGED = {
-    # the v2 joints (the near joint on the first two holes, the crank's torque a couple over them,
-    # the pivot midway), `python benchmarks/free_body_rails.py --sizes 7`, 2026-12-01, at the
-    # default scene's fatigue reliability 0.99
-    "crank-rail": (195.23353e6, 1.5268635, 4.6382294e-3),
-    "coupler-rail": (19.313356e6, 18.577298, 0.2406324e-3),
-    "rocker-rail": (124.88539e6, 5.5848426, 0.74363851e-3),
+    # the v2 joints, `python benchmarks/free_body_rails.py --meshes 20:6,20:4,20:3,10:4,5:1.5`,
+    # 2026-12-02, at the default scene's fatigue reliability 0.99
+    "crank-rail": (199.38919e6, 1.5221442, 4.6400577e-3),
+    "coupler-rail": (19.352005e6, 18.550839, 0.24083197e-3),
+    "rocker-rail": (128.74721e6, 5.4148837, 0.74478781e-3),
 }
 
 FREE_RAILS_SCENE = (
@@ -135,25 +134,17 @@ def free_rails():
 @pytest.mark.slow
 @pytest.mark.parametrize("part", list(FREE_RAILS_CONVERGED))
 def test_the_default_rail_mesh_against_the_converged_free_bodies(free_rails, part):
-    """The rails on their default mesh (20 mm, 6 mm at the holes, the grooves at 5 mm) as
-    the verdict loads them, against the converged references above. The targets are 5% on
-    the peak and the fatigue factor and 1% on the deflection. Measured with the table-top
-    weight and railcheck's untangling (mesher 14), on the v2 joints: the crank rail, which
-    governs the rig, -7.0% / +2.8% / -0.90% (its peak now beside O2's second screw, where the
-    motor's couple enters); the coupler -8.3% / +9.8% / -0.88%; the rocker -4.9% / +11.9% /
-    -0.4% (before the v2 joints: -5.7% / +2.6% / -0.59%, -7.7% / +9.7% / -0.47%, -7.4% /
-    +12.3% / -0.96%) (with gmsh's untangling: -5.8% / +2.5% / -0.70%, -10.1% / +10.9% / -0.70%,
-    -10.9% / +13.1% / -1.16%; the references, from gmsh's 7 mm meshes, agree with
-    railcheck's 7 mm meshes within 0.5% on the peaks, docs/model.md). Before the weight the
-    crank and rocker met the targets (-3.7% / +2.9% / -0.71%, -3.9% / +3.8% / -0.61%); the
-    weight's clamp forces on a rail's second hole, and the rocker's peak now at that hole's
-    edge, need a finer mesh there than the default's. The targets are missed (issue 57's
-    note); each part is asserted at what it is, so a regression shows."""
+    """The rails on their default mesh (10 mm, 4 mm at the holes and the grooves) as the
+    verdict loads them, against the references above, at the targets: 5% on the peak and
+    the fatigue factor, 1% on the deflection. Measured: the crank rail, which governs the
+    rig, -4.4% / +2.0% / -0.24%, the coupler -2.6% / +3.7% / -0.55%, the rocker -3.5% /
+    +3.7% / -0.69%. The old default (20 mm, 6 mm at the holes) missed them: -8.9% / +3.1%,
+    -8.5% / +10.0%, -7.8% / +15.3%; so do 20 mm with 4 or 3 mm holes on the rocker (-5.9%,
+    -9.2%): the peaks scatter by a few per cent from one hole mesh to the next
+    (docs/performance.md)."""
     result = free_rails.parts[part]
     peak, fatigue, deflection = FREE_RAILS_CONVERGED[part]
-    stress_tol, deflection_tol = {"crank-rail": (0.07, 0.01), "coupler-rail": (0.12, 0.01), "rocker-rail": (0.14, 0.015)}[
-        part
-    ]
+    stress_tol, deflection_tol = 0.05, 0.01
     assert abs(result.verdict_stress / peak - 1) < stress_tol, result.verdict_stress / peak - 1
     assert abs(result.cycle.fatigue.min_safety_factor / fatigue - 1) < stress_tol
     assert abs(result.cycle.envelope.max_tip / deflection - 1) < deflection_tol, (
