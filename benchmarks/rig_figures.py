@@ -62,6 +62,10 @@ def kind_figures(rows: list[dict], summary: dict, kind: str) -> dict:
             "at_own_safe_speed": max(at_safe, default=None),
         },
         "screws_every_setting": {name: n["every_setting"] for name, n in needs.items()},
+        "screws_by_setting": {name: n["settings"] for name, n in needs.items()},
+        "assemble": summary.get("settings_assemblable"),
+        "revolve": summary.get("settings_revolving"),
+        "shortest_bearing_life": summary.get("shortest_bearing_life"),
     }
 
 
@@ -130,6 +134,26 @@ def table(fig: dict) -> str:
 
 def _of(kinds: list[dict], key: str) -> list:
     return [x[key] for x in kinds]
+
+
+def _screw_rank(screw: str) -> tuple[float, float]:
+    """ "M5 8.8" -> (5, 8.8): smaller size first, then the weaker class; "none" last."""
+    if screw == "none":
+        return (math.inf, math.inf)
+    size, grade = screw.split()
+    return (float(size[1:]), float(grade))
+
+
+def sweep_page_facts(fig: dict) -> list[str]:
+    """The phrases docs/sweep.md quotes beside the table, from ``fig``'s four-bar figures."""
+    k = fig["kinds"]["four-bar"]
+    life = k["shortest_bearing_life"]
+    screws = sorted(k["screws_by_setting"]["crank-screws-O2"].items(), key=lambda kv: _screw_rank(kv[0]))
+    return [
+        f"{k['assemble']:,} four-bar settings assemble and {k['revolve']:,} revolve",
+        f"{life['hours']:.3g} h, static safety {life['static_safety']:.2f}",
+        ", ".join(f"{screw} at {n:,}" for screw, n in screws),
+    ]
 
 
 def main() -> None:

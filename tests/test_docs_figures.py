@@ -27,6 +27,13 @@ def test_the_readme_and_the_sweep_page_give_the_committed_runs_table():
         assert table in (ROOT / page).read_text(), f"{page}: rerun benchmarks/rig_figures.py and paste its table"
 
 
+def test_the_sweep_pages_figures_beside_the_table_are_the_committed_runs():
+    script = _script()
+    text = " ".join((ROOT / "docs" / "sweep.md").read_text().split())  # across line breaks
+    for phrase in script.sweep_page_facts(json.loads(script.FIGURES.read_text())):
+        assert phrase in text, phrase
+
+
 def test_the_figures_are_computed_from_the_rows_and_a_planted_change_shows(tmp_path):
     """:func:`kind_figures` on three hand-made rows: counts, the worst, the safe speeds
     and the motor torques are the rows' own, and the table prints them."""
@@ -76,7 +83,9 @@ def test_the_figures_are_computed_from_the_rows_and_a_planted_change_shows(tmp_p
             "torque_peak_at_safe_Nm": None,
         },
     ]
-    f = script.kind_figures(rows, {"screw_needs": {"crank-screws-O2": {"every_setting": "M6 12.9"}}}, "four-bar")
+    f = script.kind_figures(
+        rows, {"screw_needs": {"crank-screws-O2": {"every_setting": "M6 12.9", "settings": {"M6 12.9": 2}}}}, "four-bar"
+    )
     assert (f["settings"], f["passing_checks"], f["passing"]) == (3, 2, 1)
     assert f["failing_by"] == {"crank-screws-O2": 1} and f["worst"]["utilisation"] == 2.0
     assert f["safe_speed_Hz"]["lowest"] == 0.5 and f["safe_speed_Hz"]["highest"] == 1.5
