@@ -80,13 +80,15 @@ def size_factor(section: tuple[float, float] | None) -> float:
     return size_factor_of_diameter(0.808 * np.sqrt(section[0] * section[1]))
 
 
-def size_factor_of_diameter(diameter: float) -> float:
+def size_factor_of_diameter(diameter):
     """kb of a round section of ``diameter`` m in rotating bending (Shigley eq. 6-20):
-    ``1.24 d^-0.107`` (2.79 <= d <= 51 mm), ``1.51 d^-0.157`` (51 < d <= 254 mm), 1 below."""
-    d = float(diameter) * 1e3  # mm
-    if d <= 2.79:
-        return 1.0
-    return float(1.24 * d**-0.107 if d <= 51 else 1.51 * min(d, 254.0) ** -0.157)
+    ``1.24 d^-0.107`` (2.79 <= d <= 51 mm), ``1.51 d^-0.157`` (51 < d <= 254 mm), 1 below;
+    a float for a float, an array (elementwise) for an array."""
+    d = np.asarray(diameter, float) * 1e3  # mm
+    small = 1.24 * np.clip(d, 2.79, 51.0) ** -0.107
+    large = 1.51 * np.clip(d, 51.0, 254.0) ** -0.157
+    kb = np.where(d <= 2.79, 1.0, np.where(d <= 51, small, large))
+    return float(kb) if kb.ndim == 0 else kb
 
 
 def alternating_and_mean(high: np.ndarray, low: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -236,6 +236,22 @@ def test_a_sweeps_screw_needs_equal_a_checks_and_the_screw_named_passes_where_th
         assert not smaller.components["crank-screws-O2"].passed
 
 
+def test_a_sweeps_shaft_diameters_needed_equal_a_checks_and_the_summary_holds_the_largest():
+    summary: dict = {}
+    table = _swept(summary=summary)
+    needed = summary["by_kind"]["four-bar"]["shaft_diameter_needed_m"]
+    for shaft in ("shaft-O2", "shaft-O4"):
+        column = table[f"{shaft}_diameter_needed_mm"]
+        assert needed[shaft] * 1e3 == pytest.approx(np.nanmax(column), rel=1e-12)
+        k = int(np.nanargmax(column))
+        mech = {b: f"{table[f'{b}_mm'][k]:.6f} mm" for b in ("crank", "coupler", "rocker", "ground")}
+        result, _ = _run(_scene(parts=[shaft], **mech))
+        assert result.components[shaft].needs["diameter_needed_m"] * 1e3 == pytest.approx(column[k], rel=1e-9)
+        sized, _ = _run(_scene({"shaft_diameter": f"{column[k] * 1.001:.6f} mm"}, parts=[shaft], **mech))
+        thin, _ = _run(_scene({"shaft_diameter": f"{column[k] * 0.98:.6f} mm"}, parts=[shaft], **mech))
+        assert sized.components[shaft].passed and not thin.components[shaft].passed
+
+
 def test_a_failing_component_fails_the_sweeps_rows_with_its_criterion():
     table = _swept(speed="3 Hz")  # the O2 screws slip where the motor torque is large
     named = np.array(["crank-screws-O2" in (r or "") for r in table["reason"]])

@@ -118,16 +118,24 @@ def _friction_needed(spec: ComponentSpec, transverse: np.ndarray, tension: np.nd
 def shaft_needs(r: ComponentResult, spec: ComponentSpec, h: JointHistories, factor: float, m: Strengths) -> dict:
     """The smallest shaft diameter (m) that passes DE-Goodman and first-cycle yield at
     n = 1 under this check's moments and torque (the fillet fixed by the bearing)."""
-    c = COMPONENTS[r.name]
-    moment = factor * (np.hypot(*np.moveaxis(h.reactions[c.joint], -1, 0)) * spec.shaft_lever)
-    mm = factor * abs(float(np.asarray(h.moments.get(c.joint, 0.0), float)))
-    torque = factor * np.asarray(h.torque, float) if c.motor else np.zeros_like(moment)
-    ma, ta, tm = float(np.max(moment)), 0.5 * float(np.ptp(torque)), 0.5 * float(torque.max() + torque.min())
+    return {"diameter_needed_m": float(np.max(shaft_diameter_needed(COMPONENTS[r.name], spec, h, factor, m)))}
+
+
+def shaft_diameter_needed(c, spec: ComponentSpec, h: JointHistories, factor: float, m: Strengths) -> np.ndarray:
+    """(...) m: per setting of ``h`` the smallest diameter of shaft ``c`` at which
+    DE-Goodman (Shigley eq. 7-8, the size factor solved with it) and first-cycle yield
+    (eq. 7-15) reach n = 1: the joint force over the shaft's lever fully reversed, a
+    cantilevered bar's weight couple as the midrange moment, at O2 the motor torque's range
+    and mean; all factored by ``factor``."""
+    moment = factor * np.max(np.hypot(*np.moveaxis(h.reactions[c.joint], -1, 0)) * spec.shaft_lever, axis=-1)
+    mm = factor * np.abs(np.asarray(h.moments.get(c.joint, 0.0), float))
+    torque = factor * np.asarray(h.torque, float) if c.motor else np.zeros((*moment.shape, 1))
+    ta, tm = 0.5 * np.ptp(torque, axis=-1), 0.5 * (torque.max(axis=-1) + torque.min(axis=-1))
     kf, kfs, se = shaft_factors(spec, m, spec.shaft_diameter)
     unsized = se / size_factor_of_diameter(spec.shaft_diameter)
-    fatigue = de_goodman_diameter(ma, ta, tm, kf, kfs, lambda d: unsized * size_factor_of_diameter(d), m.ultimate, mm=mm)
-    first_cycle = yield_diameter(ma + mm, abs(tm) + ta, kf, kfs, m.yield_strength)
-    return {"diameter_needed_m": max(fatigue, first_cycle)}
+    fatigue = de_goodman_diameter(moment, ta, tm, kf, kfs, lambda d: unsized * size_factor_of_diameter(d), m.ultimate, mm=mm)
+    first_cycle = yield_diameter(moment + mm, np.abs(tm) + ta, kf, kfs, m.yield_strength)
+    return np.maximum(fatigue, first_cycle)
 
 
 def bearing_needs(r: ComponentResult, spec: ComponentSpec, h: JointHistories, factor: float, m: Strengths) -> dict:

@@ -127,30 +127,30 @@ def shaft_utilisations_of_parts(ma, mm, ta, tm, d, kf, kfs, endurance, ultimate,
     return {"fatigue": inv_n, "yield": np.sqrt(sigma**2 + 3.0 * tau**2) / yield_strength}
 
 
-def de_goodman_diameter(
-    ma, ta, tm, kf, kfs, endurance, ultimate, n: float = 1.0, start: float = 25e-3, mm: float = 0.0
-) -> float:
+def de_goodman_diameter(ma, ta, tm, kf, kfs, endurance, ultimate, n: float = 1.0, start: float = 25e-3, mm=0.0):
     """m: the shaft diameter at which DE-Goodman (Shigley eq. 7-8) gives the factor of
     safety ``n`` under the alternating and midrange moments ``ma``, ``mm`` and the torque's
     alternating and midrange parts ``ta``, ``tm`` (N m), solved for
     ``d``: ``d = (16 n / pi (A / S_e + B / S_ut))^(1/3)``. ``endurance`` is S_e (Pa), or a
     function of the diameter (the size factor's weak dependence: solved by substitution
-    from ``start``, contracting by about 0.107 / 3 a step)."""
-    alternating = math.sqrt(4 * (kf * ma) ** 2 + 3 * (kfs * ta) ** 2)
-    midrange = math.sqrt(4 * (kf * mm) ** 2 + 3 * (kfs * tm) ** 2)
+    from ``start``, contracting by about 0.107 / 3 a step). Elementwise over arrays (a
+    float for floats)."""
+    alternating = np.sqrt(4 * (kf * np.asarray(ma, float)) ** 2 + 3 * (kfs * np.asarray(ta, float)) ** 2)
+    midrange = np.sqrt(4 * (kf * np.asarray(mm, float)) ** 2 + 3 * (kfs * np.asarray(tm, float)) ** 2)
     se = endurance if callable(endurance) else (lambda d: endurance)
-    d = start
+    d = np.full(np.broadcast(alternating, midrange).shape, start)
     for _ in range(40):
         d = (16.0 * n / math.pi * (alternating / se(d) + midrange / ultimate)) ** (1.0 / 3.0)
-    return d
+    return float(d) if d.ndim == 0 else d
 
 
-def yield_diameter(m_max, t_max, kf, kfs, yield_strength, n: float = 1.0) -> float:
+def yield_diameter(m_max, t_max, kf, kfs, yield_strength, n: float = 1.0):
     """m: the shaft diameter at which the first cycle's largest von Mises stress (Shigley
     eq. 7-15, the notch factors applied) reaches ``yield_strength / n`` under the largest
-    moment ``m_max`` and torque ``t_max`` (N m)."""
-    peak = math.sqrt(4 * (kf * m_max) ** 2 + 3 * (kfs * t_max) ** 2)
-    return (16.0 * n * peak / (math.pi * yield_strength)) ** (1.0 / 3.0)
+    moment ``m_max`` and torque ``t_max`` (N m); elementwise over arrays."""
+    peak = np.sqrt(4 * (kf * np.asarray(m_max, float)) ** 2 + 3 * (kfs * np.asarray(t_max, float)) ** 2)
+    d = (16.0 * n * peak / (math.pi * yield_strength)) ** (1.0 / 3.0)
+    return float(d) if np.ndim(d) == 0 else d
 
 
 def carriage_equivalent_load(fy, fz, mx, my, mz, c0, m0x, m0y, m0z) -> np.ndarray:

@@ -15,7 +15,7 @@ import numpy as np
 from railcheck.components.checks import JointHistories, check_components, screw_loads
 from railcheck.components.ratings import COMPONENTS, NOT_ON_SLIDER_CRANK
 from railcheck.components.scene_checks import FIRST_JOINTS, strengths_of
-from railcheck.components.sizing import screw_choices, screw_demands, smallest_screw
+from railcheck.components.sizing import screw_choices, screw_demands, shaft_diameter_needed, smallest_screw
 from railcheck.loads.bearings import relative_speeds
 from railcheck.loads.weight import joint_vertical_loads, screw_pulls, shaft_moment
 from railcheck.model.crossing import increasing_crossing
@@ -116,7 +116,7 @@ def components_of_settings(ctx: SweepContext, loads: Loads, sel: np.ndarray) -> 
     for w in ctx.speeds:
         s = (w / ctx.speeds[0]) ** 2
         results = component_results(ctx, loads, sel, s)
-        needs = screw_needs_of_settings(ctx, sweep_histories(ctx, loads, sel, s))
+        needs = needs_of_settings(ctx, sweep_histories(ctx, loads, sel, s))
         per_speed.append(
             {
                 n: (
@@ -132,17 +132,22 @@ def components_of_settings(ctx: SweepContext, loads: Loads, sel: np.ndarray) -> 
     return {"per_speed": per_speed, "safe_s": safe, "governs": governs}
 
 
-def screw_needs_of_settings(ctx: SweepContext, h: JointHistories) -> dict:
-    """Screw group -> (S,) object: each setting's smallest screw that passes slip and
-    EN 1993-1-8 T3.4 at the loads ``h`` (``"M5 8.8"``; ``"none"`` where no screw the
-    rail's hole admits does: :func:`railcheck.components.sizing.smallest_screw`)."""
-    spec = ctx.scene.components
+def needs_of_settings(ctx: SweepContext, h: JointHistories) -> dict:
+    """Component -> (S,) what each setting needs to pass at the loads ``h``: a screw
+    group's smallest screw that passes slip and EN 1993-1-8 T3.4 (object: ``"M5 8.8"``;
+    ``"none"`` where no screw the rail's hole admits does,
+    :func:`railcheck.components.sizing.smallest_screw`), a shaft's least diameter in m
+    (:func:`railcheck.components.sizing.shaft_diameter_needed`)."""
+    spec, factor = ctx.scene.components, ctx.scene.checked.factor
     names = np.array([" ".join(c) for c in screw_choices(spec)] + ["none"], dtype=object)
     out = {}
     for name in swept_components(ctx):
-        if COMPONENTS[name].kind == "screws":
-            transverse, tension = screw_loads(COMPONENTS[name], spec, h, peaks=True)
-            out[name] = names[smallest_screw(spec, *screw_demands(transverse, tension, spec, ctx.scene.checked.factor))]
+        c = COMPONENTS[name]
+        if c.kind == "screws":
+            transverse, tension = screw_loads(c, spec, h, peaks=True)
+            out[name] = names[smallest_screw(spec, *screw_demands(transverse, tension, spec, factor))]
+        elif c.kind == "shaft":
+            out[name] = shaft_diameter_needed(c, spec, h, factor, strengths_of(ctx.scene))
     return out
 
 
