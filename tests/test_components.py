@@ -236,13 +236,19 @@ def test_a_sweeps_screw_needs_equal_a_checks_and_the_screw_named_passes_where_th
         assert not smaller.components["crank-screws-O2"].passed
 
 
-def test_a_sweeps_shaft_diameters_needed_equal_a_checks_and_the_summary_holds_the_largest():
+def test_a_sweeps_shaft_diameters_and_bearing_spacings_needed_equal_a_checks_and_the_summary_holds_the_largest():
     summary: dict = {}
     table = _swept(summary=summary)
-    needed = summary["by_kind"]["four-bar"]["shaft_diameter_needed_m"]
+    needed = summary["by_kind"]["four-bar"]["sizes_needed_m"]
+    spacing = table["bearings-O4_spacing_needed_mm"]
+    k = int(np.nanargmax(spacing))
+    mech = {b: f"{table[f'{b}_mm'][k]:.6f} mm" for b in ("crank", "coupler", "rocker", "ground")}
+    result, _ = _run(_scene(parts=["bearings-O4"], **mech))
+    assert result.components["bearings-O4"].needs["spacing_needed_m"] * 1e3 == pytest.approx(spacing[k], rel=1e-9)
+    assert needed["bearings-O4_spacing"] * 1e3 == pytest.approx(np.nanmax(spacing), rel=1e-12)
     for shaft in ("shaft-O2", "shaft-O4"):
         column = table[f"{shaft}_diameter_needed_mm"]
-        assert needed[shaft] * 1e3 == pytest.approx(np.nanmax(column), rel=1e-12)
+        assert needed[f"{shaft}_diameter"] * 1e3 == pytest.approx(np.nanmax(column), rel=1e-12)
         k = int(np.nanargmax(column))
         mech = {b: f"{table[f'{b}_mm'][k]:.6f} mm" for b in ("crank", "coupler", "rocker", "ground")}
         result, _ = _run(_scene(parts=[shaft], **mech))

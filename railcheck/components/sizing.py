@@ -142,10 +142,16 @@ def bearing_needs(r: ComponentResult, spec: ComponentSpec, h: JointHistories, fa
     """The bearings' spacing (m) at which the more loaded bearing meets the required
     static safety (0 where no weight couple acts; inf where the joint force alone
     exceeds it: a larger bearing is needed)."""
-    c = COMPONENTS[r.name]
-    moment = abs(float(np.asarray(h.moments.get(c.joint, 0.0), float)))
-    force = float(np.max(np.hypot(*np.moveaxis(h.reactions[c.joint], -1, 0))))
+    return {"spacing_needed_m": float(np.max(bearing_spacing_needed(COMPONENTS[r.name], spec, h)))}
+
+
+def bearing_spacing_needed(c, spec: ComponentSpec, h: JointHistories) -> np.ndarray:
+    """(...) m per setting of ``h``: the spacing of joint ``c``'s two bearings at which the
+    more loaded one meets the required static safety, the cantilevered bar's weight couple
+    shared over it (0 without a couple, inf where the joint force alone is too much)."""
+    moment = np.abs(np.asarray(h.moments.get(c.joint, 0.0), float))
+    force = np.max(np.hypot(*np.moveaxis(h.reactions[c.joint], -1, 0)), axis=-1)
     room = spec.bearing_static / spec.bearing_required_s0 - 0.5 * force
-    if moment == 0.0:
-        return {"spacing_needed_m": 0.0}
-    return {"spacing_needed_m": moment / room if room > 0 else math.inf}
+    with np.errstate(divide="ignore", invalid="ignore"):
+        spacing = np.where(room > 0, moment / np.where(room > 0, room, 1.0), np.inf)
+    return np.where(moment == 0.0, 0.0, spacing)

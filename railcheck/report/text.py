@@ -474,10 +474,10 @@ def sweep_report(run) -> str:
                 f"safety {b['static_safety']:.3g}"
             )
         lines += _screw_need_lines(k.get("screw_needs") or {}, s["speeds_Hz"][0])
-        shafts = k.get("shaft_diameter_needed_m") or {}
-        if shafts:
-            said = ", ".join(f"{n} {d * 1e3:.1f} mm" for n, d in shafts.items())
-            lines.append(f"  shafts: the least diameter that passes at every setting checked: {said}")
+        sizes = k.get("sizes_needed_m") or {}
+        if sizes:
+            said = ", ".join(f"{n.replace('_', ' ')} {d * 1e3:.1f} mm" for n, d in sizes.items())
+            lines.append(f"  what passes at every setting checked: {said}")
     if s.get("seed_hypotheses"):
         held = sum(h["holds"] is True for h in s["seed_hypotheses"])
         tested = sum(h["holds"] is not None for h in s["seed_hypotheses"])

@@ -67,7 +67,7 @@ class Aggregate:
         self.component_util = np.full(shape, np.nan) if listed else None
         #: screw group -> {smallest screw that passes: settings} over the settings checked
         self.screw_needs: dict[str, dict[str, int]] = {}
-        #: shaft -> the largest diameter (m) a setting checked needs
+        #: "shaft-O2_diameter", "bearings-O4_spacing" -> the largest (m) a setting checked needs
         self.shaft_needs: dict[str, float] = {}
 
     def add(self, col: dict, curve: dict | None = None) -> None:
@@ -89,10 +89,11 @@ class Aggregate:
         self._shaft_needs(c, ok)
 
     def _shaft_needs(self, c: dict, ok: np.ndarray) -> None:
-        for key in (k for k in c if k.endswith("_diameter_needed_mm")):
-            d = c[key][ok & np.isfinite(c[key])]
+        """The largest shaft diameter and bearing spacing (m) a checked setting needs."""
+        for key in (k for k in c if k.endswith(("_diameter_needed_mm", "_spacing_needed_mm"))):
+            d = c[key][ok & ~np.isnan(c[key])]
             if d.size:
-                name = key[: -len("_diameter_needed_mm")]
+                name = key[: -len("_needed_mm")]  # "shaft-O2_diameter", "bearings-O4_spacing"
                 self.shaft_needs[name] = max(self.shaft_needs.get(name, 0.0), float(d.max()) / 1e3)
 
     def _screw_needs(self, c: dict, ok: np.ndarray) -> None:
@@ -186,7 +187,7 @@ class Aggregate:
             "motor_sizing": self.motor_sizing.summary(),
             "shortest_bearing_life": self.min_life,
             "screw_needs": {name: self._screw_need_summary(counts) for name, counts in self.screw_needs.items()},
-            "shaft_diameter_needed_m": dict(self.shaft_needs),  # the largest over the settings checked
+            "sizes_needed_m": dict(self.shaft_needs),  # the largest over the settings checked
         }
 
     def _screw_need_summary(self, counts: dict[str, int]) -> dict:

@@ -91,6 +91,8 @@ def _component_columns(ctx: SweepContext, col: dict, n: int, fe, j: int, governs
             col[f"{name}_needs"] = needs  # the smallest screw that passes ("" where not checked)
         elif COMPONENTS[name].kind == "shaft":  # the least diameter that passes (NaN where not checked)
             col[f"{name}_diameter_needed_mm"] = np.where(needs == "", np.nan, needs).astype(float) * 1e3
+        elif COMPONENTS[name].kind == "bearings":  # the least spacing that passes (NaN where not checked)
+            col[f"{name}_spacing_needed_mm"] = np.where(needs == "", np.nan, needs).astype(float) * 1e3
         better = np.isfinite(u) & ~(u <= worst)
         worst, governing = np.where(better, u, worst), np.where(better, name, governing)
         criterion = np.where(better, crit, criterion)
