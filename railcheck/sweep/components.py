@@ -73,10 +73,11 @@ def weight_of_settings(ctx: SweepContext, motion, sel: np.ndarray) -> dict:
     return {"vertical": joint_vertical_loads(crank, lengths), "moments": moments, "screw_tension": pulls}
 
 
-def component_results(ctx: SweepContext, loads: Loads, sel: np.ndarray, s) -> dict:
+def component_results(ctx: SweepContext, loads: Loads, sel: np.ndarray, s, h: JointHistories | None = None) -> dict:
     """name -> :class:`railcheck.components.checks.ComponentResult` (arrays (len(sel),))
-    of every listed component for the settings ``sel`` at speed ratio squared ``s``."""
-    h = sweep_histories(ctx, loads, sel, s)
+    of every listed component for the settings ``sel`` at speed ratio squared ``s`` (their
+    loads ``h`` when the caller has them, :func:`sweep_histories`)."""
+    h = sweep_histories(ctx, loads, sel, s) if h is None else h
     scene = ctx.scene
     return check_components(swept_components(ctx), scene.components, h, scene.checked.factor, strengths_of(scene))
 
@@ -116,13 +117,14 @@ def failed_words(result) -> np.ndarray:
 
 def components_of_settings(ctx: SweepContext, loads: Loads, sel: np.ndarray) -> dict:
     """The listed components of the settings ``sel``: ``per_speed``, at each of the
-    table's speeds, name -> (utilisation, governing criterion, failed criteria), each
-    (len(sel),); ``safe_s`` and ``governs`` (:func:`components_safe_s`)."""
+    table's speeds, name -> (utilisation, governing criterion, failed criteria, what it
+    needs (:func:`needs_of_settings`; "" where nothing is sized)), each (len(sel),);
+    ``safe_s`` and ``governs`` (:func:`components_safe_s`)."""
     per_speed = []
     for w in ctx.speeds:
         s = (w / ctx.speeds[0]) ** 2
-        results = component_results(ctx, loads, sel, s)
-        needs = needs_of_settings(ctx, sweep_histories(ctx, loads, sel, s))
+        h = sweep_histories(ctx, loads, sel, s)
+        results, needs = component_results(ctx, loads, sel, s, h), needs_of_settings(ctx, h)
         per_speed.append(
             {
                 n: (
