@@ -14,7 +14,7 @@ import stat
 import zipfile
 from pathlib import Path
 
-from railcheck.base.temporaries import SUFFIX, process_running
+from railcheck.base.temporaries import process_running, temporary_parts
 
 #: a payload is a few kB of text; a larger ``payload`` member is not railcheck's
 MAX_PAYLOAD_BYTES = 1 << 20
@@ -64,19 +64,15 @@ def is_own_entry(path: Path, pattern: re.Pattern[str]) -> bool:
 def is_dead_own_temporary(path: Path, pattern: re.Pattern[str]) -> bool:
     """Whether ``path`` is the temporary of an entry named by ``pattern`` that a process
     no longer running left (:func:`railcheck.base.temporaries.temporary_name`)."""
-    name = path.name
-    if not (name.startswith(".") and name.endswith(SUFFIX)) or not is_regular_file(path):
+    parts = temporary_parts(path.name)
+    if parts is None or pattern.fullmatch(parts[0]) is None or not is_regular_file(path):
         return False
-    stem, _, pid = name[1 : -len(SUFFIX)].rpartition(".")
-    if not pid.isdigit() or pattern.fullmatch(stem + ".npz") is None:
-        return False
-    return not process_running(int(pid))
+    return not process_running(parts[1])
 
 
 def _live_own_temporary(path: Path, pattern: re.Pattern[str]) -> bool:
-    name = path.name
-    stem = name[1 : -len(SUFFIX)].rpartition(".")[0] if name.startswith(".") and name.endswith(SUFFIX) else ""
-    return bool(stem) and pattern.fullmatch(stem + ".npz") is not None
+    parts = temporary_parts(path.name)
+    return parts is not None and pattern.fullmatch(parts[0]) is not None
 
 
 def clear_entries(directory: Path, pattern: re.Pattern[str], known: frozenset[str] = frozenset()) -> tuple[int, list[str]]:

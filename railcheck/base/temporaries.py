@@ -17,15 +17,24 @@ def temporary_name(path: Path) -> Path:
     return path.with_name(f".{path.stem}.{os.getpid()}{SUFFIX}")
 
 
+def temporary_parts(name: str) -> tuple[str, int] | None:
+    """(the entry's file name, the writer's pid) of a temporary's ``name``
+    (:func:`temporary_name`); None for any other name."""
+    if not (name.startswith(".") and name.endswith(SUFFIX)):
+        return None
+    stem, _, pid = name[1 : -len(SUFFIX)].rpartition(".")
+    return (f"{stem}.npz", int(pid)) if stem and pid.isdigit() else None
+
+
 def remove_dead_temporaries(directory: Path) -> list[Path]:
     """Remove the temporaries in ``directory`` whose process no longer runs (a run killed
     while it wrote); the removed paths."""
     removed = []
     for p in Path(directory).glob(f".*{SUFFIX}"):
-        try:
-            pid = int(p.name[: -len(SUFFIX)].rsplit(".", 1)[1])
-        except (IndexError, ValueError):
+        parts = temporary_parts(p.name)
+        if parts is None:
             continue
+        pid = parts[1]
         if pid != os.getpid() and not process_running(pid):
             with contextlib.suppress(OSError):
                 p.unlink()
