@@ -131,3 +131,13 @@ def for_people(x: float | None, spec: str = ".2f", unlimited: str = "unlimited",
     if math.isinf(x):
         return unlimited if x > 0 else f"-{unlimited}"
     return format(x, spec)
+
+
+def floored(x: float, digits: int = 3) -> str:
+    """``x`` (> 0, finite) to ``digits`` significant figures rounded down, never up: a
+    safe speed of 1.195 Hz reads "1.19". The product is nudged by 1e-12 so that a value
+    whose decimal digits end exactly there (0.29, stored as 0.28999...) keeps them."""
+    exponent = digits - 1 - math.floor(math.log10(x))
+    scale = 10.0**exponent
+    text = f"{math.floor(x * scale * (1.0 + 1e-12)) / scale:.{max(exponent, 0)}f}"
+    return text.rstrip("0").rstrip(".") if "." in text else text

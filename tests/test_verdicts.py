@@ -16,6 +16,7 @@ from railcheck.cli import main
 from railcheck.scene import parse_scene
 from railcheck.sweep.run import run_sweep
 from railcheck.sweep.table import read_table
+from railcheck.units import floored
 
 #: PF_4b_003_v2 under the seed's constant explicit loads (4.2.1) on the default mesh, as
 #: in the default scene (whose check, CI's main job, leaves its mesh and unit fields
@@ -154,10 +155,39 @@ def test_a_failing_parts_safe_speed_is_where_the_check_itself_flips(tmp_path):
     safe = summary["parts_safe_speed"]["crank-rail"]
     assert status == 1 and u > 1.05 and safe["criterion"] == "stress"
     assert abs(safe["Hz"] - 1 / np.sqrt(u)) > 1e-3  # the weight does not scale with the speed
-    assert f"to pass: crank-rail: passes up to {safe['Hz']:.3g} Hz at this setting" in fit_width_lines(stdout)
+    assert f"to pass: crank-rail: passes up to {floored(safe['Hz'])} Hz at this setting" in fit_width_lines(stdout)
+    assert summary["safe_speed"] == {"Hz": safe["Hz"], "set_by": "crank-rail", "criterion": "stress"}
     for share, verdict in ((0.998, "PASS"), (1.002, "FAIL")):
         _, _, at = _check_text(tmp_path / f"at-{share}", CRANK_AT.replace("SPEED", f"{safe['Hz'] * share!r} Hz"))
         assert at["verdict"] == verdict, (share, at["parts"]["crank-rail"]["utilisation"])
+
+
+def test_a_passing_check_gives_the_speed_up_to_which_it_passes_floored(tmp_path):
+    """A check that passes still ends with its safe speed: found from below (the passing
+    part's own crossing, no component to cap it), it is where the check itself flips (0.1%
+    above fails, 0.1% below passes), the console's figure floored (at most the crossing)
+    and the scene key to set; planted: the search ignoring passing parts gives no line."""
+    status, stdout, summary = _check_text(tmp_path / "passes", CRANK_AT.replace("SPEED", "0.5 Hz"))
+    safe = summary["safe_speed"]
+    assert status == 0 and summary["verdict"] == "PASS" and safe["set_by"] == "crank-rail"
+    assert 0.5 < safe["Hz"] < 1.0 and safe["criterion"] == "stress"
+    line = next(line for line in stdout.splitlines() if line.startswith("safe speed:"))
+    printed = float(line.split("passes up to ")[1].split(" Hz")[0])
+    assert printed <= safe["Hz"] < printed * 1.01 and f'[mechanism] speed = "{floored(safe["Hz"])} Hz"' in stdout
+    for share, verdict in ((0.999, "PASS"), (1.001, "FAIL")):
+        _, _, at = _check_text(tmp_path / f"at-{share}", CRANK_AT.replace("SPEED", f"{safe['Hz'] * share!r} Hz"))
+        assert at["verdict"] == verdict, (share, at["parts"]["crank-rail"]["utilisation"])
+    # the same crossing found under the components' cap (evaluated at the cap, then refined)
+    held = '[components]\nscrew_class = "12.9"\njoint_friction = 0.5\n'
+    capped = CRANK_AT.replace("SPEED", "0.5 Hz").replace('"crank-rail"]', '"crank-rail", "crank-screws-O2"]') + held
+    _, _, both = _check_text(tmp_path / "capped", capped)
+    assert both["components_safe_speed"]["Hz"] > safe["Hz"] and both["safe_speed"]["set_by"] == "crank-rail"
+    assert both["safe_speed"]["Hz"] == pytest.approx(safe["Hz"], rel=1e-6)
+
+
+def test_a_safe_speed_is_floored_never_rounded_up():
+    assert floored(1.195) == "1.19" and floored(0.29) == "0.29" and floored(2.999999) == "2.99"
+    assert floored(12.345) == "12.3" and floored(1.0) == "1" and floored(0.0012399) == "0.00123"
 
 
 def test_a_failures_figures_never_read_equal():

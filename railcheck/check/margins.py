@@ -27,7 +27,7 @@ import numpy as np
 
 from railcheck.components.scene_checks import check_scene_components
 from railcheck.model.certificate import QUASI_STATIC_TOLERANCE, certificate
-from railcheck.model.crossing import increasing_crossing
+from railcheck.model.crossing import increasing_crossing, refine_crossing
 from railcheck.model.cycle import evaluate_cycle
 from railcheck.model.jobs import build_load_cases, part_jobs
 from railcheck.model.kinematics_stage import run_kinematics
@@ -46,11 +46,19 @@ class SafeSpeed:
     criterion: str
 
 
-#: the speed ratio squared a part's search takes for rest: its loads are the weight's to 1e-12
-RESTING = 1e-12
+#: the speed ratio squared a part's search takes for rest: the inertia's share of the
+#: check's 1e-6 (the crank at 1/1000 of its speed), its utilisation the weight's to about
+#: 1e-7 of the inertia's; at 1e-12 the inertia's columns sit at round-off and defeat the
+#: fatigue screening (about 30 s a trial on a rail against 2)
+RESTING = 1e-6
 
 #: refinement steps of a failing part's safe speed (each a cycle evaluation, about a second)
 PART_SEARCH_STEPS = 12
+
+#: trial speeds, evenly spaced up to the limiting one, at which a part with an exact dynamic
+#: response is evaluated (its utilisation need not grow with the speed: a harmonic meets a
+#: mode); the sweep scans the same number (railcheck.sweep.verdicts.SAFE_SPEED_SCAN)
+DYNAMIC_SCAN = 8
 
 
 def components_at_speed(scene, speed: float) -> dict:
@@ -121,8 +129,10 @@ def part_safe_speed(scene, part: PartResult) -> SafeSpeed | None:
             seen[s] = part_at_speed(scene, part, base * math.sqrt(max(s, RESTING)))
         return seen[s]
 
+    at.seen = seen  # type: ignore[attr-defined]
     s = float(increasing_crossing(lambda ss, idx: np.array([at(float(x))[0] for x in ss]), 1, PART_SEARCH_STEPS)[0])
     criterion = at(s)[1] if math.isfinite(s) else part.governing_criterion
+    s = passing_side(at, s) if math.isfinite(s) and s > 0 else s
     return SafeSpeed(base * math.sqrt(s) / (2 * math.pi), part.name, criterion)
 
 
@@ -138,3 +148,95 @@ def failing_parts_safe_speeds(scene, parts: dict, progress) -> dict[str, SafeSpe
                 out[name] = safe
                 progress.say("margins", f"{passes_up_to(name, safe)} ({time.perf_counter() - t:.1f} s)")
     return out
+
+
+def safe_speed(scene, parts: dict, components: SafeSpeed | None, failing: dict, progress) -> SafeSpeed | None:
+    """The crank speed (Hz) up to which every checked part and component passes at the
+    check's setting and what reaches its limit there: the least of the components' safe
+    speed ``components``, the failing parts' ``failing`` (name -> SafeSpeed) and each
+    passing part's own crossing, found only where it lies below that least speed (a
+    passing part is evaluated there and searched only if it fails: module doc). None for a
+    still crank or when nothing is checked that the speed moves."""
+    if scene.mechanism is None or scene.mechanism.speed <= 0:
+        return None
+    known = [v for v in (components, *failing.values()) if v is not None]
+    least = min(known, key=lambda v: v.hz, default=None)
+    passing = [p for n, p in parts.items() if n not in failing and n not in scene.checked.loads]
+    for part in sorted(passing, key=lambda p: p.utilisation, reverse=True):  # likeliest to limit first
+        t = time.perf_counter()
+        found = passing_part_crossing(scene, part, least.hz if least is not None else math.inf)
+        if found is not None:
+            least = found
+            progress.say("margins", f"{passes_up_to(part.name, found)} ({time.perf_counter() - t:.1f} s)")
+    return least
+
+
+def passing_part_crossing(scene, part: PartResult, cap_hz: float) -> SafeSpeed | None:
+    """Where the passing ``part`` first reaches 1 below ``cap_hz`` (Hz), or None if it
+    passes up to there. Quasi-static its criteria are convex in the speed ratio squared
+    (a von Mises peak of loads affine in it, Goodman's parts), so passing at rest and at the
+    check's speed means passing between them, and beyond the check's speed passing at the
+    cap too means passing up to it: one or two trials. An exact dynamic response is
+    scanned at :data:`DYNAMIC_SCAN` speeds up to the cap. Without a cap its own safe speed
+    (:func:`part_safe_speed`)."""
+    if not math.isfinite(cap_hz):
+        return part_safe_speed(scene, part)
+    base = scene.mechanism.speed
+    cap = (2 * math.pi * cap_hz / base) ** 2
+    if part.cycle.solve.modes is not None:
+        trials = np.linspace(0.0, math.sqrt(cap), DYNAMIC_SCAN + 1) ** 2
+    else:
+        trials = np.array([0.0, cap] if cap > 1.0 else [0.0])
+    seen = {1.0: (part.utilisation, part.governing_criterion)}
+
+    def at(s: float) -> tuple[float, str]:
+        if s not in seen:
+            seen[s] = part_at_speed(scene, part, base * math.sqrt(max(s, RESTING)))
+        return seen[s]
+
+    at.seen = seen  # type: ignore[attr-defined]
+    points = sorted({float(x) for x in trials} | {1.0})
+    for k, s in enumerate(points):
+        if at(s)[0] > 1.0:
+            return SafeSpeed(0.0, part.name, at(s)[1]) if k == 0 else _refined(part.name, at, points[k - 1], s, base)
+    return None
+
+
+def _refined(name: str, at, below: float, above: float, base: float) -> SafeSpeed:
+    """The crossing between the speed ratios squared ``below`` (passing) and ``above``
+    (failing) of the memoised ``at(s) -> (utilisation, criterion)`` (:func:`refine_crossing`
+    from the two ends and one point already evaluated, rest or the check's own speed), as a
+    SafeSpeed whose criterion is the one failing at ``above``."""
+
+    def u_of(x, idx):
+        return np.array([at(float(v))[0] for v in x])
+
+    third = 0.0 if below > 0.0 else 1.0
+    ends = [(np.array([x]), u_of([x], None)) for x in (below, above, third)]
+    s = float(refine_crossing(u_of, *ends, np.array([True]), PART_SEARCH_STEPS)[0])
+    return SafeSpeed(base * math.sqrt(passing_side(at, s)) / (2 * math.pi), name, at(above)[1])
+
+
+def passing_side(at, s: float) -> float:
+    """``s`` if ``at(s)`` passes, else a passing point just below it: a search returns the
+    bracket's end nearer 1, which may be the failing one (its other end far below when the
+    iterates approach from above). Secant steps from the largest passing trial below to the
+    failing end land at or below the crossing where the utilisation is convex in ``s`` (the
+    chord lies above the curve), each at least 1e-12 below the failing end (an excess at
+    round-off); after three that fail, that passing trial itself. A safe speed is never
+    above a failing trial."""
+    u = at(s)[0]
+    if u <= 1.0:
+        return s
+    a = max((x for x, (ux, _) in at.seen.items() if x < s and ux <= 1.0), default=None)
+    if a is None:
+        return 0.0
+    ua = at(a)[0]
+    for _ in range(3):
+        x = min(a + (1.0 - ua) * (s - a) / (u - ua), s * (1.0 - 1e-12))
+        if not a < x:
+            break
+        if at(x)[0] <= 1.0:
+            return x
+        s, u = x, at(x)[0]
+    return a

@@ -17,7 +17,7 @@ import time
 
 import numpy as np
 
-from railcheck.check.margins import components_safe_speed, failing_parts_safe_speeds
+from railcheck.check.margins import components_safe_speed, failing_parts_safe_speeds, safe_speed
 from railcheck.check.workers import check_parts
 from railcheck.components.scene_checks import check_scene_components
 from railcheck.fea.materials import MATERIALS, limit_warning
@@ -76,16 +76,15 @@ def run_pipeline(
         checks = {}
     parts: dict = {}
     unloaded: tuple[str, ...] = ()
-    components, safe_speed = _components_stage(scene, kin, progress, stages, timings)
-    parts_safe: dict = {}
+    components, components_safe = _components_stage(scene, kin, progress, stages, timings)
     if scene.check is not None and scene.checked.parts:
         parts, unloaded = _check_stage(scene, kin, progress, solver, jobs, part_done, stages, warnings)
         for name, part in parts.items():
             timings.update({f"{k}:{name}": v for k, v in part.seconds.items()})
-        t = time.perf_counter()
-        parts_safe = failing_parts_safe_speeds(scene, parts, progress)
-        if parts_safe:
-            timings["margins"] = time.perf_counter() - t
+    t = time.perf_counter()
+    parts_safe = failing_parts_safe_speeds(scene, parts, progress)
+    every_safe = safe_speed(scene, parts, components_safe, parts_safe, progress) if scene.check is not None else None
+    timings["margins"] = time.perf_counter() - t
     stages.append("report")
     return PipelineResult(
         scene=scene,
@@ -94,8 +93,9 @@ def run_pipeline(
         kinematics_summary=kin_summary,
         parts=parts,
         components=components,
-        components_safe_speed=safe_speed,
+        components_safe_speed=components_safe,
         parts_safe_speed=parts_safe,
+        safe_speed=every_safe,
         warnings=tuple(warnings),
         timings=timings,
         checks=checks,

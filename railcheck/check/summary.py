@@ -38,6 +38,17 @@ def _parts_safe_speed(result: PipelineResult) -> dict:
     return {"parts_safe_speed": {name: {"Hz": s.hz, "criterion": s.criterion} for name, s in safe.items()}}
 
 
+def _safe_speed(result: PipelineResult) -> dict:
+    """``safe_speed``: the crank speed (Hz) up to which every checked part and component
+    passes at this setting, and the part or component and criterion that reach 1 there
+    (absent for a still crank; ``Hz`` null where nothing the speed loads has a limit)."""
+    safe = result.safe_speed
+    if safe is None:
+        return {}
+    hz = safe.hz if np.isfinite(safe.hz) else None
+    return {"safe_speed": {"Hz": hz, "set_by": safe.component, "criterion": safe.criterion}}
+
+
 def summary_of(result: PipelineResult) -> dict:
     """The summary.json content."""
     scene = result.scene
@@ -50,6 +61,7 @@ def summary_of(result: PipelineResult) -> dict:
         "components": {name: component_summary(c) for name, c in result.components.items()},
         **_components_safe_speed(result),
         **_parts_safe_speed(result),
+        **_safe_speed(result),
         "unloaded_parts": list(result.unloaded),
         "stages_run": list(result.stages_run),
         "warnings": list(result.warnings),

@@ -27,6 +27,7 @@ from railcheck.model.certificate import small_displacement_limit
 from railcheck.model.jobs import PartJob
 from railcheck.model.kinematics_stage import KinematicsResult
 from railcheck.scene import Scene
+from railcheck.units import floored
 
 
 @dataclass(frozen=True)
@@ -276,6 +277,7 @@ class PipelineResult:
     components: dict = field(default_factory=dict)  # name -> railcheck.components.ComponentResult
     components_safe_speed: Any = None  # railcheck.check.margins.SafeSpeed: where the components reach 1
     parts_safe_speed: dict = field(default_factory=dict)  # failing part -> SafeSpeed: where it reaches 1
+    safe_speed: Any = None  # SafeSpeed up to which every checked part and component passes (None: still crank)
 
     @property
     def failures(self) -> list[str]:
@@ -325,7 +327,7 @@ class PipelineResult:
         safe = self.components_safe_speed
         if safe is not None and any(not c.utilisation <= 1.0 for c in self.components.values()):
             out.append(
-                f"components: pass up to {safe.hz:.3g} Hz at this setting ({safe.component} {safe.criterion} reaches 1)"
+                f"components: pass up to {floored(safe.hz)} Hz at this setting ({safe.component} {safe.criterion} reaches 1)"
                 if safe.hz > 0
                 else f"components: {safe.component} fails at rest ({safe.criterion}): no speed passes"
             )
@@ -375,8 +377,22 @@ def component_fix(name: str, c) -> str:
 def passes_up_to(name: str, safe) -> str:
     """A failing part's safe speed in words (``safe``: railcheck.check.margins.SafeSpeed)."""
     if safe.hz > 0:
-        return f"{name}: passes up to {safe.hz:.3g} Hz at this setting ({safe.criterion} reaches 1 there)"
+        return f"{name}: passes up to {floored(safe.hz)} Hz at this setting ({safe.criterion} reaches 1 there)"
     return f"{name}: fails at rest ({safe.criterion}): no speed passes"
+
+
+def safe_speed_words(safe) -> str:
+    """The check's one safe speed in words (``safe``: railcheck.check.margins.SafeSpeed of
+    every checked part and component), floored to three figures, never rounded up."""
+    sets = f"{safe.component} {safe.criterion}"
+    if safe.hz <= 0:
+        return f"no speed passes at this setting: {sets} fails at rest"
+    if not math.isfinite(safe.hz):
+        return "every part and component passes at any speed at this setting (nothing the speed loads reaches its limit)"
+    return (
+        f"every part and component passes up to {floored(safe.hz)} Hz at this setting ({sets} reaches 1 there; "
+        f'dynamics included): [mechanism] speed = "{floored(safe.hz)} Hz" or less'
+    )
 
 
 def apart(value: float, limit: float, decimals: int) -> int:

@@ -16,6 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
+from railcheck.model.records import safe_speed_words
 from railcheck.report.forces import applied_factor, governing_forces
 from railcheck.report.text import component_figures, component_needs
 
@@ -93,6 +94,7 @@ def _header(result, summary) -> str:
         f"<h1>railcheck report: {title}</h1>"
         + (f'<p class="fail">fails: {html_escape(reasons)}</p>' if reasons else passes)
         + "".join(f"<p>to pass: {html_escape(t)}</p>" for t in result.to_pass)
+        + (f"<p>safe speed: {html_escape(safe_speed_words(result.safe_speed))}</p>" if result.safe_speed else "")
         + unloaded
         + f'<p class="note">scene: {html_escape(result.scene.source)}; '
         + f"stages run: {html_escape(', '.join(result.stages_run))}</p>"

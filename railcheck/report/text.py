@@ -8,6 +8,7 @@ import textwrap
 import numpy as np
 
 from railcheck.model.assumptions import assumptions
+from railcheck.model.records import safe_speed_words
 from railcheck.units import for_people
 
 
@@ -233,6 +234,7 @@ def check_report(run) -> str:
     lines.append(f"stages run: {', '.join(result.stages_run)}")
     lines += [f"fails: {f}" for f in result.failures_with_figures]
     lines += [f"to pass: {f}" for f in result.to_pass]
+    lines += [f"safe speed: {safe_speed_words(result.safe_speed)}"] if result.safe_speed is not None else []
     return fit_width("\n".join(lines)) + "\n" + verdict_line(result, summary["verdict"], run.target)
 
 
