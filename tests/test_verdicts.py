@@ -174,7 +174,7 @@ def test_a_passing_check_gives_the_speed_up_to_which_it_passes_floored(tmp_path)
     line = next(line for line in stdout.splitlines() if line.startswith("safe speed:"))
     printed = float(line.split("passes up to ")[1].split(" Hz")[0])
     assert printed <= safe["Hz"] < printed * 1.01 and f'[mechanism] speed = "{floored(safe["Hz"])} Hz"' in stdout
-    for share, verdict in ((0.999, "PASS"), (1.001, "FAIL")):
+    for share, verdict in ((0.999, "PASS"), (1.0, "PASS"), (1.001, "FAIL")):  # at the figure itself: a pass
         _, _, at = _check_text(tmp_path / f"at-{share}", CRANK_AT.replace("SPEED", f"{safe['Hz'] * share!r} Hz"))
         assert at["verdict"] == verdict, (share, at["parts"]["crank-rail"]["utilisation"])
     # the same crossing found under the components' cap (evaluated at the cap, then refined)
