@@ -201,6 +201,14 @@ def test_every_command_help_has_a_description_and_the_main_ones_their_exit_statu
     commands = next(a for a in parser._actions if a.dest == "command").choices
     for name, sub in commands.items():
         assert sub.description, name
-    for name in ("check", "kinematics"):
+    for name in ("check", "kinematics", "sweep"):
         assert "exit status: 0" in commands[name].format_help(), name
     assert "results/" in commands["check"].format_help()
+    assert "local cluster for large" not in commands["sweep"].format_help()  # it forks by default
+    parsers = [(name, sub) for name, sub in commands.items()]
+    while parsers:  # every option of every command and subcommand says what it does
+        name, sub = parsers.pop()
+        for action in sub._actions:
+            assert action.help, (name, action.option_strings or action.dest)
+            if isinstance(action.choices, dict):
+                parsers += [(f"{name} {n}", s) for n, s in action.choices.items()]

@@ -11,12 +11,17 @@ HELP = "FE benchmarks against analytic solutions"
 
 
 def add_args(p) -> None:
-    bench = p.add_subparsers(dest="bench", required=True, parser_class=type(p))
+    bench = p.add_subparsers(dest="bench", required=True, parser_class=type(p), help="the benchmark to run")
     c = bench.add_parser("cantilever", help="steel cantilever 700 x 23 x 20 mm, 100 N tip load, vs Timoshenko")
-    c.add_argument("--order", type=int, choices=(1, 2), default=2)
+    c.add_argument("--order", type=int, choices=(1, 2), default=2, help="tetrahedra's order (default 2)")
     c.add_argument("--size", type=float, default=4.0, metavar="MM", help="mesh size in mm (default 4)")
-    c.add_argument("--json", action="store_true")
-    c.add_argument("--solver", choices=("auto", "direct", "amg"), default="auto")
+    c.add_argument("--json", action="store_true", help="print the result as one JSON object")
+    c.add_argument(
+        "--solver",
+        choices=("auto", "direct", "amg"),
+        default="auto",
+        help="linear solver (default auto: direct, or multigrid for a large P2 system or a factor beyond memory)",
+    )
 
 
 def run(args) -> int:

@@ -16,7 +16,7 @@ def add_args(p) -> None:
     p.add_argument("target", nargs="?", default="cantilever", help="cantilever, kinematics, or a part of the default scene")
     p.add_argument("--orders", default="1,2", help="elements: 1 (P1), 2 (curved P2), 2s (straight-sided P2), e.g. 1,2,2s")
     p.add_argument("--sizes", default=None, help="mesh sizes in mm, e.g. 8,6,4,3")
-    p.add_argument("--json", action="store_true")
+    p.add_argument("--json", action="store_true", help="print the study (every row and its errors) as one JSON object")
     p.add_argument("--plot", metavar="FILE", help="write a log-log plot of error against time")
 
 

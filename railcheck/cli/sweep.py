@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import argparse
+
 from railcheck.base.errors import InputError
 from railcheck.cli.common import add_results_args, say_where
 from railcheck.files import to_json
@@ -15,7 +17,13 @@ PARSER = {
     "description": "Every bar length the rails' holes allow (narrowed by the scene's [sweep]): configuration "
     "checks, reactions, motor torque, bearing life and, by superposition of unit loads, each "
     "part's stress and fatigue verdict and the safe crank speed. Writes a table per linkage "
-    "kind, maps and summary.json."
+    "kind, maps and summary.json.",
+    "epilog": "where it runs: on processes forked from this one, one per core (Linux; --workers N, --serial\n"
+    "one), on --scheduler ADDR, or, where this process cannot fork, on a Dask local cluster when the\n"
+    "sweep is large and else on this process's threads: the same tables bit for bit.\n"
+    "exit status: 0 at least one setting of every linkage kind passes, 1 none of a kind does,\n"
+    "2 bad input (one line naming the field), 3 numerical failure",
+    "formatter_class": argparse.RawDescriptionHelpFormatter,
 }
 
 
@@ -24,13 +32,14 @@ def add_args(p) -> None:
     p.add_argument(
         "--scheduler",
         metavar="ADDR",
-        help="a running Dask scheduler, e.g. tcp://host:8786 (default: a local cluster for large sweeps)",
+        help="a running Dask scheduler, e.g. tcp://host:8786 (default: processes forked from this one)",
     )
     p.add_argument(
         "--workers",
         type=int,
         metavar="N",
-        help="local Dask workers, or threads of this process for a sweep too small for Dask (default: one per core)",
+        help="local workers: forked processes (or Dask workers, threads where neither applies); at most one "
+        "per core (the default)",
     )
     p.add_argument("--serial", action="store_true", help="run in this process on one thread, without Dask")
 
