@@ -15,6 +15,7 @@ import pytest
 from railcheck.base.errors import InputError
 from railcheck.components import standards
 from railcheck.files import to_json
+from railcheck.model.records import safe_speed_words
 from railcheck.scene import parse_scene
 from railcheck.units import floored
 
@@ -368,7 +369,7 @@ def test_the_components_safe_speed_is_where_they_really_reach_their_limit():
     safe = result.components_safe_speed
     assert safe.component == "crank-screws-O2" and safe.criterion == "slip" and 0.3 < safe.hz < 0.6
     assert summary["components_safe_speed"]["Hz"] == safe.hz
-    assert any(t.startswith(f"components: pass up to {floored(safe.hz)} Hz") for t in result.to_pass)
+    assert safe_speed_words(result.safe_speed).startswith(f"every part and component passes up to {floored(safe.hz)} Hz")
     assert summary["safe_speed"] == {"Hz": safe.hz, "set_by": "crank-screws-O2", "criterion": "slip"}
     below, _ = _run(_scene(speed=f"{safe.hz * 0.999!r} Hz"))
     above, _ = _run(_scene(speed=f"{safe.hz * 1.001!r} Hz"))
@@ -419,3 +420,17 @@ def test_a_components_table_no_listed_component_reads_is_said_not_dropped():
     )
     listed = run_pipeline(_scene({"shaft_diameter": "20 mm"}, parts=["shaft-A"])).warnings
     assert not any("[components]" in w for w in listed)
+
+
+def test_values_the_scene_sets_are_given_not_assumed():
+    """A [components] value the scene sets is listed as given (as written) and dropped from
+    the assumed list, in the console and in report.html's note."""
+    from railcheck.report.text import components_table
+
+    result, _ = _run(_scene(components={"screw_class": "10.9", "joint_friction": 0.2}, parts=["crank-screws-O2"]))
+    text = " ".join(line.strip() for line in components_table(result))
+    assumed = text.split("assumed (", 1)[1].split("given (", 1)[0]
+    assert 'given (the scene\'s [components], not assumed): joint_friction = 0.2, screw_class = "10.9"' in text
+    assert "screw_class" not in assumed and "joint_friction" not in assumed and "screw_thread_friction" in assumed
+    plain, _ = _run(_scene(parts=["crank-screws-O2"]))
+    assert "given (" not in " ".join(components_table(plain))

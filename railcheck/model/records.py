@@ -309,8 +309,10 @@ class PipelineResult:
     @property
     def to_pass(self) -> list[str]:
         """What would make each failing part and component pass, in words: the share its
-        loads must fall to (1 / utilisation: every criterion grows with the loads), and for
-        the components the crank speed up to which they pass at this setting."""
+        loads must fall to (1 / utilisation: every criterion grows with the loads) and the
+        crank speed up to which a failing part passes at this setting, a component's key
+        and value that pass (the speed up to which everything passes is
+        :func:`safe_speed_words`)."""
         out = []
         for name, p in self.parts.items():
             if p.utilisation > 1.0:
@@ -324,13 +326,6 @@ class PipelineResult:
         for name, c in self.components.items():
             if not c.utilisation <= 1.0:
                 out.append(component_fix(name, c))
-        safe = self.components_safe_speed
-        if safe is not None and any(not c.utilisation <= 1.0 for c in self.components.values()):
-            out.append(
-                f"components: pass up to {floored(safe.hz)} Hz at this setting ({safe.component} {safe.criterion} reaches 1)"
-                if safe.hz > 0
-                else f"components: {safe.component} fails at rest ({safe.criterion}): no speed passes"
-            )
         return out
 
     @property
@@ -377,7 +372,10 @@ def component_fix(name: str, c) -> str:
 def passes_up_to(name: str, safe) -> str:
     """A failing part's safe speed in words (``safe``: railcheck.check.margins.SafeSpeed)."""
     if safe.hz > 0:
-        return f"{name}: passes up to {floored(safe.hz)} Hz at this setting ({safe.criterion} reaches 1 there)"
+        return (
+            f"{name}: passes up to {floored(safe.hz)} Hz at this setting ({safe.criterion} reaches 1 there): "
+            f'[mechanism] speed = "{floored(safe.hz)} Hz"'
+        )
     return f"{name}: fails at rest ({safe.criterion}): no speed passes"
 
 

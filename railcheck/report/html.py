@@ -18,7 +18,7 @@ import numpy as np
 
 from railcheck.model.records import safe_speed_words
 from railcheck.report.forces import applied_factor, governing_forces
-from railcheck.report.text import component_figures, component_needs
+from railcheck.report.text import component_figures, component_needs, given_components
 
 CSS = """
 body{font-family:system-ui,sans-serif;margin:2em;color:#222;max-width:1400px}
@@ -263,7 +263,8 @@ def _components(result, directory: Path) -> str:
         "(EN 1993-1-8: γM0 = 1.0, γM2 = 1.25; Shigley: n ≥ 1); the screws' slip (VDI 2230, a failure: a joint "
         "that slips under a reversing load loosens), bearings and carriages on the loads as they are, "
         "against their standards' required static safety and life. Assumed (not in seed 000 or a cited catalogue; "
-        f"the scene's [components] table overrides them): {html_escape(', '.join(assumed)) or 'nothing'}.</p>"
+        f"the scene's [components] table overrides them): {html_escape(', '.join(assumed)) or 'nothing'}. "
+        f"Given by the scene: {html_escape(', '.join(given_components(result.scene))) or 'nothing'}.</p>"
         + html_image(directory / "joints.png", "the joints' load paths")
     )
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import math
 import textwrap
 
@@ -276,7 +277,18 @@ def components_table(result) -> list[str]:
     if assumed:
         text = f"assumed (not in seed 000 or a cited catalogue; [components] overrides): {', '.join(assumed)}"
         lines += textwrap.wrap(text, 98, initial_indent="  ", subsequent_indent="    ")
+    given = given_components(result.scene)
+    if given:
+        text = f"given (the scene's [components], not assumed): {', '.join(given)}"
+        lines += textwrap.wrap(text, 98, initial_indent="  ", subsequent_indent="    ")
     return lines
+
+
+def given_components(scene) -> list[str]:
+    """The ``[components]`` values the scene sets, as it wrote them ("key = value", TOML
+    spelling, sorted): what the components' outputs call given rather than assumed."""
+    table = scene.raw.get("components", {})
+    return [f"{k} = {json.dumps(v) if isinstance(v, str) else v}" for k, v in sorted(table.items())]
 
 
 def component_figures(c) -> str:
