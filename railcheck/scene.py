@@ -17,7 +17,7 @@ from pathlib import Path
 from typing import Any
 
 from railcheck import parts as registry
-from railcheck.base.errors import InputError
+from railcheck.base.errors import InputError, InputErrors
 from railcheck.components.overrides import component_spec
 from railcheck.components.ratings import COMPONENT_SPEC, NOT_ON_SLIDER_CRANK, ComponentSpec
 from railcheck.fea.fatigue import CRITERIA, LOAD, RELIABILITY, SURFACE  # light module: numpy only
@@ -142,15 +142,22 @@ ALLOWED_KEYS: dict[str, set[str] | None] = {
 }
 
 
-def _unknown(table: dict, allowed: set[str] | None, prefix: str) -> None:
-    """An InputError naming the first key of ``table`` not in ``allowed`` (None: any key)."""
-    if allowed is None:
-        return
-    for key in table:
+def _unknown_keys(table: dict, allowed: set[str] | None, prefix: str) -> list[InputError]:
+    """An InputError for each key of ``table`` not in ``allowed`` (None: any key)."""
+    out = []
+    for key in table if allowed is not None else ():
         if key not in allowed:
             close = difflib.get_close_matches(str(key), sorted(allowed), n=1)
             guess = f'did you mean "{close[0]}"? ' if close else ""
-            raise InputError(f"{prefix}{key}", f"unknown key ({guess}allowed: {', '.join(sorted(allowed))})")
+            out.append(InputError(f"{prefix}{key}", f"unknown key ({guess}allowed: {', '.join(sorted(allowed))})"))
+    return out
+
+
+def _unknown(table: dict, allowed: set[str] | None, prefix: str) -> None:
+    """Raise the InputError naming the first key of ``table`` not in ``allowed``."""
+    errors = _unknown_keys(table, allowed, prefix)
+    if errors:
+        raise errors[0]
 
 
 def _require(table: dict, key: str, prefix: str) -> Any:
@@ -460,9 +467,50 @@ def _sweep_settings(items: Any, kinds: tuple[str, ...]) -> dict:
     return out
 
 
+def scene_errors(data: dict[str, Any]) -> list[InputError]:
+    """Every error the scene's tables show each on its own, in the file's order: each
+    table's unknown keys and the first bad value among its known ones (what depends on
+    another table, the parse itself finds once these are fixed)."""
+    found: list[InputError] = []
+
+    def attempt(parse, *args) -> Any:
+        try:
+            return parse(*args)
+        except InputError as exc:
+            found.append(exc)
+            return None
+
+    geometry = attempt(_geometry, data["geometry"]) if isinstance(data.get("geometry"), dict) else {}
+    loads = data.get("loads") if isinstance(data.get("loads"), dict) else {}
+    parsers = {
+        "mechanism": _mechanism,
+        "check": lambda t: _check(t, loads),
+        "mesh": _mesh,
+        "output": _output,
+        "fatigue": _fatigue,
+        "sweep": _sweep,
+        "dynamic": _dynamic,
+    }
+    if geometry is not None:
+        parsers["components"] = lambda t: component_spec(t, with_overrides(geometry)[0])
+    for name, table in data.items():
+        if name not in ALLOWED_KEYS or not isinstance(table, dict):
+            continue  # the parse names these
+        allowed = ALLOWED_KEYS[name]
+        found += _unknown_keys(table, allowed, f"{name}.")
+        if name in parsers:
+            attempt(parsers[name], {k: v for k, v in table.items() if allowed is None or k in allowed})
+    unique = {str(e): e for e in found}
+    return list(unique.values())
+
+
 def parse_scene(data: dict[str, Any], source: str = "<scene>") -> Scene:
-    """Build a :class:`Scene` from a parsed TOML mapping."""
+    """Build a :class:`Scene` from a parsed TOML mapping; several bad values at once are
+    refused together (:class:`~railcheck.base.errors.InputErrors`, one line each)."""
     _unknown(data, set(ALLOWED_KEYS), "")
+    errors = scene_errors(data)
+    if len(errors) > 1:
+        raise InputErrors(errors)
     for key, value in data.items():
         if not isinstance(value, dict):
             raise InputError(key, "must be a table ([" + key + "])")

@@ -53,6 +53,17 @@ class InputError(RailcheckError, ValueError):
     """A bad scene, option or mechanism: one line naming the field; exit status 2."""
 
 
+class InputErrors(InputError):
+    """Several bad scene values found at once (``errors``, each an :class:`InputError`
+    naming its field): ``field`` and ``message`` are the first's, ``str`` gives one line
+    each, and the command line prints each on its own line."""
+
+    def __init__(self, errors: list[InputError]):
+        self.errors = tuple(errors)
+        super().__init__(errors[0].field, errors[0].message)
+        self.args = ("\n".join(str(e) for e in self.errors),)
+
+
 class NumericalError(RailcheckError, RuntimeError):
     """A numerical failure: a solve that did not converge, a singular system, a result
     that is not finite; exit status 3."""

@@ -124,7 +124,8 @@ def report_error(exc: BaseException) -> int:
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return EXIT_PASS
     if isinstance(exc, RailcheckError):
-        print(f"railcheck: {exc.label}: {exc}", file=sys.stderr)
+        for one in getattr(exc, "errors", (exc,)):  # several scene errors: one line each
+            print(f"railcheck: {exc.label}: {one}", file=sys.stderr)
         return exc.exit_status
     if isinstance(exc, OSError):  # a full disk, a vanished directory: nothing half-written
         print(f"railcheck: error: cannot write {exc.filename or 'the results'}: {exc.strerror or exc}", file=sys.stderr)
