@@ -16,8 +16,10 @@ DataFrame). The CLI commands are this layer plus printing. Bad input raises
 
 from __future__ import annotations
 
+import inspect
 import os
 import shutil
+import sys
 import tempfile
 import threading
 import tomllib
@@ -32,6 +34,7 @@ import railcheck.sweep.run as sweep_run
 import railcheck.sweep.table as sweep_table
 from railcheck.base.errors import EXIT_FAIL, EXIT_PASS, InputError
 from railcheck.base.temporaries import process_running
+from railcheck.progress import Progress
 from railcheck.scene import Scene, load_scene, parse_scene
 
 
@@ -79,6 +82,19 @@ class Check:
     def exit_status(self) -> int:
         return EXIT_PASS if self.passed else EXIT_FAIL
 
+    def __repr__(self) -> str:
+        """One line: the verdict, what fails, each part's and component's utilisation, the
+        safe speed and the folder (the records themselves are ``result`` and ``summary``)."""
+        s = self.summary
+        uses = {n: round(p["utilisation"], 3) for n, p in s.get("parts", {}).items()}
+        uses |= {n: round(c["utilisation"], 3) for n, c in s.get("components", {}).items()}
+        safe = s.get("safe_speed")
+        speed = "none" if safe is None else ("any" if safe["Hz"] is None else f"{safe['Hz']:.4g} Hz")
+        return (
+            f"Check(verdict={s.get('verdict')!r}, failures={self.result.failures!r}, utilisation={uses!r}, "
+            f"safe_speed={speed!r}, target={str(self.target) if self.target else None!r})"
+        )
+
 
 #: one check or sweep at a time in a process: calls from several threads wait their turn
 #: (a run already uses both cores; two at once gave other last digits, the solvers'
@@ -86,22 +102,33 @@ class Check:
 _ONE_RUN = threading.RLock()
 
 
-def check(scene: Any = None, out: str | Path | None = None, force: bool = False, jobs: int = 1) -> Check:
+def check(
+    scene: Any = None, out: str | Path | None = None, force: bool = False, jobs: int = 1, progress: Any = False
+) -> Check:
     """Check ``scene`` (see :func:`scene_of`); with ``out`` write the results folder as
     ``railcheck check --out`` does (``force`` replaces it), else write nothing. ``jobs``:
     parts checked at once; above 1 in worker processes started by spawning, which a script
-    must allow (its calls under ``if __name__ == "__main__":``), so one by default. Safe
-    from threads: calls run one after another."""
+    must allow (its calls under ``if __name__ == "__main__":``), so one by default.
+    ``progress``: True prints the command line's progress lines on stderr, a callable
+    receives each line (str), False (the default) is silent. Safe from threads: calls run
+    one after another."""
     parsed = scene_of(scene)
     with _ONE_RUN:
-        return _check(parsed, out, force, jobs)
+        return _check(parsed, out, force, jobs, progress_of(progress))
 
 
-def _check(parsed: Scene, out: str | Path | None, force: bool, jobs: int) -> Check:
+def progress_of(progress: Any) -> Progress:
+    """The :class:`~railcheck.progress.Progress` the API's ``progress`` argument asks for."""
+    if callable(progress):
+        return Progress(sink=progress)
+    return Progress(quiet=not progress)
+
+
+def _check(parsed: Scene, out: str | Path | None, force: bool, jobs: int, progress: Progress) -> Check:
     if out is not None:
-        run = check_run.run_check(parsed, str(out), force, jobs=jobs)
+        run = check_run.run_check(parsed, str(out), force, progress, jobs=jobs)
         return Check(run.result, run.summary, run.target)
-    result = check_pipeline.run_pipeline(parsed, jobs=jobs)
+    result = check_pipeline.run_pipeline(parsed, progress, jobs=jobs)
     return Check(result, check_summary.summary_of(result))
 
 
@@ -129,26 +156,56 @@ class Sweep:
     tables: dict = field(default_factory=dict)
     target: Path | None = None
 
+    def __repr__(self) -> str:
+        """One line: each linkage kind's settings and those that pass, its rows, the folder."""
+        kinds = {
+            kind: f"{k['settings_passing']}/{k['settings_total']} settings pass"
+            for kind, k in self.summary.get("by_kind", {}).items()
+        }
+        rows = {kind: t.num_rows for kind, t in self.tables.items()}
+        return f"Sweep(kinds={kinds!r}, rows={rows!r}, target={str(self.target) if self.target else None!r})"
+
 
 def sweep(
-    scene: Any = None, out: str | Path | None = None, force: bool = False, workers: int | None = None, serial: bool = False
+    scene: Any = None,
+    out: str | Path | None = None,
+    force: bool = False,
+    workers: int | None = None,
+    serial: bool = False,
+    progress: Any = False,
 ) -> Sweep:
     """Sweep every setting ``scene`` asks for (see :func:`scene_of`); with ``out`` keep the
     results folder as ``railcheck sweep --out`` does, else read the tables into memory and
-    keep no files. ``workers``/``serial`` as the CLI's options. Safe from threads: calls
-    run one after another."""
+    keep no files. ``workers``/``serial`` as the CLI's options; ``progress`` as
+    :func:`check`'s. Safe from threads: calls run one after another."""
     parsed = scene_of(scene)
     with _ONE_RUN:
-        return _sweep(parsed, out, force, workers, serial)
+        return _sweep(parsed, out, force, workers, serial, progress_of(progress))
 
 
-def _sweep(parsed: Scene, out: str | Path | None, force: bool, workers: int | None, serial: bool) -> Sweep:
+def _sweep(parsed: Scene, out, force: bool, workers: int | None, serial: bool, progress: Progress) -> Sweep:
     scratch = None if out is not None else _scratch_folder()
     destination = Path(out) if out is not None else Path(str(scratch)) / "sweep"
     try:
-        run = sweep_run.run_sweep(parsed, str(destination), force, workers=workers, serial=serial)
+        run = sweep_run.run_sweep(parsed, str(destination), force, workers=workers, serial=serial, progress=progress)
         tables = {kind: sweep_table.read_table(path) for kind, path in run.tables.items()}
         return Sweep(run.summary, tables, None if scratch is not None else run.target)
     finally:
         if scratch is not None:
             shutil.rmtree(scratch, ignore_errors=True)
+
+
+def _describe_callable_packages() -> None:
+    """``railcheck.check`` and ``railcheck.sweep`` are packages made callable: give them the
+    functions' signature and docstring, which ``inspect.signature`` and ``help`` read
+    (else ``(*args, **kwargs)`` and the package's text)."""
+    for name, function in (("railcheck.check", check), ("railcheck.sweep", sweep)):
+        package = sys.modules[name]
+        if getattr(package, "__wrapped__", None) is function:
+            continue
+        package.__signature__ = inspect.signature(function)  # type: ignore[attr-defined]
+        package.__wrapped__ = function  # type: ignore[attr-defined]
+        package.__doc__ = f"{name}{package.__signature__}\n\n{function.__doc__}\n\nThe package: {package.__doc__}"
+
+
+_describe_callable_packages()

@@ -13,15 +13,22 @@ WIDTH = 100
 class Progress:
     """Per-stage lines on stderr: ``[   1.2 s] stage      what``, elapsed since creation."""
 
-    def __init__(self, quiet: bool = False):
+    def __init__(self, quiet: bool = False, sink=None):
+        """``sink``: a callable that receives each line instead of stderr (the API's
+        ``progress=`` callback)."""
         self.quiet = quiet
+        self.sink = sink
         self.t0 = time.perf_counter()
 
     def say(self, stage: str, message: str) -> None:
-        if not self.quiet:
-            # one write per line: lines said from several threads never interleave
-            line = f"[{time.perf_counter() - self.t0:7.1f} s] {stage:<10} {message}"
-            print((wrapped(line) if _terminal() else line) + "\n", end="", file=sys.stderr, flush=True)
+        if self.quiet:
+            return
+        line = f"[{time.perf_counter() - self.t0:7.1f} s] {stage:<10} {message}"
+        if self.sink is not None:
+            self.sink(line)
+            return
+        # one write per line: lines said from several threads never interleave
+        print((wrapped(line) if _terminal() else line) + "\n", end="", file=sys.stderr, flush=True)
 
 
 def wrapped(line: str) -> str:

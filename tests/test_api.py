@@ -151,3 +151,32 @@ def test_an_api_sweep_killed_before_leaves_nothing_after_the_next(tmp_path, monk
     run = railcheck.sweep('[sweep]\nkind = "four-bar"\nsteps = 16\ncrank = ["480 mm", "480 mm"]\n', serial=True)
     assert run.summary["by_kind"]["four-bar"]["settings_total"] > 0
     assert sorted(p.name for p in tmp_path.iterdir()) == [f"railcheck-sweep-{os.getppid()}-live", "railcheck-sweep-notes"]
+
+
+def test_the_api_has_the_functions_signatures_and_docs_a_short_repr_and_a_progress_callback(capsys):
+    """``inspect.signature`` and ``help`` read the functions (not ``(*args, **kwargs)`` and
+    the package's text); a check's repr is one short line with its verdict, utilisations
+    and safe speed; ``progress=`` a callable receives the command line's progress lines."""
+    import inspect
+
+    import railcheck
+
+    assert list(inspect.signature(railcheck.check).parameters)[:2] == ["scene", "out"]
+    assert "progress" in inspect.signature(railcheck.sweep).parameters
+    assert railcheck.check.__doc__.startswith("railcheck.check(scene") and "railcheck.sweep(scene" in railcheck.sweep.__doc__
+    lines: list[str] = []
+    data = {
+        "mechanism": {"kind": "four-bar", "crank": "480 mm", "coupler": "840 mm", "rocker": "780 mm"}
+        | {"ground": "1020 mm", "speed": "1 Hz", "steps": 360},
+        "check": {"parts": ["crank-screws-O2"], "effects": ["inertia"]},
+    }
+    run = railcheck.check(data, progress=lines.append)
+    text = repr(run)
+    assert text.startswith("Check(verdict='FAIL', failures=['crank-screws-O2 slip']") and len(text) < 400
+    assert "'crank-screws-O2': 6.2" in text and "safe_speed='0.399" in text
+    assert any("kinematics" in line for line in lines) and all(line.startswith("[") for line in lines)
+    capsys.readouterr()
+    railcheck.check(data)  # silent by default (the command line's lines are opt-in)
+    assert capsys.readouterr().err == ""
+    railcheck.check(data, progress=True)
+    assert "kinematics" in capsys.readouterr().err
