@@ -86,6 +86,8 @@ def test_the_api_sweep_gives_the_tables_the_command_line_writes(tmp_path):
     assert result.target is None and set(result.tables) == {"four-bar"}
     table = result.tables["four-bar"]
     assert table.num_rows == 1 and "coupler-rail_utilisation" in table.column_names
+    passing = result.summary["by_kind"]["four-bar"]["settings_passing"]
+    assert repr(result) == f"Sweep(kinds={{'four-bar': '{passing}/1 settings pass'}}, rows={{'four-bar': 1}}, target=None)"
     path = tmp_path / "s.toml"
     path.write_text(text)
     proc = subprocess.run(
