@@ -30,6 +30,7 @@ from typing import Any
 import railcheck.check.pipeline as check_pipeline  # modules, not names: the packages import this one
 import railcheck.check.run as check_run
 import railcheck.check.summary as check_summary
+import railcheck.frames as frames
 import railcheck.sweep.run as sweep_run
 import railcheck.sweep.table as sweep_table
 from railcheck.base.errors import EXIT_FAIL, EXIT_PASS, InputError
@@ -81,6 +82,14 @@ class Check:
     @property
     def exit_status(self) -> int:
         return EXIT_PASS if self.passed else EXIT_FAIL
+
+    def parts_frame(self):
+        """pandas frame, a row per part (:func:`railcheck.frames.parts_frame`)."""
+        return frames.parts_frame(self.summary)
+
+    def components_frame(self):
+        """pandas frame, a row per component (:func:`railcheck.frames.components_frame`)."""
+        return frames.components_frame(self.summary)
 
     def __repr__(self) -> str:
         """One line: the verdict, what fails, each part's and component's utilisation, the
@@ -155,6 +164,13 @@ class Sweep:
     summary: dict
     tables: dict = field(default_factory=dict)
     target: Path | None = None
+
+    def frame(self, kind: str = "four-bar"):
+        """pandas frame of linkage ``kind``'s table, a row per setting and speed
+        (:func:`railcheck.frames.settings_frame`)."""
+        if kind not in self.tables:
+            raise InputError("kind", f"no {kind!r} table in this sweep (it has: {', '.join(self.tables) or 'none'})")
+        return frames.settings_frame(self.tables[kind])
 
     def __repr__(self) -> str:
         """One line: each linkage kind's settings and those that pass, its rows, the folder."""

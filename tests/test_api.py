@@ -12,8 +12,9 @@ import pytest
 
 import railcheck
 from helpers import FINAL_DESIGN, FINAL_DESIGN_SWEEP
-from railcheck.api import scene_of
+from railcheck.api import Sweep, scene_of
 from railcheck.base.errors import InputError
+from railcheck.frames import column_name
 from railcheck.scene import Scene, load_scene
 
 ROOT = Path(__file__).parents[1]
@@ -182,3 +183,30 @@ def test_the_api_has_the_functions_signatures_and_docs_a_short_repr_and_a_progre
     assert capsys.readouterr().err == ""
     railcheck.check(data, progress=True)
     assert "kinematics" in capsys.readouterr().err
+
+
+def test_frames_of_parts_components_and_settings_have_attribute_columns_with_units():
+    """A check's parts and components as pandas frames with the summary's figures (in MPa
+    and mm at this edge), columns reachable as attributes; a sweep table's columns renamed
+    the same way; a kind the sweep lacks refused naming it."""
+    assert column_name("crank-rail_stress_MPa") == "crank_rail_stress_MPa"
+    assert column_name("small-displacement utilisation") == "small_displacement_utilisation"
+    data = {
+        "mechanism": {"kind": "four-bar", "crank": "480 mm", "coupler": "840 mm", "rocker": "780 mm"}
+        | {"ground": "1020 mm", "speed": "1 Hz", "steps": 360},
+        "check": {"parts": ["crank-screws-O2", "shaft-O2"], "effects": ["inertia"]},
+    }
+    run = railcheck.check(data)
+    comps = run.components_frame()
+    assert list(comps.component) == ["crank-screws-O2", "shaft-O2"]
+    assert comps.utilisation[0] == run.summary["components"]["crank-screws-O2"]["utilisation"]
+    assert comps.slip_utilisation[0] > 1 and not comps.passed[0] and comps.governs[0] == "slip"
+    assert run.parts_frame().empty
+    import pyarrow as pa
+
+    table = pa.table({"crank-rail_stress_MPa": [1.0, 2.0], "setting": [0, 1]})
+    frame = Sweep({"by_kind": {}}, {"four-bar": table}).frame()
+    assert list(frame.columns) == ["crank_rail_stress_MPa", "setting"] and frame.crank_rail_stress_MPa[1] == 2.0
+    with pytest.raises(InputError) as refused:
+        Sweep({}, {"four-bar": table}).frame("slider-crank")
+    assert refused.value.field == "kind"
