@@ -17,7 +17,7 @@ import sys
 from importlib.metadata import PackageNotFoundError, version
 
 from railcheck.base.errors import EXIT_INPUT, EXIT_PASS, InputError, RailcheckError
-from railcheck.cli import bench, cache, check, convergence, init, kinematics, mechanism, sweep
+from railcheck.cli import bench, cache, check, convergence, init, kinematics, lookup, mechanism, sweep
 from railcheck.environment import store_cap_bytes
 from railcheck.files import writable_dir, writable_file
 
@@ -32,6 +32,7 @@ COMMANDS = {
     "kinematics": kinematics,
     "check": check,
     "sweep": sweep,
+    "lookup": lookup,
     "bench": bench,
     "convergence": convergence,
     "mechanism": mechanism,
