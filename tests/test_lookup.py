@@ -3,15 +3,19 @@ setting; the command's words, exit statuses and refusals."""
 
 from __future__ import annotations
 
+import copy
 import json
 import math
+from types import SimpleNamespace
 
 import pytest
 
 import railcheck
 from helpers import sweep_table
 from railcheck.cli import main
+from railcheck.report.text import sweep_report
 from railcheck.sweep.lookup import card_from_check, cards_from_table, parse_setting, table_path
+from railcheck.units import floored
 
 COMPONENTS = ["crank-screws-O2", "shaft-O2", "bearings-O4"]
 CHECK = f'[check]\nparts = {COMPONENTS!r}\neffects = ["inertia"]\n'.replace("'", '"')
@@ -75,3 +79,18 @@ def test_a_setting_no_table_holds_is_checked_and_gives_the_checks_card(tmp_path,
     assert status == 1 and card["source"] == "check" and card["verdict"] == "FAIL"
     assert card["safe_set_by"] == "crank-screws-O2" and 0.39 < card["safe_speed_hz"] < 0.41
     assert {"crank-rail", "PF_4b_003_v2", "shaft-O2"} <= set(card["utilisations"])
+
+
+def test_the_sweeps_lowest_safe_speed_says_fails_at_rest_instead_of_0_hz(tmp_path):
+    """A lowest safe speed of 0 is a setting that fails with the crank still: the console
+    says so, never "0 Hz"; a positive one is floored."""
+    run = _sweep(tmp_path)
+    summary = run.summary
+    low = summary["by_kind"]["four-bar"]["lowest_safe_speed"]
+    assert low is not None and low["safe_speed_Hz"] > 0
+    text = " ".join(sweep_report(SimpleNamespace(summary=summary, target=tmp_path, seconds=1.0)).split())
+    assert f"lowest safe speed {floored(low['safe_speed_Hz'])} Hz at" in text
+    at_rest = copy.deepcopy(summary)
+    at_rest["by_kind"]["four-bar"]["lowest_safe_speed"]["safe_speed_Hz"] = 0.0
+    text = " ".join(sweep_report(SimpleNamespace(summary=at_rest, target=tmp_path, seconds=1.0)).split())
+    assert "lowest safe speed: none at 480/840/780/1020 mm, which fails at rest" in text and " 0 Hz" not in text

@@ -10,7 +10,7 @@ import numpy as np
 
 from railcheck.model.assumptions import assumptions
 from railcheck.model.records import safe_speed_words
-from railcheck.units import for_people
+from railcheck.units import floored, for_people
 
 
 def _fmt(x: float, digits: int = 6) -> str:
@@ -477,8 +477,11 @@ def sweep_report(run) -> str:
         if k["lowest_safe_speed"]:
             m = k["lowest_safe_speed"]
             lines.append(
-                f"  lowest safe speed {m['safe_speed_Hz']:.3g} Hz at {mm(m['lengths_m'])}: there {m['part']} "
+                f"  lowest safe speed {floored(m['safe_speed_Hz'])} Hz at {mm(m['lengths_m'])}: there {m['part']} "
                 f"reaches its {m['criterion']} limit"
+                if m["safe_speed_Hz"] > 0
+                else f"  lowest safe speed: none at {mm(m['lengths_m'])}, which fails at rest ({m['part']} "
+                f"{m['criterion']} beyond its limit with the crank still)"
             )
         lines += _motor_lines(k.get("motor_sizing"), mm)
         if k["shortest_bearing_life"]:
