@@ -21,8 +21,11 @@ COMPONENTS = ["crank-screws-O2", "shaft-O2", "bearings-O4"]
 CHECK = f'[check]\nparts = {COMPONENTS!r}\neffects = ["inertia"]\n'.replace("'", '"')
 
 
-def _sweep(tmp_path):
-    text = sweep_table(steps=360, crank=(420, 540), coupler=(840, 840), rocker=(780, 780), ground=(1020, 1020)) + CHECK
+def _sweep(tmp_path, speed: str = "1 Hz"):
+    text = (
+        sweep_table(speeds=(speed,), steps=360, crank=(420, 540), coupler=(840, 840), rocker=(780, 780), ground=(1020, 1020))
+        + CHECK
+    )
     return railcheck.sweep(text, out=tmp_path / "sweep", serial=True)
 
 
@@ -94,3 +97,19 @@ def test_the_sweeps_lowest_safe_speed_says_fails_at_rest_instead_of_0_hz(tmp_pat
     at_rest["by_kind"]["four-bar"]["lowest_safe_speed"]["safe_speed_Hz"] = 0.0
     text = " ".join(sweep_report(SimpleNamespace(summary=at_rest, target=tmp_path, seconds=1.0)).split())
     assert "lowest safe speed: none at 480/840/780/1020 mm, which fails at rest" in text and " 0 Hz" not in text
+
+
+def test_the_sweeps_report_lists_the_safe_settings_fastest_first(tmp_path):
+    """report.html lists the settings that pass at the sweep's speed, fastest safe speed
+    first, each floored, with their count: the table's passing rows, read independently."""
+    run = _sweep(tmp_path, "0.3 Hz")  # the O2 screws hold below 0.399 Hz at 480 mm
+    table = run.tables["four-bar"].to_pydict()
+    passing = sorted((s, c) for s, c, v in zip(table["safe_speed_Hz"], table["crank_mm"], table["verdict"]) if v == "pass")[
+        ::-1
+    ]
+    page = (tmp_path / "sweep" / "report.html").read_text()
+    assert len(passing) >= 2
+    assert f"The {len(passing)} of {len(passing)} settings safe at 0.3 Hz with the highest safe speed" in page
+    listed = page.split("with the highest safe speed", 1)[1]
+    positions = [listed.index(f"{c:g}/840/780/1020") for _, c in passing]
+    assert positions == sorted(positions) and all(floored(s) in listed for s, _ in passing)

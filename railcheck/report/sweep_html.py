@@ -15,6 +15,7 @@ import numpy as np
 from railcheck.files import atomic_write_text
 from railcheck.report.html import CSS, html_escape, html_image, html_table
 from railcheck.sweep.table import read_table
+from railcheck.units import floored
 
 #: how many of the most utilised settings the report lists per kind
 WORST_LISTED = 10
@@ -47,6 +48,7 @@ def write_sweep_report(path: Path, summary: dict, tables: dict, directory: Path)
             html_image(directory / f"map-{kind}.png", f"{kind} maps"),
             _worst(rows),
             _best(rows),
+            safe_settings(rows, speed),
             _safe_criteria(summary["by_kind"][kind]),
         ]
     sections += [_motor(summary, directory), _hypotheses(summary)]
@@ -112,6 +114,38 @@ def _worst(rows: dict) -> str:
     ]
     head = ["setting", "utilisation", "governs", "safe speed (Hz)", "set by", "peak torque (N·m)", "verdict"]
     return f"<h3>The {len(order)} most utilised settings</h3>" + html_table(head, body, left=1)
+
+
+#: how many safe settings the report lists per kind, fastest first
+SAFE_LISTED = 20
+
+
+def safe_settings(rows: dict, speed_hz: float) -> str:
+    """The settings that pass every check at ``speed_hz``, fastest safe speed first (at
+    most :data:`SAFE_LISTED`, with their count): the list a teacher picks a setting from;
+    each safe speed floored, never rounded up."""
+    if "safe_speed_Hz" not in rows:
+        return ""
+    passing = np.flatnonzero(np.asarray(rows["verdict"] == "pass"))
+    safe = np.asarray(rows["safe_speed_Hz"], dtype=float)
+    if "safe_speed_unlimited" in rows:
+        safe = np.where(np.asarray(rows["safe_speed_unlimited"], bool), np.inf, safe)
+    passing = passing[np.isfinite(safe[passing]) | np.isinf(safe[passing])]
+    if passing.size == 0:
+        return f"<p>No setting passes every check at {speed_hz:g} Hz.</p>"
+    order = passing[np.argsort(-safe[passing], kind="stable")][:SAFE_LISTED]
+    body = [
+        [
+            html_escape(_lengths(rows, i)),
+            "unlimited" if np.isinf(safe[i]) else floored(safe[i]),
+            html_escape(f"{rows['safe_speed_part'][i] or '-'} {rows['safe_speed_criterion'][i] or ''}"),
+            _number(rows["torque_peak_Nm"][i], ".3g"),
+        ]
+        for i in order
+    ]
+    head = ["setting", "safe up to (Hz)", "set by", f"peak torque at {speed_hz:g} Hz (N·m)"]
+    title = f"The {len(order)} of {passing.size:,} settings safe at {speed_hz:g} Hz with the highest safe speed"
+    return f"<h3>{title}</h3>" + html_table(head, body, left=1)
 
 
 def _best(rows: dict) -> str:
