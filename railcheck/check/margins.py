@@ -33,6 +33,7 @@ from railcheck.model.jobs import build_load_cases, part_jobs
 from railcheck.model.kinematics_stage import run_kinematics
 from railcheck.model.loading import unit_cases
 from railcheck.model.records import PartResult, passes_up_to
+from railcheck.units import floored
 
 
 @dataclasses.dataclass(frozen=True)
@@ -162,12 +163,16 @@ def safe_speed(scene, parts: dict, components: SafeSpeed | None, failing: dict, 
     known = [v for v in (components, *failing.values()) if v is not None]
     least = min(known, key=lambda v: v.hz, default=None)
     passing = [p for n, p in parts.items() if n not in failing and n not in scene.checked.loads]
+    start = time.perf_counter()
     for part in sorted(passing, key=lambda p: p.utilisation, reverse=True):  # likeliest to limit first
-        t = time.perf_counter()
+        limit = f"{floored(least.hz)} Hz" if least is not None and 0 < least.hz < math.inf else "its own limit"
+        progress.say("margins", f"{part.name}: does it pass from rest up to {limit}? (its cycle at trial speeds)")
         found = passing_part_crossing(scene, part, least.hz if least is not None else math.inf)
         if found is not None:
             least = found
-            progress.say("margins", f"{passes_up_to(part.name, found)} ({time.perf_counter() - t:.1f} s)")
+            progress.say("margins", passes_up_to(part.name, found))
+    if passing:
+        progress.say("margins", f"{len(passing)} passing part(s) searched in {time.perf_counter() - start:.1f} s")
     return least
 
 
