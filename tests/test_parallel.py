@@ -7,6 +7,7 @@ import time
 import pytest
 
 from railcheck.parallel import forked
+from railcheck.parallel.executor import Meter, eta_words
 from railcheck.parallel.ordered import EXECUTORS, in_order
 
 
@@ -77,3 +78,15 @@ def test_dask_raises_an_items_error_when_due_and_cancels_the_rest(client):
     assert [next(results) for _ in range(5)] == [0, 1, 2, 3, 4]
     with pytest.raises(ValueError, match="item five"):
         next(results)
+
+
+def test_the_sweeps_bar_says_how_long_is_left_at_the_rate_so_far():
+    """Each line before the last gives the time left at the rate so far; the last none."""
+    said: list[str] = []
+    progress = type("P", (), {"say": lambda self, stage, message: said.append(message)})()
+    meter = Meter(progress, "four-bar", 100, t0=time.perf_counter() - 10.0)  # 10 s for the first 25
+    meter.done(25)
+    meter.done(75)
+    assert "25/100 settings" in said[0] and "about 30 s left" in said[0]
+    assert said[-1].endswith("settings/s") and "100/100" in said[-1]
+    assert (eta_words(30), eta_words(600), eta_words(7200)) == ("30 s", "10 min", "2.0 h")

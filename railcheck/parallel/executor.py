@@ -251,6 +251,16 @@ class Meter:
             self.last = now
             rate = self.count / max(now - self.t0, 1e-9)
             bar = "#" * int(20 * self.count / max(self.total, 1))
+            left = f", about {eta_words((self.total - self.count) / rate)} left" if self.count < self.total else ""
             self.progress.say(
-                "sweep", f"{self.kind:<12} [{bar:<20}] {self.count}/{self.total} settings, {rate:,.0f} settings/s"
+                "sweep", f"{self.kind:<12} [{bar:<20}] {self.count}/{self.total} settings, {rate:,.0f} settings/s{left}"
             )
+
+
+def eta_words(seconds: float) -> str:
+    """A remaining time as a person reads it: "40 s", "3 min", "1.2 h" (at the rate so far)."""
+    if seconds < 90:
+        return f"{max(seconds, 1):.0f} s"
+    if seconds < 5400:
+        return f"{seconds / 60:.0f} min"
+    return f"{seconds / 3600:.1f} h"
