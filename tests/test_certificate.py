@@ -9,6 +9,8 @@ from __future__ import annotations
 import json
 import math
 import tomllib
+import warnings
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -16,7 +18,8 @@ import pytest
 from helpers import ROOT, check_scene_of_row, run_sweep_text, table_rows
 from railcheck.fea.beam import beam_lowest_frequency
 from railcheck.fea.dynamic import one_mode_amplification
-from railcheck.model.certificate import QUASI_STATIC_TOLERANCE, amplification_estimate, rail_lowest_hz
+from railcheck.model.certificate import QUASI_STATIC_TOLERANCE, amplification_estimate, dynamic_share, rail_lowest_hz
+from railcheck.sweep.verdicts import criterion_utilisations
 
 EI, MASS = 2100.0, 3.0  # N m^2, kg/m
 
@@ -286,3 +289,25 @@ def test_a_plate_solves_one_mode_for_its_certificate_and_every_mode_when_it_fail
     else:
         assert asked == [1, count] and part.job.dynamic.exact
         assert part.cycle.dynamic.hz.size == count
+
+
+def test_the_dynamic_share_is_one_definition_for_the_check_and_the_sweep_even_with_no_excess_allowed():
+    """``[dynamic] max_amplification = 1.0`` (the scene accepts it) allows no excess: the
+    check's and the sweep's dynamic utilisation are 0 up to the quasi-static peak and inf
+    beyond, never a division by zero; above 1 the share of the allowed excess."""
+    assert dynamic_share(1.05, 1.10) == pytest.approx(0.5) and dynamic_share(1.0, 1.0) == 0.0
+    assert dynamic_share(1.2, 1.0) == float("inf") and isinstance(dynamic_share(0.9, 1.0), float)
+    model = SimpleNamespace(
+        limit=375e6,
+        required=1.0,
+        deflection_limit=None,
+        yield_strength=0.0,
+        length=0.0,
+        dynamic=object(),
+        max_amplification=1.0,
+    )
+    amp = np.array([0.98, 1.0, 1.03])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # a division by zero warns: it would fail here
+        u = criterion_utilisations(model, np.full(3, 100e6), np.full(3, 2.0), np.zeros(3), amp)
+    assert list(u["dynamic"]) == [0.0, 0.0, float("inf")]

@@ -83,6 +83,19 @@ class Certificate:
         )
 
 
+def dynamic_share(amplification, max_amplification: float):
+    """A dynamic response's amplification ``A`` (cycle peak over its quasi-static peak) as
+    a share of the allowed excess, ``(A - 1) / (A_max - 1)``: 0 at the quasi-static peak,
+    1 at the limit; with ``A_max = 1`` (no excess allowed) 0 up to 1 and inf beyond.
+    Elementwise (a check's float, a sweep's settings); the one definition both use."""
+    a = np.asarray(amplification, dtype=float)
+    if max_amplification > 1.0:
+        out = (a - 1.0) / (max_amplification - 1.0)
+    else:
+        out = np.where(a <= 1.0, 0.0, np.inf)
+    return float(out) if out.ndim == 0 else out
+
+
 def force_columns(names) -> tuple[list[int], list[int]]:
     """(joint forces, couples): the indices of the unit cases ``names`` that are joint
     forces (N) and joint couples (``torque``, N m)."""

@@ -23,7 +23,7 @@ from railcheck.fea.superpose import Envelope, UnitFields
 from railcheck.fea.unitcases import UnitSolve
 from railcheck.geometry.meshdata import MeshData
 from railcheck.kinematics.checks import CheckResult
-from railcheck.model.certificate import small_displacement_limit
+from railcheck.model.certificate import dynamic_share, small_displacement_limit
 from railcheck.model.jobs import PartJob
 from railcheck.model.kinematics_stage import KinematicsResult
 from railcheck.scene import Scene
@@ -212,11 +212,7 @@ class PartResult:
         out["small-displacement"] = self.cycle.envelope.max_tip / small_displacement_limit(self.geometry.get("length"))
         d = self.cycle.dynamic
         if d is not None:  # the share of the allowed excess over quasi-static: 0 at 1.0, 1 at the limit
-            out["dynamic"] = (
-                (d.amplification - 1.0) / (d.max_amplification - 1.0)
-                if d.max_amplification > 1
-                else (0.0 if d.amplification <= 1.0 else float("inf"))
-            )
+            out["dynamic"] = dynamic_share(d.amplification, d.max_amplification)
         return out
 
     @property

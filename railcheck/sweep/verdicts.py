@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from railcheck.model.certificate import QUASI_STATIC_TOLERANCE, small_displacement_limit
+from railcheck.model.certificate import QUASI_STATIC_TOLERANCE, dynamic_share, small_displacement_limit
 from railcheck.model.crossing import CROSSING_TOLERANCE, refine_crossing
 from railcheck.sweep.context import SweepContext
 
@@ -30,7 +30,7 @@ def criterion_utilisations(model, vm, fat, tip, amp=None) -> dict[str, np.ndarra
     if model.length > 0:  # beyond small displacements the linear result is not valid
         out["small-displacement"] = tip / small_displacement_limit(model.length)
     if model.dynamic is not None and amp is not None:
-        out["dynamic"] = (amp - 1.0) / (model.max_amplification - 1.0)
+        out["dynamic"] = dynamic_share(amp, model.max_amplification)
     elif getattr(model, "certified", False) and model.constant is None and amp is not None:
         out["quasi-static"] = quasi_static_share(amp, beyond_only=True)
     return out
