@@ -1,11 +1,9 @@
 """railcheck.check: ``railcheck check``, one setting of the rig from scene to verdict.
 
-:mod:`.pipeline` (the stages a scene needs), :mod:`.kinematics_stage` (the linkage's
-motion, reactions and checks), :mod:`.jobs` (each part resolved once into a
-:class:`PartJob`), :mod:`.loading` (a part's load model, unit cases and coefficient
-histories), :mod:`.workers` (parts in worker processes), :mod:`.cycle` (one part over the
-cycle), :mod:`.records` (the frozen results), :mod:`.summary` (summary.json),
-:mod:`.run` (the results directory).
+:mod:`.pipeline` (the stages a scene needs), :mod:`.workers` (parts in worker processes),
+:mod:`.margins` (the one safe speed), :mod:`.summary` (summary.json), :mod:`.run` (the
+results directory). What a part carries at a setting (its job, loading, cycle and
+records) is :mod:`railcheck.model`.
 """
 
 import sys

@@ -1,10 +1,11 @@
 """railcheck.sweep: ``railcheck sweep``, every setting of the rig.
 
-:mod:`.run` (chunks, Dask, the results directory), :mod:`.shared` (the context the
-local workers map from one file), :mod:`.grid` (the settings the
-rails' holes allow), :mod:`.chunk` (a chunk of settings -> rows), :mod:`.parts` (each
-part's unit fields for every hole pair), :mod:`.fe` (exact screened superposition),
-:mod:`.table` (Parquet/CSV), :mod:`.maps` (aggregates, the seed's hypotheses, maps).
+:mod:`.run` (chunks, workers, the results directory), :mod:`.grid` (the settings the
+rails' holes allow), :mod:`.context` (what a kind's chunks share), :mod:`.chunk` (a chunk
+of settings -> rows), :mod:`.columns`, :mod:`.verdicts`, :mod:`.validity`,
+:mod:`.components` and :mod:`.motor` (a chunk's columns), :mod:`.parts` (each part's unit
+fields for every hole pair), :mod:`.aggregate` (counts, worst settings, summary.json),
+:mod:`.table` (Parquet/CSV), :mod:`.lookup` (one setting's card).
 """
 
 import sys
