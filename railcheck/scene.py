@@ -144,8 +144,10 @@ ALLOWED_KEYS: dict[str, set[str] | None] = {
 
 def _unknown_keys(table: dict, allowed: set[str] | None, prefix: str) -> list[InputError]:
     """An InputError for each key of ``table`` not in ``allowed`` (None: any key)."""
-    out = []
-    for key in table if allowed is not None else ():
+    out: list[InputError] = []
+    if allowed is None:
+        return out
+    for key in table:
         if key not in allowed:
             close = difflib.get_close_matches(str(key), sorted(allowed), n=1)
             guess = f'did you mean "{close[0]}"? ' if close else ""
@@ -481,7 +483,7 @@ def scene_errors(data: dict[str, Any]) -> list[InputError]:
             return None
 
     geometry = attempt(_geometry, data["geometry"]) if isinstance(data.get("geometry"), dict) else {}
-    loads = data.get("loads") if isinstance(data.get("loads"), dict) else {}
+    loads: dict = data["loads"] if isinstance(data.get("loads"), dict) else {}
     parsers = {
         "mechanism": _mechanism,
         "check": lambda t: _check(t, loads),

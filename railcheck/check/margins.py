@@ -217,8 +217,8 @@ def _refined(name: str, at, below: float, above: float, base: float) -> SafeSpee
         return np.array([at(float(v))[0] for v in x])
 
     third = 0.0 if below > 0.0 else 1.0
-    ends = [(np.array([x]), u_of([x], None)) for x in (below, above, third)]
-    s = float(refine_crossing(u_of, *ends, np.array([True]), PART_SEARCH_STEPS)[0])
+    lower, upper, off = ((np.array([x]), u_of([x], None)) for x in (below, above, third))
+    s = float(refine_crossing(u_of, lower, upper, off, np.array([True]), PART_SEARCH_STEPS)[0])
     return SafeSpeed(base * math.sqrt(passing_side(at, s)) / (2 * math.pi), name, at(above)[1])
 
 

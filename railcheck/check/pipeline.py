@@ -17,7 +17,7 @@ import time
 
 import numpy as np
 
-from railcheck.check.margins import components_safe_speed, failing_parts_safe_speeds, safe_speed
+from railcheck.check.margins import SafeSpeed, components_safe_speed, failing_parts_safe_speeds, safe_speed
 from railcheck.check.workers import check_parts
 from railcheck.components.scene_checks import check_scene_components
 from railcheck.fea.materials import MATERIALS, limit_warning
@@ -103,7 +103,7 @@ def run_pipeline(
     )
 
 
-def _components_stage(scene: Scene, kin, progress: Progress, stages: list, timings: dict) -> tuple[dict, object]:
+def _components_stage(scene: Scene, kin, progress: Progress, stages: list, timings: dict) -> tuple[dict, SafeSpeed | None]:
     """(components, their safe speed): the joints' components checked by their standards
     (empty, None without ``[check] components``); the stage and its time appended."""
     if scene.check is None or not scene.checked.components:

@@ -19,7 +19,16 @@ from railcheck.sweep.table import read_table
 from railcheck.units import floored
 
 #: the table's columns the page carries, per setting
-COLUMNS = ("crank_mm", "coupler_mm", "rocker_mm", "ground_mm", "check_assembly", "verdict", "reason", "utilisation")
+COLUMNS: tuple[str, ...] = (
+    "crank_mm",
+    "coupler_mm",
+    "rocker_mm",
+    "ground_mm",
+    "check_assembly",
+    "verdict",
+    "reason",
+    "utilisation",
+)
 COLUMNS += ("governing_part", "governing_criterion", "safe_speed_Hz", "safe_speed_part", "safe_speed_criterion")
 
 
