@@ -62,11 +62,21 @@ def test_picking_a_setting_shows_its_table_rows_values(tmp_path):
             assert offered == sorted(int(a["ground_mm"]) for a in same)  # only what assembles
             shown = {k: driver.find_element("id", k).text for k in ("verdict", "safe", "setby", "reason")}
             assert shown["verdict"] == r["verdict"].upper(), (r, shown)
+            chosen = driver.find_element("id", "chosen-verdict").text  # the page's default 0.2 Hz
             if r["checks_passed"]:
+                assert chosen.startswith("safe" if r["safe_speed_Hz"] >= 0.2 else "not safe"), (r, chosen)
                 assert shown["safe"] == f"{floored(r['safe_speed_Hz'])} Hz", (r, shown)
                 assert shown["setby"] == f"({r['safe_speed_part']} {r['safe_speed_criterion']} sets it)"
             else:
                 assert shown["safe"] == "no speed" and r["reason"] in shown["reason"]
+                assert chosen == "not safe at any speed"
+        r = next(r for r in assembled if r["checks_passed"])
+        for bar in ("crank", "coupler", "rocker", "ground"):
+            Select(driver.find_element("id", bar)).select_by_value(str(int(r[f"{bar}_mm"])))
+        speed = 'const e = document.getElementById("speed"); e.value = arguments[0]; e.dispatchEvent(new Event("input"));'
+        for share, words in ((0.98, "safe (at or below"), (1.01, "not safe (above")):
+            driver.execute_script(speed, f"{r['safe_speed_Hz'] * share:.4f}")
+            assert driver.find_element("id", "chosen-verdict").text.startswith(words), share
         svg = driver.find_element("id", "linkage").get_attribute("innerHTML")
         assert all(f">{j}</text>" in svg for j in ("O2", "A", "B", "O4"))
     finally:

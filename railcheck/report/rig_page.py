@@ -85,7 +85,8 @@ CONTROLS = """
 </div>
 <div id="card"><div>verdict at <span id="at"></span> Hz: <b id="verdict"></b> <span id="reason"></span></div>
 <div>safe up to: <b id="safe"></b> <span id="setby"></span></div>
-<div>governs: <span id="governs"></span>, utilisation <span id="utilisation"></span></div></div>
+<div>governs: <span id="governs"></span>, utilisation <span id="utilisation"></span></div>
+<div>at the chosen <span id="chosen"></span> Hz: <b id="chosen-verdict"></b></div></div>
 <svg id="linkage" width="720" height="420" viewBox="0 0 720 420"></svg>
 """
 
@@ -124,6 +125,15 @@ function show(i) {
   document.getElementById("setby").textContent = RIG.set_by[i] ? `(${RIG.set_by[i]} sets it)` : "";
   document.getElementById("governs").textContent = RIG.governs[i] || "-";
   document.getElementById("utilisation").textContent = u === null ? "-" : `${Math.round(u * 100)}%`;
+  chosen();
+}
+function chosen() {
+  if (current === null) return;
+  const i = current, hz = Number(document.getElementById("speed").value);
+  const safe = RIG.unlimited[i] || (RIG.safe_Hz[i] !== null && hz <= Number(RIG.safe_Hz[i]));
+  document.getElementById("chosen").textContent = hz;
+  document.getElementById("chosen-verdict").textContent = safe ? "safe (at or below its safe speed)" :
+    (RIG.safe_Hz[i] === null && !RIG.unlimited[i] ? "not safe at any speed" : "not safe (above its safe speed)");
 }
 function joints(l, theta) {
   const [a, b, c, d] = l, A = [a * Math.cos(theta), a * Math.sin(theta)], O4 = [d, 0];
@@ -150,6 +160,7 @@ function draw(t) {
   requestAnimationFrame(draw);
 }
 BARS.forEach((b, k) => document.getElementById(b).addEventListener("change", () => refresh(k + 1)));
+document.getElementById("speed").addEventListener("input", chosen);
 document.getElementById("play").addEventListener("click", e => {
   playing = !playing; e.target.textContent = playing ? "pause" : "play";
 });
