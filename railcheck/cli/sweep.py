@@ -17,7 +17,7 @@ PARSER = {
     "description": "Every bar length the rails' holes allow (narrowed by the scene's [sweep]): configuration "
     "checks, reactions, motor torque, bearing life and, by superposition of unit loads, each "
     "part's stress and fatigue verdict and the safe crank speed. Writes a table per linkage "
-    "kind, maps and summary.json.",
+    "kind, maps, report.html, rig.html (pick a setting: its verdict and safe speed) and summary.json.",
     "epilog": "where it runs: on processes forked from this one, one per core (Linux; --workers N, --serial\n"
     "one), on --scheduler ADDR, or, where this process cannot fork, on a Dask local cluster when the\n"
     "sweep is large and else on this process's threads: the same tables bit for bit.\n"
