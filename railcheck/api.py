@@ -114,13 +114,40 @@ _ONE_RUN = threading.RLock()
 def check(
     scene: Any = None, out: str | Path | None = None, force: bool = False, jobs: int = 1, progress: Any = False
 ) -> Check:
-    """Check ``scene`` (see :func:`scene_of`); with ``out`` write the results folder as
-    ``railcheck check --out`` does (``force`` replaces it), else write nothing. ``jobs``:
-    parts checked at once; above 1 in worker processes started by spawning, which a script
-    must allow (its calls under ``if __name__ == "__main__":``), so one by default.
-    ``progress``: True prints the command line's progress lines on stderr, a callable
-    receives each line (str), False (the default) is silent. Safe from threads: calls run
-    one after another."""
+    """Check one setting of the rig, as ``railcheck check`` does, and return its records.
+
+    Parameters
+    ----------
+    scene : str, Path, dict, Scene or None
+        A TOML file's path, TOML text, a dict as TOML reads it, a parsed
+        :class:`~railcheck.scene.Scene`, or None for the built-in default scene.
+    out : str or Path, optional
+        Write the results folder there, as ``railcheck check --out``; None writes nothing.
+    force : bool
+        Replace an existing ``out`` folder (else the run goes to ``out-2``).
+    jobs : int
+        Parts checked at once; above 1 in worker processes started by spawning, which a
+        script must allow (its calls under ``if __name__ == "__main__":``).
+    progress : bool or callable
+        True prints the command line's progress lines on stderr; a callable receives each
+        line (str); False (the default) is silent.
+
+    Returns
+    -------
+    Check
+        ``passed``, ``exit_status``, ``summary`` (what summary.json holds), ``result``
+        (the pipeline's records), ``target``; ``parts_frame()``, ``components_frame()``.
+
+    Raises
+    ------
+    InputError
+        Bad input, naming the field (:class:`~railcheck.base.errors.InputErrors` for
+        several at once).
+
+    Notes
+    -----
+    Safe from threads: calls run one after another in a process.
+    """
     parsed = scene_of(scene)
     with _ONE_RUN:
         return _check(parsed, out, force, jobs, progress_of(progress))
@@ -190,10 +217,34 @@ def sweep(
     serial: bool = False,
     progress: Any = False,
 ) -> Sweep:
-    """Sweep every setting ``scene`` asks for (see :func:`scene_of`); with ``out`` keep the
-    results folder as ``railcheck sweep --out`` does, else read the tables into memory and
-    keep no files. ``workers``/``serial`` as the CLI's options; ``progress`` as
-    :func:`check`'s. Safe from threads: calls run one after another."""
+    """Sweep every setting the scene asks for, as ``railcheck sweep`` does.
+
+    Parameters
+    ----------
+    scene : str, Path, dict, Scene or None
+        As :func:`check`'s; its ``[sweep]`` narrows the rig's hole grid (none: every setting).
+    out : str or Path, optional
+        Keep the results folder there (tables, maps, report.html, rig.html); None reads the
+        tables into memory and keeps no files.
+    force : bool
+        Replace an existing ``out`` folder.
+    workers : int, optional
+        Local workers (at most one per core, the default).
+    serial : bool
+        Run in this process on one thread.
+    progress : bool or callable
+        As :func:`check`'s.
+
+    Returns
+    -------
+    Sweep
+        ``summary``, ``tables`` (linkage kind -> ``pyarrow.Table``, a row per setting and
+        speed), ``target``; ``frame(kind)`` a pandas frame.
+
+    Notes
+    -----
+    Safe from threads: calls run one after another in a process.
+    """
     parsed = scene_of(scene)
     with _ONE_RUN:
         return _sweep(parsed, out, force, workers, serial, progress_of(progress))

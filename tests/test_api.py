@@ -167,6 +167,10 @@ def test_the_api_has_the_functions_signatures_and_docs_a_short_repr_and_a_progre
     assert list(inspect.signature(railcheck.check).parameters)[:2] == ["scene", "out"]
     assert "progress" in inspect.signature(railcheck.sweep).parameters
     assert railcheck.check.__doc__.startswith("railcheck.check(scene") and "railcheck.sweep(scene" in railcheck.sweep.__doc__
+    for function in (railcheck.check, railcheck.sweep):  # numpydoc: every parameter documented
+        documented = function.__doc__.split("Parameters\n", 1)[1].split("Returns\n", 1)[0]
+        for name in inspect.signature(function).parameters:
+            assert f"\n    {name} : " in documented, name
     lines: list[str] = []
     data = {
         "mechanism": {"kind": "four-bar", "crank": "480 mm", "coupler": "840 mm", "rocker": "780 mm"}
