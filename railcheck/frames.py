@@ -22,6 +22,12 @@ def column_name(name: str) -> str:
     return _NOT_A_NAME.sub("_", name).strip("_")
 
 
+def _scaled(value, factor: float) -> float:
+    """``value`` x ``factor``, NaN where summary.json has no figure (null: a free body's
+    tip, an unlimited factor)."""
+    return float("nan") if value is None else float(value) * factor
+
+
 def _pandas():
     try:
         import pandas
@@ -38,11 +44,11 @@ def parts_frame(summary: dict):
     for name, p in summary.get("parts", {}).items():
         row = {
             "part": name,
-            "stress_MPa": p["max_von_mises_Pa"] / 1e6,
-            "limit_MPa": p["limit_Pa"] / 1e6,
-            "fatigue_factor": p["fatigue"]["min_safety_factor"],
-            "tip_deflection_mm": p["tip_deflection_m"] * 1e3,
-            "max_deflection_mm": p["max_deflection_m"] * 1e3,
+            "stress_MPa": _scaled(p.get("max_von_mises_Pa"), 1e-6),
+            "limit_MPa": _scaled(p.get("limit_Pa"), 1e-6),
+            "fatigue_factor": _scaled((p.get("fatigue") or {}).get("min_safety_factor"), 1.0),
+            "tip_deflection_mm": _scaled(p.get("tip_deflection_m"), 1e3),
+            "max_deflection_mm": _scaled(p.get("max_deflection_m"), 1e3),
             "utilisation": p["utilisation"],
             "governs": p["governing_criterion"],
             "passed": bool(p["pass"]),

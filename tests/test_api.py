@@ -14,7 +14,7 @@ import railcheck
 from helpers import FINAL_DESIGN, FINAL_DESIGN_SWEEP
 from railcheck.api import Sweep, scene_of
 from railcheck.base.errors import InputError
-from railcheck.frames import column_name
+from railcheck.frames import column_name, parts_frame
 from railcheck.scene import Scene, load_scene
 
 ROOT = Path(__file__).parents[1]
@@ -106,8 +106,16 @@ def test_the_docs_example_runs_as_printed(capsys):
     text = (ROOT / "docs" / "api.md").read_text()
     code = text.split("```python\n", 1)[1].split("```", 1)[0]
     exec(compile(code, "docs/api.md", "exec"), {})
-    first = capsys.readouterr().out.splitlines()[0].split()
+    lines = capsys.readouterr().out.splitlines()
+    first = lines[0].split()
     assert first[0] in ("True", "False") and float(first[2]) > 0
+    assert lines[2].startswith("Check(verdict=") and lines[3].split() == [
+        "part",
+        "stress_MPa",
+        "fatigue_factor",
+        "utilisation",
+    ]
+    assert lines[4].split()[0] == "coupler-rail" and float(lines[4].split()[1]) == pytest.approx(float(lines[1].split()[0]))
 
 
 @pytest.mark.slow  # three checks of the coupler rail with their pictures
@@ -206,6 +214,12 @@ def test_frames_of_parts_components_and_settings_have_attribute_columns_with_uni
     assert comps.utilisation[0] == run.summary["components"]["crank-screws-O2"]["utilisation"]
     assert comps.slip_utilisation[0] > 1 and not comps.passed[0] and comps.governs[0] == "slip"
     assert run.parts_frame().empty
+    part = {"max_von_mises_Pa": 18e6, "limit_Pa": 375e6, "fatigue": {"min_safety_factor": 19.2}, "pass": True}
+    part |= {"tip_deflection_m": None, "max_deflection_m": 2.4e-4, "utilisation": 0.05, "governing_criterion": "fatigue"}
+    part |= {"utilisation_by_criterion": {"stress": 0.048, "small-displacement": 0.01}}
+    parts = parts_frame({"parts": {"coupler-rail": part}})  # a free body's tip is null in summary.json: NaN
+    assert parts.stress_MPa[0] == pytest.approx(18.0) and parts.max_deflection_mm[0] == pytest.approx(0.24)
+    assert parts.tip_deflection_mm.isna()[0] and parts.small_displacement_utilisation[0] == 0.01
     import pyarrow as pa
 
     table = pa.table({"crank-rail_stress_MPa": [1.0, 2.0], "setting": [0, 1]})
