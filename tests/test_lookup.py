@@ -66,6 +66,12 @@ def test_the_lookup_command_prints_the_card_and_refuses_a_bad_setting(tmp_path, 
     assert "sweep-four-bar.parquet" in out
     main(["lookup", "540/840/780/1020", "--sweep", str(tmp_path / "sweep")])
     assert "a configuration check fails (transmission_angle); no speed is safe" in capsys.readouterr().out
+    damaged = tmp_path / "damaged"
+    damaged.mkdir()
+    (damaged / "sweep-four-bar.parquet").write_bytes(b"not a table")
+    assert main(["lookup", "480/840/780/1020", "--sweep", str(damaged)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("railcheck: error: --sweep:") and "not a readable sweep table" in err and "Traceback" not in err
     for bad in ("480/840", "480/x/780/1020", "480/-840/780/1020", "nan/840/780/1020"):
         assert main(["lookup", bad, "--sweep", str(tmp_path / "sweep")]) == 2
         err = capsys.readouterr().err

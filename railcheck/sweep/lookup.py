@@ -74,14 +74,19 @@ def table_path(directory: Path, kind: str) -> Path | None:
 def cards_from_table(path: Path, kind: str, lengths_m: dict, speed_hz: float | None = None) -> list[Card]:
     """The table's cards of the setting ``lengths_m`` (one per speed, or at ``speed_hz``
     only), empty when the table does not hold it."""
-    table = read_table(path, speed_hz=speed_hz)
-    rows = {name: np.asarray(table.column(name).to_numpy(zero_copy_only=False)) for name in table.column_names}
-    if not rows or rows["setting"].size == 0:
-        return []
-    match = np.ones(rows["setting"].size, dtype=bool)
-    for bar, value in lengths_m.items():
-        match &= np.abs(rows[f"{bar}_mm"] * 1e-3 - value) <= SAME_LENGTH
-    return [_card_of_row(str(path), kind, lengths_m, {k: v[i] for k, v in rows.items()}) for i in np.flatnonzero(match)]
+    try:
+        table = read_table(path, speed_hz=speed_hz)
+        rows = {name: np.asarray(table.column(name).to_numpy(zero_copy_only=False)) for name in table.column_names}
+        if not rows or rows["setting"].size == 0:
+            return []
+        match = np.ones(rows["setting"].size, dtype=bool)
+        for bar, value in lengths_m.items():
+            match &= np.abs(rows[f"{bar}_mm"] * 1e-3 - value) <= SAME_LENGTH
+        return [_card_of_row(str(path), kind, lengths_m, {k: v[i] for k, v in rows.items()}) for i in np.flatnonzero(match)]
+    except (OSError, ValueError, KeyError, TypeError) as exc:  # pyarrow's ArrowInvalid is a ValueError
+        raise InputError(
+            "--sweep", f"{path} is not a readable sweep table ({type(exc).__name__}): run railcheck sweep again"
+        ) from None
 
 
 def _card_of_row(source: str, kind: str, lengths_m: dict, row: dict) -> Card:
