@@ -36,44 +36,39 @@ def _pandas():
     return pandas
 
 
+def _verdict_columns(record: dict) -> dict:
+    """A summary record's utilisation, what governs, whether it passes, and each
+    criterion's utilisation as ``<criterion>_utilisation``."""
+    out = {"utilisation": record["utilisation"], "governs": record["governing_criterion"], "passed": bool(record["pass"])}
+    return out | {column_name(f"{k}_utilisation"): u for k, u in record["utilisation_by_criterion"].items()}
+
+
 def parts_frame(summary: dict):
     """One row per checked part (``summary.json``'s ``parts``): its peak von Mises, limit,
     fatigue factor, tip and largest deflection, each criterion's utilisation, what governs,
     and whether it passes."""
-    rows = []
-    for name, p in summary.get("parts", {}).items():
-        row = {
+    rows = [
+        {
             "part": name,
             "stress_MPa": _scaled(p.get("max_von_mises_Pa"), 1e-6),
             "limit_MPa": _scaled(p.get("limit_Pa"), 1e-6),
             "fatigue_factor": _scaled((p.get("fatigue") or {}).get("min_safety_factor"), 1.0),
             "tip_deflection_mm": _scaled(p.get("tip_deflection_m"), 1e3),
             "max_deflection_mm": _scaled(p.get("max_deflection_m"), 1e3),
-            "utilisation": p["utilisation"],
-            "governs": p["governing_criterion"],
-            "passed": bool(p["pass"]),
         }
-        row |= {column_name(f"{k}_utilisation"): u for k, u in p["utilisation_by_criterion"].items()}
-        rows.append(row)
+        | _verdict_columns(p)
+        for name, p in summary.get("parts", {}).items()
+    ]
     return _pandas().DataFrame(rows)
 
 
 def components_frame(summary: dict):
     """One row per checked component (``summary.json``'s ``components``): its kind, joint,
     standard, each criterion's utilisation, what governs, and whether it passes."""
-    rows = []
-    for name, c in summary.get("components", {}).items():
-        row = {
-            "component": name,
-            "kind": c["kind"],
-            "joint": c["joint"],
-            "standard": c["standard"],
-            "utilisation": c["utilisation"],
-            "governs": c["governing_criterion"],
-            "passed": bool(c["pass"]),
-        }
-        row |= {column_name(f"{k}_utilisation"): u for k, u in c["utilisation_by_criterion"].items()}
-        rows.append(row)
+    rows = [
+        {"component": name, "kind": c["kind"], "joint": c["joint"], "standard": c["standard"]} | _verdict_columns(c)
+        for name, c in summary.get("components", {}).items()
+    ]
     return _pandas().DataFrame(rows)
 
 
