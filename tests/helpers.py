@@ -2,10 +2,13 @@
 sweep's runs and rows, the check of a sweep row's setting, and the pictures' and pages'
 checks. Test modules import these from here, never from each other."""
 
+import os
+import shutil
 import tomllib
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 #: the repository's top folder
 ROOT = Path(__file__).resolve().parents[1]
@@ -199,3 +202,23 @@ def utilisation_at_safe_speed(part, criterion: str | None = None) -> float:
     if c is not None:
         u["quasi-static"] = (est - 1.0) / (c.tolerance - 1.0)
     return u[criterion] if criterion else max(u.values())
+
+
+def chromium_driver():
+    """A headless Chromium under selenium, or a skip off CI (CI must have both)."""
+    chromedriver, chromium = shutil.which("chromedriver"), shutil.which("chromium")
+    try:
+        from selenium import webdriver
+        from selenium.webdriver.chrome.options import Options
+        from selenium.webdriver.chrome.service import Service
+    except ImportError:
+        chromedriver = None
+    if not (chromedriver and chromium):
+        if os.environ.get("CI"):
+            pytest.fail("CI needs selenium, chromium and chromedriver (.ci/run installs them)")
+        pytest.skip("no selenium / chromium / chromedriver here")
+    options = Options()
+    for flag in ("--headless", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage"):
+        options.add_argument(flag)
+    options.binary_location = chromium
+    return webdriver.Chrome(service=Service(chromedriver), options=options)

@@ -4,6 +4,7 @@ import ast
 import json
 import math
 import pickle
+import re
 import subprocess
 import sys
 import tomllib
@@ -172,6 +173,9 @@ def test_default_check_end_to_end(tmp_path):
         cwd=tmp_path,
     )
     assert proc.returncode in (0, 1), proc.stderr
+    counts = [int(k) for k in re.findall(r"\((\d)/5\) ", proc.stderr)]
+    assert sorted(set(counts)) == [1, 2, 3, 4, 5]
+    assert [k for i, k in enumerate(counts) if k not in counts[:i]] == [1, 2, 3, 4, 5]  # the parts count up
     summary = json.loads((out / "summary.json").read_text())
     stages = ["scene", "kinematics", "components", "loads", "geometry", "mesh", "solve", "stress", "report"]
     assert summary["stages_run"] == stages

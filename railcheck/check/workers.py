@@ -42,16 +42,22 @@ def default_jobs(parts: int) -> int:
     return max(1, min(parts, os.cpu_count() or 1, 2))
 
 
+def counted(order: list[str]) -> dict[str, str]:
+    """Each part's progress label, "(k/n) name", numbered in the order the parts start
+    (so the lines count up: a part started second never prints (1/n))."""
+    return {name: f"({i}/{len(order)}) {name}" for i, name in enumerate(order, 1)}
+
+
 def check_parts(
     part_jobs: dict[str, PartJob], solver: str, progress: Progress, jobs: int | None = None, part_done=None
 ) -> dict[str, PartResult]:
     """{name: PartResult} in the jobs' order; ``part_done(name, part)``, a picklable
     callable, runs as each part finishes, in the process that checked it."""
     n = len(part_jobs)
-    label = {name: f"({i}/{n}) {name}" for i, name in enumerate(part_jobs, 1)}
     if jobs is None and n > 1 and all(in_store(job) for job in part_jobs.values()):
-        return _on_threads(part_jobs, solver, progress, default_jobs(n), label, part_done)
+        return _on_threads(part_jobs, solver, progress, default_jobs(n), counted(work_order(part_jobs)), part_done)
     jobs = default_jobs(n) if jobs is None else max(1, min(jobs, n))
+    label = counted(list(part_jobs) if jobs == 1 else work_order(part_jobs))
     if jobs == 1:
         return {
             name: _check_one(job, solver, label[name], part_done, lambda msg: progress.say("solve", msg))

@@ -43,12 +43,13 @@ def _map_figure(agg: Aggregate, path: Path) -> None:
     pairs = [(0, 1), (2, 3)] if len(agg.bars) == 4 else [(0, 1)]
     has_fe = not np.all(np.isnan(agg.util))
     panels = _panels(agg, has_fe)
+    tops = shared_tops(agg, panels)
     fig, axes = plt.subplots(
         len(panels), len(pairs), figsize=(max(9.0, 6.5 * len(pairs)), 3.6 * len(panels) + 1.6), squeeze=False
     )
     for col, (a, b) in enumerate(pairs):
         for row, panel in enumerate(panels):
-            _map_panel(fig, axes[row, col], agg, a, b, panel)
+            _map_panel(fig, axes[row, col], agg, a, b, panel, tops[row])
     handles: list = [
         Patch(color=REASON_COLOURS[REASON_ORDER.index(r)], label=f"refused: {r.replace('_', ' ')}")
         for r in occurring_reasons(agg)
@@ -93,10 +94,36 @@ def _panels(agg: Aggregate, has_fe: bool) -> list[tuple]:
     return [*panels, *components, (agg.safe, np.nanmin, "lowest safe crank speed (Hz)", "viridis_r", False)]
 
 
-def _map_panel(fig, ax, agg: Aggregate, a: int, b: int, panel: tuple) -> None:
+def nice_top(value: float) -> float:
+    """``value`` rounded up to a round colour-scale end: 1, 1.5, 2, 2.5, 3, 4, 5, 6, 8 or 10
+    times a power of ten (1.62 -> 2, 3.86 -> 4, 0.7 -> 0.8)."""
+    if not np.isfinite(value) or value <= 0:
+        return 1.0
+    power = 10.0 ** np.floor(np.log10(value))
+    steps = np.array([1, 1.5, 2, 2.5, 3, 4, 5, 6, 8, 10])
+    return float(steps[np.searchsorted(steps, value / power * (1 - 1e-12))] * power)
+
+
+def shared_tops(agg: Aggregate, panels: list[tuple]) -> list[float]:
+    """Each panel row's colour-scale end, one per quantity across the figure: every
+    utilisation map (the parts' and the components') on one scale from 0 to at least 1,
+    each other quantity on its own; each a :func:`nice_top` of the largest finite value,
+    so a 0.1-utilised plate reads cooler than a 0.9-utilised rail."""
+
+    def largest(data) -> float:
+        finite = np.asarray(data, float)[np.isfinite(data)]
+        return float(finite.max()) if finite.size else 1.0
+
+    util_top = max([1.0] + [largest(p[0]) for p in panels if p[4]])
+    return [nice_top(util_top if p[4] else largest(p[0])) for p in panels]
+
+
+def _map_panel(fig, ax, agg: Aggregate, a: int, b: int, panel: tuple, top: float) -> None:
     """One map over bars ``a`` and ``b`` (mm), the worst over the others: refused cells by
-    their reason, the panel's quantity in colour, the utilisation-1 contour, the settings
-    whose safe speed the dynamic response sets."""
+    their reason, the panel's quantity in colour from 0 to ``top`` (shared by the figure's
+    panels of that quantity), the utilisation-1 contour, the safe speed's contours at 1 Hz
+    and at the sweep's first speed, the settings whose safe speed the dynamic response
+    sets."""
     import warnings
 
     from matplotlib.colors import ListedColormap
@@ -114,11 +141,12 @@ def _map_panel(fig, ax, agg: Aggregate, a: int, b: int, panel: tuple) -> None:
     reason_colours = ListedColormap(REASON_COLOURS)
     ax.imshow(refused.T, cmap=reason_colours, vmin=0, vmax=len(REASON_ORDER) - 1, **style)
     finite = grid[np.isfinite(grid)]
-    top = max(1.0, float(finite.max())) if is_util and finite.size else (finite.max() if finite.size else 1)
     im = ax.imshow(np.ma.masked_invalid(grid).T, cmap=cmap, vmin=0, vmax=top, **style)
     fig.colorbar(im, ax=ax, label=label.split(": ")[-1])
     if is_util and finite.size and finite.min() < 1 < finite.max() and min(grid.shape) > 1:
         ax.contour(xs, ys, np.where(np.isfinite(grid), grid, 0).T, levels=[1.0], colors="red", linewidths=1.5)
+    if data is agg.safe:
+        _speed_contours(ax, grid, xs, ys, sorted({1.0, float(agg.first_speed)}))
     if data is agg.safe and agg.safe_dynamic.any():
         _mark_dynamic(ax, agg, others, xs, ys)
     if agg.kind == "four-bar":  # the 2013 study's final design
@@ -128,6 +156,22 @@ def _map_panel(fig, ax, agg: Aggregate, a: int, b: int, panel: tuple) -> None:
     ax.set_ylabel(f"{agg.bars[b]} (mm)")
     over = f", worst over {' and '.join(agg.bars[i] for i in others)}" if others else ""
     ax.set_title(f"{label.split(' (')[0]}{over}", fontsize=9)
+
+
+def _speed_contours(ax, safe: np.ndarray, xs: np.ndarray, ys: np.ndarray, speeds: list[float]) -> None:
+    """The safe-speed map's contours at ``speeds`` (Hz; 1 Hz solid, another dashed), drawn
+    only where the map crosses them (an unlimited speed counts as above every level; a
+    refused cell is left out)."""
+    finite = np.ma.masked_invalid(np.where(np.isposinf(safe), 1e9, safe))
+    if min(safe.shape) < 2 or finite.count() == 0:
+        return
+    for hz in speeds:
+        if finite.min() < hz < finite.max():
+            dashed = "solid" if hz == 1.0 else "dashed"
+            ax.contour(xs, ys, finite.T, levels=[hz], colors="red", linewidths=1.3, linestyles=dashed)
+            ax.plot([], [], color="red", ls=dashed, label=f"safe speed {hz:g} Hz")
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(loc="upper right", fontsize=7)
 
 
 #: inches around and between a map figure's panels (:func:`_fixed_layout`): left of the

@@ -2,8 +2,10 @@
 bar lengths on the hole grid (each list offers only the lengths that assemble with those
 already picked), read the setting's verdict at the sweep's speed, the speed up to which it
 is safe and what sets it, what governs and its utilisation, and watch the linkage turn at
-a chosen speed with its joints O2, A, B, O4 named. The figures are the sweep table's rows
-at its first speed (one JSON block in the page; no script or style is fetched)."""
+a chosen speed with its joints O2, A, B, O4 named; below, the setting's slices (two lengths
+fixed, the other two mapped) beside the worst-case maps, one colour scale per quantity, the
+1 Hz and the chosen speed's contours. The figures are the sweep table's rows at its first
+speed (one JSON block in the page; no script or style is fetched)."""
 
 from __future__ import annotations
 
@@ -71,7 +73,8 @@ def write_rig_page(path: Path, table_path: Path, speed_hz: float, source: str = 
 PAGE_CSS = """
 .pick{display:flex;gap:1em;flex-wrap:wrap;align-items:end}.pick label{display:flex;flex-direction:column}
 #card{margin:1em 0;font-size:1.1em}#verdict.pass{color:#1a7f37}#verdict.fail{color:#b42318}
-svg{border:1px solid #ccc;background:#fafafa}
+svg{border:1px solid #ccc;background:#fafafa}.maps{display:grid;grid-template-columns:repeat(2,340px);gap:8px}
+svg.map{width:340px;height:330px}
 """
 
 CONTROLS = """
@@ -88,6 +91,18 @@ CONTROLS = """
 <div>governs: <span id="governs"></span>, utilisation <span id="utilisation"></span></div>
 <div>at the chosen <span id="chosen"></span> Hz: <b id="chosen-verdict"></b></div></div>
 <svg id="linkage" width="720" height="420" viewBox="0 0 720 420"></svg>
+<h2>Maps</h2>
+<div class="pick"><label>map<select id="quantity">
+<option value="safe">safe speed (Hz)</option><option value="util">utilisation at the sweep's speed</option>
+</select></label><span class="note" id="legend"></span></div>
+<div class="maps"><svg id="slice-0" class="map"></svg><svg id="worst-0" class="map"></svg>
+<svg id="slice-1" class="map"></svg><svg id="worst-1" class="map"></svg></div>
+<svg id="scale" width="640" height="46"></svg>
+<p class="note">Left: a slice, the picked setting's other two lengths fixed. Right: the worst over the other two
+lengths (the lowest safe speed, the highest utilisation). Grey: assembles but refused by a configuration check
+(it does not revolve or transmits badly); blank: does not assemble. One colour scale per quantity for every panel.
+Red line: the safe speed's 1 Hz contour (utilisation: 1); blue dashed: the chosen speed's. Ringed: the picked
+setting. Click a cell to pick its setting.</p>
 """
 
 SCRIPT = r"""
@@ -167,3 +182,144 @@ document.getElementById("play").addEventListener("click", e => {
 refresh(0);
 requestAnimationFrame(draw);
 """
+
+MAPS_SCRIPT = r"""
+const AXES = [0, 1, 2, 3].map(k => [...new Set(RIG.lengths.map(l => l[k]))].sort((a, b) => a - b));
+const INDEX = new Map(RIG.lengths.map((l, i) => [l.join("/"), i]));
+const PAIRS = [[0, 1], [2, 3]];
+function value(q, i) {  // null: refused by a configuration check
+  if (RIG.verdict[i] !== "pass" && RIG.verdict[i] !== "fail") return null;
+  if (q === "util") return RIG.utilisation[i];
+  return RIG.unlimited[i] ? Infinity : (RIG.safe_Hz[i] === null ? 0 : Number(RIG.safe_Hz[i]));
+}
+function niceTop(v) {
+  if (!(v > 0) || !isFinite(v)) return 1;
+  const p = Math.pow(10, Math.floor(Math.log10(v)));
+  return [1, 1.5, 2, 2.5, 3, 4, 5, 6, 8, 10].find(s => s * p >= v * (1 - 1e-12)) * p;
+}
+const TOPS = {};
+["safe", "util"].forEach(q => {
+  let top = q === "util" ? 1 : 0;
+  RIG.lengths.forEach((l, i) => { const v = value(q, i); if (v !== null && isFinite(v)) top = Math.max(top, v); });
+  TOPS[q] = niceTop(top);
+});
+const WORST = {};  // per quantity and pair: cell key -> [worst value, its setting]
+["safe", "util"].forEach(q => {
+  WORST[q] = PAIRS.map(([a, b]) => {
+    const cells = new Map();
+    RIG.lengths.forEach((l, i) => {
+      const v = value(q, i), key = `${l[a]}/${l[b]}`, had = cells.get(key);
+      const worse = had === undefined || (had[0] === null && v !== null) ||
+        (v !== null && (q === "util" ? v > had[0] : v < had[0]));
+      if (worse) cells.set(key, [v, i]);
+    });
+    return cells;
+  });
+});
+const STOPS = ["#440154", "#3b528b", "#21918c", "#5ec962", "#fde725"];
+function colour(v, top) {
+  const t = Math.min(Math.max(v / top, 0), 1) * (STOPS.length - 1), k = Math.min(Math.floor(t), STOPS.length - 2);
+  const mix = (c, d) => Math.round(parseInt(c, 16) + (parseInt(d, 16) - parseInt(c, 16)) * (t - k));
+  const [c, d] = [STOPS[k], STOPS[k + 1]];
+  return `rgb(${mix(c.slice(1, 3), d.slice(1, 3))},${mix(c.slice(3, 5), d.slice(3, 5))},${mix(c.slice(5), d.slice(5))})`;
+}
+function cellsOf(q, p, worst) {  // [x index, y index, value, setting] of each drawn cell
+  const [a, b] = PAIRS[p], out = [], l0 = RIG.lengths[current];
+  AXES[a].forEach((x, ix) => AXES[b].forEach((y, iy) => {
+    let hit;
+    if (worst) hit = WORST[q][p].get(`${x}/${y}`);
+    else { const l = l0.slice(); l[a] = x; l[b] = y; const i = INDEX.get(l.join("/"));
+      if (i !== undefined) hit = [value(q, i), i]; }
+    if (hit !== undefined) out.push([ix, iy, hit[0], hit[1]]);
+  }));
+  return out;
+}
+function levels(q) {
+  const hz = Number(document.getElementById("speed").value);
+  return q === "util" ? [[1, "#d00", ""]] : [[1, "#d00", ""], [hz, "#06c", "6 4"]];
+}
+function contour(cells, level, q, X, Y, w, h) {  // cell edges between one side at the level and one not
+  const at = new Map(cells.map(c => [`${c[0]}/${c[1]}`, c[2]]));
+  const ok = v => v !== null && v !== undefined && (q === "util" ? v <= level : v >= level);
+  let d = "";
+  cells.forEach(([ix, iy, v]) => {
+    if (v === null) return;
+    const right = at.get(`${ix + 1}/${iy}`), up = at.get(`${ix}/${iy + 1}`);
+    if (right !== undefined && right !== null && ok(v) !== ok(right)) d += `M${X(ix + 1)},${Y(iy)}v${-h}`;
+    if (up !== undefined && up !== null && ok(v) !== ok(up)) d += `M${X(ix)},${Y(iy + 1)}h${w}`;
+  });
+  return d;
+}
+function panel(id, q, p, worst) {
+  const [a, b] = PAIRS[p], cells = cellsOf(q, p, worst), top = TOPS[q];
+  const nx = AXES[a].length, ny = AXES[b].length, w = 270 / nx, h = 250 / ny;
+  const X = ix => 56 + ix * w, Y = iy => 290 - iy * h;  // Y: a cell's lower edge
+  const unit = q === "util" ? "" : " Hz";
+  let svg = cells.map(([ix, iy, v, i]) => {
+    const fill = v === null ? "#bdbdbd" : colour(isFinite(v) ? v : top, top);
+    const amount = q === "util" ? Math.round(v * 100) + "%" : v + unit;
+    const shown = v === null ? "refused" : (isFinite(v) ? amount : "any speed");
+    return `<rect class="cell" data-i="${i}" data-value="${v === null ? "" : v}" x="${X(ix)}" y="${Y(iy) - h}" ` +
+      `width="${w + 0.3}" height="${h + 0.3}" fill="${fill}"><title>${RIG.lengths[i].join("/")}: ${shown}</title></rect>`;
+  }).join("");
+  levels(q).forEach(([lv, c, dash]) => {
+    const d = contour(cells, lv, q, X, Y, w, h);
+    if (d) svg += `<path class="contour" data-level="${lv}" d="${d}" stroke="${c}" stroke-width="2.5" ` +
+      `fill="none" stroke-dasharray="${dash}"/>`;
+  });
+  const l0 = RIG.lengths[current], mine = cells.find(c => worst ? c[3] === current :
+    AXES[a][c[0]] === l0[a] && AXES[b][c[1]] === l0[b]);
+  const r = Math.max(4, Math.min(w, h) / 2);
+  if (mine) svg += `<circle class="picked" cx="${X(mine[0]) + w / 2}" cy="${Y(mine[1]) - h / 2}" r="${r}" ` +
+    `fill="none" stroke="#000" stroke-width="2"/>`;
+  const tick = (n, k, horizontal) => AXES[k].map((v, j) => j % Math.ceil(AXES[k].length / 6) ? "" : (horizontal ?
+    `<text x="${X(j) + w / 2}" y="305" font-size="10" text-anchor="middle">${v}</text>` :
+    `<text x="52" y="${Y(j) - h / 2 + 3}" font-size="10" text-anchor="end">${v}</text>`)).join("");
+  const others = [0, 1, 2, 3].filter(k => k !== a && k !== b);
+  const title = worst ? `worst over ${others.map(k => BARS[k]).join(" and ")}` :
+    `${others.map(k => `${BARS[k]} ${l0[k]}`).join(", ")} mm`;
+  svg += tick(0, a, true) + tick(0, b, false) +
+    `<text x="190" y="322" font-size="11" text-anchor="middle">${BARS[a]} (mm)</text>` +
+    `<text x="12" y="165" font-size="11" text-anchor="middle" transform="rotate(-90 12 165)">${BARS[b]} (mm)</text>` +
+    `<text x="190" y="20" font-size="12" text-anchor="middle" class="title">${title}</text>`;
+  const el = document.getElementById(id);
+  el.setAttribute("viewBox", "0 0 340 330");
+  el.innerHTML = svg;
+}
+function scale(q) {
+  const top = TOPS[q];
+  let svg = "";
+  for (let k = 0; k < 100; k++) {
+    svg += `<rect x="${20 + k * 6}" y="4" width="6.3" height="16" fill="${colour((k + 0.5) / 100 * top, top)}"/>`;
+  }
+  for (let k = 0; k <= 5; k++) svg += `<text x="${20 + k * 120}" y="36" font-size="11" text-anchor="middle">` +
+    `${+(top * k / 5).toFixed(3)}${q === "util" ? "" : " Hz"}</text>`;
+  const el = document.getElementById("scale");
+  el.innerHTML = svg; el.dataset.top = top;
+}
+function maps() {
+  if (current === null) return;
+  const q = document.getElementById("quantity").value;
+  [0, 1].forEach(p => { panel(`slice-${p}`, q, p, false); panel(`worst-${p}`, q, p, true); });
+  scale(q);
+}
+function pick(i) {
+  let node = tree;
+  for (let k = 0; k < 4; k++) {
+    const sel = document.getElementById(BARS[k]);
+    options(k, node); sel.value = String(RIG.lengths[i][k]); node = node[sel.value];
+  }
+  show(node);
+}
+document.querySelector(".maps").addEventListener("click", e => {
+  const cell = e.target.closest("rect.cell");
+  if (cell) pick(Number(cell.dataset.i));
+});
+document.getElementById("quantity").addEventListener("change", maps);
+document.getElementById("speed").addEventListener("input", maps);
+const shownBefore = show;
+show = i => { shownBefore(i); maps(); };
+const FINAL = INDEX.get("480/840/780/1020"), FIRST_PASS = RIG.verdict.indexOf("pass");
+pick(FINAL !== undefined ? FINAL : (FIRST_PASS >= 0 ? FIRST_PASS : 0));  // the 2013 design, else a passing one
+"""
+SCRIPT += MAPS_SCRIPT

@@ -38,6 +38,7 @@ from railcheck.parallel.executor import ChunkExecutor
 from railcheck.parallel.threads import blas_on_one_thread
 from railcheck.parts import PARTS, geometry_of, rail_length
 from railcheck.progress import Progress
+from railcheck.report.card import write_card
 from railcheck.report.maps import write_maps, write_motor_plot
 from railcheck.report.rig_page import write_rig_page
 from railcheck.report.sweep_html import write_sweep_report
@@ -464,6 +465,7 @@ def _run_into(scene, directory: Path, scheduler, workers, serial, progress, dask
     write_sweep_report(directory / "report.html", summary, tables, directory)
     if "four-bar" in tables:
         write_rig_page(directory / "rig.html", tables["four-bar"], summary["speeds_Hz"][0], scene.source)
+        write_card(directory, tables["four-bar"], summary["speeds_Hz"][0], scene.source)
     clock.append(time.perf_counter())
     timings = dict(zip(("prepare", "chunks", "report"), np.diff(clock)))
     atomic_write_text(directory / "timings.json", to_json(timings) + "\n")
