@@ -144,7 +144,8 @@ def _map_panel(fig, ax, agg: Aggregate, a: int, b: int, panel: tuple, top: float
     im = ax.imshow(np.ma.masked_invalid(grid).T, cmap=cmap, vmin=0, vmax=top, **style)
     fig.colorbar(im, ax=ax, label=label.split(": ")[-1])
     if is_util and finite.size and finite.min() < 1 < finite.max() and min(grid.shape) > 1:
-        ax.contour(xs, ys, np.where(np.isfinite(grid), grid, 0).T, levels=[1.0], colors="red", linewidths=1.5)
+        # refused cells masked: a contour against them would draw a limit that is not there
+        ax.contour(xs, ys, np.ma.masked_invalid(grid).T, levels=[1.0], colors="red", linewidths=1.5)
     if data is agg.safe:
         _speed_contours(ax, grid, xs, ys, sorted({1.0, float(agg.first_speed)}))
     if data is agg.safe and agg.safe_dynamic.any():
