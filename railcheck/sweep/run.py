@@ -51,6 +51,7 @@ from railcheck.sweep.chunk import (
     group_size,
     motor_curve_speeds,
 )
+from railcheck.sweep.exact import ExactPass
 from railcheck.sweep.grid import narrowed, rig_grid, settings
 from railcheck.sweep.parts import (
     applicable,
@@ -452,10 +453,9 @@ def _run_into(scene, directory: Path, scheduler, workers, serial, progress, dask
         ExitStack() as stack,
     ):
         writers = {kind: stack.enter_context(TableWriter(tables[kind], scene.sweep.format)) for kind in kinds}
-        for j, columns in executor.map_jobs(jobs, chunk_size(scene), checked_chunk_size(scene), held_chunks(scene)):
-            curve = columns.pop(MOTOR_CURVE_KEY)
-            writers[kinds[j]].write(columns)
-            aggregates[kinds[j]].add(columns, curve)
+        for kind, columns, curve in evaluated_chunks(scene, jobs, by_kind, models, executor, progress):
+            writers[kind].write(columns)
+            aggregates[kind].add(columns, curve)
     clock.append(time.perf_counter())
     summary = summary_of(scene, aggregates, tables, models)
 
@@ -470,6 +470,47 @@ def _run_into(scene, directory: Path, scheduler, workers, serial, progress, dask
     timings = dict(zip(("prepare", "chunks", "report"), np.diff(clock)))
     atomic_write_text(directory / "timings.json", to_json(timings) + "\n")
     return summary, tables, timings
+
+
+def evaluated_chunks(scene, jobs: list, by_kind: dict, models: dict, executor, progress):
+    """Yield (kind, columns, motor curve) of every chunk of ``jobs`` on ``executor``, the
+    settings with a row beyond a part's quasi-static tolerance held back and yielded last,
+    settled on their exact response (:func:`settle_exact`)."""
+    exact = ExactPass(len(scene.sweep.speeds))
+    kinds = [job[2] for job in jobs]
+    for j, columns in executor.map_jobs(jobs, chunk_size(scene), checked_chunk_size(scene), held_chunks(scene)):
+        columns, curve = exact.hold(kinds[j], columns, columns.pop(MOTOR_CURVE_KEY))
+        if columns["setting"].size:
+            yield kinds[j], columns, curve
+    yield from settle_exact(scene, exact, by_kind, models, executor, progress)
+
+
+def settle_exact(scene, exact: ExactPass, by_kind: dict, models: dict, executor, progress):
+    """Yield (kind, columns, motor curve) of the settings :class:`ExactPass` held back
+    (a row beyond a part's quasi-static tolerance): their parts' dynamic models built for
+    those settings alone, the settings evaluated again on ``executor``, each chunk merged
+    (:meth:`ExactPass.merged`)."""
+    for kind in list(exact.held):
+        ids = exact.settings(kind)
+        lengths = {b: v[ids] for b, v in by_kind[kind].items()}
+        parts = sorted(exact.parts[kind])
+        progress.say(
+            "sweep",
+            f"{kind}: {ids.size:,} settings beyond the quasi-static estimate's tolerance ({', '.join(parts)}): "
+            "their exact dynamic response, as a check gives it",
+        )
+        built = prepare_models(exact.exact_scene(scene, kind), {kind: lengths}, progress)[kind]
+        mixed = {name: built.get(name, m) if name in exact.parts[kind] else m for name, m in models[kind].items()}
+        job = (
+            lambda kind=kind, mixed=mixed: sweep_context(scene, kind, mixed),
+            lengths,
+            kind,
+            np.ones(ids.size, dtype=bool),
+        )
+        for _, columns in executor.map_jobs([job], chunk_size(scene), checked_chunk_size(scene), held_chunks(scene)):
+            curve = columns.pop(MOTOR_CURVE_KEY)
+            columns["setting"] = ids[columns["setting"]]
+            yield (kind, *exact.merged(kind, columns, curve))
 
 
 def local_workers(workers: int | None, scheduler, progress) -> int | None:
