@@ -29,7 +29,9 @@ def _chunk(settings: list[int], reasons: list[str], offset: float = 0.0) -> tupl
 
 
 def test_the_reasons_name_the_rows_and_parts_beyond_their_tolerance():
-    rows, parts = beyond_parts(np.array(["", None, "crank-rail quasi-static, crank-screws-O2 slip", "x stress"], dtype=object))
+    rows, parts = beyond_parts(
+        np.array(["", None, "crank-rail quasi-static, crank-screws-O2 slip", "x stress"], dtype=object)
+    )
     assert list(rows) == [False, False, True, False] and parts == {"crank-rail"}
 
 

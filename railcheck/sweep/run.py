@@ -19,7 +19,7 @@ import threading
 import time
 from concurrent.futures import ThreadPoolExecutor
 from contextlib import ExitStack
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -234,7 +234,7 @@ def prepare_models(scene, by_kind: dict, progress, jobs: int = 1) -> dict[str, d
     args = (scene, material, limit)
     say = lambda msg: progress.say("solve", msg)  # noqa: E731
     if jobs > 1 and len(tasks) > 1 and all(part_is_stored(scene, t.name, t.lengths, material, t.kinds[0]) for t in tasks):
-        built = build_on_threads(tasks, args, say, jobs)
+        built = build_on_threads(numbered(tasks, range(len(tasks))), args, say, jobs)
         built = [sharing_screens(model, built[:i]) for i, model in enumerate(built)]
     else:
         built = build_one_at_a_time(tasks, args, say)
@@ -265,17 +265,24 @@ def part_tasks(scene, by_kind: dict) -> list[PartTask]:
     names = [n for n in scene.check.parts if any(applicable(scene, n, k) for k in by_kind)]
     tasks: list[PartTask] = []
     reuses: dict = {}
-    for i, name in enumerate(names, 1):
+    for name in names:
         bar = PARTS[name].bar
         for kinds in kind_groups(scene, name, [k for k in by_kind if applicable(scene, name, k)]):
             lengths = np.concatenate([by_kind[k][bar] for k in kinds if bar in by_kind[k]]) if bar else np.zeros(0)
-            label = f"({i}/{len(names)}) {name}" + (f" ({kinds[0]})" if len(kinds) < len(by_kind) > 1 else "")
+            label = name + (f" ({kinds[0]})" if len(kinds) < len(by_kind) > 1 else "")
             keys = (name, (PARTS[name].kind, bar and rail_length(bar), np.unique(np.round(lengths * 1e6)).tobytes()))
             after = next((reuses[key] for key in keys if key in reuses), None)
             for key in keys:
                 reuses.setdefault(key, len(tasks))
             tasks.append(PartTask(name, tuple(kinds), lengths, label, after))
     return tasks
+
+
+def numbered(tasks: list[PartTask], order) -> list[PartTask]:
+    """``tasks`` with their progress labels numbered "(k/n)" in the ``order`` (indices)
+    they start, so the lines count up."""
+    rank = {i: k for k, i in enumerate(order, 1)}
+    return [replace(t, label=f"({rank[i]}/{len(tasks)}) {t.label}") for i, t in enumerate(tasks)]
 
 
 def build_task(task: PartTask, scene, material, limit: float, say):
@@ -316,7 +323,9 @@ def build_one_at_a_time(tasks: list[PartTask], args: tuple, say) -> list:
     (:func:`prepare_models`)."""
     scene, material, limit = args
     built: list = [None] * len(tasks)
-    for i in build_order(tasks, scene):
+    order = build_order(tasks, scene)
+    tasks = numbered(tasks, order)
+    for i in order:
         model = build_task(tasks[i], scene, material, limit, say=say)
         built[i] = sharing_screens(model, [b for b in built if b is not None])
         del model
