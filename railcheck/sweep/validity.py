@@ -2,14 +2,15 @@
 estimate (:mod:`railcheck.model.certificate`) per setting and speed, the ``quasi-static``
 criterion it adds to the verdict, and the safe speed with the estimate as a margin.
 
-At a speed of the table, a part's stresses, fatigue factor and deflection are the
-quasi-static ones (as ``railcheck check`` gives them) and its ``quasi-static`` utilisation
-is the estimate's excess over 1 as a share of the tolerance's: above 1 the quasi-static
+At a speed of the table, a part's stresses, fatigue factor and deflection are the quasi-
+static ones (as ``railcheck check`` gives them) and its ``quasi-static`` utilisation is
+the estimate's excess over 1 as a share of the tolerance's: above 1 the quasi-static
 verdict is not given (the row fails on ``quasi-static``, and :mod:`railcheck.sweep.exact`
-evaluates it again on the exact response before it reaches the table). The safe speed
-is the largest at which every criterion, the quasi-static results amplified by the
-estimate (stress and deflection times it, fatigue factor over it), stays within its limit and the estimate within the tolerance: the exact
-dynamic response there is within it (the certificate is conservative, tested).
+evaluates it again on the exact response before it reaches the table). The safe speed is
+the largest at which every criterion, the quasi-static results amplified by the estimate
+(stress and deflection times it, fatigue factor over it), stays within its limit and the
+estimate within the tolerance: the exact dynamic response there is within it (the
+certificate is conservative, tested).
 
 The load histories' harmonics are taken once per part and setting (:class:`Spectra`); each
 speed then costs one inverse transform. SI.
