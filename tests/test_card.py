@@ -12,7 +12,17 @@ import pytest
 import railcheck
 import railcheck.sweep  # noqa: F401 - before railcheck.report.card, which the sweep's run imports
 from helpers import chromium_driver, sweep_table
-from railcheck.report.card import A4_INCHES, LINES_PER_PAGE, card_lines, card_pages, card_sections, page_figure
+from railcheck.report.card import (
+    A4_PT,
+    LINES_PER_PAGE,
+    MARGIN_PT,
+    MONO_ADVANCE,
+    card_lines,
+    card_pages,
+    card_sections,
+    page_layout,
+    png_image,
+)
 from railcheck.units import floored
 
 CHECK = '[check]\nparts = ["crank-screws-O2", "shaft-O2"]\neffects = ["inertia"]\n'
@@ -66,16 +76,21 @@ def test_the_card_is_a4_pages_in_pdf_and_png(sweep):
     boxes = re.findall(rb"/MediaBox \[ *0 0 ([\d.]+) ([\d.]+) *\]", pdf)
     assert len(boxes) == len(pages) >= 1
     for w, h in boxes:
-        assert math.isclose(float(w), A4_INCHES[0] * 72, abs_tol=0.5) and math.isclose(
-            float(h), A4_INCHES[1] * 72, abs_tol=0.5
-        )
+        assert math.isclose(float(w), A4_PT[0], abs_tol=0.01) and math.isclose(float(h), A4_PT[1], abs_tol=0.01)
+    # a sound file: every cross-reference offset opens its object, and the pages' text is the card's lines
+    xref = int(re.search(rb"startxref\n(\d+)", pdf).group(1))
+    offsets = [int(o) for o in re.findall(rb"(\d{10}) 00000 n", pdf[xref:])]
+    assert all(pdf[o:].startswith(b"%d 0 obj" % (i + 1)) for i, o in enumerate(offsets))
+    strings = re.findall(rb"\(((?:\\.|[^\\)])*)\) Tj", pdf)  # PDF strings, their ( ) \\ escaped
+    shown = [re.sub(r"\\(.)", r"\1", t.decode("cp1252")) for t in strings]
+    assert [line for line in shown if line.startswith(("crank ", "coupler/", " "))] == [x for p in pages for x in p if x]
     pngs = [out / ("card.png" if k == 0 else f"card-{k + 1}.png") for k in range(len(pages))]
     assert all(p.exists() for p in pngs) and not (out / f"card-{len(pages) + 1}.png").exists()
     driver = chromium_driver()
     try:
         driver.get(f"file://{pngs[0]}")
         w, h = driver.execute_script("const i = document.images[0]; return [i.naturalWidth, i.naturalHeight];")
-        assert math.isclose(h / w, A4_INCHES[1] / A4_INCHES[0], rel_tol=2e-3)  # A4 portrait
+        assert math.isclose(h / w, A4_PT[1] / A4_PT[0], rel_tol=2e-3)  # A4 portrait
     finally:
         driver.quit()
 
@@ -95,13 +110,18 @@ def test_pages_hold_their_lines_and_a_split_section_repeats_its_heading():
 
 
 def test_a_full_page_of_the_widest_lines_fits_on_a4():
-    import matplotlib.pyplot as plt
+    from PIL import ImageDraw, ImageFont
+
+    from railcheck.report.card import PNG_DPI, font_path
 
     widest = "    900/900    " + "".join(f"{'any':>5}" for _ in range(21))  # 21 ground lengths: 60 to 1260 mm
-    fig = page_figure([widest] * LINES_PER_PAGE, 0, 1, "a scene")
-    fig.canvas.draw()
-    renderer = fig.canvas.get_renderer()
-    for text in fig.texts:
-        box = text.get_window_extent(renderer)
-        assert box.x0 >= 0 and box.y0 >= 0 and box.x1 <= fig.bbox.width and box.y1 <= fig.bbox.height, text.get_text()[:40]
-    plt.close(fig)
+    layout = page_layout([widest] * LINES_PER_PAGE, 0, 1, "a scene with a long name " * 8)
+    body = [t for t in layout if t.face == "Courier"]
+    assert min(t.y for t in body) >= MARGIN_PT  # the last line above the bottom margin
+    assert all(t.x + MONO_ADVANCE * t.size * len(t.words) <= A4_PT[0] - MARGIN_PT / 2 for t in body)
+    image = png_image(layout)
+    draw, px = ImageDraw.Draw(image), PNG_DPI / 72.0
+    for t in layout:  # every line's glyphs inside the sheet, as drawn
+        font = ImageFont.truetype(str(font_path(t.face)), round(t.size * px))
+        x0, y0, x1, y1 = draw.textbbox((t.x * px, image.height - t.y * px), t.words, font=font, anchor="ls")
+        assert x0 >= 0 and y0 >= 0 and x1 <= image.width and y1 <= image.height, t.words[:40]

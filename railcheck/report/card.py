@@ -21,10 +21,11 @@ from railcheck.units import floored
 #: the speed the card lists the safe settings at (Hz)
 CARD_SPEED_HZ = 1.0
 
-#: A4 portrait (inches), the text's size (points) and the lines a page holds
-A4_INCHES = (8.27, 11.69)
+#: the body's size and leading (pt) and the lines an A4 page holds below its heading
+#: (:func:`page_layout`: from 36 pt below the title's line to the bottom margin)
 FONT_PT = 6.6
-LINES_PER_PAGE = 96
+LEADING_PT = 7.6
+LINES_PER_PAGE = 92
 
 
 @dataclass(frozen=True)
@@ -47,31 +48,28 @@ def card_sections(table_path: Path, speed_hz: float, at_hz: float = CARD_SPEED_H
     checked = np.asarray(col["check_assembly"], bool) & (col["verdict"] != "refused")
     safe_hz = np.where(checked, np.asarray(col["safe_speed_Hz"], float), np.nan)
     is_safe = checked & (np.nan_to_num(safe_hz, nan=-1.0) >= at_hz)
+    where = {tuple(k): i for i, k in enumerate(lengths.tolist())}  # (crank, coupler, rocker, ground) mm -> row
     sections = []
-    for crank in np.unique(lengths[is_safe, 0]):
-        mine = lengths[:, 0] == crank
-        grounds = tuple(int(g) for g in np.unique(lengths[mine & is_safe, 3]))
-        rows = []
-        for coupler, rocker in sorted({(int(r[1]), int(r[2])) for r in lengths[mine & is_safe]}):
-            cells = []
-            for ground in grounds:
-                hit = np.flatnonzero(
-                    mine & (lengths[:, 1] == coupler) & (lengths[:, 2] == rocker) & (lengths[:, 3] == ground)
-                )
-                cells.append(_cell(hit, is_safe, checked, safe_hz))
-            rows.append((coupler, rocker, tuple(cells)))
-        sections.append(CardSection(int(crank), grounds, tuple(rows)))
+    for crank in np.unique(lengths[is_safe, 0]).tolist():
+        mine = lengths[is_safe & (lengths[:, 0] == crank)]
+        grounds = tuple(np.unique(mine[:, 3]).tolist())
+        rows = tuple(
+            (c, r, tuple(_cell(where.get((crank, c, r, g)), is_safe, checked, safe_hz) for g in grounds))
+            for c, r in sorted({(int(a), int(b)) for a, b in mine[:, 1:3].tolist()})
+        )
+        sections.append(CardSection(int(crank), grounds, rows))
     return sections
 
 
-def _cell(hit: np.ndarray, is_safe: np.ndarray, checked: np.ndarray, safe_hz: np.ndarray) -> str:
-    """One cell's text: the safe speed (floored, 2 digits; "any" when unlimited), "·" for
-    a checked setting not safe at the card's speed, blank for none."""
-    if hit.size == 0 or not checked[hit[0]]:
+def _cell(row: int | None, is_safe: np.ndarray, checked: np.ndarray, safe_hz: np.ndarray) -> str:
+    """One cell's text, of the table's ``row`` (None: no such setting): the safe speed
+    (floored, 2 digits; "any" when unlimited), "·" for a checked setting not safe at the
+    card's speed, blank for none."""
+    if row is None or not checked[row]:
         return ""
-    if not is_safe[hit[0]]:
+    if not is_safe[row]:
         return "·"
-    value = float(safe_hz[hit[0]])
+    value = float(safe_hz[row])
     if math.isinf(value):
         return "any"
     return f"{float(floored(value, 2)):.1f}" if value < 10 else floored(value, 2)
@@ -112,39 +110,124 @@ def write_card(directory: Path, table_path: Path, speed_hz: float, source: str =
     lines = card_lines(card_sections(table_path, speed_hz))
     if not lines:
         return []
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    from matplotlib.backends.backend_pdf import PdfPages
-
     pages = card_pages(lines)
+    layouts = [page_layout(page, k, len(pages), source) for k, page in enumerate(pages)]
     written = [directory / "card.pdf"] + [
         directory / ("card.png" if k == 0 else f"card-{k + 1}.png") for k in range(len(pages))
     ]
-    with atomic_path(written[0]) as pdf_path, PdfPages(pdf_path) as pdf:
-        for k, page in enumerate(pages):
-            fig = page_figure(page, k, len(pages), source)
-            pdf.savefig(fig)
-            with atomic_path(written[k + 1]) as png:
-                fig.savefig(png, dpi=150, format="png")
-            plt.close(fig)
+    with atomic_path(written[0]) as tmp:
+        tmp.write_bytes(pdf_bytes(layouts))
+    for layout, path in zip(layouts, written[1:]):
+        with atomic_path(path) as tmp:
+            png_image(layout).save(tmp, format="PNG")
     return written
 
 
-def page_figure(page: list[str], k: int, pages: int, source: str):
-    """One A4 page: a title, how to read it, the page's lines in a fixed-width font."""
-    import matplotlib.pyplot as plt
+#: A4 portrait in PDF points, the margin (pt), the PNG's resolution (dpi)
+A4_PT = (595.276, 841.890)
+MARGIN_PT = 36.0
+PNG_DPI = 150
 
-    fig = plt.figure(figsize=A4_INCHES)
-    fig.text(0.06, 0.965, f"railcheck: the rig's settings safe at {CARD_SPEED_HZ:g} Hz", fontsize=13, weight="bold")
-    fig.text(
-        0.06,
-        0.948,
-        f"each cell: the setting's safe crank speed (Hz, rounded down); · assembles, not safe at "
-        f"{CARD_SPEED_HZ:g} Hz; blank: does not assemble or is refused",
-        fontsize=7,
-    )
-    fig.text(0.06, 0.936, f"page {k + 1} of {pages}, from {Path(source).name or source}"[:120], fontsize=7)
-    fig.text(0.06, 0.922, "\n".join(page), fontsize=FONT_PT, family="monospace", va="top", linespacing=1.18)
-    return fig
+#: the card's faces: PDF standard font -> the PNG's TrueType (matplotlib's DejaVu)
+FACES = {"Courier": "DejaVuSansMono.ttf", "Helvetica": "DejaVuSans.ttf", "Helvetica-Bold": "DejaVuSans-Bold.ttf"}
+
+#: a fixed-width character's advance, of the font size (Courier and DejaVu Sans Mono: 0.6)
+MONO_ADVANCE = 0.6
+
+
+@dataclass(frozen=True)
+class Text:
+    """One line of a page: its face (:data:`FACES`), size and baseline's start (pt, from
+    the page's lower left) and its words."""
+
+    face: str
+    size: float
+    x: float
+    y: float
+    words: str
+
+
+def page_layout(page: list[str], k: int, pages: int, source: str) -> list[Text]:
+    """One page's lines, placed: the title, how to read it, the page number and the
+    source, then the page's lines in a fixed-width face."""
+    top = A4_PT[1] - MARGIN_PT
+    head = [
+        Text("Helvetica-Bold", 13.0, MARGIN_PT, top - 13.0, f"railcheck: the rig's settings safe at {CARD_SPEED_HZ:g} Hz"),
+        Text(
+            "Helvetica",
+            7.0,
+            MARGIN_PT,
+            top - 27.0,
+            f"each cell: the setting's safe crank speed (Hz, rounded down); · assembles, not safe at "
+            f"{CARD_SPEED_HZ:g} Hz; blank: does not assemble or is refused",
+        ),
+        Text("Helvetica", 7.0, MARGIN_PT, top - 36.0, f"page {k + 1} of {pages}, from {Path(source).name or source}"[:110]),
+    ]
+    first = top - 36.0 - 2.0 * LEADING_PT
+    return head + [Text("Courier", FONT_PT, MARGIN_PT, first - i * LEADING_PT, line) for i, line in enumerate(page)]
+
+
+def pdf_bytes(layouts: list[list[Text]]) -> bytes:
+    """A PDF of the pages ``layouts``: A4, the standard fonts (nothing embedded), the text
+    in WinAnsi (its middle dot included)."""
+    faces = {face: f"F{i}" for i, face in enumerate(FACES, 1)}
+    objects: list[bytes] = []
+    pages = []
+    for layout in layouts:
+        stream = b"".join(
+            f"BT /{faces[t.face]} {t.size:g} Tf {t.x:.2f} {t.y:.2f} Td (".encode() + _pdf_string(t.words) + b") Tj ET\n"
+            for t in layout
+        )
+        objects.append(b"<< /Length %d >>\nstream\n" % len(stream) + stream + b"endstream")
+        pages.append(len(objects) + 3)  # numbers: 1 the catalogue, 2 the page tree, then content, page, ...
+        objects.append(b"")  # this page, written below once the fonts are numbered
+    first_font = len(objects) + 3
+    fonts = " ".join(f"/{faces[f]} {first_font + i} 0 R" for i, f in enumerate(FACES))
+    box = f"[0 0 {A4_PT[0]:.3f} {A4_PT[1]:.3f}]"
+    for n in pages:
+        objects[n - 3] = (
+            f"<< /Type /Page /Parent 2 0 R /MediaBox {box} /Contents {n - 1} 0 R /Resources << /Font << {fonts} >> >> >>"
+        ).encode()
+    objects += [f"<< /Type /Font /Subtype /Type1 /BaseFont /{f} /Encoding /WinAnsiEncoding >>".encode() for f in FACES]
+    kids = " ".join(f"{n} 0 R" for n in pages)
+    head = [b"<< /Type /Catalog /Pages 2 0 R >>", f"<< /Type /Pages /Kids [{kids}] /Count {len(pages)} >>".encode()]
+    return _pdf_file(head + objects)
+
+
+def _pdf_string(words: str) -> bytes:
+    raw = words.encode("cp1252", errors="replace")
+    return raw.replace(b"\\", b"\\\\").replace(b"(", b"\\(").replace(b")", b"\\)")
+
+
+def _pdf_file(objects: list[bytes]) -> bytes:
+    """The PDF file of numbered ``objects`` (1, 2, ...), with its cross-reference table."""
+    out, offsets = bytearray(b"%PDF-1.4\n"), []
+    for i, body in enumerate(objects, 1):
+        offsets.append(len(out))
+        out += b"%d 0 obj\n" % i + body + b"\nendobj\n"
+    xref = len(out)
+    out += b"xref\n0 %d\n0000000000 65535 f \n" % (len(objects) + 1)
+    out += b"".join(b"%010d 00000 n \n" % o for o in offsets)
+    out += b"trailer\n<< /Size %d /Root 1 0 R >>\nstartxref\n%d\n%%%%EOF\n" % (len(objects) + 1, xref)
+    return bytes(out)
+
+
+def png_image(layout: list[Text]):
+    """The page as a PIL image at :data:`PNG_DPI` (A4 portrait), the same layout as the
+    PDF's in matplotlib's DejaVu faces."""
+    from PIL import Image, ImageDraw, ImageFont
+
+    px = PNG_DPI / 72.0
+    image = Image.new("RGB", (round(A4_PT[0] * px), round(A4_PT[1] * px)), "white")
+    draw = ImageDraw.Draw(image)
+    for t in layout:
+        font = ImageFont.truetype(str(font_path(t.face)), max(1, round(t.size * px)))
+        draw.text((t.x * px, image.height - t.y * px), t.words, font=font, fill="black", anchor="ls")
+    return image
+
+
+def font_path(face: str) -> Path:
+    """The TrueType file that draws a PDF face in the PNG (matplotlib's own DejaVu)."""
+    import matplotlib
+
+    return Path(matplotlib.get_data_path()) / "fonts" / "ttf" / FACES[face]
