@@ -119,7 +119,7 @@ ALLOWED_KEYS: dict[str, set[str] | None] = {
     "dynamics": {"formulation"},
     "check": {"parts", "factor", "bolt_position", "material", "limit", "effects", "max_deflection", "support", "compare"},
     "mesh": {"order", "size", "hole_size", "optimize", "curved"},
-    "output": {"dir", "vtk", "png", "plots"},
+    "output": {"dir", "vtk", "png", "plots", "stress_scale"},
     "loads": None,  # part names, checked below
     "geometry": None,  # catalogue keys, checked below
     "components": None,  # the components' dimensions and ratings, checked below
@@ -346,7 +346,8 @@ def _output(table: dict) -> OutputSpec:
     d = table.get("dir", "results")
     if not isinstance(d, str) or not d.strip() or "\0" in d:  # no file system takes a NUL
         raise InputError(p + "dir", f"must be a directory name, got {d!r}")
-    return OutputSpec(d, _bool(table, "vtk", p, True), _bool(table, "png", p, True), _bool(table, "plots", p, True))
+    scale = _string_choice(table.get("stress_scale", "limit"), ("limit", "part"), p + "stress_scale")
+    return OutputSpec(d, *(_bool(table, k, p, True) for k in ("vtk", "png", "plots")), scale)
 
 
 #: catalogue dimensions whose zero means a feature left out: a rail without its grooves

@@ -93,10 +93,15 @@ class MeshSpec:
 
 @dataclass(frozen=True)
 class OutputSpec:
+    """``[output]``: the results folder, which files to write, and the parts' von Mises
+    pictures' colour scale: ``"limit"`` one scale for every part, from 0 to a round value at
+    or above the stress limit, or ``"part"`` each to a round value at or above its own peak."""
+
     dir: str = "results"
     vtk: bool = True
     png: bool = True
     plots: bool = True
+    stress_scale: str = "limit"
 
 
 @dataclass(frozen=True)

@@ -141,3 +141,16 @@ def floored(x: float, digits: int = 3) -> str:
     scale = 10.0**exponent
     text = f"{math.floor(x * scale * (1.0 + 1e-12)) / scale:.{max(exponent, 0)}f}"
     return text.rstrip("0").rstrip(".") if "." in text else text
+
+
+#: the round colour-scale ends, times a power of ten (:func:`nice_top`)
+NICE_STEPS = (1.0, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 8.0, 10.0)
+
+
+def nice_top(value: float) -> float:
+    """``value`` rounded up to a round colour-scale end: 1, 1.5, 2, 2.5, 3, 4, 5, 6, 8 or 10
+    times a power of ten (1.62 -> 2, 3.86 -> 4, 0.7 -> 0.8)."""
+    if not math.isfinite(value) or value <= 0:
+        return 1.0
+    power = 10.0 ** math.floor(math.log10(value))
+    return next(s for s in NICE_STEPS if s * power >= value * (1 - 1e-12)) * power

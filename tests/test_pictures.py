@@ -66,7 +66,7 @@ def _fake_part(weight):
 
     import numpy as np
 
-    loads = SimpleNamespace(is_free_plate=False, is_on_foundation=False, weight=weight, factor=1.4)
+    loads = SimpleNamespace(is_free_plate=False, is_on_foundation=False, weight=weight, factor=1.4, explicit=None)
     job = SimpleNamespace(free_body=object(), loads=loads)
     cycle = SimpleNamespace(
         history=SimpleNamespace(crank_angle_deg=12.0),
@@ -141,3 +141,56 @@ def test_the_utilisation_picture_draws_the_verdicts_field_on_one_scale(tmp_path)
         part, cycle=dataclasses.replace(part.cycle, fatigue=dataclasses.replace(part.cycle.fatigue, node_factor=None))
     )
     assert render_utilisation(tmp_path / "none.png", "PF_4b_003_v2", bare) is None
+
+
+@pytest.fixture(scope="module")
+def checked_parts():
+    """The built-in setting's crank and rocker rails (coarse: linear elements, no grooves)
+    and its joint plate, checked with the table-top rig's weight."""
+    from helpers import COARSE_RAILS, FINAL_DESIGN
+    from railcheck.api import scene_of
+    from railcheck.check.pipeline import run_pipeline
+
+    text = (
+        FINAL_DESIGN
+        + '[check]\nparts = ["crank-rail", "rocker-rail", "PF_4b_006"]\n'
+        + COARSE_RAILS.replace('"7 mm"', '"6 mm"')
+    )
+    return run_pipeline(scene_of(text)).parts
+
+
+@pytest.mark.slow  # three parts checked and drawn: about 15 s
+@pytest.mark.parametrize("name", ["crank-rail", "rocker-rail", "PF_4b_006"])
+def test_force_labels_sit_off_the_part_clear_of_holes_labels_and_caption(checked_parts, tmp_path, name):
+    from railcheck.report.labels import Box, conflicts_among
+    from railcheck.report.render import render_part
+
+    pic = render_part(tmp_path / f"{name}.png", name, checked_parts[name])
+    picture = Box(0.0, 0.0, *pic.size)
+    assert pic.labels and pic.holes.shape[0] >= 2  # forces labelled, holes found
+    assert conflicts_among(list(pic.labels), pic.holes, picture) == []  # no overlap, no hole covered, inside
+    assert not any(b.overlaps(pic.part) or b.overlaps(pic.caption) for b in pic.labels)  # off the part, under the title
+    assert pic.caption.y0 >= pic.part.y1  # the title above the part
+    if name.endswith("rail"):  # a slender part fills the width
+        assert pic.part.x1 - pic.part.x0 >= 0.7 * pic.size[0]
+
+
+@pytest.mark.slow  # the same fixture
+def test_the_rocker_governed_out_of_plane_is_drawn_from_the_side_with_its_weight(checked_parts):
+    from railcheck.report.render import governing_view, picture_caption
+
+    rocker, crank = checked_parts["rocker-rail"], checked_parts["crank-rail"]
+    assert governing_view("rocker-rail", rocker.solution.displacement) == "xz"  # it sags more than it bends in plane
+    assert governing_view("crank-rail", crank.solution.displacement) == "xy"
+    assert picture_caption("rocker-rail", rocker, 50.0).count("\n") == 1  # a two-line title
+
+
+@pytest.mark.slow  # the same fixture
+def test_every_part_picture_shares_one_von_mises_scale_unless_asked_per_part(checked_parts):
+    from railcheck.report.render import stress_scale_top
+
+    tops = {stress_scale_top(p) for p in checked_parts.values()}
+    assert tops == {400.0}  # 0 to 400 MPa for the 375 MPa limit, every part
+    for p in checked_parts.values():
+        own = stress_scale_top(p, "part")
+        assert p.verdict_stress / 1e6 <= own < 2.0 * p.verdict_stress / 1e6  # a round value at or above its peak

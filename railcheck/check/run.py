@@ -26,6 +26,7 @@ from railcheck.model.records import PartResult, PipelineResult
 from railcheck.progress import Progress
 from railcheck.report.html import write_report
 from railcheck.report.joint_diagram import write_joint_diagram
+from railcheck.report.linkage_picture import write_linkage_picture
 from railcheck.report.plots import write_campbell_plot, write_cycle_plot, write_kinematics_plots
 from railcheck.report.render import render_part
 from railcheck.report.utilisation_picture import render_utilisation
@@ -84,12 +85,13 @@ def run_check(
 
 
 def write_outputs(scene: Scene, result: PipelineResult, summary: dict, directory: Path) -> None:
-    """summary.json, timings.json, the kinematics plots, per part its VTU, its picture
+    """summary.json, timings.json, the kinematics plots and the linkage, per part its VTU, its picture
     and its cycle plot, as the scene's [output] asks, and report.html with all of them."""
     atomic_write_text(directory / "summary.json", to_json(summary) + "\n")
     atomic_write_text(directory / "timings.json", to_json(result.timings) + "\n")
     if result.kinematics is not None and scene.output.plots:
         write_kinematics_plots(result.kinematics, directory)
+        write_linkage_picture(directory / "linkage.png", result.kinematics.motion, result.kinematics.dynamics)
     if scene.output.plots:
         write_campbell_plot(result.parts, directory / "campbell.png")
     if scene.output.plots and result.components and result.kinematics is not None:
@@ -114,6 +116,6 @@ def write_part_files(output: OutputSpec, name: str, p: PartResult, directory: Pa
     if output.plots and p.cycle.C.shape[0] > 1:
         write_cycle_plot(name, p, directory / f"{name}-cycle.png")
     if output.png:
-        render_part(directory / f"{name}.png", name, p)
+        render_part(directory / f"{name}.png", name, p, output.stress_scale)
         render_utilisation(directory / f"{name}-utilisation.png", name, p)
     (directory / f"{name}.written").touch()

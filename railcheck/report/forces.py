@@ -58,3 +58,13 @@ def newtons(force: np.ndarray) -> str:
 
 def _xy(c: np.ndarray, names: list, case: str) -> np.ndarray:
     return np.array([c[names.index(f"{case}_x")], c[names.index(f"{case}_y")], 0.0])
+
+
+def support_words(part) -> str:
+    """How the part is held in its FE model, in the words its picture and the report's
+    equilibrium table share: on its rigid foundation, a free body, or the 2013 clamp."""
+    if part.job.loads.is_on_foundation:
+        return "rigid foundation"
+    if part.job.free_body is not None:
+        return "free body (inertia relief)"
+    return "2013 clamp (black; magenta: singular)"

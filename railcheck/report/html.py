@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from railcheck.model.records import safe_speed_words
-from railcheck.report.forces import applied_factor, governing_forces
+from railcheck.report.forces import applied_factor, governing_forces, support_words
 from railcheck.report.text import component_figures, component_needs, given_components
 
 CSS = """
@@ -58,6 +58,7 @@ def write_report(path: Path, scene, result, summary: dict, directory: Path) -> N
     sections = [
         _header(result, summary),
         _parts(result),
+        _linkage(directory),
         _components(result, directory),
         _loads(result),
         _assumptions(summary),
@@ -75,6 +76,13 @@ def write_report(path: Path, scene, result, summary: dict, directory: Path) -> N
         f"<style>{CSS}</style></head><body>{''.join(sections)}</body></html>\n"
     )
     path.write_text(page, encoding="utf-8")
+
+
+def _linkage(directory: Path) -> str:
+    """The linkage whose joints the tables name (linkage.png), when it was drawn."""
+    if not (directory / "linkage.png").exists():
+        return ""
+    return "<h2>The linkage</h2>" + html_image(directory / "linkage.png", "the linkage with its joints O2, A, B, O4")
 
 
 def _header(result, summary) -> str:
@@ -373,7 +381,7 @@ def _mesh_and_equilibrium(result) -> str:
             names = list(p.cycle.fields.names)
             joints = [i for i, n in enumerate(names) if n.startswith(("pin_", "bolt_"))]
             scale = max(float(np.abs(c[joints]).max()), 1e-300)
-            held, balance = "none: inertia relief", f"{np.linalg.norm(applied) / scale:.1e} of the largest joint force"
+            held, balance = support_words(p), f"{np.linalg.norm(applied) / scale:.1e} of the largest joint force"
         else:
             scale = max(float(np.linalg.norm(applied)), 1e-300)
             held = ", ".join(f"{v:.2f}" for v in reaction)

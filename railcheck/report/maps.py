@@ -12,6 +12,7 @@ import numpy as np
 from railcheck.files import atomic_path
 from railcheck.studies.hypotheses import FINAL_DESIGN_MM, MOTOR_ESTIMATE_2013_NM
 from railcheck.sweep.aggregate import REASON_ORDER, Aggregate
+from railcheck.units import nice_top
 
 
 def write_maps(aggregates: dict, directory: Path) -> None:
@@ -92,16 +93,6 @@ def _panels(agg: Aggregate, has_fe: bool) -> list[tuple]:
         ]
     panels = [(g, np.nanmax, f"{n}: utilisation (1 = limit)", "viridis", True) for n, g in agg.part_util.items()]
     return [*panels, *components, (agg.safe, np.nanmin, "lowest safe crank speed (Hz)", "viridis_r", False)]
-
-
-def nice_top(value: float) -> float:
-    """``value`` rounded up to a round colour-scale end: 1, 1.5, 2, 2.5, 3, 4, 5, 6, 8 or 10
-    times a power of ten (1.62 -> 2, 3.86 -> 4, 0.7 -> 0.8)."""
-    if not np.isfinite(value) or value <= 0:
-        return 1.0
-    power = 10.0 ** np.floor(np.log10(value))
-    steps = np.array([1, 1.5, 2, 2.5, 3, 4, 5, 6, 8, 10])
-    return float(steps[np.searchsorted(steps, value / power * (1 - 1e-12))] * power)
 
 
 def shared_tops(agg: Aggregate, panels: list[tuple]) -> list[float]:
@@ -256,6 +247,17 @@ def write_motor_plot(aggregates: dict, path: Path) -> None:
         ax.plot(m.curve_hz, rms, lw=1, ls=":", color=line.get_color(), label=f"{kind}: RMS, settings safe there")
         _label_speeds(ax, kind, m, line.get_color())
     ax.axhline(MOTOR_ESTIMATE_2013_NM, color="grey", lw=1, ls=":", label="2013 study's estimate, 200 N·m")
+    ax.annotate(  # on the line itself, at its right end, above it
+        "2013 estimate 200 N·m",
+        (1.0, MOTOR_ESTIMATE_2013_NM),
+        xycoords=("axes fraction", "data"),
+        xytext=(-4, 3),
+        textcoords="offset points",
+        ha="right",
+        va="bottom",
+        fontsize=8,
+        color="dimgrey",
+    )
     ax.set_xlabel("crank speed (Hz)")
     ax.set_ylabel("motor torque (N·m)")
     ax.set_yscale("log")  # the demand grows with the speed squared; the safe settings' stays near their limit

@@ -23,14 +23,17 @@ import numpy as np
 
 from railcheck.files import atomic_path
 from railcheck.parts import kind_of
-from railcheck.report.forces import governing_forces, newtons
+from railcheck.report.forces import governing_forces, newtons, support_words
+from railcheck.report.labels import Box
+from railcheck.report.picture_labels import PartPicture, force_labels, hole_centres
+from railcheck.units import nice_top
 
 DEFORMATION_FRACTION = 0.05  # of the part's largest dimension
 MAX_MAGNIFICATION = 1000.0  # beyond it a tiny deformation would be drawn as a crushed shape
 COLOUR_MAP = "viridis"
-CAPTION_FRACTION = 0.02  # caption font size, of the picture's height (VTK renders a line ~1.6x the size: ~3%)
+CAPTION_FRACTION = 0.017  # caption font size, of the picture's height (VTK renders a line ~1.6x the size: ~2.7%)
 MIN_FONT = 14  # the smallest font size of any text on the picture (labels, colour bar)
-CHAR_WIDTH = 0.75  # a caption character's width, of the font size (a first guess; fit_caption measures)
+CHAR_WIDTH = 0.55  # a caption character's width, of the font size (a first guess; fit_caption measures)
 
 
 def caption_font_size(height: int) -> int:
@@ -84,39 +87,85 @@ def offscreen_pyvista():
     return pv
 
 
-def render_part(path: str | Path, name: str, part) -> Path:
-    """A PNG of the part's deformed shape coloured by von Mises at the governing instant,
-    with its support, peak, joint forces and a caption; written atomically to ``path``."""
+def stress_scale_top(part, scale: str = "limit") -> float:
+    """MPa: the end of a part picture's von Mises colour scale: ``"limit"``, one for every
+    part of a check, a round value at or above the stress limit (375 -> 400 MPa: a 12 MPa
+    plate reads cool beside a 176 MPa rail); ``"part"``, a round value at or above the
+    part's own verdict peak (190.6 -> 200 MPa). Six labels on it read round values."""
+    return nice_top((part.limit if scale == "limit" else part.verdict_stress) / 1e6)
+
+
+def render_part(path: str | Path, name: str, part, scale: str = "limit") -> PartPicture:
+    """A PNG of the part's deformed shape coloured by von Mises at the governing instant
+    on the ``scale`` of :func:`stress_scale_top`, with its support, peak, joint forces and
+    a caption; written atomically to ``path``. Returns where its labels went."""
     pv = offscreen_pyvista()
     mesh, sol, cycle = part.mesh, part.solution, part.cycle
     extent = np.ptp(mesh.points, axis=0)
-    scale = deformation_scale(float(extent.max()), float(np.linalg.norm(sol.displacement, axis=1).max()))
+    magnified = deformation_scale(float(extent.max()), float(np.linalg.norm(sol.displacement, axis=1).max()))
     slender = extent.max() > 6 * np.sort(extent)[1]
-    size = (1600, 500) if slender else (1200, 1000)
+    size = (1600, 500) if slender else (1800, 1000)
     plotter = pv.Plotter(off_screen=True, window_size=size)
     font = caption_font_size(size[1])
-    top = max(part.verdict_stress / 1e6, 1e-9)
-    beyond = bool(sol.von_mises.max() / 1e6 > top * (1 + 1e-9))  # a clamp's singular zone above the verdict's peak
-    _stress_surface(pv, plotter, mesh, sol, scale, top, slender, font, beyond)
+    top = stress_scale_top(part, scale)
+    _stress_surface(pv, plotter, mesh, sol, magnified, top, slender, font)
+    _singular_zone(pv, plotter, mesh, sol, magnified, part.verdict_stress, extent.max())
     if part.job.free_body is None:
-        _support(pv, plotter, mesh, sol, scale, part)
-    _peak_marker(pv, plotter, cycle, sol, scale, extent.max())
-    length_scale(plotter, mesh.points, kind_of(name).view)
-    plotter.add_axes(viewport=(0.0, 0.0, 0.12, 0.2) if slender else (0.0, 0.0, 0.15, 0.15), line_width=3)
-    lines = fit_caption(plotter, picture_caption(name, part, scale), size, font)
+        _support(pv, plotter, mesh, sol, magnified, part)
+    _peak_marker(pv, plotter, cycle, sol, magnified, extent.max())
+    view = governing_view(name, sol.displacement)
+    ruler = length_scale(plotter, mesh.points, view)
+    triad = (0.0, 0.0, 0.12, 0.2) if slender else (0.0, 0.0, 0.15, 0.15)
+    plotter.add_axes(viewport=triad, line_width=3)
+    lines = fit_caption(plotter, picture_caption(name, part, magnified), size, font)
 
     plotter.enable_parallel_projection()  # "xy": from above, the plane the mechanism moves in
-    plotter.camera.tight(padding=0.05 if slender else 0.12, view=kind_of(name).view, adjust_render_window=False)
+    plotter.camera.tight(padding=0.05 if slender else 0.12, view=view, adjust_render_window=False)
     toward = np.array(plotter.camera.position) - np.array(plotter.camera.focal_point)
     arrow_size = min(extent.max(), 8 * np.sort(extent)[1])
-    _bolt_arrows(pv, plotter, mesh, sol, scale, part, cycle, arrow_size, font, toward / np.linalg.norm(toward))
+    toward = toward / np.linalg.norm(toward)
+    requests = _bolt_arrows(pv, plotter, mesh, sol, magnified, part, cycle, arrow_size, font, toward)
+    if view != "xy" and part.job.loads.weight is not None:
+        requests.append(weight_arrows(pv, plotter, mesh.points + magnified * sol.displacement, part, arrow_size, toward))
     caption_share = 1.7 * font * (lines + 0.6) / size[1]  # of the height, above the part
-    leave_room(plotter, caption_share, 0.2 if slender else 0.1, 0.0 if slender else 0.16)
+    shown = mesh.points + magnified * sol.displacement
+    # a compact part leaves a quarter of the width beside it for its force labels
+    leave_room(plotter, caption_share, 0.2 if slender else 0.1, 0.0 if slender else 0.16, shown, 0.0 if slender else 0.25)
+    plotter.render()
+    reserved = [colour_bar_box(size, slender), Box(0.0, 0.0, triad[2] * size[0], triad[3] * size[1])]
+    layout = force_labels(plotter, requests, shown, hole_centres(mesh, shown), reserved, ruler, MIN_FONT + 2)
     path = Path(path)
     with atomic_path(path) as tmp:
         plotter.screenshot(str(tmp))
     plotter.close()
-    return path
+    return PartPicture(path, *layout, size)
+
+
+def governing_view(name: str, displacement: np.ndarray) -> str:
+    """The view a part is drawn in: its kind's (a rail from above, "xy"), or a rail's
+    elevation ("xz", from the side) when it moves more out of the mechanism's plane than
+    in it (the rocker under the table-top rig's weight): the deformation that governs."""
+    view = kind_of(name).view
+    largest = np.abs(displacement).max(axis=0)
+    return "xz" if view == "xy" and largest[2] > max(largest[0], largest[1]) else view
+
+
+def weight_arrows(pv, plotter, shown: np.ndarray, part, size: float, toward: np.ndarray) -> tuple:
+    """The rail's own weight drawn as eight downward arrows along its top (in front of
+    it, as the joint forces are), and its label request: (the middle arrow's tail, words,
+    colour)."""
+    w = part.job.loads.weight
+    front = (shown @ toward).max() + 0.02 * size
+    xs = np.linspace(shown[:, 0].min(), shown[:, 0].max(), 10)[1:-1]
+    top = shown[:, 2].max()
+    tails = []
+    for x in xs:
+        tail = np.array([x, 0.0, top + 0.12 * size])
+        tail += (front - tail @ toward) * toward
+        tails.append(tail)
+        plotter.add_mesh(pv.Arrow(start=tail, direction=(0.0, 0.0, -1.0), scale=0.1 * size), color="darkorange")
+    words = f"own weight {w.mass * 9.80665:.0f} N along it (unfactored), plates' at the joints"
+    return tails[len(tails) // 2], words, "darkorange"
 
 
 def one_two_five(x: float) -> float:
@@ -135,9 +184,10 @@ def deformation_scale(size: float, largest: float) -> float:
     return min(one_two_five(DEFORMATION_FRACTION * size / largest), MAX_MAGNIFICATION)
 
 
-def length_scale(plotter, points: np.ndarray, view: str) -> None:
+def length_scale(plotter, points: np.ndarray, view: str) -> np.ndarray:
     """A ruler in mm under the part (undeformed coordinates), along the picture's
-    horizontal axis, about a quarter of the part's width long (1-2-5)."""
+    horizontal axis, about a quarter of the part's width long (1-2-5); returns its two
+    ends (2, 3) m."""
     across, up = "xyz".index(view[0]), "xyz".index(view[1])
     lo, hi = points.min(axis=0), points.max(axis=0)
     length = one_two_five(0.25 * (hi[across] - lo[across]))
@@ -146,6 +196,15 @@ def length_scale(plotter, points: np.ndarray, view: str) -> None:
     b = a.copy()
     b[across] += length
     plotter.add_ruler(a, b, title="mm", number_labels=2, scale=1e3, label_format="%.0f", tick_length=4)
+    return np.array([a, b])
+
+
+def colour_bar_box(size: tuple[int, int], slender: bool) -> Box:
+    """The colour bar's area (px) of :func:`colour_bar_args`, with its labels and title."""
+    w, h = size
+    if slender:
+        return Box(0.23 * w, 0.0, 0.77 * w, 0.2 * h)
+    return Box(0.84 * w, 0.04 * h, w, 0.7 * h)
 
 
 def colour_bar_args(title: str, fmt: str, slender: bool, font: int) -> dict:
@@ -167,10 +226,11 @@ def colour_bar_args(title: str, fmt: str, slender: bool, font: int) -> dict:
     }
 
 
-def _stress_surface(pv, plotter, mesh, sol, scale: float, top: float, slender: bool, font: int, beyond: bool) -> None:
+def _stress_surface(pv, plotter, mesh, sol, scale: float, top: float, slender: bool, font: int) -> None:
     """The part's surface displaced ``scale`` x its displacement, coloured by von Mises
     from 0 to ``top`` MPa, with its colour bar (below a slender part, else beside it);
-    ``beyond``: some of it lies above ``top`` (magenta, with its swatch; else no swatch)."""
+    above ``top`` red, with its swatch (none when nothing is)."""
+    beyond = bool(sol.von_mises.max() / 1e6 > top * (1 + 1e-9))
     cells = np.hstack([np.full((mesh.tets.shape[0], 1), 4), mesh.tets]).ravel()
     grid = pv.UnstructuredGrid(
         cells, np.full(mesh.tets.shape[0], pv.CellType.TETRA, dtype=np.uint8), mesh.points + scale * sol.displacement
@@ -181,27 +241,36 @@ def _stress_surface(pv, plotter, mesh, sol, scale: float, top: float, slender: b
         scalars="von Mises (MPa)",
         cmap=COLOUR_MAP,
         clim=[0.0, top],
-        above_color="magenta" if beyond else None,
+        above_color="red" if beyond else None,
         show_edges=False,
         scalar_bar_args=colour_bar_args("von Mises (MPa)", colour_bar_format(top), slender, font),
     )
 
 
+def _singular_zone(pv, plotter, mesh, sol, scale: float, verdict: float, size: float) -> None:
+    """Magenta dots on the vertices above the verdict's peak ``verdict`` (Pa): the clamp's
+    singular zone, which the verdict leaves out (none on a free body)."""
+    n = mesh.points.shape[0]
+    above = np.flatnonzero(sol.von_mises[:n] > verdict * (1 + 1e-9))
+    if above.size:
+        pts = mesh.points[above] + scale * sol.displacement[above]
+        plotter.add_points(pv.PolyData(pts), color="magenta", point_size=6)
+
+
 def picture_caption(name: str, part, scale: float) -> str:
-    """The picture's caption: the cycle peak and when, the limit, the deflection and what
-    it means for this part's support, the shape's scale and what the colours mark."""
+    """The picture's two-line title: the verdict, its utilisation and what governs, the
+    cycle peak and when; the deflection this part's support gives, the shape's scale, the
+    support (in the words of the report's equilibrium table) and the forces' factor."""
     cycle = part.cycle
-    when = (
-        f"at crank {cycle.history.crank_angle_deg:.1f} deg" if cycle.C.shape[0] > 1 else "under its constant explicit loads"
-    )
+    when = f"at crank {cycle.history.crank_angle_deg:.1f} deg" if cycle.C.shape[0] > 1 else "under constant loads"
     deflection = (
         "tip deflection"
         if part.job.free_body is None
-        else "the shaft bore's deflection relative to the screws"
+        else "bore deflection vs screws"
         if part.job.loads.is_free_plate
-        else "top deflection relative to the base"
+        else "top deflection vs base"
         if part.job.loads.is_on_foundation
-        else "deflection relative to the joints"
+        else "deflection vs joints"
     )
     verdict = "PASS" if part.passed else "FAIL"
     governs = part.governing_criterion
@@ -213,19 +282,12 @@ def picture_caption(name: str, part, scale: float) -> str:
         if governs == "stress"
         else governs
     )
+    factored = "as given" if part.job.loads.explicit is not None else f"x{part.job.loads.factor:g} (factored)"
     return (
-        f"{name}: {verdict}, utilisation {part.utilisation:.0%} ({figure}); "
-        f"cycle peak {part.verdict_stress / 1e6:.1f} MPa (the white sphere) {when} (limit {part.limit / 1e6:.0f} MPa)\n"
-        f"largest {deflection} {cycle.envelope.max_tip * 1e3:.3g} mm; "
-        f"shape x{scale:g} (one rule for every part: largest displacement <= 5% of its size, 1-2-5, <= x1000)\n"
-        + (
-            "on a rigid foundation: its base carries the loads' linear reaction (not drawn); red: loads as given"
-            if part.job.loads.is_on_foundation
-            else f"free body: no support (inertia relief); red: joint forces x{part.job.loads.factor:g} (factored)"
-            if part.job.free_body is not None
-            else f"black: the clamp; magenta: its singular zone; red: joint force x{part.job.loads.factor:g} (factored)"
-        )
-        + ("; its weight out of plane (table-top rig, not drawn)" if part.job.loads.weight is not None else "")
+        f"{name}: {verdict}, utilisation {part.utilisation:.0%} ({figure}), "
+        f"peak {part.verdict_stress / 1e6:.1f} MPa (sphere) {when}\n"
+        f"{deflection} {cycle.envelope.max_tip * 1e3:.3g} mm, shape x{scale:g}; {support_words(part)}; "
+        f"red: forces {factored}" + ("; weight out of plane" if part.job.loads.weight is not None else "")
     )
 
 
@@ -234,24 +296,38 @@ def _group_points(mesh, sol, scale, groups) -> np.ndarray:
     return mesh.points[idx] + scale * sol.displacement[idx]
 
 
-def leave_room(plotter, top: float, bottom: float, right: float) -> None:
-    """Shift and shrink the view so the part fills the picture between the caption (the
+def leave_room(
+    plotter, top: float, bottom: float, right: float, points: np.ndarray | None = None, left: float = 0.0
+) -> None:
+    """Shift and scale the view so the part fills the picture between the caption (the
     top ``top`` of the height), the colour bar (``bottom`` of the height, or ``right`` of
-    the width) and the edges: a parallel projection's scale is half the visible height."""
+    the width), ``left`` of the width kept free (for labels) and the edges: a parallel
+    projection's scale is half the visible height.
+    With the part's ``points`` (n, 3) m the scale is the least that fits their extent in
+    both directions (5% margin), so a rail fills the width of its band; without, the
+    camera's own fit shrunk into the free area."""
     cam = plotter.camera
     free_h = max(0.3, 1.0 - top - bottom)
-    free_w = max(0.3, 1.0 - right)
-    scale = cam.parallel_scale / min(free_h, free_w)
-    h = 2.0 * scale
-    w = h * plotter.window_size[0] / plotter.window_size[1]
-    dy = (top - bottom) / 2.0 * h  # move the view up so the part sits below the caption
-    dx = right / 2.0 * w
+    free_w = max(0.3, 1.0 - right - left)
+    aspect = plotter.window_size[0] / plotter.window_size[1]
     up = np.array(cam.up, float)
     up /= np.linalg.norm(up)
     view = np.array(cam.focal_point) - np.array(cam.position)
     view /= np.linalg.norm(view)
     side = np.cross(view, up)
-    shift = up * dy + side * dx
+    if points is None:
+        scale = cam.parallel_scale / min(free_h, free_w)
+    else:
+        across, upward = np.ptp(points @ side), np.ptp(points @ up)
+        scale = 1.05 * max(upward / (2.0 * free_h), across / (2.0 * free_w * aspect))
+        centre = points.min(axis=0) + np.ptp(points, axis=0) / 2.0  # the view centred on the part first
+        offset = centre - np.array(cam.focal_point)
+        offset -= (offset @ view) * view
+        cam.focal_point = tuple(np.array(cam.focal_point) + offset)
+        cam.position = tuple(np.array(cam.position) + offset)
+    h = 2.0 * scale
+    w = h * aspect
+    shift = up * (top - bottom) / 2.0 * h + side * (right - left) / 2.0 * w  # below the caption, between the bars
     cam.focal_point = tuple(np.array(cam.focal_point) + shift)
     cam.position = tuple(np.array(cam.position) + shift)
     cam.parallel_scale = scale
@@ -262,14 +338,15 @@ def _support(pv, plotter, mesh, sol, scale, part) -> None:
     plotter.add_points(pv.PolyData(pts), color="black", point_size=9, render_points_as_spheres=True)
 
 
-def _bolt_arrows(pv, plotter, mesh, sol, scale, part, cycle, size, font, toward) -> None:
+def _bolt_arrows(pv, plotter, mesh, sol, scale, part, cycle, size, font, toward) -> list[tuple]:
     """An arrow per loaded hole, at its centre, along the joint force of the governing
     instant on it: the bolts' (``bolt_x``, ``bolt_y``) and, on a free body, the first
-    joint's two screws (``pin_x``, ``pin_y``); drawn over the part and labelled with the joint
-    force's magnitude (N) once per group of holes; each arrow sits in front of the part
-    (moved toward the camera, ``toward`` a unit vector, beyond the part's nearest point), so
-    no flange hides it."""
+    joint's two screws (``pin_x``, ``pin_y``); each arrow sits in front of the part (moved
+    toward the camera, ``toward`` a unit vector, beyond the part's nearest point), so no
+    flange hides it. Returns each group of holes' label: (the arrows' mean tail (3,) m, the
+    joint force's magnitude in words), placed by :func:`force_labels`."""
     front = (mesh.points @ toward).max() + 0.02 * size  # the part's nearest point to the camera, and a margin
+    labels: list[tuple] = []
     for holes, force, words in _drawn_forces(part):
         if not np.any(force):
             continue
@@ -281,17 +358,9 @@ def _bolt_arrows(pv, plotter, mesh, sol, scale, part, cycle, size, font, toward)
             centre += (front - centre @ toward) * toward  # in front of the part, on the line of sight
             tails.append(centre - direction * length)
             plotter.add_mesh(pv.Arrow(start=tails[-1], direction=direction, scale=length), color="red")
-        if words is None:
-            continue
-        plotter.add_point_labels(
-            pv.PolyData(np.mean(tails, axis=0)[None, :]),
-            [words],
-            font_size=font,
-            text_color="red",
-            point_size=1,
-            shape_opacity=0.6,
-            always_visible=True,
-        )
+        if words is not None:
+            labels.append((np.mean(tails, axis=0), words))
+    return labels
 
 
 def _drawn_forces(part) -> list:

@@ -1,8 +1,8 @@
 """PNG of a part's utilisation at every point over the whole cycle (PART-utilisation.png),
 beside the von Mises picture of its governing instant: each vertex's larger of its von
 Mises envelope over the stress limit and the required fatigue factor over its own. One
-colour scale for every part (0 to 100%, above it red: fails there), on the undeformed
-shape (the envelope is over the cycle, not one instant). pyvista, off-screen."""
+colour scale for every part (logarithmic, 1% to 100%, above it red: fails there), on the
+undeformed shape (the envelope is over the cycle, not one instant). pyvista, off-screen."""
 
 from __future__ import annotations
 
@@ -42,10 +42,10 @@ def utilisation_caption(name: str, part, largest: float) -> str:
     """What the picture shows, the part's verdict utilisation and what governs it."""
     fat = part.cycle.fatigue
     return (
-        f"{name}: utilisation at each point over the whole cycle: the larger of von Mises envelope / "
-        f"{part.limit / 1e6:.0f} MPa and {fat.required:g} / fatigue factor\n"
-        f"the part: {part.utilisation:.0%} ({part.governing_criterion}), largest drawn {largest:.0%}; "
-        "one scale for every part, red above 100% (fails there); undeformed shape"
+        f"{name}: utilisation over the cycle, the larger of von Mises envelope / {part.limit / 1e6:.0f} MPa "
+        f"and {fat.required:g} / fatigue factor\n"
+        f"the part {part.utilisation:.0%} ({part.governing_criterion}), largest drawn {largest:.0%}; "
+        "one log scale for every part, red above 100%; undeformed"
     )
 
 
@@ -58,7 +58,7 @@ def render_utilisation(path: str | Path, name: str, part) -> Path | None:
     mesh = part.mesh
     extent = np.ptp(mesh.points, axis=0)
     slender = extent.max() > 6 * np.sort(extent)[1]
-    size = (1600, 500) if slender else (1200, 1000)
+    size = (1600, 500) if slender else (1800, 1000)
     plotter = pv.Plotter(off_screen=True, window_size=size)
     font = caption_font_size(size[1])
     _surface(pv, plotter, mesh, u, slender, font)
@@ -67,7 +67,7 @@ def render_utilisation(path: str | Path, name: str, part) -> Path | None:
     lines = fit_caption(plotter, utilisation_caption(name, part, float(np.max(u))), size, font)
     plotter.enable_parallel_projection()
     plotter.camera.tight(padding=0.05 if slender else 0.12, view=kind_of(name).view, adjust_render_window=False)
-    leave_room(plotter, 1.7 * font * (lines + 0.6) / size[1], 0.2 if slender else 0.1, 0.0 if slender else 0.16)
+    leave_room(plotter, 1.7 * font * (lines + 0.6) / size[1], 0.2 if slender else 0.1, 0.0 if slender else 0.16, mesh.points)
     path = Path(path)
     with atomic_path(path) as tmp:
         plotter.screenshot(str(tmp))
@@ -75,16 +75,24 @@ def render_utilisation(path: str | Path, name: str, part) -> Path | None:
     return path
 
 
+#: the utilisation picture's scale (%): logarithmic from 1% (below it the lowest colour) to
+#: 100% (above it red), so a part used at 5% shows where, not a uniform dark
+UTILISATION_SCALE = (1.0, 100.0)
+
+
 def _surface(pv, plotter, mesh, u: np.ndarray, slender: bool, font: int) -> None:
-    """The part's surface coloured by utilisation (%), 0 to 100, red above."""
+    """The part's surface coloured by utilisation (%) on :data:`UTILISATION_SCALE`
+    (logarithmic: 1, 10, 100 labelled), red above 100%."""
     cells = np.hstack([np.full((mesh.tets.shape[0], 1), 4), mesh.tets]).ravel()
     grid = pv.UnstructuredGrid(cells, np.full(mesh.tets.shape[0], pv.CellType.TETRA, dtype=np.uint8), mesh.points)
-    grid.point_data["utilisation (%)"] = 100.0 * u
+    low, high = UTILISATION_SCALE
+    grid.point_data["utilisation (%)"] = np.clip(100.0 * u, low, None)
     plotter.add_mesh(
         grid.extract_surface(algorithm="dataset_surface"),
         scalars="utilisation (%)",
         cmap=COLOUR_MAP,
-        clim=[0.0, 100.0],
+        clim=[low, high],
+        log_scale=True,
         above_color="red" if np.max(u) > 1.0 else None,
-        scalar_bar_args=colour_bar_args("utilisation (%)", "%.0f", slender, font),
+        scalar_bar_args={**colour_bar_args("utilisation (%), log scale", "%.0f", slender, font), "n_labels": 3},
     )
