@@ -247,17 +247,7 @@ def write_motor_plot(aggregates: dict, path: Path) -> None:
         ax.plot(m.curve_hz, rms, lw=1, ls=":", color=line.get_color(), label=f"{kind}: RMS, settings safe there")
         _label_speeds(ax, kind, m, line.get_color())
     ax.axhline(MOTOR_ESTIMATE_2013_NM, color="grey", lw=1, ls=":", label="2013 study's estimate, 200 N·m")
-    ax.annotate(  # on the line itself, at its right end, above it
-        "2013 estimate 200 N·m",
-        (1.0, MOTOR_ESTIMATE_2013_NM),
-        xycoords=("axes fraction", "data"),
-        xytext=(-4, 3),
-        textcoords="offset points",
-        ha="right",
-        va="bottom",
-        fontsize=8,
-        color="dimgrey",
-    )
+    _estimate_label(ax)
     ax.set_xlabel("crank speed (Hz)")
     ax.set_ylabel("motor torque (N·m)")
     ax.set_yscale("log")  # the demand grows with the speed squared; the safe settings' stays near their limit
@@ -275,6 +265,21 @@ def write_motor_plot(aggregates: dict, path: Path) -> None:
     with atomic_path(path) as tmp:
         fig.savefig(tmp, dpi=110)
     plt.close(fig)
+
+
+def _estimate_label(ax) -> None:
+    """The 2013 estimate's words on its line, at its right end, above it."""
+    ax.annotate(
+        "2013 estimate 200 N·m",
+        (1.0, MOTOR_ESTIMATE_2013_NM),
+        xycoords=("axes fraction", "data"),
+        xytext=(-4, 3),
+        textcoords="offset points",
+        ha="right",
+        va="bottom",
+        fontsize=8,
+        color="dimgrey",
+    )
 
 
 def _capped_by(agg) -> str:
