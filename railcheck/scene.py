@@ -347,7 +347,7 @@ def _output(table: dict) -> OutputSpec:
     if not isinstance(d, str) or not d.strip() or "\0" in d:  # no file system takes a NUL
         raise InputError(p + "dir", f"must be a directory name, got {d!r}")
     scale = _string_choice(table.get("stress_scale", "limit"), ("limit", "part"), p + "stress_scale")
-    return OutputSpec(d, *(_bool(table, k, p, True) for k in ("vtk", "png", "plots")), scale)
+    return OutputSpec(d, _bool(table, "vtk", p, True), _bool(table, "png", p, True), _bool(table, "plots", p, True), scale)
 
 
 #: catalogue dimensions whose zero means a feature left out: a rail without its grooves

@@ -138,7 +138,8 @@ def render_part(path: str | Path, name: str, part, scale: str = "limit") -> Part
     with atomic_path(path) as tmp:
         plotter.screenshot(str(tmp))
     plotter.close()
-    return PartPicture(path, *layout, size)
+    labels, holes, outline, caption = layout
+    return PartPicture(path, labels, holes, outline, caption, size)
 
 
 def governing_view(name: str, displacement: np.ndarray) -> str:

@@ -63,10 +63,12 @@ class ExactPass:
         """A chunk's (columns, motor curve) without its settings that have a row beyond
         the tolerance, which are kept for :meth:`jobs`; every row gains ``exact_dynamic``."""
         columns["exact_dynamic"] = np.zeros(columns["setting"].size, dtype=bool)
-        beyond, parts = beyond_parts(columns["reason"]) if np.any(columns["verdict"] == "fail") else (None, set())
+        if not np.any(columns["verdict"] == "fail"):
+            return columns, curve
+        beyond, parts = beyond_parts(columns["reason"])
         if not parts:
             return columns, curve
-        per_setting = beyond.reshape(-1, self.n_speeds).any(axis=1)
+        per_setting = np.asarray(beyond.reshape(-1, self.n_speeds).any(axis=1), dtype=bool)
         rows = np.repeat(per_setting, self.n_speeds)
         self.held.setdefault(kind, []).append((_rows(columns, rows), _curve_rows(curve, per_setting), beyond[rows]))
         self.parts.setdefault(kind, set()).update(parts)
