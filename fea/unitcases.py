@@ -217,14 +217,19 @@ def _pressure_vectors(basis, groups: dict, group: str, harmonics: tuple[int, ...
     return cached_on(basis, key, lambda: bearing_vectors(basis, groups, group, harmonics))
 
 
+def stress_recovery_bytes(elements: int, per_element: int, nodes: int, columns: int) -> float:
+    """Bytes the stress recovery of ``columns`` unit cases holds at its peak: per case its
+    element stresses (``elements`` x ``per_element`` nodes x 6 doubles, the curved
+    quadrature's peak) and three node-stress arrays of ``nodes`` nodes."""
+    return 8.0 * 6.0 * columns * (elements * per_element + 3.0 * nodes)
+
+
 def refuse_fields_beyond_memory(basis, columns: int) -> None:
     """Refuse (``mesh.size``, one line) before the solve a part whose stress recovery
     cannot fit in memory: per unit case its element stresses (elements x nodes per element
     x 6 doubles, the curved quadrature's peak) and three node-stress arrays; a machine
     that holds the factor but not these failed after the whole solve."""
-    per_element = basis.Nbfun // 3  # nodes of a vector element
-    nodes = basis.N // 3
-    need = 8.0 * 6.0 * columns * (basis.nelems * per_element + 3.0 * nodes)
+    need = stress_recovery_bytes(basis.nelems, basis.Nbfun // 3, basis.N // 3, columns)
     machine.refuse_beyond_memory(
         need,
         "mesh.size",

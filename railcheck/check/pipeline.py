@@ -23,6 +23,7 @@ from railcheck.components.scene_checks import check_scene_components
 from railcheck.fea.materials import MATERIALS, limit_warning
 from railcheck.model.jobs import build_load_cases, part_geometries, part_jobs, refuse_huge
 from railcheck.model.kinematics_stage import all_checks, kinematics_summary, run_kinematics
+from railcheck.model.memory import refuse_recovery_before_meshing
 from railcheck.model.records import PipelineResult
 from railcheck.progress import Progress
 from railcheck.scene import Scene
@@ -141,6 +142,7 @@ def _check_stage(
         warnings.append(f"{name}: {NO_LOAD}")
         progress.say("loads", f"{name}: {NO_LOAD}")
     loaded = {name: job for name, job in all_jobs.items() if name not in unloaded}
+    refuse_recovery_before_meshing(loaded)
     parts: dict = {}
     if loaded:
         parts = check_parts(loaded, solver, progress, jobs, part_done)

@@ -342,3 +342,52 @@ def test_stresses_beyond_memory_are_refused_before_the_solve(monkeypatch):
         solve_unit_cases(mesh, MATERIALS["steel"], ["clamp"], cases, tip_group="tip")
     assert err.value.field == "mesh.size"
     assert "recovering the stresses of" in str(err.value) and "use a larger mesh size" in str(err.value)
+
+
+GROOVES_HALF_MM = '[geometry]\nrail_groove_radius = "0.5 mm"\n'
+
+
+def test_a_stress_recovery_too_large_is_refused_before_anything_is_meshed(monkeypatch):
+    """Issue 79 item 7: linear elements at 0.5 mm grooves pass the DOF estimate on 2 GiB
+    but their stress recovery (the coupler's 107 hole-basis cases over about 129k
+    elements) cannot fit: refused in one line naming mesh.size before any mesh, with the
+    estimate; on 4 GiB the same scene gets past the refusal (to the mesher, stubbed here)."""
+    import railcheck.check.pipeline as pipeline
+    from railcheck.api import scene_of
+    from railcheck.base import machine
+
+    class Meshing(Exception):
+        pass
+
+    def no_mesh(*args, **kwargs):
+        raise Meshing
+
+    monkeypatch.setattr(pipeline, "check_parts", no_mesh)  # the first step that meshes
+    from importlib import resources
+
+    default = resources.files("railcheck").joinpath("scenes", "default.toml").read_text(encoding="utf-8")
+    assert "order = 2" in default and "[geometry]" not in default
+    scene = scene_of(default.replace("order = 2", "order = 1") + GROOVES_HALF_MM)
+    monkeypatch.setattr(machine, "available_memory", lambda: 2.0 * 2**30)
+    with pytest.raises(InputError) as err:
+        pipeline.run_pipeline(scene)
+    assert err.value.field == "mesh.size" and "estimated before meshing" in str(err.value)
+    assert "coupler-rail" in str(err.value) and "107 unit cases" in str(err.value)
+    monkeypatch.setattr(machine, "available_memory", lambda: 4.0 * 2**30)
+    with pytest.raises(Meshing):  # not refused: the exact count after meshing decides
+        pipeline.run_pipeline(scene)
+
+
+def test_the_element_estimate_is_within_a_third_of_the_shipped_meshes():
+    """The estimate the refusals rest on against the meshes railcheck ships (the built-in
+    scene's parts at their default sizes): each within 30% of the mesher's own count."""
+    from railcheck.api import scene_of
+    from railcheck.geometry import mesh_part
+    from railcheck.geometry.mesher import estimate_elements
+    from railcheck.model.jobs import mesh_sizes, part_geometries
+
+    scene = scene_of(None)
+    for name, geo in part_geometries(scene).items():
+        size, hole = mesh_sizes(scene.mesh, geo.kind)
+        actual = mesh_part(geo, size, hole).tets.shape[0]  # the shipped mesh, from the cache
+        assert abs(estimate_elements(geo, size, hole) / actual - 1) < 0.3, (name, actual)
