@@ -17,6 +17,7 @@ the console).
 from __future__ import annotations
 
 import os
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -104,35 +105,32 @@ def render_part(path: str | Path, name: str, part, scale: str = "limit") -> Part
     extent = np.ptp(mesh.points, axis=0)
     magnified = deformation_scale(float(extent.max()), float(np.linalg.norm(sol.displacement, axis=1).max()))
     slender = extent.max() > 6 * np.sort(extent)[1]
-    size = (1600, 500) if slender else (1800, 1000)
+    view = governing_view(name, sol.displacement)
+    shown = mesh.points + magnified * sol.displacement
+    frame = picture_frame(shown, view, slender)
+    size, font = frame.size, frame.font
     plotter = pv.Plotter(off_screen=True, window_size=size)
-    font = caption_font_size(size[1])
     top = stress_scale_top(part, scale)
-    _stress_surface(pv, plotter, mesh, sol, magnified, top, slender, font)
+    _stress_surface(pv, plotter, mesh, sol, magnified, top, frame, font)
     _singular_zone(pv, plotter, mesh, sol, magnified, part.verdict_stress, extent.max())
     if part.job.free_body is None:
         _support(pv, plotter, mesh, sol, magnified, part)
     _peak_marker(pv, plotter, cycle, sol, magnified, extent.max())
-    view = governing_view(name, sol.displacement)
     ruler = length_scale(plotter, mesh.points, view)
-    triad = (0.0, 0.0, 0.12, 0.2) if slender else (0.0, 0.0, 0.15, 0.15)
-    plotter.add_axes(viewport=triad, line_width=3)
+    plotter.add_axes(viewport=frame.triad, line_width=3)
     lines = fit_caption(plotter, picture_caption(name, part, magnified), size, font)
 
     plotter.enable_parallel_projection()  # "xy": from above, the plane the mechanism moves in
-    plotter.camera.tight(padding=0.05 if slender else 0.12, view=view, adjust_render_window=False)
+    plotter.camera.tight(padding=0.05, view=view, adjust_render_window=False)
     toward = np.array(plotter.camera.position) - np.array(plotter.camera.focal_point)
     arrow_size = min(extent.max(), 8 * np.sort(extent)[1])
     toward = toward / np.linalg.norm(toward)
     requests = _bolt_arrows(pv, plotter, mesh, sol, magnified, part, cycle, arrow_size, font, toward)
     if view != "xy" and part.job.loads.weight is not None:
-        requests.append(weight_arrows(pv, plotter, mesh.points + magnified * sol.displacement, part, arrow_size, toward))
-    caption_share = 1.7 * font * (lines + 0.6) / size[1]  # of the height, above the part
-    shown = mesh.points + magnified * sol.displacement
-    # a compact part leaves a quarter of the width beside it for its force labels
-    leave_room(plotter, caption_share, 0.2 if slender else 0.1, 0.0 if slender else 0.16, shown, 0.0 if slender else 0.25)
+        requests.append(weight_arrows(pv, plotter, shown, part, arrow_size, toward))
+    frame.place(plotter, lines, shown)
     plotter.render()
-    reserved = [colour_bar_box(size, slender), Box(0.0, 0.0, triad[2] * size[0], triad[3] * size[1])]
+    reserved = [frame.bar_box, Box(0.0, 0.0, frame.triad[2] * size[0], frame.triad[3] * size[1])]
     layout = force_labels(plotter, requests, shown, hole_centres(mesh, shown), reserved, ruler, MIN_FONT + 2)
     path = Path(path)
     with atomic_path(path) as tmp:
@@ -140,6 +138,64 @@ def render_part(path: str | Path, name: str, part, scale: str = "limit") -> Part
     plotter.close()
     labels, holes, outline, caption = layout
     return PartPicture(path, labels, holes, outline, caption, size)
+
+
+#: a compact part's picture (px): its width, the part's share of it, the band kept for
+#: labels above and below the part, the colour bar's band at the bottom, the tallest picture
+COMPACT_WIDTH, COMPACT_SHARE, LABEL_BAND, BAR_BAND, TALLEST = 1800, 0.76, 120, 150, 2400
+
+
+@dataclass(frozen=True)
+class PictureFrame:
+    """Where a part picture puts things: its ``size`` (px), the title's ``font``, the
+    width share kept free beside the part (each ``side``), the bands above (besides the
+    title) and below the part (px), the colour bar's placement and box, the axes' viewport."""
+
+    size: tuple[int, int]
+    font: int
+    side: float
+    above: float
+    below: float
+    bar: dict
+    bar_box: Box
+    triad: tuple[float, float, float, float]
+
+    def place(self, plotter, lines: int, shown: np.ndarray) -> None:
+        """Scale and centre the view (:func:`leave_room`): the part between the title of
+        ``lines`` lines with its band above, and its band and the colour bar below."""
+        h = self.size[1]
+        title = 1.7 * self.font * (lines + 0.6)
+        leave_room(plotter, (title + self.above) / h, self.below / h, self.side, shown, self.side)
+
+
+def picture_frame(shown: np.ndarray, view: str, slender: bool) -> PictureFrame:
+    """A slender part (a rail) on 1600 x 500 px, from edge to edge, its colour bar below;
+    a compact one (a plate, the bracket) :data:`COMPACT_SHARE` of an 1800 px width, the
+    picture as tall as the part's aspect asks (at most :data:`TALLEST`) with a band for
+    labels above and below it and the colour bar at the bottom. The title's font follows
+    the width (2 lines of about 110 characters), at least :data:`MIN_FONT`."""
+    if slender:
+        w, h = 1600, 500
+        bar = {"position_x": 0.25, "position_y": 0.05, "width": 0.5, "height": 0.1}
+        return PictureFrame(
+            (w, h), caption_font_size(h), 0.0, 0.0, 0.2 * h, bar, Box(0.23 * w, 0, 0.77 * w, 0.2 * h), (0.0, 0.0, 0.12, 0.2)
+        )
+    across, up = ("xyz".index(view[0]), "xyz".index(view[1]))
+    aspect = float(np.ptp(shown[:, up]) / max(np.ptp(shown[:, across]), 1e-12))
+    w, font = COMPACT_WIDTH, max(MIN_FONT, round(0.0095 * COMPACT_WIDTH))
+    fixed = 1.7 * font * 2.6 + 2 * LABEL_BAND + BAR_BAND
+    h = int(min(TALLEST, fixed + COMPACT_SHARE * w * aspect))
+    bar = {"position_x": 0.25, "position_y": 25.0 / h, "width": 0.5, "height": 80.0 / h}
+    return PictureFrame(
+        (w, h),
+        font,
+        (1 - COMPACT_SHARE) / 2,
+        LABEL_BAND,
+        LABEL_BAND + BAR_BAND,
+        bar,
+        Box(0.23 * w, 0, 0.77 * w, BAR_BAND),
+        (0.0, 0.0, 150.0 / w, 150.0 / h),
+    )
 
 
 def governing_view(name: str, displacement: np.ndarray) -> str:
@@ -200,37 +256,24 @@ def length_scale(plotter, points: np.ndarray, view: str) -> np.ndarray:
     return np.array([a, b])
 
 
-def colour_bar_box(size: tuple[int, int], slender: bool) -> Box:
-    """The colour bar's area (px) of :func:`colour_bar_args`, with its labels and title."""
-    w, h = size
-    if slender:
-        return Box(0.23 * w, 0.0, 0.77 * w, 0.2 * h)
-    return Box(0.84 * w, 0.04 * h, w, 0.7 * h)
-
-
-def colour_bar_args(title: str, fmt: str, slender: bool, font: int) -> dict:
-    """pyvista's colour-bar arguments of every part picture: below a slender part, else
-    beside it; six labels in ``fmt``."""
-    place = (
-        {"position_x": 0.25, "position_y": 0.05, "width": 0.5, "height": 0.1}
-        if slender
-        else {"position_x": 0.86, "position_y": 0.08, "width": 0.08, "height": 0.55}
-    )
+def colour_bar_args(title: str, fmt: str, frame: PictureFrame, font: int) -> dict:
+    """pyvista's colour-bar arguments of every part picture: below the part, where its
+    ``frame`` puts it; six labels in ``fmt``."""
     return {
         "title": title,
-        "vertical": not slender,
+        "vertical": False,
         "fmt": fmt,
         "n_labels": 6,
         "title_font_size": font,
         "label_font_size": font,
-        **place,
+        **frame.bar,
     }
 
 
-def _stress_surface(pv, plotter, mesh, sol, scale: float, top: float, slender: bool, font: int) -> None:
+def _stress_surface(pv, plotter, mesh, sol, scale: float, top: float, frame: PictureFrame, font: int) -> None:
     """The part's surface displaced ``scale`` x its displacement, coloured by von Mises
-    from 0 to ``top`` MPa, with its colour bar (below a slender part, else beside it);
-    above ``top`` red, with its swatch (none when nothing is)."""
+    from 0 to ``top`` MPa, with its colour bar (where ``frame`` puts it); above ``top``
+    red, with its swatch (none when nothing is)."""
     beyond = bool(sol.von_mises.max() / 1e6 > top * (1 + 1e-9))
     cells = np.hstack([np.full((mesh.tets.shape[0], 1), 4), mesh.tets]).ravel()
     grid = pv.UnstructuredGrid(
@@ -244,7 +287,7 @@ def _stress_surface(pv, plotter, mesh, sol, scale: float, top: float, slender: b
         clim=[0.0, top],
         above_color="red" if beyond else None,
         show_edges=False,
-        scalar_bar_args=colour_bar_args("von Mises (MPa)", colour_bar_format(top), slender, font),
+        scalar_bar_args=colour_bar_args("von Mises (MPa)", colour_bar_format(top), frame, font),
     )
 
 

@@ -14,12 +14,11 @@ from railcheck.files import atomic_path
 from railcheck.parts import kind_of
 from railcheck.report.render import (
     COLOUR_MAP,
-    caption_font_size,
     colour_bar_args,
     fit_caption,
-    leave_room,
     length_scale,
     offscreen_pyvista,
+    picture_frame,
 )
 from railcheck.report.vtu import node_envelope
 
@@ -58,16 +57,16 @@ def render_utilisation(path: str | Path, name: str, part) -> Path | None:
     mesh = part.mesh
     extent = np.ptp(mesh.points, axis=0)
     slender = extent.max() > 6 * np.sort(extent)[1]
-    size = (1600, 500) if slender else (1800, 1000)
-    plotter = pv.Plotter(off_screen=True, window_size=size)
-    font = caption_font_size(size[1])
-    _surface(pv, plotter, mesh, u, slender, font)
-    length_scale(plotter, mesh.points, kind_of(name).view)
-    plotter.add_axes(viewport=(0.0, 0.0, 0.12, 0.2) if slender else (0.0, 0.0, 0.15, 0.15), line_width=3)
-    lines = fit_caption(plotter, utilisation_caption(name, part, float(np.max(u))), size, font)
+    view = kind_of(name).view
+    frame = picture_frame(mesh.points, view, slender)
+    plotter = pv.Plotter(off_screen=True, window_size=frame.size)
+    _surface(pv, plotter, mesh, u, frame, frame.font)
+    length_scale(plotter, mesh.points, view)
+    plotter.add_axes(viewport=frame.triad, line_width=3)
+    lines = fit_caption(plotter, utilisation_caption(name, part, float(np.max(u))), frame.size, frame.font)
     plotter.enable_parallel_projection()
-    plotter.camera.tight(padding=0.05 if slender else 0.12, view=kind_of(name).view, adjust_render_window=False)
-    leave_room(plotter, 1.7 * font * (lines + 0.6) / size[1], 0.2 if slender else 0.1, 0.0 if slender else 0.16, mesh.points)
+    plotter.camera.tight(padding=0.05, view=view, adjust_render_window=False)
+    frame.place(plotter, lines, mesh.points)
     path = Path(path)
     with atomic_path(path) as tmp:
         plotter.screenshot(str(tmp))
@@ -80,7 +79,7 @@ def render_utilisation(path: str | Path, name: str, part) -> Path | None:
 UTILISATION_SCALE = (1.0, 100.0)
 
 
-def _surface(pv, plotter, mesh, u: np.ndarray, slender: bool, font: int) -> None:
+def _surface(pv, plotter, mesh, u: np.ndarray, frame, font: int) -> None:
     """The part's surface coloured by utilisation (%) on :data:`UTILISATION_SCALE`
     (logarithmic: 1, 10, 100 labelled), red above 100%."""
     cells = np.hstack([np.full((mesh.tets.shape[0], 1), 4), mesh.tets]).ravel()
@@ -94,5 +93,5 @@ def _surface(pv, plotter, mesh, u: np.ndarray, slender: bool, font: int) -> None
         clim=[low, high],
         log_scale=True,
         above_color="red" if np.max(u) > 1.0 else None,
-        scalar_bar_args={**colour_bar_args("utilisation (%), log scale", "%.0f", slender, font), "n_labels": 3},
+        scalar_bar_args={**colour_bar_args("utilisation (%), log scale", "%.0f", frame, font), "n_labels": 3},
     )
