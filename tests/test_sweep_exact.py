@@ -2,7 +2,7 @@
 part's quasi-static tolerance are held back whole, the rest written as they came; each
 held row beyond the tolerance takes the exact evaluation, every other row stays, the
 setting's safe-speed columns and motor curve follow its first speed's row; the exact part's
-amplification lands in its estimate's column. The sweep end to end: tests/test_sweep_speeds.py."""
+amplification lands beside its estimate, which stays. The sweep end to end: tests/test_sweep_speeds.py."""
 
 import numpy as np
 
@@ -42,6 +42,7 @@ def test_held_settings_are_merged_row_by_row_and_their_curve_follows_the_first_s
     written, curve = exact.hold("four-bar", *_chunk([10, 11, 12], ["", "", "", q, q, ""]))
     assert list(written["setting"]) == [10, 10] and list(curve["rows"]) == [0]
     assert list(written["exact_dynamic"]) == [False, False]
+    assert np.isnan(written["crank-rail_amplification"]).all()  # the column every row carries, null until settled
     written, curve = exact.hold("four-bar", *_chunk([13], [q, q]))
     assert written["setting"].size == 0 and curve["rows"].size == 0
     assert list(exact.settings("four-bar")) == [11, 12, 13] and exact.parts == {"four-bar": {"crank-rail"}}
@@ -53,7 +54,9 @@ def test_held_settings_are_merged_row_by_row_and_their_curve_follows_the_first_s
     assert list(merged["exact_dynamic"]) == [True, True, True, False]
     # beyond rows from the exact evaluation, the other row (12 at its second speed) as held
     assert list(merged["crank-rail_stress_MPa"]) == [1000.0, 1001.0, 1002.0, 5.0]
-    assert list(merged["crank-rail_amplification_estimate"]) == [1007.5, 1008.5, 1009.5, 5.5]
+    assert list(merged["crank-rail_amplification_estimate"]) == [0.5, 1.5, 4.5, 5.5]  # the estimates, kept
+    assert list(merged["crank-rail_amplification"][:3]) == [1007.5, 1008.5, 1009.5]  # the exact ones beside
+    assert np.isnan(merged["crank-rail_amplification"][3])
     assert list(merged["safe_speed_Hz"]) == [1013.0, 1013.0, 1012.0, 1012.0]  # first speeds beyond: the exact's
     assert list(merged_curve["rows"]) == [0, 1] and list(merged_curve["torque_peak_Nm"][:, 0]) == [1013.0, 1012.0]
     columns, curve = _chunk([11], ["", ""], offset=2000.0)

@@ -14,7 +14,8 @@ speed is a property of the setting, read at the first speed: from the exact eval
 where the first speed's row is beyond the tolerance, else as it was (the certificate's,
 capped where the estimate reaches the tolerance, as the check at that speed gives it).
 Those rows say so: ``exact_dynamic`` true, and each exact part's amplification (dynamic
-over quasi-static cycle peak) in its ``PART_amplification_estimate`` column.
+over quasi-static cycle peak) in its ``PART_amplification`` column (null on the other
+rows), its estimate kept beside it.
 """
 
 from __future__ import annotations
@@ -61,8 +62,11 @@ class ExactPass:
 
     def hold(self, kind: str, columns: dict, curve: dict) -> tuple[dict, dict]:
         """A chunk's (columns, motor curve) without its settings that have a row beyond
-        the tolerance, which are kept for :meth:`jobs`; every row gains ``exact_dynamic``."""
+        the tolerance, which are kept for :meth:`jobs`; every row gains ``exact_dynamic``
+        and each certified part's ``PART_amplification`` (null until settled)."""
         columns["exact_dynamic"] = np.zeros(columns["setting"].size, dtype=bool)
+        for key in [k for k in columns if k.endswith("_amplification_estimate")]:  # the exact one, where settled
+            columns.setdefault(key[: -len("_estimate")], np.full(columns["setting"].size, np.nan))
         if not np.any(columns["verdict"] == "fail"):
             return columns, curve
         beyond, parts = beyond_parts(columns["reason"])
@@ -92,7 +96,7 @@ class ExactPass:
         it, the setting's columns too where its first speed's row is, and the motor curve
         likewise."""
         old, old_curve, beyond = self._held_for(kind, columns["setting"])
-        exact = _renamed(columns, old)
+        exact = columns
         first = beyond.reshape(-1, self.n_speeds)[:, 0]
         out = {}
         for key, values in old.items():
@@ -138,13 +142,3 @@ def _curve_rows(curve: dict, settings: np.ndarray) -> dict:
     position = np.cumsum(settings) - 1
     kept = settings[curve["rows"]]
     return {"rows": position[curve["rows"][kept]]} | {q: v[kept] for q, v in curve.items() if q != "rows"}
-
-
-def _renamed(exact: dict, like: dict) -> dict:
-    """The exact evaluation's columns named as the held rows' are: a part's exact
-    amplification ``PART_amplification`` in its ``PART_amplification_estimate``."""
-    out = dict(exact)
-    for key in list(exact):
-        if key.endswith("_amplification") and key not in like and f"{key}_estimate" in like:
-            out[f"{key}_estimate"] = out.pop(key)
-    return out
