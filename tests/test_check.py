@@ -222,7 +222,9 @@ def test_default_check_end_to_end(tmp_path):
     dom = browse(out / "report.html", tmp_path, "--dump-dom").stdout
     # a von Mises and a utilisation picture per part, a cycle plot per part but the constant-load
     # PF_4b_003_v2, two kinematics plots, the joints' load paths
-    assert dom.count("<table") >= 5 and dom.count("data:image/png;base64,") == 2 * len(parts) + (len(parts) - 1) + 2 + 1
+    assert (
+        dom.count("<table") >= 5 and dom.count("data:image/png;base64,") == 2 * len(parts) + (len(parts) - 1) + 2 + 1 + 1
+    )  # + linkage.png
     assert all(name in dom for name in parts) and ("PASS" in dom or "FAIL" in dom)
     shot = tmp_path / "report.png"
     browse(out / "report.html", tmp_path, "--window-size=1400,1600", f"--screenshot={shot}")

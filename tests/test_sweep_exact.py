@@ -64,3 +64,17 @@ def test_held_settings_are_merged_row_by_row_and_their_curve_follows_the_first_s
     assert list(merged["exact_dynamic"]) == [False, True]
     assert list(merged["crank-rail_stress_MPa"]) == [2.0, 2001.0]  # the first speed's row as held
     assert list(merged["safe_speed_Hz"]) == [11.0, 11.0] and list(merged_curve["torque_peak_Nm"][:, 0]) == [11.0]
+
+
+def test_a_table_written_out_of_order_reads_in_setting_order(tmp_path):
+    """The held settings arrive last; the table is rewritten setting-major on closing,
+    each setting's speeds in the order they came (a stable sort), in both formats."""
+    from railcheck.sweep.table import TableWriter, read_table
+
+    for fmt in ("parquet", "csv"):
+        path = tmp_path / f"t.{fmt}"
+        with TableWriter(path, fmt) as writer:
+            writer.write({"setting": np.array([0, 0, 2, 2]), "speed_Hz": np.array([2.0, 1.0, 2.0, 1.0])})
+            writer.write({"setting": np.array([1, 1]), "speed_Hz": np.array([2.0, 1.0])})
+        rows = read_table(path).to_pydict()
+        assert rows["setting"] == [0, 0, 1, 1, 2, 2] and rows["speed_Hz"] == [2.0, 1.0] * 3, fmt

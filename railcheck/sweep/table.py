@@ -23,6 +23,8 @@ class TableWriter:
         self.tmp = self.path.with_name(f".{self.path.name}.part")
         self.writer: Any = None  # a pyarrow Parquet or CSV writer once the first rows arrive
         self.rows = 0
+        self.last_setting = -1  # the largest setting written so far
+        self.out_of_order = False  # a chunk came after a later setting's (the exact pass's, held back)
 
     def __enter__(self):
         return self
@@ -42,15 +44,40 @@ class TableWriter:
                 self.writer = pcsv.CSVWriter(self.tmp, table.schema)
         self.writer.write_table(table)
         self.rows += table.num_rows
+        if "setting" in columns and len(columns["setting"]):
+            settings = np.asarray(columns["setting"])
+            self.out_of_order |= bool(settings.min() < self.last_setting)
+            self.last_setting = max(self.last_setting, int(settings.max()))
 
     def __exit__(self, exc_type, exc, tb):
         if self.writer is not None:
             self.writer.close()
         if exc_type is None and self.writer is not None:
+            if self.out_of_order:
+                self._sort_by_setting()
             self.tmp.replace(self.path)
         else:
             self.tmp.unlink(missing_ok=True)
         return False
+
+    def _sort_by_setting(self) -> None:
+        """Rewrite the written rows in setting order, each setting's speeds as they came
+        (a stable sort): the table reads setting-major, whatever order the chunks came in."""
+        import pyarrow.compute as pc
+        import pyarrow.csv as pcsv
+        import pyarrow.parquet as pq
+
+        if self.fmt == "parquet":
+            table = pq.read_table(self.tmp)
+        else:
+            table = pcsv.read_csv(self.tmp, convert_options=pcsv.ConvertOptions(strings_can_be_null=True))
+        table = table.take(pc.sort_indices(table, sort_keys=[("setting", "ascending")]))
+        sorted_tmp = self.tmp.with_name(self.tmp.name + ".sorted")
+        if self.fmt == "parquet":
+            pq.write_table(table, sorted_tmp, compression="zstd")
+        else:
+            pcsv.write_csv(table, sorted_tmp)
+        sorted_tmp.replace(self.tmp)
 
 
 def _arrow(values: np.ndarray):
