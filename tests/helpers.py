@@ -222,3 +222,14 @@ def chromium_driver():
         options.add_argument(flag)
     options.binary_location = chromium
     return webdriver.Chrome(service=Service(chromedriver), options=options)
+
+
+def benchmark_module(name: str):
+    """The script ``benchmarks/NAME.py`` loaded as a module (the benchmarks are no package)."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location(name, ROOT / "benchmarks" / f"{name}.py")
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module

@@ -4,21 +4,17 @@ it), so every option is documented with its help text; and every option the READ
 the other docs/ pages give a command exists in that command's parser."""
 
 import argparse
-import importlib.util
 import re
 from pathlib import Path
 
+from helpers import benchmark_module
 from railcheck.cli import build_parser
 
 ROOT = Path(__file__).resolve().parents[1]
 
 
 def _script():
-    spec = importlib.util.spec_from_file_location("cli_docs", ROOT / "benchmarks" / "cli_docs.py")
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return benchmark_module("cli_docs")
 
 
 def _options() -> dict[str, set[str]]:

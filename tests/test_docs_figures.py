@@ -5,19 +5,16 @@ README and docs/sweep.md had drifted apart)."""
 
 from __future__ import annotations
 
-import importlib.util
 import json
 from pathlib import Path
+
+from helpers import benchmark_module
 
 ROOT = Path(__file__).resolve().parents[1]
 
 
 def _script():
-    spec = importlib.util.spec_from_file_location("rig_figures", ROOT / "benchmarks" / "rig_figures.py")
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return benchmark_module("rig_figures")
 
 
 def test_the_readme_and_the_sweep_page_give_the_committed_runs_table():
