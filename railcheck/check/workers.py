@@ -42,10 +42,25 @@ def default_jobs(parts: int) -> int:
     return max(1, min(parts, os.cpu_count() or 1, 2))
 
 
-def counted(order: list[str]) -> dict[str, str]:
-    """Each part's progress label, "(k/n) name", numbered in the order the parts start
-    (so the lines count up: a part started second never prints (1/n))."""
-    return {name: f"({i}/{len(order)}) {name}" for i, name in enumerate(order, 1)}
+class Starts:
+    """Each part's progress label, "(k/n) name", numbered in the order the parts start and
+    announced ("(k/n) name: started") the moment its number is given, under one lock, so
+    the console's lines count up whichever thread or worker runs a part: a part started
+    second never shows before the first's announcement."""
+
+    def __init__(self, parts: int, say):
+        self.parts = parts
+        self.say = say
+        self.given = 0
+        self.lock = threading.Lock()
+
+    def label(self, name: str) -> str:
+        """The next number for ``name``, announced before this returns."""
+        with self.lock:
+            self.given += 1
+            label = f"({self.given}/{self.parts}) {name}"
+            self.say(f"{label}: started")
+            return label
 
 
 def check_parts(
@@ -54,20 +69,20 @@ def check_parts(
     """{name: PartResult} in the jobs' order; ``part_done(name, part)``, a picklable
     callable, runs as each part finishes, in the process that checked it."""
     n = len(part_jobs)
+    starts = Starts(n, lambda msg: progress.say("solve", msg))
     if jobs is None and n > 1 and all(in_store(job) for job in part_jobs.values()):
-        return _on_threads(part_jobs, solver, progress, default_jobs(n), counted(work_order(part_jobs)), part_done)
+        return _on_threads(part_jobs, solver, progress, default_jobs(n), starts, part_done)
     jobs = default_jobs(n) if jobs is None else max(1, min(jobs, n))
-    label = counted(list(part_jobs) if jobs == 1 else work_order(part_jobs))
     if jobs == 1:
         return {
-            name: _check_one(job, solver, label[name], part_done, lambda msg: progress.say("solve", msg))
+            name: _check_one(job, solver, starts.label(name), part_done, lambda msg: progress.say("solve", msg))
             for name, job in part_jobs.items()
         }
-    return _in_workers(part_jobs, solver, progress, jobs, label, part_done)
+    return _in_workers(part_jobs, solver, progress, jobs, starts, part_done)
 
 
 def _on_threads(
-    part_jobs: dict[str, PartJob], solver: str, progress: Progress, threads: int, label: dict, part_done
+    part_jobs: dict[str, PartJob], solver: str, progress: Progress, threads: int, starts: Starts, part_done
 ) -> dict[str, PartResult]:
     """Every part's unit fields stored (nothing to solve, no worker worth starting): the
     parts' cycles on ``threads`` threads of this process, in :func:`work_order` (their
@@ -77,11 +92,14 @@ def _on_threads(
     another."""
     say = lambda msg: progress.say("solve", msg)  # noqa: E731
     order = work_order(part_jobs)
+    label: dict[str, str] = {}
+
+    def run(name: str) -> PartResult:
+        label[name] = t = starts.label(name)
+        return check_part(part_jobs[name], solver, lambda m: say(f"{t}: {m}"))
+
     with blas_on_one_thread(), reads_shared(), ThreadPoolExecutor(threads, thread_name_prefix="railcheck-parts") as pool:
-        futures = {
-            name: pool.submit(check_part, part_jobs[name], solver, lambda m, t=label[name]: say(f"{t}: {m}"))
-            for name in order
-        }
+        futures = {name: pool.submit(run, name) for name in order}
         names = {future: name for name, future in futures.items()}
         try:
             done = {
@@ -95,13 +113,14 @@ def _on_threads(
 
 
 def _in_workers(
-    part_jobs: dict[str, PartJob], solver: str, progress: Progress, jobs: int, label: dict, part_done
+    part_jobs: dict[str, PartJob], solver: str, progress: Progress, jobs: int, starts: Starts, part_done
 ) -> dict[str, PartResult]:
     """The parts in :func:`work_order`, whoever is free taking the next it may
     (:class:`_Queue`: a part that reads another's fields waits for it): this process and
     ``jobs - 1`` workers, each fed by a thread here (a fixed split left this process idle
     after the largest part while one worker checked all the others)."""
-    queue = _Queue(work_order(part_jobs), shared_fields(part_jobs))
+    queue = _Queue(work_order(part_jobs), shared_fields(part_jobs), starts)
+    label = queue.labels
     results: dict[str, PartResult] = {}
 
     def here(name: str) -> PartResult:
@@ -138,10 +157,13 @@ class _Queue:
     whose unit fields another part solves (``after``: name -> that part) is taken only
     once that part is done (it then reads them from the store instead of solving them
     again beside it); a taker with only such parts left waits. Nothing more is taken
-    after an error."""
+    after an error. A part taken is given its label (``labels``) in the same step, so
+    the numbers count up in the order the parts are taken."""
 
-    def __init__(self, order: list[str], after: dict[str, str]):
+    def __init__(self, order: list[str], after: dict[str, str], starts: Starts):
         self.left = list(order)
+        self.starts = starts
+        self.labels: dict[str, str] = {}
         self.after = after
         self.finished: set[str] = set()
         self.errors: list[BaseException] = []
@@ -155,6 +177,7 @@ class _Queue:
                 ready = [n for n in self.left if self.after.get(n) in (None, *self.finished)]
                 if ready:
                     self.left.remove(ready[0])
+                    self.labels[ready[0]] = self.starts.label(ready[0])
                     return ready[0]
                 self.changed.wait()
             return None
