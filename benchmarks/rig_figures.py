@@ -1,7 +1,7 @@
 """The whole rig's figures that README.md and docs/sweep.md quote, from one sweep's output.
 
     railcheck sweep --out /tmp/rig            # the built-in scene, every setting
-    python benchmarks/rig_figures.py /tmp/rig  # writes docs/data/rig-figures.json, prints the table
+    python benchmarks/rig_figures.py /tmp/rig  # writes docs/data/rig-figures.json and the map, prints the tables
 
 The figures come from the sweep's summary.json and its tables (the first speed's rows), so
 every count, speed and torque the documents give is one run's; ``tests/test_docs_figures.py``
@@ -14,11 +14,14 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import shutil
 from collections import Counter
 from pathlib import Path
 
 FIGURES = Path(__file__).resolve().parents[1] / "docs" / "data" / "rig-figures.json"
+MAP = FIGURES.parents[1] / "img" / "sweep-map-four-bar.png"  # the run's four-bar map, shown in docs/sweep.md
 BARS = {"four-bar": ("crank", "coupler", "rocker", "ground"), "slider-crank": ("crank", "coupler")}
+FINAL_DESIGN = "480/840/780/1020"  # seed 000's final design, the built-in scene's setting
 
 
 def _lengths(row: dict, kind: str) -> str:
@@ -66,6 +69,26 @@ def kind_figures(rows: list[dict], summary: dict, kind: str) -> dict:
         "assemble": summary.get("settings_assemblable"),
         "revolve": summary.get("settings_revolving"),
         "shortest_bearing_life": summary.get("shortest_bearing_life"),
+        "final_design": final_design(rows, kind),
+    }
+
+
+def final_design(rows: list[dict], kind: str) -> dict | None:
+    """The final design's row (:data:`FINAL_DESIGN`) in brief: its verdict, the most used
+    FE part (a part has a ``_stress_MPa`` column), what governs and its safe speed (Hz)."""
+    row = next((r for r in rows if _lengths(r, kind) == FINAL_DESIGN), None)
+    if row is None:
+        return None
+    parts = {c.removesuffix("_stress_MPa") for c in row if c.endswith("_stress_MPa") and row[c] is not None}
+    most = max(sorted(parts), key=lambda p: row[f"{p}_utilisation"], default=None)
+    return {
+        "verdict": row["verdict"],
+        "parts_pass": all(row[f"{p}_utilisation"] <= 1.0 for p in parts),
+        "most_used_part": most,
+        "most_used_part_utilisation": None if most is None else row[f"{most}_utilisation"],
+        "governing": f"{row['governing_part']} {row['governing_criterion']}",
+        "utilisation": row["utilisation"],
+        "safe_speed_Hz": row["safe_speed_Hz"],
     }
 
 
@@ -75,7 +98,9 @@ def figures(out: Path) -> dict:
 
     summary = json.loads((out / "summary.json").read_text())
     speed = summary["speeds_Hz"][0]
-    result = {"speed_Hz": speed, "kinds": {}}
+    wall = sum(json.loads((out / "timings.json").read_text()).values())
+    hypotheses = [{k: h[k] for k in ("id", "holds", "evidence")} for h in summary.get("seed_hypotheses", [])]
+    result = {"speed_Hz": speed, "wall_s": wall, "hypotheses": hypotheses, "kinds": {}}
     for kind, name in summary["tables"].items():
         table = pq.read_table(out / name).to_pylist()
         rows = [r for r in table if math.isclose(r["speed_Hz"], speed, rel_tol=1e-12)]
@@ -149,11 +174,27 @@ def sweep_page_facts(fig: dict) -> list[str]:
     k = fig["kinds"]["four-bar"]
     life = k["shortest_bearing_life"]
     screws = sorted(k["screws_by_setting"]["crank-screws-O2"].items(), key=lambda kv: _screw_rank(kv[0]))
+    final = k["final_design"]
+    passes = "every part passes" if final["parts_pass"] else "a part fails"
+    at = "/".join(f"{life['lengths_m'][bar] * 1000:.0f}" for bar in BARS["four-bar"])
+    others = [n for name, n in k["screws_every_setting"].items() if name != "crank-screws-O2"]
     return [
+        f"{fig['wall_s']:.0f} s wall",
         f"{k['assemble']:,} four-bar settings assemble and {k['revolve']:,} revolve",
-        f"{life['hours']:.3g} h, static safety {life['static_safety']:.2f}",
+        f"{life['hours']:.3g} h, static safety {life['static_safety']:.2f}, at {at} mm",
+        f"the other screw groups pass with {max(others, key=_screw_rank)} everywhere",
         ", ".join(f"{screw} at {n:,}" for screw, n in screws),
+        f"{FINAL_DESIGN} mm: {passes} (the most used, {final['most_used_part']}, at "
+        f"{final['most_used_part_utilisation']:.2f}), {final['governing']} at {final['utilisation']:.3g}, "
+        f"safe up to {math.floor(final['safe_speed_Hz'] * 1000) / 1000:.3f} Hz",
     ]
+
+
+def hypotheses_table(fig: dict) -> str:
+    """docs/sweep.md's table of seed 000's hypotheses of 3.3 as the run's summary.json tests them."""
+    lines = ["| seed | on this rig | evidence |", "| --- | --- | --- |"]
+    lines += [f"| {h['id']} | {'**holds**' if h['holds'] else '**fails**'} | {h['evidence']} |" for h in fig["hypotheses"]]
+    return "\n".join(lines)
 
 
 def main() -> None:
@@ -162,7 +203,12 @@ def main() -> None:
     fig = figures(parser.parse_args().out)
     FIGURES.parent.mkdir(parents=True, exist_ok=True)
     FIGURES.write_text(json.dumps(fig, indent=1, sort_keys=True) + "\n")
+    shutil.copyfile(parser.parse_args().out / "map-four-bar.png", MAP)
     print(table(fig))
+    print()
+    print(hypotheses_table(fig))
+    print()
+    print("\n".join(sweep_page_facts(fig)))
 
 
 if __name__ == "__main__":

@@ -31,6 +31,13 @@ def test_the_sweep_pages_figures_beside_the_table_are_the_committed_runs():
         assert phrase in text, phrase
 
 
+def test_the_sweep_pages_hypotheses_table_is_the_committed_runs():
+    script = _script()
+    fig = json.loads(script.FIGURES.read_text())
+    assert len(fig["hypotheses"]) == 5
+    assert script.hypotheses_table(fig) in (ROOT / "docs" / "sweep.md").read_text()
+
+
 def test_the_figures_are_computed_from_the_rows_and_a_planted_change_shows(tmp_path):
     """:func:`kind_figures` on three hand-made rows: counts, the worst, the safe speeds
     and the motor torques are the rows' own, and the table prints them."""
@@ -50,6 +57,10 @@ def test_the_figures_are_computed_from_the_rows_and_a_planted_change_shows(tmp_p
             "safe_speed_criterion": "stress",
             "torque_peak_Nm": 20.0,
             "torque_peak_at_safe_Nm": 40.0,
+            "crank-rail_stress_MPa": 100.0,
+            "crank-rail_utilisation": 0.5,
+            "rocker-rail_stress_MPa": 120.0,
+            "rocker-rail_utilisation": 0.25,
         },
         base
         | {
@@ -87,5 +98,8 @@ def test_the_figures_are_computed_from_the_rows_and_a_planted_change_shows(tmp_p
     assert f["failing_by"] == {"crank-screws-O2": 1} and f["worst"]["utilisation"] == 2.0
     assert f["safe_speed_Hz"]["lowest"] == 0.5 and f["safe_speed_Hz"]["highest"] == 1.5
     assert f["motor_Nm"] == {"every_assemblable": 90.0, "safe": 20.0, "at_own_safe_speed": 40.0}
+    final = f["final_design"]  # the first row at 480/840/780/1020: the most used part by utilisation, not stress
+    assert (final["most_used_part"], final["most_used_part_utilisation"], final["parts_pass"]) == ("crank-rail", 0.5, True)
+    assert (final["governing"], final["safe_speed_Hz"]) == ("crank-rail stress", 1.5)
     text = script.table({"speed_Hz": 1.0, "kinds": {"four-bar": f}})
     assert "| 3 / 2 |" in text and "480/840/780/1020: crank-screws-O2 slip 2" in text and "90 / 20 / 40" in text

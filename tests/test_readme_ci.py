@@ -36,6 +36,22 @@ def test_the_readme_is_a_front_door_whose_links_resolve():
             assert (page.parent / target).exists(), f"{page.name} links to a missing {target}"
 
 
+def _anchors(page: Path) -> set[str]:
+    """GitHub's anchors of a markdown page: each heading's slug (lower case, punctuation
+    dropped but hyphens and underscores, spaces as hyphens) and every explicit id."""
+    text = page.read_text()
+    slugs = set(re.findall(r'<a id="([^"]+)"', text))
+    for heading in re.findall(r"(?m)^#+ (.+)$", text):
+        slugs.add(re.sub(r"[^\w\- ]", "", heading.strip().lower()).replace(" ", "-"))
+    return slugs
+
+
+def test_every_anchor_a_page_links_to_exists():
+    for page in [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]:
+        for target, anchor in re.findall(r"\]\(([^)#:]*\.md)#([^)]+)\)", page.read_text()):
+            assert anchor in _anchors(page.parent / target), f"{page.name} links to a missing {target}#{anchor}"
+
+
 def test_the_timings_are_one_table_the_benchmark_writes(tmp_path):
     """docs/performance.md is the current figures (about 300 lines at most) with one
     timings block, which benchmarks/check_store.py --write fills with its own table."""

@@ -1,6 +1,9 @@
 """The 2013 design study's hypotheses (seed 000, chapter 3.3), each stated true, false or
 not tested on a sweep's four-bar table at its first speed ("reaction": the largest peak
-joint reaction of a setting). Lengths in mm as the table's columns.
+joint reaction of a setting). "Settings that pass" are those that pass the configuration
+checks (assembly, Grashof, transmission angle, the hole grid...): the valid configurations
+among which the study hunted for the largest reactions, whatever the parts' and components'
+verdicts. Lengths in mm as the table's columns.
 """
 
 from __future__ import annotations
@@ -103,9 +106,11 @@ def _h32_longer_crank_when_passing(t: dict) -> dict:
     cranks = np.unique(t["crank_mm"][ok])
     worst = np.array([t["reaction"][ok & np.isclose(t["crank_mm"], c)].max() for c in cranks])
     holds = bool(np.all(np.diff(worst) > 0)) if cranks.size > 1 else None
-    statement = "among settings that pass every check, the longer the crank, the larger the largest reaction"
+    statement = "among settings that pass the configuration checks, the longer the crank, the larger the largest reaction"
     if cranks.size < 2:
-        return _verdict("3.3.5 H3.2", statement, None, "not in this sweep: fewer than two crank lengths pass every check")
+        return _verdict(
+            "3.3.5 H3.2", statement, None, "not in this sweep: fewer than two crank lengths pass the configuration checks"
+        )
     return _verdict(
         "3.3.5 H3.2",
         statement,
@@ -123,7 +128,8 @@ def _smallest(t: dict) -> dict:
     i = int(np.argmax(r))
     return _verdict(
         "3.3.3",
-        "among settings that pass every check, the smallest mechanism (least total bar length) has the largest reactions",
+        "among settings that pass the configuration checks, the smallest mechanism (least total bar length) has the "
+        "largest reactions",
         bool(np.isclose(size[i], size.min())),
         f"largest reaction {r[i]:.1f} N at total length {size[i]:.0f} mm; smallest total {size.min():.0f} mm",
     )
@@ -133,17 +139,20 @@ def _final(t: dict) -> dict:
     ok = t["checks_passed"]
     if not np.any(ok):
         return _verdict(
-            "3.3.6", "480/840/780/1020 mm has the largest reactions of the settings that pass", None, "no setting passes"
+            "3.3.6",
+            "480/840/780/1020 mm has the largest reactions of the settings that pass the configuration checks",
+            None,
+            "no setting passes",
         )
     i = int(np.argmax(np.where(ok, t["reaction"], -np.inf)))
     name = "/".join(f"{t[f'{b}_mm'][i]:.0f}" for b in ("crank", "coupler", "rocker", "ground"))
     torque = np.nanmax(np.where(ok, t["torque_peak_Nm"], np.nan))
     return _verdict(
         "3.3.6",
-        "480/840/780/1020 mm has the largest reactions of the settings that pass every check",
+        "480/840/780/1020 mm has the largest reactions of the settings that pass the configuration checks",
         name == "480/840/780/1020",
-        f"largest: {name} mm with {t['reaction'][i]:.1f} N; largest peak motor torque of the settings "
-        f"that pass {for_people(torque, '.1f', missing='not computed')} N·m (the seed asks for a motor of at least 200 N·m)",
+        f"largest: {name} mm with {t['reaction'][i]:.1f} N; largest peak motor torque of those "
+        f"settings {for_people(torque, '.1f', missing='not computed')} N·m (the seed asks for a motor of at least 200 N·m)",
     )
 
 
