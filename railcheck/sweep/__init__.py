@@ -5,7 +5,8 @@ rails' holes allow), :mod:`.context` (what a kind's chunks share), :mod:`.chunk`
 of settings -> rows), :mod:`.columns`, :mod:`.verdicts`, :mod:`.validity`,
 :mod:`.components` and :mod:`.motor` (a chunk's columns), :mod:`.parts` (each part's unit
 fields for every hole pair), :mod:`.aggregate` (counts, worst settings, summary.json),
-:mod:`.table` (Parquet/CSV), :mod:`.lookup` (one setting's card).
+:mod:`.exact` (the settings whose dynamic estimate exceeds its tolerance, evaluated on
+the exact response), :mod:`.table` (Parquet/CSV), :mod:`.lookup` (one setting's card).
 """
 
 import sys
