@@ -200,10 +200,11 @@ def hypotheses_table(fig: dict) -> str:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("out", type=Path, help="a sweep's output folder (railcheck sweep --out)")
-    fig = figures(parser.parse_args().out)
+    out = parser.parse_args().out
+    fig = figures(out)
     FIGURES.parent.mkdir(parents=True, exist_ok=True)
     FIGURES.write_text(json.dumps(fig, indent=1, sort_keys=True) + "\n")
-    shutil.copyfile(parser.parse_args().out / "map-four-bar.png", MAP)
+    shutil.copyfile(out / "map-four-bar.png", MAP)
     print(table(fig))
     print()
     print(hypotheses_table(fig))
