@@ -192,3 +192,17 @@ def test_the_fe_accuracy_table_is_the_cantilever_benchmarks(capsys):
         digits = len(printed.split(".")[1])
         assert printed == f"{got['relative_error'] * 100:.{digits}f}", row
     assert f"Timoshenko {got['analytic_m'] * 1000:.6f} mm" in page
+
+
+@pytest.mark.slow
+def test_the_readmes_hand_check_quotes_a_fresh_check(default_check):
+    """The README's hand check of the crank rail and its rocker sentence: the peak instant,
+    the FE's peak and where it is (mm), the rocker's peak (MPa), from the check's summary."""
+    _, summary = default_check
+    crank, rocker = summary["parts"]["crank-rail"], summary["parts"]["rocker-rail"]
+    x, y, z = (v * 1000 for v in crank["max_von_mises_location_m"])
+    text = " ".join((PAGE.parents[1] / "README.md").read_text().split())
+    assert f"At the peak instant ({crank['crank_angle_deg']:.1f} deg)" in text
+    assert f"The FE's peak, {crank['max_von_mises_Pa'] / 1e6:.1f} MPa, is" in text
+    assert f"(x = {x:.0f}, y = {y:.1f}, z = {z:.1f} mm)" in text
+    assert f"loads it most: {rocker['max_von_mises_Pa'] / 1e6:.0f} MPa at its second hole" in text

@@ -70,3 +70,30 @@ def test_the_timings_ratios_are_their_figures_quotients():
 def test_each_block_names_the_command_that_wrote_it(name):
     text = PAGE.read_text().split(f"<!-- {name} -->", 1)[1]
     assert text.lstrip().startswith("`python benchmarks/")
+
+
+MUTATION = PAGE.parent / "mutation.md"
+
+
+def _fractions(cell: str) -> list[tuple[int, int, str]]:
+    """Every ``a/b (p%)`` in a cell: (a, b, p as printed)."""
+    return [(int(a), int(b), p) for a, b, p in re.findall(r"(\d+)/(\d+) \(([\d.]+)%", cell)]
+
+
+def test_the_mutation_scores_agree_with_themselves():
+    """docs/mutation.md's one run: each percentage is its fraction, each module's survivors
+    are its mutants less those killed, and the totals are the modules' sums."""
+    tables = MUTATION.read_text().split("## Scores", 1)[1].split("Notes on the columns", 1)[0]
+    raw = [line.strip("|").split("|") for line in tables.splitlines() if line.startswith("| `railcheck.")]
+    scores = [r for r in raw if len(r) == 5]
+    assert len(scores) == 8
+    for module, mutants, _, after, survivors in scores:
+        (killed, total, pct), *_ = _fractions(after)
+        assert total == int(mutants) and int(survivors) == total - killed, module
+    for line in tables.splitlines():
+        for a, b, p in _fractions(line):
+            assert abs(100 * a / b - float(p)) <= _half_digit(p), line
+    total = next(line for line in tables.splitlines() if line.startswith("| all | 678"))
+    assert int(total.split("|")[2]) == sum(int(r[1]) for r in scores)
+    assert int(total.split("|")[5]) == sum(int(r[4]) for r in scores)
+    assert f"{sum(_fractions(r[3])[0][0] for r in scores)}/678" in total
