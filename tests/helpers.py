@@ -191,16 +191,19 @@ def package_dirs() -> dict[str, Path]:
 
 
 def utilisation_at_safe_speed(part, criterion: str | None = None) -> float:
-    """A checked part's utilisation as the sweep's safe speed reads it: its stress,
-    fatigue and deflection utilisations times its certificate's estimate, and the
-    estimate's share of its tolerance (``quasi-static``); ``criterion`` one of them, else
-    the largest. (A check at the safe speed gives the quasi-static verdict with the
-    estimate beside it; the sweep's safe speed takes the estimate as a margin.)"""
+    """A checked part's utilisation as the sweep's safe speed reads it
+    (:func:`railcheck.model.utilisation.margin_utilisations` of its figures and its
+    certificate's estimate; without a certificate its own utilisations); ``criterion`` one
+    of them, else the largest. (A check at the safe speed gives the quasi-static verdict
+    with the estimate beside it; the sweep's safe speed takes the estimate as a margin.)"""
+    from railcheck.model.utilisation import margin_utilisations
+
     c = part.job.certificate
-    est = 1.0 if c is None else c.estimate
-    u = {k: v * est for k, v in part.utilisations.items() if k in ("stress", "fatigue", "deflection")}
-    if c is not None:
-        u["quasi-static"] = (est - 1.0) / (c.tolerance - 1.0)
+    if c is None:
+        u = part.utilisations
+    else:
+        figures = (part.verdict_stress, part.cycle.fatigue.min_safety_factor, part.cycle.envelope.max_tip)
+        u = {k: float(v) for k, v in margin_utilisations(part.limits, *figures, c.estimate).items()}
     return u[criterion] if criterion else max(u.values())
 
 

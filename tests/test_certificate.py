@@ -10,7 +10,6 @@ import json
 import math
 import tomllib
 import warnings
-from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -19,7 +18,7 @@ from helpers import ROOT, check_scene_of_row, run_sweep_text, table_rows
 from railcheck.fea.beam import beam_lowest_frequency
 from railcheck.fea.dynamic import one_mode_amplification
 from railcheck.model.certificate import QUASI_STATIC_TOLERANCE, amplification_estimate, dynamic_share, rail_lowest_hz
-from railcheck.sweep.verdicts import criterion_utilisations
+from railcheck.model.utilisation import Limits, criterion_utilisations
 
 EI, MASS = 2100.0, 3.0  # N m^2, kg/m
 
@@ -196,20 +195,9 @@ def test_the_sweeps_safe_speed_passes_a_check_with_the_dynamic_response(tmp_path
 def test_the_sweeps_quasi_static_criterion_fails_only_beyond_the_tolerance():
     """Within the tolerance the estimate is stated, not a utilisation (0); beyond it the
     row fails on ``quasi-static`` with the share (A - 1) / (A_tol - 1) above 1."""
-    from types import SimpleNamespace
+    from railcheck.model.utilisation import Limits, criterion_utilisations, failed_criteria
 
-    from railcheck.sweep.verdicts import criterion_utilisations, failed_criteria
-
-    model = SimpleNamespace(
-        limit=375e6,
-        required=1.0,
-        deflection_limit=None,
-        yield_strength=490e6,
-        dynamic=None,
-        certified=True,
-        constant=None,
-        length=0.5,
-    )
+    model = Limits(stress=375e6, fatigue_required=1.0, deflection=None, yield_strength=490e6, length=0.5, certified=True)
     vm, fat, tip = np.array([100e6, 100e6]), np.array([2.0, 2.0]), np.zeros(2)
     amp = np.array([1.04, 1.06])
     u = criterion_utilisations(model, vm, fat, tip, amp)
@@ -226,8 +214,8 @@ def test_the_safe_speed_with_margin_solves_a_known_crossing():
     """u(s) = 0.5 s A(s), A(s) = 1 + 0.01 s (quasi-static safe s = 2): the margin's
     crossing solves 0.5 s (1 + 0.01 s) = 1 (s = 1.9615...) unless the estimate's share,
     (A - 1) / 0.05, reaches 1 first (at s = 5: not here); a rig failing at rest gives 0."""
+    from railcheck.model.utilisation import quasi_static_share
     from railcheck.sweep.validity import safe_s_with_margin
-    from railcheck.sweep.verdicts import quasi_static_share
 
     def margin(s, base=0.5):
         a = 1 + 0.01 * s
@@ -297,14 +285,8 @@ def test_the_dynamic_share_is_one_definition_for_the_check_and_the_sweep_even_wi
     beyond, never a division by zero; above 1 the share of the allowed excess."""
     assert dynamic_share(1.05, 1.10) == pytest.approx(0.5) and dynamic_share(1.0, 1.0) == 0.0
     assert dynamic_share(1.2, 1.0) == float("inf") and isinstance(dynamic_share(0.9, 1.0), float)
-    model = SimpleNamespace(
-        limit=375e6,
-        required=1.0,
-        deflection_limit=None,
-        yield_strength=0.0,
-        length=0.0,
-        dynamic=object(),
-        max_amplification=1.0,
+    model = Limits(
+        stress=375e6, fatigue_required=1.0, deflection=None, yield_strength=0.0, length=0.0, max_amplification=1.0
     )
     amp = np.array([0.98, 1.0, 1.03])
     with warnings.catch_warnings():

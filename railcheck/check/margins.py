@@ -13,7 +13,7 @@ speed the check's kinematics, loads and job are rebuilt for that part alone and 
 evaluated on the unit fields it already solved (superposition: nothing is assembled or
 solved again, about a second a trial), its utilisation the check's own
 (:attr:`~railcheck.model.records.PartResult.utilisations`) together with the quasi-static
-certificate's share (:func:`railcheck.sweep.verdicts.quasi_static_share`: above its
+certificate's share (:func:`railcheck.model.utilisation.quasi_static_share`: above its
 tolerance the quasi-static verdict no longer holds, so the speed stops there too, as in
 ``railcheck sweep``)."""
 

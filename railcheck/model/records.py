@@ -23,9 +23,10 @@ from railcheck.fea.superpose import Envelope, UnitFields
 from railcheck.fea.unitcases import UnitSolve
 from railcheck.geometry.meshdata import MeshData
 from railcheck.kinematics.checks import CheckResult
-from railcheck.model.certificate import dynamic_share, small_displacement_limit
+from railcheck.model.certificate import small_displacement_limit
 from railcheck.model.jobs import PartJob
 from railcheck.model.kinematics_stage import KinematicsResult
+from railcheck.model.utilisation import Limits, criterion_utilisations
 from railcheck.scene import Scene
 from railcheck.units import floored
 
@@ -191,29 +192,28 @@ class PartResult:
         return self.deflection_limit is None or self.cycle.envelope.max_tip <= self.deflection_limit
 
     @property
-    def utilisations(self) -> dict[str, float]:
-        """Each criterion's share of its limit (1 = at the limit): ``stress`` (cycle peak /
-        limit), ``fatigue`` (required / fatigue factor), ``deflection`` (when limited),
-        ``yield`` (cycle peak / the material's yield strength: beyond 1 the linear-elastic
-        result is not physical), ``small-displacement`` (largest deflection / its share of the
-        part's length, :data:`~railcheck.model.certificate.SMALL_DISPLACEMENT_SHARE`: beyond 1
-        the linear result is not valid) and
-        ``dynamic`` (with a dynamic response: the amplification's excess over 1 as a share of
-        the allowed excess, (A - 1) / (A_max - 1))."""
-        fat = self.cycle.fatigue
-        out = {
-            "stress": self.verdict_stress / self.limit,
-            "fatigue": fat.required / fat.min_safety_factor if fat.min_safety_factor > 0 else float("inf"),
-        }
-        if self.deflection_limit is not None:
-            out["deflection"] = self.cycle.envelope.max_tip / self.deflection_limit
-        if self.job.material.yield_strength > 0:  # a linear stress beyond yield is not physical
-            out["yield"] = self.verdict_stress / self.job.material.yield_strength
-        out["small-displacement"] = self.cycle.envelope.max_tip / small_displacement_limit(self.geometry.get("length"))
+    def limits(self) -> Limits:
+        """What this part is judged against (:class:`~railcheck.model.utilisation.Limits`)."""
         d = self.cycle.dynamic
-        if d is not None:  # the share of the allowed excess over quasi-static: 0 at 1.0, 1 at the limit
-            out["dynamic"] = dynamic_share(d.amplification, d.max_amplification)
-        return out
+        return Limits(
+            stress=self.limit,
+            fatigue_required=self.cycle.fatigue.required,
+            deflection=self.deflection_limit,
+            yield_strength=self.job.material.yield_strength,
+            length=self.geometry.get("length") or 0.0,
+            max_amplification=None if d is None else d.max_amplification,
+        )
+
+    @property
+    def utilisations(self) -> dict[str, float]:
+        """Each criterion's share of its limit (1 = at the limit),
+        :func:`~railcheck.model.utilisation.criterion_utilisations` of this part's cycle
+        peak, least fatigue factor, largest deflection and (with a dynamic response) its
+        amplification: the same function the sweep's rows use."""
+        d, env = self.cycle.dynamic, self.cycle.envelope
+        amp = None if d is None else d.amplification
+        u = criterion_utilisations(self.limits, self.verdict_stress, self.cycle.fatigue.min_safety_factor, env.max_tip, amp)
+        return {k: float(v) for k, v in u.items()}
 
     @property
     def utilisation(self) -> float:

@@ -32,6 +32,7 @@ from railcheck.kinematics.motion import crank_angles
 from railcheck.loads.bearings import bearing_life_of_magnitude, relative_speeds, with_weight_couple
 from railcheck.model.kinematics_stage import joints_on_rails_flags
 from railcheck.model.loading import free_body_coefficients, source_coefficients, weight_cases_names, weight_columns
+from railcheck.model.utilisation import quasi_static_share
 from railcheck.parts import BAR_INDEX
 from railcheck.sweep.columns import fe_columns
 from railcheck.sweep.components import (
@@ -62,7 +63,6 @@ from railcheck.sweep.validity import (
 from railcheck.sweep.verdicts import (
     SAFE_SPEED_SCAN,
     governing_of,
-    quasi_static_share,
     safe_s_bisect,
     safe_s_closed,
     safe_s_convex,

@@ -27,6 +27,7 @@ from railcheck.model.certificate import rail_lowest_hz
 from railcheck.model.jobs import carried_masses, free_body_cases, mesh_sizes
 from railcheck.model.loading import LoadModel, load_model, pin_pressure_map, source_histories, unit_cases
 from railcheck.model.setting_free import pair_deflections, solve_projected, stored_request
+from railcheck.model.utilisation import Limits
 from railcheck.parts import PARTS, geometry_of, kind_of
 
 
@@ -65,6 +66,21 @@ class PartModel:
         """Whether the part's quasi-static results carry the certificate's estimate
         (:mod:`railcheck.model.certificate`) instead of a dynamic response."""
         return self.lowest_hz is not None and self.dynamic is None
+
+    @property
+    def limits(self) -> Limits:
+        """What this part is judged against (:class:`~railcheck.model.utilisation.Limits`):
+        the dynamic limit with a dynamic response; the certificate's criterion for a
+        certified part whose loads vary with the setting."""
+        return Limits(
+            stress=self.limit,
+            fatigue_required=self.required,
+            deflection=self.deflection_limit or None,
+            yield_strength=self.yield_strength,
+            length=self.length,
+            max_amplification=None if self.dynamic is None else self.max_amplification,
+            certified=self.certified and self.constant is None,
+        )
 
     def key_for(self, length: float | None):
         """The hole-pair key a bar of ``length`` m uses (rails), else None."""

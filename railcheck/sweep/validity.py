@@ -25,13 +25,13 @@ import numpy as np
 from railcheck.fea.dynamic import harmonic_spectrum, one_mode_peak
 from railcheck.model.certificate import force_columns, largest_significant
 from railcheck.model.crossing import increasing_crossing, refine_crossing
+from railcheck.model.utilisation import margin_utilisations, quasi_static_share
 from railcheck.sweep.context import SweepContext
 from railcheck.sweep.verdicts import (
     CROSSING_TOLERANCE,
     criterion_utilisations,
     governing_of,
     illinois,
-    quasi_static_share,
     safe_s_convex,
     utilisation,
     worst_utilisation,
@@ -170,9 +170,8 @@ def with_margin(ctx: SweepContext, results: dict, amps: dict) -> dict:
     out = dict(results)
     for name, amp in amps.items():
         vm, fat, tip, _, _ = results[name]
-        vm, fat, tip = vm * amp, fat / amp, tip * amp
-        u = np.maximum(utilisation(ctx.models[name], vm, fat, tip, amp), quasi_static_share(amp))
-        out[name] = (vm, fat, tip, amp, u)
+        u = np.max(list(margin_utilisations(ctx.models[name].limits, vm, fat, tip, amp).values()), axis=0)
+        out[name] = (vm * amp, fat / amp, tip * amp, amp, u)
     return out
 
 

@@ -9,44 +9,20 @@ from __future__ import annotations
 
 import numpy as np
 
-from railcheck.model.certificate import QUASI_STATIC_TOLERANCE, dynamic_share, small_displacement_limit
+from railcheck.model import utilisation as core
 from railcheck.model.crossing import CROSSING_TOLERANCE, refine_crossing
 from railcheck.sweep.context import SweepContext
 
 
 def criterion_utilisations(model, vm, fat, tip, amp=None) -> dict[str, np.ndarray]:
-    """criterion -> (S,) its share of the limit: stress / limit, required / fatigue factor,
-    (with a limit) tip / deflection limit, peak / yield strength, tip / the small
-    displacements' limit on the part's length, (with a dynamic response)
-    the amplification's excess over 1 as a share of the allowed excess and (with the
-    certificate) ``quasi-static``, the estimate's share where it is beyond the tolerance
-    (no quasi-static verdict there); the words of ``railcheck check``."""
-    with np.errstate(divide="ignore"):
-        out = {"stress": vm / model.limit, "fatigue": model.required / fat}
-    if model.deflection_limit:
-        out["deflection"] = tip / model.deflection_limit
-    if model.yield_strength > 0:  # a linear stress beyond yield is not physical
-        out["yield"] = vm / model.yield_strength
-    if model.length > 0:  # beyond small displacements the linear result is not valid
-        out["small-displacement"] = tip / small_displacement_limit(model.length)
-    if model.dynamic is not None and amp is not None:
-        out["dynamic"] = dynamic_share(amp, model.max_amplification)
-    elif getattr(model, "certified", False) and model.constant is None and amp is not None:
-        out["quasi-static"] = quasi_static_share(amp, beyond_only=True)
-    return out
-
-
-def quasi_static_share(amp, beyond_only: bool = False) -> np.ndarray:
-    """The certificate's estimate ``amp`` as a share of its tolerance's excess over 1,
-    ``(A - 1) / (A_tol - 1)``; ``beyond_only``: 0 where the estimate is within the
-    tolerance (there the quasi-static verdict stands and the share is no utilisation)."""
-    share = (amp - 1.0) / (QUASI_STATIC_TOLERANCE - 1.0)
-    return np.where(amp > QUASI_STATIC_TOLERANCE, share, 0.0) if beyond_only else share
+    """criterion -> (S,) its share of the limit for the sweep's ``model`` (a PartModel):
+    :func:`railcheck.model.utilisation.criterion_utilisations` of its limits."""
+    return core.criterion_utilisations(model.limits, vm, fat, tip, amp)
 
 
 def utilisation(model, vm, fat, tip, amp=None) -> np.ndarray:
     """The largest of :func:`criterion_utilisations`."""
-    return np.max(list(criterion_utilisations(model, vm, fat, tip, amp).values()), axis=0)
+    return core.utilisation(model.limits, vm, fat, tip, amp)
 
 
 def worst_utilisation(results: dict) -> np.ndarray:
@@ -214,20 +190,6 @@ def illinois(u_of, a, u_a, b, u_b, iterations: int):
 
 
 def failed_criteria(model, vm: np.ndarray, fat: np.ndarray, tip: np.ndarray, amp=None) -> dict[str, np.ndarray]:
-    """criterion -> (S,) True where that criterion fails: ``stress`` above the limit,
-    ``fatigue`` below the required factor, ``deflection`` above the limit (when one is set),
-    ``dynamic`` an amplification above the largest allowed (with a dynamic response),
-    ``quasi-static`` an estimate above the certificate's tolerance (no verdict from the
-    quasi-static model there); the words of ``railcheck check``'s failures."""
-    out = {"stress": vm > model.limit, "fatigue": fat < model.required}
-    if model.deflection_limit:
-        out["deflection"] = tip > model.deflection_limit
-    if model.yield_strength > 0:
-        out["beyond yield"] = vm > model.yield_strength
-    if model.length > 0:
-        out["beyond small displacements"] = tip > small_displacement_limit(model.length)
-    if model.dynamic is not None and amp is not None:
-        out["dynamic"] = amp > model.max_amplification
-    elif getattr(model, "certified", False) and model.constant is None and amp is not None:
-        out["quasi-static"] = amp > QUASI_STATIC_TOLERANCE
-    return out
+    """criterion -> (S,) True where that criterion fails for the sweep's ``model``:
+    :func:`railcheck.model.utilisation.failed_criteria` of its limits."""
+    return core.failed_criteria(model.limits, vm, fat, tip, amp)
