@@ -7,7 +7,6 @@ fields, missing fields and impossible values raise :class:`InputError` naming th
 from __future__ import annotations
 
 import dataclasses
-import difflib
 import math
 import tomllib
 from dataclasses import dataclass
@@ -18,8 +17,10 @@ from typing import Any
 
 from railcheck import parts as registry
 from railcheck.base.errors import InputError, InputErrors
+from railcheck.base.fields import boolean, number, refuse_unknown, require, string_choice, unknown_keys
 from railcheck.components.overrides import component_spec
 from railcheck.components.ratings import COMPONENT_SPEC, NOT_ON_SLIDER_CRANK, ComponentSpec
+from railcheck.effects import EFFECTS, dynamic_response, simulated_effects  # noqa: F401  re-exported
 from railcheck.fea.fatigue import CRITERIA, LOAD, RELIABILITY, SURFACE  # light module: numpy only
 from railcheck.fea.materials import MATERIALS  # light module: no skfem import
 from railcheck.geometry.catalogue import OVERRIDABLE, validate, with_overrides  # light module: no gmsh import
@@ -42,8 +43,6 @@ from railcheck.specs import (  # noqa: F401  the scene's records, re-exported
     SweepSpec,
 )
 from railcheck.units import parse_quantity
-
-EFFECTS = ("inertia", "gravity", "rail-inertia", "dynamic")
 
 BOLT_POSITIONS = ("worst", "actual")
 SUPPORTS = ("clamped", "free-body")
@@ -73,21 +72,38 @@ class Scene:
 
     @cached_property
     def masses(self) -> MassModel:
-        """The run's one mass model (:func:`railcheck.parts.mass_model` of the formulation
-        and the geometry overrides), resolved once for every stage."""
+        """The run's one mass model (:func:`railcheck.parts.mass_model`), resolved once."""
         return registry.mass_model(self.formulation, self.geometry)
+
+    @property
+    def requested_effects(self) -> tuple[str, ...]:
+        """[check] effects as listed (without a [check]: inertia)."""
+        return self.check.effects if self.check else ("inertia",)
+
+    @property
+    def check_speeds(self) -> tuple[float, ...]:
+        """The crank speeds (rad/s) a check runs at: [mechanism]'s, none without one."""
+        return (self.mechanism.speed,) if self.mechanism else ()
 
     @cached_property
     def effects(self) -> tuple[str, ...]:
-        """The effects simulated: "inertia" only with a non-zero speed, "gravity" only when
-        the scene lists it (the dynamic response is :attr:`DynamicSpec`'s)."""
-        requested = self.check.effects if self.check else ("inertia",)
-        out = []
-        if "inertia" in requested and self.mechanism and self.mechanism.speed > 0:
-            out.append("inertia")
-        if "gravity" in requested:
-            out.append("gravity")
-        return tuple(out)
+        """The loads a check simulates (:func:`simulated_effects` at :attr:`check_speeds`)."""
+        return simulated_effects(self.requested_effects, self.check_speeds)
+
+    @cached_property
+    def sweep_effects(self) -> tuple[str, ...]:
+        """The loads a sweep simulates (:func:`simulated_effects` at [sweep]'s own speeds)."""
+        return simulated_effects(self.requested_effects, self.sweep.speeds)
+
+    @property
+    def dynamic_response(self) -> bool:
+        """Whether a check computes the dynamic response (:func:`dynamic_response`)."""
+        return dynamic_response(self.requested_effects, self.check_speeds)
+
+    @property
+    def sweep_dynamic_response(self) -> bool:
+        """Whether a sweep computes the dynamic response, at [sweep]'s speeds."""
+        return self.check is not None and dynamic_response(self.check.effects, self.sweep.speeds)
 
     @property
     def plane(self) -> str:
@@ -142,52 +158,13 @@ ALLOWED_KEYS: dict[str, set[str] | None] = {
 }
 
 
-def _unknown_keys(table: dict, allowed: set[str] | None, prefix: str) -> list[InputError]:
-    """An InputError for each key of ``table`` not in ``allowed`` (None: any key)."""
-    out: list[InputError] = []
-    if allowed is None:
-        return out
-    for key in table:
-        if key not in allowed:
-            close = difflib.get_close_matches(str(key), sorted(allowed), n=1)
-            guess = f'did you mean "{close[0]}"? ' if close else ""
-            out.append(InputError(f"{prefix}{key}", f"unknown key ({guess}allowed: {', '.join(sorted(allowed))})"))
-    return out
-
-
-def _unknown(table: dict, allowed: set[str] | None, prefix: str) -> None:
-    """Raise the InputError naming the first key of ``table`` not in ``allowed``."""
-    errors = _unknown_keys(table, allowed, prefix)
-    if errors:
-        raise errors[0]
-
-
-def _require(table: dict, key: str, prefix: str) -> Any:
-    if key not in table:
-        raise InputError(f"{prefix}{key}", "missing")
-    return table[key]
-
-
-def _bool(table: dict, key: str, prefix: str, default: bool) -> bool:
-    value = table.get(key, default)
-    if not isinstance(value, bool):
-        raise InputError(f"{prefix}{key}", f"must be true or false, got {value!r}")
-    return value
-
-
-def _string_choice(value: Any, choices: tuple[str, ...], name: str) -> str:
-    if not isinstance(value, str) or value not in choices:
-        raise InputError(name, f"must be one of {', '.join(choices)}, got {value!r}")
-    return value
-
-
 def _mechanism(table: dict) -> MechanismSpec:
     p = "mechanism."
-    _unknown(table, ALLOWED_KEYS["mechanism"], p)
-    kind = _string_choice(_require(table, "kind", p), ("four-bar", "slider-crank"), p + "kind")
+    refuse_unknown(table, ALLOWED_KEYS["mechanism"], p)
+    kind = string_choice(require(table, "kind", p), ("four-bar", "slider-crank"), p + "kind")
     length = lambda key: _in_range(
         parse_quantity(
-            _require(table, key, p),
+            require(table, key, p),
             "length",
             p + key,  # noqa: E731
             positive=True,
@@ -204,7 +181,7 @@ def _mechanism(table: dict) -> MechanismSpec:
         raise InputError(p + "steps", f"must be a whole number >= 3, got {steps!r}")
     if steps > 10_000_000:
         raise InputError(p + "steps", f"{steps} steps is more than this tool runs (10 000 000 at most)")
-    assembly = _string_choice(table.get("assembly", "open"), ("open", "crossed"), p + "assembly")
+    assembly = string_choice(table.get("assembly", "open"), ("open", "crossed"), p + "assembly")
     if kind == "four-bar":
         linkage: FourBar | SliderCrank = FourBar(
             length("crank"), length("coupler"), length("rocker"), length("ground"), assembly
@@ -227,7 +204,7 @@ def _oriented(mechanism: MechanismSpec, check: CheckSpec | None, plane: Any) -> 
     gravity = check is not None and "gravity" in check.effects
     if plane is None:
         plane = "vertical" if gravity else "horizontal"
-    plane = _string_choice(plane, PLANES, "mechanism.plane")
+    plane = string_choice(plane, PLANES, "mechanism.plane")
     if plane == "horizontal" and gravity:
         raise InputError(
             "check.effects",
@@ -241,7 +218,7 @@ def _oriented(mechanism: MechanismSpec, check: CheckSpec | None, plane: Any) -> 
 
 def _check(table: dict, loads_table: dict, formulation: str = "newton-euler") -> CheckSpec:
     p = "check."
-    _unknown(table, ALLOWED_KEYS["check"], p)
+    refuse_unknown(table, ALLOWED_KEYS["check"], p)
     known = tuple(registry.PARTS)
     listed = table.get("parts", list(known))
     if not isinstance(listed, list) or not listed or not all(isinstance(x, str) for x in listed):
@@ -257,7 +234,7 @@ def _check(table: dict, loads_table: dict, formulation: str = "newton-euler") ->
     if isinstance(factor, bool) or not isinstance(factor, (int, float)) or not math.isfinite(factor) or factor <= 0:
         raise InputError(p + "factor", f"must be a positive number (a dimensionless load factor), got {factor!r}")
     _in_range(float(factor), "factor", p + "factor")
-    bolt = _string_choice(table.get("bolt_position", "worst"), BOLT_POSITIONS, p + "bolt_position")
+    bolt = string_choice(table.get("bolt_position", "worst"), BOLT_POSITIONS, p + "bolt_position")
     material = table.get("material", "steel")
     if not isinstance(material, str):
         raise InputError(p + "material", f"must be a material name, got {material!r}")
@@ -279,7 +256,7 @@ def _check(table: dict, loads_table: dict, formulation: str = "newton-euler") ->
             raise InputError(f"loads.{part}", "explicit loads for a part that check.parts does not list")
         if not isinstance(spec, dict):
             raise InputError(f"loads.{part}", "must be a table with longitudinal and transverse forces per hole")
-        _unknown(spec, {"longitudinal", "transverse"}, lp)
+        refuse_unknown(spec, {"longitudinal", "transverse"}, lp)
         loads[part] = ExplicitLoad(
             *(
                 _in_range(parse_quantity(spec.get(key, "0 N"), "force", lp + key), "force", lp + key, magnitude=True)
@@ -294,7 +271,7 @@ def _check(table: dict, loads_table: dict, formulation: str = "newton-euler") ->
             p + "max_deflection",
         )
     default_support = "clamped" if formulation == "seed-2013" else "free-body"  # seed-2013: the 2013 study's model
-    support = _string_choice(table.get("support", default_support), SUPPORTS, p + "support")
+    support = string_choice(table.get("support", default_support), SUPPORTS, p + "support")
     return CheckSpec(
         tuple(parts), float(factor), bolt, material, limit, effects, loads, max_deflection, support, compare, components
     )
@@ -317,7 +294,7 @@ MIN_HOLE_SIZE = 0.1e-3
 
 def _mesh(table: dict) -> MeshSpec:
     p = "mesh."
-    _unknown(table, ALLOWED_KEYS["mesh"], p)
+    refuse_unknown(table, ALLOWED_KEYS["mesh"], p)
     order = table.get("order", 2)
     if isinstance(order, bool) or order not in (1, 2):
         raise InputError(p + "order", f"must be 1 or 2, got {order!r}")
@@ -337,17 +314,19 @@ def _mesh(table: dict) -> MeshSpec:
             raise InputError(p + "hole_size", "needs mesh.size too (the defaults come in pairs per part kind)")
     if hole is not None and size is not None and hole > size:
         raise InputError(p + "hole_size", f"{hole * 1e3:g} mm is larger than mesh.size {size * 1e3:g} mm")
-    return MeshSpec(order, size, hole, _bool(table, "optimize", p, True), _bool(table, "curved", p, True))
+    return MeshSpec(order, size, hole, boolean(table, "optimize", p, True), boolean(table, "curved", p, True))
 
 
 def _output(table: dict) -> OutputSpec:
     p = "output."
-    _unknown(table, ALLOWED_KEYS["output"], p)
+    refuse_unknown(table, ALLOWED_KEYS["output"], p)
     d = table.get("dir", "results")
     if not isinstance(d, str) or not d.strip() or "\0" in d:  # no file system takes a NUL
         raise InputError(p + "dir", f"must be a directory name, got {d!r}")
-    scale = _string_choice(table.get("stress_scale", "limit"), ("limit", "part"), p + "stress_scale")
-    return OutputSpec(d, _bool(table, "vtk", p, True), _bool(table, "png", p, True), _bool(table, "plots", p, True), scale)
+    scale = string_choice(table.get("stress_scale", "limit"), ("limit", "part"), p + "stress_scale")
+    return OutputSpec(
+        d, boolean(table, "vtk", p, True), boolean(table, "png", p, True), boolean(table, "plots", p, True), scale
+    )
 
 
 #: catalogue dimensions whose zero means a feature left out: a rail without its grooves
@@ -372,10 +351,10 @@ def _geometry(table: dict) -> dict[str, float]:
 def _fatigue(table: dict) -> FatigueSpec:
 
     p = "fatigue."
-    _unknown(table, ALLOWED_KEYS["fatigue"], p)
-    surface = _string_choice(table.get("surface", "machined"), tuple(SURFACE), p + "surface")
-    load = _string_choice(table.get("load", "bending"), tuple(LOAD), p + "load")
-    criterion = _string_choice(table.get("criterion", "goodman"), CRITERIA, p + "criterion")
+    refuse_unknown(table, ALLOWED_KEYS["fatigue"], p)
+    surface = string_choice(table.get("surface", "machined"), tuple(SURFACE), p + "surface")
+    load = string_choice(table.get("load", "bending"), tuple(LOAD), p + "load")
+    criterion = string_choice(table.get("criterion", "goodman"), CRITERIA, p + "criterion")
     reliability = table.get("reliability", DEFAULT_RELIABILITY)
     if isinstance(reliability, bool) or reliability not in RELIABILITY:
         raise InputError(p + "reliability", f"must be one of {', '.join(map(str, RELIABILITY))}, got {reliability!r}")
@@ -387,27 +366,20 @@ def _fatigue(table: dict) -> FatigueSpec:
 
 def _dynamic(table: dict) -> DynamicSpec:
     p = "dynamic."
-    _unknown(table, ALLOWED_KEYS["dynamic"], p)
-    damping = _number(table.get("damping", 0.02), p + "damping", 1e-4, 0.5, "a ratio of critical damping")
-    amplification = _number(table.get("max_amplification", 1.10), p + "max_amplification", 1.0, 10.0, "a ratio")
+    refuse_unknown(table, ALLOWED_KEYS["dynamic"], p)
+    damping = number(table.get("damping", 0.02), p + "damping", 1e-4, 0.5, "a ratio of critical damping")
+    amplification = number(table.get("max_amplification", 1.10), p + "max_amplification", 1.0, 10.0, "a ratio")
     modes = table.get("modes", 6)
     if isinstance(modes, bool) or not isinstance(modes, int) or not 1 <= modes <= 50:
         raise InputError(p + "modes", f"must be a whole number from 1 to 50, got {modes!r}")
     return DynamicSpec(damping, amplification, modes)
 
 
-def _number(value: Any, name: str, lo: float, hi: float, what: str) -> float:
-    """A plain finite number within [lo, hi] (dimensionless)."""
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or not lo <= value <= hi:
-        raise InputError(name, f"must be {what} from {lo:g} to {hi:g}, got {value!r}")
-    return float(value)
-
-
 def _sweep(table: dict) -> SweepSpec:
     p = "sweep."
-    _unknown(table, ALLOWED_KEYS["sweep"], p)
+    refuse_unknown(table, ALLOWED_KEYS["sweep"], p)
     kind = table.get("kind", "both")
-    kinds = SWEEP_KINDS if kind == "both" else (_string_choice(kind, SWEEP_KINDS + ("both",), p + "kind"),)
+    kinds = SWEEP_KINDS if kind == "both" else (string_choice(kind, SWEEP_KINDS + ("both",), p + "kind"),)
     ranges = {}
     for bar in ("crank", "coupler", "rocker", "ground", "offset"):
         if bar not in table:
@@ -432,11 +404,11 @@ def _sweep(table: dict) -> SweepSpec:
     steps = table.get("steps", 720)
     if isinstance(steps, bool) or not isinstance(steps, int) or not 8 <= steps <= 100_000:
         raise InputError(p + "steps", f"must be a whole number from 8 to 100000, got {steps!r}")
-    assembly = _string_choice(table.get("assembly", "open"), ("open", "crossed"), p + "assembly")
+    assembly = string_choice(table.get("assembly", "open"), ("open", "crossed"), p + "assembly")
     memory = parse_quantity(table.get("memory", "512 MB"), "memory", p + "memory", positive=True, allow_zero=False)
     if not 1e5 <= memory <= 1e12:
         raise InputError(p + "memory", "must be from 100 kB to 1000 GB")
-    fmt = _string_choice(table.get("format", "parquet"), SWEEP_FORMATS, p + "format")
+    fmt = string_choice(table.get("format", "parquet"), SWEEP_FORMATS, p + "format")
     return SweepSpec(
         kinds, ranges, speeds, steps, assembly, _sweep_settings(table.get("settings", []), kinds), float(memory), fmt
     )
@@ -500,7 +472,7 @@ def scene_errors(data: dict[str, Any]) -> list[InputError]:
         if name not in ALLOWED_KEYS or not isinstance(table, dict):
             continue  # the parse names these
         allowed = ALLOWED_KEYS[name]
-        found += _unknown_keys(table, allowed, f"{name}.")
+        found += unknown_keys(table, allowed, f"{name}.")
         if name in parsers:
             attempt(parsers[name], {k: v for k, v in table.items() if allowed is None or k in allowed})
     unique = {str(e): e for e in found}
@@ -510,7 +482,7 @@ def scene_errors(data: dict[str, Any]) -> list[InputError]:
 def parse_scene(data: dict[str, Any], source: str = "<scene>") -> Scene:
     """Build a :class:`Scene` from a parsed TOML mapping; several bad values at once are
     refused together (:class:`~railcheck.base.errors.InputErrors`, one line each)."""
-    _unknown(data, set(ALLOWED_KEYS), "")
+    refuse_unknown(data, set(ALLOWED_KEYS), "")
     errors = scene_errors(data)
     if len(errors) > 1:
         raise InputErrors(errors)
@@ -519,8 +491,8 @@ def parse_scene(data: dict[str, Any], source: str = "<scene>") -> Scene:
             raise InputError(key, "must be a table ([" + key + "])")
     mechanism = _mechanism(data["mechanism"]) if "mechanism" in data else None
     dyn = data.get("dynamics", {})
-    _unknown(dyn, ALLOWED_KEYS["dynamics"], "dynamics.")
-    formulation = _string_choice(dyn.get("formulation", "newton-euler"), FORMULATIONS, "dynamics.formulation")
+    refuse_unknown(dyn, ALLOWED_KEYS["dynamics"], "dynamics.")
+    formulation = string_choice(dyn.get("formulation", "newton-euler"), FORMULATIONS, "dynamics.formulation")
     check = None
     if "check" in data:
         check = _check(data["check"], data.get("loads", {}), formulation)

@@ -234,7 +234,7 @@ def dynamic_job(
     part held at its base). A rail's
     joints carry the mass model's point masses (plates, carriages, coupling), lumped on
     their holes: the near joint's on its first two holes, the far joint's on its bolt holes."""
-    if "dynamic" not in scene.checked.effects or scene.mechanism is None or scene.linkage_spec.speed <= 0:
+    if not scene.dynamic_response:
         return None
     return _modal_template(scene, free, name, holes)
 

@@ -27,7 +27,8 @@ class SweepContext:
 
     @property
     def effects(self) -> tuple[str, ...]:
-        return self.scene.check.effects if self.scene.check else ("inertia",)
+        """The loads the sweep simulates (:attr:`railcheck.scene.Scene.sweep_effects`)."""
+        return self.scene.sweep_effects
 
 
 @dataclass(frozen=True)

@@ -253,7 +253,7 @@ def _part_setup(scene, name: str, geo, mesh, lengths: np.ndarray, material, link
     """The part's loads, hole groups, unit cases and store request (:func:`build_part_model`)."""
     kind = kind_of(name)
     free, plate = is_free_rail(scene, name), is_free_plate(scene, name) or is_on_foundation(scene, name)
-    inertia = "inertia" in scene.check.effects
+    inertia = "inertia" in scene.requested_effects
     loads = load_model(scene, name, material.density, *((0.0, inertia, linkage) if free else ()))
     if plate:
         loads = load_model(scene, name, material.density, inertia=inertia)
@@ -314,7 +314,7 @@ def _part_model(scene, name: str, setup: _PartSetup, fields, meta, material, lim
     free, plate, loads, groups, pair_of = setup.free, setup.plate, setup.loads, setup.groups, setup.pair_of
     cases, columns, pressure, modes = setup.cases, setup.columns, setup.pressure, setup.modes
     screens = screens_of(fields, columns)
-    dynamic = pair_modes(fields, meta, columns, len(cases)) if modes and dynamic_in_sweep(scene) else None
+    dynamic = pair_modes(fields, meta, columns, len(cases)) if modes and scene.sweep_dynamic_response else None
     spec = scene.fatigue
     marin = endurance_limit(material.ultimate_strength, spec.surface, kind.section(geo), spec.load, spec.reliability)
     model = PartModel(
@@ -376,13 +376,7 @@ def certificate_frequencies(scene, name: str, setup: _PartSetup, meta, material)
 def certificate_in_sweep(scene) -> bool:
     """Whether a sweep certifies quasi-static: some [sweep] speed above zero, no
     ``dynamic`` listed (that computes the exact response)."""
-    return scene.check is not None and any(w > 0 for w in scene.sweep.speeds) and not dynamic_in_sweep(scene)
-
-
-def dynamic_in_sweep(scene) -> bool:
-    """Whether a sweep computes the dynamic response: ``dynamic`` listed and some
-    [sweep] speed above zero."""
-    return scene.check is not None and "dynamic" in scene.check.effects and any(w > 0 for w in scene.sweep.speeds)
+    return scene.check is not None and any(w > 0 for w in scene.sweep.speeds) and not scene.sweep_dynamic_response
 
 
 def screens_of(fields, columns: dict) -> dict:
@@ -427,7 +421,7 @@ def mode_requests(scene, name: str, groups: dict, deflections: dict | None = Non
     :func:`railcheck.fea.unitcases.solve_unit_cases`, or None: without ``dynamic``, and
     for a part with explicit loads (constant over the cycle: nothing to respond to)."""
     certificate_modes = certificate_in_sweep(scene) and kind_of(name).bolts_on_rail is False
-    if not (dynamic_in_sweep(scene) or certificate_modes) or name in scene.check.loads:
+    if not (scene.sweep_dynamic_response or certificate_modes) or name in scene.check.loads:
         return None
     held = PARTS[name].foundation is not None  # a bolted-down part: its modes held at its base
     pins = (

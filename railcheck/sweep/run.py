@@ -56,7 +56,6 @@ from railcheck.sweep.grid import narrowed, rig_grid, settings
 from railcheck.sweep.parts import (
     applicable,
     build_part_model,
-    dynamic_in_sweep,
     is_free_rail,
     part_is_stored,
     sharing_screens,
@@ -147,7 +146,7 @@ def chunk_size(scene) -> int:
     else:
         size = (scene.sweep.memory - group * per_group_setting) // row
     size = int(max(1, min(MAX_CHUNK, size)))
-    return min(size, DYNAMIC_CHUNK) if dynamic_in_sweep(scene) else size
+    return min(size, DYNAMIC_CHUNK) if scene.sweep_dynamic_response else size
 
 
 def checked_chunk_size(scene) -> int:
@@ -159,7 +158,7 @@ def checked_chunk_size(scene) -> int:
     group = min(group_size(steps), chunk_size(scene))
     left = scene.sweep.memory - group * steps * BYTES_PER_SETTING_STEP - chunk_size(scene) * row
     size = int(max(1, min(CHECKED_CHUNK, left // (steps * BYTES_PER_CHECKED_STEP))))
-    return min(size, DYNAMIC_CHUNK) if dynamic_in_sweep(scene) else size
+    return min(size, DYNAMIC_CHUNK) if scene.sweep_dynamic_response else size
 
 
 #: finished chunks held at most while an earlier one still runs (and fewer when their
@@ -191,16 +190,8 @@ def check_scheduler(address: str) -> None:
         )
 
 
-def sweep_effects(scene) -> tuple[str, ...]:
-    """The effects a sweep simulates: inertia when listed and some [sweep] speed is not
-    zero (a sweep's speeds are its own, not [mechanism]'s), gravity when listed."""
-    effects = scene.check.effects
-    inertia = "inertia" in effects and any(s > 0 for s in scene.sweep.speeds)
-    return (("inertia",) if inertia else ()) + (("gravity",) if "gravity" in effects else ())
-
-
 def validate(scene) -> None:
-    if scene.check is not None and not sweep_effects(scene):
+    if scene.check is not None and not scene.sweep_effects:
         raise InputError(
             "check.effects",
             'a sweep needs a load to compare settings by: list "inertia" (with a speed) or "gravity"',
@@ -365,7 +356,7 @@ def kind_groups(scene, name: str, kinds: list[str]) -> list[list[str]]:
     slider-crank (a free rail's joint loads, any rail's modes): then one per kind (the
     unit fields they share come from the store, so the second costs the screening)."""
     carries = name not in scene.check.loads and PARTS[name].bar is not None
-    if carries and (is_free_rail(scene, name) or dynamic_in_sweep(scene)):
+    if carries and (is_free_rail(scene, name) or scene.sweep_dynamic_response):
         return [[k] for k in kinds]
     return [kinds] if kinds else []
 
