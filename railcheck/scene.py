@@ -369,6 +369,8 @@ def _dynamic(table: dict) -> DynamicSpec:
     refuse_unknown(table, ALLOWED_KEYS["dynamic"], p)
     damping = number(table.get("damping", 0.02), p + "damping", 1e-4, 0.5, "a ratio of critical damping")
     amplification = number(table.get("max_amplification", 1.10), p + "max_amplification", 1.0, 10.0, "a ratio")
+    if amplification <= 1.0:  # any motion excites the modes a little: 1 would pass no speed, fail nothing at rest
+        raise InputError(p + "max_amplification", "must be above 1 (1 allows no dynamic response: no speed would pass)")
     modes = table.get("modes", 6)
     if isinstance(modes, bool) or not isinstance(modes, int) or not 1 <= modes <= 50:
         raise InputError(p + "modes", f"must be a whole number from 1 to 50, got {modes!r}")

@@ -280,8 +280,8 @@ def test_a_plate_solves_one_mode_for_its_certificate_and_every_mode_when_it_fail
 
 
 def test_the_dynamic_share_is_one_definition_for_the_check_and_the_sweep_even_with_no_excess_allowed():
-    """``[dynamic] max_amplification = 1.0`` (the scene accepts it) allows no excess: the
-    check's and the sweep's dynamic utilisation are 0 up to the quasi-static peak and inf
+    """A limit of 1 (no excess: the scene refuses it, the API's Limits may carry it) gives
+    the check's and the sweep's dynamic utilisation 0 up to the quasi-static peak and inf
     beyond, never a division by zero; above 1 the share of the allowed excess."""
     assert dynamic_share(1.05, 1.10) == pytest.approx(0.5) and dynamic_share(1.0, 1.0) == 0.0
     assert dynamic_share(1.2, 1.0) == float("inf") and isinstance(dynamic_share(0.9, 1.0), float)
