@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from railcheck.components import screws, standards
-from railcheck.components.checks import check_component
+from railcheck.components.kinds import check_component
 from railcheck.components.ratings import COMPONENT_SPEC, COMPONENTS
 from railcheck.components.scene_checks import check_scene_components, joint_histories, strengths_of
 from railcheck.components.sizing import bearing_needs, screw_needs, shaft_needs

@@ -26,41 +26,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from railcheck.components import screws, standards
-from railcheck.components.ratings import ASSUMED, COMPONENTS, Component, ComponentSpec
+from railcheck.components.ratings import Component, ComponentSpec
 from railcheck.fea.fatigue import endurance_limit, size_factor_of_diameter
 from railcheck.loads.bearings import BallBearing, bearing_life_of_magnitude, with_weight_couple
-
-#: each kind's standard, as the output names it
-STANDARDS = {
-    "screws": "EN 1993-1-8 T3.4, VDI 2230 slip",
-    "shaft": "Shigley DE-Goodman",
-    "bearings": "ISO 76, ISO 281",
-    "carriage": "catalogue P0",
-}
-
-_SCREW_FIELDS = (
-    "screw_size",
-    "screw_class",
-    "screw_thread_friction",
-    "screw_head_friction",
-    "screw_tightening_factor",
-    "screw_preload_utilisation",
-    "screw_embedding",
-    "joint_friction",
-    "slip_safety",
-    "screw_grip",
-    "screw_end_distance",
-    "screw_edge_distance",
-    "screw_eccentricity",
-)
-
-#: the spec fields each kind reads (the "assumed" ones among them are named in the output)
-FIELDS = {
-    "screws": _SCREW_FIELDS,
-    "shaft": ("shaft_diameter", "shaft_fillet_radius", "shaft_kt", "shaft_kts", "shaft_lever"),
-    "bearings": ("bearing_dynamic", "bearing_static", "bearing_spacing", "bearing_required_s0", "bearing_required_life"),
-    "carriage": ("carriage_c0", "carriage_m0x", "carriage_m0y", "carriage_m0z", "carriage_height", "carriage_required_s0"),
-}
 
 
 @dataclass(frozen=True)
@@ -156,31 +124,6 @@ def _magnitude(force: np.ndarray) -> np.ndarray:
     return np.sqrt(force[..., 0] ** 2 + force[..., 1] ** 2)
 
 
-def check_component(
-    component: Component,
-    spec: ComponentSpec,
-    h: JointHistories,
-    factor: float,
-    material: Strengths,
-    given: frozenset = frozenset(),
-) -> ComponentResult:
-    """The check of ``component`` by its standard on the histories ``h``: the strength
-    checks on loads times ``factor``, slip and the rolling elements' on the loads as they
-    are; ``given`` the ``[components]`` keys the scene set (not "assumed")."""
-    f = factor if component.factored else 1.0
-    u, figures = KIND_CHECKS[component.kind](component, spec, h, f, material)
-    return ComponentResult(
-        component.name,
-        component.kind,
-        component.joint,
-        STANDARDS[component.kind],
-        component.factored,
-        u,
-        figures,
-        tuple(n for n in FIELDS[component.kind] if n in ASSUMED and n not in given),
-    )
-
-
 def screw_loads(c: Component, spec: ComponentSpec, h: JointHistories, peaks: bool = False) -> tuple[np.ndarray, np.ndarray]:
     """(transverse (2, ..., T), tension (2, ...)) N, unfactored, on each of the plate's two
     screws (the first nearer the joint's line): the joint force (and at O2 the motor torque)
@@ -204,7 +147,9 @@ def screw_loads(c: Component, spec: ComponentSpec, h: JointHistories, peaks: boo
     return transverse, tension
 
 
-def _screws(c: Component, spec: ComponentSpec, h: JointHistories, f: float, m: Strengths):
+def check_screws(c: Component, spec: ComponentSpec, h: JointHistories, f: float, m: Strengths):
+    """(criterion -> utilisation, figures) of a screw group: EN 1993-1-8 Table 3.4 on its
+    loads times ``f``, and slip (VDI 2230) on them as they are."""
     # every criterion grows with the transverse force and the tension is constant over the
     # cycle, so each screw's peak over the cycle gives every criterion's peak
     transverse, tension = screw_loads(c, spec, h, peaks=True)
@@ -232,7 +177,9 @@ def _screws(c: Component, spec: ComponentSpec, h: JointHistories, f: float, m: S
     return u, figures
 
 
-def _shaft(c: Component, spec: ComponentSpec, h: JointHistories, f: float, m: Strengths):
+def check_shaft(c: Component, spec: ComponentSpec, h: JointHistories, f: float, m: Strengths):
+    """(criterion -> utilisation, figures) of a joint's shaft: DE-Goodman fatigue and
+    first-cycle yield (Shigley eq. 7-8, 7-15) on its loads times ``f``."""
     d = spec.shaft_diameter
     moment = f * (_magnitude(h.reactions[c.joint]) * spec.shaft_lever)
     # a cantilevered bar's weight moment (O2, O4): constant in the shaft's frame, a mean stress
@@ -260,7 +207,9 @@ def bearing_load(c: Component, spec: ComponentSpec, h: JointHistories) -> np.nda
     return with_weight_couple(_magnitude(h.reactions[c.joint]), h.moments.get(c.joint, 0.0), spec.bearing_spacing)
 
 
-def _bearings(c: Component, spec: ComponentSpec, h: JointHistories, f: float, m: Strengths):
+def check_bearings(c: Component, spec: ComponentSpec, h: JointHistories, f: float, m: Strengths):
+    """(criterion -> utilisation, figures) of a joint's pair of bearings: static safety
+    (ISO 76) and L10 life (ISO 281) on the loads as they are (``f`` unused)."""
     bearing = BallBearing("6205", spec.bearing_dynamic, spec.bearing_static)
     life = bearing_life_of_magnitude(bearing_load(c, spec, h), h.relative_speed[c.joint], bearing)
     hours = spec.bearing_required_life / 3600.0
@@ -272,7 +221,9 @@ def _bearings(c: Component, spec: ComponentSpec, h: JointHistories, f: float, m:
     return u, {"peak_load_N": life.peak_load, "static_safety": life.static_safety, "life_h": life.l10_hours}
 
 
-def _carriage(c: Component, spec: ComponentSpec, h: JointHistories, f: float, m: Strengths):
+def check_carriage(c: Component, spec: ComponentSpec, h: JointHistories, f: float, m: Strengths):
+    """(criterion -> utilisation, figures) of a carriage: the catalogue's static safety on
+    its equivalent load as it is (``f`` unused)."""
     assert c.rail is not None  # a carriage runs on a rail
     along, across = rail_axes_of(h, c.joint, c.rail)
     normal = np.broadcast_to(np.asarray(h.vertical.get(c.joint, 0.0), float)[..., None], along.shape)
@@ -290,13 +241,3 @@ def _carriage(c: Component, spec: ComponentSpec, h: JointHistories, f: float, m:
     ).max(axis=-1)
     safety = spec.carriage_c0 / p0
     return {"static": spec.carriage_required_s0 / safety}, {"equivalent_load_N": p0, "static_safety": safety}
-
-
-KIND_CHECKS = {"screws": _screws, "shaft": _shaft, "bearings": _bearings, "carriage": _carriage}
-
-
-def check_components(
-    names, spec: ComponentSpec, h: JointHistories, factor: float, material: Strengths, given: frozenset = frozenset()
-) -> dict:
-    """name -> :class:`ComponentResult` of each component ``names`` lists."""
-    return {n: check_component(COMPONENTS[n], spec, h, factor, material, given) for n in names}

@@ -1,6 +1,6 @@
 """Each joint's load path at one instant: the components in the order the joint force
 passes them (docs/components.md), each checked on that instant alone by the same
-functions as the verdict (:func:`railcheck.components.checks.check_component` with
+functions as the verdict (:func:`railcheck.components.kinds.check_component` with
 each step a one-step cycle), so a diagram's figures cannot drift from the table's.
 SI.
 """
@@ -12,7 +12,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from railcheck.components.checks import ComponentResult, JointHistories, Strengths, check_component
+from railcheck.components.checks import ComponentResult, JointHistories, Strengths
+from railcheck.components.kinds import check_component
 from railcheck.components.ratings import COMPONENTS, ComponentSpec
 
 #: each joint's path as the v2 joints build it: the rail the force comes from, the

@@ -189,14 +189,6 @@ class Component:
     motor: bool = False
     end: str = "near"
 
-    @property
-    def factored(self) -> bool:
-        """Whether the scene's load factor applies: the strength checks (screws, shafts)
-        yes, except a screw's slip (a serviceability check, on the loads as they are); the
-        rolling elements' (bearings, carriages) standards set their own safety on
-        unfactored loads."""
-        return self.kind in ("screws", "shaft")
-
 
 COMPONENTS: dict[str, Component] = {
     c.name: c

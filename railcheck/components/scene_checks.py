@@ -5,9 +5,9 @@ from __future__ import annotations
 
 import dataclasses
 
-from railcheck.components.checks import ComponentResult, JointHistories, Strengths, check_components
+from railcheck.components.checks import ComponentResult, JointHistories, Strengths
+from railcheck.components.kinds import check_components, with_needs
 from railcheck.components.load_path import joint_paths
-from railcheck.components.sizing import with_needs
 from railcheck.fea.materials import MATERIALS
 from railcheck.loads.bearings import relative_speeds
 from railcheck.loads.weight import joint_vertical_loads, screw_pulls, shaft_moment

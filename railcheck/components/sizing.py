@@ -33,13 +33,6 @@ from railcheck.components.standards import GAMMA_M2, de_goodman_diameter, yield_
 from railcheck.fea.fatigue import size_factor_of_diameter
 
 
-def with_needs(r: ComponentResult, spec: ComponentSpec, h: JointHistories, factor: float, m: Strengths) -> ComponentResult:
-    """``r`` with its ``needs`` (module doc); a carriage's catalogue rating has none."""
-    c = COMPONENTS[r.name]
-    needs = {"screws": screw_needs, "shaft": shaft_needs, "bearings": bearing_needs}.get(c.kind)
-    return dataclasses.replace(r, needs=needs(r, spec, h, factor, m) if needs else {})
-
-
 def screw_needs(r: ComponentResult, spec: ComponentSpec, h: JointHistories, factor: float, m: Strengths) -> dict:
     """The smallest admitted screw and class that passes slip and T3.4, its tightening
     torque, the clamp it needs; or, where none passes, the friction that would."""
@@ -155,3 +148,16 @@ def bearing_spacing_needed(c, spec: ComponentSpec, h: JointHistories) -> np.ndar
     with np.errstate(divide="ignore", invalid="ignore"):
         spacing = np.where(room > 0, moment / np.where(room > 0, room, 1.0), np.inf)
     return np.where(moment == 0.0, 0.0, spacing)
+
+
+def screws_needed_of_settings(c, spec: ComponentSpec, h: JointHistories, factor: float, m: Strengths) -> np.ndarray:
+    """(S,) object: a sweep's screw group's smallest screw (``"M5 8.8"``) that passes slip
+    and EN 1993-1-8 T3.4 at each setting, ``"none"`` where no admitted screw does."""
+    names = np.array([" ".join(choice) for choice in screw_choices(spec)] + ["none"], dtype=object)
+    transverse, tension = screw_loads(c, spec, h, peaks=True)
+    return names[smallest_screw(spec, *screw_demands(transverse, tension, spec, factor))]
+
+
+def spacing_needed_of_settings(c, spec: ComponentSpec, h: JointHistories, factor: float, m: Strengths) -> np.ndarray:
+    """(S,) m: a sweep's pair of bearings' least spacing (:func:`bearing_spacing_needed`)."""
+    return np.broadcast_to(bearing_spacing_needed(c, spec, h), (h.torque.shape[0],))

@@ -12,16 +12,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from railcheck.components.checks import JointHistories, check_components, screw_loads
-from railcheck.components.ratings import COMPONENTS, NOT_ON_SLIDER_CRANK
+from railcheck.components import kinds
+from railcheck.components.checks import JointHistories
+from railcheck.components.kinds import check_components
+from railcheck.components.ratings import NOT_ON_SLIDER_CRANK
 from railcheck.components.scene_checks import FIRST_JOINTS, strengths_of
-from railcheck.components.sizing import (
-    bearing_spacing_needed,
-    screw_choices,
-    screw_demands,
-    shaft_diameter_needed,
-    smallest_screw,
-)
 from railcheck.loads.bearings import relative_speeds
 from railcheck.loads.weight import joint_vertical_loads, screw_pulls, shaft_moment
 from railcheck.model.crossing import increasing_crossing
@@ -143,23 +138,10 @@ def components_of_settings(ctx: SweepContext, loads: Loads, sel: np.ndarray) -> 
 def needs_of_settings(ctx: SweepContext, h: JointHistories) -> dict:
     """Component -> (S,) what each setting needs to pass at the loads ``h``: a screw
     group's smallest screw that passes slip and EN 1993-1-8 T3.4 (object: ``"M5 8.8"``;
-    ``"none"`` where no screw the rail's hole admits does,
-    :func:`railcheck.components.sizing.smallest_screw`), a shaft's least diameter in m
-    (:func:`railcheck.components.sizing.shaft_diameter_needed`), a pair of bearings' least
-    spacing in m (:func:`railcheck.components.sizing.bearing_spacing_needed`)."""
-    spec, factor = ctx.scene.components, ctx.scene.checked.factor
-    names = np.array([" ".join(c) for c in screw_choices(spec)] + ["none"], dtype=object)
-    out = {}
-    for name in swept_components(ctx):
-        c = COMPONENTS[name]
-        if c.kind == "screws":
-            transverse, tension = screw_loads(c, spec, h, peaks=True)
-            out[name] = names[smallest_screw(spec, *screw_demands(transverse, tension, spec, factor))]
-        elif c.kind == "shaft":
-            out[name] = shaft_diameter_needed(c, spec, h, factor, strengths_of(ctx.scene))
-        elif c.kind == "bearings":
-            out[name] = np.broadcast_to(bearing_spacing_needed(c, spec, h), (h.torque.shape[0],))
-    return out
+    ``"none"`` where no screw the rail's hole admits does), a shaft's least diameter in m,
+    a pair of bearings' least spacing in m (:func:`railcheck.components.kinds.needs_of_settings`)."""
+    scene = ctx.scene
+    return kinds.needs_of_settings(swept_components(ctx), scene.components, h, scene.checked.factor, strengths_of(scene))
 
 
 def no_part_results(n: int, speeds: int) -> dict:
