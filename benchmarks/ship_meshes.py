@@ -1,7 +1,7 @@
 """Build the meshes railcheck ships (``geometry/meshes/``): every registry part at its
 default mesh sizes, meshed afresh and stored compressed with a content hash, keyed like the
 mesh cache but without the installed gmsh's version. A maintainer's step, rerun whenever
-the mesher (``MESHER_VERSION``), a part's geometry or a default size changes; the tests
+the mesher, a part's geometry or a default size changes (then bump ``SHIPPED_SET``); the tests
 check that each default part has its shipped mesh and that it is the mesh gmsh builds.
 
     python benchmarks/ship_meshes.py

@@ -41,6 +41,7 @@ from pathlib import Path
 
 import numpy as np
 
+from railcheck.base.code import code_hash
 from railcheck.base.entries import clear_entries, is_own_entry
 from railcheck.base.temporaries import remove_dead_temporaries, temporary_name
 from railcheck.geometry.meshdata import MeshData
@@ -62,12 +63,12 @@ __all__ = [
 ]
 
 
-#: the entry format; bump it when what an entry holds or means changes
-#: (3: pin pressures, graded density, deflection relative to a face's rigid motion;
-#: 4: the stresses projected by a direct factor of the mass matrix; 5: no SHA-256 of the
-#: arrays (each zip member's CRC-32 checks them) but the list of their names; 6: sealed,
-#: :func:`seal_of`)
-FORMAT = "6"
+def code_of_entries() -> str:
+    """The hash of the code that solves and stores unit fields (the FE package,
+    :func:`railcheck.base.code.code_hash`): part of every entry's key, so an entry written
+    by other code (an older format, another solver) is never read."""
+    return code_hash("railcheck.fea")
+
 
 #: an entry's file name: the first 40 hex digits of its payload's SHA-256
 ENTRY_NAME = re.compile(r"(?P<key>[0-9a-f]{40})\.npz")
@@ -123,7 +124,7 @@ class UnitRequest:
             h.update(np.ascontiguousarray(self.groups[name]).tobytes())
         return repr(
             (
-                FORMAT,
+                code_of_entries(),
                 _versions(),
                 h.hexdigest(),
                 repr(self.material),
