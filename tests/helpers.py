@@ -2,6 +2,7 @@
 sweep's runs and rows, the check of a sweep row's setting, and the pictures' and pages'
 checks. Test modules import these from here, never from each other."""
 
+import json
 import os
 import shutil
 import tomllib
@@ -236,3 +237,17 @@ def benchmark_module(name: str):
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module
+
+
+def check_exit_status(out) -> int:
+    """The exit status a check whose results are in ``out`` owes: 0 for its summary.json's
+    PASS, 1 for FAIL (``railcheck check --help``); anything else is not a verdict."""
+    verdict = json.loads((Path(out) / "summary.json").read_text())["verdict"]
+    return {"PASS": 0, "FAIL": 1}[verdict]
+
+
+def sweep_exit_status(out) -> int:
+    """The exit status a sweep whose results are in ``out`` owes: 0 when some setting of
+    every linkage kind passes, else 1 (``railcheck sweep --help``)."""
+    by_kind = json.loads((Path(out) / "summary.json").read_text())["by_kind"]
+    return 0 if all(k["settings_passing"] > 0 for k in by_kind.values()) else 1
