@@ -63,9 +63,14 @@ def refuse_beyond_memory(need: float, field: str, what: str, advice: str) -> Non
     if need > MEMORY_FRACTION * avail:
         raise InputError(
             field,
-            f"{what} needs about {short(need / 2**30)} GiB, "
-            f"more than this run may use ({short(avail / 2**30)} GiB of memory): {advice}",
+            f"{what} needs about {short(need / 2**30)} GiB, more than this run may use ({usable_words(avail)}): {advice}",
         )
+
+
+def usable_words(avail: float) -> str:
+    """What a run may plan to use of the ``avail`` bytes this process may take, for a
+    refusal: "4.3 GiB, 80% of 5.4 GiB" (the need is compared with the first figure)."""
+    return f"{short(MEMORY_FRACTION * avail / 2**30)} GiB, {MEMORY_FRACTION:.0%} of {short(avail / 2**30)} GiB"
 
 
 def refuse_kinematics_beyond_memory(steps: int, field: str) -> None:

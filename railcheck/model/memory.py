@@ -54,6 +54,6 @@ def refuse_recovery_before_meshing(jobs: dict) -> None:
             raise InputError(
                 "mesh.size",
                 f"{name}: recovering the stresses of about {elements:,} elements (estimated before meshing) for "
-                f"{columns} unit cases needs about {machine.short(need / 2**30)} GiB, more than this run may use "
-                f"({machine.short(avail / 2**30)} GiB of memory): use a larger mesh size or hole_size",
+                f"{columns} unit cases needs at least {machine.short(RECOVERY_ESTIMATE_LOW * need / 2**30)} GiB, more "
+                f"than this run may use ({machine.usable_words(avail)}): use a larger mesh size or hole_size",
             )

@@ -272,8 +272,33 @@ def test_steps_beyond_an_address_space_limit_are_refused_not_a_memory_error(tmp_
     last = proc.stderr.strip().splitlines()[-1]
     assert (
         last.startswith("railcheck: error: mechanism.steps: 10000000 crank steps needs about 7.5 GiB")
-        and "GiB of memory" in last
+        and "GiB, 80% of" in last
     )
+
+
+def _need_and_usable(message: str) -> tuple[float, float]:
+    """(the need, what the run may use) in GiB, as a memory refusal prints them."""
+    import re
+
+    need = re.search(r"needs (?:about|at least) ([0-9.e+]+) GiB", message)
+    usable = re.search(r"may use \(([0-9.e+]+) GiB, 80% of ([0-9.e+]+) GiB\)", message)
+    assert need and usable, message
+    assert float(usable.group(1)) == pytest.approx(0.8 * float(usable.group(2)), abs=0.06)
+    return float(need.group(1)), float(usable.group(1))
+
+
+def test_a_memory_refusal_prints_a_need_above_what_the_run_may_use(monkeypatch):
+    """A refusal's two figures agree with its decision: the run may use 80% of what the
+    process may take, and that share is what the need exceeds ("needs 4.6 GiB, more than
+    this run may use (5.4 GiB of memory)" read as a contradiction before)."""
+    from railcheck.base import machine
+
+    monkeypatch.setattr(machine, "available_memory", lambda: 5.4 * 2**30)
+    machine.refuse_beyond_memory(4.3 * 2**30, "mesh.size", "a part", "use a larger mesh size")  # within 80%
+    with pytest.raises(InputError) as err:
+        machine.refuse_beyond_memory(4.6 * 2**30, "mesh.size", "a part", "use a larger mesh size")
+    need, usable = _need_and_usable(str(err.value))
+    assert (need, usable) == (4.6, 4.3) and need > usable
 
 
 def test_the_2013_comparison_runs_only_when_the_scene_asks_for_it():
@@ -373,6 +398,8 @@ def test_a_stress_recovery_too_large_is_refused_before_anything_is_meshed(monkey
         pipeline.run_pipeline(scene)
     assert err.value.field == "mesh.size" and "estimated before meshing" in str(err.value)
     assert "coupler-rail" in str(err.value) and "107 unit cases" in str(err.value)
+    need, usable = _need_and_usable(str(err.value))
+    assert need >= usable  # the decision compares the unrounded figures
     monkeypatch.setattr(machine, "available_memory", lambda: 4.0 * 2**30)
     with pytest.raises(Meshing):  # not refused: the exact count after meshing decides
         pipeline.run_pipeline(scene)
