@@ -103,7 +103,7 @@ class Scene:
     @property
     def sweep_dynamic_response(self) -> bool:
         """Whether a sweep computes the dynamic response, at [sweep]'s speeds."""
-        return self.check is not None and dynamic_response(self.check.effects, self.sweep.speeds)
+        return dynamic_response(self.requested_effects, self.sweep.speeds)
 
     @property
     def plane(self) -> str:

@@ -21,7 +21,8 @@ from railcheck.geometry import bar, mesher
 @pytest.fixture
 def package(tmp_path, monkeypatch):
     """A copy of railcheck.fea's source as the importable package ``copied_fea``."""
-    shutil.copytree(code.package_sources("railcheck.fea")[0].parent, tmp_path / "copied_fea")
+    caches = shutil.ignore_patterns("__pycache__")
+    shutil.copytree(code.package_root("railcheck.fea"), tmp_path / "copied_fea", ignore=caches)
     monkeypatch.syspath_prepend(str(tmp_path))
     yield tmp_path / "copied_fea"
     sys.modules.pop("copied_fea", None)

@@ -11,13 +11,17 @@ import importlib.util
 from pathlib import Path
 
 
-def package_sources(package: str) -> list[Path]:
-    """The ``.py`` files of ``package`` (a dotted name) and its subpackages, sorted."""
+def package_root(package: str) -> Path:
+    """The folder of ``package`` (a dotted name); a module that is not a package refused."""
     spec = importlib.util.find_spec(package)
     if spec is None or not spec.submodule_search_locations:
         raise ValueError(f"{package} is not a package")
-    roots = [Path(p) for p in spec.submodule_search_locations]
-    return sorted(f for root in roots for f in root.rglob("*.py") if "__pycache__" not in f.parts)
+    return Path(next(iter(spec.submodule_search_locations)))
+
+
+def package_sources(package: str) -> list[Path]:
+    """The ``.py`` files of ``package`` and its subpackages, sorted."""
+    return sorted(f for f in package_root(package).rglob("*.py") if "__pycache__" not in f.parts)
 
 
 @functools.lru_cache(maxsize=None)
@@ -26,9 +30,7 @@ def code_hash(*packages: str) -> str:
     the package and their bytes, not where it is installed): equal exactly when the code is."""
     h = hashlib.sha256()
     for package in packages:
-        spec = importlib.util.find_spec(package)
-        assert spec is not None and spec.submodule_search_locations
-        root = Path(next(iter(spec.submodule_search_locations)))
+        root = package_root(package)
         for path in package_sources(package):
             h.update(f"{path.relative_to(root).as_posix()}\0".encode())
             h.update(path.read_bytes())

@@ -84,10 +84,10 @@ def needs_of_settings(names, spec: ComponentSpec, h: JointHistories, factor: flo
     """name -> (S,) what each of the components ``names`` needs at each of a sweep's
     settings (its kind's ``needs_of_settings``; the kinds that size nothing left out)."""
     out = {}
-    for name in names:
-        need = KINDS[COMPONENTS[name].kind].needs_of_settings
+    for component in (COMPONENTS[name] for name in names):
+        need = KINDS[component.kind].needs_of_settings
         if need is not None:
-            out[name] = need(COMPONENTS[name], spec, h, factor, m)
+            out[component.name] = need(component, spec, h, factor, m)
     return out
 
 
