@@ -6,7 +6,8 @@ The application layer: the part registry (:mod:`railcheck.parts`), scenes
 ``railcheck.loads``, ``railcheck.geometry`` and ``railcheck.fea`` are installed into this
 namespace from the repository's top-level folders (see pyproject.toml).
 
-Python API (:mod:`railcheck.api`): ``railcheck.check(scene)`` and ``railcheck.sweep(scene)``.
+Python API (:mod:`railcheck.api`): ``railcheck.check(scene)``, ``railcheck.sweep(scene)`` and
+``railcheck.mechanism(scene)`` (a planar mechanism study).
 """
 
 __version__ = "0.1.0"
@@ -17,6 +18,12 @@ def __getattr__(name: str):
     packages (:mod:`railcheck.api`), so ``import railcheck`` stays light."""
     if name in ("check", "sweep", "api"):
         import importlib
+
+        return importlib.import_module(f"railcheck.{name}")
+    if name == "mechanism":
+        import importlib
+
+        return importlib.import_module("railcheck.api").mechanism
 
         return importlib.import_module(f"railcheck.{name}")
     raise AttributeError(f"module 'railcheck' has no attribute {name!r}")

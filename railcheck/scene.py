@@ -161,6 +161,7 @@ ALLOWED_KEYS: dict[str, set[str] | None] = {
 def _mechanism(table: dict) -> MechanismSpec:
     p = "mechanism."
     refuse_unknown(table, ALLOWED_KEYS["mechanism"], p)
+    _not_planar(table)
     kind = string_choice(require(table, "kind", p), ("four-bar", "slider-crank"), p + "kind")
     length = lambda key: _in_range(
         parse_quantity(
@@ -194,6 +195,15 @@ def _mechanism(table: dict) -> MechanismSpec:
             _in_range(offset, "length", p + "ground", magnitude=True)
         linkage = SliderCrank(length("crank"), length("coupler"), offset, assembly)
     return MechanismSpec(linkage, speed, steps)
+
+
+def _not_planar(table: Any) -> None:
+    """A planar mechanism scene is not a rig scene: one line pointing to its command."""
+    if isinstance(table, dict) and table.get("kind") == "planar":
+        raise InputError(
+            "mechanism.kind",
+            '"planar" is a mechanism study: run `railcheck mechanism FILE` (a check takes "four-bar" or "slider-crank")',
+        )
 
 
 def _oriented(mechanism: MechanismSpec, check: CheckSpec | None, plane: Any) -> tuple[MechanismSpec, CheckSpec | None]:
@@ -484,6 +494,7 @@ def scene_errors(data: dict[str, Any]) -> list[InputError]:
 def parse_scene(data: dict[str, Any], source: str = "<scene>") -> Scene:
     """Build a :class:`Scene` from a parsed TOML mapping; several bad values at once are
     refused together (:class:`~railcheck.base.errors.InputErrors`, one line each)."""
+    _not_planar(data.get("mechanism"))
     refuse_unknown(data, set(ALLOWED_KEYS), "")
     errors = scene_errors(data)
     if len(errors) > 1:
@@ -538,6 +549,12 @@ def parse_scene(data: dict[str, Any], source: str = "<scene>") -> Scene:
 
 def load_scene(path: str | Path | None) -> Scene:
     """Read a scene file; ``None`` reads the built-in default (the seed's final design)."""
+    return parse_scene(*read_scene_data(path))
+
+
+def read_scene_data(path: str | Path | None) -> tuple[dict[str, Any], str]:
+    """A scene file's TOML mapping and where it came from (``None``: the built-in
+    default); an unreadable file or malformed TOML refused in one line."""
     if path is None:
         text = resources.files("railcheck").joinpath("scenes", DEFAULT_SCENE).read_text(encoding="utf-8")
         source = f"built-in {DEFAULT_SCENE}"
@@ -560,4 +577,4 @@ def load_scene(path: str | Path | None) -> Scene:
         raise InputError("scene", f"malformed TOML in {source}: {exc}") from None
     except RecursionError:
         raise InputError("scene", f"{source} nests tables or arrays too deeply to be a scene") from None
-    return parse_scene(data, source)
+    return data, source

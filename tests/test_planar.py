@@ -145,7 +145,7 @@ def test_singular_jacobian_on_the_path_is_reported_with_the_driver_value():
         Revolute("B", 2, "B", 3, "B"),
         Revolute("O4", 0, "O4", 3, "O"),
     ]
-    mech = Mechanism("parallelogram", ground, bodies, joints, RotationDriver("d", 1, lambda s: (s, 1.0, 0.0)))
+    mech = Mechanism("parallelogram", ground, bodies, joints, (RotationDriver("d", 1, lambda s: (s, 1.0, 0.0)),))
     with pytest.raises(SingularConfigurationError) as info:
         solve(mech, np.linspace(0.3, -0.3, 61))
     # named at the singular point, or as the step interval (0.01 rad) it lies in
@@ -155,7 +155,7 @@ def test_singular_jacobian_on_the_path_is_reported_with_the_driver_value():
 
 DRIVER = """<script>
 const before = drawn;
-slider.value = String(Math.floor(D.driver_deg.length / 2));
+slider.value = String(Math.floor(D.driver.length / 2));
 slider.dispatchEvent(new Event('input'));
 const after = drawn, readout = document.getElementById('readout').textContent;
 play.click();
@@ -171,7 +171,7 @@ document.body.appendChild(out);
 
 def _drive(name, tmp_path, steps="121"):
     html = tmp_path / f"{name}.html"
-    assert main(["mechanism", name, "--steps", steps, "--html", str(html)]) == 0
+    assert main(["mechanism", name, "--steps", steps, "--html", str(html), "--out", str(tmp_path / "r")]) == 0
     text = html.read_text()
     assert "http://" not in text and "https://" not in text and "<script src" not in text  # self-contained
     assert "autotest" not in text.lower()  # the user's page carries no test hook
@@ -239,11 +239,15 @@ def test_the_rig_four_bar_traces_a_coupler_point_not_the_rocker_arc():
 def test_csv_and_gif(tmp_path):
 
     csv, gif = tmp_path / "t.csv", tmp_path / "t.gif"
-    assert main(["mechanism", "a-z-1066", "--steps", "50", "--csv", str(csv), "--gif", str(gif)]) == 0
+    assert (
+        main(["mechanism", "a-z-1066", "--steps", "50", "--csv", str(csv), "--gif", str(gif), "--out", str(tmp_path / "r")])
+        == 0
+    )
     lines = csv.read_text().splitlines()
-    assert lines[0] == "driver,x,y,vx,vy,ax,ay" and len(lines) == 51
-    row = [float(v) for v in lines[1].split(",")]
-    assert row[0] == pytest.approx(math.radians(21.02))
+    head = "driver_deg,2.p1_x_mm,2.p1_y_mm,2.p1_vx_mm_s,2.p1_vy_mm_s,2.p1_ax_mm_s2,2.p1_ay_mm_s2"
+    assert lines[0] == head and len(lines) == 51  # the driver in deg as the console says, units in the header
+    row = [float(v) for v in lines[-1].split(",")]
+    assert row[0] == pytest.approx(-40.0)  # the seed's sweep, from the placement
     assert_picture(gif, min_size=(300, 200))
     from PIL import Image
 
@@ -256,16 +260,20 @@ def test_a_scenes_own_four_bar_is_animated_with_its_lengths_and_speed(tmp_path, 
     coupler's mid-span of the closed-form kinematics of those lengths, at the scene's speed."""
     from railcheck.cli import main
     from railcheck.kinematics.motion import solve_fourbar
-    from railcheck.studies.mechanism import run_mechanism
+    from railcheck.studies.mechanism import mechanism_scene
+    from railcheck.studies.planar_study import study_planar
 
     scene = tmp_path / "mine.toml"
     scene.write_text(
         '[mechanism]\nkind = "four-bar"\ncrank = "300 mm"\ncoupler = "900 mm"\nrocker = "600 mm"\n'
         'ground = "960 mm"\nspeed = "0.5 Hz"\n'
     )
-    run = run_mechanism(str(scene), 91)
+    run = study_planar(mechanism_scene(str(scene), 91))
     closed = solve_fourbar(FourBar(0.30, 0.90, 0.60, 0.96), math.pi, 91)
-    np.testing.assert_allclose(run.table[:, 1:3], 0.5 * (closed.points["A"] + closed.points["B"]), atol=1e-9)
-    assert run.rate == pytest.approx(math.pi)  # 0.5 Hz
-    assert main(["mechanism", str(scene), "--html", str(tmp_path / "m.html")]) == 0
+    np.testing.assert_allclose(run.tracers["coupler.P"][:, :2], 0.5 * (closed.points["A"] + closed.points["B"]), atol=1e-9)
+    assert run.scene.rate == pytest.approx(math.pi)  # 0.5 Hz
+    np.testing.assert_allclose(
+        run.tracers["coupler.P"][:, 2:4], 0.5 * (closed.velocities["A"] + closed.velocities["B"]), atol=1e-9
+    )
+    assert main(["mechanism", str(scene), "--html", str(tmp_path / "m.html"), "--out", str(tmp_path / "r")]) == 0
     assert (tmp_path / "m.html").exists() and "wrote" in capsys.readouterr().out

@@ -79,7 +79,7 @@ def a_4_1553() -> Mechanism:
         ground,
         bodies,
         joints,
-        RotationDriver("driver", 1, linear_driver(338.17, 225.0)),
+        (RotationDriver("driver", 1, linear_driver(338.17, 225.0)),),
         tracer=(2, "p5"),
         description="Artobolevsky a-4-1553 (the mechanisms study): crank, L-shaped coupler, slider",
     )
@@ -117,7 +117,7 @@ def a_z_1139() -> Mechanism:
         ground,
         bodies,
         joints,
-        RotationDriver("driver", 1, linear_driver(110.71, -220.0)),
+        (RotationDriver("driver", 1, linear_driver(110.71, -220.0)),),
         tracer=(7, "p1"),
         description="Artobolevsky a-z-1139 (the mechanisms study): strophoid tracer",
     )
@@ -162,7 +162,7 @@ def a_z_1066() -> Mechanism:
         ground,
         bodies,
         joints,
-        RotationDriver("driver", 7, linear_driver(21.02, -40.0)),
+        (RotationDriver("driver", 7, linear_driver(21.02, -40.0)),),
         tracer=(1, "p1"),
         description="Artobolevsky a-z-1066 (the mechanisms study): hyperbolograph of Inwards",
     )
@@ -217,7 +217,7 @@ def rig_fourbar(linkage: FourBar = FourBar(0.48, 0.84, 0.78, 1.02), masses: Mass
         ground,
         bodies,
         joints,
-        RotationDriver("driver", 1, linear_driver(0.0, 360.0)),
+        (RotationDriver("driver", 1, linear_driver(0.0, 360.0)),),
         tracer=(2, "P"),
         description="the rig's four-bar (the 2013 study) in body coordinates; P: the coupler's mid-span, a coupler point",
     )
@@ -260,7 +260,7 @@ def rig_slidercrank(linkage: SliderCrank = SliderCrank(0.48, 0.84, 0.0), masses:
         ground,
         bodies,
         joints,
-        RotationDriver("driver", 1, linear_driver(0.0, 360.0)),
+        (RotationDriver("driver", 1, linear_driver(0.0, 360.0)),),
         tracer=(3, "B"),
         description="the rig's slider-crank in body coordinates",
     )

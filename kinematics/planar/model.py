@@ -80,11 +80,13 @@ class Fixed:
 
 @dataclass(frozen=True)
 class RotationDriver:
-    """theta_body = f(s); ``f`` returns (value, d/ds, d2/ds2)."""
+    """theta_body - theta_reference = f(s) (rad): a body's angle, or with ``reference`` a
+    revolute joint's relative angle; ``f`` returns (value, d/ds, d2/ds2)."""
 
     name: str
     body: int
     f: Callable[[float], tuple[float, float, float]]
+    reference: int = 0  # the body the angle is measured from (0: the ground)
 
     equations: ClassVar[int] = 1  # constraint equations
 
@@ -107,13 +109,14 @@ class TranslationDriver:
 
 @dataclass
 class Mechanism:
-    """Bodies (index 1..n; index 0 is the ground, given as ``ground``), joints, one driver."""
+    """Bodies (index 1..n; index 0 is the ground, given as ``ground``), joints, and the
+    drivers (each a function of the one driver parameter s)."""
 
     name: str
     ground: Body
     bodies: list[Body]
     joints: list = field(default_factory=list)
-    driver: RotationDriver | TranslationDriver | None = None
+    drivers: tuple = ()  # RotationDriver | TranslationDriver, each one equation in s
     tracer: tuple[int, str] | None = None  # (body, point) whose path is traced
     description: str = ""
     curve_parameters: dict[str, float] = field(default_factory=dict)  # m: the traced curve's (tests)
@@ -122,6 +125,11 @@ class Mechanism:
     def n(self) -> int:
         return 3 * len(self.bodies)
 
+    @property
+    def driver(self):
+        """The first driver (the one whose value the driver parameter is), or None."""
+        return self.drivers[0] if self.drivers else None
+
     def body(self, k: int) -> Body:
         return self.ground if k == 0 else self.bodies[k - 1]
 
@@ -129,7 +137,7 @@ class Mechanism:
         return np.array([c for b in self.bodies for c in b.initial], float)
 
     def constraints(self, with_driver: bool = True) -> list:
-        return list(self.joints) + ([self.driver] if with_driver and self.driver is not None else [])
+        return list(self.joints) + (list(self.drivers) if with_driver else [])
 
     def m(self, with_driver: bool = True) -> int:
         return sum(c.equations for c in self.constraints(with_driver))
@@ -264,11 +272,13 @@ def _fixed_rows(mech: Mechanism, fr: _Frame, q, s: float, c: Fixed, acc: tuple) 
 
 
 def _rotation_driver_rows(mech: Mechanism, fr: _Frame, q, s: float, c: RotationDriver, acc: tuple) -> None:
-    """A rotation driver's row: the body's angle is f(s)."""
+    """A rotation driver's row: the body's angle from its reference body's is f(s)."""
     f, f1, f2 = c.f(s)
-    th = q[3 * c.body - 1]
+    th = q[3 * c.body - 1] - (q[3 * c.reference - 1] if c.reference else 0.0)
     row = np.zeros(mech.n)
     row[3 * c.body - 1] = 1.0
+    if c.reference:
+        row[3 * c.reference - 1] = -1.0
     _add(acc, th - f, row, f1, f2)
 
 

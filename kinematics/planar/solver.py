@@ -23,7 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import MechanismError, SingularConfigurationError
-from .model import Fixed, Mechanism, Prismatic, Revolute, RotationDriver, TranslationDriver, evaluate
+from .model import Fixed, Mechanism, Prismatic, Revolute, RotationDriver, evaluate
 
 RANK_TOL = 1e-9
 
@@ -45,13 +45,20 @@ class Mobility:
 
 @dataclass(frozen=True)
 class PlanarMotion:
-    """q, qdot, qddot (steps, n) against the driver parameter s (steps,)."""
+    """q, qdot, qddot (steps, n) against the driver parameter s (steps,); per step the
+    rank of the driven constraint Jacobian and its smallest singular value over its
+    largest (``conditioning``: near 0 at a dead centre). ``ended``: why the motion stops
+    before the last driver value asked for (a lock-up or a singular position, with the
+    driver value), or None when it covers them all."""
 
     mechanism: Mechanism
     s: np.ndarray
     q: np.ndarray
     qd: np.ndarray
     qdd: np.ndarray
+    rank: np.ndarray | None = None
+    conditioning: np.ndarray | None = None
+    ended: str | None = None
 
     def point(self, body: int, name: str):
         """(position, velocity, acceleration) of a body point, each (steps, 2), per unit
@@ -117,82 +124,145 @@ def _singular(value: float, sv: np.ndarray, between: tuple[float, float] | None 
     )
 
 
-def solve(mech: Mechanism, s: np.ndarray, q0: np.ndarray | None = None) -> PlanarMotion:
-    """Positions, velocities and accelerations along the driver values ``s``."""
-    s = np.asarray(s, float)
-    q = assemble(mech, s[0]) if q0 is None else q0
-    n = mech.n
-    Q, QD, QDD = np.zeros((s.size, n)), np.zeros((s.size, n)), np.zeros((s.size, n))
-    rank0 = None
-    det_sign = 0.0
-    for k, sk in enumerate(s):  # continuation is sequential: each step starts from the last
-        if k >= 2:
-            guess = Q[k - 1] + (sk - s[k - 1]) * QD[k - 1] + 0.5 * (sk - s[k - 1]) ** 2 * QDD[k - 1]
-        elif k == 1:
-            guess = Q[0] + (sk - s[0]) * QD[0]
-        else:
-            guess = q
-        q, J = _newton(mech, guess, sk)
+def _guess(Q, QD, QDD, s, k, q0):
+    """The Newton start of step k: a second-order extrapolation of the steps before."""
+    if k >= 2:
+        h = s[k] - s[k - 1]
+        return Q[k - 1] + h * QD[k - 1] + 0.5 * h**2 * QDD[k - 1]
+    if k == 1:
+        return Q[0] + (s[1] - s[0]) * QD[0]
+    return q0
+
+
+class _RankWatch:
+    """Raises :class:`SingularConfigurationError` when the driven Jacobian loses rank at a
+    step, or when det(J) changes sign between two steps (a singular point stepped over)."""
+
+    def __init__(self, n: int):
+        self.n, self.sign = n, 0.0
+        self.rank0: int | None = None
+
+    def __call__(self, J, sk: float, previous: float | None) -> tuple[int, float]:
         sv = np.linalg.svd(J, compute_uv=False)
         rank = int(np.count_nonzero(sv > RANK_TOL * sv[0]))
-        if rank0 is None:
-            rank0 = rank
-            if rank0 < n:
+        if self.rank0 is None:
+            self.rank0 = rank
+            if rank < self.n:
                 _singular(sk, sv)
-        elif rank < rank0:
+        elif rank < self.rank0:
             _singular(sk, sv)
-        if J.shape[0] == n:
-            # a sign change of det(J) between two steps: a singular point was stepped over
+        if J.shape[0] == self.n:
             sign = float(np.sign(np.linalg.det(J)))
-            if det_sign and sign and sign != det_sign:
-                _singular(0.5 * (sk + s[k - 1]), sv, between=(s[k - 1], sk))
-            det_sign = sign or det_sign
-        _, J, nu, gamma = evaluate(mech, q, s=sk)
+            if self.sign and sign and sign != self.sign and previous is not None:
+                _singular(0.5 * (sk + previous), sv, between=(previous, sk))
+            self.sign = sign or self.sign
+        return rank, float(sv[-1] / sv[0])
+
+
+def solve(mech: Mechanism, s: np.ndarray, q0: np.ndarray | None = None, partial: bool = False) -> PlanarMotion:
+    """Positions, velocities and accelerations along the driver values ``s``.
+
+    A lock-up (the constraints cannot be closed) or a singular position raises; with
+    ``partial`` the motion up to the last good step is returned instead, its ``ended``
+    saying why and where (no step past a singular position is ever returned)."""
+    s = np.asarray(s, float)
+    q = assemble(mech, s[0]) if q0 is None else q0
+    Q, QD, QDD = (np.zeros((s.size, mech.n)) for _ in range(3))
+    rank, cond = np.zeros(s.size, int), np.zeros(s.size)
+    watch, ended, done = _RankWatch(mech.n), None, s.size
+    for k, sk in enumerate(s):  # continuation is sequential: each step starts from the last
+        try:
+            q, J = _newton(mech, _guess(Q, QD, QDD, s, k, q), sk)
+            rank[k], cond[k] = watch(J, sk, s[k - 1] if k else None)
+        except MechanismError as exc:
+            if not partial or k == 0:
+                raise
+            ended, done = exc.message, k
+            break
+        _, J, nu, _ = evaluate(mech, q, s=sk)
         qd = np.linalg.lstsq(J, nu, rcond=None)[0]
-        _, J, nu, gamma = evaluate(mech, q, qd, s=sk)
-        qdd = np.linalg.lstsq(J, gamma, rcond=None)[0]
-        Q[k], QD[k], QDD[k] = q, qd, qdd
-    return PlanarMotion(mech, s, Q, QD, QDD)
+        _, J, _, gamma = evaluate(mech, q, qd, s=sk)
+        Q[k], QD[k], QDD[k] = q, qd, np.linalg.lstsq(J, gamma, rcond=None)[0]
+    keep = slice(0, done)
+    return PlanarMotion(mech, s[keep], Q[keep], QD[keep], QDD[keep], rank[keep], cond[keep], ended)
 
 
 @dataclass(frozen=True)
 class PlanarReactions:
-    """Joint reactions from Lagrange multipliers, per step: for each joint the force (N)
-    that body ``i`` exerts on body ``j`` through it (ground frame, (steps, 2)), and the
-    driver's effort (N m or N, (steps,))."""
+    """Joint reactions from Lagrange multipliers, per step (ground frame).
+
+    ``forces``: for each joint the force (N, (steps, 2)) that body ``i`` exerts on body
+    ``j`` through it. ``loads``: for each joint the generalized force it puts on each of its
+    two moving bodies, ``{joint: {body: (steps, 3)}}`` (Fx N, Fy N, moment N m about the
+    body's centre of mass); a prismatic or fixed joint carries a moment besides its force.
+    ``efforts``: each driver's torque (N m) or force (N) on its body, (steps,); ``effort``
+    the first driver's. ``residual``: per step, the largest of |M qddot - Q - sum of the
+    joints' and drivers' loads| over every body's three equations, an equilibrium check of
+    the solve (near 0; not 0 when redundant constraints share a load by least squares)."""
 
     forces: dict[str, np.ndarray]
     effort: np.ndarray
+    loads: dict[str, dict[int, np.ndarray]]
+    efforts: dict[str, np.ndarray]
+    residual: np.ndarray
+    scale: float  # N: the largest joint force or weight, the residual's reference
+
+
+def _mass_and_weight(mech: Mechanism, gravity: float) -> tuple[np.ndarray, np.ndarray]:
+    """diag(M) (n,) and the weights' generalized force (n,): gravity (m/s^2) along -y."""
+    mass = np.concatenate([[b.mass, b.mass, b.inertia] for b in mech.bodies])
+    weight = np.concatenate([[0.0, -b.mass * gravity, 0.0] for b in mech.bodies])
+    return mass, weight
+
+
+def _body_cols(k: int) -> slice:
+    return slice(3 * k - 3, 3 * k)
 
 
 def inverse_dynamics(motion: PlanarMotion, rate: float, gravity: float = 0.0) -> PlanarReactions:
-    """Lagrange multipliers for a driver moving at constant ``rate`` (rad/s or m/s).
-
-    Bodies' local origins are their centres of mass; M = diag(m, m, I) per body.
-    Solves Phi_q^T lambda = Q - M qddot (least squares when constraints are redundant).
-    """
-    mech = motion.mechanism
-    mass = np.concatenate([[b.mass, b.mass, b.inertia] for b in mech.bodies])
-    Qg = np.concatenate([[0.0, -b.mass * gravity, 0.0] for b in mech.bodies])
-    forces = {j.name: np.zeros((motion.s.size, 2)) for j in mech.joints}
-    effort = np.zeros(motion.s.size)
-    for k in range(motion.s.size):
+    """Lagrange multipliers for the driver parameter moving at constant ``rate`` (rad/s
+    or m/s); bodies' local origins are their centres of mass, M = diag(m, m, I) per body,
+    gravity (m/s^2) acts along -y. Solves Phi_q^T lambda = Q - M qddot per step (least
+    squares when constraints are redundant); each constraint's load on a body is
+    -Phi_q[rows, body]^T lambda[rows]."""
+    mech, steps = motion.mechanism, motion.s.size
+    mass, weight = _mass_and_weight(mech, gravity)
+    loads = {c.name: {k: np.zeros((steps, 3)) for k in _moving(c)} for c in mech.constraints()}
+    efforts = {d.name: np.zeros(steps) for d in mech.drivers}
+    residual = np.zeros(steps)
+    for k in range(steps):  # one small dense solve a step
         # body origins are centres of mass: M qddot has no velocity terms in the plane
-        q, qdd = motion.q[k], motion.qdd[k] * rate**2
-        _, J, _, _ = evaluate(mech, q, s=motion.s[k])
-        lam = np.linalg.lstsq(J.T, Qg - mass * qdd, rcond=None)[0]
+        inertial = mass * motion.qdd[k] * rate**2
+        _, J, _, _ = evaluate(mech, motion.q[k], s=motion.s[k])
+        lam = np.linalg.lstsq(J.T, weight - inertial, rcond=None)[0]
+        total = weight.copy()
         row = 0
         for c in mech.constraints():
             rows = slice(row, row + c.equations)
-            if isinstance(c, (RotationDriver, TranslationDriver)):
-                effort[k] = -lam[row]
-            else:
-                # the constraint force on body j: -(dPhi/dr_j)^T lambda (on i when j is the ground)
-                if c.j != 0:
-                    cols = slice(3 * c.j - 3, 3 * c.j - 1)
-                    forces[c.name][k] = -(J[rows, cols].T @ lam[rows])
-                else:
-                    cols = slice(3 * c.i - 3, 3 * c.i - 1)
-                    forces[c.name][k] = J[rows, cols].T @ lam[rows]
+            for body, load in loads[c.name].items():
+                load[k] = -(J[rows, _body_cols(body)].T @ lam[rows])
+                total[_body_cols(body)] += load[k]
+            if c.name in efforts:  # a driver's torque or force along its line on its body
+                efforts[c.name][k] = -lam[row]
             row += c.equations
-    return PlanarReactions(forces, effort)
+        residual[k] = np.abs(inertial - total).max()
+    return _reactions(mech, loads, efforts, residual, weight)
+
+
+def _moving(c) -> tuple[int, ...]:
+    """The moving bodies a constraint acts on."""
+    if isinstance(c, RotationDriver):
+        bodies: tuple[int, ...] = (c.body, c.reference)
+    else:
+        bodies = (c.i, c.j)
+    return tuple(dict.fromkeys(b for b in bodies if b))
+
+
+def _reactions(mech: Mechanism, loads: dict, efforts: dict, residual: np.ndarray, weight: np.ndarray) -> PlanarReactions:
+    """The record: each joint's force on its body j (or, j the ground, minus that on i)."""
+    forces = {}
+    for j in mech.joints:
+        forces[j.name] = loads[j.name][j.j][:, :2] if j.j else -loads[j.name][j.i][:, :2]
+    largest = max([float(np.abs(f).max()) for f in forces.values()] + [float(np.abs(weight).max()), 1e-300])
+    first = efforts[mech.drivers[0].name] if mech.drivers else np.zeros(residual.size)
+    return PlanarReactions(forces, first, loads, efforts, residual, largest)

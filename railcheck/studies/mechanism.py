@@ -1,18 +1,16 @@
-"""`railcheck mechanism NAME`: a catalogue mechanism in body coordinates (seed 002), or a
-scene's own four-bar or slider-crank (NAME a scene .toml).
-
-Prints the mobility report and the tracer point's range; ``--csv`` writes the tracer's
-path (``driver,x,y,vx,vy,ax,ay``: rad, m, m/s, m/s^2 in the catalogue's frame, the
-driver moving through seed 002's sweep in 1 s); ``--html`` a self-contained page with a
-slider over the driver that moves the drawn mechanism and shows the traced curve (the
-seed's CDF document, in a browser); ``--gif`` an animation of the cycle.
+"""`railcheck mechanism NAME`'s mechanism: a planar scene file, a catalogue entry of seed
+002 (in body coordinates, driven through the seed's sweep in 1 s), or a rig scene's own
+four-bar or slider-crank, each as a :class:`~railcheck.studies.planar_scene.PlanarScene`;
+and the drawing shared by its page (a self-contained page with a slider over the driver
+that moves the drawn mechanism and shows the traced curve, the seed's CDF document in a
+browser) and its GIF animation. Drawing units: mm.
 """
 
 from __future__ import annotations
 
 import json
-import math
-from dataclasses import dataclass
+import tomllib
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -20,33 +18,42 @@ import numpy as np
 from railcheck.base.errors import InputError
 from railcheck.files import atomic_path, atomic_write_text
 from railcheck.kinematics.linkage import FourBar
-from railcheck.kinematics.planar.catalogue import CATALOGUE, SWEEPS, driver_values, rig_fourbar, rig_slidercrank
+from railcheck.kinematics.planar.catalogue import CATALOGUE, SWEEPS, rig_fourbar, rig_slidercrank
 from railcheck.kinematics.planar.model import Prismatic, Revolute
-from railcheck.kinematics.planar.solver import mobility, solve
 from railcheck.parts import mass_model
-from railcheck.scene import load_scene
+from railcheck.scene import parse_scene, read_scene_data
+from railcheck.studies.planar_scene import PlanarScene, is_planar, planar_scene
+from railcheck.studies.planar_writer import scene_text
 
 
-def _solve(name: str, steps: int):
-    """The mechanism ``name`` (a catalogue name, or a scene file: its own four-bar or
-    slider-crank with its bar lengths and masses) solved over its driver's sweep; returns
-    (mechanism, motion, mobility, driver rate rad/s)."""
-    if steps < 2 or steps > 100_000:
+def mechanism_scene(name: str, steps: int | None = None) -> PlanarScene:
+    """The planar scene ``railcheck mechanism NAME`` studies: a planar scene file as it is
+    (``steps`` overrides its driver's), a catalogue entry over seed 002's sweep, or a
+    scene file's own four-bar or slider-crank (its bar lengths, mass model and crank
+    speed, over one revolution), each written as a planar scene and read back."""
+    if steps is not None and not 2 <= steps <= 100_000:
         raise InputError("--steps", f"must be between 2 and 100000, got {steps}")
     if name.endswith(".toml"):
-        mech, kind, rate = scene_mechanism(name)
-    elif name in CATALOGUE:
-        mech, kind, rate = CATALOGUE[name](), name, SWEEPS[name]
-    else:
-        raise InputError("NAME", f"unknown mechanism {name!r} (catalogue: {', '.join(CATALOGUE)}; or a scene .toml)")
-    motion = solve(mech, driver_values(kind, steps))
-    return mech, motion, mobility(mech, motion.q[0]), rate
+        data, source = read_scene_data(name)
+        if is_planar(data):
+            scene = planar_scene(data, source)
+            return scene if steps is None else replace(scene, steps=steps)
+        mech, kind, rate = _linkage_of(parse_scene(data, source), source)
+        return _as_planar(mech, SWEEPS[kind], steps or 361, rate, source)
+    if name in CATALOGUE:
+        sweep = SWEEPS[name]
+        return _as_planar(CATALOGUE[name](), sweep, steps or 361, abs(sweep), f"catalogue {name}")
+    raise InputError("NAME", f"unknown mechanism {name!r} (catalogue: {', '.join(CATALOGUE)}; or a scene .toml)")
 
 
-def scene_mechanism(path: str):
-    """A scene's linkage in body coordinates: (mechanism, its catalogue kind, the crank's
-    speed in rad/s), with the scene's bar lengths and mass model."""
-    scene = load_scene(path)
+def _as_planar(mech, sweep: float, steps: int, rate: float, source: str) -> PlanarScene:
+    """A body-coordinate mechanism as the planar scene that says the same (written, read)."""
+    return planar_scene(tomllib.loads(scene_text(mech, sweep, steps, rate)), source)
+
+
+def _linkage_of(scene, path: str):
+    """A rig scene's linkage in body coordinates: (mechanism, its catalogue kind, the
+    crank's speed in rad/s), with the scene's bar lengths and mass model."""
     if scene.mechanism is None:
         raise InputError("mechanism", f"{path} has no [mechanism] table to animate")
     masses = mass_model(scene.formulation, scene.geometry)
@@ -54,14 +61,6 @@ def scene_mechanism(path: str):
     if isinstance(linkage, FourBar):
         return rig_fourbar(linkage, masses), "four-bar", scene.mechanism.speed
     return rig_slidercrank(linkage, masses), "slider-crank", scene.mechanism.speed
-
-
-def tracer_table(mech, motion, rate: float) -> np.ndarray:
-    """(steps, 7): driver (rad), x, y (m), vx, vy (m/s), ax, ay (m/s^2) of the tracer,
-    for the driver moving at ``rate`` rad/s."""
-    P, V, A = motion.point(*mech.tracer)
-    driver = np.array([mech.driver.f(si)[0] for si in motion.s])
-    return np.column_stack([driver, P, V * rate, A * rate**2])
 
 
 def _segments(mech, motion) -> list:
@@ -92,35 +91,40 @@ def ground_features(mech) -> tuple[list, list]:
     return pivots, guides
 
 
-def write_html(path: Path, mech, motion, table: np.ndarray) -> None:
-    """A self-contained page (inline data and script, no network): the mechanism drawn to
-    scale on axes in mm with a grid and a scale bar, bodies and joints labelled, the ground
-    drawn where it holds the mechanism (pivots, slider guides), the traced curve, a slider
-    and a play/pause control over the driver, and a readout in mm and degrees."""
+def page_data(mech, motion, tracer_xy: np.ndarray, driver: np.ndarray, unit: str = "deg") -> dict:
+    """The page's drawing data (mm): every body's points at every step, the ground's pivots
+    and guides, the traced curve (``tracer_xy`` (steps, 2) m) and the driver's values in
+    ``unit`` (deg or mm); the axes' bounds hold everything drawn."""
     segs = _segments(mech, motion)
     pivots, guides = ground_features(mech)
     all_pts = np.concatenate(
-        [p.reshape(-1, 2) for _, _, p in segs] + [np.array([q[:2] for q in pivots]).reshape(-1, 2), table[:, 1:3]]
+        [p.reshape(-1, 2) for _, _, p in segs] + [np.array([q[:2] for q in pivots]).reshape(-1, 2), tracer_xy]
     )
     lo, hi = all_pts.min(axis=0), all_pts.max(axis=0)
     mm = lambda a: np.round(np.asarray(a) * 1e3, 6).tolist()  # noqa: E731
-    data = {
+    return {
         "name": mech.name,
         "description": mech.description,
-        "driver_deg": [round(math.degrees(v), 6) for v in table[:, 0]],
+        "driver": [round(float(v), 6) for v in driver],
+        "driver_unit": unit,
         "bodies": [{"name": n, "points": names, "xy": mm(p)} for n, names, p in segs],
         "pivots": [[x * 1e3, y * 1e3, n] for x, y, n in pivots],
         "guides": [[mm(a), mm(b), n] for a, b, n in guides],
-        "tracer": mm(table[:, 1:3]),
+        "tracer": mm(tracer_xy),
         "bounds": [float(v) * 1e3 for v in (lo[0], lo[1], hi[0], hi[1])],
         "tracer_name": f"{mech.bodies[mech.tracer[0] - 1].name}.{mech.tracer[1]}",
     }
+
+
+def write_page(path: Path, data: dict) -> None:
+    """The self-contained page (inline data and script, no network) of :func:`page_data`."""
     template = (Path(__file__).with_name("mechanism_page.html")).read_text(encoding="utf-8")
-    html = template.replace("__DATA__", json.dumps(data, separators=(",", ":"))).replace("__TITLE__", mech.name)
+    html = template.replace("__DATA__", json.dumps(data, separators=(",", ":"))).replace("__TITLE__", data["name"])
     atomic_write_text(path, html)
 
 
-def write_gif(path: Path, mech, motion, table: np.ndarray, frames: int = 60) -> None:
+def write_gif(path: Path, mech, motion, tracer_xy: np.ndarray, frames: int = 60) -> None:
+    """An animation of the cycle (``frames`` frames) with the traced path (m, (steps, 2))."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -130,13 +134,13 @@ def write_gif(path: Path, mech, motion, table: np.ndarray, frames: int = 60) -> 
     segs = _segments(mech, motion)
     idx = np.linspace(0, motion.s.size - 1, min(frames, motion.s.size)).astype(int)
     fig, ax = plt.subplots(figsize=(6, 5))
-    allp = np.concatenate([p.reshape(-1, 2) for _, _, p in segs] + [table[:, 1:3]]) * 1e3
+    allp = np.concatenate([p.reshape(-1, 2) for _, _, p in segs] + [tracer_xy]) * 1e3
     pad = 0.05 * np.ptp(allp, axis=0).max()
     ax.set_xlim(allp[:, 0].min() - pad, allp[:, 0].max() + pad)
     ax.set_ylim(allp[:, 1].min() - pad, allp[:, 1].max() + pad)
     ax.set_aspect("equal")
     ax.set(xlabel="x (mm)", ylabel="y (mm)", title=mech.name)
-    ax.plot(table[:, 1] * 1e3, table[:, 2] * 1e3, "r-", lw=1, alpha=0.6)
+    ax.plot(tracer_xy[:, 0] * 1e3, tracer_xy[:, 1] * 1e3, "r-", lw=1, alpha=0.6)
     lines = [ax.plot([], [], "-o", lw=2, ms=3)[0] for _ in segs]
     dot = ax.plot([], [], "ro")[0]
     g = np.array(list(mech.ground.points.values())) * 1e3
@@ -146,46 +150,10 @@ def write_gif(path: Path, mech, motion, table: np.ndarray, frames: int = 60) -> 
         k = idx[i]
         for line, (_, _, p) in zip(lines, segs):
             line.set_data(p[k, :, 0] * 1e3, p[k, :, 1] * 1e3)
-        dot.set_data([table[k, 1] * 1e3], [table[k, 2] * 1e3])
+        dot.set_data([tracer_xy[k, 0] * 1e3], [tracer_xy[k, 1] * 1e3])
         return lines + [dot]
 
     anim = FuncAnimation(fig, frame, frames=len(idx), blit=True)
     with atomic_path(path) as tmp:
         anim.save(tmp, writer=PillowWriter(fps=15))
     plt.close(fig)
-
-
-@dataclass(frozen=True)
-class MechanismRun:
-    """A catalogue mechanism over its driver sweep: ``table`` (steps, 7) holds the
-    driver value and the tracer's position, velocity, acceleration (SI); ``rate`` the
-    driver's speed (rad/s: the seed's driver covers its sweep in 1 s)."""
-
-    mech: object
-    motion: object
-    mobility: object
-    table: np.ndarray
-    rate: float
-    steps: int
-
-
-def run_mechanism(name: str, steps: int) -> MechanismRun:
-    mech, motion, mob, sweep = _solve(name, steps)
-    rate = math.copysign(abs(sweep), sweep)
-    return MechanismRun(mech, motion, mob, tracer_table(mech, motion, rate), rate, steps)
-
-
-def write_mechanism_outputs(run: MechanismRun, csv: str | None, html: str | None, gif: str | None) -> list[str]:
-    """The CSV, HTML page and GIF asked for; returns the paths written."""
-    written = []
-    if csv:
-        lines = ["driver,x,y,vx,vy,ax,ay"] + [",".join(f"{v:.12g}" for v in row) for row in run.table]
-        atomic_write_text(csv, "\n".join(lines) + "\n")
-        written.append(csv)
-    if html:
-        write_html(Path(html), run.mech, run.motion, run.table)
-        written.append(html)
-    if gif:
-        write_gif(Path(gif), run.mech, run.motion, run.table)
-        written.append(gif)
-    return written
