@@ -23,7 +23,7 @@ import sys
 import tempfile
 import threading
 import tomllib
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -40,7 +40,7 @@ from railcheck.progress import Progress
 from railcheck.scene import Scene, load_scene, parse_scene
 from railcheck.studies.mechanism import mechanism_scene
 from railcheck.studies.planar_outputs import planar_summary, write_planar_outputs
-from railcheck.studies.planar_scene import planar_scene
+from railcheck.studies.planar_scene import planar_scene, with_steps
 from railcheck.studies.planar_study import study_planar
 
 
@@ -282,8 +282,6 @@ def mechanism(scene: Any, steps: int | None = None, out: str | Path | None = Non
     """Seed 002's study of a planar mechanism: a planar scene (a path, TOML text or a dict
     with ``[mechanism] kind = "planar"``), a catalogue name ("a-z-1139"), or a rig scene's
     own linkage (a path). ``out``: a folder for summary.json, the CSVs and the page."""
-    if steps is not None and (isinstance(steps, bool) or not isinstance(steps, int) or not 2 <= steps <= 100_000):
-        raise InputError("steps", f"must be a whole number from 2 to 100000, got {steps!r}")
     if isinstance(scene, dict):
         parsed = planar_scene(scene, "<dict>")
     elif isinstance(scene, str) and "\n" in scene:
@@ -292,11 +290,11 @@ def mechanism(scene: Any, steps: int | None = None, out: str | Path | None = Non
         except tomllib.TOMLDecodeError as exc:
             raise InputError("scene", f"malformed TOML: {exc}") from None
     elif isinstance(scene, (str, Path)):
-        parsed = mechanism_scene(str(scene), steps)
+        parsed = mechanism_scene(str(scene))
     else:
         raise InputError("scene", f"must be a path, a catalogue name, TOML text or a dict, got {type(scene).__name__}")
-    if steps is not None and parsed.steps != steps:
-        parsed = replace(parsed, steps=steps)
+    if steps is not None:
+        parsed = with_steps(parsed, steps, "steps")
     study = study_planar(parsed)
     summary = planar_summary(study)
     files = tuple(write_planar_outputs(study, summary, writable_dir(out, "out"))) if out is not None else ()

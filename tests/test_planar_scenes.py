@@ -228,7 +228,7 @@ def test_the_symbolic_equations_are_the_solvers():
 
     from railcheck.studies.planar_symbolic import constraint_equations, coordinates
 
-    mech = example("rig-inverted-slider-crank", 5).mechanism
+    mech = example("rig-inverted-slider-crank", 25).mechanism
     q, s = coordinates(mech)
     f = sp.lambdify([q, s], [e for _, e in constraint_equations(mech)])
     rng = np.random.default_rng(3)
@@ -258,6 +258,11 @@ def _bad(mutate) -> str:
         (lambda m: m["bodies"][0].update(colour="red"), ("mechanism.bodies[0].colour", "unknown key")),
         (lambda m: m.update(tracers=["lever.Q"]), ("mechanism.tracers[0]", "no point 'Q'")),
         (lambda m: m["driver"].update(steps=1), ("mechanism.driver.steps", "from 2")),
+        (lambda m: m["driver"].update(steps=10), ("mechanism.driver.steps", "jump the assembly branch: 25 or more")),
+        (lambda m: m["driver"].update(range=["0 deg", "1e12 deg"]), ("mechanism.driver.range", "100 turns")),
+        (lambda m: m["driver"].update(speed="1e12 Hz"), ("mechanism.driver.speed", "not a mechanism's speed")),
+        (lambda m: m["bodies"][0].update(mass="1e30 kg"), ("mechanism.bodies[0].mass", "1e+06")),
+        (lambda m: m["bodies"][0].update(inertia="nan kg m2"), ("mechanism.bodies[0].inertia", "nan")),
         (lambda m: m["joints"].pop(3), ("mechanism.drives", "for 3 degree(s)", "add a drive or a joint")),
     ],
 )
@@ -302,6 +307,8 @@ def test_the_api_returns_the_frozen_study():
     assert run.summary["mobility"]["dof"] == 1 and run.study.motion.s.size == 37 and run.files == ()
     with pytest.raises(InputError, match="steps"):
         railcheck.mechanism("a-z-1139", steps=1)
+    with pytest.raises(InputError, match="holds only"):
+        railcheck.mechanism({"mechanism": {"kind": "planar"}, "check": {}})
 
 
 PAGE = """

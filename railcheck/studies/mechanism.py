@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import json
 import tomllib
-from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -22,7 +21,7 @@ from railcheck.kinematics.planar.catalogue import CATALOGUE, SWEEPS, rig_fourbar
 from railcheck.kinematics.planar.model import Prismatic, Revolute
 from railcheck.parts import mass_model
 from railcheck.scene import parse_scene, read_scene_data
-from railcheck.studies.planar_scene import PlanarScene, is_planar, planar_scene
+from railcheck.studies.planar_scene import MAX_STEPS, PlanarScene, is_planar, planar_scene, with_steps
 from railcheck.studies.planar_writer import scene_text
 
 
@@ -31,24 +30,26 @@ def mechanism_scene(name: str, steps: int | None = None) -> PlanarScene:
     (``steps`` overrides its driver's), a catalogue entry over seed 002's sweep, or a
     scene file's own four-bar or slider-crank (its bar lengths, mass model and crank
     speed, over one revolution), each written as a planar scene and read back."""
-    if steps is not None and not 2 <= steps <= 100_000:
-        raise InputError("--steps", f"must be between 2 and 100000, got {steps}")
+    if steps is not None and (isinstance(steps, bool) or not isinstance(steps, int) or not 2 <= steps <= MAX_STEPS):
+        raise InputError("--steps", f"must be a whole number from 2 to {MAX_STEPS}, got {steps!r}")
     if name.endswith(".toml"):
         data, source = read_scene_data(name)
         if is_planar(data):
             scene = planar_scene(data, source)
-            return scene if steps is None else replace(scene, steps=steps)
+            return scene if steps is None else with_steps(scene, steps)
         mech, kind, rate = _linkage_of(parse_scene(data, source), source)
-        return _as_planar(mech, SWEEPS[kind], steps or 361, rate, source)
+        return _as_planar(mech, SWEEPS[kind], steps or 361, rate, source, steps)
     if name in CATALOGUE:
         sweep = SWEEPS[name]
-        return _as_planar(CATALOGUE[name](), sweep, steps or 361, abs(sweep), f"catalogue {name}")
+        return _as_planar(CATALOGUE[name](), sweep, steps or 361, abs(sweep), f"catalogue {name}", steps)
     raise InputError("NAME", f"unknown mechanism {name!r} (catalogue: {', '.join(CATALOGUE)}; or a scene .toml)")
 
 
-def _as_planar(mech, sweep: float, steps: int, rate: float, source: str) -> PlanarScene:
-    """A body-coordinate mechanism as the planar scene that says the same (written, read)."""
-    return planar_scene(tomllib.loads(scene_text(mech, sweep, steps, rate)), source)
+def _as_planar(mech, sweep: float, steps: int, rate: float, source: str, asked: int | None) -> PlanarScene:
+    """A body-coordinate mechanism as the planar scene that says the same (written, read);
+    the steps a user asked for checked as the option's."""
+    scene = planar_scene(tomllib.loads(scene_text(mech, sweep, 361, rate)), source)
+    return scene if asked is None else with_steps(scene, steps)
 
 
 def _linkage_of(scene, path: str):

@@ -12,6 +12,7 @@ The keys are documented in docs/scenes.md ("Planar mechanisms").
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 from typing import Any
@@ -39,6 +40,10 @@ JOINT_KINDS = ("revolute", "prismatic", "fixed")
 COORDINATE_LIMIT = 100.0  # m: a point or placement farther than this from the origin is a typo
 MAX_STEPS = 100_000
 MAX_BODIES = 200
+MAX_STEP_ANGLE = 15.0  # deg: the largest driver step the continuation is trusted to keep its branch over
+MAX_TURNS = 100  # an angle range of at most this many turns
+MAX_RATE = 1e4  # rad/s (about 1600 Hz) or m/s: beyond it the driver speed is a typo
+MAX_MASS = 1e6  # kg
 
 
 @dataclass(frozen=True)
@@ -116,6 +121,7 @@ def _body(table: dict, name: str) -> Body:
     points = _points(require(table, "points", name + "."), name + ".points")
     x, y, th = _placement(table.get("at", ["0 mm", "0 mm", "0 deg"]), name + ".at")
     mass = parse_quantity(table.get("mass", "0 kg"), "mass", name + ".mass", positive=True)
+    number(mass, name + ".mass", 0.0, MAX_MASS, "a mass in kg")
     inertia = _inertia(table.get("inertia", "0 kg m2"), name + ".inertia")
     cx, cy = _point(table.get("centre_of_mass", ["0 mm", "0 mm"]), name + ".centre_of_mass")
     shifted = {k: (px - cx, py - cy) for k, (px, py) in points.items()}
@@ -200,22 +206,51 @@ def _driver_range(table: Any) -> tuple[float, float, int, str, float]:
     start, stop = (parse_quantity(v, unit, f"{p}range[{k}]") for k, v in enumerate(span))
     if start == stop:
         raise InputError(p + "range", "from and to are the same value: the mechanism would not move")
+    if unit == "angle" and abs(stop - start) > MAX_TURNS * 2 * math.pi:
+        raise InputError(p + "range", f"more than {MAX_TURNS} turns: give the range of one cycle")
+    if unit == "length" and abs(stop - start) > COORDINATE_LIMIT:
+        raise InputError(p + "range", f"a slide of more than {COORDINATE_LIMIT:g} m")
     steps = table.get("steps", 361)
     if isinstance(steps, bool) or not isinstance(steps, int) or not 2 <= steps <= MAX_STEPS:
         raise InputError(p + "steps", f"must be a whole number from 2 to {MAX_STEPS}, got {steps!r}")
+    if unit == "angle" and math.degrees(abs(stop - start)) / (steps - 1) > MAX_STEP_ANGLE:
+        need = math.ceil(math.degrees(abs(stop - start)) / MAX_STEP_ANGLE) + 1
+        raise InputError(
+            p + "steps", f"steps of more than {MAX_STEP_ANGLE:g} deg may jump the assembly branch: {need} or more"
+        )
     default_speed = "1 rad/s" if unit == "angle" else "0.1 m/s"
     rate = _rate(table.get("speed", default_speed), unit, p + "speed")
     return start, stop, steps, unit, math.copysign(rate, stop - start)
 
 
+def _fine_enough(start: float, stop: float, steps: int, unit: str, name: str) -> None:
+    """Refuse driver steps so coarse the continuation could jump the assembly branch."""
+    if unit == "angle" and math.degrees(abs(stop - start)) / (steps - 1) > MAX_STEP_ANGLE:
+        need = math.ceil(math.degrees(abs(stop - start)) / MAX_STEP_ANGLE) + 1
+        raise InputError(name, f"steps of more than {MAX_STEP_ANGLE:g} deg may jump the assembly branch: {need} or more")
+
+
+def with_steps(scene: PlanarScene, steps: int, name: str = "--steps") -> PlanarScene:
+    """The scene over ``steps`` driver steps (2 to 100 000, fine enough), else refused."""
+    if isinstance(steps, bool) or not isinstance(steps, int) or not 2 <= steps <= MAX_STEPS:
+        raise InputError(name, f"must be a whole number from 2 to {MAX_STEPS}, got {steps!r}")
+    _fine_enough(scene.start, scene.stop, steps, scene.unit, name)
+    return dataclasses.replace(scene, steps=steps)
+
+
 def _rate(value: Any, unit: str, name: str) -> float:
     """The driver parameter's speed: rad/s (or Hz, rpm) for an angle, m/s or mm/s for a slide."""
     if unit == "angle":
-        return parse_quantity(value, "angular_speed", name, positive=True, allow_zero=False)
+        rate = parse_quantity(value, "angular_speed", name, positive=True, allow_zero=False)
+        if rate > MAX_RATE:
+            raise InputError(
+                name, f"more than {MAX_RATE:g} rad/s ({MAX_RATE / (2 * math.pi):.0f} Hz) is not a mechanism's speed"
+            )
+        return rate
     text = value.strip() if isinstance(value, str) else ""
     for suffix, factor in (("mm/s", 1e-3), ("m/s", 1.0)):
         if text.endswith(suffix):
-            return number(_float(text[: -len(suffix)], name), name, 1e-9, 1e3, "a speed") * factor
+            return number(_float(text[: -len(suffix)], name) * factor, name, 1e-9, 1e3, "a speed in m/s")
     raise InputError(name, f'a slide\'s speed must be in m/s or mm/s, e.g. "0.1 m/s", got {value!r}')
 
 
@@ -262,7 +297,11 @@ def _tracer(value: Any, name: str, index: dict[str, int], bodies: list[Body]) ->
 def planar_scene(data: dict, source: str = "<scene>") -> PlanarScene:
     """A planar mechanism scene from its parsed TOML (only [mechanism] is read; a scene of
     this kind has no other table)."""
-    refuse_unknown(data, {"mechanism"}, "")
+    for key in data:
+        if key != "mechanism":
+            raise InputError(
+                key, 'a planar mechanism scene holds only [mechanism] (its keys: docs/scenes.md, "Planar mechanisms")'
+            )
     table = data["mechanism"]
     refuse_unknown(table, KEYS, "mechanism.")
     p = "mechanism."
