@@ -379,3 +379,44 @@ def test_an_example_written_from_the_catalogue_is_what_the_writer_writes(name, f
 
     written = scene_text(CATALOGUE[name](), SWEEPS[name], 361, abs(SWEEPS[name]))
     assert body((EXAMPLES / f"{file}.toml").read_text()) == body(written)
+
+
+@pytest.mark.parametrize(
+    "name, order",
+    [
+        ("rig-four-bar", ["crank crank", "RRR coupler+rocker"]),
+        ("rig-slider-crank", ["crank crank", "RRP coupler+slider"]),
+        ("watt-six-bar", ["crank crank", "RRR coupler+rocker", "RRR link+output"]),
+        ("stephenson-six-bar", ["crank crank", "RRR coupler+rocker", "RRR link+output"]),
+        ("rig-inverted-slider-crank", ["crank crank", "RPR carriage+lever"]),
+        ("a-4-1553", ["crank 2", "RRP 3+4"]),  # the guide's line on the slider, the ground's point on it
+        ("a-z-1139", None),
+    ],
+)
+def test_a_mechanism_of_dyads_is_solved_in_closed_form_too(name, order):
+    """Seed 002 §2.5: dyad by dyad, every coordinate in the driver in closed form; every body
+    point within 1e-9 m of Newton's; a-z-1139 (its guides are no dyads) has none. The
+    seed's a-4-1553 is its own check of the reading: its crank and L-shaped coupler on a slider."""
+    summary = planar_summary(example(name, 181))["closed_form"]
+    assert summary["dyads"] == order
+    if order:
+        assert summary["largest_difference_mm"] <= 1e-6  # 1e-9 m
+
+
+@pytest.mark.parametrize("assembly", ["open", "crossed"])
+def test_the_closed_form_keeps_the_assembly_branch_of_the_start(assembly):
+    """dyad_positions against the closed-form four-bar of either assembly: the branch is
+    the one the start is on (the example's crank placement, its other bodies on that side)."""
+    from railcheck.kinematics.planar.catalogue import rig_fourbar
+    from railcheck.kinematics.planar.dyads import dyad_positions
+
+    lk = FourBar(0.48, 0.84, 0.78, 1.02, assembly)
+    mech = rig_fourbar(lk)
+    s = np.linspace(0, 2 * math.pi, 181)
+    closed = solve_fourbar(lk, 1.0, 181)
+    solution = dyad_positions(mech, s, mech.initial_q())
+    from railcheck.kinematics.planar.solver import PlanarMotion
+
+    z = np.zeros_like(solution.q)
+    motion = PlanarMotion(mech, s, solution.q, z, z)
+    np.testing.assert_allclose(motion.point(3, "B")[0], closed.points["B"], atol=1e-12)

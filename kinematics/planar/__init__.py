@@ -2,7 +2,8 @@
 
 :mod:`.model` (bodies, joints, drivers), :mod:`.solver` (mobility, positions by
 Newton-Raphson along the driver, velocities, accelerations, Lagrange reactions),
-:mod:`.catalogue` (Artobolevsky tracer mechanisms and the rig's linkages). Units SI.
+:mod:`.dyads` (closed-form positions of a crank plus dyads), :mod:`.catalogue` (Artobolevsky
+tracer mechanisms and the rig's linkages). Units SI.
 """
 
 from .catalogue import CATALOGUE, SWEEPS, driver_values

@@ -73,11 +73,20 @@ def planar_summary(study: PlanarStudy) -> dict:
         "tracers": {name: _tracer_summary(t) for name, t in study.tracers.items()},
         "reactions_N": {name: _peak(f, driver) for name, f in r.forces.items()},
         "drives": {name: dict(_peak(e, driver), unit=effort_unit[name]) for name, e in r.efforts.items()},
+        "closed_form": _closed(study),
         "gravity_m_s2": study.scene.gravity,
         "loaded": any(b.mass for b in study.mechanism.bodies),
         "slides_mm": _slides(study),
         "equilibrium": {"largest_residual": float(r.residual.max()), "relative": float(r.residual.max() / r.scale)},
     }
+
+
+def _closed(study: PlanarStudy) -> dict:
+    """The closed-form check: the dyads solved in order and the largest point distance (mm)."""
+    c = study.closed_form
+    if c is None:
+        return {"dyads": None, "why": "not a driven crank plus RRR, RRP and RPR dyads: Newton's solution only"}
+    return {"dyads": list(c.order), "largest_difference_mm": c.largest_difference * 1e3}
 
 
 def _slides(study: PlanarStudy) -> dict:
@@ -120,6 +129,13 @@ def planar_lines(summary: dict) -> list[str]:
     ]
     lines += [f"  redundant: joint {r['joint']!r}: {r['relax']}" for r in m["redundant_equations"]]
     lines.append(f"driver: {d['from']:g} to {d['to']:g} {u} in {d['steps']} steps at {d[f'speed_{u}_per_s']:.4g} {u}/s")
+    c = summary["closed_form"]
+    if c["dyads"]:
+        lines.append(
+            f"closed form ({', '.join(c['dyads'])}): every body point within {c['largest_difference_mm']:.1e} mm of Newton's"
+        )
+    else:
+        lines.append(f"closed form: none ({c['why']})")
     if mo["ended"]:
         lines.append(f"motion stops after {mo['steps_solved']} of {mo['steps_asked']} steps: {mo['ended']}")
     for name, t in summary["tracers"].items():

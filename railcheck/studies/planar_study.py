@@ -17,6 +17,7 @@ import numpy as np
 
 from railcheck.base.errors import InputError
 from railcheck.kinematics.errors import MechanismError
+from railcheck.kinematics.planar.dyads import dyad_positions
 from railcheck.kinematics.planar.model import Mechanism, evaluate
 from railcheck.kinematics.planar.solver import (
     RANK_TOL,
@@ -45,6 +46,15 @@ class Redundancy:
 
 
 @dataclass(frozen=True)
+class ClosedForm:
+    """Seed 002 §2.5: the positions in closed form, dyad by dyad (``order``), and the
+    largest distance (m) between any body point there and where Newton put it."""
+
+    order: tuple[str, ...]
+    largest_difference: float
+
+
+@dataclass(frozen=True)
 class PlanarStudy:
     """A planar mechanism studied over its driver's range (SI; ground frame).
 
@@ -52,7 +62,8 @@ class PlanarStudy:
     freedom the joints leave along the motion (rank of their Jacobian); ``redundant`` the
     repeated joint equations; ``motion`` the solved steps (``motion.ended`` says why it
     stops early); ``reactions`` at the scene's driver speed with its gravity; ``tracers``
-    per traced point its (steps, 6) x, y (m), vx, vy (m/s), ax, ay (m/s^2)."""
+    per traced point its (steps, 6) x, y (m), vx, vy (m/s), ax, ay (m/s^2); ``closed_form``
+    the dyad-by-dyad closed-form positions against Newton's, when the mechanism is built so."""
 
     scene: PlanarScene
     mobility: Mobility
@@ -61,6 +72,7 @@ class PlanarStudy:
     motion: PlanarMotion
     reactions: PlanarReactions
     tracers: dict[str, np.ndarray]
+    closed_form: ClosedForm | None = None
 
     @property
     def mechanism(self) -> Mechanism:
@@ -155,4 +167,22 @@ def study_planar(scene: PlanarScene) -> PlanarStudy:
     motion = solve(mech, scene.values, q0, partial=True)
     reactions = inverse_dynamics(motion, scene.rate, scene.gravity)
     tracers = {f"{mech.body(b).name}.{p}": tracer_table(motion, b, p, scene.rate) for b, p in scene.tracers}
-    return PlanarStudy(scene, mob, dof_along(mech, motion), redundant_equations(mech, q0), motion, reactions, tracers)
+    closed = closed_form(mech, motion)
+    return PlanarStudy(
+        scene, mob, dof_along(mech, motion), redundant_equations(mech, q0), motion, reactions, tracers, closed
+    )
+
+
+def closed_form(mech: Mechanism, motion: PlanarMotion) -> ClosedForm | None:
+    """The closed-form positions checked against the motion (None: not built of dyads, or
+    a dyad that does not close where Newton did)."""
+    solution = dyad_positions(mech, motion.s, motion.q[0])
+    if solution is None or not solution.valid.all():
+        return None
+    other = PlanarMotion(mech, motion.s, solution.q, motion.qd, motion.qdd)
+    largest = max(
+        float(np.abs(other.point(k, p)[0] - motion.point(k, p)[0]).max())
+        for k, body in enumerate(mech.bodies, start=1)
+        for p in body.points
+    )
+    return ClosedForm(solution.order, largest)
