@@ -8,14 +8,19 @@ watch). Each tool's accuracy: the largest error in a bar length its joints keep 
 pylinkage and kinepy are installed only in the benchmark's environment:
 
     python3 -m venv /tmp/bench && . /tmp/bench/bin/activate
-    pip install . pylinkage kinepy && python benchmarks/planar.py
+    pip install . pylinkage kinepy && python benchmarks/planar.py [--write docs/performance.md]
 
-Prints medians of REPEATS runs (Newton: NEWTON_REPEATS) and the ratios, measured in one run.
+Prints medians of REPEATS runs (Newton: NEWTON_REPEATS) and the ratios, measured in one run;
+``--write FILE`` puts the table between FILE's ``<!-- planar -->`` and ``<!-- /planar -->``.
 """
 
 from __future__ import annotations
 
+import argparse
+import contextlib
+import io
 import math
+import os
 import statistics
 import sys
 import time
@@ -113,7 +118,8 @@ def kinepy_fourbar(six: bool = False):
         system.add_revolute(output, 0, (0, 0), (1440, 900))
         joints += [rC, rD]
     system.pilot(r1)
-    system.compile()
+    with contextlib.redirect_stdout(io.StringIO()):  # kinepy prints its compilation steps
+        system.compile()
     angles = np.linspace(0.0, 360.0, STEPS)
     t, _ = median_time(lambda: system.solve_kinematics(angles), REPEATS)
     pts = [np.asarray(j.point).T * 1e-3 for j in joints]
@@ -122,7 +128,20 @@ def kinepy_fourbar(six: bool = False):
     return t, bar_error([(pts[0], np.array([1.02, 0.0]), 0.78)])
 
 
+def write_block(path: Path, lines: list[str]) -> None:
+    """Replace the lines between ``<!-- planar -->`` and ``<!-- /planar -->`` of ``path``."""
+    text = path.read_text()
+    start, end = "<!-- planar -->\n", "<!-- /planar -->"
+    if start not in text or end not in text:
+        raise SystemExit(f"{path}: no {start.strip()} ... {end} block to fill")
+    before, rest = text.split(start, 1)
+    path.write_text(before + start + "\n".join(lines) + "\n" + end + rest.split(end, 1)[1])
+
+
 def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--write", type=Path, help="a Markdown file whose planar block gets this run's table")
+    args = parser.parse_args()
     fourbar_bars = [("coupler.A", "coupler.B", 0.84), ("rocker.O4", "rocker.B", 0.78)]
     watt_bars = [("coupler.A", "coupler.B", 0.84), ("link.C", "link.D", 0.72), ("output.O6", "output.D", 0.60)]
     rows = []
@@ -139,10 +158,17 @@ def main() -> None:
         base = results["railcheck closed form"][0]
         for label, (t, err) in results.items():
             rows.append(f"| {name} | {label} | {t * 1e3:.1f} ms | {t / base:.1f} | {err:.1e} m |")
-    print(f"positions over {STEPS:,} driver steps (medians: {REPEATS} runs, Newton {NEWTON_REPEATS})")
-    print("| mechanism | tool | time | / railcheck closed form | largest bar-length error |")
-    print("|---|---|---|---|---|")
-    print("\n".join(rows))
+    lines = [
+        f"`python benchmarks/planar.py`, {time.strftime('%Y-%m-%d')}, {os.cpu_count()} cores: positions over "
+        f"{STEPS:,} driver steps, medians of {REPEATS} runs (Newton {NEWTON_REPEATS}), one process.",
+        "",
+        "| mechanism | tool | time | / railcheck closed form | largest bar-length error |",
+        "| --- | --- | --- | --- | --- |",
+        *rows,
+    ]
+    print("\n".join(lines))
+    if args.write:
+        write_block(args.write, lines)
 
 
 if __name__ == "__main__":

@@ -97,3 +97,14 @@ def test_the_mutation_scores_agree_with_themselves():
     assert int(total.split("|")[2]) == sum(int(r[1]) for r in scores)
     assert int(total.split("|")[5]) == sum(int(r[4]) for r in scores)
     assert f"{sum(_fractions(r[3])[0][0] for r in scores)}/678" in total
+
+
+def test_the_planar_ratios_are_their_figures_quotients():
+    text = PAGE.read_text().split("<!-- planar -->", 1)[1].split("<!-- /planar -->", 1)[0]
+    assert text.lstrip().startswith("`python benchmarks/planar.py`")
+    rows = [[c.strip() for c in line.strip("|").split("|")] for line in text.splitlines() if line.startswith("| ")]
+    rows = [r for r in rows[1:] if not r[0].startswith("---")]
+    base = {r[0]: _value(r[2]) for r in rows if r[1] == "railcheck closed form"}
+    assert set(base) == {"four-bar", "Watt six-bar"}
+    for mechanism, tool, time, ratio, _ in rows:
+        assert _close(_value(time), base[mechanism], ratio), (mechanism, tool)
