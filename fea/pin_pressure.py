@@ -2,7 +2,7 @@
 
 A pin only pushes, and frictionless contact carries no shear: the pressure is radial and
 lies on the half of the bore the force points to. The model (a cosine over the loaded
-half, the classic pin-loaded-lug idealisation; DESIGN §10, Shenoy & Fatemi's connecting
+half, the classic pin-loaded-lug idealisation; docs/model.md "Free bodies", Shenoy & Fatemi's connecting
 rods) is
 
     p(phi) = p0 max(0, cos(phi - theta)),      p0 = 2 F / R,   R = integral of cos^2 phi dA

@@ -342,3 +342,28 @@ def test_a_package_docstring_names_only_modules_it_holds():
             if not (folder / f"{name}.py").exists() and not (folder / name).is_dir():
                 missing.append(f"{package}: .{name}")
     assert not missing, missing
+
+
+OUTSIDE = re.compile("DESIGN" + r"(\.md| §)|\.\./" + "shared")  # split so this file does not match itself
+TEXT_SUFFIXES = {".py", ".md", ".toml", ".txt", ".html", ".js", ".cfg", ".yml", ".yaml"}
+
+
+def _outside_references(root: Path) -> list[str]:
+    """Every ``file:line`` under ``root`` that names a document a clone does not hold."""
+    skip = {".git", ".venv", "venv", "results", "__pycache__", ".pytest_cache", ".mypy_cache", ".hypothesis"}
+    hits = []
+    for path in root.rglob("*"):
+        if path.suffix in TEXT_SUFFIXES and not skip & set(path.relative_to(root).parts) and path.is_file():
+            lines = path.read_text(errors="replace").splitlines()
+            hits += [f"{path.relative_to(root)}:{i}" for i, line in enumerate(lines, 1) if OUTSIDE.search(line)]
+    return hits
+
+
+def test_the_reference_finder_finds_a_planted_one(tmp_path):
+    (tmp_path / "a.md").write_text("see the notes\nas DESIGN" + ".md says\n")
+    assert _outside_references(tmp_path) == ["a.md:2"]
+
+
+def test_no_file_refers_to_documents_outside_the_repository():
+    """A clone holds no design notes nor the seeds' folder: what a reader needs is in docs/."""
+    assert _outside_references(ROOT) == []
