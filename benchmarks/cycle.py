@@ -19,7 +19,7 @@ from railcheck.fea.unitcases import solve_unit_cases
 from railcheck.geometry.mesher import mesh_part
 from railcheck.model.cycle import evaluate_cycle
 from railcheck.model.jobs import build_load_cases, part_geometries, part_jobs
-from railcheck.model.kinematics_stage import run_kinematics
+from railcheck.model.kinematics_stage import kinematics_input, run_kinematics
 from railcheck.model.loading import unit_cases
 from railcheck.parts import kind_of
 from railcheck.scene import load_scene
@@ -32,7 +32,7 @@ def main() -> None:
 
     scene = load_scene(None)
     steel = MATERIALS["steel"]
-    kin = run_kinematics(scene)
+    kin = run_kinematics(kinematics_input(scene))
     geos = part_geometries(scene)
     jobs = part_jobs(scene, kin, geos, build_load_cases(scene, kin, geos), steel, steel.fatigue_limit)
     prepared, unit_s, single_s = {}, {}, {}

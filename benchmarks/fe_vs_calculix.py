@@ -47,7 +47,7 @@ from railcheck.fea.mesh import scalar_basis, vector_dof_map
 from railcheck.geometry.mesher import mesh_part
 from railcheck.geometry.models import bar
 from railcheck.model.jobs import build_load_cases, part_geometries
-from railcheck.model.kinematics_stage import run_kinematics
+from railcheck.model.kinematics_stage import kinematics_input, run_kinematics
 from railcheck.scene import load_scene
 
 ABAQUS_EDGES = [(0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3)]
@@ -67,7 +67,7 @@ def railcheck_solve(problem: str, size: float, solver: str = "direct") -> dict:
         scene = load_scene(None)
         scene = replace(scene, check=replace(scene.check, parts=("crank-rail",)))
         geos = part_geometries(scene)
-        case = build_load_cases(scene, run_kinematics(scene), geos)["crank-rail"]
+        case = build_load_cases(scene, run_kinematics(kinematics_input(scene)), geos)["crank-rail"]
         mesh = mesh_part(geos["crank-rail"], size, hole_size=0.3 * size)
         supports, tip = [Support(case.support)], case.tip_group
         loads = [HoleLoad(b.group, b.force) for b in case.bolts]

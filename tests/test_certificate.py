@@ -89,10 +89,10 @@ def _jobs(speed_hz: float, effects=("inertia",)):
     """The default scene's part jobs at ``speed_hz`` (kinematics only: nothing meshed)."""
     from railcheck.fea.materials import MATERIALS
     from railcheck.model.jobs import build_load_cases, part_geometries, part_jobs
-    from railcheck.model.kinematics_stage import run_kinematics
+    from railcheck.model.kinematics_stage import kinematics_input, run_kinematics
 
     scene = _scene(speed_hz, effects)
-    kin = run_kinematics(scene)
+    kin = run_kinematics(kinematics_input(scene))
     geos = part_geometries(scene)
     material = MATERIALS["steel"]
     return part_jobs(scene, kin, geos, build_load_cases(scene, kin, geos), material, material.fatigue_limit)

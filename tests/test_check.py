@@ -21,7 +21,7 @@ from railcheck.check.summary import rail_masses
 from railcheck.fea.errors import ModelError
 from railcheck.loads.rotation import to_rail_axes
 from railcheck.model.jobs import build_load_cases, part_geometries
-from railcheck.model.kinematics_stage import run_kinematics
+from railcheck.model.kinematics_stage import kinematics_input, run_kinematics
 from railcheck.parts import geometry_of
 from railcheck.scene import load_scene, parse_scene
 
@@ -68,7 +68,7 @@ def test_load_cases_sum_to_factor_times_peak_reaction():
     """The clamped (2013) model's load case: the factored peak reaction at the worst bolts."""
     scene = load_scene(None)
     scene = replace(scene, check=replace(scene.check, support="clamped"))
-    kin = run_kinematics(scene)
+    kin = run_kinematics(kinematics_input(scene))
     cases = build_load_cases(scene, kin, part_geometries(scene))
     dyn, th = kin.dynamics, kin.motion.theta
     expected = {
@@ -92,7 +92,7 @@ def test_load_cases_sum_to_factor_times_peak_reaction():
 def test_actual_bolt_position_is_at_the_bar_length():
     scene = load_scene(None)
     scene = replace(scene, check=replace(scene.check, bolt_position="actual"))
-    cases = build_load_cases(scene, run_kinematics(scene), part_geometries(scene))
+    cases = build_load_cases(scene, run_kinematics(kinematics_input(scene)), part_geometries(scene))
     # crank 480 mm from the shaft hole (x = 20 mm): the hole at x = 500 mm is hole 8
     assert [b.group for b in cases["crank-rail"].bolts] == ["hole_8", "hole_9"]
     assert [b.group for b in cases["coupler-rail"].bolts] == ["hole_14", "hole_15"]
@@ -153,11 +153,11 @@ def test_factor_doubles_the_stress():
 
 def test_gravity_only_when_listed():
     base = parse_scene(tomllib.loads(COARSE_CRANK.replace("FACTOR", "1.4")))
-    assert run_kinematics(base).effects == ("inertia",)
+    assert run_kinematics(kinematics_input(base)).effects == ("inertia",)
     grav = replace(base, check=replace(base.check, effects=("inertia", "gravity")))
-    assert run_kinematics(grav).effects == ("inertia", "gravity")
+    assert run_kinematics(kinematics_input(grav)).effects == ("inertia", "gravity")
     still = replace(base, mechanism=replace(base.mechanism, speed=0.0))
-    r = run_kinematics(still)
+    r = run_kinematics(kinematics_input(still))
     assert r.effects == () and all(np.all(x == 0) for x in r.dynamics.reactions.values())
 
 
@@ -377,7 +377,7 @@ def test_each_part_is_resolved_once_into_a_picklable_job_without_the_scene():
     from railcheck.scene import Scene
 
     scene = load_scene(None)
-    kin = run_kinematics(scene)
+    kin = run_kinematics(kinematics_input(scene))
     geos = part_geometries(scene)
     steel = MATERIALS["steel"]
     jobs = part_jobs(scene, kin, geos, build_load_cases(scene, kin, geos), steel, 375e6)

@@ -27,10 +27,10 @@ def _scene():
 
 @pytest.fixture(scope="module")
 def histories():
-    from railcheck.model.kinematics_stage import run_kinematics
+    from railcheck.model.kinematics_stage import kinematics_input, run_kinematics
 
     scene = _scene()
-    return scene, joint_histories(scene, run_kinematics(scene))
+    return scene, joint_histories(scene, run_kinematics(kinematics_input(scene)))
 
 
 def test_every_component_has_one_registered_kind_reading_only_spec_fields():

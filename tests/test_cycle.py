@@ -19,7 +19,7 @@ from railcheck.fea.unitcases import TractionCase, solve_unit_cases
 from railcheck.geometry.mesher import mesh_part
 from railcheck.geometry.models import bar
 from railcheck.model.jobs import bolt_holes
-from railcheck.model.kinematics_stage import run_kinematics
+from railcheck.model.kinematics_stage import kinematics_input, run_kinematics
 from railcheck.model.loading import load_model, source_histories, unit_cases
 from railcheck.parts import geometry_of, kind_of
 from railcheck.scene import parse_scene
@@ -91,7 +91,7 @@ def test_superposition_equals_a_direct_solve_at_three_instants(crank, step):
     scene, geo, mesh, holes, fields, meta = crank
     fields = first_cases(fields, 2)
     plain = crank_scene()
-    (h,) = source_histories(load_model(plain, "crank-rail", STEEL.density), run_kinematics(plain), holes)
+    (h,) = source_histories(load_model(plain, "crank-rail", STEEL.density), run_kinematics(kinematics_input(plain)), holes)
     direct = direct_stress(mesh, holes, h.C[step])
     scale = np.abs(direct.stress).max()
     assert np.abs(stress_at(fields.stress, h.C[step]) - direct.stress).max() < 1e-9 * scale
@@ -104,7 +104,7 @@ def test_superposition_equals_a_direct_solve_at_three_instants(crank, step):
 def test_superposition_with_body_forces_equals_a_direct_solve(crank):
     scene, geo, mesh, holes, fields, meta = crank
     assert list(fields.names) == ["bolt_x", "bolt_y", "body_x", "body_y", "body_rot", "body_rad"]
-    (h,) = source_histories(load_model(scene, "crank-rail", STEEL.density), run_kinematics(scene), holes)
+    (h,) = source_histories(load_model(scene, "crank-rail", STEEL.density), run_kinematics(kinematics_input(scene)), holes)
     c = h.C[300].copy()
     c[4:] = 0.0  # the direct solver takes uniform body forces only
     direct = direct_stress(mesh, holes, c, c[2:4])
@@ -142,7 +142,7 @@ def test_envelope_is_never_below_the_seed_method(crank, crank_mm, coupler_mm, ro
     if bars[0] != crank_mm or bars[0] + bars[3] >= bars[1] + bars[2]:
         return  # only Grashof crank-rockers revolve fully
     scene = crank_scene('effects = ["inertia", "gravity", "rail-inertia"]\n', lengths.replace("1 Hz", f"{hz} Hz"))
-    (h,) = source_histories(load_model(scene, "crank-rail", STEEL.density), run_kinematics(scene), holes)
+    (h,) = source_histories(load_model(scene, "crank-rail", STEEL.density), run_kinematics(kinematics_input(scene)), holes)
     env = envelope(fields, h.C)
     seed = von_mises(stress_at(fields.stress, h.C[h.seed_step]))[fields.verdict_mask].max()
     brute = von_mises_max(fields.stress, h.C)[0][fields.verdict_mask].max()
@@ -154,7 +154,7 @@ def test_default_crank_rail_governs_where_the_transverse_load_peaks(crank):
     *_, holes, fields, _ = crank
     fields = first_cases(fields, 2)
     scene = crank_scene()  # the default effects: mechanism inertia only
-    kin = run_kinematics(scene)
+    kin = run_kinematics(kinematics_input(scene))
     (h,) = source_histories(load_model(scene, "crank-rail", STEEL.density), kin, holes)
     env = envelope(fields, h.C)
     angle = np.degrees(h.crank_angle)
@@ -193,7 +193,7 @@ def test_rail_inertia_only_when_listed():
     holes = bolt_holes(plain, "crank-rail", geo)
     assert list(unit_cases(load_model(plain, "crank-rail", STEEL.density), geo, holes)) == ["bolt_x", "bolt_y"]
     assert list(unit_cases(load_model(listed, "crank-rail", STEEL.density), geo, holes))[-2:] == ["body_rot", "body_rad"]
-    (h,) = source_histories(load_model(listed, "crank-rail", STEEL.density), run_kinematics(listed), holes)
+    (h,) = source_histories(load_model(listed, "crank-rail", STEEL.density), run_kinematics(kinematics_input(listed)), holes)
     omega = 2 * np.pi
     np.testing.assert_allclose(h.C[:, 5], STEEL.density * omega**2, rtol=1e-9)  # the crank turns steadily
 

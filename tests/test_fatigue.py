@@ -157,14 +157,14 @@ def test_marin_load_reliability_and_the_ceiling_of_the_unmodified_limit():
 def _crank_job(fatigue_table: str):
     """The default scene's crank-rail job with a ``[fatigue]`` table, no FE."""
     from railcheck.model.jobs import build_load_cases, part_geometries, part_jobs
-    from railcheck.model.kinematics_stage import run_kinematics
+    from railcheck.model.kinematics_stage import kinematics_input, run_kinematics
 
     text = (
         '[mechanism]\nkind = "four-bar"\ncrank = "480 mm"\ncoupler = "840 mm"\nrocker = "780 mm"\nground = "1020 mm"\n'
         'speed = "1 Hz"\nsteps = 8\n[check]\nparts = ["crank-rail"]\n' + fatigue_table
     )
     scene = parse_scene(tomllib.loads(text), "test")
-    kin = run_kinematics(scene)
+    kin = run_kinematics(kinematics_input(scene))
     geos = part_geometries(scene)
     steel = MATERIALS["steel"]
     return part_jobs(scene, kin, geos, build_load_cases(scene, kin, geos), steel, 375e6)["crank-rail"]

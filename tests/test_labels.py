@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from railcheck.api import scene_of
-from railcheck.model.kinematics_stage import run_kinematics
+from railcheck.model.kinematics_stage import kinematics_input, run_kinematics
 from railcheck.report.labels import Box, box_at, conflicts_among, place_labels
 from railcheck.report.linkage_picture import write_linkage_picture
 
@@ -36,7 +36,7 @@ def test_a_label_keeps_out_of_the_drawing_and_stays_in_the_picture():
     "scene", [None, '[mechanism]\nkind = "slider-crank"\ncrank = "300 mm"\ncoupler = "900 mm"\n'], ids=["four-bar", "slider"]
 )
 def test_the_linkage_picture_labels_every_joint_off_the_joints(tmp_path, scene):
-    k = run_kinematics(scene_of(scene))
+    k = run_kinematics(kinematics_input(scene_of(scene)))
     boxes, joints, area = write_linkage_picture(tmp_path / "linkage.png", k.motion, k.dynamics)
     assert (tmp_path / "linkage.png").stat().st_size > 10_000
     assert len(boxes) == len(k.motion.points) + (4 if "O4" in k.motion.points else 2)  # joints; bars and ground

@@ -95,9 +95,9 @@ def _default(components: dict | None = None, speed: str = "1 Hz"):
 
 
 def _kinematics(scene):
-    from railcheck.model.kinematics_stage import run_kinematics
+    from railcheck.model.kinematics_stage import kinematics_input, run_kinematics
 
-    return run_kinematics(scene)
+    return run_kinematics(kinematics_input(scene))
 
 
 def test_the_o2_screws_by_hand_at_the_torque_peak():

@@ -35,10 +35,10 @@ def _rail_job(name="crank-rail", text=None):
     from railcheck.api import scene_of
     from railcheck.model.cycle import job_mesh
     from railcheck.model.jobs import build_load_cases, part_geometries, part_jobs
-    from railcheck.model.kinematics_stage import run_kinematics
+    from railcheck.model.kinematics_stage import kinematics_input, run_kinematics
 
     scene = scene_of(text or _scene())
-    kin = run_kinematics(scene)
+    kin = run_kinematics(kinematics_input(scene))
     geometries = part_geometries(scene)
     cases = build_load_cases(scene, kin, geometries)
     job = part_jobs(scene, kin, geometries, cases, MATERIALS["steel"], 375e6)[name]
@@ -156,10 +156,10 @@ def test_a_second_rail_of_one_size_is_checked_last(monkeypatch):
     from railcheck.api import scene_of
     from railcheck.check.workers import shared_fields, work_order
     from railcheck.model.jobs import build_load_cases, part_geometries, part_jobs
-    from railcheck.model.kinematics_stage import run_kinematics
+    from railcheck.model.kinematics_stage import kinematics_input, run_kinematics
 
     scene = scene_of(None)
-    kin = run_kinematics(scene)
+    kin = run_kinematics(kinematics_input(scene))
     geometries = part_geometries(scene)
     jobs = part_jobs(scene, kin, geometries, build_load_cases(scene, kin, geometries), MATERIALS["steel"], 375e6)
     order = work_order(jobs)

@@ -30,7 +30,7 @@ from railcheck.model.certificate import QUASI_STATIC_TOLERANCE, certificate
 from railcheck.model.crossing import increasing_crossing, refine_crossing
 from railcheck.model.cycle import evaluate_cycle
 from railcheck.model.jobs import build_load_cases, part_jobs
-from railcheck.model.kinematics_stage import run_kinematics
+from railcheck.model.kinematics_stage import kinematics_input, run_kinematics
 from railcheck.model.loading import unit_cases
 from railcheck.model.records import PartResult, passes_up_to
 from railcheck.units import floored
@@ -63,9 +63,9 @@ DYNAMIC_SCAN = 8
 
 
 def components_at_speed(scene, speed: float) -> dict:
-    """name -> ComponentResult of the scene's components with the crank at ``speed`` rad/s."""
-    at = dataclasses.replace(scene, mechanism=dataclasses.replace(scene.mechanism, speed=speed))
-    return check_scene_components(at, run_kinematics(at))
+    """name -> ComponentResult of the scene's components with the crank at ``speed`` rad/s:
+    the kinematics rerun at that speed, the components checked on its joint histories."""
+    return check_scene_components(scene, run_kinematics(kinematics_input(scene).at_speed(speed)))
 
 
 def _largest(results: dict) -> tuple[float, str, str]:

@@ -22,7 +22,7 @@ from railcheck.check.workers import check_parts
 from railcheck.components.scene_checks import check_scene_components
 from railcheck.fea.materials import MATERIALS, limit_warning
 from railcheck.model.jobs import build_load_cases, part_geometries, part_jobs, refuse_huge
-from railcheck.model.kinematics_stage import all_checks, kinematics_summary, run_kinematics
+from railcheck.model.kinematics_stage import all_checks, kinematics_input, kinematics_summary, run_kinematics
 from railcheck.model.memory import refuse_recovery_before_meshing
 from railcheck.model.records import PipelineResult
 from railcheck.progress import Progress
@@ -60,7 +60,7 @@ def run_pipeline(
     kin = kin_summary = None
     if needs_linkage(scene):
         t = time.perf_counter()
-        kin = run_kinematics(scene)
+        kin = run_kinematics(kinematics_input(scene))
         kin_summary = kinematics_summary(scene, kin)
         warnings += list(kin.motion.warnings)
         timings["kinematics"] = time.perf_counter() - t
@@ -72,7 +72,8 @@ def run_pipeline(
     if kin is not None:
         checks = dict(kin.checks)
     elif scene.mechanism is not None:  # closed-form geometry only: the linkage is not run
-        checks = all_checks(scene)
+        inputs = kinematics_input(scene)
+        checks = all_checks(inputs.mechanism.linkage, inputs.rail)
     else:
         checks = {}
     parts: dict = {}

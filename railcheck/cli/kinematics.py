@@ -7,7 +7,7 @@ from pathlib import Path
 
 from railcheck.base.errors import EXIT_FAIL, EXIT_PASS, InputError
 from railcheck.files import to_json
-from railcheck.model.kinematics_stage import kinematics_summary, run_kinematics
+from railcheck.model.kinematics_stage import kinematics_input, kinematics_summary, run_kinematics
 from railcheck.report.plots import write_kinematics_plots
 from railcheck.report.text import kinematics_table
 from railcheck.scene import load_scene
@@ -33,7 +33,7 @@ def run(args) -> int:
     scene = load_scene(args.scene)
     if scene.mechanism is None:
         raise InputError("mechanism", "missing: `railcheck kinematics` needs a [mechanism] table")
-    result = run_kinematics(scene)
+    result = run_kinematics(kinematics_input(scene))
     summary = kinematics_summary(scene, result)
     if args.plots:
         paths = write_kinematics_plots(result, Path(args.plots))

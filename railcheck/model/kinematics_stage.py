@@ -1,26 +1,32 @@
-"""The kinematics stage: a scene's mechanism -> motion, reactions, checks and peaks.
+"""The kinematics stage: a mechanism -> motion, reactions, checks and peaks.
 
-Runs the closed-form kinematics and the requested inverse-dynamics formulation, with
-only the effects the scene calls for: inertia needs a non-zero speed (and "inertia" in
-check.effects when a [check] table exists); gravity only when listed.
+The scene is read once, into a :class:`KinematicsInput` (:func:`kinematics_input`): the
+linkage, its speed and steps, the formulation, the effects asked for, the mass model and the
+rail the joints sit on. :func:`run_kinematics` takes that record, never the scene, and runs
+the closed-form kinematics and the requested inverse-dynamics formulation with only the
+effects called for: inertia needs a non-zero speed (and "inertia" in check.effects when a
+[check] table exists); gravity only when listed. A search over the crank speed varies the
+record (:meth:`KinematicsInput.at_speed`), not the scene.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
-from railcheck.base.errors import InputError
 from railcheck.base.machine import refuse_kinematics_beyond_memory
-from railcheck.geometry.catalogue import with_overrides
+from railcheck.effects import simulated_effects
+from railcheck.geometry.catalogue import RailSpec, with_overrides
 from railcheck.kinematics.checks import CheckResult, configuration_checks, transmission_extremes
 from railcheck.kinematics.dynamics import STANDARD_GRAVITY, Dynamics, inverse_dynamics
 from railcheck.kinematics.linkage import FourBar
+from railcheck.kinematics.massmodel import MassModel
 from railcheck.kinematics.motion import Motion, solve_motion
 from railcheck.parts import rail_length
 from railcheck.scene import Scene
+from railcheck.specs import MechanismSpec
 
 
 @dataclass(frozen=True)
@@ -36,26 +42,60 @@ class KinematicsResult:
         return tuple(self.dynamics.reactions)
 
 
-def run_kinematics(scene: Scene) -> KinematicsResult:
-    """Kinematics and inverse dynamics of the scene's mechanism (raises InputError for an
+@dataclass(frozen=True)
+class KinematicsInput:
+    """What the kinematics stage reads, resolved once from a scene (SI).
+
+    Parameters
+    ----------
+    mechanism : the linkage, its crank speed (rad/s), steps, plane.
+    formulation : the inverse-dynamics formulation's name.
+    requested_effects : [check] effects as listed (without a [check]: inertia).
+    masses : the run's one mass model (kg, m, kg m^2).
+    rail : the rail profile the bars are set on (its hole grid bounds each bar's length).
+    """
+
+    mechanism: MechanismSpec
+    formulation: str
+    requested_effects: tuple[str, ...]
+    masses: MassModel
+    rail: RailSpec
+
+    @property
+    def effects(self) -> tuple[str, ...]:
+        """The loads simulated at this record's speed (:func:`simulated_effects`)."""
+        return simulated_effects(self.requested_effects, (self.mechanism.speed,))
+
+    def at_speed(self, speed: float) -> KinematicsInput:
+        """This record with the crank at ``speed`` rad/s (a speed search's trial)."""
+        return replace(self, mechanism=replace(self.mechanism, speed=speed))
+
+
+def kinematics_input(scene: Scene) -> KinematicsInput:
+    """The scene's :class:`KinematicsInput` (an InputError naming [mechanism] without one)."""
+    return KinematicsInput(
+        scene.linkage_spec, scene.formulation, scene.requested_effects, scene.masses, with_overrides(scene.geometry)[0]
+    )
+
+
+def run_kinematics(inputs: KinematicsInput) -> KinematicsResult:
+    """Kinematics and inverse dynamics of ``inputs``' mechanism (raises InputError for an
     impossible mechanism, naming the field)."""
-    spec = scene.mechanism
-    if spec is None:
-        raise InputError("mechanism", "missing: this run needs the linkage")
+    spec = inputs.mechanism
     refuse_kinematics_beyond_memory(spec.steps, "mechanism.steps")
-    effects = scene.effects
+    effects = inputs.effects
     motion = solve_motion(spec.linkage, spec.speed, spec.steps)
     dyn_motion = motion if "inertia" in effects else solve_motion(spec.linkage, 0.0, spec.steps)
     gravity = STANDARD_GRAVITY if "gravity" in effects else 0.0
-    masses = scene.masses
-    dynamics = inverse_dynamics(dyn_motion, scene.formulation, masses, gravity=gravity)
+    dynamics = inverse_dynamics(dyn_motion, inputs.formulation, inputs.masses, gravity=gravity)
     mu_min, mu_max = transmission_extremes(spec.linkage)
-    return KinematicsResult(motion, dynamics, all_checks(scene), effects, (math.degrees(mu_min), math.degrees(mu_max)))
+    checks = all_checks(spec.linkage, inputs.rail)
+    return KinematicsResult(motion, dynamics, checks, effects, (math.degrees(mu_min), math.degrees(mu_max)))
 
 
-def all_checks(scene: Scene) -> dict[str, CheckResult]:
-    """The linkage's configuration checks plus :func:`joints_on_rails`."""
-    return {**configuration_checks(scene.linkage_spec.linkage), **joints_on_rails(scene)}
+def all_checks(linkage, rail: RailSpec) -> dict[str, CheckResult]:
+    """The linkage's configuration checks plus :func:`joints_on_rails` on ``rail``."""
+    return {**configuration_checks(linkage), **joints_on_rails(linkage.lengths, rail)}
 
 
 def joint_reach(rail, bar: str) -> tuple[float, float]:
@@ -77,14 +117,12 @@ def joints_on_rails_flags(lengths: dict, rail) -> np.ndarray:
     return ok
 
 
-def joints_on_rails(scene: Scene) -> dict[str, CheckResult]:
+def joints_on_rails(lengths: dict[str, float], rail: RailSpec) -> dict[str, CheckResult]:
     """``joints_on_rails``: every bar's far joint must sit between two mounting holes of
     its rail (the rail's first joint midway between its holes 0 and 1): not beyond the
     last two, and at least one hole pitch from the first joint. Independent of
-    check.bolt_position."""
+    check.bolt_position. ``lengths``: bar -> m."""
 
-    rail = with_overrides(scene.geometry)[0]
-    lengths = scene.linkage_spec.linkage.lengths
     problems, notes = [], []
     for bar in ("crank", "coupler", "rocker"):
         if bar not in lengths:

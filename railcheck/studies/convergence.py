@@ -29,7 +29,7 @@ from railcheck.geometry.models import bar
 from railcheck.kinematics.dynamics import inverse_dynamics
 from railcheck.kinematics.motion import solve_motion
 from railcheck.model.jobs import build_load_cases, part_geometries, refuse_beyond_memory
-from railcheck.model.kinematics_stage import run_kinematics
+from railcheck.model.kinematics_stage import kinematics_input, run_kinematics
 from railcheck.parts import PARTS, geometry_of, kind_of
 from railcheck.scene import load_scene
 
@@ -98,7 +98,7 @@ def solve_row(target: str, element: str, size: float) -> dict:
         assert scene.check is not None  # the built-in scene checks its parts
         scene = replace(scene, check=replace(scene.check, parts=(target,), support="clamped"))
         geos = part_geometries(scene)
-        kin = run_kinematics(scene) if target not in scene.checked.loads else None
+        kin = run_kinematics(kinematics_input(scene)) if target not in scene.checked.loads else None
         case = build_load_cases(scene, kin, geos)[target]
         geo = geos[target]
         hole = size * HOLE_RATIO

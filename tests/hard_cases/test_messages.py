@@ -128,16 +128,16 @@ def test_steps_beyond_this_machines_memory_are_refused_with_an_estimate(monkeypa
 
     monkeypatch.setattr(machine, "available_memory", lambda: 1.0 * 2**30)  # a 1 GiB machine
     scene = parse_scene(tomllib.loads(FINAL_DESIGN + "steps = 2000000\n"), "t")
-    from railcheck.model.kinematics_stage import run_kinematics
+    from railcheck.model.kinematics_stage import kinematics_input, run_kinematics
 
     with pytest.raises(InputError) as err:
-        run_kinematics(scene)
+        run_kinematics(kinematics_input(scene))
     assert err.value.field == "mechanism.steps" and "GiB" in str(err.value) and "fewer steps" in str(err.value)
     assert main(["convergence", "kinematics", "--sizes", "1000,2000000"]) == 2
     line = capsys.readouterr().err.strip().splitlines()[-1]
     assert "--sizes" in line and "1.0 GiB" in line
     # what fits runs: 1000 steps need well under a MB
-    run_kinematics(parse_scene(tomllib.loads(FINAL_DESIGN + "steps = 1000\n"), "t"))
+    run_kinematics(kinematics_input(parse_scene(tomllib.loads(FINAL_DESIGN + "steps = 1000\n"), "t")))
 
 
 @pytest.mark.parametrize("hole", ["1e-300 mm", "1e-100 mm", "0.01 mm"])
@@ -173,10 +173,10 @@ def test_lengths_that_round_alike_are_printed_apart():
     text = FINAL_DESIGN.replace('coupler = "840 mm"', 'coupler = "700.000001 mm"')
     text = text.replace('crank = "480 mm"', 'crank = "300 mm"').replace('rocker = "780 mm"', 'rocker = "500 mm"')
     text = text.replace('ground = "1020 mm"', 'ground = "500 mm"')
-    from railcheck.model.kinematics_stage import run_kinematics
+    from railcheck.model.kinematics_stage import kinematics_input, run_kinematics
 
     with pytest.raises(MechanismError) as err:
-        run_kinematics(parse_scene(tomllib.loads(text), "t"))
+        run_kinematics(kinematics_input(parse_scene(tomllib.loads(text), "t")))
     assert "200 mm is below |coupler - rocker| = 200.000001 mm" in str(err.value)
 
 
