@@ -23,6 +23,13 @@ def fails_at_five(x: int) -> int:
     return x
 
 
+def fails_at_five_before_a_slow_four(x: int) -> int:
+    """Item five fails while item four still runs: its error is not yet due."""
+    if x == 4:
+        time.sleep(0.5)
+    return fails_at_five(x)
+
+
 LOCAL = [e for e in EXECUTORS if e != "dask" and (e != "forked" or forked.available())]
 
 
@@ -73,8 +80,9 @@ def test_dask_gives_the_results_in_order_and_draws_the_items_within_its_limits(c
     assert [first, *results] == [x * x for x in range(30)]
 
 
-def test_dask_raises_an_items_error_when_due_and_cancels_the_rest(client):
-    results = in_order(fails_at_five, range(50), on="dask", client=client, workers=2, ahead=2)
+@pytest.mark.parametrize("function", [fails_at_five, fails_at_five_before_a_slow_four])
+def test_dask_raises_an_items_error_when_due_and_cancels_the_rest(client, function):
+    results = in_order(function, range(50), on="dask", client=client, workers=2, ahead=2)
     assert [next(results) for _ in range(5)] == [0, 1, 2, 3, 4]
     with pytest.raises(ValueError, match="item five"):
         next(results)

@@ -58,7 +58,7 @@ def in_order_on_dask(client, function: Callable[[Any], T], items: Iterable, runn
 
     items = iter(items)
     running: dict = {}  # future -> item index
-    finished: dict[int, T] = {}
+    finished: dict[int, Any] = {}  # item index -> its finished future, read when due
     submitted = done = 0
     exhausted = False
     try:
@@ -76,9 +76,9 @@ def in_order_on_dask(client, function: Callable[[Any], T], items: Iterable, runn
                 if not running:  # cannot happen: the next item is either finished or running
                     raise RuntimeError(f"item {done} was neither finished nor running")
                 for future in wait_for(list(running), return_when="FIRST_COMPLETED").done:
-                    finished[running.pop(future)] = future.result()
+                    finished[running.pop(future)] = future  # an error is raised when its item is due
                 continue
-            yield finished.pop(done)
+            yield finished.pop(done).result()
             done += 1
     finally:
         for future in running:
