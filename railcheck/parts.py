@@ -75,7 +75,12 @@ class PartKind:
     inside which the idealised clamp's singular stress is reported apart from the verdict;
     ``mesh`` the default (size, hole size) in m from the accuracy-versus-time study;
     ``section(geometry)`` the (width, height) in m of the loaded section, for the
-    fatigue size factor."""
+    fatigue size factor. What the stages do differently for a kind is a field here, never a
+    test of its name: ``bolts_on_rail`` (a linear-guide rail: its far bolts chosen along it
+    by the bar length), ``hole_basis`` (a free body solved once in the basis of its holes'
+    loads, any setting's far bolts a combination of it), ``beam_frequency`` (its lowest
+    frequency, for the quasi-static certificate, from a beam model rather than FE modes),
+    ``weighed_per_metre`` (a profile whose mass per metre the summary states)."""
 
     name: str
     build: Callable
@@ -87,6 +92,9 @@ class PartKind:
     bolts_on_rail: bool = False  # bolt holes chosen along a rail by the bar length
     bolt_groups: Callable | None = None  # geometry -> the bolt-hole groups (default: every "hole_K")
     view: str = "xy"  # the picture's view axis pair (pyvista camera.tight): "xy" from above
+    hole_basis: bool = False
+    beam_frequency: bool = False
+    weighed_per_metre: bool = False
 
     def bolts(self, geometry) -> list[str]:
         """The groups a plate's joint loads (rails choose theirs by the bar length)."""
@@ -134,6 +142,9 @@ KINDS: dict[str, PartKind] = {
             (10e-3, 4e-3),
             lambda g: (g.get("width"), g.get("height")),
             bolts_on_rail=True,
+            hole_basis=True,
+            beam_frequency=True,
+            weighed_per_metre=True,
         ),
         PartKind(
             "joint_plate",
@@ -195,6 +206,7 @@ BAR_INDEX = {"crank": 0, "coupler": 1, "rocker": 2}
 
 
 def kind_of(name: str) -> PartKind:
+    """The registered kind of the part ``name``."""
     return KINDS[PARTS[name].kind]
 
 

@@ -367,3 +367,34 @@ def test_the_reference_finder_finds_a_planted_one(tmp_path):
 def test_no_file_refers_to_documents_outside_the_repository():
     """A clone holds no design notes nor the seeds' folder: what a reader needs is in docs/."""
     assert _outside_references(ROOT) == []
+
+
+PART_KIND_NAMES = {"rail", "joint_plate", "i_profile", "bar"}
+
+
+def _kind_name_tests(source: str) -> list[int]:
+    """Lines of ``source`` comparing a ``.kind`` attribute with a part kind's name: what a
+    stage does for a kind belongs in its registry entry (railcheck.parts.PartKind)."""
+    lines = []
+    for node in ast.walk(ast.parse(source)):
+        if isinstance(node, ast.Compare) and isinstance(node.left, ast.Attribute) and node.left.attr == "kind":
+            names = {c.value for c in node.comparators if isinstance(c, ast.Constant)}
+            lines += [node.lineno] if names & PART_KIND_NAMES else []
+    return lines
+
+
+def test_the_kind_test_finder_finds_a_planted_one():
+    assert _kind_name_tests('if geo.kind == "rail":\n    pass\nif motion.kind == "four-bar":\n    pass\n') == [1]
+
+
+STAGES = ("railcheck.model", "railcheck.check", "railcheck.sweep", "railcheck.report", "railcheck.studies")
+
+
+def test_no_stage_tests_a_part_kind_by_its_name():
+    """The stages above the geometry (whose shapes are the kinds) read a kind's fields."""
+    found = {
+        name: lines
+        for name, path in our_modules().items()
+        if name.startswith(STAGES) and (lines := _kind_name_tests(path.read_text()))
+    }
+    assert found == {}

@@ -100,7 +100,7 @@ def part_at_speed(scene, part: PartResult, speed: float) -> tuple[float, str]:
     ``speed`` rad/s: its job rebuilt at that speed, its cycle evaluated on its solved unit
     fields, the certificate's quasi-static share beside the check's criteria (module doc)."""
     at = _at_speed(scene, speed, (part.name,))
-    kin = run_kinematics(at)
+    kin = run_kinematics(kinematics_input(at))
     geometries = {part.name: part.job.geometry}
     job = part_jobs(at, kin, geometries, build_load_cases(at, kin, geometries), part.job.material, part.limit)[part.name]
     if not any(np.any(h.C) for h in job.histories):  # at rest without gravity: nothing loads it

@@ -16,7 +16,7 @@ from railcheck.geometry.catalogue import (
 )
 from railcheck.model.assumptions import assumptions
 from railcheck.model.records import DynamicResult, FatigueResult, PartResult, PipelineResult, SeedMethod
-from railcheck.parts import mass_model
+from railcheck.parts import kind_of, mass_model
 from railcheck.report.forces import applied_factor, governing_forces
 
 
@@ -70,7 +70,7 @@ def summary_of(result: PipelineResult) -> dict:
         out["material"] = scene.check.material
         out["effects"] = list(scene.check.effects)
         out["assumptions"] = assumptions(scene, result.parts)
-    if any(p.geometry.kind == "rail" for p in result.parts.values()):
+    if any(kind_of(name).weighed_per_metre for name in result.parts):
         out["rail_mass_per_m_kg"] = rail_masses(scene.geometry, scene.formulation)
     if result.kinematics_summary is not None:
         out["kinematics"] = result.kinematics_summary

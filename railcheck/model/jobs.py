@@ -251,7 +251,7 @@ def speed_validity(
     if not moving or name in scene.checked.loads:
         return job, None
     cert = None
-    if geo.kind == "rail":
+    if kind_of(name).beam_frequency:
         template = job or _modal_template(scene, free, name, holes)
         clamp = None if template.pins else kind_of(name).support
         hz = rail_lowest_hz(geo, material, template.pins, template.lumped, clamp)

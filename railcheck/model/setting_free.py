@@ -25,6 +25,7 @@ from railcheck.fea.store import UnitRequest, is_stored, solve_stored
 from railcheck.fea.unitcases import CoupleCase, FreeBodyCases, TractionCase
 from railcheck.model.jobs import PartJob, free_body_cases
 from railcheck.parallel.threads import on_one_blas_thread
+from railcheck.parts import kind_of
 
 __all__ = [
     "BasisSolve",
@@ -42,7 +43,7 @@ __all__ = [
 def uses_hole_basis(job: PartJob) -> bool:
     """Whether the part is solved in its hole basis: a free rail whose check needs no
     modes (see the module doc)."""
-    return job.free_body is not None and job.geometry.kind == "rail" and job.dynamic is None
+    return job.free_body is not None and kind_of(job.name).hole_basis and job.dynamic is None
 
 
 def far_pairs(geo) -> list[tuple[str, str]]:
@@ -72,9 +73,10 @@ class BasisSolve:
 def in_basis(request: UnitRequest, geo, deflections: dict) -> BasisSolve | None:
     """The hole-basis solve of ``request`` (a free rail's, on the rail ``geo``, with
     ``deflections`` its :func:`pair_deflections`), or None when the request cannot be
-    solved in it: modes asked for, a case or a deflection the basis does not hold."""
+    solved in it: modes asked for, a part without holes along it (``hole_x``), a case or a
+    deflection the basis does not hold."""
     free = request.free_body
-    if not isinstance(free, FreeBodyCases) or request.modes is not None or geo.kind != "rail":
+    if not isinstance(free, FreeBodyCases) or request.modes is not None or "hole_x" not in dict(geo.params):
         return None
     holes = [f"hole_{k}" for k in range(len(geo.get("hole_x")))]
     try:

@@ -10,6 +10,7 @@ import numpy as np
 
 from railcheck.model.assumptions import assumptions
 from railcheck.model.records import safe_speed_words
+from railcheck.parts import kind_of
 from railcheck.units import floored, for_people
 
 
@@ -525,8 +526,9 @@ def _screw_need_lines(needs: dict, hz: float) -> list[str]:
 
 def support_words(result) -> str:
     """How the checked rails are held and where their far joint's bolts are, in words."""
-    rails = [p for p in result.parts.values() if p.job.geometry.kind == "rail" and p.job.loads.explicit is None]
-    plates = [p for p in result.parts.values() if p.job.geometry.kind != "rail"]
+    on_rail = {n: kind_of(n).bolts_on_rail for n, p in result.parts.items()}
+    rails = [p for n, p in result.parts.items() if on_rail[n] and p.job.loads.explicit is None]
+    plates = [p for n, p in result.parts.items() if not on_rail[n]]
     words = []
     if any(p.job.free_body is not None for p in rails):
         words.append("rails as free bodies (far screws at the bar length)")

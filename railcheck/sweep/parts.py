@@ -357,7 +357,7 @@ def certificate_frequencies(scene, name: str, setup: _PartSetup, meta, material)
     crank or for explicit loads."""
     if not certificate_in_sweep(scene) or name in scene.check.loads:
         return None
-    if setup.geo.kind != "rail":
+    if not kind_of(name).beam_frequency:
         return {key: float(m.hz[0]) for key, m in meta.mode_sets.items()} if meta.mode_sets else None
     pins = setup.deflections
     clamp = None if setup.free else kind_of(name).support
