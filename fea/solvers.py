@@ -53,9 +53,8 @@ AMG_RTOL = 1e-12  # CG's recurrence residual target
 AMG_TRUE_RTOL = 1e-6  # the iterative path's true residual must be below this
 FACTOR_MEMORY_FRACTION = 0.6  # of the machine's memory, for the auto choice
 #: from this many DOFs, one or two load columns of a P2 system: p-multigrid CG is faster
-#: than a factorisation (docs/performance.md, "What dominates a solve": at 993k DOFs 16 s and 4.6 GB
-#: against PARDISO's 72 s and 14 GB; at 175k 3.5 s against 4.2 s, where a second column
-#: already tips it to the factor)
+#: than a factorisation and needs a third of its memory; below it, or with more columns,
+#: the factor wins (measured: docs/changelog.md, "The measurements behind tuned constants")
 PMG_MIN_DOFS = 300_000
 PMG_MAX_COLUMNS = 2
 SCIPY_BYTES_PER_DOF = 20_000  # SuperLU's measured peak per DOF on P2 parts (docs/performance.md)

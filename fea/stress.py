@@ -42,9 +42,8 @@ VOIGT = ((0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (0, 2))  # xx, yy, zz, xy, yz, 
 
 MASS_RTOL = 1e-12  # the stress projection's relative residual |b - M s| / |b|
 #: displacement columns from which the projection factorises its mass matrix rather than
-#: iterate (``benchmarks/fe_stages.py``: one column of a 175k- and a 753k-DOF cantilever
-#: 0.3 and 2.1 s by CG, 0.6 and 5.0 s by the factor; the crank rail's 65 columns 6.6 s
-#: by CG, 0.5 s by the factor)
+#: iterate: CG wins for a column or two, the factor for many (``benchmarks/fe_stages.py``;
+#: measured: docs/changelog.md, "The measurements behind tuned constants")
 MASS_FACTOR_COLUMNS = 8
 
 

@@ -23,9 +23,9 @@ from .invariants import VM_QUADRATIC  # von Mises squared as s^T P s (re-exporte
 
 CHUNK_VALUES = 20_000_000  # floats per chunk of (6, nodes, steps) of a von Mises pass
 #: floats per chunk of (6, nodes, steps) when each component's maximum and minimum are read
-#: from the chunk (:func:`component_range`): 4 MB stay in cache for the two passes; at 20M
-#: they streamed from memory, 2.6 s against 0.9 s for 29,000 nodes x 5,000 steps x 20
-#: coefficients (the same digits)
+#: from the chunk (:func:`component_range`): 4 MB stay in cache for the two passes, where
+#: a larger chunk streams from memory twice (the same digits; measured: docs/changelog.md,
+#: "The measurements behind tuned constants")
 RANGE_CHUNK_VALUES = 1 << 19
 #: steps per block of :func:`pruned_range`, and the fewest steps it is used for
 RANGE_BLOCK = 32

@@ -3,8 +3,8 @@ order (P2: quadratic tetrahedra, ``tetra10``, vertices and mid-edge nodes), so t
 ParaView shows the same values the report does. Point data: ``displacement`` (m, 3),
 ``von_mises`` (Pa), ``stress`` (Pa, 6: xx, yy, zz, xy, yz, xz) and any further point
 fields given (``von_mises_envelope`` Pa, ``fatigue_safety_factor``, 0/1 masks naming the
-support and the loaded holes). Binary, uncompressed (zlib took 0.11 s of a rail's 0.13 s
-to save 3 of its 8 MB). Writes the path it is given: callers that need an atomic
+support and the loaded holes). Binary, uncompressed (zlib would take most of the writing
+time to save little space). Writes the path it is given: callers that need an atomic
 file pass a temporary path and rename it (railcheck.files.atomic_path).
 
 :func:`pvd_text` is a ParaView collection that opens every part of a run at once."""

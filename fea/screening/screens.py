@@ -110,9 +110,9 @@ def node_slab(stress: np.ndarray, nodes: np.ndarray) -> np.ndarray:
     """(6, b, cases) C-contiguous: ``stress[:, nodes]``. ``np.take`` is the faster gather
     of a C-contiguous array, but of any other it first copies the whole array: freshly
     solved fields are a transposed view of the solver's node-major columns
-    (:func:`railcheck.fea.stress.recover_stress`), where a take per slab copied a rail's
-    421 MB of fields each time (20.6 against 0.6 s for a rail's screens); such fields are
-    indexed slab by slab instead (stored ones are read C-contiguous)."""
+    (:func:`railcheck.fea.stress.recover_stress`), where a take per slab would copy all of
+    a rail's fields each time; such fields are indexed slab by slab instead (stored ones are
+    read C-contiguous). Measured: docs/changelog.md, "The measurements behind tuned constants"."""
     if stress.flags.c_contiguous:
         return np.take(stress, nodes, axis=1)
     return np.ascontiguousarray(stress[:, nodes])

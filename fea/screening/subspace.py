@@ -88,8 +88,8 @@ FIRST_NODES = 16
 SLACK = 1e-9
 
 
-#: floats per temporary (nodes x sampled steps x 6): 4 MB, read twice (max and min) from
-#: cache; 70 ms against 85 ms at 8M for 29,000 nodes, 20 coefficients, 90 read steps
+#: floats per temporary (nodes x sampled steps x 6): 4 MB, small enough to be read twice
+#: (max and min) from cache (measured: docs/changelog.md, "The measurements behind tuned constants")
 CHUNK_VALUES = 1 << 19
 
 

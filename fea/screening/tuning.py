@@ -10,10 +10,8 @@ from . import subspace
 CHUNK_VALUES = 8_000_000
 #: floats per temporary of the exact evaluations at every step (6 x nodes x histories x
 #: steps: :func:`exact_at`, :meth:`Batch.exact`, :func:`exact_von_mises2`), 2 MB: each
-#: product's result is read again for von Mises and the extremes while in cache (captured
-#: PF_4b_006 calls, one thread, six alternating rounds: 2.18 s against 2.43 s at
-#: :data:`CHUNK_VALUES`; a group's thresholds at 16 nodes x 64 histories: 14.6 against
-#: 28.7 ms)
+#: product's result is read again for von Mises and the extremes while in cache
+#: (measured: docs/changelog.md, "The measurements behind tuned constants")
 EXACT_VALUES = 1 << 18
 TOP_NODES = 64  # nodes evaluated first for the lower bound
 SLACK = subspace.SLACK  # relative margin on the bounds (rounding)

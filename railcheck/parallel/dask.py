@@ -11,21 +11,19 @@ T = TypeVar("T")
 
 #: glibc's heap settings of the local cluster's workers. Dask starts its workers with
 #: MALLOC_TRIM_THRESHOLD_ = 64 kB (memory back to the system as soon as it is freed), which
-#: makes every settings x steps temporary fault its pages in afresh: the kinematics-only sweep
-#: of the whole rig ran at half speed on the workers (a pass of the four-bar grid: 3.2-3.9 s
-#: wall on two workers, 1.5-1.6 s with a trim threshold of 128 MiB). Any explicit value turns
-#: glibc's adaptive thresholds off, so both are set: a worker keeps up to 256 MiB of freed
-#: heap and maps only blocks above 32 MiB (glibc's largest threshold), so a part's stresses
-#: per basis coordinate (up to 26 MB, one per group of settings) reuse the heap: with 4 MiB
-#: the whole rig's workers spent 101 s of 575 core-seconds in the kernel, and the captured
-#: near-default histories ran 2.36 s against 2.62 s (sys 0.35 against 1.37 s).
+#: makes every settings x steps temporary fault its pages in afresh (the kinematics-only
+#: sweep ran at half speed on the workers). Any explicit value turns glibc's adaptive
+#: thresholds off, so both are set: a worker keeps up to 256 MiB of freed heap and maps only
+#: blocks above 32 MiB (glibc's largest threshold), so a part's stresses per basis
+#: coordinate (up to 26 MB, one per group of settings) reuse the heap instead of going
+#: through the kernel (measured: docs/changelog.md, "The measurements behind tuned constants").
 WORKER_MALLOC = {"MALLOC_TRIM_THRESHOLD_": 256 << 20, "MALLOC_MMAP_THRESHOLD_": 32 << 20}
 
 
 #: Dask settings of the local cluster's workers. Their statistical profiler (for a dashboard
 #: this cluster does not start) samples the computing thread's stack every 10 ms, holding the
-#: GIL that the screens' many small numpy calls need: the whole rig's settings took 73.1 and
-#: 86.5 s without it against 80.0 and 90.6 s with it (two pairs, alternated).
+#: GIL that the screens' many small numpy calls need, so it is off (measured:
+#: docs/changelog.md, "The measurements behind tuned constants").
 WORKER_CONFIG = {"distributed.worker.profile.enabled": False}
 
 

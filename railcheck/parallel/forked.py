@@ -5,11 +5,10 @@ own; its sweep then runs where a process that cannot fork runs it).
 Forked children share this process's memory (the settings, each kind's context with its
 parts' screens, 1.3 GB for the whole rig) copy on write: a task is a chunk's index and its
 result one chunk's columns, with nothing written to a shared file or scattered, and no
-cluster to start. The whole rig: 85.7 s against 98.6 s on a Dask local cluster of two
-workers (medians of three alternating runs). They also beat this process's threads on
-the kinematics' thousands of small numpy calls, which hold the GIL between their loops
-(the whole rig's kinematics only: 49.6k settings/s against 26.9k on two threads and 29.9k
-serially, five alternating runs).
+cluster to start, so they beat a Dask local cluster on one machine. They also beat this
+process's threads on the kinematics' thousands of small numpy calls, which hold the GIL
+between their loops (measured: docs/changelog.md, "The measurements behind tuned
+constants").
 
 The chunks call numpy and scipy only (their own OpenBLAS, pthreads, fork-safe); never
 MKL, whose OpenMP runtime this process may have started for the unit fields and which a

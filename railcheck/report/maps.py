@@ -177,8 +177,8 @@ def _fixed_layout(fig, rows: int, columns: int, bottom: float) -> None:
     """The map figure's panels placed by fixed margins in inches (:data:`MAP_MARGINS`;
     ``bottom`` below the last row: its x labels and the legend). The figure's layout is
     the same for every sweep (only the numbers change), so it is not measured from the
-    drawn text as ``tight_layout`` does, which cost nearly half of the whole rig's maps
-    (1.79 against 0.96 s for the four-bar's)."""
+    drawn text as ``tight_layout`` does, which cost nearly half of the maps' time
+    (measured: docs/changelog.md, "The measurements behind tuned constants")."""
     width, height = fig.get_size_inches()
     m = MAP_MARGINS
     panel_w = (width - m["left"] - m["right"] - (columns - 1) * m["between_columns"]) / columns

@@ -209,11 +209,11 @@ def validate(scene) -> None:
 def prepare_models(scene, by_kind: dict, progress, jobs: int = 1) -> dict[str, dict]:
     """kind -> part -> PartModel: each checked part meshed, factorised and solved once.
     When some part must be meshed or solved they are built in this process one at a time
-    (:func:`build_one_at_a_time`: the whole rig's builds about 4 s slower than two at
-    once in worker processes, 37 against 33 s, its peak memory 2.7 against 4.1 GB);
-    when every part's mesh is cached and unit fields stored they are read on ``jobs``
-    threads of this one (:func:`build_on_threads`: the whole rig's parts 4.6-5.2 s on two
-    threads, 8.2-10.3 s on one). A part's models for two linkage kinds hold their equal screens once
+    (:func:`build_one_at_a_time`: a little slower than two at once in worker processes,
+    with two thirds of their peak memory); when every part's mesh is cached and unit fields
+    stored they are read on ``jobs`` threads of this one (:func:`build_on_threads`, about
+    twice as fast on two threads as on one; measured: docs/changelog.md, "The measurements
+    behind tuned constants"). A part's models for two linkage kinds hold their equal screens once
     (:func:`railcheck.sweep.parts.sharing_screens`)."""
     if scene.check is None:
         return {kind: {} for kind in by_kind}
