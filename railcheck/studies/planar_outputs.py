@@ -46,12 +46,15 @@ def _mobility(study: PlanarStudy) -> dict:
 
 def _motion(study: PlanarStudy, driver: np.ndarray) -> dict:
     cond = study.motion.conditioning
-    k = int(np.argmin(cond))
+    least = None
+    if cond is not None:  # the continuation's watch (a motion built from a closed form has none)
+        k = int(np.argmin(cond))
+        least = {"value": float(cond[k]), "at": float(driver[k])}
     return {
         "steps_solved": int(study.motion.s.size),
         "steps_asked": study.scene.steps,
         "ended": study.motion.ended,
-        "least_conditioning": {"value": float(cond[k]), "at": float(driver[k])},
+        "least_conditioning": least,
     }
 
 

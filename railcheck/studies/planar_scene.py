@@ -159,7 +159,7 @@ def _bodies_of(table: dict, name: str, index: dict[str, int], bodies: list[Body]
     return index[pair[0]], index[pair[1]]
 
 
-def _named_points(value: Any, name: str, bodies: tuple[Body, Body], per_body: int) -> list[list[str]]:
+def _named_points(value: Any, name: str, bodies: tuple[Body, ...], per_body: int) -> list[list[str]]:
     """Point names on each of a joint's two bodies (one each, or two for a line), each
     one the body has."""
     shape = '["A", "A"]' if per_body == 1 else '[["G1", "G2"], ["P", "Q"]]'

@@ -6,6 +6,8 @@ equation, named by its joint; :func:`equations_text` prints them, one per line.
 
 from __future__ import annotations
 
+from typing import Any
+
 from railcheck.kinematics.planar.model import Fixed, Mechanism, Prismatic, Revolute, RotationDriver, TranslationDriver
 
 
@@ -52,7 +54,7 @@ def constraint_equations(mech: Mechanism) -> list[tuple[str, object]]:
     import sympy as sp
 
     q, s = coordinates(mech)
-    out: list[tuple[str, object]] = []
+    out: list[tuple[str, Any]] = []  # sympy expressions
     for c in mech.constraints():
         if isinstance(c, Revolute):
             d = _point(mech, q, c.i, c.pi) - _point(mech, q, c.j, c.pj)
