@@ -18,6 +18,7 @@ from railcheck.fea.materials import MATERIALS
 from railcheck.fea.unitcases import solve_unit_cases
 from railcheck.geometry.mesher import mesh_part
 from railcheck.model.cycle import evaluate_cycle
+from railcheck.model.inputs import parts_input
 from railcheck.model.jobs import build_load_cases, part_geometries, part_jobs
 from railcheck.model.kinematics_stage import kinematics_input, run_kinematics
 from railcheck.model.loading import unit_cases
@@ -33,8 +34,10 @@ def main() -> None:
     scene = load_scene(None)
     steel = MATERIALS["steel"]
     kin = run_kinematics(kinematics_input(scene))
-    geos = part_geometries(scene)
-    jobs = part_jobs(scene, kin, geos, build_load_cases(scene, kin, geos), steel, steel.fatigue_limit)
+    geos = part_geometries(parts_input(scene))
+    jobs = part_jobs(
+        parts_input(scene), kin, geos, build_load_cases(parts_input(scene), kin, geos), steel, steel.fatigue_limit
+    )
     prepared, unit_s, single_s = {}, {}, {}
     for name, job in jobs.items():
         geo, kind, holes = job.geometry, kind_of(name), list(job.holes)

@@ -46,6 +46,7 @@ from railcheck.fea.materials import MATERIALS
 from railcheck.fea.mesh import scalar_basis, vector_dof_map
 from railcheck.geometry.mesher import mesh_part
 from railcheck.geometry.models import bar
+from railcheck.model.inputs import parts_input
 from railcheck.model.jobs import build_load_cases, part_geometries
 from railcheck.model.kinematics_stage import kinematics_input, run_kinematics
 from railcheck.scene import load_scene
@@ -66,8 +67,8 @@ def railcheck_solve(problem: str, size: float, solver: str = "direct") -> dict:
 
         scene = load_scene(None)
         scene = replace(scene, check=replace(scene.check, parts=("crank-rail",)))
-        geos = part_geometries(scene)
-        case = build_load_cases(scene, run_kinematics(kinematics_input(scene)), geos)["crank-rail"]
+        geos = part_geometries(parts_input(scene))
+        case = build_load_cases(parts_input(scene), run_kinematics(kinematics_input(scene)), geos)["crank-rail"]
         mesh = mesh_part(geos["crank-rail"], size, hole_size=0.3 * size)
         supports, tip = [Support(case.support)], case.tip_group
         loads = [HoleLoad(b.group, b.force) for b in case.bolts]

@@ -18,6 +18,7 @@ from helpers import ROOT, check_scene_of_row, run_sweep_text, table_rows
 from railcheck.fea.beam import beam_lowest_frequency
 from railcheck.fea.dynamic import one_mode_amplification
 from railcheck.model.certificate import QUASI_STATIC_TOLERANCE, amplification_estimate, dynamic_share, rail_lowest_hz
+from railcheck.model.inputs import parts_input
 from railcheck.model.utilisation import Limits, criterion_utilisations
 
 EI, MASS = 2100.0, 3.0  # N m^2, kg/m
@@ -93,9 +94,11 @@ def _jobs(speed_hz: float, effects=("inertia",)):
 
     scene = _scene(speed_hz, effects)
     kin = run_kinematics(kinematics_input(scene))
-    geos = part_geometries(scene)
+    geos = part_geometries(parts_input(scene))
     material = MATERIALS["steel"]
-    return part_jobs(scene, kin, geos, build_load_cases(scene, kin, geos), material, material.fatigue_limit)
+    return part_jobs(
+        parts_input(scene), kin, geos, build_load_cases(parts_input(scene), kin, geos), material, material.fatigue_limit
+    )
 
 
 def test_at_the_design_speed_the_rails_are_certified_and_nothing_dynamic_runs():

@@ -20,6 +20,7 @@ from railcheck.check.pipeline import run_pipeline
 from railcheck.check.summary import rail_masses
 from railcheck.fea.errors import ModelError
 from railcheck.loads.rotation import to_rail_axes
+from railcheck.model.inputs import parts_input
 from railcheck.model.jobs import build_load_cases, part_geometries
 from railcheck.model.kinematics_stage import kinematics_input, run_kinematics
 from railcheck.parts import geometry_of
@@ -69,7 +70,7 @@ def test_load_cases_sum_to_factor_times_peak_reaction():
     scene = load_scene(None)
     scene = replace(scene, check=replace(scene.check, support="clamped"))
     kin = run_kinematics(kinematics_input(scene))
-    cases = build_load_cases(scene, kin, part_geometries(scene))
+    cases = build_load_cases(parts_input(scene), kin, part_geometries(parts_input(scene)))
     dyn, th = kin.dynamics, kin.motion.theta
     expected = {
         "crank-rail": (-dyn.reactions["A"], th[:, 0]),
@@ -83,7 +84,7 @@ def test_load_cases_sum_to_factor_times_peak_reaction():
         assert np.linalg.norm(got - want) <= 1e-10 * np.linalg.norm(want)
         assert len(cases[part].bolts) == 2
         # worst position: the last two holes of the rail
-        n = len(part_geometries(scene)[part].get("hole_x"))
+        n = len(part_geometries(parts_input(scene))[part].get("hole_x"))
         assert [b.group for b in cases[part].bolts] == [f"hole_{n - 2}", f"hole_{n - 1}"]
     plate = cases["PF_4b_003_v2"]
     assert [b.force for b in plate.bolts] == [(250.0, 250.0, 0.0)] * 4
@@ -92,7 +93,9 @@ def test_load_cases_sum_to_factor_times_peak_reaction():
 def test_actual_bolt_position_is_at_the_bar_length():
     scene = load_scene(None)
     scene = replace(scene, check=replace(scene.check, bolt_position="actual"))
-    cases = build_load_cases(scene, run_kinematics(kinematics_input(scene)), part_geometries(scene))
+    cases = build_load_cases(
+        parts_input(scene), run_kinematics(kinematics_input(scene)), part_geometries(parts_input(scene))
+    )
     # crank 480 mm from the shaft hole (x = 20 mm): the hole at x = 500 mm is hole 8
     assert [b.group for b in cases["crank-rail"].bolts] == ["hole_8", "hole_9"]
     assert [b.group for b in cases["coupler-rail"].bolts] == ["hole_14", "hole_15"]
@@ -378,9 +381,9 @@ def test_each_part_is_resolved_once_into_a_picklable_job_without_the_scene():
 
     scene = load_scene(None)
     kin = run_kinematics(kinematics_input(scene))
-    geos = part_geometries(scene)
+    geos = part_geometries(parts_input(scene))
     steel = MATERIALS["steel"]
-    jobs = part_jobs(scene, kin, geos, build_load_cases(scene, kin, geos), steel, 375e6)
+    jobs = part_jobs(parts_input(scene), kin, geos, build_load_cases(parts_input(scene), kin, geos), steel, 375e6)
     assert list(jobs) == list(scene.check.parts)
 
     def values(x):

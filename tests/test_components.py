@@ -15,6 +15,7 @@ import pytest
 from railcheck.base.errors import InputError
 from railcheck.components import standards
 from railcheck.files import to_json
+from railcheck.model.inputs import parts_input
 from railcheck.model.records import safe_speed_words
 from railcheck.scene import parse_scene
 from railcheck.units import floored
@@ -156,7 +157,11 @@ def test_the_motor_shaft_carries_the_cranks_weight_moment_only_on_a_table_top_ri
     flat, _ = _run(_scene(parts=["shaft-O2", "bearings-O2"]))
     upright, _ = _run(_scene(parts=["shaft-O2", "bearings-O2"], plane="vertical"))
     scene = flat.scene
-    weight = abs(float(shaft_moment(rail_weight(scene, "crank", "four-bar"), linkage_lengths(scene.linkage_spec.linkage))))
+    weight = abs(
+        float(
+            shaft_moment(rail_weight(parts_input(scene), "crank", "four-bar"), linkage_lengths(scene.linkage_spec.linkage))
+        )
+    )
     in_plane = np.hypot(*flat.kinematics.dynamics.reactions["O2"].T).max() * 0.016
     assert flat.components["shaft-O2"].figures["moment_Nm"] == pytest.approx(1.4 * in_plane)
     assert flat.components["shaft-O2"].figures["mean_moment_Nm"] == pytest.approx(1.4 * weight)  # turns with the shaft

@@ -18,6 +18,7 @@ from railcheck.fea.superpose import component_range, envelope, stress_at, von_mi
 from railcheck.fea.unitcases import TractionCase, solve_unit_cases
 from railcheck.geometry.mesher import mesh_part
 from railcheck.geometry.models import bar
+from railcheck.model.inputs import parts_input
 from railcheck.model.jobs import bolt_holes
 from railcheck.model.kinematics_stage import kinematics_input, run_kinematics
 from railcheck.model.loading import load_model, source_histories, unit_cases
@@ -53,8 +54,8 @@ def crank():
     scene = crank_scene('effects = ["inertia", "gravity", "rail-inertia"]\n[mesh]\nsize = "20 mm"\nhole_size = "6 mm"\n')
     geo = geometry_of("crank-rail", {})
     mesh = mesh_part(geo, 20e-3, 6e-3)
-    holes = bolt_holes(scene, "crank-rail", geo)
-    cases = unit_cases(load_model(scene, "crank-rail", STEEL.density), geo, holes)
+    holes = bolt_holes(parts_input(scene), "crank-rail", geo)
+    cases = unit_cases(load_model(parts_input(scene), "crank-rail", STEEL.density), geo, holes)
     kind = kind_of("crank-rail")
     fields, meta = solve_unit_cases(
         mesh,
@@ -91,7 +92,9 @@ def test_superposition_equals_a_direct_solve_at_three_instants(crank, step):
     scene, geo, mesh, holes, fields, meta = crank
     fields = first_cases(fields, 2)
     plain = crank_scene()
-    (h,) = source_histories(load_model(plain, "crank-rail", STEEL.density), run_kinematics(kinematics_input(plain)), holes)
+    (h,) = source_histories(
+        load_model(parts_input(plain), "crank-rail", STEEL.density), run_kinematics(kinematics_input(plain)), holes
+    )
     direct = direct_stress(mesh, holes, h.C[step])
     scale = np.abs(direct.stress).max()
     assert np.abs(stress_at(fields.stress, h.C[step]) - direct.stress).max() < 1e-9 * scale
@@ -104,7 +107,9 @@ def test_superposition_equals_a_direct_solve_at_three_instants(crank, step):
 def test_superposition_with_body_forces_equals_a_direct_solve(crank):
     scene, geo, mesh, holes, fields, meta = crank
     assert list(fields.names) == ["bolt_x", "bolt_y", "body_x", "body_y", "body_rot", "body_rad"]
-    (h,) = source_histories(load_model(scene, "crank-rail", STEEL.density), run_kinematics(kinematics_input(scene)), holes)
+    (h,) = source_histories(
+        load_model(parts_input(scene), "crank-rail", STEEL.density), run_kinematics(kinematics_input(scene)), holes
+    )
     c = h.C[300].copy()
     c[4:] = 0.0  # the direct solver takes uniform body forces only
     direct = direct_stress(mesh, holes, c, c[2:4])
@@ -142,7 +147,9 @@ def test_envelope_is_never_below_the_seed_method(crank, crank_mm, coupler_mm, ro
     if bars[0] != crank_mm or bars[0] + bars[3] >= bars[1] + bars[2]:
         return  # only Grashof crank-rockers revolve fully
     scene = crank_scene('effects = ["inertia", "gravity", "rail-inertia"]\n', lengths.replace("1 Hz", f"{hz} Hz"))
-    (h,) = source_histories(load_model(scene, "crank-rail", STEEL.density), run_kinematics(kinematics_input(scene)), holes)
+    (h,) = source_histories(
+        load_model(parts_input(scene), "crank-rail", STEEL.density), run_kinematics(kinematics_input(scene)), holes
+    )
     env = envelope(fields, h.C)
     seed = von_mises(stress_at(fields.stress, h.C[h.seed_step]))[fields.verdict_mask].max()
     brute = von_mises_max(fields.stress, h.C)[0][fields.verdict_mask].max()
@@ -155,7 +162,7 @@ def test_default_crank_rail_governs_where_the_transverse_load_peaks(crank):
     fields = first_cases(fields, 2)
     scene = crank_scene()  # the default effects: mechanism inertia only
     kin = run_kinematics(kinematics_input(scene))
-    (h,) = source_histories(load_model(scene, "crank-rail", STEEL.density), kin, holes)
+    (h,) = source_histories(load_model(parts_input(scene), "crank-rail", STEEL.density), kin, holes)
     env = envelope(fields, h.C)
     angle = np.degrees(h.crank_angle)
     transverse_peak = angle[np.argmax(np.abs(h.C[:, 1]))]
@@ -190,10 +197,15 @@ def test_rail_inertia_only_when_listed():
     geo = geometry_of("crank-rail", {})
     plain = crank_scene()
     listed = crank_scene('effects = ["inertia", "rail-inertia"]\n')
-    holes = bolt_holes(plain, "crank-rail", geo)
-    assert list(unit_cases(load_model(plain, "crank-rail", STEEL.density), geo, holes)) == ["bolt_x", "bolt_y"]
-    assert list(unit_cases(load_model(listed, "crank-rail", STEEL.density), geo, holes))[-2:] == ["body_rot", "body_rad"]
-    (h,) = source_histories(load_model(listed, "crank-rail", STEEL.density), run_kinematics(kinematics_input(listed)), holes)
+    holes = bolt_holes(parts_input(plain), "crank-rail", geo)
+    assert list(unit_cases(load_model(parts_input(plain), "crank-rail", STEEL.density), geo, holes)) == ["bolt_x", "bolt_y"]
+    assert list(unit_cases(load_model(parts_input(listed), "crank-rail", STEEL.density), geo, holes))[-2:] == [
+        "body_rot",
+        "body_rad",
+    ]
+    (h,) = source_histories(
+        load_model(parts_input(listed), "crank-rail", STEEL.density), run_kinematics(kinematics_input(listed)), holes
+    )
     omega = 2 * np.pi
     np.testing.assert_allclose(h.C[:, 5], STEEL.density * omega**2, rtol=1e-9)  # the crank turns steadily
 

@@ -17,6 +17,7 @@ from railcheck.kinematics.checks import transmission_extremes
 from railcheck.kinematics.dynamics import inverse_dynamics
 from railcheck.kinematics.linkage import FourBar
 from railcheck.kinematics.motion import solve_motion
+from railcheck.model.inputs import parts_input
 
 PAGE = Path(__file__).resolve().parents[1] / "docs" / "model.md"
 SEED_CASES = ((540, 900, 780, 1058), (540, 840, 780, 1020), (480, 840, 780, 1020))  # seed 000, table 3.3.6
@@ -90,7 +91,10 @@ def test_the_default_scenes_weight_figures_are_the_codes():
 
     scene = load_scene(None)
     lengths = linkage_lengths(scene.linkage_spec.linkage)
-    models = {bar: load_model(scene, f"{bar}-rail", MATERIALS["steel"].density) for bar in ("crank", "coupler", "rocker")}
+    models = {
+        bar: load_model(parts_input(scene), f"{bar}-rail", MATERIALS["steel"].density)
+        for bar in ("crank", "coupler", "rocker")
+    }
     crank, rocker = (float(shaft_moment(models[b].weight, lengths)) for b in ("crank", "rocker"))
     first, second, _ = (float(v) for v in joint_forces(models["crank"].weight, lengths))
     on_a, _, on_b = (float(v) for v in joint_forces(models["coupler"].weight, lengths))

@@ -14,6 +14,7 @@ from helpers import FINAL_DESIGN
 from railcheck.base.errors import InputError
 from railcheck.check.pipeline import run_pipeline
 from railcheck.check.summary import summary_of
+from railcheck.model.inputs import parts_input
 from railcheck.scene import parse_scene
 
 SCENE = (
@@ -112,7 +113,7 @@ def test_a_part_above_its_amplification_limit_fails_naming_dynamic(one_hz):
     )
     from railcheck.model.jobs import dynamic_job
 
-    job = dynamic_job(scene, None)
+    job = dynamic_job(parts_input(scene), None)
     assert (job.max_amplification, job.damping, job.modes, job.speed) == (1.01, 0.05, 3, pytest.approx(2 * math.pi))
 
 
@@ -148,7 +149,7 @@ def test_a_still_rig_has_no_cycle_to_respond_to():
     from railcheck.model.jobs import dynamic_job
 
     scene = parse_scene(tomllib.loads(SCENE.replace("SPEED", "0 Hz").replace("EFFECTS", '["gravity", "dynamic"]')), "t")
-    assert dynamic_job(scene, None) is None
+    assert dynamic_job(parts_input(scene), None) is None
 
 
 @pytest.mark.slow

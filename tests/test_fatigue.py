@@ -15,6 +15,7 @@ from railcheck.fea.hull import candidate_steps
 from railcheck.fea.materials import MATERIALS
 from railcheck.fea.superpose import UnitFields, component_range
 from railcheck.model.cycle import fatigue_of
+from railcheck.model.inputs import parts_input
 from railcheck.scene import parse_scene
 
 MPa = 1e6
@@ -165,9 +166,11 @@ def _crank_job(fatigue_table: str):
     )
     scene = parse_scene(tomllib.loads(text), "test")
     kin = run_kinematics(kinematics_input(scene))
-    geos = part_geometries(scene)
+    geos = part_geometries(parts_input(scene))
     steel = MATERIALS["steel"]
-    return part_jobs(scene, kin, geos, build_load_cases(scene, kin, geos), steel, 375e6)["crank-rail"]
+    return part_jobs(parts_input(scene), kin, geos, build_load_cases(parts_input(scene), kin, geos), steel, 375e6)[
+        "crank-rail"
+    ]
 
 
 def _one_node_fields() -> UnitFields:

@@ -17,6 +17,7 @@ from railcheck.fea.holebasis import hole_basis, project, surface_nodes
 from railcheck.fea.materials import MATERIALS
 from railcheck.fea.mesh import group_nodes, node_cells
 from railcheck.fea.unitcases import case_matrix, solve_unit_cases
+from railcheck.model.inputs import parts_input
 
 
 def _scene(crank="480 mm", coupler="840 mm", rocker="780 mm", effects='["inertia", "gravity", "rail-inertia"]', parts=None):
@@ -39,9 +40,9 @@ def _rail_job(name="crank-rail", text=None):
 
     scene = scene_of(text or _scene())
     kin = run_kinematics(kinematics_input(scene))
-    geometries = part_geometries(scene)
-    cases = build_load_cases(scene, kin, geometries)
-    job = part_jobs(scene, kin, geometries, cases, MATERIALS["steel"], 375e6)[name]
+    geometries = part_geometries(parts_input(scene))
+    cases = build_load_cases(parts_input(scene), kin, geometries)
+    job = part_jobs(parts_input(scene), kin, geometries, cases, MATERIALS["steel"], 375e6)[name]
     return job, job_mesh(job)
 
 
@@ -160,8 +161,10 @@ def test_a_second_rail_of_one_size_is_checked_last(monkeypatch):
 
     scene = scene_of(None)
     kin = run_kinematics(kinematics_input(scene))
-    geometries = part_geometries(scene)
-    jobs = part_jobs(scene, kin, geometries, build_load_cases(scene, kin, geometries), MATERIALS["steel"], 375e6)
+    geometries = part_geometries(parts_input(scene))
+    jobs = part_jobs(
+        parts_input(scene), kin, geometries, build_load_cases(parts_input(scene), kin, geometries), MATERIALS["steel"], 375e6
+    )
     order = work_order(jobs)
     # costliest first, the coupler's by its group (+ the rocker, which waits for it); since the
     # element estimate counts the rails' grooves (issue 79) a rail's cost is its mesh's

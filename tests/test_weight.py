@@ -19,6 +19,7 @@ from railcheck.geometry import mesh_part
 from railcheck.geometry.catalogue import RAIL
 from railcheck.geometry.models import rail as rail_part
 from railcheck.loads.weight import GRAVITY, joint_forces, shaft_moment
+from railcheck.model.inputs import parts_input
 from railcheck.model.loading import linkage_lengths, load_model, weight_columns
 from railcheck.scene import parse_scene
 
@@ -45,7 +46,7 @@ def test_the_default_crank_carries_its_weight_moment_at_its_shaft_and_at_its_sec
     centre 300 mm from O2) carries that, its plate and carriage at A and its own weight,
     cantilevered from the shaft through the plate's two screws, 30 mm either side of it."""
     scene = _scene()
-    model = load_model(scene, "crank-rail", STEEL.density)
+    model = load_model(parts_input(scene), "crank-rail", STEEL.density)
     per_m = scene.masses.rail_mass_per_m
     assert per_m == pytest.approx(3.16, abs=0.01)
     coupler_at_a = per_m * 1.0 * GRAVITY * (0.84 - 0.45) / 0.84
@@ -75,7 +76,7 @@ def test_each_bar_balances_its_weight_and_the_links_rest_on_their_joints():
     lengths = linkage_lengths(scene.linkage_spec.linkage)
     per_m, g = scene.masses.rail_mass_per_m, GRAVITY
     forces = {
-        bar: joint_forces(load_model(scene, f"{bar}-rail", STEEL.density).weight, lengths)
+        bar: joint_forces(load_model(parts_input(scene), f"{bar}-rail", STEEL.density).weight, lengths)
         for bar in ("crank", "coupler", "rocker")
     }
     for bar, length in (("crank", 0.7), ("coupler", 1.0), ("rocker", 1.0)):
@@ -89,7 +90,7 @@ def test_each_bar_balances_its_weight_and_the_links_rest_on_their_joints():
 def test_the_weight_columns_are_the_factored_joint_forces_at_every_step_and_setting():
     """Constant over steps; a sweep's settings each with their own lengths."""
     scene = _scene()
-    model = load_model(scene, "rocker-rail", STEEL.density)
+    model = load_model(parts_input(scene), "rocker-rail", STEEL.density)
     lengths = {
         "crank": np.array([[0.48], [0.6]]),
         "coupler": np.array([[0.84], [0.96]]),
@@ -112,8 +113,8 @@ def test_the_rig_is_horizontal_by_default_and_vertical_when_gravity_is_listed():
     assert vertical.plane == "vertical" and "gravity" in vertical.effects
     stated = _scene('plane = "vertical"\n')
     assert stated.plane == "vertical" and "gravity" in stated.checked.effects  # its weight is always there
-    assert load_model(vertical, "crank-rail", STEEL.density).weight is None
-    assert load_model(_scene(), "crank-rail", STEEL.density).weight is not None
+    assert load_model(parts_input(vertical), "crank-rail", STEEL.density).weight is None
+    assert load_model(parts_input(_scene()), "crank-rail", STEEL.density).weight is not None
 
 
 def test_gravity_on_a_horizontal_rig_is_refused_naming_the_effect():

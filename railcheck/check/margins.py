@@ -29,6 +29,7 @@ from railcheck.components.scene_checks import check_scene_components
 from railcheck.model.certificate import QUASI_STATIC_TOLERANCE, certificate
 from railcheck.model.crossing import increasing_crossing, refine_crossing
 from railcheck.model.cycle import evaluate_cycle
+from railcheck.model.inputs import parts_input
 from railcheck.model.jobs import build_load_cases, part_jobs
 from railcheck.model.kinematics_stage import kinematics_input, run_kinematics
 from railcheck.model.loading import unit_cases
@@ -89,20 +90,15 @@ def components_safe_speed(scene) -> SafeSpeed | None:
     return SafeSpeed(hz, name, criterion)
 
 
-def _at_speed(scene, speed: float, parts: tuple[str, ...]):
-    """The scene with the crank at ``speed`` rad/s, checking ``parts`` only, no comparison."""
-    check = dataclasses.replace(scene.checked, parts=parts, compare=())
-    return dataclasses.replace(scene, mechanism=dataclasses.replace(scene.mechanism, speed=speed), check=check)
-
-
 def part_at_speed(scene, part: PartResult, speed: float) -> tuple[float, str]:
     """(utilisation, governing criterion) of the checked ``part`` with the crank at
     ``speed`` rad/s: its job rebuilt at that speed, its cycle evaluated on its solved unit
     fields, the certificate's quasi-static share beside the check's criteria (module doc)."""
-    at = _at_speed(scene, speed, (part.name,))
-    kin = run_kinematics(kinematics_input(at))
+    inputs = parts_input(scene).at_speed(speed).only((part.name,))
+    kin = run_kinematics(kinematics_input(scene).at_speed(speed))
     geometries = {part.name: part.job.geometry}
-    job = part_jobs(at, kin, geometries, build_load_cases(at, kin, geometries), part.job.material, part.limit)[part.name]
+    cases = build_load_cases(inputs, kin, geometries)
+    job = part_jobs(inputs, kin, geometries, cases, part.job.material, part.limit)[part.name]
     if not any(np.any(h.C) for h in job.histories):  # at rest without gravity: nothing loads it
         return 0.0, "stress"
     if part.cycle.solve.modes is not None and part.job.dynamic is not None:  # the check's exact response, at this speed

@@ -21,6 +21,7 @@ from railcheck.check.margins import SafeSpeed, components_safe_speed, failing_pa
 from railcheck.check.workers import check_parts
 from railcheck.components.scene_checks import check_scene_components
 from railcheck.fea.materials import MATERIALS, limit_warning
+from railcheck.model.inputs import parts_input
 from railcheck.model.jobs import build_load_cases, part_geometries, part_jobs, refuse_huge
 from railcheck.model.kinematics_stage import all_checks, kinematics_input, kinematics_summary, run_kinematics
 from railcheck.model.memory import refuse_recovery_before_meshing
@@ -131,13 +132,13 @@ def _check_stage(
     w = limit_warning(material, scene.checked.limit)
     if w:
         warnings.append(w)
-    geometries = part_geometries(scene)
-    cases = build_load_cases(scene, kin, geometries)
+    geometries = part_geometries(parts_input(scene))
+    cases = build_load_cases(parts_input(scene), kin, geometries)
     stages.append("loads")
     progress.say("loads", f"{len(cases)} load cases, factor {scene.checked.factor:g}, support {scene.checked.support}")
-    refuse_huge(scene, geometries)
+    refuse_huge(parts_input(scene), geometries)
     stages.append("geometry")
-    all_jobs = part_jobs(scene, kin, geometries, cases, material, limit)
+    all_jobs = part_jobs(parts_input(scene), kin, geometries, cases, material, limit)
     unloaded = tuple(name for name, job in all_jobs.items() if not carries_load(job))
     for name in unloaded:
         warnings.append(f"{name}: {NO_LOAD}")

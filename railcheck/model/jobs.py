@@ -25,6 +25,7 @@ from railcheck.geometry.models import PartGeometry
 from railcheck.kinematics.massmodel import carried_mass
 from railcheck.loads.cases import LoadCase, explicit_load_case, pivot_x, rail_bolt_holes, reaction_load_case
 from railcheck.model.certificate import Certificate, certificate, rail_lowest_hz
+from railcheck.model.inputs import PartsInput
 from railcheck.model.kinematics_stage import KinematicsResult
 from railcheck.model.loading import (
     LoadModel,
@@ -35,7 +36,7 @@ from railcheck.model.loading import (
     with_pressure_histories,
 )
 from railcheck.parts import BAR_INDEX, KINDS, PARTS, geometry_of, kind_of
-from railcheck.scene import FatigueSpec, MeshSpec, Scene
+from railcheck.scene import FatigueSpec, MeshSpec
 
 #: peak memory per DOF of a P2 solve on the iterative path (assembly, AMG hierarchy, stress
 #: projection), bytes; measured on a 1000 mm rail at 145k DOFs (docs/refusals.md, "What railcheck
@@ -115,22 +116,22 @@ def mesh_sizes(mesh: MeshSpec, kind: str) -> tuple[float, float]:
     return mesh.size, mesh.hole_size or 0.3 * mesh.size
 
 
-def part_geometries(scene: Scene) -> dict[str, PartGeometry]:
-    """PartGeometry for each part the scene checks (light: no gmsh import)."""
-    return {name: geometry_of(name, scene.geometry) for name in scene.checked.parts}
+def part_geometries(inputs: PartsInput) -> dict[str, PartGeometry]:
+    """PartGeometry for each part the record checks (light: no gmsh import)."""
+    return {name: geometry_of(name, inputs.geometry) for name in inputs.checked.parts}
 
 
-def bolt_holes(scene: Scene, name: str, geo: PartGeometry) -> list[str]:
+def bolt_holes(inputs: PartsInput, name: str, geo: PartGeometry) -> list[str]:
     """The bolt-hole groups a part's joint uses: on a rail the pair chosen by the bar
     length and ``check.bolt_position``; on a plate every hole."""
     if not kind_of(name).bolts_on_rail:
         return kind_of(name).bolts(geo)
     xs = list(geo.get("hole_x"))
-    explicit = name in scene.checked.loads
+    explicit = name in inputs.checked.loads
     bar = PARTS[name].bar
-    length = 0.0 if explicit or bar is None else scene.linkage_spec.linkage.lengths[bar]
-    position = "worst" if explicit else scene.checked.bolt_position
-    if not explicit and scene.checked.support == "free-body" and PARTS[name].free_body is not None:
+    length = 0.0 if explicit or bar is None else inputs.linkage_spec.linkage.lengths[bar]
+    position = "worst" if explicit else inputs.checked.bolt_position
+    if not explicit and inputs.checked.support == "free-body" and PARTS[name].free_body is not None:
         position = "actual"  # a free body's joint force acts where the joint is
     try:
         idx = rail_bolt_holes(xs, pivot_x(xs), length, position)
@@ -139,14 +140,14 @@ def bolt_holes(scene: Scene, name: str, geo: PartGeometry) -> list[str]:
     return [f"hole_{k}" for k in idx]
 
 
-def build_load_cases(scene: Scene, kin: KinematicsResult | None, geometries: dict) -> dict[str, LoadCase]:
+def build_load_cases(inputs: PartsInput, kin: KinematicsResult | None, geometries: dict) -> dict[str, LoadCase]:
     """The seed method's load case of every checked part: the factored reaction at the
     instant its magnitude peaks, over the joint with the largest peak (loads stage)."""
     cases = {}
-    for name in scene.checked.parts:
-        kind, holes = kind_of(name), bolt_holes(scene, name, geometries[name])
-        if name in scene.checked.loads:
-            load = scene.checked.loads[name]
+    for name in inputs.checked.parts:
+        kind, holes = kind_of(name), bolt_holes(inputs, name, geometries[name])
+        if name in inputs.checked.loads:
+            load = inputs.checked.loads[name]
             cases[name] = explicit_load_case(name, load.longitudinal, load.transverse, holes, kind.support, kind.tip)
             continue
         assert kin is not None  # the linkage's loads need its kinematics
@@ -165,7 +166,7 @@ def build_load_cases(scene: Scene, kin: KinematicsResult | None, geometries: dic
             src.sign * dyn.reactions[src.joint],
             angle,
             motion.theta2,
-            scene.checked.factor,
+            inputs.checked.factor,
             holes,
             kind.support,
             kind.tip,
@@ -174,114 +175,121 @@ def build_load_cases(scene: Scene, kin: KinematicsResult | None, geometries: dic
 
 
 def part_jobs(
-    scene: Scene, kin: KinematicsResult | None, geometries: dict, cases: dict, material: Material, limit: float
+    inputs: PartsInput, kin: KinematicsResult | None, geometries: dict, cases: dict, material: Material, limit: float
 ) -> dict[str, PartJob]:
     """The :class:`PartJob` of every checked part, in the scene's order."""
     jobs = {}
     for name, geo in geometries.items():
         kind = kind_of(name)
-        holes = bolt_holes(scene, name, geo)
-        loads = load_model(scene, name, material.density)
+        holes = bolt_holes(inputs, name, geo)
+        loads = load_model(inputs, name, material.density)
         free = free_body_cases(loads, geo, holes) if is_free(loads) else None
         histories = with_pressure_histories(unit_cases(loads, geo, holes), source_histories(loads, kin, holes))
-        dynamic, cert = speed_validity(scene, free, name, geo, holes, histories, unit_cases(loads, geo, holes), material)
+        dynamic, cert = speed_validity(inputs, free, name, geo, holes, histories, unit_cases(loads, geo, holes), material)
         jobs[name] = PartJob(
-            clamped=clamped_job(scene, kin, name, geo, cases, material, limit) if compared(scene, free) else None,
+            clamped=clamped_job(inputs, kin, name, geo, cases, material, limit) if compared(inputs, free) else None,
             name=name,
             geometry=geo,
             support=kind.support,
             tip=kind.tip,
             exclusion=0.0 if free is not None else kind.exclusion(geo),
             section=tuple(kind.section(geo)),
-            mesh=MeshJob(*mesh_sizes(scene.mesh, geo.kind), scene.mesh.order, scene.mesh.curved, scene.mesh.optimize),
+            mesh=MeshJob(*mesh_sizes(inputs.mesh, geo.kind), inputs.mesh.order, inputs.mesh.curved, inputs.mesh.optimize),
             holes=tuple(holes),
             loads=loads,
             histories=histories,
             load_case=cases[name],
             material=material,
             limit=limit,
-            fatigue=scene.fatigue,
-            max_deflection=scene.checked.max_deflection,
+            fatigue=inputs.fatigue,
+            max_deflection=inputs.checked.max_deflection,
             free_body=free,
             dynamic=dynamic,
             certificate=cert,
-            node_fields=scene.output.vtk or scene.output.png,
+            node_fields=inputs.output.vtk or inputs.output.png,
         )
     return jobs
 
 
-def compared(scene: Scene, free) -> bool:
-    """Whether a part's 2013 clamped model runs beside it: a free part of a scene whose
+def compared(inputs: PartsInput, free) -> bool:
+    """Whether a part's 2013 clamped model runs beside it: a free part of a record whose
     ``[check] compare`` lists "2013"."""
-    return free is not None and "2013" in scene.checked.compare
+    return free is not None and "2013" in inputs.checked.compare
 
 
 def clamped_job(
-    scene: Scene, kin: KinematicsResult | None, name: str, geo: PartGeometry, cases: dict, material: Material, limit: float
+    inputs: PartsInput,
+    kin: KinematicsResult | None,
+    name: str,
+    geo: PartGeometry,
+    cases: dict,
+    material: Material,
+    limit: float,
 ) -> PartJob:
     """The free rail ``name`` as the 2013 study checked it (``support = "clamped"``: clamped
     at its first hole, the far joint's reaction at the bolts ``bolt_position`` picks),
     quasi-static; the report shows its peak beside the free body's verdict."""
-    clamped = replace(scene, check=replace(scene.checked, support="clamped", parts=(name,)))
-    return replace(part_jobs(clamped, kin, {name: geo}, cases, material, limit)[name], dynamic=None, certificate=None)
+    return replace(
+        part_jobs(inputs.clamped(name), kin, {name: geo}, cases, material, limit)[name], dynamic=None, certificate=None
+    )
 
 
 def dynamic_job(
-    scene: Scene, free: FreeBodyCases | None, name: str = "", holes: list[str] | tuple = ()
+    inputs: PartsInput, free: FreeBodyCases | None, name: str = "", holes: list[str] | tuple = ()
 ) -> DynamicJob | None:
     """The part's dynamic request when ``dynamic`` is listed and the crank turns (a still
     rig has no cycle to respond to); a free body is pinned at its two joints (a bolted-down
     part held at its base). A rail's
     joints carry the mass model's point masses (plates, carriages, coupling), lumped on
     their holes: the near joint's on its first two holes, the far joint's on its bolt holes."""
-    if not scene.dynamic_response:
+    if not inputs.dynamic_response:
         return None
-    return _modal_template(scene, free, name, holes)
+    return _modal_template(inputs, free, name, holes)
 
 
 def speed_validity(
-    scene: Scene, free, name: str, geo, holes, histories, names, material: Material
+    inputs: PartsInput, free, name: str, geo, holes, histories, names, material: Material
 ) -> tuple[DynamicJob | None, Certificate | None]:
     """(the part's dynamic request, its certificate): with ``dynamic`` listed, the exact
     response; else, for a part whose loads vary over the cycle of a turning crank, a rail's
     certificate from its beam model (the exact response when it does not hold) or, for
     any other part, its modes for the certificate (decided once they are solved)."""
-    job = dynamic_job(scene, free, name, holes)
-    moving = scene.mechanism is not None and scene.linkage_spec.speed > 0 and any(h.C.shape[0] >= 3 for h in histories)
-    if not moving or name in scene.checked.loads:
+    job = dynamic_job(inputs, free, name, holes)
+    moving = inputs.mechanism is not None and inputs.linkage_spec.speed > 0 and any(h.C.shape[0] >= 3 for h in histories)
+    if not moving or name in inputs.checked.loads:
         return job, None
     cert = None
     if kind_of(name).beam_frequency:
-        template = job or _modal_template(scene, free, name, holes)
+        template = job or _modal_template(inputs, free, name, holes)
         clamp = None if template.pins else kind_of(name).support
         hz = rail_lowest_hz(geo, material, template.pins, template.lumped, clamp)
-        cert = certificate([h.C for h in histories], names, template.speed, hz, "beam model", scene.dynamic.damping)
+        cert = certificate([h.C for h in histories], names, template.speed, hz, "beam model", inputs.dynamic.damping)
         if job is None and not cert.holds:
             job = replace(template, reason=f"the certificate does not hold ({cert.estimate:.3f} > {cert.tolerance:.2f})")
     elif job is None:
-        job = replace(_modal_template(scene, free, name, holes), exact=False)
+        job = replace(_modal_template(inputs, free, name, holes), exact=False)
     return job, cert
 
 
-def _modal_template(scene: Scene, free, name: str, holes) -> DynamicJob:
+def _modal_template(inputs: PartsInput, free, name: str, holes) -> DynamicJob:
     """The dynamic request the part would make with ``dynamic`` listed."""
-    d = scene.dynamic
+    d = inputs.dynamic
     pins = (tuple(free.deflection[0]), tuple(free.deflection[1])) if free is not None and not free.held else None
-    lumped = carried_masses(scene, name, holes)
-    return DynamicJob(scene.linkage_spec.speed, d.damping, d.max_amplification, d.modes, pins, lumped)
+    lumped = carried_masses(inputs, name, holes)
+    return DynamicJob(inputs.linkage_spec.speed, d.damping, d.max_amplification, d.modes, pins, lumped)
 
 
-def carried_masses(scene: Scene, name: str, holes: list[str] | tuple, kind: str | None = None) -> tuple:
+def carried_masses(inputs: PartsInput, name: str, holes: list[str] | tuple, kind: str | None = None) -> tuple:
     """((hole surfaces, kg), ...): the point masses a rail carries at its joints in the
     mass model (plates, carriages, coupling) of the linkage ``kind`` (default: the
     scene's): the near joint's on its first two holes, the far joint's on the bolt holes
     ``holes``; () for a plate or a part with explicit loads."""
     part = PARTS.get(name)
     fb = part.free_body if part is not None else None
-    if part is None or fb is None or part.bar is None or not holes or name in scene.checked.loads:
+    if part is None or fb is None or part.bar is None or not holes or name in inputs.checked.loads:
         return ()
-    masses = scene.masses
-    kind = kind or scene.linkage_spec.linkage.kind
+    masses = inputs.masses
+    kind = kind or inputs.linkage_spec.linkage.kind
     kg = [carried_mass(masses, kind, part.bar, joint.joint) for joint in (fb.near, fb.far)]
     return tuple((g, m) for g, m in ((("hole_0", "hole_1"), kg[0]), (tuple(holes), kg[1])) if m > 0)
 
@@ -324,22 +332,22 @@ def free_body_cases(loads: LoadModel, geo: PartGeometry, holes: list[str]) -> Fr
     )
 
 
-def refuse_huge(scene: Scene, geometries: dict) -> None:
+def refuse_huge(inputs: PartsInput, geometries: dict) -> None:
     """Refuse, before meshing, a mesh size too coarse for a part (more than twice its
     section's smaller side: the stress would be meaningless) and a mesh this machine's
     memory cannot hold (DOFs estimated from the volume and the size field)."""
-    if scene.mesh.size is not None:
+    if inputs.mesh.size is not None:
         for name, geo in geometries.items():
             side = min(kind_of(name).section(geo))
-            if scene.mesh.size > 2 * side:
+            if inputs.mesh.size > 2 * side:
                 raise InputError(
                     "mesh.size",
-                    f"{scene.mesh.size * 1e3:g} mm is more than twice {name}'s "
+                    f"{inputs.mesh.size * 1e3:g} mm is more than twice {name}'s "
                     f"{side * 1e3:g} mm section: too coarse to resolve its stress",
                 )
     for name, geo in geometries.items():
-        refuse_coarse_holes(name, geo, mesh_sizes(scene.mesh, geo.kind)[1])
-        refuse_beyond_memory(geo, *mesh_sizes(scene.mesh, geo.kind), scene.mesh.order, "mesh.size")
+        refuse_coarse_holes(name, geo, mesh_sizes(inputs.mesh, geo.kind)[1])
+        refuse_beyond_memory(geo, *mesh_sizes(inputs.mesh, geo.kind), inputs.mesh.order, "mesh.size")
 
 
 def refuse_coarse_holes(name: str, geo: PartGeometry, hole_size: float) -> None:

@@ -39,9 +39,10 @@ from railcheck.loads.histories import bolt_history, gravity_history, rail_inerti
 from railcheck.loads.pin_pressure import HARMONICS, harmonic_coefficients
 from railcheck.loads.rotation import to_rail_axes
 from railcheck.loads.weight import CANTILEVERED, RailWeight, joint_forces
+from railcheck.model.inputs import PartsInput
 from railcheck.model.kinematics_stage import KinematicsResult
 from railcheck.parts import BAR_INDEX, PARTS, FreeBody, FreePlate, LoadSource, rail_length
-from railcheck.scene import ExplicitLoad, Scene
+from railcheck.scene import ExplicitLoad
 
 GRAVITY = 9.80665  # m/s^2
 PIVOT_JOINT = {"crank": "O2", "coupler": "A", "rocker": "O4"}
@@ -103,7 +104,7 @@ class SourceHistory:
 
 
 def load_model(
-    scene: Scene,
+    inputs: PartsInput,
     name: str,
     density: float,
     bar_length: float | None = None,
@@ -114,58 +115,58 @@ def load_model(
     rail's bar length (m), whether inertia acts and the linkage ``kind`` (which sets the
     masses its joints carry) come from the scene's [mechanism] unless given (a sweep
     gives each setting's)."""
-    effects, explicit = scene.checked.effects, scene.checked.loads.get(name)
+    effects, explicit = inputs.checked.effects, inputs.checked.loads.get(name)
     part = PARTS[name]
     bar = part.bar
     model = LoadModel(
         part=name,
         bar=bar,
         sources=part.sources,
-        factor=scene.checked.factor,
+        factor=inputs.checked.factor,
         gravity="gravity" in effects,
         rail_inertia="rail-inertia" in effects and bar is not None and explicit is None,
         explicit=explicit,
         density=density,
     )
-    if scene.checked.support == "free-body" and part.free_plate is not None and explicit is None:
-        return free_plate_model(scene, model, part.free_plate, inertia)
-    if scene.checked.support == "free-body" and part.foundation is not None:
+    if inputs.checked.support == "free-body" and part.free_plate is not None and explicit is None:
+        return free_plate_model(inputs, model, part.free_plate, inertia)
+    if inputs.checked.support == "free-body" and part.foundation is not None:
         return dataclasses.replace(model, foundation=part.foundation)
-    if not (scene.checked.support == "free-body" and part.free_body is not None and explicit is None):
+    if not (inputs.checked.support == "free-body" and part.free_body is not None and explicit is None):
         return model
     assert bar is not None  # a free body is a rail: it has a bar
     if bar_length is None:
-        bar_length = scene.linkage_spec.linkage.lengths[bar]
-    kind = kind or scene.linkage_spec.linkage.kind
-    masses, fb = scene.masses, part.free_body
+        bar_length = inputs.linkage_spec.linkage.lengths[bar]
+    kind = kind or inputs.linkage_spec.linkage.kind
+    masses, fb = inputs.masses, part.free_body
     return dataclasses.replace(
         model,
         rail_inertia=False,
         free_body=fb,
-        inertia="inertia" in scene.effects if inertia is None else inertia,
+        inertia="inertia" in inputs.effects if inertia is None else inertia,
         joint_masses=(carried_mass(masses, kind, bar, fb.near.joint), carried_mass(masses, kind, bar, fb.far.joint)),
         rail_mass=masses.rail_mass_per_m * rail_length(bar),
         bar_length=bar_length,
-        rail_body=rail_body(masses, bar, geo_pivot(scene)),
-        weight=rail_weight(scene, bar, kind) if scene.plane == "horizontal" else None,
+        rail_body=rail_body(masses, bar, geo_pivot(inputs)),
+        weight=rail_weight(inputs, bar, kind) if inputs.plane == "horizontal" else None,
     )
 
 
-def rail_weight(scene: Scene, bar: str, kind: str) -> RailWeight:
+def rail_weight(inputs: PartsInput, bar: str, kind: str) -> RailWeight:
     """What ``bar``'s rail needs for its out-of-plane weight (:mod:`railcheck.loads.weight`),
     from the one mass model: the rails' masses and centres of mass, the point masses each
     bar carries at its joints (:data:`railcheck.kinematics.massmodel.CARRIED`) and the
     clamp's length, the rail's hole pitch."""
-    masses = scene.masses
+    masses = inputs.masses
     rod, coupler = massmodel.rail_body(masses, bar, []), massmodel.rail_body(masses, "coupler", [])
     carried = {b: {j: carried_mass(masses, kind, b, j) for j in joints} for b, joints in massmodel.CARRIED[kind].items()}
-    pitch = float(with_overrides(scene.geometry)[0].hole_pitch)
+    pitch = float(with_overrides(inputs.geometry)[0].hole_pitch)
     return RailWeight(bar, rod.mass, rod.com, carried, (coupler.mass, coupler.com), pitch)
 
 
-def geo_pivot(scene: Scene) -> float:
+def geo_pivot(inputs: PartsInput) -> float:
     """x (m, part frame) of a rail's first joint: midway between its first two holes."""
-    rail = with_overrides(scene.geometry)[0]
+    rail = with_overrides(inputs.geometry)[0]
     return float(rail.end_distance + 0.5 * rail.hole_pitch)
 
 
@@ -177,17 +178,17 @@ def rail_body(masses, bar: str, pivot: float) -> tuple[float, float]:
     return pivot + rod.com, rod.inertia_com
 
 
-def free_plate_model(scene: Scene, model: LoadModel, plate: FreePlate, inertia: bool | None) -> LoadModel:
+def free_plate_model(inputs: PartsInput, model: LoadModel, plate: FreePlate, inertia: bool | None) -> LoadModel:
     """A joint plate's free-body load model: its mass from the mass model, its centre of
     mass and polar moment about the seat from its outline (holes cut through)."""
-    mass = getattr(scene.masses, plate.mass)
-    spec = with_overrides(scene.geometry)[1]
+    mass = getattr(inputs.masses, plate.mass)
+    spec = with_overrides(inputs.geometry)[1]
     centroid, polar = plate_planar_inertia(spec)
     return dataclasses.replace(
         model,
         rail_inertia=False,
         free_plate=plate,
-        inertia="inertia" in scene.effects if inertia is None else inertia,
+        inertia="inertia" in inputs.effects if inertia is None else inertia,
         plate=(mass, centroid - spec.seat_x, mass * polar),
     )
 

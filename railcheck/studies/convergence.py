@@ -28,6 +28,7 @@ from railcheck.geometry.mesher import mesh_part
 from railcheck.geometry.models import bar
 from railcheck.kinematics.dynamics import inverse_dynamics
 from railcheck.kinematics.motion import solve_motion
+from railcheck.model.inputs import parts_input
 from railcheck.model.jobs import build_load_cases, part_geometries, refuse_beyond_memory
 from railcheck.model.kinematics_stage import kinematics_input, run_kinematics
 from railcheck.parts import PARTS, geometry_of, kind_of
@@ -92,14 +93,11 @@ def solve_row(target: str, element: str, size: float) -> dict:
         hole = size
         supports, loads, tip, exclude = [Support("clamp")], [HoleLoad("tip", (0.0, 0.0, LOAD))], "tip", HEIGHT
     else:
-        from dataclasses import replace
-
         scene = load_scene(None)  # the 2013 load case: clamped, the peak reaction at the worst bolts
-        assert scene.check is not None  # the built-in scene checks its parts
-        scene = replace(scene, check=replace(scene.check, parts=(target,), support="clamped"))
-        geos = part_geometries(scene)
-        kin = run_kinematics(kinematics_input(scene)) if target not in scene.checked.loads else None
-        case = build_load_cases(scene, kin, geos)[target]
+        inputs = parts_input(scene).clamped(target)
+        geos = part_geometries(inputs)
+        kin = run_kinematics(kinematics_input(scene)) if target not in inputs.checked.loads else None
+        case = build_load_cases(inputs, kin, geos)[target]
         geo = geos[target]
         hole = size * HOLE_RATIO
         supports, tip = [Support(case.support)], case.tip_group

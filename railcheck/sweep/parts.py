@@ -24,6 +24,7 @@ from railcheck.geometry.mesher import cached_mesh, mesh_part
 from railcheck.geometry.models import PartGeometry
 from railcheck.loads.cases import pivot_x, rail_bolt_holes
 from railcheck.model.certificate import rail_lowest_hz
+from railcheck.model.inputs import parts_input
 from railcheck.model.jobs import carried_masses, free_body_cases, mesh_sizes
 from railcheck.model.loading import LoadModel, load_model, pin_pressure_map, source_histories, unit_cases
 from railcheck.model.setting_free import pair_deflections, solve_projected, stored_request
@@ -254,9 +255,9 @@ def _part_setup(scene, name: str, geo, mesh, lengths: np.ndarray, material, link
     kind = kind_of(name)
     free, plate = is_free_rail(scene, name), is_free_plate(scene, name) or is_on_foundation(scene, name)
     inertia = "inertia" in scene.requested_effects
-    loads = load_model(scene, name, material.density, *((0.0, inertia, linkage) if free else ()))
+    loads = load_model(parts_input(scene), name, material.density, *((0.0, inertia, linkage) if free else ()))
     if plate:
-        loads = load_model(scene, name, material.density, inertia=inertia)
+        loads = load_model(parts_input(scene), name, material.density, inertia=inertia)
     groups, pair_of = hole_groups(scene, name, geo, lengths)
     cases: dict[str, dict] = {}
     columns: dict[str, list] = {}
@@ -366,7 +367,7 @@ def certificate_frequencies(scene, name: str, setup: _PartSetup, meta, material)
             setup.geo,
             material,
             (tuple(pins[key][0]), tuple(pins[key][1])) if setup.free else None,
-            carried_masses(scene, name, holes, setup.linkage),
+            carried_masses(parts_input(scene), name, holes, setup.linkage),
             clamp,
         )
         for key, holes in setup.groups.items()
@@ -428,7 +429,8 @@ def mode_requests(scene, name: str, groups: dict, deflections: dict | None = Non
         {} if held else {key: (tuple(d[0]), tuple(d[1])) for key, d in (deflections or {}).items()}
     )  # a free rail's joints
     return {
-        key: (scene.dynamic.modes, pins.get(key), carried_masses(scene, name, holes, kind)) for key, holes in groups.items()
+        key: (scene.dynamic.modes, pins.get(key), carried_masses(parts_input(scene), name, holes, kind))
+        for key, holes in groups.items()
     }
 
 

@@ -32,6 +32,7 @@ from railcheck.fea.store import reads_shared
 from railcheck.files import Staging, atomic_write_text, reserve_results_dir, results_dir, to_json
 from railcheck.geometry.catalogue import with_overrides
 from railcheck.geometry.mesher import estimate_elements
+from railcheck.model.inputs import parts_input
 from railcheck.model.jobs import mesh_sizes, part_geometries, refuse_huge
 from railcheck.parallel import forked
 from railcheck.parallel.executor import ChunkExecutor
@@ -220,7 +221,7 @@ def prepare_models(scene, by_kind: dict, progress, jobs: int = 1) -> dict[str, d
 
     material = MATERIALS[scene.check.material]
     limit = scene.check.limit or material.fatigue_limit
-    refuse_huge(scene, part_geometries(scene))
+    refuse_huge(parts_input(scene), part_geometries(parts_input(scene)))
     tasks = part_tasks(scene, by_kind)
     args = (scene, material, limit)
     say = lambda msg: progress.say("solve", msg)  # noqa: E731

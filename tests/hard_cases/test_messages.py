@@ -10,6 +10,7 @@ import pytest
 
 from helpers import FINAL_DESIGN
 from railcheck.base.errors import InputError
+from railcheck.model.inputs import parts_input
 from railcheck.scene import load_scene, parse_scene
 from railcheck.units import parse_quantity
 
@@ -308,9 +309,11 @@ def test_the_2013_comparison_runs_only_when_the_scene_asks_for_it():
 
     base = FINAL_DESIGN + '[check]\nparts = ["crank-rail"]\n'
     assert parse_scene(tomllib.loads(base), "t").checked.compare == ()
-    assert not compared(parse_scene(tomllib.loads(base), "t"), free=object())
+    assert not compared(parts_input(parse_scene(tomllib.loads(base), "t")), free=object())
     asked = parse_scene(tomllib.loads(base + 'compare = ["2013"]\n'), "t")
-    assert compared(asked, free=object()) and not compared(asked, free=None)  # a clamped part is the 2013 model
+    assert compared(parts_input(asked), free=object()) and not compared(
+        parts_input(asked), free=None
+    )  # a clamped part is the 2013 model
     with pytest.raises(InputError, match=r"check\.compare: unknown comparison '2014' \(known: 2013\)"):
         parse_scene(tomllib.loads(base + 'compare = ["2014"]\n'), "t")
 
@@ -414,7 +417,7 @@ def test_the_element_estimate_is_within_a_third_of_the_shipped_meshes():
     from railcheck.model.jobs import mesh_sizes, part_geometries
 
     scene = scene_of(None)
-    for name, geo in part_geometries(scene).items():
+    for name, geo in part_geometries(parts_input(scene)).items():
         size, hole = mesh_sizes(scene.mesh, geo.kind)
         actual = mesh_part(geo, size, hole).tets.shape[0]  # the shipped mesh, from the cache
         assert abs(estimate_elements(geo, size, hole) / actual - 1) < 0.3, (name, actual)
