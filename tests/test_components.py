@@ -15,7 +15,6 @@ import pytest
 from railcheck.base.errors import InputError
 from railcheck.components import standards
 from railcheck.files import to_json
-from railcheck.model.inputs import parts_input
 from railcheck.model.records import safe_speed_words
 from railcheck.scene import parse_scene
 from railcheck.units import floored
@@ -159,7 +158,9 @@ def test_the_motor_shaft_carries_the_cranks_weight_moment_only_on_a_table_top_ri
     scene = flat.scene
     weight = abs(
         float(
-            shaft_moment(rail_weight(parts_input(scene), "crank", "four-bar"), linkage_lengths(scene.linkage_spec.linkage))
+            shaft_moment(
+                rail_weight(scene.masses, scene.geometry, "crank", "four-bar"), linkage_lengths(scene.linkage_spec.linkage)
+            )
         )
     )
     in_plane = np.hypot(*flat.kinematics.dynamics.reactions["O2"].T).max() * 0.016

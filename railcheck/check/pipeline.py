@@ -132,13 +132,14 @@ def _check_stage(
     w = limit_warning(material, scene.checked.limit)
     if w:
         warnings.append(w)
-    geometries = part_geometries(parts_input(scene))
-    cases = build_load_cases(parts_input(scene), kin, geometries)
+    inputs = parts_input(scene)
+    geometries = part_geometries(inputs)
+    cases = build_load_cases(inputs, kin, geometries)
     stages.append("loads")
     progress.say("loads", f"{len(cases)} load cases, factor {scene.checked.factor:g}, support {scene.checked.support}")
-    refuse_huge(parts_input(scene), geometries)
+    refuse_huge(inputs, geometries)
     stages.append("geometry")
-    all_jobs = part_jobs(parts_input(scene), kin, geometries, cases, material, limit)
+    all_jobs = part_jobs(inputs, kin, geometries, cases, material, limit)
     unloaded = tuple(name for name, job in all_jobs.items() if not carries_load(job))
     for name in unloaded:
         warnings.append(f"{name}: {NO_LOAD}")

@@ -11,7 +11,6 @@ from railcheck.components.load_path import joint_paths
 from railcheck.fea.materials import MATERIALS
 from railcheck.loads.bearings import relative_speeds
 from railcheck.loads.weight import joint_vertical_loads, screw_pulls, shaft_moment
-from railcheck.model.inputs import parts_input
 from railcheck.model.loading import linkage_lengths, rail_weight
 
 #: each bar's first joint, where its rail is screwed to the upper plate
@@ -30,11 +29,12 @@ def joint_histories(scene, kin) -> JointHistories:
     if scene.plane == "horizontal":
         lengths = linkage_lengths(motion.linkage)
         vertical = {
-            j: float(v) for j, v in joint_vertical_loads(rail_weight(parts_input(scene), "crank", kind), lengths).items()
+            j: float(v)
+            for j, v in joint_vertical_loads(rail_weight(scene.masses, scene.geometry, "crank", kind), lengths).items()
         }
         for joint, bar in FIRST_JOINTS.items():
             if kind == "four-bar" or bar != "rocker":
-                w = rail_weight(parts_input(scene), bar, kind)
+                w = rail_weight(scene.masses, scene.geometry, bar, kind)
                 pulls[joint] = tuple(float(p) for p in screw_pulls(w, lengths))
                 if bar != "coupler":
                     moments[joint] = float(shaft_moment(w, lengths))

@@ -148,19 +148,18 @@ def load_model(
         rail_mass=masses.rail_mass_per_m * rail_length(bar),
         bar_length=bar_length,
         rail_body=rail_body(masses, bar, geo_pivot(inputs)),
-        weight=rail_weight(inputs, bar, kind) if inputs.plane == "horizontal" else None,
+        weight=rail_weight(inputs.masses, inputs.geometry, bar, kind) if inputs.plane == "horizontal" else None,
     )
 
 
-def rail_weight(inputs: PartsInput, bar: str, kind: str) -> RailWeight:
+def rail_weight(masses: massmodel.MassModel, geometry: dict[str, float], bar: str, kind: str) -> RailWeight:
     """What ``bar``'s rail needs for its out-of-plane weight (:mod:`railcheck.loads.weight`),
     from the one mass model: the rails' masses and centres of mass, the point masses each
     bar carries at its joints (:data:`railcheck.kinematics.massmodel.CARRIED`) and the
-    clamp's length, the rail's hole pitch."""
-    masses = inputs.masses
+    clamp's length, the rail's hole pitch. ``geometry``: the catalogue overrides (m)."""
     rod, coupler = massmodel.rail_body(masses, bar, []), massmodel.rail_body(masses, "coupler", [])
     carried = {b: {j: carried_mass(masses, kind, b, j) for j in joints} for b, joints in massmodel.CARRIED[kind].items()}
-    pitch = float(with_overrides(inputs.geometry)[0].hole_pitch)
+    pitch = float(with_overrides(geometry)[0].hole_pitch)
     return RailWeight(bar, rod.mass, rod.com, carried, (coupler.mass, coupler.com), pitch)
 
 

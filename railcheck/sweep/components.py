@@ -20,7 +20,6 @@ from railcheck.components.scene_checks import FIRST_JOINTS, strengths_of
 from railcheck.loads.bearings import relative_speeds
 from railcheck.loads.weight import joint_vertical_loads, screw_pulls, shaft_moment
 from railcheck.model.crossing import increasing_crossing
-from railcheck.model.inputs import parts_input
 from railcheck.model.loading import rail_weight
 from railcheck.sweep.context import Loads, SweepContext, reactions_at, setting_lengths
 
@@ -61,11 +60,11 @@ def weight_of_settings(ctx: SweepContext, motion, sel: np.ndarray) -> dict:
     moments, pulls = {}, {}
     for joint, bar in FIRST_JOINTS.items():
         if ctx.kind == "four-bar" or bar != "rocker":
-            w = rail_weight(parts_input(ctx.scene), bar, ctx.kind)
+            w = rail_weight(ctx.scene.masses, ctx.scene.geometry, bar, ctx.kind)
             pulls[joint] = screw_pulls(w, lengths)
             if bar != "coupler":
                 moments[joint] = shaft_moment(w, lengths)
-    crank = rail_weight(parts_input(ctx.scene), "crank", ctx.kind)
+    crank = rail_weight(ctx.scene.masses, ctx.scene.geometry, "crank", ctx.kind)
     return {"vertical": joint_vertical_loads(crank, lengths), "moments": moments, "screw_tension": pulls}
 
 

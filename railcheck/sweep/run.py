@@ -221,7 +221,8 @@ def prepare_models(scene, by_kind: dict, progress, jobs: int = 1) -> dict[str, d
 
     material = MATERIALS[scene.check.material]
     limit = scene.check.limit or material.fatigue_limit
-    refuse_huge(parts_input(scene), part_geometries(parts_input(scene)))
+    inputs = parts_input(scene)
+    refuse_huge(inputs, part_geometries(inputs))
     tasks = part_tasks(scene, by_kind)
     args = (scene, material, limit)
     say = lambda msg: progress.say("solve", msg)  # noqa: E731
