@@ -22,7 +22,7 @@ from railcheck.check.workers import check_parts
 from railcheck.components.scene_checks import check_scene_components
 from railcheck.fea.materials import MATERIALS, limit_warning
 from railcheck.model.inputs import parts_input
-from railcheck.model.jobs import build_load_cases, part_geometries, part_jobs, refuse_huge
+from railcheck.model.jobs import build_load_cases, part_geometries, part_jobs, refuse_unresolvable_meshes
 from railcheck.model.kinematics_stage import all_checks, kinematics_input, kinematics_summary, run_kinematics
 from railcheck.model.memory import refuse_recovery_before_meshing
 from railcheck.model.records import PipelineResult
@@ -137,7 +137,7 @@ def _check_stage(
     cases = build_load_cases(inputs, kin, geometries)
     stages.append("loads")
     progress.say("loads", f"{len(cases)} load cases, factor {scene.checked.factor:g}, support {scene.checked.support}")
-    refuse_huge(inputs, geometries)
+    refuse_unresolvable_meshes(inputs, geometries)
     stages.append("geometry")
     all_jobs = part_jobs(inputs, kin, geometries, cases, material, limit)
     unloaded = tuple(name for name, job in all_jobs.items() if not carries_load(job))

@@ -94,7 +94,7 @@ def check_part(job: PartJob, solver: str, report) -> PartResult:
         report(f"unit fields from the store ({solve.dofs} DOFs; not assembled or solved)")
     elif origin != "solved":
         warnings.append(origin)
-    job, solve, fields = settle_dynamics(job, solve, fields, cases)
+    job, solve, fields = certify_from_fe_modes(job, solve, fields, cases)
     if job.dynamic is not None and solve.modes is not None and solve.modes.hz.size < job.dynamic.modes:
         report(f"solving its {job.dynamic.modes} lowest modes for the dynamic response")
         fields, solve, _ = part_fields(job, mesh, cases, solver, report)  # its certificate's one mode was not enough
@@ -128,7 +128,7 @@ def check_part(job: PartJob, solver: str, report) -> PartResult:
 
 
 @on_one_blas_thread
-def settle_dynamics(
+def certify_from_fe_modes(
     job: PartJob, solve: UnitSolve, fields: UnitFields, cases: dict
 ) -> tuple[PartJob, UnitSolve, UnitFields]:
     """A part whose modes were solved for its certificate only (no beam model): its

@@ -332,7 +332,7 @@ def free_body_cases(loads: LoadModel, geo: PartGeometry, holes: list[str]) -> Fr
     )
 
 
-def refuse_huge(inputs: PartsInput, geometries: dict) -> None:
+def refuse_unresolvable_meshes(inputs: PartsInput, geometries: dict) -> None:
     """Refuse, before meshing, a mesh size too coarse for a part (more than twice its
     section's smaller side: the stress would be meaningless) and a mesh this machine's
     memory cannot hold (DOFs estimated from the volume and the size field)."""

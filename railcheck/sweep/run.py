@@ -33,7 +33,7 @@ from railcheck.files import Staging, atomic_write_text, reserve_results_dir, res
 from railcheck.geometry.catalogue import with_overrides
 from railcheck.geometry.mesher import estimate_elements
 from railcheck.model.inputs import parts_input
-from railcheck.model.jobs import mesh_sizes, part_geometries, refuse_huge
+from railcheck.model.jobs import mesh_sizes, part_geometries, refuse_unresolvable_meshes
 from railcheck.parallel import forked
 from railcheck.parallel.executor import ChunkExecutor
 from railcheck.parallel.threads import blas_on_one_thread
@@ -222,7 +222,7 @@ def prepare_models(scene, by_kind: dict, progress, jobs: int = 1) -> dict[str, d
     material = MATERIALS[scene.check.material]
     limit = scene.check.limit or material.fatigue_limit
     inputs = parts_input(scene)
-    refuse_huge(inputs, part_geometries(inputs))
+    refuse_unresolvable_meshes(inputs, part_geometries(inputs))
     tasks = part_tasks(scene, by_kind)
     args = (scene, material, limit)
     say = lambda msg: progress.say("solve", msg)  # noqa: E731
