@@ -18,6 +18,15 @@ def simulated_effects(requested: tuple[str, ...], speeds: Iterable[float]) -> tu
     return (("inertia",) if inertia else ()) + (("gravity",) if "gravity" in requested else ())
 
 
+def rig_plane(mechanism_plane: str | None, requested: tuple[str, ...]) -> str:
+    """The plane the rig moves in, which decides where its weight acts: [mechanism]'s
+    ``mechanism_plane``, or without a mechanism "vertical" when "gravity" is ``requested``
+    (the weight in the plane of the loads), else "horizontal"."""
+    if mechanism_plane is not None:
+        return mechanism_plane
+    return "vertical" if "gravity" in requested else "horizontal"
+
+
 def dynamic_response(requested: tuple[str, ...], speeds: Iterable[float]) -> bool:
     """Whether the dynamic response is computed: "dynamic" listed and some crank speed
     (rad/s) not zero (a still rig has no cycle to respond to)."""

@@ -20,7 +20,7 @@ from railcheck.base.errors import InputError, InputErrors
 from railcheck.base.fields import boolean, number, refuse_unknown, require, string_choice, unknown_keys
 from railcheck.components.overrides import component_spec
 from railcheck.components.ratings import COMPONENT_SPEC, NOT_ON_SLIDER_CRANK, ComponentSpec
-from railcheck.effects import EFFECTS, dynamic_response, simulated_effects  # noqa: F401  re-exported
+from railcheck.effects import EFFECTS, dynamic_response, rig_plane, simulated_effects  # noqa: F401  re-exported
 from railcheck.fea.fatigue import CRITERIA, LOAD, RELIABILITY, SURFACE  # light module: numpy only
 from railcheck.fea.materials import MATERIALS  # light module: no skfem import
 from railcheck.geometry.catalogue import OVERRIDABLE, validate, with_overrides  # light module: no gmsh import
@@ -109,9 +109,7 @@ class Scene:
     def plane(self) -> str:
         """The rig's plane (:data:`railcheck.specs.PLANES`): [mechanism]'s, or without one
         "vertical" when [check] effects lists "gravity", else "horizontal"."""
-        if self.mechanism is not None:
-            return self.mechanism.plane
-        return "vertical" if self.check is not None and "gravity" in self.check.effects else "horizontal"
+        return rig_plane(self.mechanism.plane if self.mechanism else None, self.check.effects if self.check else ())
 
     @property
     def checked(self) -> CheckSpec:

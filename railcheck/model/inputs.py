@@ -13,7 +13,7 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 
 from railcheck.base.errors import InputError
-from railcheck.effects import dynamic_response, simulated_effects
+from railcheck.effects import dynamic_response, rig_plane, simulated_effects
 from railcheck.kinematics.massmodel import MassModel
 from railcheck.scene import Scene
 from railcheck.specs import CheckSpec, DynamicSpec, FatigueSpec, MechanismSpec, MeshSpec, OutputSpec
@@ -74,9 +74,7 @@ class PartsInput:
     def plane(self) -> str:
         """The rig's plane: [mechanism]'s, or without one "vertical" when gravity is
         asked for, else "horizontal" (as :attr:`railcheck.scene.Scene.plane`)."""
-        if self.mechanism is not None:
-            return self.mechanism.plane
-        return "vertical" if "gravity" in self.check.effects else "horizontal"
+        return rig_plane(self.mechanism.plane if self.mechanism else None, self.check.effects)
 
     def at_speed(self, speed: float) -> PartsInput:
         """This record with the crank at ``speed`` rad/s."""
