@@ -29,7 +29,7 @@ def test_the_parts_input_reads_the_scenes_effects_plane_and_dynamic_response(nam
     scene = _scene(VARIANTS[name])
     inputs = parts_input(scene)
     assert (inputs.effects, inputs.plane, inputs.dynamic_response) == (scene.effects, scene.plane, scene.dynamic_response)
-    assert inputs.masses is scene.masses and inputs.checked is scene.checked
+    assert inputs.masses is scene.masses and inputs.check is scene.checked
 
 
 def test_explicit_loads_alone_have_a_plane_from_the_effects():
@@ -55,7 +55,7 @@ def test_a_record_at_a_speed_is_the_scenes_at_that_speed(speed):
 def test_only_and_clamped_vary_the_check_alone():
     inputs = parts_input(load_scene(None))
     only = inputs.only(("crank-rail",))
-    assert only.checked.parts == ("crank-rail",) and only.checked.compare == () and only.mechanism == inputs.mechanism
+    assert only.check.parts == ("crank-rail",) and only.check.compare == () and only.mechanism == inputs.mechanism
     clamped = inputs.clamped("coupler-rail")
-    assert (clamped.checked.parts, clamped.checked.support) == (("coupler-rail",), "clamped")
-    assert clamped.checked.factor == inputs.checked.factor and inputs.checked.support == "free-body"
+    assert (clamped.check.parts, clamped.check.support) == (("coupler-rail",), "clamped")
+    assert clamped.check.factor == inputs.check.factor and inputs.check.support == "free-body"

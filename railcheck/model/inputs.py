@@ -43,11 +43,6 @@ class PartsInput:
     dynamic: DynamicSpec
 
     @property
-    def checked(self) -> CheckSpec:
-        """[check] (every part stage has one)."""
-        return self.check
-
-    @property
     def linkage_spec(self) -> MechanismSpec:
         """[mechanism], for the loads that come from the linkage (an InputError naming it
         otherwise)."""

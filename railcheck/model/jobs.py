@@ -118,7 +118,7 @@ def mesh_sizes(mesh: MeshSpec, kind: str) -> tuple[float, float]:
 
 def part_geometries(inputs: PartsInput) -> dict[str, PartGeometry]:
     """PartGeometry for each part the record checks (light: no gmsh import)."""
-    return {name: geometry_of(name, inputs.geometry) for name in inputs.checked.parts}
+    return {name: geometry_of(name, inputs.geometry) for name in inputs.check.parts}
 
 
 def bolt_holes(inputs: PartsInput, name: str, geo: PartGeometry) -> list[str]:
@@ -127,11 +127,11 @@ def bolt_holes(inputs: PartsInput, name: str, geo: PartGeometry) -> list[str]:
     if not kind_of(name).bolts_on_rail:
         return kind_of(name).bolts(geo)
     xs = list(geo.get("hole_x"))
-    explicit = name in inputs.checked.loads
+    explicit = name in inputs.check.loads
     bar = PARTS[name].bar
     length = 0.0 if explicit or bar is None else inputs.linkage_spec.linkage.lengths[bar]
-    position = "worst" if explicit else inputs.checked.bolt_position
-    if not explicit and inputs.checked.support == "free-body" and PARTS[name].free_body is not None:
+    position = "worst" if explicit else inputs.check.bolt_position
+    if not explicit and inputs.check.support == "free-body" and PARTS[name].free_body is not None:
         position = "actual"  # a free body's joint force acts where the joint is
     try:
         idx = rail_bolt_holes(xs, pivot_x(xs), length, position)
@@ -144,10 +144,10 @@ def build_load_cases(inputs: PartsInput, kin: KinematicsResult | None, geometrie
     """The seed method's load case of every checked part: the factored reaction at the
     instant its magnitude peaks, over the joint with the largest peak (loads stage)."""
     cases = {}
-    for name in inputs.checked.parts:
+    for name in inputs.check.parts:
         kind, holes = kind_of(name), bolt_holes(inputs, name, geometries[name])
-        if name in inputs.checked.loads:
-            load = inputs.checked.loads[name]
+        if name in inputs.check.loads:
+            load = inputs.check.loads[name]
             cases[name] = explicit_load_case(name, load.longitudinal, load.transverse, holes, kind.support, kind.tip)
             continue
         assert kin is not None  # the linkage's loads need its kinematics
@@ -166,7 +166,7 @@ def build_load_cases(inputs: PartsInput, kin: KinematicsResult | None, geometrie
             src.sign * dyn.reactions[src.joint],
             angle,
             motion.theta2,
-            inputs.checked.factor,
+            inputs.check.factor,
             holes,
             kind.support,
             kind.tip,
@@ -202,7 +202,7 @@ def part_jobs(
             material=material,
             limit=limit,
             fatigue=inputs.fatigue,
-            max_deflection=inputs.checked.max_deflection,
+            max_deflection=inputs.check.max_deflection,
             free_body=free,
             dynamic=dynamic,
             certificate=cert,
@@ -214,7 +214,7 @@ def part_jobs(
 def compared(inputs: PartsInput, free) -> bool:
     """Whether a part's 2013 clamped model runs beside it: a free part of a record whose
     ``[check] compare`` lists "2013"."""
-    return free is not None and "2013" in inputs.checked.compare
+    return free is not None and "2013" in inputs.check.compare
 
 
 def clamped_job(
@@ -256,7 +256,7 @@ def speed_validity(
     any other part, its modes for the certificate (decided once they are solved)."""
     job = dynamic_job(inputs, free, name, holes)
     moving = inputs.mechanism is not None and inputs.linkage_spec.speed > 0 and any(h.C.shape[0] >= 3 for h in histories)
-    if not moving or name in inputs.checked.loads:
+    if not moving or name in inputs.check.loads:
         return job, None
     cert = None
     if kind_of(name).beam_frequency:
@@ -286,7 +286,7 @@ def carried_masses(inputs: PartsInput, name: str, holes: list[str] | tuple, kind
     ``holes``; () for a plate or a part with explicit loads."""
     part = PARTS.get(name)
     fb = part.free_body if part is not None else None
-    if part is None or fb is None or part.bar is None or not holes or name in inputs.checked.loads:
+    if part is None or fb is None or part.bar is None or not holes or name in inputs.check.loads:
         return ()
     masses = inputs.masses
     kind = kind or inputs.linkage_spec.linkage.kind

@@ -115,24 +115,24 @@ def load_model(
     rail's bar length (m), whether inertia acts and the linkage ``kind`` (which sets the
     masses its joints carry) come from the scene's [mechanism] unless given (a sweep
     gives each setting's)."""
-    effects, explicit = inputs.checked.effects, inputs.checked.loads.get(name)
+    effects, explicit = inputs.check.effects, inputs.check.loads.get(name)
     part = PARTS[name]
     bar = part.bar
     model = LoadModel(
         part=name,
         bar=bar,
         sources=part.sources,
-        factor=inputs.checked.factor,
+        factor=inputs.check.factor,
         gravity="gravity" in effects,
         rail_inertia="rail-inertia" in effects and bar is not None and explicit is None,
         explicit=explicit,
         density=density,
     )
-    if inputs.checked.support == "free-body" and part.free_plate is not None and explicit is None:
+    if inputs.check.support == "free-body" and part.free_plate is not None and explicit is None:
         return free_plate_model(inputs, model, part.free_plate, inertia)
-    if inputs.checked.support == "free-body" and part.foundation is not None:
+    if inputs.check.support == "free-body" and part.foundation is not None:
         return dataclasses.replace(model, foundation=part.foundation)
-    if not (inputs.checked.support == "free-body" and part.free_body is not None and explicit is None):
+    if not (inputs.check.support == "free-body" and part.free_body is not None and explicit is None):
         return model
     assert bar is not None  # a free body is a rail: it has a bar
     if bar_length is None:

@@ -96,7 +96,7 @@ def solve_row(target: str, element: str, size: float) -> dict:
         scene = load_scene(None)  # the 2013 load case: clamped, the peak reaction at the worst bolts
         inputs = parts_input(scene).clamped(target)
         geos = part_geometries(inputs)
-        kin = run_kinematics(kinematics_input(scene)) if target not in inputs.checked.loads else None
+        kin = run_kinematics(kinematics_input(scene)) if target not in inputs.check.loads else None
         case = build_load_cases(inputs, kin, geos)[target]
         geo = geos[target]
         hole = size * HOLE_RATIO
