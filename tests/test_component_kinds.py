@@ -12,7 +12,7 @@ import pytest
 
 from railcheck.components import kinds
 from railcheck.components.ratings import COMPONENT_SPEC, COMPONENTS, Component
-from railcheck.components.scene_checks import joint_histories, strengths_of
+from railcheck.components.scene_checks import components_input, joint_histories
 from railcheck.scene import parse_scene
 
 
@@ -30,7 +30,7 @@ def histories():
     from railcheck.model.kinematics_stage import kinematics_input, run_kinematics
 
     scene = _scene()
-    return scene, joint_histories(scene, run_kinematics(kinematics_input(scene)))
+    return scene, joint_histories(components_input(scene), run_kinematics(kinematics_input(scene)))
 
 
 def test_every_component_has_one_registered_kind_reading_only_spec_fields():
@@ -54,7 +54,7 @@ def test_a_kind_registered_once_is_checked_sized_and_swept(histories, monkeypatc
     monkeypatch.setattr(kinds, "KINDS", dict(kinds.KINDS))
     monkeypatch.setitem(COMPONENTS, "pin-A", Component("pin-A", "pin", "A"))
     kinds.register_kind(kinds.ComponentKind("pin", "toy 10 kN", ("joint_friction",), factored, _pin_check))
-    m = strengths_of(scene)
+    m = components_input(scene).strengths
     r = kinds.check_components(["pin-A", "shaft-A"], scene.components, h, 1.4, m)["pin-A"]
     by_hand = np.hypot(*h.reactions["A"].T).max()
     assert r.utilisation == pytest.approx((1.4 if factored else 1.0) * by_hand / 10e3, rel=1e-12)
@@ -68,7 +68,7 @@ def test_a_kind_registered_once_is_checked_sized_and_swept(histories, monkeypatc
 
 def test_the_load_factor_reaches_the_strength_checks_only(histories):
     scene, h = histories
-    m = strengths_of(scene)
+    m = components_input(scene).strengths
     at = {f: kinds.check_components(["shaft-A", "bearings-A"], scene.components, h, f, m) for f in (1.0, 1.4)}
     shaft = {f: at[f]["shaft-A"].utilisations["fatigue"] for f in at}
     assert shaft[1.4] > 1.3 * shaft[1.0]

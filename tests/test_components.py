@@ -318,9 +318,9 @@ def test_a_chunk_that_checks_no_setting_writes_every_components_column():
     from railcheck.geometry.catalogue import RAIL
     from railcheck.sweep.columns import fe_columns
     from railcheck.sweep.context import SweepContext
+    from railcheck.sweep.inputs import sweep_input
 
-    scene = _scene()
-    ctx = SweepContext(scene, "four-bar", (2 * math.pi,), 720, {}, 7850.0, RAIL)
+    ctx = SweepContext(sweep_input(_scene()), "four-bar", (2 * math.pi,), 720, {}, 7850.0, RAIL)
     col = fe_columns(ctx, 3, None, 0, np.zeros(3, dtype=bool), {})
     assert {f"{c}_utilisation" for c in COMPONENTS} <= set(col)
     assert np.isnan(col["crank-screws-O2_utilisation"]).all() and (col["verdict"] == "refused").all()
@@ -347,12 +347,12 @@ def test_carriage_static_safety_matches_a_published_example_and_sums_moments_lin
 
 
 def test_each_joints_load_path_is_the_verdicts_checks_at_its_governing_instant(tmp_path):
-    from railcheck.components.scene_checks import scene_joint_paths
+    from railcheck.components.scene_checks import components_input, listed_joint_paths
     from railcheck.report.joint_diagram import instant_loads, write_joint_diagram
 
     scene = _scene()
     result, _ = _run(scene)
-    paths = scene_joint_paths(scene, result.kinematics)
+    paths = listed_joint_paths(components_input(scene), result.kinematics)
     assert list(paths) == ["O2", "A", "B", "O4"]
     reactions = result.kinematics.dynamics.reactions
     for joint, p in paths.items():

@@ -15,7 +15,7 @@ import pytest
 from railcheck.components import screws, standards
 from railcheck.components.kinds import check_component
 from railcheck.components.ratings import COMPONENT_SPEC, COMPONENTS
-from railcheck.components.scene_checks import check_scene_components, joint_histories, strengths_of
+from railcheck.components.scene_checks import check_listed_components, components_input, joint_histories
 from railcheck.components.sizing import bearing_needs, screw_needs, shaft_needs
 from railcheck.scene import parse_scene
 
@@ -115,8 +115,8 @@ def test_the_o2_screws_by_hand_at_the_torque_peak():
     couple = dyn.torque[k] / 0.06
     by_hand = max(math.hypot(along / 2, across / 2 - couple), math.hypot(along / 2, across / 2 + couple))
     assert abs(dyn.torque[k]) > 100.0  # the default rig's peak torque, about 137 N m
-    h = joint_histories(scene, kin)
-    c = check_component(COMPONENTS["crank-screws-O2"], scene.components, h, 1.0, strengths_of(scene))
+    h = joint_histories(components_input(scene), kin)
+    c = check_component(COMPONENTS["crank-screws-O2"], scene.components, h, 1.0, components_input(scene).strengths)
     transverse = standards.two_screw_forces(*_axes(h), h.torque, 0.0, 0.06)
     assert transverse.max(axis=0)[k] == pytest.approx(by_hand, rel=1e-12)
     assert c.figures["transverse_N"] >= by_hand
@@ -142,7 +142,7 @@ def _axes(h):
 
 def _results(components: dict | None = None, speed: str = "1 Hz"):
     scene = _default(components, speed)
-    return scene, check_scene_components(scene, _kinematics(scene))
+    return scene, check_listed_components(components_input(scene), _kinematics(scene))
 
 
 def test_a_screw_sizing_answer_passes_and_the_next_size_down_fails():
@@ -221,8 +221,8 @@ def test_sizing_on_its_own_seams():
     """The sizing functions read the check's own histories: a bearing with no weight couple
     needs no spacing; one whose joint force alone exceeds its rating needs a larger bearing."""
     scene = _default()
-    h = joint_histories(scene, _kinematics(scene))
-    m = strengths_of(scene)
+    h = joint_histories(components_input(scene), _kinematics(scene))
+    m = components_input(scene).strengths
     r = check_component(COMPONENTS["bearings-A"], scene.components, h, 1.4, m)
     assert bearing_needs(r, scene.components, h, 1.4, m) == {"spacing_needed_m": 0.0}
     weak = dataclasses.replace(scene.components, bearing_static=10.0)

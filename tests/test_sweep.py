@@ -447,15 +447,16 @@ def test_a_part_is_built_after_the_one_whose_unit_fields_it_reuses():
     come first, largest first, so the bracket's solve, the largest, runs beside no model,
     and each task that reads another's fields right after that one."""
     from railcheck.scene import load_scene
+    from railcheck.sweep.inputs import sweep_input
     from railcheck.sweep.run import build_order, part_tasks
 
-    scene = load_scene(None)
+    inputs = sweep_input(load_scene(None))
     same = np.array([0.36, 0.78, 0.84])  # m: the coupler's and the rocker's settable lengths
     by_kind = {
         "four-bar": {"crank": np.array([0.48]), "coupler": same, "rocker": same, "ground": np.array([1.02])},
         "slider-crank": {"crank": np.array([0.48]), "coupler": np.array([0.84]), "offset": np.array([0.0])},
     }
-    tasks = part_tasks(scene, by_kind)
+    tasks = part_tasks(inputs, by_kind)
     index = {(t.name, t.kinds): i for i, t in enumerate(tasks)}
     four, both = ("four-bar",), ("four-bar", "slider-crank")
     after = {
@@ -471,7 +472,7 @@ def test_a_part_is_built_after_the_one_whose_unit_fields_it_reuses():
         ("PF_4b_006", both): None,
         ("PF_4b_003_v2", both): None,
     }
-    order = [(tasks[i].name, tasks[i].kinds) for i in build_order(tasks, scene)]
+    order = [(tasks[i].name, tasks[i].kinds) for i in build_order(tasks, inputs.parts)]
     # the plates first, the largest first; then the rails, each reuse right after its source
     assert order == [
         ("PF_4b_003_v2", both),
@@ -528,6 +529,7 @@ def test_map_legend_lists_only_the_refusal_reasons_that_occur(tmp_path):
     only those."""
     from railcheck.report.maps import occurring_reasons
     from railcheck.sweep.aggregate import REASON_ORDER, Aggregate
+    from railcheck.sweep.inputs import sweep_input
     from railcheck.sweep.run import sweep_settings
 
     text = KINEMATICS_ONLY + 'kind = "four-bar"\ncrank = ["360 mm", "540 mm"]\ncoupler = ["780 mm", "900 mm"]\n'
@@ -537,8 +539,8 @@ def test_map_legend_lists_only_the_refusal_reasons_that_occur(tmp_path):
     expected = set()
     for i in np.flatnonzero(~rows["checks_passed"]):
         expected.add(next(r for r in REASON_ORDER if f"check_{r}" in rows and not rows[f"check_{r}"][i]))
-    scene = parse_scene(__import__("tomllib").loads(text), "test")
-    agg = Aggregate(scene, "four-bar", sweep_settings(scene)["four-bar"])
+    inputs = sweep_input(parse_scene(__import__("tomllib").loads(text), "test"))
+    agg = Aggregate(inputs, "four-bar", sweep_settings(inputs)["four-bar"])
     agg.add({k: v for k, v in rows.items()})
     assert set(occurring_reasons(agg)) == expected and 0 < len(expected) < len(REASON_ORDER)
 
@@ -610,13 +612,14 @@ def test_a_chunk_in_groups_of_one_setting_equals_one_group(monkeypatch):
     columns and motor curve bit for bit, over settings that fail checks, do not revolve or
     pass, at two speeds."""
     from railcheck.sweep import chunk
+    from railcheck.sweep.inputs import sweep_input
     from railcheck.sweep.run import sweep_context, sweep_settings
 
     text = KINEMATICS_ONLY.replace('speeds = ["1 Hz"]', 'speeds = ["1 Hz", "2 Hz"]')
     text += 'crank = ["360 mm", "480 mm"]\ncoupler = ["780 mm", "900 mm"]\nrocker = ["720 mm", "840 mm"]\n'
-    scene = parse_scene(__import__("tomllib").loads(text), "test")
-    lengths = sweep_settings(scene)["four-bar"]
-    ctx = sweep_context(scene, "four-bar", {})
+    inputs = sweep_input(parse_scene(__import__("tomllib").loads(text), "test"))
+    lengths = sweep_settings(inputs)["four-bar"]
+    ctx = sweep_context(inputs, "four-bar", {})
     ids = np.arange(lengths["crank"].size)
     results = []
     for size in (1, 2, 10**6):
@@ -686,15 +689,16 @@ def test_a_chunk_s_fe_settings_screened_together_equal_each_group_s_alone(monkey
     from railcheck.fea.screening import tuning
     from railcheck.progress import Progress
     from railcheck.sweep import chunk
+    from railcheck.sweep.inputs import sweep_input
     from railcheck.sweep.run import prepare_models, sweep_context, sweep_settings
 
     text = FE_SWEEP.replace("parts = [", 'support = "free-body"\nparts = [')
     text = text.replace('crank = ["480 mm", "540 mm"]', 'crank = ["300 mm", "480 mm"]')  # 4 x 1 x 2 x 2 settings
-    scene = parse_scene(__import__("tomllib").loads(text), "test")
-    settings = sweep_settings(scene)
+    inputs = sweep_input(parse_scene(__import__("tomllib").loads(text), "test"))
+    settings = sweep_settings(inputs)
     lengths = settings["four-bar"]
-    models = prepare_models(scene, settings, Progress(quiet=True))["four-bar"]
-    ctx = sweep_context(scene, "four-bar", models)
+    models = prepare_models(inputs, settings, Progress(quiet=True))["four-bar"]
+    ctx = sweep_context(inputs, "four-bar", models)
     ids = np.arange(lengths["crank"].size)
     results = []
     for size in (1, 5, 10**6):
@@ -706,7 +710,7 @@ def test_a_chunk_s_fe_settings_screened_together_equal_each_group_s_alone(monkey
     whole = results[-1]
     assert np.isfinite(whole["crank-rail_stress_MPa"]).sum() >= 4  # settings with FE in several groups
     # the settings with FE are those the run's chunks count as checked (one row per speed)
-    checked = np.repeat(chunk.checked_settings(ctx, lengths), len(scene.sweep.speeds))
+    checked = np.repeat(chunk.checked_settings(ctx, lengths), len(inputs.sweep.speeds))
     assert np.isfinite(whole["crank-rail_stress_MPa"]).tolist() == checked.tolist()
     # the motor demand is each setting's own at its own safe speed: peak power = peak torque x omega
     safe = np.isfinite(whole["safe_speed_Hz"])
@@ -811,6 +815,7 @@ def test_parts_are_built_one_at_a_time_only_when_one_must_be_meshed_or_solved(tm
     import railcheck.sweep.run as run_module
     from railcheck.fea.materials import MATERIALS
     from railcheck.progress import Progress
+    from railcheck.sweep.inputs import sweep_input
     from railcheck.sweep.parts import part_is_stored
 
     monkeypatch.setenv("RAILCHECK_CACHE", str(tmp_path / "cache"))
@@ -830,19 +835,19 @@ def test_parts_are_built_one_at_a_time_only_when_one_must_be_meshed_or_solved(tm
         return threaded(tasks, args, say, jobs)
 
     monkeypatch.setattr(run_module, "build_on_threads", threads_recorded)
-    scene = parse_scene(__import__("tomllib").loads(TWO_PLATES), "test")
-    settings = run_module.sweep_settings(scene)
-    tasks = run_module.part_tasks(scene, settings)
-    stored = lambda: [part_is_stored(scene, t.name, t.lengths, MATERIALS["steel"]) for t in tasks]  # noqa: E731
+    inputs = sweep_input(parse_scene(__import__("tomllib").loads(TWO_PLATES), "test"))
+    settings = run_module.sweep_settings(inputs)
+    tasks = run_module.part_tasks(inputs, settings)
+    stored = lambda: [part_is_stored(inputs, t.name, t.lengths, MATERIALS["steel"]) for t in tasks]  # noqa: E731
     assert stored() == [False, False]
-    cold = run_module.prepare_models(scene, settings, Progress(quiet=True), jobs=2)["four-bar"]
+    cold = run_module.prepare_models(inputs, settings, Progress(quiet=True), jobs=2)["four-bar"]
     assert one_at_a_time == [["PF_4b_006", "PF_4b_003_v2"]] and stored() == [True, True]
-    warm = run_module.prepare_models(scene, settings, Progress(quiet=True), jobs=2)["four-bar"]
+    warm = run_module.prepare_models(inputs, settings, Progress(quiet=True), jobs=2)["four-bar"]
     assert len(one_at_a_time) == 1 and on_threads == [["PF_4b_006", "PF_4b_003_v2"]]  # nothing to mesh or solve
     for name in cold:
         for key, screen in cold[name].screens.items():
             np.testing.assert_array_equal(screen.stress, warm[name].screens[key].stress)
     monkeypatch.setenv("RAILCHECK_STORE", "0")
     assert stored() == [False, False]
-    run_module.prepare_models(scene, settings, Progress(quiet=True), jobs=2)
+    run_module.prepare_models(inputs, settings, Progress(quiet=True), jobs=2)
     assert len(one_at_a_time) == 2 and len(on_threads) == 1

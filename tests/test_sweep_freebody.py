@@ -102,15 +102,16 @@ def test_a_parts_models_for_both_kinds_hold_their_equal_screens_once():
     import tomllib
 
     from railcheck.scene import parse_scene
+    from railcheck.sweep.inputs import sweep_input
     from railcheck.sweep.run import prepare_models, sweep_settings
 
-    scene = parse_scene(tomllib.loads(SLIDER_CRANK.replace("EFFECTS", '["inertia"]')), "test")
+    inputs = sweep_input(parse_scene(tomllib.loads(SLIDER_CRANK.replace("EFFECTS", '["inertia"]')), "test"))
 
     class Quiet:
         def say(self, *args):
             pass
 
-    models = prepare_models(scene, sweep_settings(scene), Quiet(), jobs=1)
+    models = prepare_models(inputs, sweep_settings(inputs), Quiet(), jobs=1)
     for name in ("crank-rail", "coupler-rail"):
         four, slider = models["four-bar"][name], models["slider-crank"][name]
         assert four is not slider and four.loads is not slider.loads

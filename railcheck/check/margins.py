@@ -25,13 +25,13 @@ import time
 
 import numpy as np
 
-from railcheck.components.scene_checks import check_scene_components
+from railcheck.components.scene_checks import ComponentsInput, check_listed_components
 from railcheck.model.certificate import QUASI_STATIC_TOLERANCE, certificate
 from railcheck.model.crossing import increasing_crossing, refine_crossing
 from railcheck.model.cycle import evaluate_cycle
-from railcheck.model.inputs import parts_input
+from railcheck.model.inputs import PartsInput
 from railcheck.model.jobs import build_load_cases, part_jobs
-from railcheck.model.kinematics_stage import kinematics_input, run_kinematics
+from railcheck.model.kinematics_stage import KinematicsInput, run_kinematics
 from railcheck.model.loading import unit_cases
 from railcheck.model.records import PartResult, passes_up_to
 from railcheck.units import floored
@@ -63,10 +63,10 @@ PART_SEARCH_STEPS = 12
 DYNAMIC_SCAN = 8
 
 
-def components_at_speed(scene, speed: float) -> dict:
-    """name -> ComponentResult of the scene's components with the crank at ``speed`` rad/s:
-    the kinematics rerun at that speed, the components checked on its joint histories."""
-    return check_scene_components(scene, run_kinematics(kinematics_input(scene).at_speed(speed)))
+def components_at_speed(kinematics: KinematicsInput, components: ComponentsInput, speed: float) -> dict:
+    """name -> ComponentResult of the listed ``components`` with the crank at ``speed``
+    rad/s: the kinematics rerun at that speed, the components checked on its joint histories."""
+    return check_listed_components(components, run_kinematics(kinematics.at_speed(speed)))
 
 
 def _largest(results: dict) -> tuple[float, str, str]:
@@ -74,28 +74,30 @@ def _largest(results: dict) -> tuple[float, str, str]:
     return float(results[name].utilisation), name, str(results[name].governing_criterion)
 
 
-def components_safe_speed(scene) -> SafeSpeed | None:
-    """The crank speed up to which the scene's components pass (None without components
+def components_safe_speed(kinematics: KinematicsInput, components: ComponentsInput) -> SafeSpeed | None:
+    """The crank speed up to which the listed ``components`` pass (None without components
     or without a speed to scale: a static scene)."""
-    if not scene.checked.components or scene.mechanism is None or scene.mechanism.speed <= 0:
+    if not components.listed or kinematics.mechanism.speed <= 0:
         return None
-    base = scene.mechanism.speed
+    base = kinematics.mechanism.speed
 
     def u_of(s, idx):
-        return np.array([_largest(components_at_speed(scene, base * math.sqrt(si)))[0] for si in s])
+        return np.array([_largest(components_at_speed(kinematics, components, base * math.sqrt(si)))[0] for si in s])
 
     s = float(increasing_crossing(u_of, 1)[0])
     hz = base * math.sqrt(s) / (2 * math.pi)
-    _, name, criterion = _largest(components_at_speed(scene, base * math.sqrt(s) if math.isfinite(s) else base))
+    _, name, criterion = _largest(
+        components_at_speed(kinematics, components, base * math.sqrt(s) if math.isfinite(s) else base)
+    )
     return SafeSpeed(hz, name, criterion)
 
 
-def part_at_speed(scene, part: PartResult, speed: float) -> tuple[float, str]:
+def part_at_speed(parts: PartsInput, kinematics: KinematicsInput, part: PartResult, speed: float) -> tuple[float, str]:
     """(utilisation, governing criterion) of the checked ``part`` with the crank at
     ``speed`` rad/s: its job rebuilt at that speed, its cycle evaluated on its solved unit
     fields, the certificate's quasi-static share beside the check's criteria (module doc)."""
-    inputs = parts_input(scene).at_speed(speed).only((part.name,))
-    kin = run_kinematics(kinematics_input(scene).at_speed(speed))
+    inputs = parts.at_speed(speed).only((part.name,))
+    kin = run_kinematics(kinematics.at_speed(speed))
     geometries = {part.name: part.job.geometry}
     cases = build_load_cases(inputs, kin, geometries)
     job = part_jobs(inputs, kin, geometries, cases, part.job.material, part.limit)[part.name]
@@ -108,22 +110,22 @@ def part_at_speed(scene, part: PartResult, speed: float) -> tuple[float, str]:
     base = part.job.certificate
     if base is not None and part.cycle.solve.modes is None and speed > 0:  # the quasi-static verdict's range
         names = list(unit_cases(job.loads, job.geometry, list(job.holes)))
-        cert = certificate([h.C for h in job.histories], names, speed, base.lowest_hz, base.source, scene.dynamic.damping)
+        cert = certificate([h.C for h in job.histories], names, speed, base.lowest_hz, base.source, parts.dynamic.damping)
         u["quasi-static"] = max((cert.estimate - 1.0) / (QUASI_STATIC_TOLERANCE - 1.0), 0.0) if not cert.holds else 0.0
     name = max(u, key=u.__getitem__)
     return float(u[name]), name
 
 
-def part_safe_speed(scene, part: PartResult) -> SafeSpeed | None:
+def part_safe_speed(parts: PartsInput, kinematics: KinematicsInput, part: PartResult) -> SafeSpeed | None:
     """The crank speed up to which ``part`` passes at the check's setting (module doc);
     None for a part the speed does not load (explicit loads) or a still crank."""
-    if part.name in scene.checked.loads or scene.mechanism is None or scene.mechanism.speed <= 0:
+    if part.name in parts.check.loads or parts.mechanism is None or parts.mechanism.speed <= 0:
         return None
-    base, seen = scene.mechanism.speed, {}
+    base, seen = parts.mechanism.speed, {}
 
     def at(s: float) -> tuple[float, str]:
         if s not in seen:  # "at rest" a crank speed 1e-6 of the check's: the same unit cases (inertia's included)
-            seen[s] = part_at_speed(scene, part, base * math.sqrt(max(s, RESTING)))
+            seen[s] = part_at_speed(parts, kinematics, part, base * math.sqrt(max(s, RESTING)))
         return seen[s]
 
     at.seen = seen  # type: ignore[attr-defined]
@@ -133,37 +135,42 @@ def part_safe_speed(scene, part: PartResult) -> SafeSpeed | None:
     return SafeSpeed(base * math.sqrt(s) / (2 * math.pi), part.name, criterion)
 
 
-def failing_parts_safe_speeds(scene, parts: dict, progress) -> dict[str, SafeSpeed]:
-    """name -> :class:`SafeSpeed` of every part that fails its criteria at a turning crank."""
+def failing_parts_safe_speeds(
+    inputs: PartsInput, kinematics: KinematicsInput, parts: dict, progress
+) -> dict[str, SafeSpeed]:
+    """name -> :class:`SafeSpeed` of every part (``parts``: name -> PartResult) that fails
+    its criteria at a turning crank."""
     out = {}
     for name, part in parts.items():
-        if part.utilisation > 1.0 and name not in scene.checked.loads and scene.mechanism is not None:
+        if part.utilisation > 1.0 and name not in inputs.check.loads and inputs.mechanism is not None:
             t = time.perf_counter()
             progress.say("margins", f"{name}: the crank speed at which it passes (its cycle at trial speeds)")
-            safe = part_safe_speed(scene, part)
+            safe = part_safe_speed(inputs, kinematics, part)
             if safe is not None:
                 out[name] = safe
                 progress.say("margins", f"{passes_up_to(name, safe)} ({time.perf_counter() - t:.1f} s)")
     return out
 
 
-def safe_speed(scene, parts: dict, components: SafeSpeed | None, failing: dict, progress) -> SafeSpeed | None:
+def safe_speed(
+    inputs: PartsInput, kinematics: KinematicsInput, parts: dict, components: SafeSpeed | None, failing: dict, progress
+) -> SafeSpeed | None:
     """The crank speed (Hz) up to which every checked part and component passes at the
     check's setting and what reaches its limit there: the least of the components' safe
     speed ``components``, the failing parts' ``failing`` (name -> SafeSpeed) and each
     passing part's own crossing, found only where it lies below that least speed (a
     passing part is evaluated there and searched only if it fails: module doc). None for a
     still crank or when nothing is checked that the speed moves."""
-    if scene.mechanism is None or scene.mechanism.speed <= 0:
+    if inputs.mechanism is None or inputs.mechanism.speed <= 0:
         return None
     known = [v for v in (components, *failing.values()) if v is not None]
     least = min(known, key=lambda v: v.hz, default=None)
-    passing = [p for n, p in parts.items() if n not in failing and n not in scene.checked.loads]
+    passing = [p for n, p in parts.items() if n not in failing and n not in inputs.check.loads]
     start = time.perf_counter()
     for part in sorted(passing, key=lambda p: p.utilisation, reverse=True):  # likeliest to limit first
         limit = f"{floored(least.hz)} Hz" if least is not None and 0 < least.hz < math.inf else "its own limit"
         progress.say("margins", f"{part.name}: does it pass from rest up to {limit}? (its cycle at trial speeds)")
-        found = passing_part_crossing(scene, part, least.hz if least is not None else math.inf)
+        found = passing_part_crossing(inputs, kinematics, part, least.hz if least is not None else math.inf)
         if found is not None:
             least = found
             progress.say("margins", passes_up_to(part.name, found))
@@ -172,7 +179,9 @@ def safe_speed(scene, parts: dict, components: SafeSpeed | None, failing: dict, 
     return least
 
 
-def passing_part_crossing(scene, part: PartResult, cap_hz: float) -> SafeSpeed | None:
+def passing_part_crossing(
+    parts: PartsInput, kinematics: KinematicsInput, part: PartResult, cap_hz: float
+) -> SafeSpeed | None:
     """Where the passing ``part`` first reaches 1 below ``cap_hz`` (Hz), or None if it
     passes up to there. Quasi-static its criteria are convex in the speed ratio squared
     (a von Mises peak of loads affine in it, Goodman's parts), so passing at rest and at the
@@ -181,8 +190,8 @@ def passing_part_crossing(scene, part: PartResult, cap_hz: float) -> SafeSpeed |
     scanned at :data:`DYNAMIC_SCAN` speeds up to the cap. Without a cap its own safe speed
     (:func:`part_safe_speed`)."""
     if not math.isfinite(cap_hz):
-        return part_safe_speed(scene, part)
-    base = scene.mechanism.speed
+        return part_safe_speed(parts, kinematics, part)
+    base = parts.linkage_spec.speed
     cap = (2 * math.pi * cap_hz / base) ** 2
     if part.cycle.solve.modes is not None:
         trials = np.linspace(0.0, math.sqrt(cap), DYNAMIC_SCAN + 1) ** 2
@@ -192,7 +201,7 @@ def passing_part_crossing(scene, part: PartResult, cap_hz: float) -> SafeSpeed |
 
     def at(s: float) -> tuple[float, str]:
         if s not in seen:
-            seen[s] = part_at_speed(scene, part, base * math.sqrt(max(s, RESTING)))
+            seen[s] = part_at_speed(parts, kinematics, part, base * math.sqrt(max(s, RESTING)))
         return seen[s]
 
     at.seen = seen  # type: ignore[attr-defined]

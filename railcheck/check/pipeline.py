@@ -19,7 +19,7 @@ import numpy as np
 
 from railcheck.check.margins import SafeSpeed, components_safe_speed, failing_parts_safe_speeds, safe_speed
 from railcheck.check.workers import check_parts
-from railcheck.components.scene_checks import check_scene_components
+from railcheck.components.scene_checks import check_listed_components, components_input
 from railcheck.fea.materials import MATERIALS, limit_warning
 from railcheck.model.inputs import parts_input
 from railcheck.model.jobs import build_load_cases, part_geometries, part_jobs, refuse_unresolvable_meshes
@@ -85,8 +85,7 @@ def run_pipeline(
         for name, part in parts.items():
             timings.update({f"{k}:{name}": v for k, v in part.seconds.items()})
     t = time.perf_counter()
-    parts_safe = failing_parts_safe_speeds(scene, parts, progress)
-    every_safe = safe_speed(scene, parts, components_safe, parts_safe, progress) if scene.check is not None else None
+    parts_safe, every_safe = _margins_stage(scene, parts, components_safe, progress)
     timings["margins"] = time.perf_counter() - t
     stages.append("report")
     return PipelineResult(
@@ -112,12 +111,26 @@ def _components_stage(scene: Scene, kin, progress: Progress, stages: list, timin
     if scene.check is None or not scene.checked.components:
         return {}, None
     t = time.perf_counter()
-    components = check_scene_components(scene, kin)
-    safe_speed = components_safe_speed(scene)
+    inputs = components_input(scene)
+    components = check_listed_components(inputs, kin)
+    safe_speed = components_safe_speed(kinematics_input(scene), inputs)
     timings["components"] = time.perf_counter() - t
     stages.append("components")
     progress.say("components", f"{len(components)} checked by their standards (load factor on pins, screws, shafts)")
     return components, safe_speed
+
+
+def _margins_stage(
+    scene: Scene, parts: dict, components: SafeSpeed | None, progress: Progress
+) -> tuple[dict, SafeSpeed | None]:
+    """(failing parts' safe speeds, the check's one safe speed): none without a [check] or a
+    [mechanism] (nothing the speed moves is checked); ``parts`` name -> PartResult,
+    ``components`` the components' safe speed."""
+    if scene.check is None or scene.mechanism is None:
+        return {}, None
+    inputs, kinematics = parts_input(scene), kinematics_input(scene)
+    failing = failing_parts_safe_speeds(inputs, kinematics, parts, progress)
+    return failing, safe_speed(inputs, kinematics, parts, components, failing, progress)
 
 
 def _check_stage(

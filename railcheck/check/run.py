@@ -19,7 +19,7 @@ from pathlib import Path
 from railcheck.base.errors import EXIT_FAIL, EXIT_PASS, InputError
 from railcheck.check.pipeline import run_pipeline
 from railcheck.check.summary import summary_of
-from railcheck.components.scene_checks import scene_joint_paths
+from railcheck.components.scene_checks import components_input, listed_joint_paths
 from railcheck.fea.vtk import pvd_text
 from railcheck.files import Staging, atomic_path, atomic_write_text, reserve_results_dir, results_dir, to_json
 from railcheck.model.records import PartResult, PipelineResult
@@ -95,7 +95,7 @@ def write_outputs(scene: Scene, result: PipelineResult, summary: dict, directory
     if scene.output.plots:
         write_campbell_plot(result.parts, directory / "campbell.png")
     if scene.output.plots and result.components and result.kinematics is not None:
-        paths = scene_joint_paths(scene, result.kinematics)
+        paths = listed_joint_paths(components_input(scene), result.kinematics)
         write_joint_diagram(directory / "joints.png", paths, result.components, scene.checked.factor)
     if scene.output.vtk and result.parts:
         atomic_write_text(directory / "parts.pvd", pvd_text({n: f"{n}.vtu" for n in result.parts}))

@@ -1,6 +1,7 @@
 """railcheck.sweep: ``railcheck sweep``, every setting of the rig.
 
-:mod:`.run` (chunks, workers, the results directory), :mod:`.grid` (the settings the
+:mod:`.run` (chunks, workers, the results directory), :mod:`.inputs` (what the sweep
+reads of a scene), :mod:`.grid` (the settings the
 rails' holes allow), :mod:`.context` (what a kind's chunks share), :mod:`.chunk` (a chunk
 of settings -> rows), :mod:`.columns`, :mod:`.verdicts`, :mod:`.validity`,
 :mod:`.components` and :mod:`.motor` (a chunk's columns), :mod:`.parts` (each part's unit

@@ -17,6 +17,7 @@ from railcheck.components.ratings import COMPONENTS
 from railcheck.components.sizing import screw_choices
 from railcheck.studies.hypotheses import MOTOR_ESTIMATE_2013_NM, hypotheses
 from railcheck.sweep.grid import BARS, narrowed, rig_grid
+from railcheck.sweep.inputs import SweepInput
 
 REASON_ORDER = (
     "assembly",
@@ -32,11 +33,11 @@ REASON_ORDER = (
 class Aggregate:
     """Streaming statistics of one kind's rows at the first speed."""
 
-    def __init__(self, scene, kind: str, lengths: dict, motor_speeds: np.ndarray | None = None, models=None):
+    def __init__(self, inputs: SweepInput, kind: str, lengths: dict, motor_speeds: np.ndarray | None = None, models=None):
 
-        self.scene, self.kind, self.bars = scene, kind, BARS[kind]
-        self.first_speed = scene.sweep.speeds[0] / (2 * math.pi)
-        self.grid = narrowed(rig_grid(scene.geometry)[kind], scene.sweep.ranges)
+        self.inputs, self.kind, self.bars = inputs, kind, BARS[kind]
+        self.first_speed = inputs.sweep.speeds[0] / (2 * math.pi)
+        self.grid = narrowed(rig_grid(inputs.geometry)[kind], inputs.sweep.ranges)
         self.counts = {
             "settings_total": int(lengths["crank"].size),
             "settings_assemblable": 0,
@@ -57,13 +58,13 @@ class Aggregate:
         self.torque = np.full(shape, np.nan)  # N m, peak motor torque
         self.reaction = np.full(shape, np.nan)  # N, the largest peak joint reaction
         self.reason = np.full(shape, -1, dtype=np.int8)
-        self.motor_sizing = MotorSizing(scene.sweep.speeds, motor_speeds)
+        self.motor_sizing = MotorSizing(inputs.sweep.speeds, motor_speeds)
         models = models or {}
         #: parts whose loads depend on the setting get a map each; constant-load parts are listed
         self.constant_parts = [n for n, m in models.items() if m.constant is not None]
         self.part_util = {n: np.full(shape, np.nan) for n, m in models.items() if m.constant is None}
         #: the largest of the listed components' utilisations (None: the scene lists none)
-        listed = scene.check.components if scene.check is not None else ()
+        listed = inputs.components.listed if inputs.components is not None else ()
         self.component_util = np.full(shape, np.nan) if listed else None
         #: screw group -> {smallest screw that passes: settings} over the settings checked
         self.screw_needs: dict[str, dict[str, int]] = {}
@@ -193,7 +194,7 @@ class Aggregate:
     def _screw_need_summary(self, counts: dict[str, int]) -> dict:
         """The settings per smallest passing screw, smallest first, and the one screw that
         passes at every setting checked (``"none"``: some setting has none)."""
-        order = [" ".join(c) for c in screw_choices(self.scene.components)] + ["none"]
+        order = [" ".join(c) for c in screw_choices(self.inputs.component_spec)] + ["none"]
         ranked = sorted(counts, key=lambda screw: order.index(screw) if screw in order else len(order))
         return {"settings": {screw: counts[screw] for screw in ranked}, "every_setting": ranked[-1] if ranked else None}
 
@@ -271,22 +272,22 @@ class MotorSizing:
         }
 
 
-def summary_of(scene, aggregates: dict, tables: dict, models: dict) -> dict:
+def summary_of(inputs: SweepInput, aggregates: dict, tables: dict, models: dict) -> dict:
     """summary.json (deterministic: no timings)."""
 
-    grid = rig_grid(scene.geometry)
+    grid, spec = rig_grid(inputs.geometry), inputs.sweep
     out = {
         "grid": {kind: {f"{b}_m": [float(x) for x in v] for b, v in grid[kind].items()} for kind in grid},
-        "ranges_m": {b: list(r) for b, r in scene.sweep.ranges.items()},
-        "speeds_Hz": [w / (2 * math.pi) for w in scene.sweep.speeds],
-        "steps": scene.sweep.steps,
-        "assembly": scene.sweep.assembly,
-        "effects": list(scene.check.effects) if scene.check else ["inertia"],
+        "ranges_m": {b: list(r) for b, r in spec.ranges.items()},
+        "speeds_Hz": [w / (2 * math.pi) for w in spec.speeds],
+        "steps": spec.steps,
+        "assembly": spec.assembly,
+        "effects": list(inputs.requested_effects),
         "parts": {kind: list(m) for kind, m in models.items()},
         "by_kind": {kind: a.summary() for kind, a in aggregates.items()},
         "tables": {kind: Path(p).name for kind, p in tables.items()},
     }
     if "four-bar" in tables:
-        out["seed_hypotheses"] = hypotheses(tables["four-bar"], scene.sweep.speeds[0] / (2 * math.pi))
-    out["scene_source"] = scene.source
+        out["seed_hypotheses"] = hypotheses(tables["four-bar"], spec.speeds[0] / (2 * math.pi))
+    out["scene_source"] = inputs.source
     return out

@@ -120,7 +120,7 @@ def revolvable(ctx: SweepContext, lengths: dict, flags: dict) -> np.ndarray:
 
 def motion_of(ctx: SweepContext, lengths: dict, speed: float):
 
-    sign = 1.0 if ctx.scene.sweep.assembly == "open" else -1.0
+    sign = 1.0 if ctx.inputs.sweep.assembly == "open" else -1.0
     th = crank_angles(ctx.steps)
     if ctx.kind == "four-bar":
         return batch.fourbar_motion(
@@ -132,8 +132,8 @@ def motion_of(ctx: SweepContext, lengths: dict, speed: float):
 def dynamics_of(ctx: SweepContext, motion, gravity: float):
     """The settings' inverse dynamics with the check's one mass model (a free-body check
     places the rails as they are meshed: :func:`railcheck.parts.mass_model`)."""
-    masses = ctx.scene.masses
-    if ctx.scene.formulation == "seed-2013":
+    masses = ctx.inputs.masses
+    if ctx.inputs.formulation == "seed-2013":
         return batch.seed_2013(motion, masses)
     return batch.newton_euler(motion, masses, gravity=gravity)
 
@@ -171,7 +171,7 @@ def motor_and_bearings(ctx: SweepContext, loads: Loads, speed: float) -> dict:
     for joint in ("O2", "A", "B", "O4"):
         if joint not in R:
             continue
-        load = with_weight_couple(size[joint], moments.get(joint, 0.0), ctx.scene.components.bearing_spacing)
+        load = with_weight_couple(size[joint], moments.get(joint, 0.0), ctx.inputs.component_spec.bearing_spacing)
         life = bearing_life_of_magnitude(load, relative[joint])
         out[f"bearing_{joint}_load_N"] = life.equivalent_load
         out[f"bearing_{joint}_peak_N"] = life.peak_load

@@ -16,7 +16,7 @@ from railcheck.components import kinds
 from railcheck.components.checks import JointHistories
 from railcheck.components.kinds import check_components
 from railcheck.components.ratings import NOT_ON_SLIDER_CRANK
-from railcheck.components.scene_checks import FIRST_JOINTS, strengths_of
+from railcheck.components.scene_checks import FIRST_JOINTS, ComponentsInput
 from railcheck.loads.bearings import relative_speeds
 from railcheck.loads.weight import joint_vertical_loads, screw_pulls, shaft_moment
 from railcheck.model.crossing import increasing_crossing
@@ -27,7 +27,7 @@ from railcheck.sweep.context import Loads, SweepContext, reactions_at, setting_l
 def swept_components(ctx: SweepContext) -> tuple[str, ...]:
     """The components the sweep's scene lists that this kind of linkage has (none listed:
     none run; a slider-crank has no rocker, so no O4 shaft or bearings)."""
-    listed = ctx.scene.check.components if ctx.scene.check is not None else ()
+    listed = ctx.inputs.components.listed if ctx.inputs.components is not None else ()
     return tuple(c for c in listed if ctx.kind == "four-bar" or c not in NOT_ON_SLIDER_CRANK)
 
 
@@ -54,17 +54,17 @@ def sweep_histories(ctx: SweepContext, loads: Loads, sel: np.ndarray, s) -> Join
 def weight_of_settings(ctx: SweepContext, motion, sel: np.ndarray) -> dict:
     """``vertical``, ``moments`` and ``screw_tension`` of :class:`JointHistories` for the
     settings ``sel`` (empty for a vertical rig: its weight is in the joint forces)."""
-    if ctx.scene.plane != "horizontal":
+    if ctx.inputs.plane != "horizontal":
         return {"vertical": {}, "moments": {}, "screw_tension": {}}
     lengths = {bar: v[:, 0] for bar, v in setting_lengths(motion, sel).items()}
     moments, pulls = {}, {}
     for joint, bar in FIRST_JOINTS.items():
         if ctx.kind == "four-bar" or bar != "rocker":
-            w = rail_weight(ctx.scene.masses, ctx.scene.geometry, bar, ctx.kind)
+            w = rail_weight(ctx.inputs.masses, ctx.inputs.geometry, bar, ctx.kind)
             pulls[joint] = screw_pulls(w, lengths)
             if bar != "coupler":
                 moments[joint] = shaft_moment(w, lengths)
-    crank = rail_weight(ctx.scene.masses, ctx.scene.geometry, "crank", ctx.kind)
+    crank = rail_weight(ctx.inputs.masses, ctx.inputs.geometry, "crank", ctx.kind)
     return {"vertical": joint_vertical_loads(crank, lengths), "moments": moments, "screw_tension": pulls}
 
 
@@ -73,8 +73,8 @@ def component_results(ctx: SweepContext, loads: Loads, sel: np.ndarray, s, h: Jo
     of every listed component for the settings ``sel`` at speed ratio squared ``s`` (their
     loads ``h`` when the caller has them, :func:`sweep_histories`)."""
     h = sweep_histories(ctx, loads, sel, s) if h is None else h
-    scene = ctx.scene
-    return check_components(swept_components(ctx), scene.components, h, scene.checked.factor, strengths_of(scene))
+    c = _listing(ctx)
+    return check_components(swept_components(ctx), c.spec, h, c.factor, c.strengths)
 
 
 def worst_component(results: dict) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -140,8 +140,8 @@ def needs_of_settings(ctx: SweepContext, h: JointHistories) -> dict:
     group's smallest screw that passes slip and EN 1993-1-8 T3.4 (object: ``"M5 8.8"``;
     ``"none"`` where no screw the rail's hole admits does), a shaft's least diameter in m,
     a pair of bearings' least spacing in m (:func:`railcheck.components.kinds.needs_of_settings`)."""
-    scene = ctx.scene
-    return kinds.needs_of_settings(swept_components(ctx), scene.components, h, scene.checked.factor, strengths_of(scene))
+    c = _listing(ctx)
+    return kinds.needs_of_settings(swept_components(ctx), c.spec, h, c.factor, c.strengths)
 
 
 def no_part_results(n: int, speeds: int) -> dict:
@@ -163,3 +163,10 @@ def with_components(res: dict, comp: dict) -> dict:
     governs = (np.where(lower, comp["governs"][0], part), np.where(lower, comp["governs"][1], criterion))
     safe = np.minimum(res["safe_s"], comp["safe_s"])
     return res | {"safe_s": safe, "safe_governs": governs, "components": comp["per_speed"]}
+
+
+def _listing(ctx: SweepContext) -> ComponentsInput:
+    """The components' record of a sweep that lists some (a [check] table)."""
+    if ctx.inputs.components is None:
+        raise ValueError("a sweep without [check] lists no components")
+    return ctx.inputs.components

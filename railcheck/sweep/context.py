@@ -10,14 +10,14 @@ import numpy as np
 
 from railcheck.geometry.catalogue import RailSpec
 from railcheck.kinematics.batch import BatchDynamics, BatchMotion
-from railcheck.scene import Scene
+from railcheck.sweep.inputs import SweepInput
 
 
 @dataclass(frozen=True)
 class SweepContext:
     """What every chunk of one kind needs (picklable: sent to Dask workers once)."""
 
-    scene: Scene
+    inputs: SweepInput
     kind: str
     speeds: tuple  # rad/s
     steps: int
@@ -27,8 +27,8 @@ class SweepContext:
 
     @property
     def effects(self) -> tuple[str, ...]:
-        """The loads the sweep simulates (:attr:`railcheck.scene.Scene.sweep_effects`)."""
-        return self.scene.sweep_effects
+        """The loads the sweep simulates (:attr:`railcheck.sweep.inputs.SweepInput.effects`)."""
+        return self.inputs.effects
 
 
 @dataclass(frozen=True)

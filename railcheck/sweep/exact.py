@@ -20,8 +20,6 @@ rows), its estimate kept beside it.
 
 from __future__ import annotations
 
-from dataclasses import replace
-
 import numpy as np
 
 #: a setting's columns that its first speed's evaluation sets for all its rows
@@ -81,14 +79,6 @@ class ExactPass:
     def settings(self, kind: str) -> np.ndarray:
         """The held settings' ids of ``kind``, in the order they were held."""
         return np.concatenate([c["setting"][:: self.n_speeds] for c, _, _ in self.held.get(kind, [])]).astype(np.int64)
-
-    def exact_scene(self, scene, kind: str):
-        """``scene`` with the ``dynamic`` effect and, as parts, only those of ``kind``
-        beyond their tolerance: what :func:`railcheck.sweep.run.prepare_models` builds the
-        exact models of."""
-        effects = tuple(scene.check.effects) + ("dynamic",) * ("dynamic" not in scene.check.effects)
-        parts = tuple(p for p in scene.check.parts if p in self.parts[kind])
-        return replace(scene, check=replace(scene.check, effects=effects, parts=parts))
 
     def merged(self, kind: str, columns: dict, curve: dict) -> tuple[dict, dict]:
         """The held rows of the settings in ``columns`` (an exact evaluation of some held

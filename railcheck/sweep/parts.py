@@ -24,12 +24,14 @@ from railcheck.geometry.mesher import cached_mesh, mesh_part
 from railcheck.geometry.models import PartGeometry
 from railcheck.loads.cases import pivot_x, rail_bolt_holes
 from railcheck.model.certificate import rail_lowest_hz
-from railcheck.model.inputs import parts_input
+from railcheck.model.inputs import PartsInput
 from railcheck.model.jobs import carried_masses, free_body_cases, mesh_sizes
 from railcheck.model.loading import LoadModel, load_model, pin_pressure_map, source_histories, unit_cases
 from railcheck.model.setting_free import pair_deflections, solve_projected, stored_request
 from railcheck.model.utilisation import Limits
 from railcheck.parts import PARTS, geometry_of, kind_of
+from railcheck.specs import CheckSpec
+from railcheck.sweep.inputs import SweepInput
 
 
 @dataclass(frozen=True)
@@ -128,10 +130,11 @@ def micrometres(length: float | None) -> int:
     return int(round(length * 1e6))
 
 
-def applicable(scene, name: str, kind: str) -> bool:
-    """Whether a part is checked in a linkage kind: explicit loads always; otherwise its
-    joint and its bar must exist there (a slider-crank has no rocker and no O4)."""
-    if name in scene.check.loads:
+def applicable(check: CheckSpec, name: str, kind: str) -> bool:
+    """Whether a part is checked in a linkage kind: explicit loads in [check] ``check``
+    always; otherwise its joint and its bar must exist there (a slider-crank has no rocker
+    and no O4)."""
+    if name in check.loads:
         return True
     joints = {"four-bar": {"O2", "A", "B", "O4"}, "slider-crank": {"O2", "A", "B", "slider"}}[kind]
     bars = {"four-bar": {"crank", "coupler", "rocker"}, "slider-crank": {"crank", "coupler"}}[kind]
@@ -139,25 +142,25 @@ def applicable(scene, name: str, kind: str) -> bool:
     return bool(srcs) and (PARTS[name].bar is None or PARTS[name].bar in bars)
 
 
-def is_free_plate(scene, name: str) -> bool:
+def is_free_plate(check: CheckSpec, name: str) -> bool:
     """Whether the part is a joint plate checked as a free body (``support = "free-body"``,
     no explicit loads)."""
-    return scene.check.support == "free-body" and PARTS[name].free_plate is not None and name not in scene.check.loads
+    return check.support == "free-body" and PARTS[name].free_plate is not None and name not in check.loads
 
 
-def is_on_foundation(scene, name: str) -> bool:
+def is_on_foundation(check: CheckSpec, name: str) -> bool:
     """Whether the part is a bolted-down part checked as a free body (``support =
     "free-body"``): its loads balanced by a rigid foundation's reaction on its base."""
-    return scene.check.support == "free-body" and PARTS[name].foundation is not None
+    return check.support == "free-body" and PARTS[name].foundation is not None
 
 
-def is_free_rail(scene, name: str) -> bool:
+def is_free_rail(check: CheckSpec, name: str) -> bool:
     """Whether the part is checked as a free body (``support = "free-body"``, a rail of
     the registry's free-body model, no explicit loads)."""
-    return scene.check.support == "free-body" and PARTS[name].free_body is not None and name not in scene.check.loads
+    return check.support == "free-body" and PARTS[name].free_body is not None and name not in check.loads
 
 
-def hole_groups(scene, name: str, geo, lengths: np.ndarray) -> tuple[dict, dict]:
+def hole_groups(check: CheckSpec, name: str, geo, lengths: np.ndarray) -> tuple[dict, dict]:
     """(key -> bolt-hole groups, length um -> key): a rail's pair ``(i, j)`` for every bar
     length in ``lengths`` (m; lengths off the rail are left out: their settings fail
     ``joints_on_rails``), and for a free rail ``(i, j, length um)`` (its plate's bolts share
@@ -165,7 +168,7 @@ def hole_groups(scene, name: str, geo, lengths: np.ndarray) -> tuple[dict, dict]
     key None with every hole for other parts."""
 
     kind = kind_of(name)
-    if name in scene.check.loads:
+    if name in check.loads:
         holes = (
             kind.bolts(geo)
             if not kind.bolts_on_rail
@@ -181,51 +184,53 @@ def hole_groups(scene, name: str, geo, lengths: np.ndarray) -> tuple[dict, dict]
             pair = tuple(rail_bolt_holes(xs, pivot_x(xs), float(length), "actual"))
         except ValueError:
             continue
-        key = (*pair, micrometres(length)) if is_free_rail(scene, name) else pair
+        key = (*pair, micrometres(length)) if is_free_rail(check, name) else pair
         groups[key] = [f"hole_{k}" for k in pair]
         pair_of[micrometres(length)] = key
     return groups, pair_of
 
 
 def build_part_model(
-    scene, name: str, lengths: np.ndarray, material, limit: float, report, linkage: str = "four-bar"
+    inputs: SweepInput, name: str, lengths: np.ndarray, material, limit: float, report, linkage: str = "four-bar"
 ) -> PartModel:
     """Mesh, factorise and solve the unit cases of every hole pair of one part; screen
     them (``lengths``: the bar lengths, m, the sweep's settings give this part's bar;
     ``linkage``: its kind, which sets the point masses a rail's joints carry)."""
 
-    geo = geometry_of(name, scene.geometry)
+    parts = _parts_of(inputs)
+    geo = geometry_of(name, parts.geometry)
     mesh = mesh_part(
         geo,
-        *mesh_sizes(scene.mesh, geo.kind),
-        optimize=scene.mesh.optimize,
+        *mesh_sizes(parts.mesh, geo.kind),
+        optimize=parts.mesh.optimize,
         cache_dir=environment.cache_dir(),
         verbose=environment.gmsh_verbose(),
     )
-    setup = _part_setup(scene, name, geo, mesh, lengths, material, linkage)
+    setup = _part_setup(inputs, name, geo, mesh, lengths, material, linkage)
     deflections = pair_deflections(setup.loads, geo) if setup.free else {}
     fields, meta, origin = solve_projected(setup.request, geo, deflections, "auto", report, environment.unit_store())
     if origin == "stored":
         report("unit fields: stored")
     elif origin != "solved":  # a damaged entry solved again, or one the store could not keep
         report(origin)
-    return _part_model(scene, name, setup, fields, meta, material, limit)
+    return _part_model(inputs, name, setup, fields, meta, material, limit)
 
 
-def part_is_stored(scene, name: str, lengths: np.ndarray, material, linkage: str = "four-bar") -> bool:
+def part_is_stored(inputs: SweepInput, name: str, lengths: np.ndarray, material, linkage: str = "four-bar") -> bool:
     """Whether :func:`build_part_model` of these arguments would find the part's mesh in
     the cache and its unit fields in the store (on disk: reading verifies them), so that
     it neither meshes nor solves; a probe that never meshes."""
     store = environment.unit_store()
     if store is None:
         return False
-    geo = geometry_of(name, scene.geometry)
+    parts = _parts_of(inputs)
+    geo = geometry_of(name, parts.geometry)
     mesh = cached_mesh(
-        geo, *mesh_sizes(scene.mesh, geo.kind), optimize=scene.mesh.optimize, cache_dir=environment.cache_dir()
+        geo, *mesh_sizes(parts.mesh, geo.kind), optimize=parts.mesh.optimize, cache_dir=environment.cache_dir()
     )
     if mesh is None:
         return False
-    setup = _part_setup(scene, name, geo, mesh, lengths, material, linkage)
+    setup = _part_setup(inputs, name, geo, mesh, lengths, material, linkage)
     deflections = pair_deflections(setup.loads, geo) if setup.free else {}
     return is_stored(stored_request(setup.request, geo, deflections), store)
 
@@ -250,15 +255,15 @@ class _PartSetup:
     deflections: dict  # hole-pair key -> a free body's deflection groups (its modal pins: the first two)
 
 
-def _part_setup(scene, name: str, geo, mesh, lengths: np.ndarray, material, linkage: str) -> _PartSetup:
+def _part_setup(inputs: SweepInput, name: str, geo, mesh, lengths: np.ndarray, material, linkage: str) -> _PartSetup:
     """The part's loads, hole groups, unit cases and store request (:func:`build_part_model`)."""
-    kind = kind_of(name)
-    free, plate = is_free_rail(scene, name), is_free_plate(scene, name) or is_on_foundation(scene, name)
-    inertia = "inertia" in scene.requested_effects
-    loads = load_model(parts_input(scene), name, material.density, *((0.0, inertia, linkage) if free else ()))
+    kind, parts = kind_of(name), _parts_of(inputs)
+    free, plate = is_free_rail(parts.check, name), is_free_plate(parts.check, name) or is_on_foundation(parts.check, name)
+    inertia = "inertia" in inputs.requested_effects
+    loads = load_model(parts, name, material.density, *((0.0, inertia, linkage) if free else ()))
     if plate:
-        loads = load_model(parts_input(scene), name, material.density, inertia=inertia)
-    groups, pair_of = hole_groups(scene, name, geo, lengths)
+        loads = load_model(parts, name, material.density, inertia=inertia)
+    groups, pair_of = hole_groups(parts.check, name, geo, lengths)
     cases: dict[str, dict] = {}
     columns: dict[str, list] = {}
     deflections: dict[str, tuple | dict] = {}
@@ -279,7 +284,7 @@ def _part_setup(scene, name: str, geo, mesh, lengths: np.ndarray, material, link
         columns[key] = [list(cases).index(n) for n in names]
         if free or plate:
             deflections[key] = free_body_cases(loads_key, geo, holes).deflection
-    modes = mode_requests(scene, name, groups, deflections, linkage)
+    modes = mode_requests(inputs, name, groups, deflections, linkage)
     request = UnitRequest(
         mesh.points,
         mesh.tets,
@@ -287,10 +292,10 @@ def _part_setup(scene, name: str, geo, mesh, lengths: np.ndarray, material, link
         material,
         [] if free or plate else [kind.support],
         cases,
-        scene.mesh.order,
+        parts.mesh.order,
         kind.tip,
         0.0 if free or plate else kind.exclusion(geo),
-        mesh.curved if scene.mesh.curved else None,
+        mesh.curved if parts.mesh.curved else None,
         dataclasses.replace(free_body_cases(loads, geo, next(iter(groups.values()))), deflection=_one_or_many(deflections))
         if free or plate
         else None,
@@ -308,19 +313,20 @@ def _one_or_many(deflections: dict):
     return deflections[None] if set(deflections) == {None} else deflections
 
 
-def _part_model(scene, name: str, setup: _PartSetup, fields, meta, material, limit: float) -> PartModel:
+def _part_model(inputs: SweepInput, name: str, setup: _PartSetup, fields, meta, material, limit: float) -> PartModel:
     """The part model of its setup and unit fields: screens, modes, limits, and a
     constant-load part's own figures (:func:`build_part_model`)."""
     kind, geo = kind_of(name), setup.geo
     free, plate, loads, groups, pair_of = setup.free, setup.plate, setup.loads, setup.groups, setup.pair_of
     cases, columns, pressure, modes = setup.cases, setup.columns, setup.pressure, setup.modes
     screens = screens_of(fields, columns)
-    dynamic = pair_modes(fields, meta, columns, len(cases)) if modes and scene.sweep_dynamic_response else None
-    spec = scene.fatigue
+    parts = _parts_of(inputs)
+    dynamic = pair_modes(fields, meta, columns, len(cases)) if modes and inputs.dynamic_response else None
+    spec = parts.fatigue
     marin = endurance_limit(material.ultimate_strength, spec.surface, kind.section(geo), spec.load, spec.reliability)
     model = PartModel(
         name,
-        PARTS[name].bar if name not in scene.check.loads else None,
+        PARTS[name].bar if name not in parts.check.loads else None,
         screens,
         pair_of,
         limit,
@@ -329,18 +335,18 @@ def _part_model(scene, name: str, setup: _PartSetup, fields, meta, material, lim
         spec.criterion,
         material.yield_strength,
         spec.min_safety,
-        scene.check.max_deflection,
+        parts.check.max_deflection,
         meta.dofs,
         loads,
         dynamic=dynamic,
-        damping=scene.dynamic.damping,
-        max_amplification=scene.dynamic.max_amplification,
+        damping=parts.dynamic.damping,
+        max_amplification=parts.dynamic.max_amplification,
         pressure=pressure if free or plate else None,
-        lowest_hz=None if dynamic is not None else certificate_frequencies(scene, name, setup, meta, material),
+        lowest_hz=None if dynamic is not None else certificate_frequencies(inputs, name, setup, meta, material),
         case_names=setup.names,
         length=geo.get("length"),
     )
-    if name not in scene.check.loads:
+    if name not in parts.check.loads:
         return model
     C = model.with_pin_pressure(None, source_histories(loads, None, groups[None])[0].C[None])
     scr = screens[None]
@@ -352,11 +358,12 @@ def _part_model(scene, name: str, setup: _PartSetup, fields, meta, material, lim
     return PartModel(**{**model.__dict__, "constant": constant})
 
 
-def certificate_frequencies(scene, name: str, setup: _PartSetup, meta, material) -> dict | None:
+def certificate_frequencies(inputs: SweepInput, name: str, setup: _PartSetup, meta, material) -> dict | None:
     """Hole-pair key -> the lowest frequency (Hz) the part's certificate reads: a rail's
     beam model per hole pair, any other part's lowest FE mode; None without a turning
     crank or for explicit loads."""
-    if not certificate_in_sweep(scene) or name in scene.check.loads:
+    parts = _parts_of(inputs)
+    if not inputs.certifies or name in parts.check.loads:
         return None
     if not kind_of(name).beam_frequency:
         return {key: float(m.hz[0]) for key, m in meta.mode_sets.items()} if meta.mode_sets else None
@@ -367,17 +374,18 @@ def certificate_frequencies(scene, name: str, setup: _PartSetup, meta, material)
             setup.geo,
             material,
             (tuple(pins[key][0]), tuple(pins[key][1])) if setup.free else None,
-            carried_masses(parts_input(scene), name, holes, setup.linkage),
+            carried_masses(parts, name, holes, setup.linkage),
             clamp,
         )
         for key, holes in setup.groups.items()
     }
 
 
-def certificate_in_sweep(scene) -> bool:
-    """Whether a sweep certifies quasi-static: some [sweep] speed above zero, no
-    ``dynamic`` listed (that computes the exact response)."""
-    return scene.check is not None and any(w > 0 for w in scene.sweep.speeds) and not scene.sweep_dynamic_response
+def _parts_of(inputs: SweepInput) -> PartsInput:
+    """The part stages' record of a sweep with parts to check."""
+    if inputs.parts is None:
+        raise ValueError("a sweep without [check] has no part models")
+    return inputs.parts
 
 
 def screens_of(fields, columns: dict) -> dict:
@@ -417,20 +425,22 @@ def tip_of(fields, key):
     return fields.tips[key] if fields.tips else fields.tip
 
 
-def mode_requests(scene, name: str, groups: dict, deflections: dict | None = None, kind: str = "four-bar") -> dict | None:
+def mode_requests(
+    inputs: SweepInput, name: str, groups: dict, deflections: dict | None = None, kind: str = "four-bar"
+) -> dict | None:
     """Hole-pair key -> (modes, pins, carried masses) for
     :func:`railcheck.fea.unitcases.solve_unit_cases`, or None: without ``dynamic``, and
     for a part with explicit loads (constant over the cycle: nothing to respond to)."""
-    certificate_modes = certificate_in_sweep(scene) and kind_of(name).bolts_on_rail is False
-    if not (scene.sweep_dynamic_response or certificate_modes) or name in scene.check.loads:
+    parts = _parts_of(inputs)
+    certificate_modes = inputs.certifies and kind_of(name).bolts_on_rail is False
+    if not (inputs.dynamic_response or certificate_modes) or name in parts.check.loads:
         return None
     held = PARTS[name].foundation is not None  # a bolted-down part: its modes held at its base
     pins = (
         {} if held else {key: (tuple(d[0]), tuple(d[1])) for key, d in (deflections or {}).items()}
     )  # a free rail's joints
     return {
-        key: (scene.dynamic.modes, pins.get(key), carried_masses(parts_input(scene), name, holes, kind))
-        for key, holes in groups.items()
+        key: (parts.dynamic.modes, pins.get(key), carried_masses(parts, name, holes, kind)) for key, holes in groups.items()
     }
 
 

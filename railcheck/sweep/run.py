@@ -32,7 +32,7 @@ from railcheck.fea.store import reads_shared
 from railcheck.files import Staging, atomic_write_text, reserve_results_dir, results_dir, to_json
 from railcheck.geometry.catalogue import with_overrides
 from railcheck.geometry.mesher import estimate_elements
-from railcheck.model.inputs import parts_input
+from railcheck.model.inputs import PartsInput
 from railcheck.model.jobs import mesh_sizes, part_geometries, refuse_unresolvable_meshes
 from railcheck.parallel import forked
 from railcheck.parallel.executor import ChunkExecutor
@@ -43,6 +43,8 @@ from railcheck.report.card import write_card
 from railcheck.report.maps import write_maps, write_motor_plot
 from railcheck.report.rig_page import write_rig_page
 from railcheck.report.sweep_html import write_sweep_report
+from railcheck.scene import Scene
+from railcheck.specs import CheckSpec
 from railcheck.sweep.aggregate import Aggregate, summary_of
 from railcheck.sweep.chunk import (
     MOTOR_CURVE_KEY,
@@ -54,6 +56,7 @@ from railcheck.sweep.chunk import (
 )
 from railcheck.sweep.exact import ExactPass
 from railcheck.sweep.grid import narrowed, rig_grid, settings
+from railcheck.sweep.inputs import SweepInput, sweep_input
 from railcheck.sweep.parts import (
     applicable,
     build_part_model,
@@ -111,15 +114,12 @@ class SweepRun:
         return EXIT_PASS if kinds and all(k["settings_passing"] > 0 for k in kinds) else EXIT_FAIL
 
 
-def sweep_settings(scene) -> dict[str, dict[str, np.ndarray]]:
+def sweep_settings(inputs: SweepInput) -> dict[str, dict[str, np.ndarray]]:
     """kind -> bar -> (N,) lengths (m): the rig's grid narrowed by [sweep], then its extra
     settings."""
 
-    grid = rig_grid(scene.geometry)
-    return {
-        kind: settings(kind, narrowed(grid[kind], scene.sweep.ranges), scene.sweep.settings.get(kind))
-        for kind in scene.sweep.kinds
-    }
+    grid, spec = rig_grid(inputs.geometry), inputs.sweep
+    return {kind: settings(kind, narrowed(grid[kind], spec.ranges), spec.settings.get(kind)) for kind in spec.kinds}
 
 
 #: a sweep without FE is large beyond this many chunks (where this process cannot fork:
@@ -134,32 +134,32 @@ KINEMATIC_DASK_CHUNKS = 64
 DYNAMIC_CHUNK = 16
 
 
-def chunk_size(scene) -> int:
+def chunk_size(inputs: SweepInput) -> int:
     """Settings per chunk, the most whose rows (:data:`BYTES_PER_ROW`) and one group of
     revolving settings' loads (:func:`railcheck.sweep.chunk.group_size` settings,
     :data:`BYTES_PER_SETTING_STEP`) fit the working-memory budget; at most
     :data:`MAX_CHUNK`, and :data:`DYNAMIC_CHUNK` with a dynamic response."""
-    steps, row = scene.sweep.steps, BYTES_PER_ROW * len(scene.sweep.speeds)
+    steps, row = inputs.sweep.steps, BYTES_PER_ROW * len(inputs.sweep.speeds)
     per_group_setting = steps * BYTES_PER_SETTING_STEP
     group = group_size(steps)
-    if group * (per_group_setting + row) >= scene.sweep.memory:  # the chunk is smaller than a group
-        size = scene.sweep.memory // (per_group_setting + row)
+    if group * (per_group_setting + row) >= inputs.sweep.memory:  # the chunk is smaller than a group
+        size = inputs.sweep.memory // (per_group_setting + row)
     else:
-        size = (scene.sweep.memory - group * per_group_setting) // row
+        size = (inputs.sweep.memory - group * per_group_setting) // row
     size = int(max(1, min(MAX_CHUNK, size)))
-    return min(size, DYNAMIC_CHUNK) if scene.sweep_dynamic_response else size
+    return min(size, DYNAMIC_CHUNK) if inputs.dynamic_response else size
 
 
-def checked_chunk_size(scene) -> int:
+def checked_chunk_size(inputs: SweepInput) -> int:
     """Settings with FE per chunk at most: the most whose held histories
     (:data:`BYTES_PER_CHECKED_STEP`) fit the working-memory budget beside the chunk's rows
     and one group's loads (:func:`chunk_size`); at most :data:`CHECKED_CHUNK`, and
     :data:`DYNAMIC_CHUNK` with a dynamic response."""
-    steps, row = scene.sweep.steps, BYTES_PER_ROW * len(scene.sweep.speeds)
-    group = min(group_size(steps), chunk_size(scene))
-    left = scene.sweep.memory - group * steps * BYTES_PER_SETTING_STEP - chunk_size(scene) * row
+    steps, row = inputs.sweep.steps, BYTES_PER_ROW * len(inputs.sweep.speeds)
+    group = min(group_size(steps), chunk_size(inputs))
+    left = inputs.sweep.memory - group * steps * BYTES_PER_SETTING_STEP - chunk_size(inputs) * row
     size = int(max(1, min(CHECKED_CHUNK, left // (steps * BYTES_PER_CHECKED_STEP))))
-    return min(size, DYNAMIC_CHUNK) if scene.sweep_dynamic_response else size
+    return min(size, DYNAMIC_CHUNK) if inputs.dynamic_response else size
 
 
 #: finished chunks held at most while an earlier one still runs (and fewer when their
@@ -167,12 +167,12 @@ def checked_chunk_size(scene) -> int:
 HELD_CHUNKS = 256
 
 
-def held_chunks(scene) -> int:
+def held_chunks(inputs: SweepInput) -> int:
     """Finished chunks held at most while an earlier one still runs: as many as their
     rows (:data:`BYTES_PER_ROW`) fit the working-memory budget, at least 4 and at most
     :data:`HELD_CHUNKS`."""
-    rows = chunk_size(scene) * BYTES_PER_ROW * len(scene.sweep.speeds)
-    return int(max(4, min(HELD_CHUNKS, scene.sweep.memory // rows)))
+    rows = chunk_size(inputs) * BYTES_PER_ROW * len(inputs.sweep.speeds)
+    return int(max(4, min(HELD_CHUNKS, inputs.sweep.memory // rows)))
 
 
 #: the address schemes a Dask scheduler listens on
@@ -191,23 +191,25 @@ def check_scheduler(address: str) -> None:
         )
 
 
-def validate(scene) -> None:
-    if scene.check is not None and not scene.sweep_effects:
+def validate(inputs: SweepInput) -> None:
+    """Refuse, naming the field, a sweep with no load to compare settings by, the seed's
+    2013 formulation on a slider-crank, or a range with no settable length."""
+    if inputs.check is not None and not inputs.effects:
         raise InputError(
             "check.effects",
             'a sweep needs a load to compare settings by: list "inertia" (with a speed) or "gravity"',
         )
-    if scene.formulation == "seed-2013" and "slider-crank" in scene.sweep.kinds:
+    if inputs.formulation == "seed-2013" and "slider-crank" in inputs.sweep.kinds:
         raise InputError(
             "sweep.kind",
             'dynamics.formulation = "seed-2013" exists only for the four-bar: sweep kind = "four-bar", or use newton-euler',
         )
-    grid = rig_grid(scene.geometry)
-    for kind in scene.sweep.kinds:
-        narrowed(grid[kind], scene.sweep.ranges)  # a range with no settable length: refused, naming it
+    grid = rig_grid(inputs.geometry)
+    for kind in inputs.sweep.kinds:
+        narrowed(grid[kind], inputs.sweep.ranges)  # a range with no settable length: refused, naming it
 
 
-def prepare_models(scene, by_kind: dict, progress, jobs: int = 1) -> dict[str, dict]:
+def prepare_models(inputs: SweepInput, by_kind: dict, progress, jobs: int = 1) -> dict[str, dict]:
     """kind -> part -> PartModel: each checked part meshed, factorised and solved once.
     When some part must be meshed or solved they are built in this process one at a time
     (:func:`build_one_at_a_time`: a little slower than two at once in worker processes,
@@ -216,17 +218,17 @@ def prepare_models(scene, by_kind: dict, progress, jobs: int = 1) -> dict[str, d
     twice as fast on two threads as on one; measured: docs/changelog.md, "The measurements
     behind tuned constants"). A part's models for two linkage kinds hold their equal screens once
     (:func:`railcheck.sweep.parts.sharing_screens`)."""
-    if scene.check is None:
+    if inputs.parts is None:
         return {kind: {} for kind in by_kind}
 
-    material = MATERIALS[scene.check.material]
-    limit = scene.check.limit or material.fatigue_limit
-    inputs = parts_input(scene)
-    refuse_unresolvable_meshes(inputs, part_geometries(inputs))
-    tasks = part_tasks(scene, by_kind)
-    args = (scene, material, limit)
+    check = inputs.parts.check
+    material = MATERIALS[check.material]
+    limit = check.limit or material.fatigue_limit
+    refuse_unresolvable_meshes(inputs.parts, part_geometries(inputs.parts))
+    tasks = part_tasks(inputs, by_kind)
+    args = (inputs, material, limit)
     say = lambda msg: progress.say("solve", msg)  # noqa: E731
-    if jobs > 1 and len(tasks) > 1 and all(part_is_stored(scene, t.name, t.lengths, material, t.kinds[0]) for t in tasks):
+    if jobs > 1 and len(tasks) > 1 and all(part_is_stored(inputs, t.name, t.lengths, material, t.kinds[0]) for t in tasks):
         built = build_on_threads(numbered(tasks, range(len(tasks))), args, say, jobs)
         built = [sharing_screens(model, built[:i]) for i, model in enumerate(built)]
     else:
@@ -253,14 +255,17 @@ class PartTask:
     after: int | None
 
 
-def part_tasks(scene, by_kind: dict) -> list[PartTask]:
-    """The part models a sweep needs, in the order they are reported."""
-    names = [n for n in scene.check.parts if any(applicable(scene, n, k) for k in by_kind)]
+def part_tasks(inputs: SweepInput, by_kind: dict) -> list[PartTask]:
+    """The part models a sweep needs (none without [check]), in the order they are reported."""
+    if inputs.check is None:
+        return []
+    check, responding = inputs.check, inputs.dynamic_response
+    names = [n for n in check.parts if any(applicable(check, n, k) for k in by_kind)]
     tasks: list[PartTask] = []
     reuses: dict = {}
     for name in names:
         bar = PARTS[name].bar
-        for kinds in kind_groups(scene, name, [k for k in by_kind if applicable(scene, name, k)]):
+        for kinds in kind_groups(check, responding, name, [k for k in by_kind if applicable(check, name, k)]):
             lengths = np.concatenate([by_kind[k][bar] for k in kinds if bar in by_kind[k]]) if bar else np.zeros(0)
             label = name + (f" ({kinds[0]})" if len(kinds) < len(by_kind) > 1 else "")
             keys = (name, (PARTS[name].kind, bar and rail_length(bar), np.unique(np.round(lengths * 1e6)).tobytes()))
@@ -278,11 +283,11 @@ def numbered(tasks: list[PartTask], order) -> list[PartTask]:
     return [replace(t, label=f"({rank[i]}/{len(tasks)}) {t.label}") for i, t in enumerate(tasks)]
 
 
-def build_task(task: PartTask, scene, material, limit: float, say):
+def build_task(task: PartTask, inputs: SweepInput, material, limit: float, say):
     """Build one task's PartModel (progress lines to ``say``), with a summary line."""
     t = time.perf_counter()
     model = build_part_model(
-        scene, task.name, task.lengths, material, limit, lambda msg: say(f"{task.label}: {msg}"), linkage=task.kinds[0]
+        inputs, task.name, task.lengths, material, limit, lambda msg: say(f"{task.label}: {msg}"), linkage=task.kinds[0]
     )
     say(
         f"{task.label}: {model.dofs} DOFs, "
@@ -299,8 +304,8 @@ def build_on_threads(tasks: list[PartTask], args: tuple, say, jobs: int) -> list
     copies that release the GIL, and nothing is pickled back (BLAS on one thread each
     meanwhile). In the tasks' order."""
     with blas_on_one_thread(), reads_shared(), ThreadPoolExecutor(jobs, thread_name_prefix="railcheck-parts") as pool:
-        scene, material, limit = args
-        return list(pool.map(lambda task: build_task(task, scene, material, limit, say=say), tasks))
+        inputs, material, limit = args
+        return list(pool.map(lambda task: build_task(task, inputs, material, limit, say=say), tasks))
 
 
 def build_one_at_a_time(tasks: list[PartTask], args: tuple, say) -> list:
@@ -314,12 +319,12 @@ def build_one_at_a_time(tasks: list[PartTask], args: tuple, say) -> list:
     built, passed 4 GB on the whole rig; PARDISO uses both cores meanwhile, so two
     builds at once saved only their single-threaded assembly and stress recovery
     (:func:`prepare_models`)."""
-    scene, material, limit = args
+    inputs, material, limit = args
     built: list = [None] * len(tasks)
-    order = build_order(tasks, scene)
+    order = build_order(tasks, inputs.parts)
     tasks = numbered(tasks, order)
     for i in order:
-        model = build_task(tasks[i], scene, material, limit, say=say)
+        model = build_task(tasks[i], inputs, material, limit, say=say)
         built[i] = sharing_screens(model, [b for b in built if b is not None])
         del model
         gc.collect()
@@ -327,7 +332,7 @@ def build_one_at_a_time(tasks: list[PartTask], args: tuple, say) -> list:
     return built
 
 
-def build_order(tasks: list[PartTask], scene) -> list[int]:
+def build_order(tasks: list[PartTask], parts: PartsInput) -> list[int]:
     """The indices of ``tasks`` in the order :func:`build_one_at_a_time` builds them: by
     the model each leaves in memory while the later ones are built, the smallest first,
     so the largest builds run beside the fewest models: the parts without a bar (one
@@ -335,7 +340,7 @@ def build_order(tasks: list[PartTask], scene) -> list[int]:
     elements (the largest solve's peak beside the least); a task that reuses another's
     stored fields (``after``) right after it."""
     size = [
-        estimate_elements(g, *mesh_sizes(scene.mesh, g.kind)) for g in (geometry_of(t.name, scene.geometry) for t in tasks)
+        estimate_elements(g, *mesh_sizes(parts.mesh, g.kind)) for g in (geometry_of(t.name, parts.geometry) for t in tasks)
     ]
     ranked = sorted(range(len(tasks)), key=lambda i: (PARTS[tasks[i].name].bar is not None, -size[i], i))
     order: list[int] = []
@@ -352,13 +357,13 @@ def build_order(tasks: list[PartTask], scene) -> list[int]:
     return order
 
 
-def kind_groups(scene, name: str, kinds: list[str]) -> list[list[str]]:
+def kind_groups(check: CheckSpec, responding: bool, name: str, kinds: list[str]) -> list[list[str]]:
     """The linkage kinds that can share one model of a part: all of them, unless the part
     carries the joints' point masses, which differ between the four-bar and the
     slider-crank (a free rail's joint loads, any rail's modes): then one per kind (the
     unit fields they share come from the store, so the second costs the screening)."""
-    carries = name not in scene.check.loads and PARTS[name].bar is not None
-    if carries and (is_free_rail(scene, name) or scene.sweep_dynamic_response):
+    carries = name not in check.loads and PARTS[name].bar is not None
+    if carries and (is_free_rail(check, name) or responding):
         return [[k] for k in kinds]
     return [kinds] if kinds else []
 
@@ -372,7 +377,7 @@ def _mode_note(model) -> str:
 
 
 def run_sweep(
-    scene,
+    scene: Scene,
     out: str | None = None,
     force: bool = False,
     scheduler: str | None = None,
@@ -387,7 +392,8 @@ def run_sweep(
     processes forked from this one, or threads of this process where it cannot fork
     (default one per core; ``serial``: this process alone, no Dask)."""
 
-    validate(scene)
+    inputs = sweep_input(scene)
+    validate(inputs)
     if scheduler is not None:
         check_scheduler(scheduler)
     progress = progress or Progress(quiet=True)
@@ -400,7 +406,7 @@ def run_sweep(
         raise InputError("output.dir", f"cannot write results at {requested}: {exc.strerror or exc}") from None
     say_target(progress, requested, target)
     try:
-        summary, tables, timings = _run_into(scene, staging.path, scheduler, workers, serial, progress, dask)
+        summary, tables, timings = _run_into(inputs, staging.path, scheduler, workers, serial, progress, dask)
         staging.commit()
     except BaseException:
         staging.abandon()
@@ -409,23 +415,23 @@ def run_sweep(
     return SweepRun(summary, target, requested, time.perf_counter() - t0, tables, timings)
 
 
-def _default_dir(scene) -> str:
+def _default_dir(scene: Scene) -> str:
     return "sweep" if scene.output.dir == "results" else f"{scene.output.dir}-sweep"
 
 
-def _run_into(scene, directory: Path, scheduler, workers, serial, progress, dask) -> tuple[dict, dict, dict]:
+def _run_into(inputs: SweepInput, directory: Path, scheduler, workers, serial, progress, dask) -> tuple[dict, dict, dict]:
 
     clock = [time.perf_counter()]
     workers = local_workers(workers, scheduler, progress)
-    by_kind = sweep_settings(scene)
+    by_kind = sweep_settings(inputs)
     progress.say(
         "sweep",
         ", ".join(f"{k}: {v['crank'].size} settings" for k, v in by_kind.items())
-        + f" x {len(scene.sweep.speeds)} speed(s), {scene.sweep.steps} steps",
+        + f" x {len(inputs.sweep.speeds)} speed(s), {inputs.sweep.steps} steps",
     )
-    checked = {kind: _checked(scene, kind, lengths) for kind, lengths in by_kind.items()}
+    checked = {kind: _checked(inputs, kind, lengths) for kind, lengths in by_kind.items()}
     total, total_checked = sum(c.size for c in checked.values()), sum(int(c.sum()) for c in checked.values())
-    large = total > KINEMATIC_DASK_CHUNKS * chunk_size(scene) or total_checked > 4 * checked_chunk_size(scene)
+    large = total > KINEMATIC_DASK_CHUNKS * chunk_size(inputs) or total_checked > 4 * checked_chunk_size(inputs)
     forks = forked.available() and forked.alone()
     if forked.available() and not forks and not serial:
         others = ", ".join(t.name for t in threading.enumerate() if t is not threading.current_thread())
@@ -436,16 +442,16 @@ def _run_into(scene, directory: Path, scheduler, workers, serial, progress, dask
     use_dask = (scheduler is not None or (large and not forks)) if dask is None else dask
     # stored parts read on two threads when the settings run on Dask or are many; any to build: here, one at a time
     models = prepare_models(
-        scene, by_kind, progress, min(2, os.cpu_count() or 1) if (use_dask or large) and not serial else 1
+        inputs, by_kind, progress, min(2, os.cpu_count() or 1) if (use_dask or large) and not serial else 1
     )
     clock.append(time.perf_counter())
     kinds = list(by_kind)
-    tables = {kind: directory / f"sweep-{kind}.{scene.sweep.format}" for kind in kinds}
+    tables = {kind: directory / f"sweep-{kind}.{inputs.sweep.format}" for kind in kinds}
     aggregates = {
-        kind: Aggregate(scene, kind, by_kind[kind], motor_curve_speeds(scene.sweep.speeds), models[kind]) for kind in kinds
+        kind: Aggregate(inputs, kind, by_kind[kind], motor_curve_speeds(inputs.sweep.speeds), models[kind]) for kind in kinds
     }
     jobs = [
-        (lambda kind=kind: sweep_context(scene, kind, models[kind]), by_kind[kind], kind, checked[kind]) for kind in kinds
+        (lambda kind=kind: sweep_context(inputs, kind, models[kind]), by_kind[kind], kind, checked[kind]) for kind in kinds
     ]
     threads = 1 if serial else workers or os.cpu_count() or 1
     with (
@@ -454,40 +460,40 @@ def _run_into(scene, directory: Path, scheduler, workers, serial, progress, dask
         ) as executor,
         ExitStack() as stack,
     ):
-        writers = {kind: stack.enter_context(TableWriter(tables[kind], scene.sweep.format)) for kind in kinds}
-        for kind, columns, curve in evaluated_chunks(scene, jobs, by_kind, models, executor, progress):
+        writers = {kind: stack.enter_context(TableWriter(tables[kind], inputs.sweep.format)) for kind in kinds}
+        for kind, columns, curve in evaluated_chunks(inputs, jobs, by_kind, models, executor, progress):
             writers[kind].write(columns)
             aggregates[kind].add(columns, curve)
     clock.append(time.perf_counter())
-    summary = summary_of(scene, aggregates, tables, models)
+    summary = summary_of(inputs, aggregates, tables, models)
 
     atomic_write_text(directory / "summary.json", to_json(summary) + "\n")
     write_maps(aggregates, directory)
     write_motor_plot(aggregates, directory / "motor.png")
     write_sweep_report(directory / "report.html", summary, tables, directory)
     if "four-bar" in tables:
-        write_rig_page(directory / "rig.html", tables["four-bar"], summary["speeds_Hz"][0], scene.source)
-        write_card(directory, tables["four-bar"], summary["speeds_Hz"][0], scene.source)
+        write_rig_page(directory / "rig.html", tables["four-bar"], summary["speeds_Hz"][0], inputs.source)
+        write_card(directory, tables["four-bar"], summary["speeds_Hz"][0], inputs.source)
     clock.append(time.perf_counter())
     timings = dict(zip(("prepare", "chunks", "report"), np.diff(clock)))
     atomic_write_text(directory / "timings.json", to_json(timings) + "\n")
     return summary, tables, timings
 
 
-def evaluated_chunks(scene, jobs: list, by_kind: dict, models: dict, executor, progress):
+def evaluated_chunks(inputs: SweepInput, jobs: list, by_kind: dict, models: dict, executor, progress):
     """Yield (kind, columns, motor curve) of every chunk of ``jobs`` on ``executor``, the
     settings with a row beyond a part's quasi-static tolerance held back and yielded last,
     settled on their exact response (:func:`settle_exact`)."""
-    exact = ExactPass(len(scene.sweep.speeds))
+    exact = ExactPass(len(inputs.sweep.speeds))
     kinds = [job[2] for job in jobs]
-    for j, columns in executor.map_jobs(jobs, chunk_size(scene), checked_chunk_size(scene), held_chunks(scene)):
+    for j, columns in executor.map_jobs(jobs, chunk_size(inputs), checked_chunk_size(inputs), held_chunks(inputs)):
         columns, curve = exact.hold(kinds[j], columns, columns.pop(MOTOR_CURVE_KEY))
         if columns["setting"].size:
             yield kinds[j], columns, curve
-    yield from settle_exact(scene, exact, by_kind, models, executor, progress)
+    yield from settle_exact(inputs, exact, by_kind, models, executor, progress)
 
 
-def settle_exact(scene, exact: ExactPass, by_kind: dict, models: dict, executor, progress):
+def settle_exact(inputs: SweepInput, exact: ExactPass, by_kind: dict, models: dict, executor, progress):
     """Yield (kind, columns, motor curve) of the settings :class:`ExactPass` held back
     (a row beyond a part's quasi-static tolerance): their parts' dynamic models built for
     those settings alone, the settings evaluated again on ``executor``, each chunk merged
@@ -501,15 +507,15 @@ def settle_exact(scene, exact: ExactPass, by_kind: dict, models: dict, executor,
             f"{kind}: {ids.size:,} settings beyond the quasi-static estimate's tolerance ({', '.join(parts)}): "
             "their exact dynamic response, as a check gives it",
         )
-        built = prepare_models(exact.exact_scene(scene, kind), {kind: lengths}, progress)[kind]
+        built = prepare_models(inputs.responding(tuple(exact.parts[kind])), {kind: lengths}, progress)[kind]
         mixed = {name: built.get(name, m) if name in exact.parts[kind] else m for name, m in models[kind].items()}
         job = (
-            lambda kind=kind, mixed=mixed: sweep_context(scene, kind, mixed),
+            lambda kind=kind, mixed=mixed: sweep_context(inputs, kind, mixed),
             lengths,
             kind,
             np.ones(ids.size, dtype=bool),
         )
-        for _, columns in executor.map_jobs([job], chunk_size(scene), checked_chunk_size(scene), held_chunks(scene)):
+        for _, columns in executor.map_jobs([job], chunk_size(inputs), checked_chunk_size(inputs), held_chunks(inputs)):
             curve = columns.pop(MOTOR_CURVE_KEY)
             columns["setting"] = ids[columns["setting"]]
             yield (kind, *exact.merged(kind, columns, curve))
@@ -526,18 +532,18 @@ def local_workers(workers: int | None, scheduler, progress) -> int | None:
     return workers
 
 
-def _checked(scene, kind: str, lengths: dict) -> np.ndarray:
+def _checked(inputs: SweepInput, kind: str, lengths: dict) -> np.ndarray:
     """(N,) True where the sweep checks a setting's parts by FE
     (:func:`railcheck.sweep.chunk.checked_settings`; none without parts to check)."""
-    if scene.check is None:
+    if inputs.check is None:
         return np.zeros(lengths["crank"].size, dtype=bool)
-    return checked_settings(sweep_context(scene, kind, {}), lengths)
+    return checked_settings(sweep_context(inputs, kind, {}), lengths)
 
 
-def sweep_context(scene, kind: str, models: dict):
+def sweep_context(inputs: SweepInput, kind: str, models: dict) -> SweepContext:
     """What every chunk of ``kind`` shares (:class:`~railcheck.sweep.context.SweepContext`):
-    the scene, its speeds and steps, the parts' ``models``, the material's density."""
-    density = MATERIALS[scene.check.material].density if scene.check else 0.0
+    the sweep's record, its speeds and steps, the parts' ``models``, the material's density."""
+    density = MATERIALS[inputs.check.material].density if inputs.check else 0.0
     return SweepContext(
-        scene, kind, tuple(scene.sweep.speeds), scene.sweep.steps, models, density, with_overrides(scene.geometry)[0]
+        inputs, kind, tuple(inputs.sweep.speeds), inputs.sweep.steps, models, density, with_overrides(inputs.geometry)[0]
     )

@@ -76,14 +76,15 @@ def test_a_console_that_cannot_print_a_character_gets_an_escape(tmp_path):
 
 
 def test_a_sweep_without_any_load_is_refused_naming_the_effects():
+    from railcheck.sweep.inputs import sweep_input
     from railcheck.sweep.run import validate
 
     text = FINAL_DESIGN + '[check]\nparts = ["crank-rail"]\neffects = []\n[sweep]\nsteps = 16\nkind = "four-bar"\n'
     with pytest.raises(InputError, match="check.effects"):
-        validate(parse_scene(tomllib.loads(text), "t"))
+        validate(sweep_input(parse_scene(tomllib.loads(text), "t")))
     # a sweep's speeds are its own: a [mechanism] without a speed is fine
     moving = text.replace("effects = []", 'effects = ["inertia"]')
-    validate(parse_scene(tomllib.loads(moving.replace(FINAL_DESIGN, "")), "t"))
+    validate(sweep_input(parse_scene(tomllib.loads(moving.replace(FINAL_DESIGN, "")), "t")))
 
 
 @pytest.mark.parametrize("address", ["not an address", "udp://host:1", "tcp://host", "tcp://:8786", "tcp://h:99999"])

@@ -8,6 +8,7 @@ import pytest
 from helpers import one_line_exit_2
 from railcheck.base.errors import InputError
 from railcheck.scene import parse_scene
+from railcheck.sweep.inputs import sweep_input
 from railcheck.sweep.run import validate
 
 BASE = '[sweep]\nsteps = 16\nkind = "slider-crank"\n'
@@ -65,7 +66,7 @@ def test_bad_sweep_input_names_the_field(text, needles):
     import tomllib
 
     with pytest.raises(InputError) as err:
-        validate(parse_scene(tomllib.loads(text), "test"))
+        validate(sweep_input(parse_scene(tomllib.loads(text), "test")))
     for n in needles:
         assert n in str(err.value), str(err.value)
 
