@@ -234,7 +234,8 @@ def test_the_safe_speed_with_margin_solves_a_known_crossing():
 def test_every_default_that_shapes_the_verdict_is_stated():
     from railcheck.model.assumptions import assumptions
 
-    words = " | ".join(assumptions(_scene(1.0), {}))
+    scene = _scene(1.0)
+    words = " | ".join(assumptions(parts_input(scene), scene.components, {}))
     for needle in (
         "sigma_y 490 MPa",
         "sigma_u / 2",

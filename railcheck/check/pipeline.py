@@ -62,7 +62,7 @@ def run_pipeline(
     if needs_linkage(scene):
         t = time.perf_counter()
         kin = run_kinematics(kinematics_input(scene))
-        kin_summary = kinematics_summary(scene, kin)
+        kin_summary = kinematics_summary(scene.linkage_spec, kin)
         warnings += list(kin.motion.warnings)
         timings["kinematics"] = time.perf_counter() - t
         stages.append("kinematics")

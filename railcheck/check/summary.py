@@ -15,6 +15,7 @@ from railcheck.geometry.catalogue import (
     with_overrides,
 )
 from railcheck.model.assumptions import assumptions
+from railcheck.model.inputs import parts_input
 from railcheck.model.records import DynamicResult, FatigueResult, PartResult, PipelineResult, SeedMethod
 from railcheck.parts import kind_of, mass_model
 from railcheck.report.forces import applied_factor, governing_forces
@@ -69,7 +70,7 @@ def summary_of(result: PipelineResult) -> dict:
     if scene.check is not None:
         out["material"] = scene.check.material
         out["effects"] = list(scene.check.effects)
-        out["assumptions"] = assumptions(scene, result.parts)
+        out["assumptions"] = assumptions(parts_input(scene), scene.components, result.parts)
     if any(kind_of(name).weighed_per_metre for name in result.parts):
         out["rail_mass_per_m_kg"] = rail_masses(scene.geometry, scene.formulation)
     if result.kinematics_summary is not None:

@@ -34,7 +34,7 @@ def run(args) -> int:
     if scene.mechanism is None:
         raise InputError("mechanism", "missing: `railcheck kinematics` needs a [mechanism] table")
     result = run_kinematics(kinematics_input(scene))
-    summary = kinematics_summary(scene, result)
+    summary = kinematics_summary(scene.linkage_spec, result)
     if args.plots:
         paths = write_kinematics_plots(result, Path(args.plots))
         summary["plots"] = [str(p) for p in paths]

@@ -5,19 +5,22 @@ from __future__ import annotations
 
 import re
 
+from railcheck.components.ratings import ComponentSpec
 from railcheck.fea.fatigue import RELIABILITY
 from railcheck.fea.materials import MATERIALS
 from railcheck.loads.weight import CANTILEVERED, shaft_moment
 from railcheck.model.certificate import QUASI_STATIC_TOLERANCE, SMALL_DISPLACEMENT_SHARE
+from railcheck.model.inputs import PartsInput
 from railcheck.model.loading import linkage_lengths
 
 
-def assumptions(scene, parts: dict) -> list[str]:
-    """The assumptions behind a check of ``scene`` whose part results are ``parts``
-    (name -> PartResult); empty without a [check]."""
-    if scene.check is None:
+def assumptions(inputs: PartsInput | None, spec: ComponentSpec, parts: dict) -> list[str]:
+    """The assumptions behind a check of the parts' record ``inputs`` (None without a
+    [check]: none) whose part results are ``parts`` (name -> PartResult), its components
+    dimensioned and rated by ``spec``."""
+    if inputs is None:
         return []
-    c, f = scene.checked, scene.fatigue
+    c, f = inputs.check, inputs.fatigue
     m = MATERIALS[c.material]
     out = [
         f"material {m.name}: sigma_u {m.ultimate_strength / 1e6:.0f} MPa, sigma_y {m.yield_strength / 1e6:.0f} MPa, "
@@ -40,7 +43,7 @@ def assumptions(scene, parts: dict) -> list[str]:
         ),
         f"effects: {', '.join(c.effects) or 'none'}; support: {c.support}",
     ]
-    out.append(weight_assumption(scene, parts))
+    out.append(weight_assumption(inputs, parts))
     if parts:
         out.append(mesh_assumption(parts))
     if c.components:
@@ -50,24 +53,24 @@ def assumptions(scene, parts: dict) -> list[str]:
             "shaft between two 6205 bearings, the motor driving O2's shaft; screws and shafts on loads "
             f"x{c.factor:g} with the standards' resistance factors (EN 1993-1-8 gamma_M0 1.0, gamma_M2 1.25; "
             "Shigley DE-Goodman n >= 1, bending fully reversed); the screws' slip (VDI 2230, slip safety "
-            f"{scene.components.slip_safety:g} under a reversing load: a joint that slips loosens) on unfactored "
+            f"{spec.slip_safety:g} under a reversing load: a joint that slips loosens) on unfactored "
             "loads, a failure; bearings and carriages on unfactored loads against their required static "
-            f"safety ({scene.components.bearing_required_s0:g}, {scene.components.carriage_required_s0:g}) and "
-            f"life ({scene.components.bearing_required_life / 3600:.0f} h); every dimension and rating from seed 000, "
+            f"safety ({spec.bearing_required_s0:g}, {spec.carriage_required_s0:g}) and "
+            f"life ({spec.bearing_required_life / 3600:.0f} h); every dimension and rating from seed 000, "
             "a cited catalogue or assumed (docs/components.md)"
         )
     if any(p.job.certificate is not None or p.cycle.dynamic is not None for p in parts.values()):
         out.append(
             f"dynamics: quasi-static where the one-mode amplification estimate is at most {QUASI_STATIC_TOLERANCE:.2f}, "
-            f"else the modal response (mode-acceleration, modal damping {scene.dynamic.damping:g}, assumed)"
+            f"else the modal response (mode-acceleration, modal damping {inputs.dynamic.damping:g}, assumed)"
         )
     return out
 
 
-def weight_assumption(scene, parts: dict) -> str:
+def weight_assumption(inputs: PartsInput, parts: dict) -> str:
     """How the rig's weight is applied: in plane (a vertical rig), out of plane on the free
     rails (a table-top rig, with the bound it takes and the shafts' moments), or not at all."""
-    if scene.plane == "vertical":
+    if inputs.plane == "vertical":
         return "weight: a vertical rig ([mechanism] plane): every part's weight acts in the mechanism's plane"
     weighed = [p.job.loads for p in parts.values() if p.job.loads.weight is not None]
     if not weighed:
@@ -76,7 +79,7 @@ def weight_assumption(scene, parts: dict) -> str:
             "no part checked here carries it (it loads free-body rails)"
         )
     shafts = "; ".join(
-        f"{w.weight.bar} shaft {shaft_moment(w.weight, linkage_lengths(scene.linkage_spec.linkage)):.1f} N m"
+        f"{w.weight.bar} shaft {shaft_moment(w.weight, linkage_lengths(inputs.linkage_spec.linkage)):.1f} N m"
         for w in weighed
         if w.weight.bar in CANTILEVERED
     )

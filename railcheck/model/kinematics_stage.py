@@ -21,7 +21,6 @@ from railcheck.effects import simulated_effects
 from railcheck.geometry.catalogue import RailSpec, with_overrides
 from railcheck.kinematics.checks import CheckResult, configuration_checks, transmission_extremes
 from railcheck.kinematics.dynamics import STANDARD_GRAVITY, Dynamics, inverse_dynamics
-from railcheck.kinematics.linkage import FourBar
 from railcheck.kinematics.massmodel import MassModel
 from railcheck.kinematics.motion import Motion, solve_motion
 from railcheck.parts import rail_length
@@ -144,9 +143,9 @@ def joints_on_rails(lengths: dict[str, float], rail: RailSpec) -> dict[str, Chec
     return {"joints_on_rails": CheckResult(ok, "; ".join(problems) if problems else "; ".join(notes))}
 
 
-def kinematics_summary(scene: Scene, result: KinematicsResult) -> dict:
-    """The JSON-ready summary of the kinematics stage (units in the key names)."""
-    lk = scene.linkage_spec.linkage
+def kinematics_summary(mechanism: MechanismSpec, result: KinematicsResult) -> dict:
+    """The JSON-ready summary of the kinematics stage of ``mechanism`` (units in the key names)."""
+    lk = mechanism.linkage
     dyn = result.dynamics
     peaks, angles = {}, {}
     for joint in dyn.reactions:
@@ -159,8 +158,8 @@ def kinematics_summary(scene: Scene, result: KinematicsResult) -> dict:
         "kind": lk.kind,
         "assembly": lk.assembly,
         **{f"{k}_mm": v * 1e3 for k, v in lk.lengths.items()},
-        "speed_Hz": scene.linkage_spec.speed / (2 * math.pi),
-        "steps": scene.linkage_spec.steps,
+        "speed_Hz": mechanism.speed / (2 * math.pi),
+        "steps": mechanism.steps,
     }
     return {
         "mechanism": mechanism,
@@ -173,7 +172,3 @@ def kinematics_summary(scene: Scene, result: KinematicsResult) -> dict:
         "peak_crank_angle_deg": angles,
         "warnings": list(result.motion.warnings),
     }
-
-
-def is_fourbar(scene: Scene) -> bool:
-    return scene.mechanism is not None and isinstance(scene.linkage_spec.linkage, FourBar)

@@ -9,6 +9,7 @@ import textwrap
 import numpy as np
 
 from railcheck.model.assumptions import assumptions
+from railcheck.model.inputs import parts_input
 from railcheck.model.records import safe_speed_words
 from railcheck.parts import kind_of
 from railcheck.units import floored, for_people
@@ -104,7 +105,7 @@ def parts_table(result) -> str:
     lines += certificate_lines(result)
     lines += dynamic_lines(result)
     lines += _model_notes(result)
-    lines += ["  assumptions:"] + [f"    - {a}" for a in assumptions(result.scene, result.parts)]
+    lines += ["  assumptions:"] + [f"    - {a}" for a in assumptions(*_assumed(result.scene), result.parts)]
     return fit_width("\n".join(lines))
 
 
@@ -539,3 +540,9 @@ def support_words(result) -> str:
     if any(p.job.free_body is None for p in plates):
         words.append("plates clamped at their support")
     return ", ".join(words)
+
+
+def _assumed(scene) -> tuple:
+    """The parts' record (None without a [check]) and the components' spec whose
+    assumptions a check states."""
+    return (None if scene.check is None else parts_input(scene)), scene.components
