@@ -218,16 +218,16 @@ def test_the_safe_speed_with_margin_solves_a_known_crossing():
     crossing solves 0.5 s (1 + 0.01 s) = 1 (s = 1.9615...) unless the estimate's share,
     (A - 1) / 0.05, reaches 1 first (at s = 5: not here); a rig failing at rest gives 0."""
     from railcheck.model.utilisation import quasi_static_share
-    from railcheck.sweep.validity import safe_s_with_margin
+    from railcheck.sweep.validity import safe_ratio_sq_with_margin
 
     def margin(s, base=0.5):
         a = 1 + 0.01 * s
         return {"p": (None, None, None, a, np.maximum(base * s * a, quasi_static_share(a)))}
 
-    got = safe_s_with_margin(margin, np.array([2.0, 2.0]), 2)
+    got = safe_ratio_sq_with_margin(margin, np.array([2.0, 2.0]), 2)
     want = (-1 + math.sqrt(1 + 4 * 0.01 * 2)) / (2 * 0.01)
     assert got == pytest.approx([want, want], rel=1e-6)
-    steep = safe_s_with_margin(lambda s: margin(s, base=0.01), np.array([100.0]), 1)
+    steep = safe_ratio_sq_with_margin(lambda s: margin(s, base=0.01), np.array([100.0]), 1)
     assert steep[0] == pytest.approx(5.0, rel=1e-6)  # the estimate's tolerance sets it
 
 

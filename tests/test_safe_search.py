@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 from railcheck.sweep.validity import share_crossing
-from railcheck.sweep.verdicts import CROSSING_TOLERANCE, safe_s_convex
+from railcheck.sweep.verdicts import CROSSING_TOLERANCE, safe_ratio_sq_convex
 
 
 def _quadratics(n: int, seed: int = 3):
@@ -33,7 +33,7 @@ def test_convex_search_finds_the_quadratic_crossing_and_counts_few_evaluations()
         return {"part": (None, None, None, None, np.sqrt(a[idx] + b[idx] * s + c[idx] * s * s))}
 
     u1 = np.sqrt(a + b + c)
-    s = safe_s_convex(at, a.size, u1)
+    s = safe_ratio_sq_convex(at, a.size, u1)
     u = np.sqrt(a + b * s + c * s * s)
     assert np.all(np.abs(u - 1.0) < 10 * CROSSING_TOLERANCE)
     assert np.allclose(s, _root(a, b, c), rtol=1e-7)

@@ -215,11 +215,11 @@ def evaluate_cycle(job: PartJob, fields: UnitFields, histories: tuple[SourceHist
     results = []
     histories = tuple(with_dynamics(job, solve, h) for h in histories)
     for h in histories:
-        few, C = reduced(fields, h.C)  # the same stresses in the fewest coefficients (exact)
+        basis, C = reduced(fields, h.C)  # the same stresses in the fewest coefficients (exact)
         steps = candidate_steps(C)
         # the nodes' subspace bounds, once for the peaks and the fatigue minimum
-        bounds = verdict_bounds(job, few, C[steps]) if screening.applies(steps.size, C.shape[1]) else None
-        env = envelope(few, C, every_node=False, steps=steps, bounds=bounds)  # each node's maximum only for the VTU
+        bounds = verdict_bounds(job, basis, C[steps]) if screening.applies(steps.size, C.shape[1]) else None
+        env = envelope(basis, C, every_node=False, steps=steps, bounds=bounds)  # each node's maximum only for the VTU
         vm_seed = von_mises(stress_at(fields.stress, h.C[h.seed_step]))
         k = int(np.argmax(np.where(_verdict_mask(fields), vm_seed, -np.inf)))
         seed = SeedMethod(
@@ -228,7 +228,7 @@ def evaluate_cycle(job: PartJob, fields: UnitFields, histories: tuple[SourceHist
             location=_point(fields.nodes[k]),
             joint=h.joint,
         )
-        results.append((h, env, seed, fatigue_of(job, few, C, steps, bounds)))
+        results.append((h, env, seed, fatigue_of(job, basis, C, steps, bounds)))
     h, env, _, _ = max(results, key=lambda r: r[1].max_von_mises)
     if job.node_fields:  # the VTU's envelope at every node, here with the cycle (on its thread or worker)
         env = replace(env, node_envelope=node_envelope_of(fields, h.C))

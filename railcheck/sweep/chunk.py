@@ -53,19 +53,19 @@ from railcheck.sweep.motor import (
 )
 from railcheck.sweep.validity import (
     Spectra,
-    certified_safe_s,
+    certified_safe_ratio_sq,
     certifying,
     margin_governs,
-    safe_s_with_margin,
+    safe_ratio_sq_with_margin,
     with_estimates,
     with_margin,
 )
 from railcheck.sweep.verdicts import (
     SAFE_SPEED_SCAN,
     governing_of,
-    safe_s_bisect,
-    safe_s_closed,
-    safe_s_convex,
+    safe_ratio_sq_bisect,
+    safe_ratio_sq_closed,
+    safe_ratio_sq_convex,
     scaled_results,
     utilisation,
     worst_utilisation,
@@ -216,8 +216,8 @@ def coefficients(ctx: SweepContext, name: str, loads: Loads, sel: np.ndarray) ->
     if loads_model.is_free_body:  # one history: both joints' forces, the motor's torque, the rail's own inertia
         Ct = free_coeffs(loads_model, total, torque, loads.motion, sel)
         if loads.constant is not None:
-            Cg = free_coeffs(loads_model, loads.constant.reactions, loads.constant.torque, loads.static, sel)
-            return [(Cg, Ct - Cg)]
+            C_gravity = free_coeffs(loads_model, loads.constant.reactions, loads.constant.torque, loads.static, sel)
+            return [(C_gravity, Ct - C_gravity)]
         if loads_model.weight is None:
             return [(None, Ct)]
         Cw = weight_part(loads_model, loads.motion, sel, Ct.shape)  # the table-top rig's weight: constant
@@ -230,8 +230,8 @@ def coefficients(ctx: SweepContext, name: str, loads: Loads, sel: np.ndarray) ->
         if loads.constant is None:
             out.append((None, Ct))
         else:
-            Cg = coeffs(src, loads.constant.reactions, loads.static)
-            out.append((Cg, Ct - Cg))
+            C_gravity = coeffs(src, loads.constant.reactions, loads.static)
+            out.append((C_gravity, Ct - C_gravity))
     return out
 
 
@@ -296,8 +296,8 @@ def evaluate_part(
             tip[idx] = np.maximum(tip[idx], tip_peak(screen, C).reshape(len(history), idx.size).max(axis=0))
             amp[idx] = np.maximum(amp[idx], 1.0)  # quasi-static: the peak is its own
             continue
-        for Cg, Ci in history:  # with modes: each source's correction read on the modes' screen
-            C = _source_history(model, length, s, idx, Cg, Ci)
+        for C_gravity, C_inertia in history:  # with modes: each source's correction read on the modes' screen
+            C = _source_history(model, length, s, idx, C_gravity, C_inertia)
             quasi = von_mises_peak(screen, hull_steps(C))
             dq = modal_correction(modes.modal_loads, modes.hz, C, speed0 * np.sqrt(s[idx]), model.damping)
             C = hull_steps(np.concatenate([C, dq], axis=2))
@@ -310,11 +310,13 @@ def evaluate_part(
     return vm, fat, tip, np.where(np.isfinite(amp), amp, 1.0)
 
 
-def _source_history(model, length, s: np.ndarray, idx: np.ndarray, Cg, Ci: np.ndarray) -> np.ndarray:
+def _source_history(model, length, s: np.ndarray, idx: np.ndarray, C_gravity, C_inertia: np.ndarray) -> np.ndarray:
     """(len(idx), T, k): one load source's coefficients for the settings ``idx`` at speed
-    ratio squared ``s`` (gravity ``Cg`` or None, inertia ``Ci``), with the pin pressures
+    ratio squared ``s`` (gravity ``C_gravity`` or None, inertia ``C_inertia``), with the pin pressures
     of the hole pair a bar of ``length`` m uses."""
-    return model.with_pin_pressure(length, s[idx, None, None] * Ci[idx] + (Cg[idx] if Cg is not None else 0.0))
+    return model.with_pin_pressure(
+        length, s[idx, None, None] * C_inertia[idx] + (C_gravity[idx] if C_gravity is not None else 0.0)
+    )
 
 
 def fe_histories(ctx: SweepContext, loads: Loads, sel: np.ndarray) -> dict[str, list[tuple]]:
@@ -358,7 +360,7 @@ def fe_results(ctx: SweepContext, histories: dict, lengths: dict, speeds_s: list
             else:
                 hist, lens = histories[name], bar_len(m)
                 if idx is not None:
-                    hist = [(None if Cg is None else Cg[idx], Ci[idx]) for Cg, Ci in hist]
+                    hist = [(None if C_gravity is None else C_gravity[idx], C_inertia[idx]) for C_gravity, C_inertia in hist]
                     lens = None if lens is None else lens[idx]
                 vm, fat, tip, amp = evaluate_part(m, hist, lens, s, ctx.speeds[0], decide)
             out[name] = (vm, fat, tip, amp, utilisation(m, vm, fat, tip, amp))
@@ -372,11 +374,11 @@ def fe_results(ctx: SweepContext, histories: dict, lengths: dict, speeds_s: list
     per_speed = [base if s == 1.0 else (at(s) if exact else scaled_results(ctx, base, s)) for s in speeds_s]
     convex = exact and not dynamic  # a constant part (gravity, the table-top weight): convex in s
     if dynamic:
-        safe = safe_s_bisect(ctx, lambda s: at(s, decide=True), n_sel, scan=SAFE_SPEED_SCAN)
+        safe = safe_ratio_sq_bisect(ctx, lambda s: at(s, decide=True), n_sel, scan=SAFE_SPEED_SCAN)
     elif convex and not certifying(ctx):
-        safe = safe_s_convex(lambda s, idx: at(s, True, idx), n_sel, worst_utilisation(base))
+        safe = safe_ratio_sq_convex(lambda s, idx: at(s, True, idx), n_sel, worst_utilisation(base))
     elif not exact:
-        safe = safe_s_closed(ctx, base, n_sel)
+        safe = safe_ratio_sq_closed(ctx, base, n_sel)
     if certifying(ctx):  # each speed's rows carry the estimate; the safe speed takes it as a margin
         spectra = Spectra(ctx, histories, lengths)
         per_speed = [with_estimates(ctx, r, spectra.at(s)) for r, s in zip(per_speed, speeds_s)]
@@ -399,7 +401,7 @@ def homogeneous_parts(ctx: SweepContext, histories: dict) -> set[str]:
     return {
         name
         for name, m in ctx.models.items()
-        if m.constant is None and m.dynamic is None and all(Cg is None for Cg, _ in histories[name])
+        if m.constant is None and m.dynamic is None and all(C_gravity is None for C_gravity, _ in histories[name])
     }
 
 
@@ -418,8 +420,8 @@ def _margin_safe(ctx: SweepContext, spectra: Spectra, at, results, base: dict, u
     margin (:func:`railcheck.sweep.validity.with_margin`): ``at(s, decide, idx)`` the
     parts' exact results, ``results(s)`` every setting's at ``s``, ``base`` those at s = 1.
     ``upper`` None: loads ``C_g + s C_i``, convex in s, bounded by the estimate's crossing
-    (:func:`railcheck.sweep.validity.certified_safe_s`); else the quasi-static safe s, the
-    crossing searched below it (:func:`railcheck.sweep.validity.safe_s_with_margin`)."""
+    (:func:`railcheck.sweep.validity.certified_safe_ratio_sq`); else the quasi-static safe s, the
+    crossing searched below it (:func:`railcheck.sweep.validity.safe_ratio_sq_with_margin`)."""
     n_sel = next(iter(base.values()))[0].size
 
     def margin(s) -> dict:
@@ -431,9 +433,9 @@ def _margin_safe(ctx: SweepContext, spectra: Spectra, at, results, base: dict, u
     if upper is None:
         share = lambda s, idx: np.max([quasi_static_share(a) for a in spectra.at(s, idx).values()], axis=0)  # noqa: E731
         u1 = worst_utilisation(with_margin(ctx, base, spectra.at(1.0)))
-        safe, at_safe = certified_safe_s(ctx, margin_of, share, n_sel, u1)
+        safe, at_safe = certified_safe_ratio_sq(ctx, margin_of, share, n_sel, u1)
     else:
-        safe = safe_s_with_margin(margin, upper, n_sel)
+        safe = safe_ratio_sq_with_margin(margin, upper, n_sel)
         at_safe = margin(np.where(np.isfinite(safe), safe, 1.0))
     return safe, margin_governs(ctx, at_safe)
 

@@ -87,7 +87,7 @@ def worst_component(results: dict) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return u[k, cols], np.asarray(names, dtype=object)[k], criteria[k, cols]
 
 
-def components_safe_s(ctx: SweepContext, loads: Loads, sel: np.ndarray) -> tuple[np.ndarray, tuple]:
+def components_safe_ratio_sq(ctx: SweepContext, loads: Loads, sel: np.ndarray) -> tuple[np.ndarray, tuple]:
     """(speed ratio squared (len(sel),) at which the settings' largest component
     utilisation reaches 1 (:func:`railcheck.model.crossing.increasing_crossing`: 0 where a
     component fails at rest, inf where none reaches 1); (component, criterion) that sets
@@ -114,7 +114,7 @@ def components_of_settings(ctx: SweepContext, loads: Loads, sel: np.ndarray) -> 
     """The listed components of the settings ``sel``: ``per_speed``, at each of the
     table's speeds, name -> (utilisation, governing criterion, failed criteria, what it
     needs (:func:`needs_of_settings`; "" where nothing is sized)), each (len(sel),);
-    ``safe_s`` and ``governs`` (:func:`components_safe_s`)."""
+    ``safe_s`` and ``governs`` (:func:`components_safe_ratio_sq`)."""
     per_speed = []
     for w in ctx.speeds:
         s = (w / ctx.speeds[0]) ** 2
@@ -131,7 +131,7 @@ def components_of_settings(ctx: SweepContext, loads: Loads, sel: np.ndarray) -> 
                 for n, r in results.items()
             }
         )
-    safe, governs = components_safe_s(ctx, loads, sel)
+    safe, governs = components_safe_ratio_sq(ctx, loads, sel)
     return {"per_speed": per_speed, "safe_s": safe, "governs": governs}
 
 

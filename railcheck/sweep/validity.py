@@ -32,7 +32,7 @@ from railcheck.sweep.verdicts import (
     criterion_utilisations,
     governing_of,
     illinois,
-    safe_s_convex,
+    safe_ratio_sq_convex,
     utilisation,
     worst_utilisation,
 )
@@ -51,10 +51,10 @@ class _Source:
     lowest frequency (Hz) and the steps per revolution."""
 
     idx: np.ndarray
-    Pi: np.ndarray
-    Pg: np.ndarray | None
-    Ci: np.ndarray
-    Cg: np.ndarray | None
+    P_inertia: np.ndarray
+    P_gravity: np.ndarray | None
+    C_inertia: np.ndarray
+    C_gravity: np.ndarray | None
     n_forces: int
     hz: float
     steps: int
@@ -74,24 +74,26 @@ class Spectra:
                 continue
             bar = lengths[m.bar] if m.bar else None
             self.parts[name] = [
-                self._source(m, idx, key, Cg, Ci) for idx, key in _key_groups(m, bar, self.n) for Cg, Ci in histories[name]
+                self._source(m, idx, key, C_gravity, C_inertia)
+                for idx, key in _key_groups(m, bar, self.n)
+                for C_gravity, C_inertia in histories[name]
             ]
 
     @staticmethod
-    def _source(m, idx: np.ndarray, key, Cg, Ci) -> _Source:
+    def _source(m, idx: np.ndarray, key, C_gravity, C_inertia) -> _Source:
         forces, couples = force_columns(m.case_names[key])
         cols = forces + couples
-        ci = Ci[idx][..., cols]
-        cg = None if Cg is None else Cg[idx][..., cols]
+        c_inertia = C_inertia[idx][..., cols]
+        c_gravity = None if C_gravity is None else C_gravity[idx][..., cols]
         return _Source(
             idx,
-            harmonic_spectrum(ci),
-            None if cg is None else harmonic_spectrum(cg),
-            ci,
-            cg,
+            harmonic_spectrum(c_inertia),
+            None if c_gravity is None else harmonic_spectrum(c_gravity),
+            c_inertia,
+            c_gravity,
             len(forces),
             m.lowest_hz[key],
-            ci.shape[-2],
+            c_inertia.shape[-2],
         )
 
     def at(self, s, idx: np.ndarray | None = None) -> dict:
@@ -128,16 +130,16 @@ def _estimate(src: _Source, s: np.ndarray, speed0: float, damping: float, rows=N
     depend on the histories' scale, so the unit spectra serve."""
     whole = rows is None or rows.size == src.idx.size
     take = (lambda a: a) if whole else (lambda a: a[rows])  # noqa: E731
-    Pi, Ci = take(src.Pi), take(src.Ci)
+    P_inertia, C_inertia = take(src.P_inertia), take(src.C_inertia)
     speed = speed0 * np.sqrt(s)
-    if src.Pg is None:
-        peak = np.abs(Ci).max(axis=-2)
-        filtered = one_mode_peak(Pi, src.steps, speed, src.hz, damping)
+    if src.P_gravity is None:
+        peak = np.abs(C_inertia).max(axis=-2)
+        filtered = one_mode_peak(P_inertia, src.steps, speed, src.hz, damping)
     else:
-        assert src.Cg is not None  # a gravity spectrum comes with its history
-        Pg, Cg = take(src.Pg), take(src.Cg)
-        peak = np.abs(s[:, None, None] * Ci + Cg).max(axis=-2)
-        filtered = one_mode_peak(s[:, None, None] * Pi + Pg, src.steps, speed, src.hz, damping)
+        assert src.C_gravity is not None  # a gravity spectrum comes with its history
+        P_gravity, C_gravity = take(src.P_gravity), take(src.C_gravity)
+        peak = np.abs(s[:, None, None] * C_inertia + C_gravity).max(axis=-2)
+        filtered = one_mode_peak(s[:, None, None] * P_inertia + P_gravity, src.steps, speed, src.hz, damping)
     with np.errstate(invalid="ignore", divide="ignore"):
         ratio = np.where(peak > 0, filtered / np.where(peak > 0, peak, 1.0), 1.0)
     return largest_significant(ratio, peak, src.n_forces)
@@ -204,7 +206,7 @@ def governing_value(ctx: SweepContext, result: tuple, name: str) -> np.ndarray:
 MARGIN_REFINE = 14
 
 
-def safe_s_with_margin(margin, upper: np.ndarray, n: int) -> np.ndarray:
+def safe_ratio_sq_with_margin(margin, upper: np.ndarray, n: int) -> np.ndarray:
     """The speed ratio squared ``s`` at which the largest utilisation of ``margin(s)``
     (:func:`with_margin` results) reaches 1, vectorised over the settings: 0 where the rig
     fails at rest, inf where no ``s`` up to 2^40 reaches it. ``upper``: the quasi-static
@@ -249,7 +251,7 @@ def scattered(full: dict, idx: np.ndarray, part: dict) -> dict:
     return out
 
 
-def certified_safe_s(ctx: SweepContext, margin_of, share_of, n: int, u1: np.ndarray) -> tuple[np.ndarray, dict]:
+def certified_safe_ratio_sq(ctx: SweepContext, margin_of, share_of, n: int, u1: np.ndarray) -> tuple[np.ndarray, dict]:
     """(safe s (n,), :func:`with_margin` results at it) for loads ``C_g + s C_i`` (convex
     in s) with the estimate as a margin: ``margin_of(s, idx)`` the margin results of the
     settings ``idx`` at their ``s``, ``share_of(s, idx)`` the largest estimate's share of
@@ -282,7 +284,7 @@ def certified_safe_s(ctx: SweepContext, margin_of, share_of, n: int, u1: np.ndar
     unbounded = rest[~np.isfinite(s_q[rest])]
     if unbounded.size:  # no estimate's crossing: the criteria's own, from the secant through 0 and 1
         sub_at = lambda s, j: margin_of(s, unbounded[j])  # noqa: E731
-        safe[unbounded] = safe_s_convex(sub_at, unbounded.size, u1[unbounded])
+        safe[unbounded] = safe_ratio_sq_convex(sub_at, unbounded.size, u1[unbounded])
     finite = rest[np.isfinite(safe[rest])]
     at_safe = at_q if finite.size == 0 else scattered(at_q, finite, margin_of(safe[finite], finite))
     return safe, at_safe

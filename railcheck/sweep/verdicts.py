@@ -56,7 +56,7 @@ def scaled_results(ctx: SweepContext, base: dict, s) -> dict:
     return out
 
 
-def safe_s_closed(ctx: SweepContext, base: dict, n: int) -> np.ndarray:
+def safe_ratio_sq_closed(ctx: SweepContext, base: dict, n: int) -> np.ndarray:
     """Without gravity: every speed-dependent utilisation is ``s u(1)``; constant parts
     (explicit loads) do not change. 0 where a constant part already fails; inf where no
     part depends on speed."""
@@ -80,7 +80,7 @@ SAFE_SPEED_SCAN = 8
 SAFE_SPEED_REFINE = 10
 
 
-def safe_s_bisect(ctx: SweepContext, at, n: int, iterations: int = 60, scan: int = 0) -> np.ndarray:
+def safe_ratio_sq_bisect(ctx: SweepContext, at, n: int, iterations: int = 60, scan: int = 0) -> np.ndarray:
     """The ``s`` where the largest utilisation first reaches 1 (vectorised over the
     settings): doubling from 1 until it is exceeded, then bisection; 0 where the rig fails
     at rest, inf where no ``s`` up to 2^60 reaches 1.
@@ -126,7 +126,7 @@ def safe_s_bisect(ctx: SweepContext, at, n: int, iterations: int = 60, scan: int
     return np.where(fails_at_rest, 0.0, np.where(unbounded, np.inf, r**2))
 
 
-def safe_s_convex(at, n: int, u1: np.ndarray, iterations: int = 40) -> np.ndarray:
+def safe_ratio_sq_convex(at, n: int, u1: np.ndarray, iterations: int = 40) -> np.ndarray:
     """The ``s`` where the largest utilisation of ``at(s, idx)`` (the results of the
     settings ``idx`` at their ``s``) reaches 1, for loads ``C_g + s C_i`` with no dynamic
     response (vectorised over the ``n`` settings; ``u1`` the utilisation at s = 1): each
