@@ -1,6 +1,7 @@
-"""What the tests share: scene texts (TOML) and the one factory of [sweep] tables, the
-sweep's runs and rows, the check of a sweep row's setting, and the pictures' and pages'
-checks. Test modules import these from here, never from each other."""
+"""What the tests share: scene texts (TOML), the one factory of scenes (:func:`make_scene`,
+merging texts and tables) and of [sweep] tables, the sweep's runs and rows, the check of a
+sweep row's setting, and the pictures' and pages' checks. Test modules import these from
+here, never from each other."""
 
 import json
 import os
@@ -162,23 +163,43 @@ def table_rows(run, kind: str = "four-bar") -> dict:
     return {k: np.asarray(v.to_numpy(zero_copy_only=False)) for k, v in zip(table.column_names, table.columns)}
 
 
-def check_scene_of_row(row: dict, speed_hz: float, sweep_text: str = FE_SWEEP, steps: int = 360):
-    """The scene of `railcheck check` of a sweep row's setting (four-bar or slider-crank)
-    at ``speed_hz``: the sweep's [check] and everything after it, with the bolts at the
-    setting's own holes (as the sweep loads them)."""
+def scene_doc(*pieces) -> dict:
+    """One scene document from ``pieces``, each a TOML text or a document (dict), merged
+    table by table in order: a later piece's keys replace an earlier one's, its tables
+    merge into theirs (``[loads.NAME]`` part by part). The one way the tests compose
+    scenes: no text is split or spliced."""
+    doc: dict = {}
+    for piece in pieces:
+        _merge(doc, tomllib.loads(piece) if isinstance(piece, str) else piece)
+    return doc
+
+
+def _merge(into: dict, doc: dict) -> None:
+    for key, value in doc.items():
+        if isinstance(value, dict) and isinstance(into.get(key), dict):
+            _merge(into[key], value)
+        else:
+            into[key] = json.loads(json.dumps(value)) if isinstance(value, (dict, list)) else value
+
+
+def make_scene(*pieces, source: str = "test"):
+    """The :class:`~railcheck.scene.Scene` of :func:`scene_doc` of ``pieces``."""
     from railcheck.scene import parse_scene
 
-    bars = ("crank", "coupler", "offset") if row.get("kind") == "slider-crank" else ("crank", "coupler", "rocker", "ground")
-    lengths = "\n".join(f'{"ground" if b == "offset" else b} = "{row[f"{b}_mm"]:.6f} mm"' for b in bars)
-    text = f"""
-[mechanism]
-kind = "{row.get("kind", "four-bar")}"
-{lengths}
-speed = "{speed_hz:.17g} Hz"
-steps = {steps}
+    return parse_scene(scene_doc(*pieces), source)
 
-[check]""" + sweep_text.split("[check]")[1].replace("parts = [", 'bolt_position = "actual"\nparts = [')
-    return parse_scene(tomllib.loads(text), "check")
+
+def check_scene_of_row(row: dict, speed_hz: float, sweep_text: str = FE_SWEEP, steps: int = 360):
+    """The scene of `railcheck check` of a sweep row's setting (four-bar or slider-crank)
+    at ``speed_hz``: the sweep scene's tables but [sweep], its [mechanism] (the plane
+    included) set to the row's bar lengths, speed and ``steps``, and the bolts at the
+    setting's own holes (as the sweep loads them)."""
+    slider = row.get("kind") == "slider-crank"
+    bars = ("crank", "coupler", "offset") if slider else ("crank", "coupler", "rocker", "ground")
+    mechanism = {"ground" if b == "offset" else b: f"{row[f'{b}_mm']:.6f} mm" for b in bars}
+    mechanism |= {"kind": row.get("kind", "four-bar"), "speed": f"{speed_hz:.17g} Hz", "steps": steps}
+    doc = {k: v for k, v in scene_doc(sweep_text).items() if k != "sweep"}
+    return make_scene(doc, {"mechanism": mechanism, "check": {"bolt_position": "actual"}}, source="check")
 
 
 def package_dirs() -> dict[str, Path]:
