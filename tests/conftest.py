@@ -1,5 +1,7 @@
 import math
 import os
+import shutil
+from pathlib import Path
 
 import pytest
 
@@ -35,3 +37,40 @@ def agree_sig(a: float, b: float, figures: int = 4) -> bool:
 @pytest.fixture
 def sig():
     return agree_sig
+
+
+def _copy_meshes(source: Path, target: Path) -> None:
+    """Copy the mesh entries of cache folder ``source`` that ``target`` lacks (each through
+    a temporary name and a rename, as the mesher writes: a reader never sees half a file;
+    an entry is a regular file, checked against its own hash when read)."""
+    from railcheck.geometry.cache import ENTRY_NAME
+
+    if not source.is_dir():
+        return
+    target.mkdir(parents=True, exist_ok=True)
+    for entry in source.glob("*.npz"):
+        if ENTRY_NAME.fullmatch(entry.name) and entry.is_file() and not entry.is_symlink():
+            if not (target / entry.name).exists():
+                partial = target / f".{entry.name}.{os.getpid()}.copy"
+                shutil.copyfile(entry, partial)
+                os.replace(partial, target / entry.name)
+
+
+@pytest.fixture
+def cache_with_meshes():
+    """A factory of cache folders (RAILCHECK_CACHE) holding the default cache's meshes and
+    no unit fields, for the tests that count unit solves from an empty store without
+    meshing again (a few seconds a rail); the meshes such a test made go back to the
+    default cache when it ends, where the next run finds them."""
+    from railcheck.environment import cache_dir
+
+    default, made = cache_dir(), []
+
+    def make(folder: Path) -> Path:
+        _copy_meshes(default, folder)
+        made.append(folder)
+        return folder
+
+    yield make
+    for folder in made:
+        _copy_meshes(folder, default)

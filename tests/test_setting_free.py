@@ -123,7 +123,7 @@ def _check(tmp_path, label, text, monkeypatch, cache):
     return json.loads((tmp_path / label / "summary.json").read_text())
 
 
-def test_another_setting_after_a_check_solves_nothing_and_equals_its_cold_check(tmp_path, monkeypatch):
+def test_another_setting_after_a_check_solves_nothing_and_equals_its_cold_check(tmp_path, monkeypatch, cache_with_meshes):
     """A check of the default setting fills the store; a check of 420/900/720 mm then
     assembles and solves nothing (every solve counted) and writes the summary a check of
     that setting from an empty store writes."""
@@ -139,12 +139,13 @@ def test_another_setting_after_a_check_solves_nothing_and_equals_its_cold_check(
     monkeypatch.setattr(store, "solve_unit_cases", counted)
     crank = '["crank-rail"]'  # the coupler's sharing is the sweep test's (slow tier)
     other = _scene("420 mm", "900 mm", "720 mm", parts=crank)
-    _check(tmp_path, "first", _scene(parts=crank), monkeypatch, tmp_path / "cache")
+    cache, empty = (cache_with_meshes(tmp_path / name) for name in ("cache", "empty"))  # no unit fields
+    _check(tmp_path, "first", _scene(parts=crank), monkeypatch, cache)
     assert len(solves) == 1
     solves.clear()
-    warm = _check(tmp_path, "warm", other, monkeypatch, tmp_path / "cache")
+    warm = _check(tmp_path, "warm", other, monkeypatch, cache)
     assert solves == []
-    cold = _check(tmp_path, "cold", other, monkeypatch, tmp_path / "empty")
+    cold = _check(tmp_path, "cold", other, monkeypatch, empty)
     assert len(solves) == 1
     assert warm == cold
     first = json.loads((tmp_path / "first" / "summary.json").read_text())
@@ -268,7 +269,7 @@ def test_the_load_rule_is_built_once_and_dropped_before_the_factorisation(crank,
         np.testing.assert_array_equal(getattr(dropped, name), getattr(kept, name))
 
 
-def test_stored_parts_checked_on_threads_equal_one_after_another(tmp_path, monkeypatch):
+def test_stored_parts_checked_on_threads_equal_one_after_another(tmp_path, monkeypatch, cache_with_meshes):
     """Issue 59's every-file check: with every part's unit fields stored, the parts'
     cycles run on two threads of the process (BLAS on one thread each) and their files
     are written on the calling thread; the summary and the VTU's node fields (the
@@ -282,7 +283,7 @@ def test_stored_parts_checked_on_threads_equal_one_after_another(tmp_path, monke
     from railcheck.check.run import run_check
     from railcheck.scene import parse_scene
 
-    monkeypatch.setenv("RAILCHECK_CACHE", str(tmp_path / "cache"))
+    monkeypatch.setenv("RAILCHECK_CACHE", str(cache_with_meshes(tmp_path / "cache")))
     text = _scene(parts='["crank-rail", "coupler-rail"]').replace("vtk = false", "vtk = true")
     scene = parse_scene(tomllib.loads(text), "test")
     run_check(scene, str(tmp_path / "fill"), False, jobs=1)  # fills the store
