@@ -159,7 +159,8 @@ def test_an_api_sweep_killed_before_leaves_nothing_after_the_next(tmp_path, monk
     (tmp_path / f"railcheck-sweep-{dead.pid}-abc" / "sweep").mkdir(parents=True)
     (tmp_path / f"railcheck-sweep-{os.getppid()}-live").mkdir()  # pytest's parent: running
     (tmp_path / "railcheck-sweep-notes").mkdir()
-    run = railcheck.sweep('[sweep]\nkind = "four-bar"\nsteps = 16\ncrank = ["480 mm", "480 mm"]\n', serial=True)
+    scene = '[sweep]\nkind = "four-bar"\nsteps = 16\ncrank = ["480 mm", "480 mm"]\n[output]\nplots = false\n'
+    run = railcheck.sweep(scene, serial=True)
     assert run.summary["by_kind"]["four-bar"]["settings_total"] > 0
     assert sorted(p.name for p in tmp_path.iterdir()) == [f"railcheck-sweep-{os.getppid()}-live", "railcheck-sweep-notes"]
 

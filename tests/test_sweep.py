@@ -374,8 +374,10 @@ speeds = ["0.25 Hz", "0.5 Hz", "0.75 Hz", "1 Hz", "1.25 Hz", "1.5 Hz", "1.75 Hz"
 
 
 def test_csv_table_equals_parquet(tmp_path):
-    text = KINEMATICS_ONLY + 'kind = "slider-crank"\n'
-    a = table_rows(run_sweep_text(tmp_path, text, "pq", serial=True), "slider-crank")
+    text = KINEMATICS_ONLY + 'kind = "slider-crank"\n[output]\nplots = false\n'
+    plain = run_sweep_text(tmp_path, text, "pq", serial=True)
+    a = table_rows(plain, "slider-crank")
+    _draws_no_plots(plain)
     b = table_rows(
         run_sweep_text(tmp_path, text.replace("[sweep]", '[sweep]\nformat = "csv"'), "csv", serial=True), "slider-crank"
     )
@@ -384,6 +386,25 @@ def test_csv_table_equals_parquet(tmp_path):
             np.testing.assert_allclose(b[k].astype(float), a[k], rtol=1e-15, equal_nan=True)
         else:
             assert [str(x) for x in a[k]] == [str(x) for x in b[k]], k
+
+
+def _draws_no_plots(run) -> None:
+    """[output] plots = false: no map, no motor.png, and the report and the console say so
+    instead of naming pictures that are not there; the tables and pages are written."""
+    from railcheck.report.text import sweep_report
+
+    assert not list(run.target.glob("map-*.png")) and not (run.target / "motor.png").exists()
+    assert (run.target / "summary.json").exists() and (run.target / "report.html").exists()
+    assert "[output] plots = false" in (run.target / "report.html").read_text()
+    text = sweep_report(run)
+    assert "motor.png" not in text.replace("no maps or motor.png: [output] plots = false", "")
+
+
+def test_a_sweep_draws_its_maps_and_motor_curve_unless_the_scene_says_plots_false(kinematic_sweep):
+    """The default draws them (the FAIL side of :func:`_draws_no_plots`)."""
+    assert (kinematic_sweep.target / "map-four-bar.png").exists() and (kinematic_sweep.target / "motor.png").exists()
+    with pytest.raises(AssertionError):
+        _draws_no_plots(kinematic_sweep)
 
 
 @pytest.fixture(scope="module")

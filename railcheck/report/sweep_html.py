@@ -30,9 +30,9 @@ BEST = (
 )
 
 
-def write_sweep_report(path: Path, summary: dict, tables: dict, directory: Path) -> None:
+def write_sweep_report(path: Path, summary: dict, tables: dict, directory: Path, plots: bool = True) -> None:
     """Write the sweep's report.html at ``path`` (the maps and motor.png read from
-    ``directory``; ``tables`` kind -> table path)."""
+    ``directory``; ``tables`` kind -> table path; ``plots`` False: none drawn, said so)."""
     speed = summary["speeds_Hz"][0]
     sections = [
         "<h1>railcheck sweep</h1>",
@@ -40,6 +40,7 @@ def write_sweep_report(path: Path, summary: dict, tables: dict, directory: Path)
         f"{summary['steps']} steps per revolution, {html_escape(summary['assembly'])} assembly, effects: "
         f"{html_escape(', '.join(summary['effects']))}; scene: {html_escape(summary.get('scene_source', ''))}</p>",
         _counts(summary),
+        "" if plots else '<p class="note">no maps or motor curve: the scene asks for none ([output] plots = false)</p>',
     ]
     for kind, path_k in tables.items():
         rows = _first_speed_rows(path_k, speed)

@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import math
 import textwrap
+from pathlib import Path
 
 import numpy as np
 
@@ -401,7 +402,7 @@ def mechanism_report(run) -> str:
     )
 
 
-def _motor_lines(sizing: dict | None, mm) -> list[str]:
+def _motor_lines(sizing: dict | None, mm, drawn: bool = True) -> list[str]:
     """The motor a rig needs: peak and RMS torque and peak power to run every passing
     setting at each listed speed, and the largest at a setting's own safe speed."""
     if not sizing:
@@ -422,7 +423,7 @@ def _motor_lines(sizing: dict | None, mm) -> list[str]:
         out.append(
             f"  motor at each setting's safe speed: peak torque {t['value']:.3g} N·m ({mm(t['lengths_m'])} at "
             f"{t['safe_speed_Hz']:.3g} Hz), peak power {p['value']:,.0f} W; the 2013 estimate: "
-            f"{sizing['estimate_2013_Nm']:.0f} N·m (motor.png)"
+            f"{sizing['estimate_2013_Nm']:.0f} N·m" + " (motor.png)" * drawn
         )
     return out + _demand_lines(sizing)
 
@@ -461,6 +462,7 @@ def sweep_report(run) -> str:
         f"{s['assembly']} assembly, effects: {', '.join(s['effects'])}"
     ]
     mm = lambda d: "/".join(f"{v * 1e3:.0f}" for v in d.values()) + " mm"  # noqa: E731
+    drawn = (Path(run.target) / "motor.png").exists()  # [output] plots = false draws none
     for kind, k in s["by_kind"].items():
         lines.append(
             f"{kind}: {k['settings_total']} settings, {k['settings_assemblable']} assemble, "
@@ -485,7 +487,7 @@ def sweep_report(run) -> str:
                 else f"  lowest safe speed: none at {mm(m['lengths_m'])}, which fails at rest ({m['part']} "
                 f"{m['criterion']} beyond its limit with the crank still)"
             )
-        lines += _motor_lines(k.get("motor_sizing"), mm)
+        lines += _motor_lines(k.get("motor_sizing"), mm, drawn)
         if k["shortest_bearing_life"]:
             b = k["shortest_bearing_life"]
             lines.append(
@@ -505,8 +507,9 @@ def sweep_report(run) -> str:
             "(summary.json seed_hypotheses)"
         )
     lines.append(
-        f"results in {run.target}/ (report.html first; {', '.join(s['tables'].values())}, maps, motor.png, "
-        f"summary.json), {run.seconds:.1f} s"
+        f"results in {run.target}/ (report.html first; {', '.join(s['tables'].values())}, "
+        + ("maps, motor.png, " if drawn else "no maps or motor.png: [output] plots = false; ")
+        + f"summary.json), {run.seconds:.1f} s"
     )
     return fit_width("\n".join(lines))
 

@@ -40,6 +40,8 @@ class SweepInput:
     geometry : the catalogue overrides (name -> m).
     plane : the rig's plane.
     source : the scene's source (a path or "built-in"), for the pages and the summary.
+    plots : [output] plots: whether the sweep draws its maps and motor.png (the tables,
+        summary, pages and card are written whatever it says).
     """
 
     sweep: SweepSpec
@@ -51,6 +53,7 @@ class SweepInput:
     geometry: dict[str, float]
     plane: str
     source: str
+    plots: bool = True
 
     @property
     def check(self) -> CheckSpec | None:
@@ -103,4 +106,5 @@ def sweep_input(scene: Scene) -> SweepInput:
         scene.geometry,
         scene.plane,
         scene.source,
+        scene.output.plots,
     )

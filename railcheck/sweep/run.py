@@ -468,9 +468,10 @@ def _run_into(inputs: SweepInput, directory: Path, scheduler, workers, serial, p
     summary = summary_of(inputs, aggregates, tables, models)
 
     atomic_write_text(directory / "summary.json", to_json(summary) + "\n")
-    write_maps(aggregates, directory)
-    write_motor_plot(aggregates, directory / "motor.png")
-    write_sweep_report(directory / "report.html", summary, tables, directory)
+    if inputs.plots:  # [output] plots = false: no maps, no motor curve
+        write_maps(aggregates, directory)
+        write_motor_plot(aggregates, directory / "motor.png")
+    write_sweep_report(directory / "report.html", summary, tables, directory, inputs.plots)
     if "four-bar" in tables:
         write_rig_page(directory / "rig.html", tables["four-bar"], summary["speeds_Hz"][0], inputs.source)
         write_card(directory, tables["four-bar"], summary["speeds_Hz"][0], inputs.source)

@@ -64,6 +64,7 @@ def test_hypotheses_a_sweep_does_not_cover_say_so_in_words(tmp_path):
     """A narrowed sweep holds none of the seed's H1/H2 families: their evidence reads "not in
     this sweep", and no hypothesis text prints nan, inf or none."""
     text = '[sweep]\nkind = "four-bar"\nsteps = 16\ncrank = ["480 mm", "480 mm"]\ncoupler = ["840 mm", "840 mm"]\n'
+    text += "[output]\nplots = false\n"
     run = run_sweep(parse_scene(tomllib.loads(text), "t"), str(tmp_path / "s"), serial=True)
     hyps = {h["id"]: h for h in run.summary["seed_hypotheses"]}
     for hid in ("3.3.2 H1", "3.3.2 H2", "3.3.5 H3.2"):
