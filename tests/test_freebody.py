@@ -47,23 +47,58 @@ def section_fit(S: np.ndarray, nodes: np.ndarray, x0: float, half: float = 6e-3)
     return coef[:3]
 
 
-def test_two_equal_and_opposite_pin_forces_give_axial_stress_f_over_a(rail):
+def _pin_pair_load(rail, force=1000.0):
+    """(N,) N: ``force`` along x pulling the far pin's hole, pushing the near one's."""
+    geo, mesh, K, basis, xs = rail
+    return (
+        unit_traction_vectors(basis, mesh.groups, f"hole_{len(xs) - 1}")[:, 0]
+        - unit_traction_vectors(basis, mesh.groups, "hole_0")[:, 0]
+    ) * force
+
+
+def _rigid_acceleration_load(rail):
+    """(N,) N: the d'Alembert force of a_O = (3, -7) m/s^2 and alpha = 40 rad/s^2 about the
+    near hole, no pin force."""
+    geo, mesh, K, basis, xs = rail
+    fields = [
+        case_vector(basis, mesh.groups, c)
+        for c in (BodyCase("uniform", 0), BodyCase("uniform", 1), BodyCase("rotational", pivot=(xs[0], 0.0)))
+    ]
+    return -STEEL.density * (fields[0] * 3.0 + fields[1] * -7.0 + fields[2] * 40.0)
+
+
+def _transverse_inertia_load(rail):
+    """((N,) N, total N): 200 N/m of transverse (y) inertia on the steel, held by the end
+    pins, w L / 2 each."""
+    geo, mesh, K, basis, xs = rail
+    body = -200.0 / geo.section.area * case_vector(basis, mesh.groups, BodyCase("uniform", 1))  # N/m^3
+    total = resultant(basis, body)[1]  # N: less than 200 N/m x L, the holes hold no steel
+    ends = sum(unit_traction_vectors(basis, mesh.groups, h)[:, 1] for h in ("hole_0", f"hole_{len(xs) - 1}"))
+    return body - 0.5 * total * ends, total
+
+
+@pytest.fixture(scope="module")
+def free_rail(rail):
+    """The three loads below solved as one free body, one factorisation: the solve, and
+    its column of each (FreeBodySolve with (N, 3) displacements, (6, 3) imbalances)."""
+    geo, mesh, K, basis, xs = rail
+    F = np.column_stack([_pin_pair_load(rail), _rigid_acceleration_load(rail), _transverse_inertia_load(rail)[0]])
+    return F, solve_free_body(K, F, basis, STEEL.density, "direct")
+
+
+def test_two_equal_and_opposite_pin_forces_give_axial_stress_f_over_a(rail, free_rail):
     """F/A to 1% and no in-plane bending. The pins bear on the hole's plain bore, below the
     counterbore, so their line of action sits under the section's centroid: statics gives
     the out-of-plane bending F e / Z_y, which the FE must match too (2%)."""
     geo, mesh, K, basis, xs = rail
     force = 1000.0
-    F = (
-        unit_traction_vectors(basis, mesh.groups, f"hole_{len(xs) - 1}")[:, 0]
-        - unit_traction_vectors(basis, mesh.groups, "hole_0")[:, 0]
-    ) * force
-    free = solve_free_body(K, F, basis, STEEL.density, "direct")
+    _, free = free_rail
     span = xs[-1] - xs[0]
-    np.testing.assert_allclose(free.imbalance[:3], 0.0, atol=1e-9 * force)
+    np.testing.assert_allclose(free.imbalance[:3, 0], 0.0, atol=1e-9 * force)
     # the uniform tractions' lines of action miss the hole axes by the facets' asymmetry (microns)
-    np.testing.assert_allclose(free.imbalance[3:], 0.0, atol=1e-4 * force * span)
-    np.testing.assert_allclose(free.reactions, 0.0, atol=1e-9 * force)
-    S = recover_stress(basis, free.U, STEEL)
+    np.testing.assert_allclose(free.imbalance[3:, 0], 0.0, atol=1e-4 * force * span)
+    np.testing.assert_allclose(free.reactions[:, 0], 0.0, atol=1e-9 * force)
+    S = recover_stress(basis, free.U[:, 0], STEEL)
     section = geo.section  # the grooved profile's, closed form
     axial = force / section.area
     a, b, c = section_fit(S, stress_nodes(basis), 0.5 * (xs[0] + xs[1]))
@@ -80,42 +115,30 @@ def test_two_equal_and_opposite_pin_forces_give_axial_stress_f_over_a(rail):
     )
 
 
-def test_a_rigid_body_acceleration_field_alone_gives_no_stress(rail):
+def test_a_rigid_body_acceleration_field_alone_gives_no_stress(rail, free_rail):
     """The d'Alembert force of a rigid acceleration (translation and angular acceleration,
     no pin force) is exactly what inertia relief removes: zero stress."""
     geo, mesh, K, basis, xs = rail
-    pivot = (xs[0], 0.0)
-    fields = [
-        case_vector(basis, mesh.groups, c)
-        for c in (BodyCase("uniform", 0), BodyCase("uniform", 1), BodyCase("rotational", pivot=pivot))
-    ]
-    rho = STEEL.density
-    F = -rho * (fields[0] * 3.0 + fields[1] * -7.0 + fields[2] * 40.0)  # a_O = (3, -7) m/s^2, alpha = 40 rad/s^2
-    free = solve_free_body(K, F, basis, rho, "direct")
-    scale = np.abs(F).sum()
-    assert np.abs(free.imbalance[:2]).max() > 0.1 * scale / len(F)  # a real load, wholly unbalanced
-    S = recover_stress(basis, free.U, STEEL)
-    assert np.abs(S).max() < 1e-9 * rho * 40.0 * 1.0 * 1.0  # rho alpha L^2: the load's stress scale
-    assert np.abs(free.U).max() < 1e-15
+    F, free = free_rail
+    scale = np.abs(F[:, 1]).sum()
+    assert np.abs(free.imbalance[:2, 1]).max() > 0.1 * scale / len(F)  # a real load, wholly unbalanced
+    S = recover_stress(basis, free.U[:, 1], STEEL)
+    assert np.abs(S).max() < 1e-9 * STEEL.density * 40.0 * 1.0 * 1.0  # rho alpha L^2: the load's stress scale
+    assert np.abs(free.U[:, 1]).max() < 1e-15
 
 
-def test_a_pinned_bar_under_uniform_transverse_inertia_bends_as_beam_theory(rail):
+def test_a_pinned_bar_under_uniform_transverse_inertia_bends_as_beam_theory(rail, free_rail):
     """Pins at the end holes carry w L / 2 each; the rail's own uniform transverse inertia
     (w N/m) bends it: M(x) from statics (overhangs included), sigma = M / Z at a section
     between holes near mid-span, within 2%."""
     geo, mesh, K, basis, xs = rail
     width, length, section = geo.get("width"), geo.get("length"), geo.section
-    area = section.area
-    body = -200.0 / area * case_vector(basis, mesh.groups, BodyCase("uniform", 1))  # N/m^3, transverse (y)
-    total = resultant(basis, body)[1]  # N: less than 200 N/m x L, the holes hold no steel
+    _, total = _transverse_inertia_load(rail)
     w = total / length  # N/m, the holes' missing steel spread evenly
-    F = body - 0.5 * total * sum(
-        unit_traction_vectors(basis, mesh.groups, h)[:, 1] for h in ("hole_0", f"hole_{len(xs) - 1}")
-    )
-    free = solve_free_body(K, F, basis, STEEL.density, "direct")
-    assert np.abs(free.imbalance[:3]).max() < 1e-9 * abs(total)
-    np.testing.assert_allclose(free.reactions, 0.0, atol=1e-9 * abs(total))
-    S = recover_stress(basis, free.U, STEEL)
+    _, free = free_rail
+    assert np.abs(free.imbalance[:3, 2]).max() < 1e-9 * abs(total)
+    np.testing.assert_allclose(free.reactions[:, 2], 0.0, atol=1e-9 * abs(total))
+    S = recover_stress(basis, free.U[:, 2], STEEL)
     x0 = 0.5 * (xs[0] + xs[1])
     reaction = -0.5 * total
     moment = reaction * (x0 - xs[0]) + w * x0**2 / 2  # about z, sagging positive for w < 0
