@@ -401,3 +401,47 @@ def test_a_free_joint_plate_balances_its_pin_force_bolts_and_own_inertia():
     assert part.clamped is not None and part.clamped.max_von_mises > 0
     entry = summary_of(result)["parts"]["PF_4b_006"]["support"]
     assert "seat" in entry["deflection"]
+
+
+def _free_rail_histories(name: str, effects: list, speed: str, plane: str = "vertical"):
+    """case name -> (T,) the coefficient history of free rail ``name`` at the final design,
+    the check's [check] ``effects`` at crank ``speed`` on a rig in ``plane``."""
+    from helpers import make_scene
+    from railcheck.model.inputs import parts_input
+    from railcheck.model.jobs import bolt_holes
+    from railcheck.model.kinematics_stage import kinematics_input, run_kinematics
+    from railcheck.model.loading import free_body_cases, load_model, source_histories
+    from railcheck.parts import geometry_of
+
+    mechanism = {"speed": speed, "steps": 90, "plane": plane}
+    scene = make_scene(FINAL_DESIGN, {"mechanism": mechanism, "check": {"parts": [name], "effects": effects}})
+    geo = geometry_of(name, {})
+    holes = bolt_holes(parts_input(scene), name, geo)
+    model = load_model(parts_input(scene), name, STEEL.density)
+    (h,) = source_histories(model, run_kinematics(kinematics_input(scene)), holes)
+    names = list(free_body_cases(model, geo, holes))
+    assert len(names) == h.C.shape[1]
+    return dict(zip(names, h.C.T))
+
+
+def _on(columns: dict, names) -> np.ndarray:
+    """(T, len(names)) the columns ``names`` of a history, zero where it has none."""
+    steps = len(next(iter(columns.values())))
+    return np.column_stack([columns.get(n, np.zeros(steps)) for n in names])
+
+
+@pytest.mark.parametrize("plane", ["vertical", "horizontal"])
+@pytest.mark.parametrize("name", ["crank-rail", "coupler-rail", "rocker-rail"])
+def test_a_free_rails_loads_hold_only_the_effects_the_scene_lists(name, plane):
+    """The weight always acts (upright: "gravity" is added; on a table top out of plane);
+    without "inertia" no load of a free rail depends on the crank speed, the point masses
+    its joints carry included (their d'Alembert force, -m a, is inertia): the history at
+    3 Hz is the one at 1 Hz. With "inertia" every inertia load scales with the speed squared
+    (a steady crank), the weight does not: C(2 Hz) - C(1 Hz) = 3 (C(1 Hz) - C(weight alone))."""
+    weight = _free_rail_histories(name, [], "1 Hz", plane)
+    np.testing.assert_array_equal(_on(_free_rail_histories(name, [], "3 Hz", plane), weight), _on(weight, weight))
+    slow, fast = (_free_rail_histories(name, ["inertia"], speed, plane) for speed in ("1 Hz", "2 Hz"))
+    assert set(weight) <= set(slow)  # the inertia's cases: the weight's and the rigid rotation's
+    slow, fast, weight = (_on(c, slow) for c in (slow, fast, weight))
+    assert np.abs(slow - weight).max() > 10.0  # N: real inertia loads
+    np.testing.assert_allclose(fast - slow, 3.0 * (slow - weight), rtol=1e-9, atol=1e-9 * np.abs(fast).max())

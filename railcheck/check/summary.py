@@ -42,12 +42,14 @@ def _parts_safe_speed(result: PipelineResult) -> dict:
 def _safe_speed(result: PipelineResult) -> dict:
     """``safe_speed``: the crank speed (Hz) up to which every checked part and component
     passes at this setting, and the part or component and criterion that reach 1 there
-    (absent for a still crank; ``Hz`` null where nothing the speed loads has a limit)."""
+    (absent for a still crank; ``Hz``, ``set_by`` and ``criterion`` null where nothing the
+    speed loads reaches a limit: no part or criterion sets it)."""
     safe = result.safe_speed
     if safe is None:
         return {}
-    hz = safe.hz if np.isfinite(safe.hz) else None
-    return {"safe_speed": {"Hz": hz, "set_by": safe.component, "criterion": safe.criterion}}
+    if not np.isfinite(safe.hz):
+        return {"safe_speed": {"Hz": None, "set_by": None, "criterion": None}}
+    return {"safe_speed": {"Hz": safe.hz, "set_by": safe.component, "criterion": safe.criterion}}
 
 
 def summary_of(result: PipelineResult) -> dict:

@@ -427,8 +427,12 @@ def free_body_coefficients(
     down = np.array([0.0, -GRAVITY]) if model.gravity else np.zeros(2)
 
     def joint_force(joint, mass):
+        """The joint's force on the rail (N): the pin's reaction and the point mass carried
+        there, its weight and, with inertia, its d'Alembert force -m a."""
         force = joint.sign * reactions[joint.joint]
-        return force + mass * (down - accelerations[joint.joint]) if mass else force
+        if not mass:
+            return force
+        return force + mass * (down - accelerations[joint.joint] if model.inertia else down)
 
     cols = [f * to_rail_axes(joint_force(fb.near, model.joint_masses[0]), angle)]
     if fb.motor:

@@ -366,7 +366,9 @@ def component_fix(name: str, c) -> str:
 
 
 def passes_up_to(name: str, safe) -> str:
-    """A failing part's safe speed in words (``safe``: railcheck.check.margins.SafeSpeed)."""
+    """A part's safe speed in words (``safe``: railcheck.check.margins.SafeSpeed)."""
+    if not math.isfinite(safe.hz):
+        return f"{name}: passes at any speed at this setting (no load on it grows with the speed)"
     if safe.hz > 0:
         return (
             f"{name}: passes up to {floored(safe.hz)} Hz at this setting ({safe.criterion} reaches 1 there): "
