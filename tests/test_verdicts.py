@@ -6,6 +6,7 @@ verdict's comparisons (a limit scaled, a check forced to pass) fails one of thes
 import contextlib
 import io
 import json
+import math
 import tomllib
 
 import numpy as np
@@ -439,3 +440,22 @@ def test_the_assumptions_name_each_mesh_and_where_it_came_from():
         "38 curved edges straightened; PF_4b_006 123 quadratic tetrahedra, curved edges, 20 mm (6 mm at the holes), "
         "built by gmsh on this machine; bar 123 linear tetrahedra, 20 mm (6 mm at the holes), built by gmsh on this machine"
     )
+
+
+@pytest.mark.parametrize("hz", [math.inf, 0.0, 1.2345])
+def test_a_safe_speed_reads_in_words_at_rest_at_a_speed_and_at_any_speed(hz):
+    """A part or a check whose loads do not grow with the speed passes at any speed: said
+    in words, never "inf Hz" (it raised OverflowError before); 0 fails at rest; a finite
+    speed is floored to three figures."""
+    from railcheck.check.margins import SafeSpeed
+    from railcheck.model.records import passes_up_to, safe_speed_words
+
+    safe = SafeSpeed(hz, "crank-rail", "stress")
+    part, check = passes_up_to("crank-rail", safe), safe_speed_words(safe)
+    assert "inf" not in part + check and "nan" not in part + check
+    if hz == math.inf:
+        assert "any speed" in part and "any speed" in check
+    elif hz == 0:
+        assert "fails at rest" in part and "fails at rest" in check
+    else:
+        assert '"1.23 Hz"' in part and '"1.23 Hz"' in check
